@@ -1,0 +1,48 @@
+//! The library's one error type. Messages are written for the person running the tool: each says
+//! what went wrong and, where there is one, what to try instead.
+
+use std::path::PathBuf;
+
+/// Everything that can go wrong while reading input or tracing it.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum Error {
+    /// The input file could not be read (missing, unreadable, a directory…).
+    #[error("cannot read {path}: {source}")]
+    Io {
+        /// The file that failed.
+        path: PathBuf,
+        /// The operating system's reason.
+        #[source]
+        source: std::io::Error,
+    },
+    /// The bytes are not an image format ridgeline can decode, or the image is damaged.
+    #[error("cannot decode image: {0}")]
+    Decode(String),
+    /// The image or point set is larger than the configured limits allow.
+    #[error("{what} exceeds the limit ({actual} > {limit}); raise it with {flag} if the input is trusted")]
+    Limit {
+        /// What was measured ("image pixels", "points", …).
+        what: &'static str,
+        /// The measured size.
+        actual: u64,
+        /// The configured limit.
+        limit: u64,
+        /// The command-line flag that raises the limit.
+        flag: &'static str,
+    },
+    /// A point-set file has a line that is not two finite numbers.
+    #[error("point list line {line}: {message}")]
+    PointParse {
+        /// 1-based line number.
+        line: usize,
+        /// What is wrong with it.
+        message: String,
+    },
+    /// The parameters contradict each other or are out of range.
+    #[error("invalid parameter: {0}")]
+    InvalidParams(String),
+}
+
+/// Shorthand for results of this crate.
+pub type Result<T, E = Error> = std::result::Result<T, E>;

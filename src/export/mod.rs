@@ -1,0 +1,1 @@
+//! Writing a stroke graph as SVG and JSON.

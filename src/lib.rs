@@ -1,0 +1,159 @@
+//! ridgeline turns raster images of strokes (scanned text, handwriting, Chinese characters,
+//! fingerprints) into stroke graphs: the centerlines as polylines meeting at junctions.
+//!
+//! The method is the one of *Efficient reconstruction of non-simple curves* (anisotropic adaptive
+//! sampling, non-linear region clustering, edge refinement, least-squares fitting), adapted to pixel
+//! images. Data flows one way through stages that sit side by side; this file is the one place that
+//! chains them:
+//!
+//! ```text
+//! bytes ─decode─> gray ─binarize─> Binary ─points─> PointSet ─sample─> Samples
+//!       ─graph─> NodeGraph (H + clusters) ─refine─> NodeGraph (1-D) ─fit─> StrokeGraph ─export─> SVG/JSON
+//! ```
+
+#![warn(missing_docs)]
+
+mod binary;
+mod error;
+mod node_graph;
+mod params;
+mod point_set;
+mod samples;
+mod stroke_graph;
+
+pub mod export;
+pub mod fit;
+pub mod graph;
+pub mod point_list;
+pub mod raster;
+pub mod refine;
+pub mod sample;
+pub mod synth;
+
+pub use binary::Binary;
+pub use error::{Error, Result};
+pub use image::GrayImage;
+pub use node_graph::{GraphNode, NodeGraph};
+pub use params::{Limits, Params, Polarity, Threshold};
+pub use point_set::{Grid, PointSet};
+pub use samples::{Node, Samples};
+pub use stroke_graph::{dist, Edge, StrokeGraph, Vertex};
+
+use std::time::{Duration, Instant};
+
+/// Wall-clock time spent in each stage of one trace.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Timings {
+    /// Image decoding (zero when the caller passed pixels).
+    pub decode: Duration,
+    /// Thresholding and polarity.
+    pub binarize: Duration,
+    /// Point set, neighbour graph and distance transform.
+    pub points: Duration,
+    /// §3.1 sampling.
+    pub sampling: Duration,
+    /// §3.2 node graph and clusters.
+    pub graph: Duration,
+    /// §3.3 contraction, merging and clean-up.
+    pub refine: Duration,
+    /// §3.4 fitting and building the stroke graph.
+    pub fit: Duration,
+}
+
+/// Intermediate results kept for `--debug` pictures.
+#[derive(Clone, Debug, Default)]
+pub struct Stages {
+    /// The sampled nodes.
+    pub samples: Samples,
+    /// Graph `H` with clusters (§3.2).
+    pub node_graph: NodeGraph,
+    /// The 1-D graph after §3.3.
+    pub refined: NodeGraph,
+}
+
+/// Everything one trace produces.
+#[derive(Clone, Debug)]
+pub struct Trace {
+    /// The result.
+    pub graph: StrokeGraph,
+    /// The foreground mask (images only).
+    pub binary: Option<Binary>,
+    /// The points the pipeline ran on.
+    pub points: PointSet,
+    /// Intermediate results, when asked for.
+    pub stages: Option<Stages>,
+    /// Time per stage.
+    pub timings: Timings,
+}
+
+/// Decodes an image file's bytes to grayscale, refusing images larger than `limits` before
+/// allocating their pixels.
+pub fn decode(bytes: &[u8], limits: &Limits) -> Result<GrayImage> {
+    raster::decode(bytes, limits)
+}
+
+/// Traces a grayscale image: binarize, then run the pipeline on the ink pixels.
+pub fn trace_image(gray: &GrayImage, params: &Params) -> Result<Trace> {
+    params.validate()?;
+    let start = Instant::now();
+    let binary = raster::binarize(gray, params)?;
+    let binarize_time = start.elapsed();
+    let mut trace = trace_binary(&binary, params)?;
+    trace.timings.binarize = binarize_time;
+    trace.binary = Some(binary);
+    Ok(trace)
+}
+
+/// Traces a foreground mask.
+pub fn trace_binary(binary: &Binary, params: &Params) -> Result<Trace> {
+    params.validate()?;
+    let start = Instant::now();
+    let points = raster::points(binary, params)?;
+    let points_time = start.elapsed();
+    let mut trace = run(points, binary.width, binary.height, params, false)?;
+    trace.timings.points = points_time;
+    Ok(trace)
+}
+
+/// Traces a point list (the paper's own setting): the same pipeline, neighbours from a k-d tree.
+pub fn trace_points(list: &[[f64; 2]], params: &Params) -> Result<Trace> {
+    params.validate()?;
+    let start = Instant::now();
+    let points = point_list::point_set(list, params)?;
+    let points_time = start.elapsed();
+    let (w, h) = point_list::extent(list);
+    let mut trace = run(points, w, h, params, false)?;
+    trace.timings.points = points_time;
+    Ok(trace)
+}
+
+/// Like [`trace_binary`], keeping the intermediate stages for pictures.
+pub fn trace_binary_with_stages(binary: &Binary, params: &Params) -> Result<Trace> {
+    params.validate()?;
+    let points = raster::points(binary, params)?;
+    run(points, binary.width, binary.height, params, true)
+}
+
+fn run(points: PointSet, width: u32, height: u32, params: &Params, keep: bool) -> Result<Trace> {
+    let mut timings = Timings::default();
+    let clock = Instant::now();
+    let samples = sample::sample(&points, params);
+    timings.sampling = clock.elapsed();
+
+    let clock = Instant::now();
+    let node_graph = graph::build(&points, &samples, params);
+    timings.graph = clock.elapsed();
+
+    let clock = Instant::now();
+    let refined = refine::refine(&node_graph, &points, params);
+    timings.refine = clock.elapsed();
+
+    let clock = Instant::now();
+    let mut graph = fit::fit(&refined, &points, params);
+    graph.width = width;
+    graph.height = height;
+    timings.fit = clock.elapsed();
+
+    let stages = keep.then(|| Stages { samples, node_graph, refined });
+    Ok(Trace { graph, binary: None, points, stages, timings })
+}

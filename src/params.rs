@@ -1,0 +1,194 @@
+//! Every tunable of the pipeline in one place, with the paper's symbol and unit.
+//!
+//! The defaults are the values that measure best on pixel images (see `DESIGN.md` and the quality
+//! benchmark); [`Params::paper`] gives the paper's own values so the two can be compared.
+
+use serde::{Deserialize, Serialize};
+
+/// How gray levels become ink and paper.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase", tag = "method")]
+pub enum Threshold {
+    /// Otsu's global threshold. The default.
+    Otsu,
+    /// A fixed gray level 0-255; pixels darker than or equal to it are ink (for dark ink).
+    Fixed {
+        /// The level.
+        level: u8,
+    },
+    /// Sauvola's adaptive threshold for unevenly lit scans.
+    Sauvola {
+        /// Side of the square window in pixels (odd). Default 31.
+        window: u32,
+        /// Sensitivity `k`. Default 0.2.
+        k: f64,
+    },
+}
+
+/// Which side of the threshold is ink.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Polarity {
+    /// Decide from the image: the minority side (after thresholding) is ink. The default.
+    Auto,
+    /// Dark strokes on light paper.
+    DarkInk,
+    /// Light strokes (ridges) on a dark background.
+    LightInk,
+}
+
+/// Bounds on what one input may make the library allocate.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Limits {
+    /// Largest image, in pixels (width x height), that will be decoded. Default 100 megapixels.
+    pub max_pixels: u64,
+    /// Largest image side in pixels. Default 65 535.
+    pub max_side: u32,
+    /// Largest number of foreground points traced. Default 50 million.
+    pub max_points: u64,
+}
+
+impl Default for Limits {
+    fn default() -> Self {
+        Limits { max_pixels: 100_000_000, max_side: 65_535, max_points: 50_000_000 }
+    }
+}
+
+/// Parameters of the whole pipeline.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Params {
+    /// Binarization method. Default [`Threshold::Otsu`].
+    pub threshold: Threshold,
+    /// Ink polarity. Default [`Polarity::Auto`].
+    pub polarity: Polarity,
+    /// Size limits. Default [`Limits::default`].
+    pub limits: Limits,
+    /// Dropout mode (§ design 1, 11): `None` decides from the image (background specks of 3 px or
+    /// less exceeding `dropout_fraction` of the ink), `Some(b)` forces it.
+    pub dropout: Option<bool>,
+    /// Share of ink pixels that tiny background holes must exceed to switch dropout mode on.
+    /// Default 0.015.
+    pub dropout_fraction: f64,
+    /// Paper mode: `r_min = r_min_factor · Dis_ave` instead of one stroke width. Default false.
+    pub paper: bool,
+    /// `r_min` factor: in the default mode `r_min = max(3 Dis_ave, r_min_factor · w_loc)` (β of the
+    /// design, default 1.0); in paper mode `r_min = r_min_factor · Dis_ave` (default 10).
+    pub r_min_factor: f64,
+    /// `r_max / r_min`. Default 3 (paper: 6).
+    pub r_max_factor: f64,
+    /// Radius growth factor per step of §3.1. Default 1.25.
+    pub r_growth: f64,
+    /// Linearity threshold of Eq. (3): a disk is linear when `l > linearity`. Default 0.9.
+    pub linearity: f64,
+    /// Use the rim "arms" test as well as PCA to detect non-linear nodes (design 4). Default true.
+    pub arms_test: bool,
+    /// `k` nearest neighbours for point-set input (§3.2). Default 5.
+    pub k: usize,
+    /// Cluster link length, in units of `r_min` (§3.2: edges shorter than this join non-linear
+    /// nodes into one cluster). Default 1.5.
+    pub cluster_link: f64,
+    /// Merge groups: degree > 2 nodes of a cluster are merged only when all are within this many
+    /// `r_min` of each other (design 13). Default 2.0; the paper merges whole clusters (infinity).
+    pub merge_span: f64,
+    /// Laplacian weight `w` of Eq. (4). Default 1.0.
+    pub smoothness: f64,
+    /// Data weight on junctions and endpoints in the fit (design 9). Default 10 (paper: 1).
+    pub anchor_weight: f64,
+    /// Weiszfeld iterations for the L1 medians of §3.4. Default 20.
+    pub weiszfeld_iterations: usize,
+    /// Node spacing after equalization, in units of the median stroke width, at least 3 px
+    /// (design 9). Default 1.0.
+    pub spacing_factor: f64,
+    /// Clean-up after §3.3 (contract hole-free cycles, prune spurs, collapse short bars) and the
+    /// placement of ends and junctions (design 8, 10, 14, 15). Default true; paper mode false.
+    pub cleanup: bool,
+}
+
+impl Default for Params {
+    fn default() -> Self {
+        Params {
+            threshold: Threshold::Otsu,
+            polarity: Polarity::Auto,
+            limits: Limits::default(),
+            dropout: None,
+            dropout_fraction: 0.015,
+            paper: false,
+            r_min_factor: 1.0,
+            r_max_factor: 3.0,
+            r_growth: 1.25,
+            linearity: 0.9,
+            arms_test: true,
+            k: 5,
+            cluster_link: 1.5,
+            merge_span: 2.0,
+            smoothness: 1.0,
+            anchor_weight: 10.0,
+            weiszfeld_iterations: 20,
+            spacing_factor: 1.0,
+            cleanup: true,
+        }
+    }
+}
+
+impl Params {
+    /// The paper's own values: `r_min = 10 Dis_ave`, `r_max = 6 r_min`, `k = 5`, `w = 1`,
+    /// linearity 0.9, no arms test, whole-cluster merging, uniform data weights, no clean-up.
+    pub fn paper() -> Self {
+        Params {
+            paper: true,
+            r_min_factor: 10.0,
+            r_max_factor: 6.0,
+            arms_test: false,
+            merge_span: f64::INFINITY,
+            anchor_weight: 1.0,
+            cleanup: false,
+            ..Params::default()
+        }
+    }
+
+    /// Checks ranges; the one place where parameters are validated.
+    pub fn validate(&self) -> crate::Result<()> {
+        let positive = [
+            ("r_min_factor", self.r_min_factor),
+            ("r_max_factor", self.r_max_factor),
+            ("cluster_link", self.cluster_link),
+            ("merge_span", self.merge_span),
+            ("spacing_factor", self.spacing_factor),
+            ("anchor_weight", self.anchor_weight),
+        ];
+        for (name, value) in positive {
+            if value.is_nan() || value <= 0.0 {
+                return Err(crate::Error::InvalidParams(format!("{name} must be > 0, got {value}")));
+            }
+        }
+        if !(self.r_growth > 1.0 && self.r_growth.is_finite()) {
+            return Err(crate::Error::InvalidParams(format!(
+                "r_growth must be > 1, got {}",
+                self.r_growth
+            )));
+        }
+        if !(self.linearity > 0.5 && self.linearity < 1.0) {
+            return Err(crate::Error::InvalidParams(format!(
+                "linearity must be in (0.5, 1), got {}",
+                self.linearity
+            )));
+        }
+        if self.r_max_factor < 1.0 {
+            return Err(crate::Error::InvalidParams("r_max_factor must be >= 1".into()));
+        }
+        if !(self.smoothness >= 0.0 && self.smoothness.is_finite()) {
+            return Err(crate::Error::InvalidParams("smoothness must be >= 0".into()));
+        }
+        if self.k < 2 || self.k > 64 {
+            return Err(crate::Error::InvalidParams(format!("k must be in 2..=64, got {}", self.k)));
+        }
+        if let Threshold::Sauvola { window, k } = self.threshold {
+            if window < 3 || !(0.0..=1.0).contains(&k) {
+                return Err(crate::Error::InvalidParams(
+                    "sauvola window must be >= 3 and k in [0, 1]".into(),
+                ));
+            }
+        }
+        Ok(())
+    }
+}

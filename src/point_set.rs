@@ -1,0 +1,127 @@
+//! The strip point set `P` of the paper: one point per foreground pixel center (or one per line of
+//! a point list), with the neighbour graph every later stage walks and the local half-width.
+
+/// A pixel grid the points came from: lets stages use pixel adjacency instead of tree queries.
+#[derive(Clone, Debug, Default)]
+pub struct Grid {
+    /// Image width in pixels.
+    pub width: u32,
+    /// Image height in pixels.
+    pub height: u32,
+    /// Point index of each pixel (row-major), or [`Grid::NONE`] for background.
+    pub index: Vec<u32>,
+}
+
+impl Grid {
+    /// Marks a background pixel in [`Grid::index`].
+    pub const NONE: u32 = u32::MAX;
+
+    /// The point at pixel `(x, y)`, if it is ink.
+    #[inline]
+    pub fn point_at(&self, x: i64, y: i64) -> Option<u32> {
+        if x < 0 || y < 0 || x >= self.width as i64 || y >= self.height as i64 {
+            return None;
+        }
+        let id = self.index[y as usize * self.width as usize + x as usize];
+        (id != Self::NONE).then_some(id)
+    }
+}
+
+/// The input points with everything the stages need to know about them.
+///
+/// Invariants (checked by [`PointSet::validate`]): all coordinates finite; `half_width` has one
+/// entry per point; `offsets.len() == len() + 1`; the neighbour relation is symmetric and has no
+/// self-loops.
+#[derive(Clone, Debug, Default)]
+pub struct PointSet {
+    /// Point coordinates. For images: pixel centers, pixel `(c, r)` at `(c + 0.5, r + 0.5)`.
+    pub points: Vec<[f64; 2]>,
+    /// Distance from each point to the background (half the local stroke width), in the same unit
+    /// as the coordinates. A pixel one step inside the edge has 1.
+    pub half_width: Vec<f32>,
+    /// CSR offsets into [`PointSet::neighbors`]: the neighbours of point `i` are
+    /// `neighbors[offsets[i]..offsets[i + 1]]`.
+    pub offsets: Vec<u32>,
+    /// Flattened neighbour lists (8-neighbourhood on images, 5x5 in dropout mode, symmetric k
+    /// nearest neighbours for point lists).
+    pub neighbors: Vec<u32>,
+    /// `Dis_ave` of the paper: mean distance from a point to its nearest neighbour.
+    pub spacing: f64,
+    /// Whether dropout mode is on (sparse or broken foreground: wider neighbourhoods).
+    pub dropout: bool,
+    /// The pixel grid, for points that came from an image.
+    pub grid: Option<Grid>,
+}
+
+impl PointSet {
+    /// Number of points.
+    pub fn len(&self) -> usize {
+        self.points.len()
+    }
+
+    /// Whether there are no points.
+    pub fn is_empty(&self) -> bool {
+        self.points.is_empty()
+    }
+
+    /// The neighbours of point `i`.
+    #[inline]
+    pub fn neighbors_of(&self, i: u32) -> &[u32] {
+        let i = i as usize;
+        &self.neighbors[self.offsets[i] as usize..self.offsets[i + 1] as usize]
+    }
+
+    /// Builds the CSR neighbour arrays from per-point lists, symmetrizing them.
+    pub fn set_neighbors_symmetric(&mut self, lists: &[Vec<u32>]) {
+        let n = self.points.len();
+        let mut degree = vec![0u32; n];
+        for (i, list) in lists.iter().enumerate() {
+            for &j in list {
+                if j as usize != i {
+                    degree[i] += 1;
+                    degree[j as usize] += 1;
+                }
+            }
+        }
+        let mut all: Vec<Vec<u32>> = degree.iter().map(|&d| Vec::with_capacity(d as usize)).collect();
+        for (i, list) in lists.iter().enumerate() {
+            for &j in list {
+                if j as usize != i {
+                    all[i].push(j);
+                    all[j as usize].push(i as u32);
+                }
+            }
+        }
+        self.offsets = Vec::with_capacity(n + 1);
+        self.neighbors.clear();
+        self.offsets.push(0);
+        for mut list in all {
+            list.sort_unstable();
+            list.dedup();
+            self.neighbors.extend_from_slice(&list);
+            self.offsets.push(self.neighbors.len() as u32);
+        }
+    }
+
+    /// Checks the invariants listed on the type; returns a description of the first violation.
+    pub fn validate(&self) -> Result<(), String> {
+        let n = self.points.len();
+        if self.half_width.len() != n {
+            return Err(format!("{} half-widths for {} points", self.half_width.len(), n));
+        }
+        if self.offsets.len() != n + 1 {
+            return Err(format!("{} offsets for {} points", self.offsets.len(), n));
+        }
+        if let Some(i) = self.points.iter().position(|p| !(p[0].is_finite() && p[1].is_finite())) {
+            return Err(format!("point {i} is not finite"));
+        }
+        for i in 0..n as u32 {
+            for &j in self.neighbors_of(i) {
+                if j == i || j as usize >= n || !self.neighbors_of(j).contains(&i) {
+                    return Err(format!("neighbour relation broken at {i} - {j}"));
+                }
+            }
+        }
+        Ok(())
+    }
+}

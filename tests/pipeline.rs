@@ -1,0 +1,1 @@
+//! End-to-end: render known centerlines thickly, trace, compare.

@@ -14,7 +14,11 @@ pub struct Binary {
 impl Binary {
     /// An all-background mask.
     pub fn new(width: u32, height: u32) -> Self {
-        Binary { width, height, ink: vec![false; width as usize * height as usize] }
+        Binary {
+            width,
+            height,
+            ink: vec![false; width as usize * height as usize],
+        }
     }
 
     /// Whether pixel `(x, y)` is ink; false outside the image.

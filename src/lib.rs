@@ -154,6 +154,16 @@ fn run(points: PointSet, width: u32, height: u32, params: &Params, keep: bool) -
     graph.height = height;
     timings.fit = clock.elapsed();
 
-    let stages = keep.then(|| Stages { samples, node_graph, refined });
-    Ok(Trace { graph, binary: None, points, stages, timings })
+    let stages = keep.then(|| Stages {
+        samples,
+        node_graph,
+        refined,
+    });
+    Ok(Trace {
+        graph,
+        binary: None,
+        points,
+        stages,
+        timings,
+    })
 }

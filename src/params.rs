@@ -50,7 +50,11 @@ pub struct Limits {
 
 impl Default for Limits {
     fn default() -> Self {
-        Limits { max_pixels: 100_000_000, max_side: 65_535, max_points: 50_000_000 }
+        Limits {
+            max_pixels: 100_000_000,
+            max_side: 65_535,
+            max_points: 50_000_000,
+        }
     }
 }
 
@@ -158,7 +162,9 @@ impl Params {
         ];
         for (name, value) in positive {
             if value.is_nan() || value <= 0.0 {
-                return Err(crate::Error::InvalidParams(format!("{name} must be > 0, got {value}")));
+                return Err(crate::Error::InvalidParams(format!(
+                    "{name} must be > 0, got {value}"
+                )));
             }
         }
         if !(self.r_growth > 1.0 && self.r_growth.is_finite()) {
@@ -174,13 +180,20 @@ impl Params {
             )));
         }
         if self.r_max_factor < 1.0 {
-            return Err(crate::Error::InvalidParams("r_max_factor must be >= 1".into()));
+            return Err(crate::Error::InvalidParams(
+                "r_max_factor must be >= 1".into(),
+            ));
         }
         if !(self.smoothness >= 0.0 && self.smoothness.is_finite()) {
-            return Err(crate::Error::InvalidParams("smoothness must be >= 0".into()));
+            return Err(crate::Error::InvalidParams(
+                "smoothness must be >= 0".into(),
+            ));
         }
         if self.k < 2 || self.k > 64 {
-            return Err(crate::Error::InvalidParams(format!("k must be in 2..=64, got {}", self.k)));
+            return Err(crate::Error::InvalidParams(format!(
+                "k must be in 2..=64, got {}",
+                self.k
+            )));
         }
         if let Threshold::Sauvola { window, k } = self.threshold {
             if window < 3 || !(0.0..=1.0).contains(&k) {

@@ -15,5 +15,8 @@ pub fn extent(list: &[[f64; 2]]) -> (u32, u32) {
         w = w.max(p[0]);
         h = h.max(p[1]);
     }
-    ((w.ceil() as u32).saturating_add(1), (h.ceil() as u32).saturating_add(1))
+    (
+        (w.ceil() as u32).saturating_add(1),
+        (h.ceil() as u32).saturating_add(1),
+    )
 }

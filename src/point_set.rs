@@ -83,7 +83,10 @@ impl PointSet {
                 }
             }
         }
-        let mut all: Vec<Vec<u32>> = degree.iter().map(|&d| Vec::with_capacity(d as usize)).collect();
+        let mut all: Vec<Vec<u32>> = degree
+            .iter()
+            .map(|&d| Vec::with_capacity(d as usize))
+            .collect();
         for (i, list) in lists.iter().enumerate() {
             for &j in list {
                 if j as usize != i {
@@ -107,12 +110,20 @@ impl PointSet {
     pub fn validate(&self) -> Result<(), String> {
         let n = self.points.len();
         if self.half_width.len() != n {
-            return Err(format!("{} half-widths for {} points", self.half_width.len(), n));
+            return Err(format!(
+                "{} half-widths for {} points",
+                self.half_width.len(),
+                n
+            ));
         }
         if self.offsets.len() != n + 1 {
             return Err(format!("{} offsets for {} points", self.offsets.len(), n));
         }
-        if let Some(i) = self.points.iter().position(|p| !(p[0].is_finite() && p[1].is_finite())) {
+        if let Some(i) = self
+            .points
+            .iter()
+            .position(|p| !(p[0].is_finite() && p[1].is_finite()))
+        {
             return Err(format!("point {i} is not finite"));
         }
         for i in 0..n as u32 {

@@ -1,8 +1,786 @@
-//! §3.3 Edge refinement: contraction, merging, clean-up.
+//! §3.3 Edge refinement: turn the node graph `H` into a 1-D curve graph.
+//!
+//! - **Contraction** (as in the paper): repeatedly collapse the shortest, lowest-degree edge that
+//!   lies on a triangle into its midpoint, never joining two different clusters, until no triangle
+//!   is left.
+//! - **Merging**: the nodes of degree > 2 of one cluster become one node. The paper merges the whole
+//!   cluster; one cluster once spanned a handwritten word and became one star vertex, so they are
+//!   merged in groups whose members are all within `merge_span · r_min` of each other (design 13).
+//! - **Clean-up** (the paper's "restructuring operators", design 8 and 15), repeated until stable:
+//!   contract cycles that enclose no background hole; prune terminal branches shorter than the
+//!   stroke width; collapse junction-junction bars shorter than the stroke width; merge two Y's
+//!   joined by a short bar whose outer arms pair up anti-parallel into one crossing.
 
-use crate::{NodeGraph, Params, PointSet};
+use std::cmp::Reverse;
+use std::collections::BinaryHeap;
 
-/// Refines H into a 1-D graph.
-pub fn refine(_graph: &NodeGraph, _points: &PointSet, _params: &Params) -> NodeGraph {
-    todo!("refine")
+use crate::{dist, GraphNode, NodeGraph, Params, PointSet};
+
+/// Refines `H` into a 1-D graph (no triangles; one vertex per crossing).
+pub fn refine(graph: &NodeGraph, points: &PointSet, params: &Params) -> NodeGraph {
+    let mut work = Work::new(graph);
+    work.contract_triangles();
+    work.merge_clusters(params.merge_span);
+    if params.cleanup {
+        let holes = Holes::find(points);
+        for _ in 0..8 {
+            let mut changed = work.contract_hole_free_cycles(&holes);
+            changed |= work.prune_spurs();
+            changed |= work.collapse_short_bars();
+            changed |= work.merge_y_bar_y();
+            if !changed {
+                break;
+            }
+        }
+    }
+    work.finish(&graph.owner)
+}
+
+/// `f64` with a total order, for heap keys.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Key(f64);
+
+impl Eq for Key {}
+
+impl PartialOrd for Key {
+    fn partial_cmp(&self, other: &Self) -> Option<std::cmp::Ordering> {
+        Some(self.cmp(other))
+    }
+}
+
+impl Ord for Key {
+    fn cmp(&self, other: &Self) -> std::cmp::Ordering {
+        self.0.total_cmp(&other.0)
+    }
+}
+
+/// The graph being rewritten: adjacency sets, merge forest for re-owning points.
+struct Work {
+    nodes: Vec<GraphNode>,
+    /// How many original nodes each node stands for (weights merged positions).
+    mass: Vec<f64>,
+    adj: Vec<Vec<u32>>,
+    alive: Vec<bool>,
+    /// Merge forest: `parent[i] == i` for live nodes.
+    parent: Vec<u32>,
+}
+
+impl Work {
+    fn new(graph: &NodeGraph) -> Self {
+        let n = graph.nodes.len();
+        Work {
+            nodes: graph.nodes.clone(),
+            mass: vec![1.0; n],
+            adj: graph.adjacency(),
+            alive: vec![true; n],
+            parent: (0..n as u32).collect(),
+        }
+    }
+
+    fn degree(&self, a: u32) -> usize {
+        self.adj[a as usize].len()
+    }
+
+    fn len(&self, a: u32, b: u32) -> f64 {
+        dist(self.nodes[a as usize].pos, self.nodes[b as usize].pos)
+    }
+
+    fn adjacent(&self, a: u32, b: u32) -> bool {
+        self.adj[a as usize].binary_search(&b).is_ok()
+    }
+
+    fn in_triangle(&self, a: u32, b: u32) -> bool {
+        let (la, lb) = (&self.adj[a as usize], &self.adj[b as usize]);
+        let (mut i, mut j) = (0, 0);
+        while i < la.len() && j < lb.len() {
+            match la[i].cmp(&lb[j]) {
+                std::cmp::Ordering::Less => i += 1,
+                std::cmp::Ordering::Greater => j += 1,
+                std::cmp::Ordering::Equal => return true,
+            }
+        }
+        false
+    }
+
+    /// Merges `b` into `a`, placing the result at `pos`. Returns `a`.
+    fn merge(&mut self, a: u32, b: u32, pos: [f64; 2]) -> u32 {
+        debug_assert!(a != b && self.alive[a as usize] && self.alive[b as usize]);
+        let (ai, bi) = (a as usize, b as usize);
+        let neighbours = std::mem::take(&mut self.adj[bi]);
+        for &x in &neighbours {
+            let list = &mut self.adj[x as usize];
+            if let Ok(k) = list.binary_search(&b) {
+                list.remove(k);
+            }
+            if x != a {
+                if let Err(k) = list.binary_search(&a) {
+                    list.insert(k, a);
+                }
+                if let Err(k) = self.adj[ai].binary_search(&x) {
+                    self.adj[ai].insert(k, x);
+                }
+            }
+        }
+        if let Ok(k) = self.adj[ai].binary_search(&b) {
+            self.adj[ai].remove(k);
+        }
+        let (na, nb) = (self.nodes[ai], self.nodes[bi]);
+        let (ma, mb) = (self.mass[ai], self.mass[bi]);
+        let node = &mut self.nodes[ai];
+        node.pos = pos;
+        node.r_min = na.r_min.max(nb.r_min);
+        node.width = (na.width * ma + nb.width * mb) / (ma + mb);
+        node.linear = na.linear && nb.linear;
+        node.cluster = na.cluster.or(nb.cluster);
+        self.mass[ai] = ma + mb;
+        self.alive[bi] = false;
+        self.parent[bi] = a;
+        a
+    }
+
+    /// Merges a set of live nodes into its lowest index at `pos`.
+    fn merge_all(&mut self, group: &[u32], pos: [f64; 2]) -> u32 {
+        let mut sorted = group.to_vec();
+        sorted.sort_unstable();
+        sorted.dedup();
+        let target = sorted[0];
+        for &b in &sorted[1..] {
+            self.merge(target, b, pos);
+        }
+        self.nodes[target as usize].pos = pos;
+        target
+    }
+
+    fn centroid(&self, group: &[u32]) -> [f64; 2] {
+        let mut sum = [0.0, 0.0];
+        let mut mass = 0.0;
+        for &i in group {
+            let m = self.mass[i as usize];
+            sum[0] += self.nodes[i as usize].pos[0] * m;
+            sum[1] += self.nodes[i as usize].pos[1] * m;
+            mass += m;
+        }
+        [sum[0] / mass, sum[1] / mass]
+    }
+
+    /// Contraction operator: collapse the shortest, lowest-degree triangle edge until no triangle
+    /// is left (edges joining two different clusters are never collapsed).
+    fn contract_triangles(&mut self) {
+        let mut heap: BinaryHeap<Reverse<(Key, usize, u32, u32)>> = BinaryHeap::new();
+        for a in 0..self.nodes.len() as u32 {
+            for &b in &self.adj[a as usize] {
+                if a < b && self.in_triangle(a, b) {
+                    heap.push(Reverse(self.edge_key(a, b)));
+                }
+            }
+        }
+        while let Some(Reverse((Key(length), degree, a, b))) = heap.pop() {
+            if !(self.alive[a as usize] && self.alive[b as usize] && self.adjacent(a, b)) {
+                continue;
+            }
+            if !self.in_triangle(a, b) {
+                continue;
+            }
+            let (ca, cb) = (
+                self.nodes[a as usize].cluster,
+                self.nodes[b as usize].cluster,
+            );
+            if matches!((ca, cb), (Some(x), Some(y)) if x != y) {
+                continue;
+            }
+            let key = self.edge_key(a, b);
+            if key.0 .0 != length || key.1 != degree {
+                heap.push(Reverse(key));
+                continue;
+            }
+            let (pa, pb) = (self.nodes[a as usize].pos, self.nodes[b as usize].pos);
+            let mid = [(pa[0] + pb[0]) / 2.0, (pa[1] + pb[1]) / 2.0];
+            let m = self.merge(a, b, mid);
+            // New triangle edges can only involve the merged node and its neighbours.
+            let around = self.adj[m as usize].clone();
+            for &x in &around {
+                if self.in_triangle(m, x) {
+                    heap.push(Reverse(self.edge_key(m.min(x), m.max(x))));
+                }
+                for &y in &self.adj[x as usize] {
+                    if y > x && y != m && self.adjacent(m, y) {
+                        heap.push(Reverse(self.edge_key(x, y)));
+                    }
+                }
+            }
+        }
+    }
+
+    fn edge_key(&self, a: u32, b: u32) -> (Key, usize, u32, u32) {
+        (
+            Key(self.len(a, b)),
+            self.degree(a).min(self.degree(b)),
+            a,
+            b,
+        )
+    }
+
+    /// Merging operator with complete-linkage groups (design 13).
+    fn merge_clusters(&mut self, span: f64) {
+        let mut members: Vec<Vec<u32>> = Vec::new();
+        for i in 0..self.nodes.len() as u32 {
+            if !self.alive[i as usize] || self.degree(i) <= 2 {
+                continue;
+            }
+            if let Some(c) = self.nodes[i as usize].cluster {
+                let c = c as usize;
+                if members.len() <= c {
+                    members.resize(c + 1, Vec::new());
+                }
+                members[c].push(i);
+            }
+        }
+        for (cluster, list) in members.iter().enumerate() {
+            if list.len() < 2 {
+                continue;
+            }
+            for group in complete_linkage(list, |a, b| {
+                let limit = span
+                    * self.nodes[a as usize]
+                        .r_min
+                        .max(self.nodes[b as usize].r_min);
+                self.len(a, b) <= limit
+            }) {
+                if group.len() < 2 {
+                    continue;
+                }
+                let pos = self.centroid(&group);
+                let m = self.merge_all(&group, pos);
+                self.absorb_dangling(m, cluster as u32);
+            }
+        }
+    }
+
+    /// After a merge, nodes of the same cluster hanging off the merged node alone (left over from
+    /// the paths between the merged members) join it.
+    fn absorb_dangling(&mut self, m: u32, cluster: u32) {
+        loop {
+            let dangling: Vec<u32> = self.adj[m as usize]
+                .iter()
+                .copied()
+                .filter(|&x| {
+                    self.nodes[x as usize].cluster == Some(cluster)
+                        && (self.degree(x) == 1 || (self.degree(x) == 2 && self.in_triangle(m, x)))
+                })
+                .collect();
+            if dangling.is_empty() {
+                return;
+            }
+            let pos = self.nodes[m as usize].pos;
+            for x in dangling {
+                if self.alive[x as usize] {
+                    self.merge(m, x, pos);
+                }
+            }
+        }
+    }
+
+    /// Live nodes in index order.
+    fn live(&self) -> Vec<u32> {
+        (0..self.nodes.len() as u32)
+            .filter(|&i| self.alive[i as usize])
+            .collect()
+    }
+
+    /// Shortest path from `a` to `b` not using the edge `a-b` (Dijkstra on edge lengths).
+    fn shortest_detour(&self, a: u32, b: u32, limit: f64) -> Option<Vec<u32>> {
+        let mut best: std::collections::HashMap<u32, (f64, u32)> = std::collections::HashMap::new();
+        let mut heap = BinaryHeap::new();
+        best.insert(a, (0.0, a));
+        heap.push(Reverse((Key(0.0), a)));
+        while let Some(Reverse((Key(d), x))) = heap.pop() {
+            if best.get(&x).is_some_and(|&(bd, _)| bd < d) {
+                continue;
+            }
+            if x == b {
+                let mut path = vec![b];
+                let mut cur = b;
+                while cur != a {
+                    cur = best[&cur].1;
+                    path.push(cur);
+                }
+                return Some(path);
+            }
+            for &y in &self.adj[x as usize] {
+                if x == a && y == b {
+                    continue;
+                }
+                let nd = d + self.len(x, y);
+                if nd > limit {
+                    continue;
+                }
+                if best.get(&y).is_none_or(|&(bd, _)| nd < bd) {
+                    best.insert(y, (nd, x));
+                    heap.push(Reverse((Key(nd), y)));
+                }
+            }
+        }
+        None
+    }
+
+    /// Clean-up 1: a cycle that encloses no background hole is an artifact of sampling a thick
+    /// region; small ones collapse to a point, long ones lose their longest edge.
+    fn contract_hole_free_cycles(&mut self, holes: &Holes) -> bool {
+        let mut changed = false;
+        for (a, b) in self.non_tree_edges() {
+            if !(self.alive[a as usize] && self.alive[b as usize] && self.adjacent(a, b)) {
+                continue;
+            }
+            let reach = 20.0
+                * self.nodes[a as usize]
+                    .width
+                    .max(self.nodes[b as usize].width)
+                    .max(3.0);
+            let Some(cycle) = self.shortest_detour(a, b, reach) else {
+                continue;
+            };
+            let polygon: Vec<[f64; 2]> =
+                cycle.iter().map(|&i| self.nodes[i as usize].pos).collect();
+            let perimeter: f64 = (0..polygon.len())
+                .map(|i| dist(polygon[i], polygon[(i + 1) % polygon.len()]))
+                .sum();
+            let width = cycle
+                .iter()
+                .map(|&i| self.nodes[i as usize].width)
+                .fold(0.0, f64::max);
+            let hole_free = match holes {
+                Holes::Known(_) => !holes.encloses(&polygon),
+                // Without a pixel grid there is no hole map: only a cycle too small to go around
+                // any background is taken as an artifact.
+                Holes::Unknown => perimeter < std::f64::consts::PI * width,
+            };
+            if !hole_free {
+                continue;
+            }
+            if perimeter <= 3.0 * width.max(3.0) {
+                let pos = self.centroid(&cycle);
+                self.merge_all(&cycle, pos);
+            } else {
+                let mut longest = (0.0, cycle[0], cycle[1]);
+                for i in 0..cycle.len() {
+                    let (x, y) = (cycle[i], cycle[(i + 1) % cycle.len()]);
+                    let l = self.len(x, y);
+                    if l > longest.0 {
+                        longest = (l, x, y);
+                    }
+                }
+                self.remove_edge(longest.1, longest.2);
+            }
+            changed = true;
+        }
+        changed
+    }
+
+    fn remove_edge(&mut self, a: u32, b: u32) {
+        if let Ok(k) = self.adj[a as usize].binary_search(&b) {
+            self.adj[a as usize].remove(k);
+        }
+        if let Ok(k) = self.adj[b as usize].binary_search(&a) {
+            self.adj[b as usize].remove(k);
+        }
+    }
+
+    /// Edges outside a breadth-first spanning forest: each closes one independent cycle.
+    fn non_tree_edges(&self) -> Vec<(u32, u32)> {
+        let n = self.nodes.len();
+        let mut visited = vec![false; n];
+        let mut tree_parent = vec![u32::MAX; n];
+        let mut extra = Vec::new();
+        let mut queue = std::collections::VecDeque::new();
+        for root in self.live() {
+            if visited[root as usize] {
+                continue;
+            }
+            visited[root as usize] = true;
+            queue.push_back(root);
+            while let Some(x) = queue.pop_front() {
+                for &y in &self.adj[x as usize] {
+                    if !visited[y as usize] {
+                        visited[y as usize] = true;
+                        tree_parent[y as usize] = x;
+                        queue.push_back(y);
+                    } else if y > x && tree_parent[x as usize] != y && tree_parent[y as usize] != x
+                    {
+                        extra.push((x, y));
+                    }
+                }
+            }
+        }
+        extra
+    }
+
+    /// Walks from `start` (coming from `prev`) along degree-2 nodes; returns the nodes passed
+    /// (excluding `start`, including the node where the walk stops) and the length walked.
+    fn walk(&self, prev: u32, start: u32) -> (Vec<u32>, f64) {
+        let mut path = vec![start];
+        let mut length = self.len(prev, start);
+        let (mut from, mut at) = (prev, start);
+        while self.degree(at) == 2 {
+            let next = if self.adj[at as usize][0] == from {
+                self.adj[at as usize][1]
+            } else {
+                self.adj[at as usize][0]
+            };
+            if next == start || path.len() > self.nodes.len() {
+                break;
+            }
+            length += self.len(at, next);
+            path.push(next);
+            from = at;
+            at = next;
+        }
+        (path, length)
+    }
+
+    /// Clean-up 2: terminal branches shorter than the stroke width at their junction are spurs.
+    fn prune_spurs(&mut self) -> bool {
+        let mut changed = false;
+        for e in self.live() {
+            if !self.alive[e as usize] || self.degree(e) != 1 {
+                continue;
+            }
+            let first = self.adj[e as usize][0];
+            let (path, length) = self.walk(e, first);
+            let junction = *path.last().unwrap_or(&first);
+            if self.degree(junction) < 3 {
+                continue;
+            }
+            let width = self.nodes[junction as usize].width;
+            if length < width {
+                let pos = self.nodes[junction as usize].pos;
+                let mut group = vec![junction, e];
+                group.extend_from_slice(&path[..path.len() - 1]);
+                let m = self.merge_all(&group, pos);
+                self.nodes[m as usize].pos = pos;
+                changed = true;
+            }
+        }
+        changed
+    }
+
+    /// The chains leaving junction `j`: (first node, nodes walked, length).
+    fn arms(&self, j: u32) -> Vec<(Vec<u32>, f64)> {
+        self.adj[j as usize]
+            .iter()
+            .map(|&x| self.walk(j, x))
+            .collect()
+    }
+
+    /// Clean-up 3: two junctions joined by a chain shorter than the stroke width are one junction.
+    fn collapse_short_bars(&mut self) -> bool {
+        let mut changed = false;
+        for j in self.live() {
+            if !self.alive[j as usize] || self.degree(j) < 3 {
+                continue;
+            }
+            for (path, length) in self.arms(j) {
+                let Some(&k) = path.last() else { continue };
+                if k == j || !self.alive[k as usize] || self.degree(k) < 3 {
+                    continue;
+                }
+                let width = 0.5 * (self.nodes[j as usize].width + self.nodes[k as usize].width);
+                if length < width {
+                    let mut group = path.clone();
+                    group.push(j);
+                    let pos = self.centroid(&[j, k]);
+                    self.merge_all(&group, pos);
+                    changed = true;
+                    break;
+                }
+            }
+        }
+        changed
+    }
+
+    /// Direction from `j` along an arm, to the node about `reach` away.
+    fn arm_direction(&self, j: u32, path: &[u32], reach: f64) -> [f64; 2] {
+        let origin = self.nodes[j as usize].pos;
+        let mut target = origin;
+        for &x in path {
+            target = self.nodes[x as usize].pos;
+            if dist(origin, target) >= reach {
+                break;
+            }
+        }
+        let d = [target[0] - origin[0], target[1] - origin[1]];
+        let norm = d[0].hypot(d[1]).max(1e-12);
+        [d[0] / norm, d[1] / norm]
+    }
+
+    /// Clean-up 4 (design 15): Y-bar-Y → X. Two degree-3 vertices joined by a short bar, whose
+    /// outer arms open away from the bar and pair up anti-parallel (within 25°), are one crossing
+    /// that thinning-like sampling split in two. The bar limit `3 w / sin(θ/2)` grows as the
+    /// crossing gets more acute (θ = angle between one Y's outer arms).
+    fn merge_y_bar_y(&mut self) -> bool {
+        let mut changed = false;
+        let cos25 = 25f64.to_radians().cos();
+        for a in self.live() {
+            if !self.alive[a as usize] || self.degree(a) != 3 {
+                continue;
+            }
+            let arms_a = self.arms(a);
+            for (bar_index, (bar, bar_length)) in arms_a.iter().enumerate() {
+                let Some(&b) = bar.last() else { continue };
+                if b <= a || self.degree(b) != 3 {
+                    continue;
+                }
+                let w = 0.5 * (self.nodes[a as usize].width + self.nodes[b as usize].width);
+                let reach = 2.0 * w.max(2.0);
+                let bar_dir = {
+                    let (pa, pb) = (self.nodes[a as usize].pos, self.nodes[b as usize].pos);
+                    let d = [pb[0] - pa[0], pb[1] - pa[1]];
+                    let n = d[0].hypot(d[1]).max(1e-12);
+                    [d[0] / n, d[1] / n]
+                };
+                let outer_a: Vec<[f64; 2]> = arms_a
+                    .iter()
+                    .enumerate()
+                    .filter(|&(i, _)| i != bar_index)
+                    .map(|(_, (path, _))| self.arm_direction(a, path, reach))
+                    .collect();
+                let bar_back: Vec<u32> = {
+                    let mut back: Vec<u32> = bar[..bar.len() - 1].iter().rev().copied().collect();
+                    back.push(a);
+                    back
+                };
+                let outer_b: Vec<[f64; 2]> = self
+                    .arms(b)
+                    .iter()
+                    .filter(|(path, _)| path.first() != bar_back.first())
+                    .map(|(path, _)| self.arm_direction(b, path, reach))
+                    .collect();
+                if outer_a.len() != 2 || outer_b.len() != 2 {
+                    continue;
+                }
+                let dot = |u: [f64; 2], v: [f64; 2]| u[0] * v[0] + u[1] * v[1];
+                let opens_away = outer_a.iter().all(|&u| dot(u, bar_dir) < 0.0)
+                    && outer_b.iter().all(|&u| dot(u, bar_dir) > 0.0);
+                if !opens_away {
+                    continue;
+                }
+                let anti = |u: [f64; 2], v: [f64; 2]| -dot(u, v) >= cos25;
+                let paired = (anti(outer_a[0], outer_b[0]) && anti(outer_a[1], outer_b[1]))
+                    || (anti(outer_a[0], outer_b[1]) && anti(outer_a[1], outer_b[0]));
+                if !paired {
+                    continue;
+                }
+                let theta = dot(outer_a[0], outer_a[1]).clamp(-1.0, 1.0).acos();
+                let limit = 3.0 * w / (theta / 2.0).sin().max(1e-3);
+                if *bar_length < limit {
+                    let mut group = bar.clone();
+                    group.push(a);
+                    let pos = self.centroid(&[a, b]);
+                    self.merge_all(&group, pos);
+                    changed = true;
+                    break;
+                }
+            }
+        }
+        changed
+    }
+
+    /// Compacts live nodes (in index order) and re-owns every point.
+    fn finish(mut self, owner: &[u32]) -> NodeGraph {
+        let n = self.nodes.len();
+        let mut root = vec![0u32; n];
+        for i in 0..n {
+            let mut r = i as u32;
+            while self.parent[r as usize] != r {
+                r = self.parent[r as usize];
+            }
+            root[i] = r;
+        }
+        for i in 0..n {
+            self.parent[i] = root[i];
+        }
+        let mut new_index = vec![u32::MAX; n];
+        let mut nodes = Vec::new();
+        for i in 0..n {
+            if self.alive[i] {
+                new_index[i] = nodes.len() as u32;
+                nodes.push(self.nodes[i]);
+            }
+        }
+        let mut edges = Vec::new();
+        for a in 0..n {
+            if !self.alive[a] {
+                continue;
+            }
+            for &b in &self.adj[a] {
+                if (a as u32) < b {
+                    let (x, y) = (new_index[a], new_index[b as usize]);
+                    edges.push([x.min(y), x.max(y)]);
+                }
+            }
+        }
+        edges.sort_unstable();
+        edges.dedup();
+        let owner = owner
+            .iter()
+            .map(|&o| new_index[root[o as usize] as usize])
+            .collect();
+        NodeGraph {
+            nodes,
+            edges,
+            owner,
+        }
+    }
+}
+
+/// Complete-linkage agglomeration: groups in which every pair satisfies `close`.
+fn complete_linkage(items: &[u32], close: impl Fn(u32, u32) -> bool) -> Vec<Vec<u32>> {
+    let mut groups: Vec<Vec<u32>> = items.iter().map(|&i| vec![i]).collect();
+    loop {
+        let mut merged = false;
+        'search: for i in 0..groups.len() {
+            for j in i + 1..groups.len() {
+                if groups[i]
+                    .iter()
+                    .all(|&a| groups[j].iter().all(|&b| close(a, b)))
+                {
+                    let taken = groups.remove(j);
+                    groups[i].extend(taken);
+                    merged = true;
+                    break 'search;
+                }
+            }
+        }
+        if !merged {
+            return groups;
+        }
+    }
+}
+
+/// Background holes (bounded background components) of the ink, each by a representative pixel.
+enum Holes {
+    /// Representative pixel centers of the holes, sorted by x.
+    Known(Vec<[f64; 2]>),
+    /// Point-list input: no pixel grid.
+    Unknown,
+}
+
+impl Holes {
+    fn find(points: &PointSet) -> Holes {
+        let Some(grid) = &points.grid else {
+            return Holes::Unknown;
+        };
+        let (w, h) = (grid.width as usize, grid.height as usize);
+        // Specks of background inside dropout ink are not holes (the closing of design 1).
+        let min_size = if points.dropout { 4 } else { 2 };
+        let mut label = vec![u32::MAX; w * h];
+        let mut reps = Vec::new();
+        let mut stack = Vec::new();
+        let mut members = Vec::new();
+        for start in 0..w * h {
+            if grid.index[start] != crate::Grid::NONE || label[start] != u32::MAX {
+                continue;
+            }
+            label[start] = 0;
+            stack.push(start);
+            members.clear();
+            let mut touches_border = false;
+            while let Some(p) = stack.pop() {
+                members.push(p);
+                let (x, y) = (p % w, p / w);
+                if x == 0 || y == 0 || x + 1 == w || y + 1 == h {
+                    touches_border = true;
+                }
+                let mut visit = |q: usize| {
+                    if grid.index[q] == crate::Grid::NONE && label[q] == u32::MAX {
+                        label[q] = 0;
+                        stack.push(q);
+                    }
+                };
+                if x > 0 {
+                    visit(p - 1);
+                }
+                if x + 1 < w {
+                    visit(p + 1);
+                }
+                if y > 0 {
+                    visit(p - w);
+                }
+                if y + 1 < h {
+                    visit(p + w);
+                }
+            }
+            if touches_border || members.len() < min_size {
+                continue;
+            }
+            let (mut sx, mut sy) = (0.0, 0.0);
+            for &p in &members {
+                sx += (p % w) as f64 + 0.5;
+                sy += (p / w) as f64 + 0.5;
+            }
+            let c = [sx / members.len() as f64, sy / members.len() as f64];
+            let rep = members
+                .iter()
+                .map(|&p| [(p % w) as f64 + 0.5, (p / w) as f64 + 0.5])
+                .min_by(|a, b| dist(*a, c).total_cmp(&dist(*b, c)))
+                .unwrap_or(c);
+            reps.push(rep);
+        }
+        reps.sort_by(|a, b| a[0].total_cmp(&b[0]));
+        Holes::Known(reps)
+    }
+
+    /// Whether a hole's representative pixel lies inside the polygon (even-odd rule).
+    fn encloses(&self, polygon: &[[f64; 2]]) -> bool {
+        let Holes::Known(reps) = self else {
+            return true;
+        };
+        let (mut x0, mut x1) = (f64::INFINITY, f64::NEG_INFINITY);
+        for p in polygon {
+            x0 = x0.min(p[0]);
+            x1 = x1.max(p[0]);
+        }
+        let start = reps.partition_point(|r| r[0] < x0);
+        reps[start..]
+            .iter()
+            .take_while(|r| r[0] <= x1)
+            .any(|&r| point_in_polygon(r, polygon))
+    }
+}
+
+fn point_in_polygon(p: [f64; 2], polygon: &[[f64; 2]]) -> bool {
+    let mut inside = false;
+    let n = polygon.len();
+    for i in 0..n {
+        let (a, b) = (polygon[i], polygon[(i + 1) % n]);
+        if (a[1] > p[1]) != (b[1] > p[1]) {
+            let x = a[0] + (p[1] - a[1]) * (b[0] - a[0]) / (b[1] - a[1]);
+            if p[0] < x {
+                inside = !inside;
+            }
+        }
+    }
+    inside
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn complete_linkage_requires_every_pair_close() {
+        // 0, 1, 2 on a line 1 apart: with limit 1.5, {0,1} and {2} (0-2 is 2 apart).
+        let pos = [0.0, 1.0, 2.0];
+        let groups = complete_linkage(&[0, 1, 2], |a, b| {
+            (pos[a as usize] - pos[b as usize]).abs() <= 1.5
+        });
+        assert_eq!(groups.len(), 2);
+        assert!(groups.iter().all(|g| g.len() <= 2));
+    }
+
+    #[test]
+    fn point_in_square() {
+        let square = [[0.0, 0.0], [2.0, 0.0], [2.0, 2.0], [0.0, 2.0]];
+        assert!(point_in_polygon([1.0, 1.0], &square));
+        assert!(!point_in_polygon([3.0, 1.0], &square));
+    }
 }

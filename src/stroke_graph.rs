@@ -106,7 +106,9 @@ impl StrokeGraph {
                 return Err(format!("edge {i} has {} points", e.points.len()));
             }
             if e.widths.len() != e.points.len() || e.directions.len() != e.points.len() {
-                return Err(format!("edge {i}: widths/directions do not match its points"));
+                return Err(format!(
+                    "edge {i}: widths/directions do not match its points"
+                ));
             }
             let finite = |p: &[f64; 2]| p[0].is_finite() && p[1].is_finite();
             if !e.points.iter().all(finite) || !e.directions.iter().all(finite) {
@@ -129,7 +131,8 @@ impl StrokeGraph {
                     vertex.degree, degree[v]
                 ));
             }
-            if !(vertex.pos[0].is_finite() && vertex.pos[1].is_finite() && vertex.width.is_finite()) {
+            if !(vertex.pos[0].is_finite() && vertex.pos[1].is_finite() && vertex.width.is_finite())
+            {
                 return Err(format!("vertex {v} is not finite"));
             }
         }

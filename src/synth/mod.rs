@@ -43,7 +43,10 @@ pub fn render(strokes: &[Stroke], width: u32, height: u32) -> Binary {
         for i in 0..n {
             let a = stroke.points[i];
             let b = stroke.points[(i + 1).min(n - 1)];
-            let (ra, rb) = (stroke.widths[i] / 2.0, stroke.widths[(i + 1).min(n - 1)] / 2.0);
+            let (ra, rb) = (
+                stroke.widths[i] / 2.0,
+                stroke.widths[(i + 1).min(n - 1)] / 2.0,
+            );
             let r = ra.max(rb);
             let x0 = (a[0].min(b[0]) - r - 1.0).floor().max(0.0) as i64;
             let x1 = (a[0].max(b[0]) + r + 1.0).ceil().min(width as f64) as i64;

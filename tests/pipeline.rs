@@ -1,1 +1,279 @@
-//! End-to-end: render known centerlines thickly, trace, compare.
+//! End-to-end: render known centerlines thickly, trace, and compare topology and geometry with the
+//! truth. Nothing here is special-cased in the pipeline: the shapes are only drawn here.
+
+use ridgeline::synth::{render, Stroke};
+use ridgeline::{trace_binary, Binary, Params, StrokeGraph};
+
+fn line(a: [f64; 2], b: [f64; 2], width: f64) -> Stroke {
+    Stroke::new(vec![a, b], width)
+}
+
+/// A stroke through `center` at `angle_deg`, `half_length` each way.
+fn through(center: [f64; 2], angle_deg: f64, half_length: f64, width: f64) -> Stroke {
+    let (s, c) = angle_deg.to_radians().sin_cos();
+    line(
+        [center[0] - half_length * c, center[1] - half_length * s],
+        [center[0] + half_length * c, center[1] + half_length * s],
+        width,
+    )
+}
+
+fn circle(center: [f64; 2], radius: f64, width: f64) -> Stroke {
+    let n = (radius * 2.0 * std::f64::consts::PI).ceil() as usize;
+    let points = (0..=n)
+        .map(|i| {
+            let t = i as f64 / n as f64 * 2.0 * std::f64::consts::PI;
+            [center[0] + radius * t.cos(), center[1] + radius * t.sin()]
+        })
+        .collect();
+    Stroke::new(points, width)
+}
+
+fn trace(binary: &Binary) -> StrokeGraph {
+    let trace = trace_binary(binary, &Params::default()).expect("trace succeeds");
+    trace.graph.validate().expect("stroke graph is valid");
+    trace.graph
+}
+
+fn degrees(graph: &StrokeGraph) -> Vec<usize> {
+    let mut d: Vec<usize> = graph.vertices.iter().map(|v| v.degree).collect();
+    d.sort_unstable();
+    d
+}
+
+/// Distance from `p` to the nearest point of the truth polylines.
+fn distance_to_truth(p: [f64; 2], strokes: &[Stroke]) -> f64 {
+    let mut best = f64::INFINITY;
+    for s in strokes {
+        for w in s.points.windows(2) {
+            best = best.min(segment_distance(p, w[0], w[1]));
+        }
+        if s.points.len() == 1 {
+            best = best.min(ridgeline::dist(p, s.points[0]));
+        }
+    }
+    best
+}
+
+fn segment_distance(p: [f64; 2], a: [f64; 2], b: [f64; 2]) -> f64 {
+    let d = [b[0] - a[0], b[1] - a[1]];
+    let len2 = d[0] * d[0] + d[1] * d[1];
+    let t = if len2 > 0.0 {
+        (((p[0] - a[0]) * d[0] + (p[1] - a[1]) * d[1]) / len2).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    ridgeline::dist(p, [a[0] + t * d[0], a[1] + t * d[1]])
+}
+
+fn distance_to_graph(p: [f64; 2], graph: &StrokeGraph) -> f64 {
+    let mut best = f64::INFINITY;
+    for e in &graph.edges {
+        for w in e.points.windows(2) {
+            best = best.min(segment_distance(p, w[0], w[1]));
+        }
+    }
+    for v in &graph.vertices {
+        best = best.min(ridgeline::dist(p, v.pos));
+    }
+    best
+}
+
+/// Every output point within `max(2, w/2)` of the truth, and every truth point (sampled every
+/// 0.5 px) within the same bound of the output.
+fn assert_geometry(graph: &StrokeGraph, strokes: &[Stroke]) {
+    let max_width = strokes.iter().flat_map(|s| s.widths.iter().copied()).fold(0.0, f64::max);
+    let bound = (max_width / 2.0).max(2.0);
+    for e in &graph.edges {
+        for w in e.points.windows(2) {
+            for k in 0..=4 {
+                let t = k as f64 / 4.0;
+                let p = [w[0][0] + t * (w[1][0] - w[0][0]), w[0][1] + t * (w[1][1] - w[0][1])];
+                let d = distance_to_truth(p, strokes);
+                assert!(d <= bound, "output point {p:?} is {d:.2} px from the truth (bound {bound})");
+            }
+        }
+    }
+    for s in strokes {
+        for w in s.points.windows(2) {
+            let steps = (ridgeline::dist(w[0], w[1]) / 0.5).ceil().max(1.0) as usize;
+            for k in 0..=steps {
+                let t = k as f64 / steps as f64;
+                let p = [w[0][0] + t * (w[1][0] - w[0][0]), w[0][1] + t * (w[1][1] - w[0][1])];
+                let d = distance_to_graph(p, graph);
+                assert!(d <= bound, "truth point {p:?} is {d:.2} px from the output (bound {bound})");
+            }
+        }
+    }
+}
+
+fn check_x(angle: f64, width: f64) {
+    let c = [100.0, 100.0];
+    let strokes =
+        [through(c, 90.0 - angle / 2.0, 80.0, width), through(c, 90.0 + angle / 2.0, 80.0, width)];
+    let graph = trace(&render(&strokes, 200, 200));
+    assert_eq!(degrees(&graph), vec![1, 1, 1, 1, 4], "X at {angle} deg, width {width}");
+    let crossing = graph.junctions().next().expect("one crossing");
+    let error = ridgeline::dist(graph.vertices[crossing].pos, c);
+    assert!(error <= width.max(2.0), "crossing placed {error:.1} px off");
+    assert_geometry(&graph, &strokes);
+}
+
+#[test]
+fn x_crossing_at_90_degrees_is_one_vertex_of_degree_4() {
+    for width in [3.0, 5.0, 8.0] {
+        check_x(90.0, width);
+    }
+}
+
+#[test]
+fn x_crossing_at_45_degrees_is_one_vertex_of_degree_4() {
+    for width in [3.0, 5.0, 8.0] {
+        check_x(45.0, width);
+    }
+}
+
+#[test]
+fn x_crossing_at_30_degrees_is_one_vertex_of_degree_4() {
+    for width in [3.0, 5.0, 8.0] {
+        check_x(30.0, width);
+    }
+}
+
+#[test]
+fn t_junction_is_one_vertex_of_degree_3() {
+    for width in [3.0, 6.0] {
+        let strokes = [line([20.0, 30.0], [140.0, 30.0], width), line([80.0, 30.0], [80.0, 130.0], width)];
+        let graph = trace(&render(&strokes, 160, 150));
+        assert_eq!(degrees(&graph), vec![1, 1, 1, 3], "T at width {width}");
+        assert_geometry(&graph, &strokes);
+    }
+}
+
+#[test]
+fn y_junction_is_one_vertex_of_degree_3() {
+    for width in [3.0, 6.0] {
+        let c = [80.0, 70.0];
+        let strokes = [
+            line(c, [80.0, 140.0], width),
+            line(c, [30.0, 20.0], width),
+            line(c, [130.0, 20.0], width),
+        ];
+        let graph = trace(&render(&strokes, 160, 160));
+        assert_eq!(degrees(&graph), vec![1, 1, 1, 3], "Y at width {width}");
+        assert_geometry(&graph, &strokes);
+    }
+}
+
+#[test]
+fn circle_is_one_cycle_without_endpoints() {
+    for width in [3.0, 7.0] {
+        let strokes = [circle([70.0, 70.0], 45.0, width)];
+        let graph = trace(&render(&strokes, 140, 140));
+        assert_eq!(graph.endpoints().count(), 0);
+        assert_eq!(graph.junctions().count(), 0);
+        assert_eq!(graph.components(), 1);
+        assert_eq!(graph.cycles(), 1);
+        assert_geometry(&graph, &strokes);
+    }
+}
+
+#[test]
+fn figure_8_is_one_crossing_and_two_cycles() {
+    // A lemniscate of Gerono-like closed curve crossing itself once at the center.
+    let n = 400;
+    let points: Vec<[f64; 2]> = (0..=n)
+        .map(|i| {
+            let t = i as f64 / n as f64 * 2.0 * std::f64::consts::PI;
+            [90.0 + 45.0 * (2.0 * t).sin(), 110.0 + 90.0 * t.sin() * 0.9]
+        })
+        .collect();
+    let strokes = [Stroke::new(points, 5.0)];
+    let graph = trace(&render(&strokes, 180, 220));
+    assert_eq!(degrees(&graph), vec![4], "figure 8");
+    assert_eq!(graph.cycles(), 2);
+    assert_geometry(&graph, &strokes);
+}
+
+#[test]
+fn parallel_strokes_3_px_apart_stay_two_components() {
+    let width = 5.0;
+    let gap = 3.0;
+    let strokes = [
+        line([20.0, 40.0], [180.0, 40.0], width),
+        line([20.0, 40.0 + width + gap], [180.0, 40.0 + width + gap], width),
+    ];
+    let binary = render(&strokes, 200, 90);
+    let graph = trace(&binary);
+    assert_eq!(graph.components(), 2);
+    assert_eq!(degrees(&graph), vec![1, 1, 1, 1]);
+    assert_geometry(&graph, &strokes);
+}
+
+#[test]
+fn stroke_whose_width_grows_3x_is_one_edge() {
+    let points: Vec<[f64; 2]> = (0..=40).map(|i| [20.0 + 4.0 * i as f64, 50.0]).collect();
+    let widths = (0..=40).map(|i| 4.0 + 8.0 * i as f64 / 40.0).collect();
+    let strokes = [Stroke { points, widths }];
+    let graph = trace(&render(&strokes, 200, 100));
+    assert_eq!(degrees(&graph), vec![1, 1]);
+    assert_geometry(&graph, &strokes);
+}
+
+#[test]
+fn stroke_with_30_percent_dropout_is_still_one_stroke() {
+    let strokes = [line([20.0, 40.0], [220.0, 60.0], 6.0)];
+    let mut binary = render(&strokes, 240, 100);
+    // Deterministic 30% dropout over the whole stroke (SplitMix64).
+    let mut state = 0x9E37_79B9_7F4A_7C15u64;
+    for pixel in binary.ink.iter_mut() {
+        state = state.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = state;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        z ^= z >> 31;
+        if *pixel && (z % 100) < 30 {
+            *pixel = false;
+        }
+    }
+    let graph = trace(&binary);
+    assert_eq!(graph.components(), 1, "one component");
+    assert_eq!(graph.endpoints().count(), 2, "two ends, no spurs");
+    assert_eq!(graph.junctions().count(), 0);
+    assert_geometry(&graph, &strokes);
+}
+
+#[test]
+fn separate_parts_are_separate_components() {
+    let strokes = [
+        line([20.0, 20.0], [100.0, 20.0], 4.0),
+        circle([60.0, 90.0], 25.0, 4.0),
+        through([170.0, 80.0], 60.0, 40.0, 4.0),
+        through([170.0, 80.0], 120.0, 40.0, 4.0),
+    ];
+    let graph = trace(&render(&strokes, 230, 140));
+    assert_eq!(graph.components(), 3);
+    assert_eq!(graph.cycles(), 1);
+    assert_eq!(graph.junctions().count(), 1);
+    assert_geometry(&graph, &strokes);
+}
+
+#[test]
+fn a_lone_dot_is_a_lone_vertex() {
+    let mut binary = Binary::new(20, 20);
+    for y in 8..12 {
+        for x in 8..12 {
+            binary.set(x, y, true);
+        }
+    }
+    let graph = trace(&binary);
+    assert_eq!(graph.vertices.len(), 1);
+    assert_eq!(graph.edges.len(), 0);
+}
+
+#[test]
+fn same_input_gives_identical_output() {
+    let strokes = [through([60.0, 60.0], 30.0, 50.0, 5.0), circle([60.0, 60.0], 30.0, 4.0)];
+    let binary = render(&strokes, 120, 120);
+    assert_eq!(trace(&binary), trace(&binary));
+}

@@ -9,6 +9,8 @@
 //! shortest distance from a root, i.e. nodes joined by zero-weight edges. Applied to all nodes that
 //! chains whole thin strokes into one cluster, so only non-linear nodes are clustered (design 7).
 
+use petgraph::algo::dijkstra;
+use petgraph::graph::{NodeIndex, UnGraph};
 use petgraph::unionfind::UnionFind;
 
 use crate::{GraphNode, NodeGraph, Params, PointSet, Samples};
@@ -53,7 +55,11 @@ pub fn build(points: &PointSet, samples: &Samples, params: &Params) -> NodeGraph
         edges,
         owner: owner.clone(),
     };
-    color_clusters(&mut graph, params);
+    if params.paper {
+        color_clusters_as_written(&mut graph, params);
+    } else {
+        color_clusters(&mut graph, params);
+    }
     graph
 }
 
@@ -84,5 +90,61 @@ fn color_clusters(graph: &mut NodeGraph, params: &Params) {
             next += 1;
         }
         graph.nodes[i].cluster = Some(ids[root]);
+    }
+}
+
+/// The paper's rule as written (paper mode): edge weight 0 below `cluster_link · r_min`, else the
+/// edge length; shortest distances from a root per component; nodes at equal distance form one
+/// group. Groups of one node stay uncolored (a color on every node would forbid all contraction).
+fn color_clusters_as_written(graph: &mut NodeGraph, params: &Params) {
+    let n = graph.nodes.len();
+    let mut h: UnGraph<(), f64> = UnGraph::with_capacity(n, graph.edges.len());
+    for _ in 0..n {
+        h.add_node(());
+    }
+    for &[a, b] in &graph.edges {
+        let (na, nb) = (&graph.nodes[a as usize], &graph.nodes[b as usize]);
+        let length = crate::dist(na.pos, nb.pos);
+        let weight = if length < params.cluster_link * 0.5 * (na.r_min + nb.r_min) {
+            0.0
+        } else {
+            length
+        };
+        h.add_edge(
+            NodeIndex::new(a as usize),
+            NodeIndex::new(b as usize),
+            weight,
+        );
+    }
+    // (component, distance bits) -> group; roots in node order keep the result deterministic.
+    let mut component = vec![u32::MAX; n];
+    let mut distance = vec![0.0f64; n];
+    for root in 0..n {
+        if component[root] != u32::MAX {
+            continue;
+        }
+        for (node, d) in dijkstra(&h, NodeIndex::new(root), None, |e| *e.weight()) {
+            component[node.index()] = root as u32;
+            distance[node.index()] = d;
+        }
+    }
+    let mut keys: Vec<(u32, u64, usize)> = (0..n)
+        .map(|i| (component[i], distance[i].to_bits(), i))
+        .collect();
+    keys.sort_unstable();
+    let mut next = 0u32;
+    let mut start = 0;
+    while start < keys.len() {
+        let mut end = start + 1;
+        while end < keys.len() && keys[end].0 == keys[start].0 && keys[end].1 == keys[start].1 {
+            end += 1;
+        }
+        if end - start >= 2 {
+            for key in &keys[start..end] {
+                graph.nodes[key.2].cluster = Some(next);
+            }
+            next += 1;
+        }
+        start = end;
     }
 }

@@ -82,15 +82,24 @@ fn distance_to_graph(p: [f64; 2], graph: &StrokeGraph) -> f64 {
 /// Every output point within `max(2, w/2)` of the truth, and every truth point (sampled every
 /// 0.5 px) within the same bound of the output.
 fn assert_geometry(graph: &StrokeGraph, strokes: &[Stroke]) {
-    let max_width = strokes.iter().flat_map(|s| s.widths.iter().copied()).fold(0.0, f64::max);
+    let max_width = strokes
+        .iter()
+        .flat_map(|s| s.widths.iter().copied())
+        .fold(0.0, f64::max);
     let bound = (max_width / 2.0).max(2.0);
     for e in &graph.edges {
         for w in e.points.windows(2) {
             for k in 0..=4 {
                 let t = k as f64 / 4.0;
-                let p = [w[0][0] + t * (w[1][0] - w[0][0]), w[0][1] + t * (w[1][1] - w[0][1])];
+                let p = [
+                    w[0][0] + t * (w[1][0] - w[0][0]),
+                    w[0][1] + t * (w[1][1] - w[0][1]),
+                ];
                 let d = distance_to_truth(p, strokes);
-                assert!(d <= bound, "output point {p:?} is {d:.2} px from the truth (bound {bound})");
+                assert!(
+                    d <= bound,
+                    "output point {p:?} is {d:.2} px from the truth (bound {bound})"
+                );
             }
         }
     }
@@ -99,9 +108,15 @@ fn assert_geometry(graph: &StrokeGraph, strokes: &[Stroke]) {
             let steps = (ridgeline::dist(w[0], w[1]) / 0.5).ceil().max(1.0) as usize;
             for k in 0..=steps {
                 let t = k as f64 / steps as f64;
-                let p = [w[0][0] + t * (w[1][0] - w[0][0]), w[0][1] + t * (w[1][1] - w[0][1])];
+                let p = [
+                    w[0][0] + t * (w[1][0] - w[0][0]),
+                    w[0][1] + t * (w[1][1] - w[0][1]),
+                ];
                 let d = distance_to_graph(p, graph);
-                assert!(d <= bound, "truth point {p:?} is {d:.2} px from the output (bound {bound})");
+                assert!(
+                    d <= bound,
+                    "truth point {p:?} is {d:.2} px from the output (bound {bound})"
+                );
             }
         }
     }
@@ -109,10 +124,16 @@ fn assert_geometry(graph: &StrokeGraph, strokes: &[Stroke]) {
 
 fn check_x(angle: f64, width: f64) {
     let c = [100.0, 100.0];
-    let strokes =
-        [through(c, 90.0 - angle / 2.0, 80.0, width), through(c, 90.0 + angle / 2.0, 80.0, width)];
+    let strokes = [
+        through(c, 90.0 - angle / 2.0, 80.0, width),
+        through(c, 90.0 + angle / 2.0, 80.0, width),
+    ];
     let graph = trace(&render(&strokes, 200, 200));
-    assert_eq!(degrees(&graph), vec![1, 1, 1, 1, 4], "X at {angle} deg, width {width}");
+    assert_eq!(
+        degrees(&graph),
+        vec![1, 1, 1, 1, 4],
+        "X at {angle} deg, width {width}"
+    );
     let crossing = graph.junctions().next().expect("one crossing");
     let error = ridgeline::dist(graph.vertices[crossing].pos, c);
     assert!(error <= width.max(2.0), "crossing placed {error:.1} px off");
@@ -143,7 +164,10 @@ fn x_crossing_at_30_degrees_is_one_vertex_of_degree_4() {
 #[test]
 fn t_junction_is_one_vertex_of_degree_3() {
     for width in [3.0, 6.0] {
-        let strokes = [line([20.0, 30.0], [140.0, 30.0], width), line([80.0, 30.0], [80.0, 130.0], width)];
+        let strokes = [
+            line([20.0, 30.0], [140.0, 30.0], width),
+            line([80.0, 30.0], [80.0, 130.0], width),
+        ];
         let graph = trace(&render(&strokes, 160, 150));
         assert_eq!(degrees(&graph), vec![1, 1, 1, 3], "T at width {width}");
         assert_geometry(&graph, &strokes);
@@ -201,7 +225,11 @@ fn parallel_strokes_3_px_apart_stay_two_components() {
     let gap = 3.0;
     let strokes = [
         line([20.0, 40.0], [180.0, 40.0], width),
-        line([20.0, 40.0 + width + gap], [180.0, 40.0 + width + gap], width),
+        line(
+            [20.0, 40.0 + width + gap],
+            [180.0, 40.0 + width + gap],
+            width,
+        ),
     ];
     let binary = render(&strokes, 200, 90);
     let graph = trace(&binary);
@@ -273,7 +301,10 @@ fn a_lone_dot_is_a_lone_vertex() {
 
 #[test]
 fn same_input_gives_identical_output() {
-    let strokes = [through([60.0, 60.0], 30.0, 50.0, 5.0), circle([60.0, 60.0], 30.0, 4.0)];
+    let strokes = [
+        through([60.0, 60.0], 30.0, 50.0, 5.0),
+        circle([60.0, 60.0], 30.0, 4.0),
+    ];
     let binary = render(&strokes, 120, 120);
     assert_eq!(trace(&binary), trace(&binary));
 }

@@ -154,7 +154,7 @@ fn run(points: PointSet, width: u32, height: u32, params: &Params, keep: bool) -
     graph.height = height;
     timings.fit = clock.elapsed();
 
-    let stages = keep.then(|| Stages {
+    let stages = keep.then_some(Stages {
         samples,
         node_graph,
         refined,

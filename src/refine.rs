@@ -585,24 +585,22 @@ impl Work {
     }
 
     /// Compacts live nodes (in index order) and re-owns every point.
-    fn finish(mut self, owner: &[u32]) -> NodeGraph {
+    fn finish(self, owner: &[u32]) -> NodeGraph {
         let n = self.nodes.len();
-        let mut root = vec![0u32; n];
-        for i in 0..n {
-            let mut r = i as u32;
-            while self.parent[r as usize] != r {
-                r = self.parent[r as usize];
-            }
-            root[i] = r;
-        }
-        for i in 0..n {
-            self.parent[i] = root[i];
-        }
+        let root: Vec<u32> = (0..n as u32)
+            .map(|i| {
+                let mut r = i;
+                while self.parent[r as usize] != r {
+                    r = self.parent[r as usize];
+                }
+                r
+            })
+            .collect();
         let mut new_index = vec![u32::MAX; n];
         let mut nodes = Vec::new();
-        for i in 0..n {
+        for (i, slot) in new_index.iter_mut().enumerate() {
             if self.alive[i] {
-                new_index[i] = nodes.len() as u32;
+                *slot = nodes.len() as u32;
                 nodes.push(self.nodes[i]);
             }
         }
@@ -665,6 +663,9 @@ enum Holes {
 }
 
 impl Holes {
+    /// Labels the background by runs: each row's background runs are joined to the overlapping
+    /// runs of the row above (4-connectivity) with a union-find, so the cost follows the number of
+    /// runs (ink boundaries), not the page area.
     fn find(points: &PointSet) -> Holes {
         let Some(grid) = &points.grid else {
             return Holes::Unknown;
@@ -672,59 +673,76 @@ impl Holes {
         let (w, h) = (grid.width as usize, grid.height as usize);
         // Specks of background inside dropout ink are not holes (the closing of design 1).
         let min_size = if points.dropout { 4 } else { 2 };
-        let mut label = vec![u32::MAX; w * h];
-        let mut reps = Vec::new();
-        let mut stack = Vec::new();
-        let mut members = Vec::new();
-        for start in 0..w * h {
-            if grid.index[start] != crate::Grid::NONE || label[start] != u32::MAX {
-                continue;
+        // Runs: (row, x0, x1 exclusive); `row_start[y]` indexes the first run of row y.
+        let mut runs: Vec<(u32, u32, u32)> = Vec::new();
+        let mut row_start = Vec::with_capacity(h + 1);
+        for y in 0..h {
+            row_start.push(runs.len());
+            let row = &grid.index[y * w..(y + 1) * w];
+            let mut x = 0;
+            while x < w {
+                if row[x] != crate::Grid::NONE {
+                    x += 1;
+                    continue;
+                }
+                let x0 = x;
+                while x < w && row[x] == crate::Grid::NONE {
+                    x += 1;
+                }
+                runs.push((y as u32, x0 as u32, x as u32));
             }
-            label[start] = 0;
-            stack.push(start);
-            members.clear();
-            let mut touches_border = false;
-            while let Some(p) = stack.pop() {
-                members.push(p);
-                let (x, y) = (p % w, p / w);
-                if x == 0 || y == 0 || x + 1 == w || y + 1 == h {
-                    touches_border = true;
-                }
-                let mut visit = |q: usize| {
-                    if grid.index[q] == crate::Grid::NONE && label[q] == u32::MAX {
-                        label[q] = 0;
-                        stack.push(q);
-                    }
-                };
-                if x > 0 {
-                    visit(p - 1);
-                }
-                if x + 1 < w {
-                    visit(p + 1);
-                }
-                if y > 0 {
-                    visit(p - w);
-                }
-                if y + 1 < h {
-                    visit(p + w);
-                }
-            }
-            if touches_border || members.len() < min_size {
-                continue;
-            }
-            let (mut sx, mut sy) = (0.0, 0.0);
-            for &p in &members {
-                sx += (p % w) as f64 + 0.5;
-                sy += (p / w) as f64 + 0.5;
-            }
-            let c = [sx / members.len() as f64, sy / members.len() as f64];
-            let rep = members
-                .iter()
-                .map(|&p| [(p % w) as f64 + 0.5, (p / w) as f64 + 0.5])
-                .min_by(|a, b| dist(*a, c).total_cmp(&dist(*b, c)))
-                .unwrap_or(c);
-            reps.push(rep);
         }
+        row_start.push(runs.len());
+        let mut union = petgraph::unionfind::UnionFind::<u32>::new(runs.len());
+        for y in 1..h {
+            let (above, here) = (
+                row_start[y - 1]..row_start[y],
+                row_start[y]..row_start[y + 1],
+            );
+            let mut i = above.start;
+            for j in here {
+                let (_, x0, x1) = runs[j];
+                while i < above.end && runs[i].2 <= x0 {
+                    i += 1;
+                }
+                let mut k = i;
+                while k < above.end && runs[k].1 < x1 {
+                    union.union(k as u32, j as u32);
+                    k += 1;
+                }
+            }
+        }
+        // Per component: touches the border?, size, sums for the centroid.
+        let labels = union.into_labeling();
+        let mut stats: std::collections::BTreeMap<u32, (bool, usize, f64, f64)> =
+            std::collections::BTreeMap::new();
+        for (r, &(y, x0, x1)) in runs.iter().enumerate() {
+            let entry = stats.entry(labels[r]).or_insert((false, 0, 0.0, 0.0));
+            let border = y == 0 || y as usize + 1 == h || x0 == 0 || x1 as usize == w;
+            let n = (x1 - x0) as usize;
+            entry.0 |= border;
+            entry.1 += n;
+            entry.2 += (x0 + x1) as f64 / 2.0 * n as f64;
+            entry.3 += (y as f64 + 0.5) * n as f64;
+        }
+        // The representative: the hole pixel nearest the centroid (inside for convex holes).
+        let mut best: std::collections::BTreeMap<u32, ([f64; 2], f64)> =
+            std::collections::BTreeMap::new();
+        for (r, &(y, x0, x1)) in runs.iter().enumerate() {
+            let (border, size, sx, sy) = stats[&labels[r]];
+            if border || size < min_size {
+                continue;
+            }
+            let c = [sx / size as f64, sy / size as f64];
+            let px = (c[0] - 0.5).round().clamp(x0 as f64, x1 as f64 - 1.0) + 0.5;
+            let p = [px, y as f64 + 0.5];
+            let d = dist(p, c);
+            let slot = best.entry(labels[r]).or_insert((p, f64::INFINITY));
+            if d < slot.1 {
+                *slot = (p, d);
+            }
+        }
+        let mut reps: Vec<[f64; 2]> = best.values().map(|&(p, _)| p).collect();
         reps.sort_by(|a, b| a[0].total_cmp(&b[0]));
         Holes::Known(reps)
     }
@@ -769,7 +787,7 @@ mod tests {
     #[test]
     fn complete_linkage_requires_every_pair_close() {
         // 0, 1, 2 on a line 1 apart: with limit 1.5, {0,1} and {2} (0-2 is 2 apart).
-        let pos = [0.0, 1.0, 2.0];
+        let pos = [0.0f64, 1.0, 2.0];
         let groups = complete_linkage(&[0, 1, 2], |a, b| {
             (pos[a as usize] - pos[b as usize]).abs() <= 1.5
         });

@@ -90,10 +90,18 @@ struct Sampler<'a> {
     rim_seen: Vec<u32>,
     epoch: u32,
     /// Points of the current disk search in the order they join the disk, with their keys.
-    order: Vec<(f64, u32)>,
+    order: Vec<(u32, u32)>,
     /// Cumulative moments over `order`: (n, Σx, Σy, Σxx, Σxy, Σyy) relative to the center.
     moments: Vec<[f64; 6]>,
-    heap: BinaryHeap<Reverse<(OrdF64, u32)>>,
+    /// Bucket queue of the disk search: `buckets[k]` holds points whose key is `k`.
+    buckets: Vec<Vec<u32>>,
+    /// Buckets in use (to clear), next bucket to pop, points queued, largest key admitted.
+    used: usize,
+    cursor: usize,
+    queued: usize,
+    limit: u32,
+    /// Points reached with keys beyond the current bound, admitted when the bound grows.
+    overflow: Vec<(u32, u32)>,
     rim: Vec<u32>,
     stack: Vec<u32>,
 }
@@ -111,7 +119,12 @@ impl<'a> Sampler<'a> {
             epoch: 0,
             order: Vec::new(),
             moments: Vec::new(),
-            heap: BinaryHeap::new(),
+            buckets: Vec::new(),
+            used: 0,
+            cursor: 0,
+            queued: 0,
+            limit: 0,
+            overflow: Vec::new(),
             rim: Vec::new(),
             stack: Vec::new(),
         }
@@ -126,16 +139,32 @@ impl<'a> Sampler<'a> {
 
     /// Bottleneck search from `center`: extends `order` with every point whose best path from the
     /// center stays within `bound` (key = the largest distance from the center along the path).
+    ///
+    /// Keys only grow along a path, so the queue is monotone: a bucket queue on quantized squared
+    /// distances (exact on a pixel grid) replaces a binary heap, and the first time a point is
+    /// queued is already with its final key, so every point is queued and visited once.
     fn grow_disk(&mut self, center: [f64; 2], bound: f64) {
-        while let Some(&Reverse((OrdF64(key), p))) = self.heap.peek() {
-            if key > bound {
-                break;
+        let limit = quantize_bound(bound);
+        if limit > self.limit {
+            self.limit = limit;
+            let mut k = 0;
+            while k < self.overflow.len() {
+                let (key, p) = self.overflow[k];
+                if key <= limit {
+                    self.overflow.swap_remove(k);
+                    self.enqueue(key, p);
+                } else {
+                    k += 1;
+                }
             }
-            self.heap.pop();
-            if self.seen[p as usize] == self.epoch {
+        }
+        while self.cursor as u32 <= limit && self.queued > 0 {
+            let Some(p) = self.buckets.get_mut(self.cursor).and_then(Vec::pop) else {
+                self.cursor += 1;
                 continue;
-            }
-            self.seen[p as usize] = self.epoch;
+            };
+            self.queued -= 1;
+            let key = self.cursor as u32;
             let q = self.points.points[p as usize];
             let (dx, dy) = (q[0] - center[0], q[1] - center[1]);
             let last = self.moments.last().copied().unwrap_or([0.0; 6]);
@@ -150,17 +179,45 @@ impl<'a> Sampler<'a> {
             self.order.push((key, p));
             for &r in self.points.neighbors_of(p) {
                 if self.seen[r as usize] != self.epoch {
+                    self.seen[r as usize] = self.epoch;
                     let s = self.points.points[r as usize];
-                    let d = (s[0] - center[0]).hypot(s[1] - center[1]);
-                    self.heap.push(Reverse((OrdF64(d.max(key)), r)));
+                    let d2 = (s[0] - center[0]).powi(2) + (s[1] - center[1]).powi(2);
+                    self.enqueue(quantize(d2).max(key), r);
                 }
             }
         }
     }
 
+    fn enqueue(&mut self, key: u32, p: u32) {
+        if key > self.limit {
+            self.overflow.push((key, p));
+            return;
+        }
+        let k = key as usize;
+        if self.buckets.len() <= k {
+            self.buckets.resize_with(k + 1, Vec::new);
+        }
+        self.buckets[k].push(p);
+        self.queued += 1;
+        self.used = self.used.max(k + 1);
+    }
+
+    /// Empties the queue for the next search, keeping the bucket allocations.
+    fn reset_queue(&mut self) {
+        for bucket in &mut self.buckets[..self.used] {
+            bucket.clear();
+        }
+        self.used = 0;
+        self.cursor = 0;
+        self.queued = 0;
+        self.limit = 0;
+        self.overflow.clear();
+    }
+
     /// Number of points of the disk of radius `r` (a prefix of `order`).
     fn prefix(&self, r: f64) -> usize {
-        self.order.partition_point(|&(key, _)| key <= r)
+        let limit = quantize_bound(r);
+        self.order.partition_point(|&(key, _)| key <= limit)
     }
 
     /// Eq. (2)-(3) on the first `count` points: (linearity, unit principal direction, mean offset).
@@ -181,10 +238,11 @@ impl<'a> Sampler<'a> {
     /// places. A crossing gives 4 cuts, a T 3, a disk that holds a whole small part 0.
     fn arms_ok(&mut self, center: [f64; 2], count: usize, r: f64) -> bool {
         let inner = (r - 2.0 * self.points.spacing).max(0.0);
+        let inner2 = inner * inner;
         self.rim.clear();
         for &(_, p) in &self.order[..count] {
             let q = self.points.points[p as usize];
-            if (q[0] - center[0]).hypot(q[1] - center[1]) > inner {
+            if (q[0] - center[0]).powi(2) + (q[1] - center[1]).powi(2) > inner2 {
                 self.rim.push(p);
             }
         }
@@ -238,9 +296,10 @@ impl<'a> Sampler<'a> {
         }
         self.order.clear();
         self.moments.clear();
-        self.heap.clear();
+        self.reset_queue();
         let c = self.points.points[center as usize];
-        self.heap.push(Reverse((OrdF64(0.0), center)));
+        self.seen[center as usize] = self.epoch;
+        self.enqueue(0, center);
 
         let spacing = self.points.spacing.max(1e-9);
         // Local width (design 2): w_loc = 2 max(dt) - 1 over the disk of radius max(3, 3 dt(c)).
@@ -275,7 +334,7 @@ impl<'a> Sampler<'a> {
                 break;
             }
             // Nothing more to reach: the whole part is inside the disk and it is not linear.
-            if self.heap.is_empty() {
+            if self.queued == 0 && self.overflow.is_empty() {
                 break;
             }
             r *= self.params.r_growth;
@@ -327,11 +386,21 @@ impl<'a> Sampler<'a> {
     }
 }
 
+/// Squared distances in quarter units: exact for pixel centers (integer squared distances).
+fn quantize(d2: f64) -> u32 {
+    (d2 * 4.0).round().min(u32::MAX as f64 / 2.0) as u32
+}
+
+/// The largest key inside radius `r`.
+fn quantize_bound(r: f64) -> u32 {
+    (r * r * 4.0 + 1e-6).floor().min(u32::MAX as f64 / 2.0) as u32
+}
+
 /// Closed-form eigen-decomposition of the 2x2 covariance: returns the linearity
 /// `l = λ_max / (λ_min + λ_max)` (Eq. (3) in 2-D) and the unit eigenvector of `λ_max`.
 pub fn principal(cxx: f64, cxy: f64, cyy: f64) -> (f64, [f64; 2]) {
     let trace = cxx + cyy;
-    if !(trace > 1e-12) {
+    if trace.is_nan() || trace <= 1e-12 {
         return (0.5, [1.0, 0.0]);
     }
     let half_diff = (cxx - cyy) / 2.0;

@@ -423,6 +423,9 @@ pub fn run() -> Result<ExitCode> {
 
 fn run_with(cli: &Cli) -> Result<ExitCode> {
     let params = Params::try_from(cli)?;
+    if let Some(width) = cli.line_width.filter(|w| !(w.is_finite() && *w > 0.0)) {
+        return Err(UsageError(format!("--line-width must be > 0 px, got {width}")).into());
+    }
     let to_stdout = cli.output.as_deref() == Some(Path::new("-"));
     let format = cli.format.unwrap_or_else(|| match &cli.output {
         Some(path) if !to_stdout && extension_is(path, &["json"]) => Format::Json,

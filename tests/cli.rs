@@ -427,6 +427,7 @@ fn usage_errors_exit_with_status_2() {
         &[],
         &["-o", "-", "a.png", "b.png"],
         &["--window", "15", "a.png"],
+        &["--line-width", "0", "a.png"],
     ] {
         let output = ridgeline(args, dir.path());
         assert_eq!(

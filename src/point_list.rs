@@ -20,3 +20,8 @@ pub fn extent(list: &[[f64; 2]]) -> (u32, u32) {
         (h.ceil() as u32).saturating_add(1),
     )
 }
+
+/// Parses a point list: one point per line, `x y` or `x,y`.
+pub fn parse(_text: &str) -> Result<Vec<[f64; 2]>> {
+    todo!("point list parse")
+}

@@ -1,0 +1,214 @@
+//! JSON output: the stroke graph with what produced it, for other programs.
+//!
+//! The document records the crate version, the source, and the [`Params`] used, so a result can be
+//! reproduced; then vertices, edges (polyline, width and unit tangent at each point) and summary
+//! statistics. Floats are rounded to 3 decimals; keys come in a fixed order, so the same graph
+//! always gives the same bytes.
+//!
+//! ```json
+//! {"ridgeline":"0.1.0","source":{"path":"a.png","width":64,"height":48},"parameters":{…},
+//!  "vertices":[{"id":0,"x":10.5,"y":4.5,"degree":1,"width":3.2}, …],
+//!  "edges":[{"id":0,"from":0,"to":1,"length":20.0,"points":[[10.5,4.5],…],"widths":[3.2,…],
+//!            "directions":[[1.0,0.0],…]}, …],
+//!  "stats":{"vertices":2,"edges":1,"endpoints":2,"junctions":0,"components":1,"cycles":0}}
+//! ```
+
+use serde::ser::{Serialize, SerializeSeq, Serializer};
+use serde::Serialize as DeriveSerialize;
+
+use crate::{Edge, Params, StrokeGraph, Vertex};
+
+/// What the JSON says besides the graph. Build it from [`JsonMeta::new`] or
+/// [`JsonMeta::default`] and assign the public fields: more may be added.
+#[derive(Clone, Debug, Default, PartialEq)]
+#[non_exhaustive]
+pub struct JsonMeta {
+    /// The input file as the user named it; `null` in the JSON when absent. Default value: `None`.
+    pub source_path: Option<String>,
+    /// The parameters the graph was traced with. Default value: [`Params::default`].
+    pub params: Params,
+    /// Indent the document for people instead of writing it on one line. Default value: `false`.
+    pub pretty: bool,
+}
+
+impl JsonMeta {
+    /// Metadata for a graph traced with `params`.
+    pub fn new(params: Params) -> Self {
+        JsonMeta {
+            params,
+            ..JsonMeta::default()
+        }
+    }
+
+    /// Sets [`JsonMeta::source_path`].
+    pub fn with_source_path(mut self, path: impl Into<String>) -> Self {
+        self.source_path = Some(path.into());
+        self
+    }
+
+    /// Sets [`JsonMeta::pretty`].
+    pub fn with_pretty(mut self, pretty: bool) -> Self {
+        self.pretty = pretty;
+        self
+    }
+}
+
+/// Writes `graph` and `meta` as a JSON document.
+pub fn to_string(graph: &StrokeGraph, meta: &JsonMeta) -> String {
+    let document = Document {
+        ridgeline: env!("CARGO_PKG_VERSION"),
+        source: Source {
+            path: meta.source_path.as_deref(),
+            width: graph.width,
+            height: graph.height,
+        },
+        parameters: &meta.params,
+        vertices: Vertices(&graph.vertices),
+        edges: Edges(&graph.edges),
+        stats: Stats::of(graph),
+    };
+    // Serializing plain structs, numbers and strings into memory cannot fail; the fallback only
+    // keeps this function free of panics.
+    let text = if meta.pretty {
+        serde_json::to_string_pretty(&document)
+    } else {
+        serde_json::to_string(&document)
+    };
+    let mut text = text.unwrap_or_else(|_| String::from("{}"));
+    text.push('\n');
+    text
+}
+
+#[derive(DeriveSerialize)]
+struct Document<'a> {
+    ridgeline: &'static str,
+    source: Source<'a>,
+    parameters: &'a Params,
+    vertices: Vertices<'a>,
+    edges: Edges<'a>,
+    stats: Stats,
+}
+
+#[derive(DeriveSerialize)]
+struct Source<'a> {
+    path: Option<&'a str>,
+    width: u32,
+    height: u32,
+}
+
+#[derive(DeriveSerialize)]
+struct Stats {
+    vertices: usize,
+    edges: usize,
+    endpoints: usize,
+    junctions: usize,
+    components: usize,
+    cycles: usize,
+}
+
+impl Stats {
+    fn of(graph: &StrokeGraph) -> Stats {
+        // `components` indexes vertices by the edges' ends: only trust it on a graph whose edges
+        // refer to existing vertices, so that a malformed graph is written, not a panic.
+        let n = graph.vertices.len();
+        let well_formed = graph.edges.iter().all(|e| e.from < n && e.to < n);
+        let components = if well_formed { graph.components() } else { 0 };
+        Stats {
+            vertices: n,
+            edges: graph.edges.len(),
+            endpoints: graph.endpoints().count(),
+            junctions: graph.junctions().count(),
+            components,
+            // Cycle rank E - V + C, as `StrokeGraph::cycles`.
+            cycles: (graph.edges.len() + components).saturating_sub(n),
+        }
+    }
+}
+
+/// A float rounded to 3 decimals (a thousandth of a pixel), negative zero as zero. Non-finite
+/// values become `null` (serde_json's rule), which keeps the document parseable.
+#[derive(Clone, Copy)]
+struct Rounded(f64);
+
+impl Serialize for Rounded {
+    fn serialize<S: Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+        // Adding 0.0 turns -0.0 into 0.0.
+        serializer.serialize_f64((self.0 * 1000.0).round() / 1000.0 + 0.0)
+    }
+}
+
+/// The vertices, serialized from the graph without copying it.
+struct Vertices<'a>(&'a [Vertex]);
+
+impl Serialize for Vertices<'_> {
+    fn serialize<S: Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+        #[derive(DeriveSerialize)]
+        struct VertexOut {
+            id: usize,
+            x: Rounded,
+            y: Rounded,
+            degree: usize,
+            width: Rounded,
+        }
+        let mut seq = serializer.serialize_seq(Some(self.0.len()))?;
+        for (id, v) in self.0.iter().enumerate() {
+            seq.serialize_element(&VertexOut {
+                id,
+                x: Rounded(v.pos[0]),
+                y: Rounded(v.pos[1]),
+                degree: v.degree,
+                width: Rounded(v.width),
+            })?;
+        }
+        seq.end()
+    }
+}
+
+/// The edges, serialized from the graph without copying their polylines.
+struct Edges<'a>(&'a [Edge]);
+
+impl Serialize for Edges<'_> {
+    fn serialize<S: Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+        #[derive(DeriveSerialize)]
+        struct EdgeOut<'e> {
+            id: usize,
+            from: usize,
+            to: usize,
+            length: Rounded,
+            points: Pairs<'e>,
+            widths: Singles<'e>,
+            directions: Pairs<'e>,
+        }
+        let mut seq = serializer.serialize_seq(Some(self.0.len()))?;
+        for (id, e) in self.0.iter().enumerate() {
+            seq.serialize_element(&EdgeOut {
+                id,
+                from: e.from,
+                to: e.to,
+                length: Rounded(e.length()),
+                points: Pairs(&e.points),
+                widths: Singles(&e.widths),
+                directions: Pairs(&e.directions),
+            })?;
+        }
+        seq.end()
+    }
+}
+
+/// `[[x, y], …]`, rounded.
+struct Pairs<'a>(&'a [[f64; 2]]);
+
+impl Serialize for Pairs<'_> {
+    fn serialize<S: Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+        serializer.collect_seq(self.0.iter().map(|p| [Rounded(p[0]), Rounded(p[1])]))
+    }
+}
+
+/// `[w, …]`, rounded.
+struct Singles<'a>(&'a [f64]);
+
+impl Serialize for Singles<'_> {
+    fn serialize<S: Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+        serializer.collect_seq(self.0.iter().map(|&w| Rounded(w)))
+    }
+}

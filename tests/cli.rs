@@ -1,0 +1,584 @@
+//! The SVG and JSON writers on hand-built graphs, and the `ridgeline` binary as a user runs it.
+
+use std::fs;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+use base64::Engine;
+use ridgeline::export::json::{self, JsonMeta};
+use ridgeline::export::svg::{self, SvgOptions};
+use ridgeline::synth::{render, Stroke};
+use ridgeline::{Edge, GrayImage, Params, StrokeGraph, Vertex};
+
+// ---------------------------------------------------------------------------------------------
+// Writers
+
+/// A Y: junction 0 at (20, 20) with three arms to endpoints 1, 2, 3, plus an isolated dot 4.
+/// Coordinates with many decimals check the rounding.
+fn y_graph() -> StrokeGraph {
+    let junction = [20.0, 20.0];
+    let ends = [
+        [20.0 + 1.0 / 3.0, 2.123_456],
+        [5.5, 35.0],
+        [36.987_654, 34.25],
+    ];
+    let mut vertices = vec![Vertex {
+        pos: junction,
+        degree: 3,
+        width: 6.0,
+    }];
+    let mut edges = Vec::new();
+    for (i, end) in ends.iter().enumerate() {
+        vertices.push(Vertex {
+            pos: *end,
+            degree: 1,
+            width: 4.0 + i as f64,
+        });
+        let mid = [
+            (junction[0] + end[0]) / 2.0 + 0.25,
+            (junction[1] + end[1]) / 2.0,
+        ];
+        let points = vec![junction, mid, *end];
+        let d = [end[0] - junction[0], end[1] - junction[1]];
+        let n = d[0].hypot(d[1]);
+        edges.push(Edge {
+            from: 0,
+            to: i + 1,
+            widths: vec![6.0, 5.0, 4.0 + i as f64],
+            directions: vec![[d[0] / n, d[1] / n]; 3],
+            points,
+        });
+    }
+    vertices.push(Vertex {
+        pos: [40.0, 5.0],
+        degree: 0,
+        width: 3.0,
+    });
+    let graph = StrokeGraph {
+        width: 48,
+        height: 40,
+        vertices,
+        edges,
+    };
+    graph.validate().expect("hand-built graph is valid");
+    graph
+}
+
+fn parse_points(text: &str) -> Vec<[f64; 2]> {
+    text.split_whitespace()
+        .map(|pair| {
+            let (x, y) = pair.split_once(',').expect("x,y");
+            [x.parse().expect("x"), y.parse().expect("y")]
+        })
+        .collect()
+}
+
+fn group<'a, 'i>(doc: &'a roxmltree::Document<'i>, id: &str) -> Option<roxmltree::Node<'a, 'i>> {
+    doc.descendants()
+        .find(|n| n.has_tag_name("g") && n.attribute("id") == Some(id))
+}
+
+#[test]
+fn svg_has_one_polyline_per_edge_at_the_graph_coordinates() {
+    let graph = y_graph();
+    let text = svg::to_string(&graph, None, &SvgOptions::default());
+    let doc = roxmltree::Document::parse(&text).expect("well-formed SVG");
+    let root = doc.root_element();
+    assert_eq!(root.tag_name().name(), "svg");
+    assert_eq!(root.attribute("width"), Some("48"));
+    assert_eq!(root.attribute("height"), Some("40"));
+    assert_eq!(root.attribute("viewBox"), Some("0 0 48 40"));
+    assert!(
+        doc.descendants().all(|n| !n.has_tag_name("image")),
+        "no image was given"
+    );
+
+    let polylines: Vec<_> = doc
+        .descendants()
+        .filter(|n| n.has_tag_name("polyline"))
+        .collect();
+    assert_eq!(polylines.len(), graph.edges.len());
+    for (polyline, edge) in polylines.iter().zip(&graph.edges) {
+        let points = parse_points(polyline.attribute("points").expect("points"));
+        assert_eq!(points.len(), edge.points.len());
+        for (written, truth) in points.iter().zip(&edge.points) {
+            assert!(
+                (written[0] - truth[0]).abs() <= 0.005 + 1e-9,
+                "{written:?} vs {truth:?}"
+            );
+            assert!(
+                (written[1] - truth[1]).abs() <= 0.005 + 1e-9,
+                "{written:?} vs {truth:?}"
+            );
+        }
+    }
+    // At most 2 decimals anywhere in the coordinates.
+    for polyline in &polylines {
+        for number in polyline.attribute("points").unwrap_or("").split([' ', ',']) {
+            let decimals = number.split_once('.').map_or(0, |(_, d)| d.len());
+            assert!(decimals <= 2, "{number}");
+        }
+    }
+
+    let edges = group(&doc, "edges").expect("edge group");
+    assert_eq!(edges.attribute("fill"), Some("none"));
+    assert_eq!(edges.attribute("stroke-linejoin"), Some("round"));
+    assert_eq!(edges.attribute("stroke-linecap"), Some("round"));
+    // Median of the vertex widths 6, 4, 5, 6, 3 is 5: 0.12 x 5 = 0.6.
+    let width: f64 = edges
+        .attribute("stroke-width")
+        .expect("width")
+        .parse()
+        .expect("number");
+    assert!((width - 0.6).abs() < 1e-9, "{width}");
+
+    let circles = |id: &str| {
+        group(&doc, id).map_or(0, |g| {
+            g.children().filter(|c| c.has_tag_name("circle")).count()
+        })
+    };
+    assert_eq!(circles("endpoints"), 3);
+    assert_eq!(circles("junctions"), 1);
+    assert_eq!(circles("dots"), 1);
+    let junction = group(&doc, "junctions")
+        .and_then(|g| g.first_element_child())
+        .expect("circle");
+    assert_eq!(junction.attribute("cx"), Some("20"));
+    assert_eq!(junction.attribute("cy"), Some("20"));
+    assert_ne!(
+        group(&doc, "endpoints").and_then(|g| g.attribute("fill")),
+        group(&doc, "junctions").and_then(|g| g.attribute("fill"))
+    );
+}
+
+#[test]
+fn svg_options_hide_markers_and_set_the_line_width() {
+    let graph = y_graph();
+    let options = SvgOptions::default()
+        .with_show_vertices(false)
+        .with_stroke_width(Some(2.5));
+    let text = svg::to_string(&graph, None, &options);
+    let doc = roxmltree::Document::parse(&text).expect("well-formed SVG");
+    assert!(group(&doc, "endpoints").is_none());
+    assert!(group(&doc, "junctions").is_none());
+    // The isolated dot is content, not a marker.
+    assert!(group(&doc, "dots").is_some());
+    assert_eq!(
+        group(&doc, "edges").and_then(|g| g.attribute("stroke-width")),
+        Some("2.5")
+    );
+    // Wide strokes give a wider line than the 0.6 px floor.
+    let mut wide = y_graph();
+    for v in &mut wide.vertices {
+        v.width = 20.0;
+    }
+    let text = svg::to_string(&wide, None, &SvgOptions::default());
+    assert!(text.contains(r#"stroke-width="2.4""#), "{text}");
+}
+
+#[test]
+fn svg_embeds_the_source_image_over_the_whole_canvas() {
+    let graph = y_graph();
+    let image = GrayImage::from_fn(48, 40, |x, y| image::Luma([((x * 5 + y * 3) % 256) as u8]));
+    let text = svg::to_string(&graph, Some(&image), &SvgOptions::default());
+    let doc = roxmltree::Document::parse(&text).expect("well-formed SVG");
+    let node = doc
+        .descendants()
+        .find(|n| n.has_tag_name("image"))
+        .expect("an <image>");
+    assert_eq!(node.attribute("x"), Some("0"));
+    assert_eq!(node.attribute("y"), Some("0"));
+    assert_eq!(node.attribute("width"), Some("48"));
+    assert_eq!(node.attribute("height"), Some("40"));
+    assert_eq!(node.attribute("preserveAspectRatio"), Some("none"));
+    let href = node.attribute("href").expect("href");
+    let data = href
+        .strip_prefix("data:image/png;base64,")
+        .expect("a base64 PNG");
+    let png = base64::engine::general_purpose::STANDARD
+        .decode(data)
+        .expect("base64");
+    let decoded = image::load_from_memory(&png).expect("PNG").to_luma8();
+    assert_eq!(decoded, image);
+    // The image is drawn first, under the centerlines.
+    let first = doc.root_element().first_element_child().expect("child");
+    assert!(first.has_tag_name("image"));
+}
+
+#[test]
+fn json_round_trips_through_serde_json() {
+    let graph = y_graph();
+    let params = Params {
+        k: 7,
+        ..Params::default()
+    };
+    let meta = JsonMeta::new(params.clone()).with_source_path("scans/y.png");
+    let text = json::to_string(&graph, &meta);
+    assert_eq!(text, json::to_string(&graph, &meta), "deterministic");
+    let value: serde_json::Value = serde_json::from_str(&text).expect("valid JSON");
+
+    assert_eq!(value["ridgeline"], env!("CARGO_PKG_VERSION"));
+    assert_eq!(value["source"]["path"], "scans/y.png");
+    assert_eq!(value["source"]["width"], 48);
+    assert_eq!(value["source"]["height"], 40);
+    let back: Params = serde_json::from_value(value["parameters"].clone()).expect("Params");
+    assert_eq!(back, params);
+
+    let vertices = value["vertices"].as_array().expect("vertices");
+    assert_eq!(vertices.len(), graph.vertices.len());
+    for (i, (v, truth)) in vertices.iter().zip(&graph.vertices).enumerate() {
+        assert_eq!(v["id"], i);
+        assert_eq!(v["degree"], truth.degree);
+        let x = v["x"].as_f64().expect("x");
+        assert!((x - truth.pos[0]).abs() <= 0.0005 + 1e-12);
+        assert_eq!(x, (x * 1000.0).round() / 1000.0, "3 decimals");
+        assert_eq!(v["width"].as_f64(), Some(truth.width));
+    }
+    assert_eq!(vertices[1]["x"].as_f64(), Some(20.333));
+    assert_eq!(vertices[1]["y"].as_f64(), Some(2.123));
+
+    let edges = value["edges"].as_array().expect("edges");
+    assert_eq!(edges.len(), graph.edges.len());
+    for (i, (e, truth)) in edges.iter().zip(&graph.edges).enumerate() {
+        assert_eq!(e["id"], i);
+        assert_eq!(e["from"], truth.from);
+        assert_eq!(e["to"], truth.to);
+        let length = e["length"].as_f64().expect("length");
+        assert!((length - truth.length()).abs() <= 0.0005 + 1e-12);
+        let points = e["points"].as_array().expect("points");
+        assert_eq!(points.len(), truth.points.len());
+        for (p, q) in points.iter().zip(&truth.points) {
+            let p = [p[0].as_f64().expect("x"), p[1].as_f64().expect("y")];
+            assert!((p[0] - q[0]).abs() <= 0.0005 + 1e-12 && (p[1] - q[1]).abs() <= 0.0005 + 1e-12);
+        }
+        assert_eq!(
+            e["widths"].as_array().map(Vec::len),
+            Some(truth.widths.len())
+        );
+        assert_eq!(
+            e["directions"].as_array().map(Vec::len),
+            Some(truth.directions.len())
+        );
+    }
+
+    let stats = &value["stats"];
+    assert_eq!(stats["vertices"], 5);
+    assert_eq!(stats["edges"], 3);
+    assert_eq!(stats["endpoints"], 3);
+    assert_eq!(stats["junctions"], 1);
+    assert_eq!(stats["components"], 2);
+    assert_eq!(stats["cycles"], 0);
+}
+
+#[test]
+fn json_of_an_empty_graph_and_a_pretty_one() {
+    let graph = StrokeGraph {
+        width: 10,
+        height: 8,
+        ..StrokeGraph::default()
+    };
+    let text = json::to_string(&graph, &JsonMeta::default());
+    let value: serde_json::Value = serde_json::from_str(&text).expect("valid JSON");
+    assert!(value["source"]["path"].is_null());
+    assert_eq!(value["vertices"].as_array().map(Vec::len), Some(0));
+    assert_eq!(value["stats"]["components"], 0);
+
+    let compact = json::to_string(&y_graph(), &JsonMeta::default());
+    let pretty = json::to_string(&y_graph(), &JsonMeta::default().with_pretty(true));
+    assert_eq!(compact.lines().count(), 1);
+    assert!(pretty.lines().count() > 10);
+    let a: serde_json::Value = serde_json::from_str(&compact).expect("json");
+    let b: serde_json::Value = serde_json::from_str(&pretty).expect("json");
+    assert_eq!(a, b);
+}
+
+// ---------------------------------------------------------------------------------------------
+// The binary
+
+fn ridgeline(args: &[&str], dir: &Path) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_ridgeline"))
+        .args(args)
+        .current_dir(dir)
+        .output()
+        .expect("run ridgeline")
+}
+
+fn stderr(output: &Output) -> String {
+    String::from_utf8_lossy(&output.stderr).into_owned()
+}
+
+/// Writes a PNG of dark strokes (a cross and a bar) on white paper.
+fn write_strokes_png(path: &Path) {
+    let strokes = [
+        Stroke::new(vec![[10.0, 10.0], [70.0, 50.0]], 5.0),
+        Stroke::new(vec![[10.0, 50.0], [70.0, 10.0]], 5.0),
+        Stroke::new(vec![[15.0, 70.0], [65.0, 70.0]], 4.0),
+    ];
+    let binary = render(&strokes, 80, 80);
+    let image = GrayImage::from_fn(80, 80, |x, y| {
+        image::Luma([if binary.get(x as i64, y as i64) {
+            20
+        } else {
+            235
+        }])
+    });
+    image.save(path).expect("write PNG");
+}
+
+fn temp_dir() -> tempfile::TempDir {
+    tempfile::TempDir::new().expect("temp dir")
+}
+
+fn entries(dir: &Path) -> Vec<PathBuf> {
+    let mut paths: Vec<PathBuf> = fs::read_dir(dir)
+        .expect("list")
+        .map(|e| e.expect("entry").path())
+        .collect();
+    paths.sort();
+    paths
+}
+
+#[test]
+fn a_missing_file_fails_and_is_named() {
+    let dir = temp_dir();
+    let output = ridgeline(&["no-such-scan.png"], dir.path());
+    assert!(!output.status.success());
+    assert_eq!(output.status.code(), Some(1));
+    assert!(
+        stderr(&output).contains("no-such-scan.png"),
+        "{}",
+        stderr(&output)
+    );
+    assert!(entries(dir.path()).is_empty(), "nothing written");
+}
+
+#[test]
+fn help_mentions_every_flag_group_and_flag() {
+    let dir = temp_dir();
+    let output = ridgeline(&["--help"], dir.path());
+    assert!(output.status.success());
+    let help = String::from_utf8_lossy(&output.stdout);
+    for heading in [
+        "Output",
+        "Input and binarization",
+        "Method",
+        "Sampling",
+        "Graph and refinement",
+        "Fitting",
+        "Limits",
+        "Running",
+        "Examples",
+    ] {
+        assert!(help.contains(heading), "help lacks the group {heading}");
+    }
+    for flag in [
+        "--output",
+        "--format",
+        "--no-image",
+        "--no-vertices",
+        "--line-width",
+        "--pretty",
+        "--points",
+        "--threshold",
+        "--sauvola",
+        "--window",
+        "--sauvola-k",
+        "--polarity",
+        "--dropout",
+        "--dropout-fraction",
+        "--paper",
+        "--r-min-factor",
+        "--r-max-factor",
+        "--r-growth",
+        "--linearity",
+        "--no-arms-test",
+        "--k",
+        "--cluster-link",
+        "--merge-span",
+        "--no-cleanup",
+        "--smoothness",
+        "--anchor-weight",
+        "--weiszfeld-iterations",
+        "--spacing-factor",
+        "--max-pixels",
+        "--max-side",
+        "--max-points",
+        "--jobs",
+        "--quiet",
+    ] {
+        assert!(help.contains(flag), "help lacks {flag}");
+    }
+    for example in ["page.png", "print.png", "points.xy", "scans/"] {
+        assert!(
+            help.contains(example),
+            "help lacks the example with {example}"
+        );
+    }
+}
+
+#[test]
+fn usage_errors_exit_with_status_2() {
+    let dir = temp_dir();
+    write_strokes_png(&dir.path().join("a.png"));
+    write_strokes_png(&dir.path().join("b.png"));
+    for args in [
+        &["--linearity", "1.5", "a.png"][..],
+        &["--no-such-flag", "a.png"],
+        &[],
+        &["-o", "-", "a.png", "b.png"],
+        &["--window", "15", "a.png"],
+        &["--line-width", "0", "a.png"],
+    ] {
+        let output = ridgeline(args, dir.path());
+        assert_eq!(
+            output.status.code(),
+            Some(2),
+            "{args:?}: {}",
+            stderr(&output)
+        );
+        assert!(!stderr(&output).is_empty());
+    }
+    assert_eq!(entries(dir.path()).len(), 2, "nothing written");
+}
+
+#[test]
+fn an_existing_output_survives_a_bad_input() {
+    let dir = temp_dir();
+    fs::write(dir.path().join("bad.png"), b"this is not a PNG").expect("write");
+    fs::write(dir.path().join("out.svg"), b"keep me").expect("write");
+    let output = ridgeline(&["bad.png", "-o", "out.svg"], dir.path());
+    assert_eq!(output.status.code(), Some(1), "{}", stderr(&output));
+    assert!(stderr(&output).contains("bad.png"));
+    assert_eq!(
+        fs::read(dir.path().join("out.svg")).expect("read"),
+        b"keep me"
+    );
+    // No temporary file left behind either.
+    assert_eq!(entries(dir.path()).len(), 2, "{:?}", entries(dir.path()));
+}
+
+#[test]
+fn an_empty_directory_is_an_error() {
+    let dir = temp_dir();
+    fs::create_dir(dir.path().join("empty")).expect("mkdir");
+    fs::write(dir.path().join("empty/readme.md"), b"no images").expect("write");
+    let output = ridgeline(&["empty", "-o", "out/"], dir.path());
+    assert_eq!(output.status.code(), Some(1));
+    assert!(stderr(&output).contains("empty"), "{}", stderr(&output));
+}
+
+// The tests below run the real pipeline.
+
+#[test]
+fn dash_output_writes_to_stdout() {
+    let dir = temp_dir();
+    write_strokes_png(&dir.path().join("page.png"));
+    let output = ridgeline(&["page.png", "-o", "-"], dir.path());
+    assert!(output.status.success(), "{}", stderr(&output));
+    let text = String::from_utf8(output.stdout).expect("UTF-8");
+    let doc = roxmltree::Document::parse(&text).expect("SVG on stdout");
+    assert_eq!(doc.root_element().attribute("width"), Some("80"));
+    assert!(doc.descendants().any(|n| n.has_tag_name("polyline")));
+    assert!(doc.descendants().any(|n| n.has_tag_name("image")));
+    assert_eq!(entries(dir.path()).len(), 1, "no file written");
+
+    let output = ridgeline(
+        &["page.png", "-o", "-", "--format", "json", "--no-image"],
+        dir.path(),
+    );
+    assert!(output.status.success(), "{}", stderr(&output));
+    let value: serde_json::Value = serde_json::from_slice(&output.stdout).expect("JSON on stdout");
+    assert_eq!(value["source"]["path"], "page.png");
+    assert!(value["stats"]["edges"].as_u64().unwrap_or(0) >= 2);
+}
+
+#[test]
+fn default_output_sits_next_to_the_input_and_format_follows_the_extension() {
+    let dir = temp_dir();
+    fs::create_dir(dir.path().join("scans")).expect("mkdir");
+    write_strokes_png(&dir.path().join("scans/page.png"));
+    let output = ridgeline(&["scans/page.png", "--quiet"], dir.path());
+    assert!(output.status.success(), "{}", stderr(&output));
+    let svg_text = fs::read_to_string(dir.path().join("scans/page.svg")).expect("page.svg");
+    assert!(svg_text.starts_with("<svg"));
+
+    let output = ridgeline(&["scans/page.png", "-o", "page.json"], dir.path());
+    assert!(output.status.success(), "{}", stderr(&output));
+    let text = fs::read_to_string(dir.path().join("page.json")).expect("page.json");
+    let value: serde_json::Value = serde_json::from_str(&text).expect("JSON");
+    assert_eq!(value["source"]["width"], 80);
+}
+
+#[test]
+fn a_batch_goes_on_past_a_bad_file_and_names_it() {
+    let dir = temp_dir();
+    let scans = dir.path().join("scans");
+    fs::create_dir_all(scans.join("more")).expect("mkdir");
+    write_strokes_png(&scans.join("a.png"));
+    write_strokes_png(&scans.join("more/c.png"));
+    fs::write(scans.join("b.png"), b"not an image at all").expect("write");
+    fs::write(scans.join("notes.md"), b"skip me").expect("write");
+    let output = ridgeline(&["scans", "-o", "out", "--jobs", "2"], dir.path());
+    assert_eq!(output.status.code(), Some(1), "{}", stderr(&output));
+    let err = stderr(&output);
+    assert!(err.contains("b.png"), "{err}");
+    assert!(
+        err.contains("notes.md"),
+        "the skipped file is mentioned: {err}"
+    );
+    let out = dir.path().join("out");
+    assert!(fs::read_to_string(out.join("a.svg"))
+        .expect("a.svg")
+        .starts_with("<svg"));
+    assert!(fs::read_to_string(out.join("c.svg"))
+        .expect("c.svg")
+        .starts_with("<svg"));
+    assert!(!out.join("b.svg").exists());
+    assert_eq!(entries(&out).len(), 2, "{:?}", entries(&out));
+}
+
+#[test]
+fn batch_output_does_not_depend_on_the_thread_count() {
+    let dir = temp_dir();
+    let scans = dir.path().join("scans");
+    fs::create_dir_all(scans.join("x")).expect("mkdir");
+    write_strokes_png(&scans.join("page.png"));
+    write_strokes_png(&scans.join("x/page.png"));
+    for (jobs, out) in [("1", "one"), ("2", "two")] {
+        let output = ridgeline(
+            &["scans", "-o", out, "--jobs", jobs, "-f", "json"],
+            dir.path(),
+        );
+        assert!(output.status.success(), "{}", stderr(&output));
+    }
+    let one = entries(&dir.path().join("one"));
+    let names: Vec<_> = one.iter().filter_map(|p| p.file_name()).collect();
+    assert_eq!(names, ["page-scans.json", "page-x.json"]);
+    for path in one {
+        let name = path.file_name().expect("name");
+        let other = dir.path().join("two").join(name);
+        assert_eq!(
+            fs::read(&path).expect("read"),
+            fs::read(other).expect("read")
+        );
+    }
+}
+
+#[test]
+fn a_blank_page_is_a_warning_not_an_error() {
+    let dir = temp_dir();
+    GrayImage::from_pixel(40, 30, image::Luma([255]))
+        .save(dir.path().join("blank.png"))
+        .expect("png");
+    let output = ridgeline(&["blank.png"], dir.path());
+    assert!(output.status.success(), "{}", stderr(&output));
+    assert!(stderr(&output).contains("warning"), "{}", stderr(&output));
+    let text = fs::read_to_string(dir.path().join("blank.svg")).expect("blank.svg");
+    let doc = roxmltree::Document::parse(&text).expect("SVG");
+    assert_eq!(
+        doc.descendants()
+            .filter(|n| n.has_tag_name("polyline"))
+            .count(),
+        0
+    );
+}

@@ -73,7 +73,10 @@ pub struct CurveOptions {
 
 impl Default for CurveOptions {
     fn default() -> Self {
-        CurveOptions { tolerance: 0.5, corner_angle_deg: 60.0 }
+        CurveOptions {
+            tolerance: 0.5,
+            corner_angle_deg: 60.0,
+        }
     }
 }
 
@@ -134,7 +137,11 @@ pub fn fit_beziers(points: &[[f64; 2]], tolerance: f64, corner_angle_deg: f64) -
     if clean.len() < 2 {
         return Vec::new();
     }
-    let tolerance = if tolerance > 0.0 && tolerance.is_finite() { tolerance } else { 0.01 };
+    let tolerance = if tolerance > 0.0 && tolerance.is_finite() {
+        tolerance
+    } else {
+        0.01
+    };
     let corner_cos = corner_angle_deg.to_radians().cos();
     let n = clean.len();
     let turns_sharply = |before: Point, at: Point, after: Point| {
@@ -162,14 +169,26 @@ pub fn fit_beziers(points: &[[f64; 2]], tolerance: f64, corner_angle_deg: f64) -
         if smooth_closure && k == breaks.len() - 2 {
             end_tangent = normalize(sub(clean[n - 2], clean[1]));
         }
-        fit_piece(&clean[first..=last], start_tangent, end_tangent, tolerance, &mut out);
+        fit_piece(
+            &clean[first..=last],
+            start_tangent,
+            end_tangent,
+            tolerance,
+            &mut out,
+        );
     }
     out
 }
 
 /// Schneider's `FitCubic` on one corner-free piece, with an explicit stack (long polylines must not
 /// recurse deeply). Segments are appended in order.
-fn fit_piece(d: &[Point], start_tangent: Point, end_tangent: Point, tolerance: f64, out: &mut Vec<CubicBezier>) {
+fn fit_piece(
+    d: &[Point],
+    start_tangent: Point,
+    end_tangent: Point,
+    tolerance: f64,
+    out: &mut Vec<CubicBezier>,
+) {
     // (first, last, tangent at first, tangent at last); popped left half first.
     let mut stack = vec![(0usize, d.len() - 1, start_tangent, end_tangent)];
     let mut u: Vec<f64> = Vec::new();
@@ -251,18 +270,28 @@ fn generate_bezier(d: &[Point], u: &[f64], t1: Point, t2: Point) -> CubicBezier 
     c[1][0] = c[0][1];
     let det = c[0][0] * c[1][1] - c[0][1] * c[1][0];
     let (alpha1, alpha2) = if det.abs() > 1e-12 {
-        ((x[0] * c[1][1] - c[0][1] * x[1]) / det, (c[0][0] * x[1] - c[1][0] * x[0]) / det)
+        (
+            (x[0] * c[1][1] - c[0][1] * x[1]) / det,
+            (c[0][0] * x[1] - c[1][0] * x[0]) / det,
+        )
     } else {
         (0.0, 0.0)
     };
     let chord = norm(sub(p3, p0));
     let epsilon = 1e-6 * chord;
-    let (alpha1, alpha2) = if !(alpha1 > epsilon && alpha2 > epsilon) || !alpha1.is_finite() || !alpha2.is_finite() {
-        (chord / 3.0, chord / 3.0)
-    } else {
+    // Tangent lengths must be positive and finite, else Schneider's fallback: a third of the chord.
+    let usable = |alpha: f64| alpha > epsilon && alpha.is_finite();
+    let (alpha1, alpha2) = if usable(alpha1) && usable(alpha2) {
         (alpha1, alpha2)
+    } else {
+        (chord / 3.0, chord / 3.0)
     };
-    CubicBezier { p0, p1: add(p0, scale(t1, alpha1)), p2: add(p3, scale(t2, alpha2)), p3 }
+    CubicBezier {
+        p0,
+        p1: add(p0, scale(t1, alpha1)),
+        p2: add(p3, scale(t2, alpha2)),
+        p3,
+    }
 }
 
 /// Largest distance from a point to the curve at its parameter, and that point's index.
@@ -317,7 +346,12 @@ pub fn svg_path_data(segments: &[CubicBezier]) -> String {
 }
 
 /// SVG `<path>` elements, one per edge of `graph`, with the curves of [`fit_edges`].
-pub fn svg_paths(graph: &StrokeGraph, options: &CurveOptions, stroke: &str, line_width: f64) -> String {
+pub fn svg_paths(
+    graph: &StrokeGraph,
+    options: &CurveOptions,
+    stroke: &str,
+    line_width: f64,
+) -> String {
     let mut svg = String::new();
     for segments in fit_edges(graph, options) {
         if segments.is_empty() {
@@ -345,12 +379,19 @@ mod tests {
             .collect();
         points
             .iter()
-            .map(|&p| samples.iter().map(|&q| norm(sub(p, q))).fold(f64::INFINITY, f64::min))
+            .map(|&p| {
+                samples
+                    .iter()
+                    .map(|&q| norm(sub(p, q)))
+                    .fold(f64::INFINITY, f64::min)
+            })
             .fold(0.0, f64::max)
     }
 
     fn joined(segments: &[CubicBezier]) -> bool {
-        segments.windows(2).all(|w| norm(sub(w[0].p3, w[1].p0)) < 1e-9)
+        segments
+            .windows(2)
+            .all(|w| norm(sub(w[0].p3, w[1].p0)) < 1e-9)
     }
 
     #[test]
@@ -362,7 +403,11 @@ mod tests {
             })
             .collect();
         let segments = fit_beziers(&points, 0.5, 60.0);
-        assert!(!segments.is_empty() && segments.len() <= 8, "{} segments", segments.len());
+        assert!(
+            !segments.is_empty() && segments.len() <= 8,
+            "{} segments",
+            segments.len()
+        );
         assert!(joined(&segments));
         assert!(deviation(&points, &segments) <= 0.5);
         // Between the samples too, the curve stays on the circle.
@@ -374,18 +419,30 @@ mod tests {
         }
         // Closed and smooth: the end tangent continues the start tangent.
         let (first, last) = (segments[0], segments[segments.len() - 1]);
-        let (a, b) = (normalize(sub(first.p1, first.p0)), normalize(sub(last.p3, last.p2)));
+        let (a, b) = (
+            normalize(sub(first.p1, first.p0)),
+            normalize(sub(last.p3, last.p2)),
+        );
         assert!(dot(a, b) > 0.999, "{a:?} {b:?}");
     }
 
     #[test]
     fn square_keeps_its_corners() {
         let mut points = Vec::new();
-        let corners = [[10.0, 10.0], [60.0, 10.0], [60.0, 60.0], [10.0, 60.0], [10.0, 10.0]];
+        let corners = [
+            [10.0, 10.0],
+            [60.0, 10.0],
+            [60.0, 60.0],
+            [10.0, 60.0],
+            [10.0, 10.0],
+        ];
         for w in corners.windows(2) {
             for k in 0..10 {
                 let t = k as f64 / 10.0;
-                points.push([w[0][0] + t * (w[1][0] - w[0][0]), w[0][1] + t * (w[1][1] - w[0][1])]);
+                points.push([
+                    w[0][0] + t * (w[1][0] - w[0][0]),
+                    w[0][1] + t * (w[1][1] - w[0][1]),
+                ]);
             }
         }
         points.push(corners[4]);
@@ -407,7 +464,9 @@ mod tests {
 
     #[test]
     fn straight_line_is_one_segment() {
-        let points: Vec<Point> = (0..50).map(|k| [k as f64 * 1.3, 5.0 + k as f64 * 0.7]).collect();
+        let points: Vec<Point> = (0..50)
+            .map(|k| [k as f64 * 1.3, 5.0 + k as f64 * 0.7])
+            .collect();
         let segments = fit_beziers(&points, 0.5, 60.0);
         assert_eq!(segments.len(), 1);
         assert!(deviation(&points, &segments) <= 0.1);
@@ -419,7 +478,10 @@ mod tests {
         let points: Vec<Point> = (0..300)
             .map(|k| {
                 let x = k as f64 * 0.7;
-                [x, (50.0 + 20.0 * (x / 15.0).sin() + 3.0 * (x / 4.0).cos()).round() + 0.5]
+                [
+                    x,
+                    (50.0 + 20.0 * (x / 15.0).sin() + 3.0 * (x / 4.0).cos()).round() + 0.5,
+                ]
             })
             .collect();
         for tolerance in [0.3, 0.5, 1.0] {
@@ -437,7 +499,10 @@ mod tests {
         assert!(fit_beziers(&[[1.0, 1.0], [1.0, 1.0], [f64::NAN, 2.0]], 0.5, 60.0).is_empty());
         let two = fit_beziers(&[[0.0, 0.0], [3.0, 4.0]], 0.0, 60.0);
         assert_eq!(two.len(), 1);
-        assert_eq!(svg_path_data(&two), "M 0.00 0.00 C 1.00 1.33 2.00 2.67 3.00 4.00");
+        assert_eq!(
+            svg_path_data(&two),
+            "M 0.00 0.00 C 1.00 1.33 2.00 2.67 3.00 4.00"
+        );
         assert_eq!(svg_path_data(&[]), "");
     }
 }

@@ -86,7 +86,13 @@ pub fn end_direction(edge: &Edge, at_start: bool, length: f64) -> Option<[f64; 2
     if n < 2 {
         return None;
     }
-    let point = |i: usize| if at_start { edge.points[i] } else { edge.points[n - 1 - i] };
+    let point = |i: usize| {
+        if at_start {
+            edge.points[i]
+        } else {
+            edge.points[n - 1 - i]
+        }
+    };
     let total = edge.length();
     let share = if edge.from == edge.to { 3.0 } else { 2.0 };
     let target = length.min(total / share);
@@ -97,7 +103,11 @@ pub fn end_direction(edge: &Edge, at_start: bool, length: f64) -> Option<[f64; 2
         let (a, b) = (point(i - 1), point(i));
         let step = dist(a, b);
         if walked + step >= target {
-            let t = if step > 0.0 { (target - walked) / step } else { 0.0 };
+            let t = if step > 0.0 {
+                (target - walked) / step
+            } else {
+                0.0
+            };
             far = [a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1])];
             break;
         }
@@ -141,10 +151,17 @@ fn pair_ends(graph: &StrokeGraph, options: &StrokeOptions) -> Vec<End> {
             continue;
         }
         let width = graph.vertices[v].width;
-        let width = if width.is_finite() && width > 0.0 { width } else { 0.0 };
+        let width = if width.is_finite() && width > 0.0 {
+            width
+        } else {
+            0.0
+        };
         let length = (options.tangent_widths * width).max(options.min_tangent_length);
         directions.clear();
-        directions.extend(ends.iter().map(|&end| end_direction(&graph.edges[end / 2], end % 2 == 0, length)));
+        directions.extend(
+            ends.iter()
+                .map(|&end| end_direction(&graph.edges[end / 2], end % 2 == 0, length)),
+        );
         candidates.clear();
         for i in 0..ends.len() {
             for j in i + 1..ends.len() {
@@ -156,7 +173,9 @@ fn pair_ends(graph: &StrokeGraph, options: &StrokeOptions) -> Vec<End> {
         // Most nearly opposite first; ties by position in the end list (edge index order).
         candidates.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)).then(a.2.cmp(&b.2)));
         if ends.len() == 3 {
-            let Some(&(best, i, j)) = candidates.first() else { continue };
+            let Some(&(best, i, j)) = candidates.first() else {
+                continue;
+            };
             let k = 3 - i - j;
             let third = candidates
                 .iter()
@@ -258,14 +277,20 @@ pub fn coverage_iou(graph: &StrokeGraph, binary: &Binary) -> f64 {
         .edges
         .iter()
         .filter(|e| !e.points.is_empty() && e.points.len() == e.widths.len())
-        .map(|e| crate::synth::Stroke { points: e.points.clone(), widths: e.widths.clone() })
+        .map(|e| crate::synth::Stroke {
+            points: e.points.clone(),
+            widths: e.widths.clone(),
+        })
         .collect();
     drawn.extend(
         graph
             .vertices
             .iter()
             .filter(|v| v.degree == 0)
-            .map(|v| crate::synth::Stroke { points: vec![v.pos], widths: vec![v.width] }),
+            .map(|v| crate::synth::Stroke {
+                points: vec![v.pos],
+                widths: vec![v.width],
+            }),
     );
     let rendered = crate::synth::render(&drawn, binary.width, binary.height);
     let (mut both, mut either) = (0usize, 0usize);
@@ -315,8 +340,14 @@ pub(crate) fn graph_from(
     width: f64,
 ) -> StrokeGraph {
     use crate::Vertex;
-    let mut vertices: Vec<Vertex> =
-        positions.iter().map(|&pos| Vertex { pos, degree: 0, width }).collect();
+    let mut vertices: Vec<Vertex> = positions
+        .iter()
+        .map(|&pos| Vertex {
+            pos,
+            degree: 0,
+            width,
+        })
+        .collect();
     let mut out = Vec::new();
     for (from, to, interior) in edges {
         vertices[*from].degree += 1;
@@ -326,7 +357,10 @@ pub(crate) fn graph_from(
         points.push(positions[*to]);
         let directions = (0..points.len())
             .map(|i| {
-                let (a, b) = (points[i.saturating_sub(1)], points[(i + 1).min(points.len() - 1)]);
+                let (a, b) = (
+                    points[i.saturating_sub(1)],
+                    points[(i + 1).min(points.len() - 1)],
+                );
                 let n = dist(a, b).max(1e-12);
                 [(b[0] - a[0]) / n, (b[1] - a[1]) / n]
             })
@@ -339,7 +373,12 @@ pub(crate) fn graph_from(
             directions,
         });
     }
-    StrokeGraph { width: 200, height: 200, vertices, edges: out }
+    StrokeGraph {
+        width: 200,
+        height: 200,
+        vertices,
+        edges: out,
+    }
 }
 
 #[cfg(test)]
@@ -368,14 +407,20 @@ mod tests {
                 seen[e] += 1;
             }
         }
-        assert!(seen.iter().all(|&n| n == 1), "each edge in exactly one stroke: {seen:?}");
+        assert!(
+            seen.iter().all(|&n| n == 1),
+            "each edge in exactly one stroke: {seen:?}"
+        );
     }
 
     #[test]
     fn plus_gives_two_straight_strokes() {
         let c = [100.0, 100.0];
         // Arms in an order that does not pair neighbours by index.
-        let tips: Vec<_> = [0.0, 90.0, 180.0, 270.0].iter().map(|&a| polar(c, 50.0, a)).collect();
+        let tips: Vec<_> = [0.0, 90.0, 180.0, 270.0]
+            .iter()
+            .map(|&a| polar(c, 50.0, a))
+            .collect();
         let g = star(c, &tips, 6.0);
         let s = strokes(&g, &StrokeOptions::default());
         assert_partition(&g, &s);
@@ -395,7 +440,10 @@ mod tests {
     #[test]
     fn x_at_30_degrees_pairs_opposite_arms() {
         let c = [100.0, 100.0];
-        let tips: Vec<_> = [0.0, 30.0, 180.0, 210.0].iter().map(|&a| polar(c, 60.0, a)).collect();
+        let tips: Vec<_> = [0.0, 30.0, 180.0, 210.0]
+            .iter()
+            .map(|&a| polar(c, 60.0, a))
+            .collect();
         let g = star(c, &tips, 8.0);
         let s = strokes(&g, &StrokeOptions::default());
         assert_partition(&g, &s);
@@ -414,7 +462,10 @@ mod tests {
         let c = [100.0, 100.0];
         let mut positions = vec![c];
         let mut edges = Vec::new();
-        for (k, (a, bend)) in [(0.0f64, 40.0), (90.0, -40.0), (180.0, -40.0), (270.0, 40.0)].iter().enumerate() {
+        for (k, (a, bend)) in [(0.0f64, 40.0), (90.0, -40.0), (180.0, -40.0), (270.0, 40.0)]
+            .iter()
+            .enumerate()
+        {
             let bent = polar(c, 2.0, a + bend);
             let mid = polar(c, 6.0, *a);
             positions.push(polar(c, 50.0, *a));
@@ -426,11 +477,22 @@ mod tests {
         pairs.iter_mut().for_each(|p| p.sort());
         pairs.sort();
         assert_eq!(pairs, vec![vec![0, 2], vec![1, 3]]);
-        let first_segment = StrokeOptions { tangent_widths: 0.0, min_tangent_length: 1.0, ..Default::default() };
+        let first_segment = StrokeOptions {
+            tangent_widths: 0.0,
+            min_tangent_length: 1.0,
+            ..Default::default()
+        };
         let naive = strokes(&g, &first_segment);
-        assert!(naive.iter().any(|st| { let mut e = st.edges.clone(); e.sort(); e == vec![2, 3] }));
+        assert!(naive.iter().any(|st| {
+            let mut e = st.edges.clone();
+            e.sort();
+            e == vec![2, 3]
+        }));
         let d = end_direction(&g.edges[0], true, 12.0).unwrap();
-        assert!(d[1].abs() < 0.1, "chord over 2 widths is close to the arm: {d:?}");
+        assert!(
+            d[1].abs() < 0.1,
+            "chord over 2 widths is close to the arm: {d:?}"
+        );
     }
 
     #[test]
@@ -443,7 +505,10 @@ mod tests {
                 .map(|k| {
                     let t = from + k as f64 / 60.0 * std::f64::consts::PI;
                     let q = 1.0 + t.sin() * t.sin();
-                    [c[0] + 40.0 * t.sin() * t.cos() / q, c[1] + 40.0 * t.cos() / q]
+                    [
+                        c[0] + 40.0 * t.sin() * t.cos() / q,
+                        c[1] + 40.0 * t.cos() / q,
+                    ]
                 })
                 .collect()
         };
@@ -460,7 +525,9 @@ mod tests {
     #[test]
     fn circle_through_a_degree_two_loop_vertex_is_closed() {
         let c = [50.0, 50.0];
-        let interior: Vec<_> = (1..30).map(|k| polar([50.0, 70.0], 20.0, 270.0 + k as f64 * 12.0)).collect();
+        let interior: Vec<_> = (1..30)
+            .map(|k| polar([50.0, 70.0], 20.0, 270.0 + k as f64 * 12.0))
+            .collect();
         let g = graph_from(&[c], &[(0, 0, interior)], 4.0);
         let s = strokes(&g, &StrokeOptions::default());
         assert_eq!(s.len(), 1);
@@ -484,7 +551,10 @@ mod tests {
     #[test]
     fn symmetric_y_gives_three_strokes() {
         let c = [100.0, 100.0];
-        let tips: Vec<_> = [90.0, 210.0, 330.0].iter().map(|&a| polar(c, 50.0, a)).collect();
+        let tips: Vec<_> = [90.0, 210.0, 330.0]
+            .iter()
+            .map(|&a| polar(c, 50.0, a))
+            .collect();
         let g = star(c, &tips, 6.0);
         assert_eq!(strokes(&g, &StrokeOptions::default()).len(), 3);
     }
@@ -493,7 +563,10 @@ mod tests {
     fn letter_y_tail_continues_the_right_arm() {
         // Tail down-left, right arm up-right (continues it), left arm 40 degrees off.
         let c = [100.0, 100.0];
-        let tips: Vec<_> = [120.0, 300.0, 260.0].iter().map(|&a| polar(c, 50.0, a)).collect();
+        let tips: Vec<_> = [120.0, 300.0, 260.0]
+            .iter()
+            .map(|&a| polar(c, 50.0, a))
+            .collect();
         let g = star(c, &tips, 6.0);
         let s = strokes(&g, &StrokeOptions::default());
         assert_eq!(s.len(), 2);
@@ -507,18 +580,28 @@ mod tests {
     fn chain_through_degree_two_vertices_keeps_order_and_orientation() {
         // Path 0 -> 1 <- 2 -> 3: the middle edge is stored backwards.
         let positions = [[0.0, 0.0], [10.0, 0.0], [20.0, 0.0], [30.0, 0.0]];
-        let g = graph_from(&positions, &[(1, 2, vec![]), (0, 1, vec![]), (2, 3, vec![])], 2.0);
+        let g = graph_from(
+            &positions,
+            &[(1, 2, vec![]), (0, 1, vec![]), (2, 3, vec![])],
+            2.0,
+        );
         let s = strokes(&g, &StrokeOptions::default());
         assert_eq!(s.len(), 1);
         let xs: Vec<f64> = s[0].points.iter().map(|p| p[0]).collect();
-        assert!(xs == vec![0.0, 10.0, 20.0, 30.0] || xs == vec![30.0, 20.0, 10.0, 0.0], "{xs:?}");
+        assert!(
+            xs == vec![0.0, 10.0, 20.0, 30.0] || xs == vec![30.0, 20.0, 10.0, 0.0],
+            "{xs:?}"
+        );
         assert!(!s[0].closed);
     }
 
     #[test]
     fn deterministic_and_svg_has_one_polyline_per_stroke() {
         let c = [100.0, 100.0];
-        let tips: Vec<_> = [0.0, 60.0, 120.0, 180.0, 240.0, 300.0].iter().map(|&a| polar(c, 40.0, a)).collect();
+        let tips: Vec<_> = [0.0, 60.0, 120.0, 180.0, 240.0, 300.0]
+            .iter()
+            .map(|&a| polar(c, 40.0, a))
+            .collect();
         let g = star(c, &tips, 6.0);
         let a = strokes(&g, &StrokeOptions::default());
         let b = strokes(&g, &StrokeOptions::default());

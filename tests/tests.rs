@@ -1,3 +1,4 @@
 //! The one integration-test binary: each module tests one side of ridgeline.
 
+mod features;
 mod pipeline;

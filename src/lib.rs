@@ -21,13 +21,16 @@ mod point_set;
 mod samples;
 mod stroke_graph;
 
+pub mod curves;
 pub mod export;
 pub mod fit;
 pub mod graph;
+pub mod minutiae;
 pub mod point_list;
 pub mod raster;
 pub mod refine;
 pub mod sample;
+pub mod strokes;
 pub mod synth;
 
 pub use binary::Binary;

@@ -1,4 +1,5 @@
 //! The one integration-test binary: each module tests one side of ridgeline.
 
 mod cli;
+mod features;
 mod pipeline;

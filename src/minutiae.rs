@@ -1,0 +1,606 @@
+//! Fingerprint minutiae from the stroke graph (DESIGN "Beyond the paper"; issue 6, part 3): ridge
+//! endings are the degree-1 vertices, bifurcations the degree-3 vertices, each with a direction
+//! from its incident edges.
+//!
+//! **Direction convention**: an angle in radians in `(-π, π]`, measured in image coordinates (x to
+//! the right, y down, so positive angles turn clockwise on screen), of the way the ridge *flows into*
+//! the minutia:
+//! - ending: the direction in which the ridge runs into its end (from the ridge towards the end
+//!   point and beyond);
+//! - bifurcation: the direction in which the single ridge (the *stem*) runs into the fork, which
+//!   points between the two branches. The stem is the arm opposite the narrowest angle between two
+//!   arms.
+//!
+//! Arm directions are chords over about two ridge widths ([`crate::strokes::end_direction`]).
+//!
+//! **Border**: minutiae closer than [`MinutiaeOptions::border_margin`] to the border of the print are
+//! dropped, because the ridges are cut there, not ended. With a mask, the print region is the
+//! morphological closing of the ink by a disk of radius `R` (about 1.5 ridge periods: every
+//! valley filled, the outline kept) and its border is where that region ends or the image ends;
+//! without a mask it is the image border.
+//!
+//! **Broken ridges**: two endings that face each other across a short gap are one ridge broken by
+//! noise; both are dropped when [`MinutiaeOptions::broken_ridge_gap`] is positive.
+//!
+//! Input: a [`StrokeGraph`] and optionally its foreground mask. Output: `Vec<Minutia>` in vertex
+//! order. Deterministic.
+
+use crate::strokes::end_direction;
+use crate::{dist, Binary, StrokeGraph};
+use serde::Serialize;
+use std::fmt::Write;
+
+/// Kind of minutia.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum MinutiaKind {
+    /// A ridge ending (degree-1 vertex).
+    Ending,
+    /// A ridge bifurcation (degree-3 vertex).
+    Bifurcation,
+}
+
+/// One minutia.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct Minutia {
+    /// Ending or bifurcation.
+    pub kind: MinutiaKind,
+    /// The stroke-graph vertex it comes from.
+    pub vertex: usize,
+    /// Position, image coordinates.
+    pub pos: [f64; 2],
+    /// Direction in radians, in `(-π, π]`, y down (see the module doc for the convention).
+    pub direction: f64,
+    /// Ridge width at the minutia, px.
+    pub width: f64,
+}
+
+/// Options for [`minutiae`].
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct MinutiaeOptions {
+    /// Minutiae closer than this to the print's border are dropped, px. Default value: 10.
+    pub border_margin: f64,
+    /// Radius `R` of the closing that turns the ink into the print region, px; `None` takes
+    /// 3 median ridge widths (about 1.5 ridge periods, a period being about two widths), at least
+    /// 4 px. Default value: `None`.
+    pub region_radius: Option<f64>,
+    /// Two endings facing each other closer than this are a broken ridge and both are dropped, px;
+    /// 0 keeps them. Default value: 10.
+    pub broken_ridge_gap: f64,
+    /// How far, in degrees, each of two facing endings may point away from the other.
+    /// Default value: 30.
+    pub broken_ridge_angle_deg: f64,
+    /// Length over which arm directions are measured, in ridge widths at the vertex.
+    /// Default value: 2.
+    pub tangent_widths: f64,
+    /// Shortest arm-direction length, px. Default value: 3.
+    pub min_tangent_length: f64,
+}
+
+impl Default for MinutiaeOptions {
+    fn default() -> Self {
+        MinutiaeOptions {
+            border_margin: 10.0,
+            region_radius: None,
+            broken_ridge_gap: 10.0,
+            broken_ridge_angle_deg: 30.0,
+            tangent_widths: 2.0,
+            min_tangent_length: 3.0,
+        }
+    }
+}
+
+/// Ridge endings and bifurcations of `graph`, without those near the print's border (estimated from
+/// `mask` when given, else the image border) and, optionally, broken-ridge pairs. See the module
+/// doc for the conventions.
+pub fn minutiae(
+    graph: &StrokeGraph,
+    mask: Option<&Binary>,
+    options: &MinutiaeOptions,
+) -> Vec<Minutia> {
+    let mut found = detect(graph, options);
+    if options.broken_ridge_gap > 0.0 {
+        drop_broken_ridges(&mut found, options);
+    }
+    if options.border_margin > 0.0 {
+        match mask {
+            Some(mask) => {
+                let radius = options
+                    .region_radius
+                    .unwrap_or_else(|| (3.0 * median_width(graph)).max(4.0));
+                let region = print_region(mask, radius);
+                found.retain(|m| {
+                    clear_of_border(
+                        &region,
+                        mask.width,
+                        mask.height,
+                        m.pos,
+                        options.border_margin,
+                    )
+                });
+            }
+            None if graph.width > 0 && graph.height > 0 => {
+                let (w, h) = (graph.width as f64, graph.height as f64);
+                let margin = options.border_margin;
+                found.retain(|m| {
+                    let [x, y] = m.pos;
+                    x >= margin && y >= margin && w - x >= margin && h - y >= margin
+                });
+            }
+            None => {}
+        }
+    }
+    found
+}
+
+/// Every degree-1 and degree-3 vertex with its direction.
+fn detect(graph: &StrokeGraph, options: &MinutiaeOptions) -> Vec<Minutia> {
+    // Outgoing arm directions per vertex, in edge order.
+    let mut arms: Vec<Vec<[f64; 2]>> = vec![Vec::new(); graph.vertices.len()];
+    for edge in &graph.edges {
+        for (vertex, at_start) in [(edge.from, true), (edge.to, false)] {
+            let Some(v) = graph.vertices.get(vertex) else {
+                continue;
+            };
+            if v.degree != 1 && v.degree != 3 {
+                continue;
+            }
+            let width = if v.width.is_finite() && v.width > 0.0 {
+                v.width
+            } else {
+                0.0
+            };
+            let length = (options.tangent_widths * width).max(options.min_tangent_length);
+            let fallback = || {
+                let d = if at_start {
+                    edge.directions.first()
+                } else {
+                    edge.directions.last()
+                };
+                d.map(|d| if at_start { *d } else { [-d[0], -d[1]] })
+            };
+            if let Some(d) = end_direction(edge, at_start, length).or_else(fallback) {
+                arms[vertex].push(d);
+            }
+        }
+    }
+    let mut found = Vec::new();
+    for (v, vertex) in graph.vertices.iter().enumerate() {
+        let arm = &arms[v];
+        let (kind, inflow) = match (vertex.degree, arm.len()) {
+            (1, 1) => (MinutiaKind::Ending, [-arm[0][0], -arm[0][1]]),
+            (3, 3) => {
+                // The two branches enclose the narrowest angle; the stem is the third arm.
+                let pairs = [(0, 1, 2), (0, 2, 1), (1, 2, 0)];
+                let mut stem = 2;
+                let mut widest = f64::NEG_INFINITY;
+                for (i, j, k) in pairs {
+                    let closeness = arm[i][0] * arm[j][0] + arm[i][1] * arm[j][1];
+                    if closeness > widest {
+                        widest = closeness;
+                        stem = k;
+                    }
+                }
+                (MinutiaKind::Bifurcation, [-arm[stem][0], -arm[stem][1]])
+            }
+            _ => continue,
+        };
+        let direction = inflow[1].atan2(inflow[0]);
+        let direction = if direction.is_finite() {
+            direction
+        } else {
+            0.0
+        };
+        found.push(Minutia {
+            kind,
+            vertex: v,
+            pos: vertex.pos,
+            direction,
+            width: vertex.width,
+        });
+    }
+    found
+}
+
+/// Drops pairs of endings that face each other across a gap shorter than `broken_ridge_gap`,
+/// closest pairs first, each ending in at most one pair.
+fn drop_broken_ridges(found: &mut Vec<Minutia>, options: &MinutiaeOptions) {
+    let cos_limit = options.broken_ridge_angle_deg.to_radians().cos();
+    let endings: Vec<usize> = (0..found.len())
+        .filter(|&i| found[i].kind == MinutiaKind::Ending)
+        .collect();
+    // Endings sorted by x, so candidates are a window of the sweep (O(n log n + pairs)).
+    let mut by_x = endings.clone();
+    by_x.sort_by(|&a, &b| found[a].pos[0].total_cmp(&found[b].pos[0]).then(a.cmp(&b)));
+    let faces = |from: &Minutia, to: &Minutia, gap: f64| {
+        let d = [from.direction.cos(), from.direction.sin()];
+        ((to.pos[0] - from.pos[0]) * d[0] + (to.pos[1] - from.pos[1]) * d[1]) >= cos_limit * gap
+    };
+    let mut pairs: Vec<(f64, usize, usize)> = Vec::new();
+    for (k, &a) in by_x.iter().enumerate() {
+        for &b in &by_x[k + 1..] {
+            if found[b].pos[0] - found[a].pos[0] > options.broken_ridge_gap {
+                break;
+            }
+            let gap = dist(found[a].pos, found[b].pos);
+            if gap <= options.broken_ridge_gap
+                && gap > 0.0
+                && faces(&found[a], &found[b], gap)
+                && faces(&found[b], &found[a], gap)
+            {
+                pairs.push((gap, a.min(b), a.max(b)));
+            }
+        }
+    }
+    pairs.sort_by(|p, q| p.0.total_cmp(&q.0).then(p.1.cmp(&q.1)).then(p.2.cmp(&q.2)));
+    let mut dropped = vec![false; found.len()];
+    for (_, a, b) in pairs {
+        if !dropped[a] && !dropped[b] {
+            dropped[a] = true;
+            dropped[b] = true;
+        }
+    }
+    let mut index = 0;
+    found.retain(|_| {
+        index += 1;
+        !dropped[index - 1]
+    });
+}
+
+/// Median of all polyline widths (0 when there are none).
+fn median_width(graph: &StrokeGraph) -> f64 {
+    let mut widths: Vec<f64> = graph
+        .edges
+        .iter()
+        .flat_map(|e| e.widths.iter().copied())
+        .filter(|w| w.is_finite())
+        .collect();
+    if widths.is_empty() {
+        return 0.0;
+    }
+    let middle = widths.len() / 2;
+    let (_, median, _) = widths.select_nth_unstable_by(middle, f64::total_cmp);
+    *median
+}
+
+/// The print region: the closing of the ink by a disk of radius `radius` (dilate, then erode, both
+/// by exact Euclidean distance). Pixels outside the image do not erode it, so a print cut by the
+/// image edge keeps its region up to that edge.
+fn print_region(mask: &Binary, radius: f64) -> Vec<bool> {
+    let (w, h) = (mask.width as usize, mask.height as usize);
+    let r2 = (radius * radius) as f32;
+    let to_ink = squared_distance_transform(&mask.ink, w, h);
+    let dilated: Vec<bool> = to_ink.iter().map(|&d| d <= r2).collect();
+    let outside: Vec<bool> = dilated.iter().map(|&d| !d).collect();
+    let to_outside = squared_distance_transform(&outside, w, h);
+    to_outside.iter().map(|&d| d > r2).collect()
+}
+
+/// Whether no pixel outside `region` (and no point outside the image) lies within `margin` of `pos`.
+fn clear_of_border(region: &[bool], width: u32, height: u32, pos: [f64; 2], margin: f64) -> bool {
+    let (w, h) = (width as f64, height as f64);
+    let [x, y] = pos;
+    if !(x >= margin && y >= margin && w - x >= margin && h - y >= margin) {
+        return false;
+    }
+    let x0 = (x - margin - 0.5).floor().max(0.0) as usize;
+    let x1 = ((x + margin - 0.5).ceil().max(0.0) as usize).min(width as usize - 1);
+    let y0 = (y - margin - 0.5).floor().max(0.0) as usize;
+    let y1 = ((y + margin - 0.5).ceil().max(0.0) as usize).min(height as usize - 1);
+    for py in y0..=y1 {
+        for px in x0..=x1 {
+            let centre = [px as f64 + 0.5, py as f64 + 0.5];
+            if dist(centre, pos) < margin && !region[py * width as usize + px] {
+                return false;
+            }
+        }
+    }
+    true
+}
+
+/// Squared Euclidean distance from each pixel to the nearest `site` pixel (infinite when there is
+/// none): Felzenszwalb and Huttenlocher's lower envelope of parabolas, by columns then rows, O(N).
+fn squared_distance_transform(sites: &[bool], width: usize, height: usize) -> Vec<f32> {
+    let mut out: Vec<f32> = sites
+        .iter()
+        .map(|&s| if s { 0.0 } else { f32::INFINITY })
+        .collect();
+    let longest = width.max(height);
+    let mut line = vec![0.0f64; longest];
+    let mut result = vec![0.0f64; longest];
+    let mut hull = vec![0usize; longest];
+    let mut bounds = vec![0.0f64; longest + 1];
+    for x in 0..width {
+        for y in 0..height {
+            line[y] = f64::from(out[y * width + x]);
+        }
+        lower_envelope(
+            &line[..height],
+            &mut result[..height],
+            &mut hull,
+            &mut bounds,
+        );
+        for y in 0..height {
+            out[y * width + x] = result[y] as f32;
+        }
+    }
+    for y in 0..height {
+        let row = &mut out[y * width..(y + 1) * width];
+        for (l, &v) in line.iter_mut().zip(row.iter()) {
+            *l = f64::from(v);
+        }
+        lower_envelope(&line[..width], &mut result[..width], &mut hull, &mut bounds);
+        for (v, &r) in row.iter_mut().zip(result.iter()) {
+            *v = r as f32;
+        }
+    }
+    out
+}
+
+/// One-dimensional squared distance transform of the sampled function `f` (infinite = no site).
+fn lower_envelope(f: &[f64], d: &mut [f64], hull: &mut [usize], bounds: &mut [f64]) {
+    let n = f.len();
+    let mut k: usize = 0;
+    let mut any = false;
+    for q in 0..n {
+        if !f[q].is_finite() {
+            continue;
+        }
+        if !any {
+            any = true;
+            hull[0] = q;
+            bounds[0] = f64::NEG_INFINITY;
+            bounds[1] = f64::INFINITY;
+            continue;
+        }
+        loop {
+            let p = hull[k];
+            let s =
+                ((f[q] + (q * q) as f64) - (f[p] + (p * p) as f64)) / (2.0 * (q as f64 - p as f64));
+            if s <= bounds[k] && k > 0 {
+                k -= 1;
+                continue;
+            }
+            if s <= bounds[k] {
+                // The new parabola is lower everywhere than the only one on the hull.
+                hull[0] = q;
+                bounds[0] = f64::NEG_INFINITY;
+                bounds[1] = f64::INFINITY;
+                break;
+            }
+            k += 1;
+            hull[k] = q;
+            bounds[k] = s;
+            bounds[k + 1] = f64::INFINITY;
+            break;
+        }
+    }
+    if !any {
+        d.iter_mut().for_each(|v| *v = f64::INFINITY);
+        return;
+    }
+    let mut k = 0;
+    for (q, value) in d.iter_mut().enumerate() {
+        while bounds[k + 1] < q as f64 {
+            k += 1;
+        }
+        let p = hull[k];
+        let offset = q as f64 - p as f64;
+        *value = offset * offset + f[p];
+    }
+}
+
+/// SVG marks for minutiae: a circle (ending, red) or a square (bifurcation, blue) of side `size`
+/// px at each position, with a line of length `2 size` along its direction; 2-decimal coordinates.
+pub fn svg_marks(minutiae: &[Minutia], size: f64) -> String {
+    let mut svg = String::new();
+    for m in minutiae {
+        let [x, y] = m.pos;
+        let tip = [
+            x + 2.0 * size * m.direction.cos(),
+            y + 2.0 * size * m.direction.sin(),
+        ];
+        let half = size / 2.0;
+        let color = match m.kind {
+            MinutiaKind::Ending => {
+                let _ = write!(svg, "<circle cx=\"{x:.2}\" cy=\"{y:.2}\" r=\"{half:.2}\"");
+                "#d62728"
+            }
+            MinutiaKind::Bifurcation => {
+                let _ = write!(
+                    svg,
+                    "<rect x=\"{:.2}\" y=\"{:.2}\" width=\"{size:.2}\" height=\"{size:.2}\"",
+                    x - half,
+                    y - half
+                );
+                "#1f77b4"
+            }
+        };
+        let _ = writeln!(
+            svg,
+            " fill=\"none\" stroke=\"{color}\" stroke-width=\"1.00\"/>"
+        );
+        let _ = writeln!(
+            svg,
+            "<line x1=\"{x:.2}\" y1=\"{y:.2}\" x2=\"{:.2}\" y2=\"{:.2}\" stroke=\"{color}\" stroke-width=\"1.00\"/>",
+            tip[0], tip[1]
+        );
+    }
+    svg
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::strokes::graph_from;
+    use std::f64::consts::{FRAC_PI_2, PI};
+
+    fn no_filters() -> MinutiaeOptions {
+        MinutiaeOptions {
+            border_margin: 0.0,
+            broken_ridge_gap: 0.0,
+            ..Default::default()
+        }
+    }
+
+    fn angle_close(a: f64, b: f64) -> bool {
+        let d = (a - b).rem_euclid(2.0 * PI);
+        d.min(2.0 * PI - d) < 0.05
+    }
+
+    #[test]
+    fn ending_points_the_way_the_ridge_runs_into_it() {
+        // A ridge from (50, 100) to (150, 100): the right end faces +x, the left end -x.
+        let g = graph_from(
+            &[[50.0, 100.0], [150.0, 100.0]],
+            &[(0, 1, vec![[100.0, 100.0]])],
+            4.0,
+        );
+        let m = minutiae(&g, None, &no_filters());
+        assert_eq!(m.len(), 2);
+        assert!(m
+            .iter()
+            .all(|m| m.kind == MinutiaKind::Ending && m.width == 4.0));
+        assert!(angle_close(m[0].direction, PI), "{}", m[0].direction);
+        assert!(angle_close(m[1].direction, 0.0), "{}", m[1].direction);
+    }
+
+    #[test]
+    fn bifurcation_points_from_the_stem_between_the_branches() {
+        // Stem from the left, branches opening to the right (up-right and down-right).
+        let c = [100.0, 100.0];
+        let g = graph_from(
+            &[c, [150.0, 70.0], [40.0, 100.0], [150.0, 130.0]],
+            &[(0, 1, vec![]), (2, 0, vec![]), (0, 3, vec![])],
+            4.0,
+        );
+        let m = minutiae(&g, None, &no_filters());
+        let fork: Vec<_> = m
+            .iter()
+            .filter(|m| m.kind == MinutiaKind::Bifurcation)
+            .collect();
+        assert_eq!(fork.len(), 1);
+        assert_eq!(fork[0].vertex, 0);
+        assert!(angle_close(fork[0].direction, 0.0), "{}", fork[0].direction);
+        assert_eq!(
+            m.iter().filter(|m| m.kind == MinutiaKind::Ending).count(),
+            3
+        );
+        // Rotated a quarter turn (stem from above): the direction turns with it (y down).
+        let g = graph_from(
+            &[c, [70.0, 150.0], [100.0, 40.0], [130.0, 150.0]],
+            &[(0, 1, vec![]), (2, 0, vec![]), (0, 3, vec![])],
+            4.0,
+        );
+        let m = minutiae(&g, None, &no_filters());
+        assert!(angle_close(m[0].direction, FRAC_PI_2), "{}", m[0].direction);
+    }
+
+    #[test]
+    fn image_border_margin_without_mask() {
+        // Graph is 200 x 200: an ending 5 px from the left edge is dropped, one 50 px in is kept.
+        let g = graph_from(&[[5.0, 100.0], [50.0, 100.0]], &[(0, 1, vec![])], 4.0);
+        let options = MinutiaeOptions {
+            broken_ridge_gap: 0.0,
+            ..Default::default()
+        };
+        let m = minutiae(&g, None, &options);
+        assert_eq!(m.len(), 1);
+        assert_eq!(m[0].vertex, 1);
+    }
+
+    #[test]
+    fn print_border_from_the_mask() {
+        // Ink: horizontal ridges 4 px wide, period 9, filling x in [40, 160), y in [40, 160).
+        let mut mask = Binary::new(200, 200);
+        for y in 40..160 {
+            if (y - 40) % 9 < 4 {
+                for x in 40..160 {
+                    mask.set(x, y, true);
+                }
+            }
+        }
+        // Endings at the print's left edge (1 px in) and near its top edge (2 px in), and two
+        // deep inside.
+        let g = graph_from(
+            &[[41.0, 42.0], [100.0, 42.0], [60.0, 96.0], [100.0, 96.0]],
+            &[(0, 1, vec![]), (2, 3, vec![])],
+            4.0,
+        );
+        let m = minutiae(
+            &g,
+            Some(&mask),
+            &MinutiaeOptions {
+                broken_ridge_gap: 0.0,
+                ..Default::default()
+            },
+        );
+        let kept: Vec<usize> = m.iter().map(|m| m.vertex).collect();
+        assert_eq!(kept, vec![2, 3]);
+        // Vertex 1 at (100, 42) lies 2 px inside the region's top edge: dropped with any margin > 2.
+        let region = print_region(&mask, 12.0);
+        assert!(region[100 * 200 + 100], "valleys are filled");
+        assert!(!region[20 * 200 + 100], "outside the print");
+    }
+
+    #[test]
+    fn broken_ridge_pair_is_dropped_but_not_parallel_endings() {
+        // Ridge broken at x in (95, 103); below, endings 7 px apart on two ridges 4 px apart
+        // (34 degrees off each other's line) are real and stay.
+        let g = graph_from(
+            &[
+                [20.0, 100.0],
+                [95.0, 100.0],
+                [103.0, 100.0],
+                [180.0, 100.0],
+                [20.0, 109.0],
+                [95.0, 109.0],
+                [101.0, 113.0],
+                [180.0, 113.0],
+            ],
+            &[
+                (0, 1, vec![]),
+                (2, 3, vec![]),
+                (4, 5, vec![]),
+                (6, 7, vec![]),
+            ],
+            4.0,
+        );
+        let options = MinutiaeOptions {
+            border_margin: 0.0,
+            ..Default::default()
+        };
+        let m = minutiae(&g, None, &options);
+        let kept: Vec<usize> = m.iter().map(|m| m.vertex).collect();
+        assert_eq!(kept, vec![0, 3, 4, 5, 6, 7]);
+    }
+
+    #[test]
+    fn distance_transform_matches_brute_force() {
+        let (w, h) = (23, 17);
+        let sites: Vec<bool> = (0..w * h).map(|i| (i * 7919) % 31 == 0).collect();
+        let d = squared_distance_transform(&sites, w, h);
+        for y in 0..h {
+            for x in 0..w {
+                let mut best = f64::INFINITY;
+                for (i, _) in sites.iter().enumerate().filter(|(_, &s)| s) {
+                    let (sx, sy) = ((i % w) as f64, (i / w) as f64);
+                    best = best.min((sx - x as f64).powi(2) + (sy - y as f64).powi(2));
+                }
+                assert_eq!(d[y * w + x] as f64, best, "at {x},{y}");
+            }
+        }
+        assert!(squared_distance_transform(&[false; 6], 3, 2)
+            .iter()
+            .all(|v| v.is_infinite()));
+    }
+
+    #[test]
+    fn svg_marks_one_shape_and_line_each() {
+        let g = graph_from(&[[50.0, 100.0], [150.0, 100.0]], &[(0, 1, vec![])], 4.0);
+        let svg = svg_marks(&minutiae(&g, None, &no_filters()), 6.0);
+        assert_eq!(svg.matches("<circle").count(), 2);
+        assert_eq!(svg.matches("<line").count(), 2);
+        assert!(svg.contains("x2=\"162.00\" y2=\"100.00\""));
+    }
+}

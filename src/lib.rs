@@ -137,24 +137,83 @@ pub fn trace_binary_with_stages(binary: &Binary, params: &Params) -> Result<Trac
     run(points, binary.width, binary.height, params, true)
 }
 
+/// Points per chunk when a large input is traced in parallel (whole components per chunk).
+const CHUNK_POINTS: usize = 65_536;
+
 fn run(points: PointSet, width: u32, height: u32, params: &Params, keep: bool) -> Result<Trace> {
+    if keep || points.len() <= CHUNK_POINTS {
+        let (mut graph, stages, timings) = run_stages(&points, params, keep);
+        graph.width = width;
+        graph.height = height;
+        return Ok(Trace {
+            graph,
+            binary: None,
+            points,
+            stages,
+            timings,
+        });
+    }
+    // Components never interact, so chunks of whole components are traced in parallel and their
+    // graphs concatenated in chunk order: the output does not depend on the thread count.
+    use rayon::prelude::*;
+    let parts: Vec<(StrokeGraph, Timings)> = points
+        .split_components(CHUNK_POINTS)
+        .par_iter()
+        .map(|part| {
+            let (graph, _, timings) = run_stages(part, params, false);
+            (graph, timings)
+        })
+        .collect();
+    let mut graph = StrokeGraph {
+        width,
+        height,
+        ..StrokeGraph::default()
+    };
+    let mut timings = Timings::default();
+    for (part, t) in parts {
+        let offset = graph.vertices.len();
+        graph.vertices.extend(part.vertices);
+        graph.edges.extend(part.edges.into_iter().map(|mut e| {
+            e.from += offset;
+            e.to += offset;
+            e
+        }));
+        // Stage times add up over chunks (CPU time, not wall-clock time).
+        timings.sampling += t.sampling;
+        timings.graph += t.graph;
+        timings.refine += t.refine;
+        timings.fit += t.fit;
+    }
+    Ok(Trace {
+        graph,
+        binary: None,
+        points,
+        stages: None,
+        timings,
+    })
+}
+
+/// Sampling → node graph → refinement → fitting on one point set.
+fn run_stages(
+    points: &PointSet,
+    params: &Params,
+    keep: bool,
+) -> (StrokeGraph, Option<Stages>, Timings) {
     let mut timings = Timings::default();
     let clock = Instant::now();
-    let samples = sample::sample(&points, params);
+    let samples = sample::sample(points, params);
     timings.sampling = clock.elapsed();
 
     let clock = Instant::now();
-    let node_graph = graph::build(&points, &samples, params);
+    let node_graph = graph::build(points, &samples, params);
     timings.graph = clock.elapsed();
 
     let clock = Instant::now();
-    let refined = refine::refine(&node_graph, &points, params);
+    let refined = refine::refine(&node_graph, points, params);
     timings.refine = clock.elapsed();
 
     let clock = Instant::now();
-    let mut graph = fit::fit(&refined, &points, params);
-    graph.width = width;
-    graph.height = height;
+    let graph = fit::fit(&refined, points, params);
     timings.fit = clock.elapsed();
 
     let stages = keep.then_some(Stages {
@@ -162,11 +221,5 @@ fn run(points: PointSet, width: u32, height: u32, params: &Params, keep: bool) -
         node_graph,
         refined,
     });
-    Ok(Trace {
-        graph,
-        binary: None,
-        points,
-        stages,
-        timings,
-    })
+    (graph, stages, timings)
 }

@@ -4,12 +4,17 @@
 /// A pixel grid the points came from: lets stages use pixel adjacency instead of tree queries.
 #[derive(Clone, Debug, Default)]
 pub struct Grid {
-    /// Image width in pixels.
+    /// Width of the indexed window in pixels.
     pub width: u32,
-    /// Image height in pixels.
+    /// Height of the indexed window in pixels.
     pub height: u32,
-    /// Point index of each pixel (row-major), or [`Grid::NONE`] for background.
+    /// Point index of each pixel of the window (row-major), or [`Grid::NONE`] for background.
     pub index: Vec<u32>,
+    /// Image column of the window's first pixel (0 for a whole image; a part of the image when
+    /// the point set is one chunk of components).
+    pub x0: i64,
+    /// Image row of the window's first pixel.
+    pub y0: i64,
 }
 
 impl Grid {
@@ -19,6 +24,7 @@ impl Grid {
     /// The point at pixel `(x, y)`, if it is ink.
     #[inline]
     pub fn point_at(&self, x: i64, y: i64) -> Option<u32> {
+        let (x, y) = (x - self.x0, y - self.y0);
         if x < 0 || y < 0 || x >= self.width as i64 || y >= self.height as i64 {
             return None;
         }
@@ -104,6 +110,118 @@ impl PointSet {
             self.neighbors.extend_from_slice(&list);
             self.offsets.push(self.neighbors.len() as u32);
         }
+    }
+
+    /// Splits the points into chunks of whole connected components (of the neighbour graph), each
+    /// chunk about `target` points or one component, in the order of each component's first
+    /// point. Every stage treats components independently, so tracing the chunks one by one gives
+    /// the same result as tracing the whole set; the chunking does not depend on the thread count.
+    pub fn split_components(&self, target: usize) -> Vec<PointSet> {
+        let n = self.len();
+        // Component label of each point, numbered in order of first point.
+        let mut label = vec![u32::MAX; n];
+        let mut sizes: Vec<usize> = Vec::new();
+        let mut stack = Vec::new();
+        for start in 0..n {
+            if label[start] != u32::MAX {
+                continue;
+            }
+            let id = sizes.len() as u32;
+            label[start] = id;
+            stack.push(start as u32);
+            let mut size = 0;
+            while let Some(p) = stack.pop() {
+                size += 1;
+                for &q in self.neighbors_of(p) {
+                    if label[q as usize] == u32::MAX {
+                        label[q as usize] = id;
+                        stack.push(q);
+                    }
+                }
+            }
+            sizes.push(size);
+        }
+        // Consecutive components fill a chunk up to `target` points.
+        let mut chunk_of = Vec::with_capacity(sizes.len());
+        let mut chunks = 0u32;
+        let mut filled = 0usize;
+        for &size in &sizes {
+            if filled > 0 && filled + size > target {
+                chunks += 1;
+                filled = 0;
+            }
+            chunk_of.push(chunks);
+            filled += size;
+        }
+        let count = if sizes.is_empty() {
+            0
+        } else {
+            chunks as usize + 1
+        };
+        let mut members: Vec<Vec<u32>> = vec![Vec::new(); count];
+        for p in 0..n {
+            members[chunk_of[label[p] as usize] as usize].push(p as u32);
+        }
+        drop(label);
+        let mut local = vec![0u32; n];
+        for list in &members {
+            for (i, &p) in list.iter().enumerate() {
+                local[p as usize] = i as u32;
+            }
+        }
+        members
+            .iter()
+            .map(|list| self.subset(list, &local))
+            .collect()
+    }
+
+    /// The points `members` (ascending) as a point set of their own; `local` maps every member to
+    /// its position in `members`.
+    fn subset(&self, members: &[u32], local: &[u32]) -> PointSet {
+        let mut part = PointSet {
+            points: members.iter().map(|&p| self.points[p as usize]).collect(),
+            half_width: members
+                .iter()
+                .map(|&p| self.half_width[p as usize])
+                .collect(),
+            offsets: Vec::with_capacity(members.len() + 1),
+            neighbors: Vec::new(),
+            spacing: self.spacing,
+            dropout: self.dropout,
+            grid: None,
+        };
+        part.offsets.push(0);
+        for &p in members {
+            part.neighbors
+                .extend(self.neighbors_of(p).iter().map(|&q| local[q as usize]));
+            part.offsets.push(part.neighbors.len() as u32);
+        }
+        if self.grid.is_some() {
+            let (mut x0, mut y0, mut x1, mut y1) = (i64::MAX, i64::MAX, i64::MIN, i64::MIN);
+            for p in &part.points {
+                let (x, y) = (p[0].floor() as i64, p[1].floor() as i64);
+                x0 = x0.min(x);
+                y0 = y0.min(y);
+                x1 = x1.max(x);
+                y1 = y1.max(y);
+            }
+            if x0 <= x1 {
+                let (width, height) = ((x1 - x0 + 1) as u32, (y1 - y0 + 1) as u32);
+                let mut index = vec![Grid::NONE; width as usize * height as usize];
+                for (i, p) in part.points.iter().enumerate() {
+                    let (x, y) = (p[0].floor() as i64 - x0, p[1].floor() as i64 - y0);
+                    index[y as usize * width as usize + x as usize] = i as u32;
+                }
+                part.grid = Some(Grid {
+                    width,
+                    height,
+                    index,
+                    x0,
+                    y0,
+                });
+            }
+        }
+        part
     }
 
     /// Checks the invariants listed on the type; returns a description of the first violation.

@@ -737,6 +737,7 @@ impl Holes {
             let px = (c[0] - 0.5).round().clamp(x0 as f64, x1 as f64 - 1.0) + 0.5;
             let p = [px, y as f64 + 0.5];
             let d = dist(p, c);
+            let p = [p[0] + grid.x0 as f64, p[1] + grid.y0 as f64];
             let slot = best.entry(labels[r]).or_insert((p, f64::INFINITY));
             if d < slot.1 {
                 *slot = (p, d);

@@ -1,5 +1,21 @@
 //! Ground-truth fixtures: known centerlines rendered thickly, shared by the tests, the benchmarks
 //! and the generator of `samples/`.
+//!
+//! Every case carries the polylines it was drawn from, so quality is measured against the truth
+//! (DESIGN.md, "Measuring quality"). Three groups: `hard` (crossings, junctions, loops, near
+//! misses, dropout), `text` (Hershey single-stroke glyphs) and `prints` (fingerprint-like ridge
+//! fields traced as level sets of a phase function). Everything is deterministic: the same call
+//! gives the same pixels and the same truth.
+
+mod hershey;
+mod prints;
+mod rng;
+mod shapes;
+
+pub use hershey::{page, text_cases, text_line, Font, Glyph};
+pub use prints::print_cases;
+pub use rng::SplitMix64;
+pub use shapes::hard_cases;
 
 use crate::Binary;
 
@@ -32,44 +48,364 @@ impl Stroke {
         let widths = vec![width; points.len()];
         Stroke { points, widths }
     }
+
+    /// The largest width along the stroke (0 for an empty stroke).
+    pub fn max_width(&self) -> f64 {
+        self.widths.iter().fold(0.0, |m: f64, &w| m.max(w))
+    }
+
+    /// Moves every point by `offset`.
+    pub fn translate(&mut self, offset: [f64; 2]) {
+        for p in &mut self.points {
+            p[0] += offset[0];
+            p[1] += offset[1];
+        }
+    }
+}
+
+/// Every fixture: [`hard_cases`], then [`text_cases`], then [`print_cases`].
+pub fn all_cases() -> Vec<Case> {
+    let mut cases = hard_cases();
+    cases.extend(text_cases());
+    cases.extend(print_cases());
+    cases
+}
+
+/// Frames strokes in an image just big enough to hold their ink with a margin of at least
+/// `margin` px on every side, renders them and names the case. The strokes are moved by whole
+/// pixels, so centerlines placed on pixel centers stay on pixel centers.
+pub fn frame(name: &str, group: &str, mut strokes: Vec<Stroke>, margin: f64) -> Case {
+    let mut min = [f64::INFINITY; 2];
+    let mut max = [f64::NEG_INFINITY; 2];
+    for stroke in &strokes {
+        for (p, w) in stroke.points.iter().zip(&stroke.widths) {
+            for k in 0..2 {
+                min[k] = min[k].min(p[k] - w / 2.0);
+                max[k] = max[k].max(p[k] + w / 2.0);
+            }
+        }
+    }
+    if !min[0].is_finite() {
+        min = [0.0; 2];
+        max = [0.0; 2];
+    }
+    let offset = [(margin - min[0]).ceil(), (margin - min[1]).ceil()];
+    for stroke in &mut strokes {
+        stroke.translate(offset);
+    }
+    let width = (max[0] + offset[0] + margin).ceil().max(1.0) as u32;
+    let height = (max[1] + offset[1] + margin).ceil().max(1.0) as u32;
+    let binary = render(&strokes, width, height);
+    Case {
+        name: name.to_string(),
+        group: group.to_string(),
+        binary,
+        strokes,
+    }
 }
 
 /// Renders strokes thickly: a pixel is ink when its center lies within half the (linearly
 /// interpolated) width of a stroke's centerline; round caps and joins.
+///
+/// Each segment only visits the pixels of its own bounding box, and the test is done on squared
+/// distances without allocating, so a dense A4 page renders in a few tens of milliseconds.
 pub fn render(strokes: &[Stroke], width: u32, height: u32) -> Binary {
     let mut binary = Binary::new(width, height);
+    let w = width as usize;
     for stroke in strokes {
-        let n = stroke.points.len();
+        let n = stroke.points.len().min(stroke.widths.len());
         for i in 0..n {
             let a = stroke.points[i];
             let b = stroke.points[(i + 1).min(n - 1)];
+            // A lone point is its own segment (a dot); otherwise the last point is covered by
+            // the previous segment's cap.
+            if i + 1 == n && n > 1 {
+                break;
+            }
             let (ra, rb) = (
                 stroke.widths[i] / 2.0,
                 stroke.widths[(i + 1).min(n - 1)] / 2.0,
             );
             let r = ra.max(rb);
-            let x0 = (a[0].min(b[0]) - r - 1.0).floor().max(0.0) as i64;
-            let x1 = (a[0].max(b[0]) + r + 1.0).ceil().min(width as f64) as i64;
-            let y0 = (a[1].min(b[1]) - r - 1.0).floor().max(0.0) as i64;
-            let y1 = (a[1].max(b[1]) + r + 1.0).ceil().min(height as f64) as i64;
+            let x0 = (a[0].min(b[0]) - r - 1.0).floor().max(0.0) as usize;
+            let x1 = (a[0].max(b[0]) + r + 1.0).ceil().clamp(0.0, width as f64) as usize;
+            let y0 = (a[1].min(b[1]) - r - 1.0).floor().max(0.0) as usize;
+            let y1 = (a[1].max(b[1]) + r + 1.0).ceil().clamp(0.0, height as f64) as usize;
             let d = [b[0] - a[0], b[1] - a[1]];
             let len2 = d[0] * d[0] + d[1] * d[1];
+            let inv_len2 = if len2 > 0.0 { 1.0 / len2 } else { 0.0 };
             for y in y0..y1 {
-                for x in x0..x1 {
-                    let p = [x as f64 + 0.5, y as f64 + 0.5];
-                    let t = if len2 > 0.0 {
-                        (((p[0] - a[0]) * d[0] + (p[1] - a[1]) * d[1]) / len2).clamp(0.0, 1.0)
-                    } else {
-                        0.0
-                    };
-                    let q = [a[0] + t * d[0], a[1] + t * d[1]];
+                let py = y as f64 + 0.5 - a[1];
+                let row = &mut binary.ink[y * w..(y + 1) * w];
+                for (x, ink) in row.iter_mut().enumerate().take(x1).skip(x0) {
+                    if *ink {
+                        continue;
+                    }
+                    let px = x as f64 + 0.5 - a[0];
+                    let t = ((px * d[0] + py * d[1]) * inv_len2).clamp(0.0, 1.0);
+                    let (ex, ey) = (px - t * d[0], py - t * d[1]);
                     let radius = ra + t * (rb - ra);
-                    if (p[0] - q[0]).hypot(p[1] - q[1]) <= radius {
-                        binary.set(x, y, true);
+                    if ex * ex + ey * ey <= radius * radius {
+                        *ink = true;
                     }
                 }
             }
         }
     }
     binary
+}
+
+/// Knocks out ink: each ink pixel inside `region` = `[x0, y0, x1, y1]` (half-open, pixels) turns
+/// to background with probability `fraction`, drawn from a [`SplitMix64`] seeded with `seed`.
+/// Models broken, speckled strokes (faint scans, dry ink).
+pub fn dropout(binary: &mut Binary, region: [u32; 4], fraction: f64, seed: u64) {
+    let mut rng = SplitMix64::new(seed);
+    let x1 = region[2].min(binary.width);
+    let y1 = region[3].min(binary.height);
+    let w = binary.width as usize;
+    for y in region[1]..y1 {
+        for x in region[0]..x1 {
+            let i = y as usize * w + x as usize;
+            // One draw per pixel of the region, ink or not, so the pattern does not depend on
+            // which pixels happen to be ink.
+            let drop = rng.next_f64() < fraction;
+            if drop {
+                binary.ink[i] = false;
+            }
+        }
+    }
+}
+
+/// Samples a parametric curve `f(t)`, `t` in `[t0, t1]`, with at most `spacing` px between
+/// consecutive points (refined from a coarse pass, so the spacing holds where the curve is fast).
+pub(crate) fn sample_curve(
+    f: impl Fn(f64) -> [f64; 2],
+    t0: f64,
+    t1: f64,
+    spacing: f64,
+) -> Vec<[f64; 2]> {
+    // A coarse pass estimates the length; then a uniform step in t with a safety factor, checked.
+    let coarse = 256;
+    let mut length = 0.0;
+    let mut prev = f(t0);
+    let mut max_step: f64 = 0.0;
+    for i in 1..=coarse {
+        let p = f(t0 + (t1 - t0) * i as f64 / coarse as f64);
+        let step = (p[0] - prev[0]).hypot(p[1] - prev[1]);
+        length += step;
+        max_step = max_step.max(step);
+        prev = p;
+    }
+    // Speed varies along the curve: size the step from the fastest coarse interval.
+    let fast = max_step * coarse as f64;
+    let mut n = ((fast.max(length) / spacing) * 1.25).ceil().max(1.0) as usize;
+    loop {
+        let points: Vec<[f64; 2]> = (0..=n)
+            .map(|i| f(t0 + (t1 - t0) * i as f64 / n as f64))
+            .collect();
+        let ok = points
+            .windows(2)
+            .all(|s| (s[1][0] - s[0][0]).hypot(s[1][1] - s[0][1]) <= spacing);
+        if ok || n > 1 << 22 {
+            return points;
+        }
+        n *= 2;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Distance from `p` to segment `ab` and the parameter of the closest point.
+    fn segment_distance(p: [f64; 2], a: [f64; 2], b: [f64; 2]) -> (f64, f64) {
+        let d = [b[0] - a[0], b[1] - a[1]];
+        let len2 = d[0] * d[0] + d[1] * d[1];
+        let t = if len2 > 0.0 {
+            (((p[0] - a[0]) * d[0] + (p[1] - a[1]) * d[1]) / len2).clamp(0.0, 1.0)
+        } else {
+            0.0
+        };
+        ((p[0] - a[0] - t * d[0]).hypot(p[1] - a[1] - t * d[1]), t)
+    }
+
+    /// Nearest ink pixel center to `p` is within `tol` px.
+    fn near_ink(binary: &Binary, p: [f64; 2], tol: f64) -> bool {
+        let r = tol.ceil() as i64 + 1;
+        let (cx, cy) = (p[0].floor() as i64, p[1].floor() as i64);
+        for y in cy - r..=cy + r {
+            for x in cx - r..=cx + r {
+                if binary.get(x, y) && (x as f64 + 0.5 - p[0]).hypot(y as f64 + 0.5 - p[1]) <= tol {
+                    return true;
+                }
+            }
+        }
+        false
+    }
+
+    /// Whether pixel center `p` is within the local half width + `slack` of some stroke.
+    fn explained(strokes: &[Stroke], p: [f64; 2], slack: f64) -> bool {
+        strokes.iter().any(|s| {
+            let n = s.points.len();
+            (0..n.saturating_sub(1).max(1)).any(|i| {
+                let j = (i + 1).min(n - 1);
+                let (d, t) = segment_distance(p, s.points[i], s.points[j]);
+                d <= (s.widths[i] + t * (s.widths[j] - s.widths[i])) / 2.0 + slack
+            })
+        })
+    }
+
+    fn check_case(case: &Case) {
+        let b = &case.binary;
+        assert_eq!(
+            b.ink.len(),
+            b.width as usize * b.height as usize,
+            "{}",
+            case.name
+        );
+        assert!(!case.strokes.is_empty(), "{}", case.name);
+        let dropped = case.name.starts_with("dropout");
+        for s in &case.strokes {
+            assert_eq!(s.points.len(), s.widths.len(), "{}", case.name);
+            assert!(s.points.len() >= 2, "{}", case.name);
+            for p in &s.points {
+                assert!(p[0].is_finite() && p[1].is_finite(), "{}", case.name);
+                // Dropout may clear every pixel near a truth point; the region is part of a
+                // stroke at least 7 px wide, so 2.5 px still finds surviving ink.
+                let tol = if dropped { 3.5 } else { 1.0 };
+                assert!(
+                    near_ink(b, *p, tol),
+                    "{}: truth point {:?} off the ink",
+                    case.name,
+                    p
+                );
+            }
+        }
+        // Every ink pixel lies in some stroke's rendered width (+1 px).
+        for y in 0..b.height as i64 {
+            for x in 0..b.width as i64 {
+                if b.get(x, y) {
+                    let p = [x as f64 + 0.5, y as f64 + 0.5];
+                    assert!(
+                        explained(&case.strokes, p, 1.0),
+                        "{}: stray ink at {x},{y}",
+                        case.name
+                    );
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn hard_cases_truth_on_ink() {
+        let cases = hard_cases();
+        assert!(cases.len() >= 40);
+        for case in &cases {
+            assert_eq!(case.group, "hard");
+            check_case(case);
+        }
+    }
+
+    #[test]
+    fn text_cases_truth_on_ink() {
+        let cases = text_cases();
+        assert!((20..=30).contains(&cases.len()));
+        for case in &cases {
+            assert_eq!(case.group, "text");
+            check_case(case);
+        }
+    }
+
+    #[test]
+    fn print_cases_truth_on_ink() {
+        let cases = print_cases();
+        assert!(cases.len() >= 8);
+        for case in &cases {
+            assert_eq!(case.group, "prints");
+            check_case(case);
+        }
+    }
+
+    #[test]
+    fn names_unique() {
+        let cases = all_cases();
+        let mut names: Vec<&str> = cases.iter().map(|c| c.name.as_str()).collect();
+        names.sort_unstable();
+        let n = names.len();
+        names.dedup();
+        assert_eq!(names.len(), n);
+    }
+
+    #[test]
+    fn deterministic() {
+        let (a, b) = (all_cases(), all_cases());
+        assert_eq!(a.len(), b.len());
+        for (x, y) in a.iter().zip(&b) {
+            assert_eq!(x.name, y.name);
+            assert_eq!(x.binary, y.binary);
+            assert_eq!(x.strokes, y.strokes);
+        }
+        let (p, q) = (page(600, 400, 3), page(600, 400, 3));
+        assert_eq!(p.binary, q.binary);
+        assert_eq!(p.strokes, q.strokes);
+        assert_ne!(page(600, 400, 4).strokes, p.strokes);
+    }
+
+    #[test]
+    fn margins_hold() {
+        for case in hard_cases() {
+            let w = case
+                .strokes
+                .iter()
+                .map(Stroke::max_width)
+                .fold(0.0, f64::max);
+            let m = (2.0 * w) as i64;
+            let b = &case.binary;
+            for y in 0..b.height as i64 {
+                for x in 0..b.width as i64 {
+                    if b.get(x, y) {
+                        let edge = x
+                            .min(y)
+                            .min(b.width as i64 - 1 - x)
+                            .min(b.height as i64 - 1 - y);
+                        assert!(
+                            edge >= m - 1,
+                            "{}: ink at {x},{y} inside the margin",
+                            case.name
+                        );
+                    }
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn render_disk_and_capsule() {
+        // A dot of width 5 on a pixel center: the 21 pixel centers within 2.5 px.
+        let dot = render(&[Stroke::new(vec![[10.5, 10.5]], 5.0)], 21, 21);
+        assert_eq!(dot.count(), 21);
+        // A horizontal capsule of width 3 from x=5.5 to 15.5 on row 10: rows 9..=11, each reaching
+        // one pixel past the end centers (the caps cover (4.5, 9.5), at sqrt(2) < 1.5).
+        let bar = render(&[Stroke::new(vec![[5.5, 10.5], [15.5, 10.5]], 3.0)], 21, 21);
+        assert_eq!(bar.count(), 13 * 3);
+        assert!(bar.get(4, 10) && !bar.get(3, 10) && bar.get(4, 9) && !bar.get(4, 8));
+    }
+
+    #[test]
+    fn dropout_fraction() {
+        let mut b = Binary::new(100, 100);
+        b.ink.iter_mut().for_each(|i| *i = true);
+        dropout(&mut b, [0, 0, 100, 50], 0.3, 1);
+        let removed = 10_000 - b.count();
+        assert!((1300..1700).contains(&removed), "{removed}");
+        assert!(b.ink[50 * 100..].iter().all(|&i| i));
+    }
+
+    #[test]
+    fn page_fills_and_renders() {
+        let case = page(800, 600, 1);
+        assert_eq!((case.binary.width, case.binary.height), (800, 600));
+        assert!(case.strokes.len() > 50);
+        check_case(&case);
+    }
 }

@@ -383,7 +383,7 @@ fn join_ahead(ridges: &mut [(Vec<[f64; 2]>, [bool; 2])], r: usize, period: f64) 
         }
         for q in &ridge.0 {
             let dist = (q[0] - target[0]).hypot(q[1] - target[1]);
-            if best.map_or(true, |b| dist < b.1) {
+            if best.is_none_or(|b| dist < b.1) {
                 best = Some((*q, dist));
             }
         }

@@ -1,0 +1,193 @@
+//! §3.4 "every original point is associated with one of the nodes that is the nearest", made to
+//! respect ink components (design 9): a multi-source shortest-path search over the point
+//! neighbour graph from the point nearest to each fitted node, i.e. a geodesic Voronoi partition.
+//! Two strokes a pixel apart never trade points, which Euclidean nearest-node assignment would do.
+
+use super::math::distance;
+use crate::PointSet;
+
+/// Points grouped by an index (old graph nodes or fitted nodes), in CSR form.
+#[derive(Clone, Debug, Default)]
+pub struct Groups {
+    offsets: Vec<u32>,
+    members: Vec<u32>,
+}
+
+impl Groups {
+    /// Groups points by `label`; labels `>= groups` (e.g. "unassigned") are left out.
+    pub fn new(label: &[u32], groups: usize) -> Self {
+        let mut offsets = vec![0u32; groups + 1];
+        for &l in label {
+            if (l as usize) < groups {
+                offsets[l as usize + 1] += 1;
+            }
+        }
+        for i in 0..groups {
+            offsets[i + 1] += offsets[i];
+        }
+        let mut fill = offsets.clone();
+        let mut members = vec![0u32; offsets[groups] as usize];
+        for (p, &l) in label.iter().enumerate() {
+            if (l as usize) < groups {
+                members[fill[l as usize] as usize] = p as u32;
+                fill[l as usize] += 1;
+            }
+        }
+        Groups { offsets, members }
+    }
+
+    /// The points of group `i` (empty for an unknown group).
+    pub fn of(&self, i: usize) -> &[u32] {
+        if i + 1 >= self.offsets.len() {
+            return &[];
+        }
+        &self.members[self.offsets[i] as usize..self.offsets[i + 1] as usize]
+    }
+}
+
+/// Distances are quantized to a tenth of the point spacing so that the search can use a bucket
+/// queue (Dial's algorithm): O(N) instead of a heap's O(N log N).
+const STEPS_PER_SPACING: f64 = 10.0;
+/// Longest single step, in quanta: longer k-NN links (outliers) are clamped so the circular bucket
+/// array stays small.
+const MAX_STEP: u32 = 1000;
+const BUCKETS: usize = 2048;
+
+/// Labels every point with the fitted node (`sites`) nearest to it along the neighbour graph.
+///
+/// Each site starts from one point: the ink pixel under it, or else the nearest point owned by
+/// the old nodes `near[i]` it was resampled between. Points no search reaches (a component without
+/// any site) are left out.
+///
+/// The search runs one ink component at a time: a global distance order would visit the image in
+/// rings around every site at once, a cache miss per point on a page; per component the working
+/// set is one glyph or ridge.
+pub fn assign(
+    points: &PointSet,
+    owned: &Groups,
+    sites: &[[f64; 2]],
+    near: &[[u32; 2]],
+    unit: f64,
+) -> Groups {
+    let n = points.len();
+    // A point set without its neighbour arrays still gets its sources labelled.
+    let linked = points.offsets.len() == n + 1;
+    let neighbors_of = |p: u32| if linked { points.neighbors_of(p) } else { &[] };
+    let sources: Vec<Option<u32>> = sites
+        .iter()
+        .zip(near)
+        .map(|(&site, pair)| source(points, owned, site, pair))
+        .collect();
+
+    // Ink components that hold a source, numbered in site order, by breadth-first search.
+    let mut component = vec![u32::MAX; n];
+    let mut queue: Vec<u32> = Vec::new();
+    let mut site_component = vec![u32::MAX; sites.len()];
+    let mut components = 0u32;
+    for (i, &p) in sources.iter().enumerate() {
+        let Some(p) = p else { continue };
+        if component[p as usize] == u32::MAX {
+            queue.clear();
+            queue.push(p);
+            component[p as usize] = components;
+            let mut head = 0;
+            while head < queue.len() {
+                let here = queue[head];
+                head += 1;
+                for &q in neighbors_of(here) {
+                    if component[q as usize] == u32::MAX {
+                        component[q as usize] = components;
+                        queue.push(q);
+                    }
+                }
+            }
+            components += 1;
+        }
+        site_component[i] = component[p as usize];
+    }
+    drop(component);
+    let by_component = Groups::new(&site_component, components as usize);
+
+    let per_unit = STEPS_PER_SPACING / unit;
+    // Rounds by truncation after adding one half (d >= 0): `f64::round` is a library call.
+    let quantize = |d: f64| (d * per_unit + 0.5).min(MAX_STEP as f64) as u32;
+    // (distance in quanta, site) per point, side by side: one cache line per visit.
+    let mut state = vec![(u32::MAX, u32::MAX); n];
+    let mut buckets: Vec<Vec<u32>> = vec![Vec::new(); BUCKETS];
+    for c in 0..components as usize {
+        let mut pending = 0usize;
+        for &i in by_component.of(c) {
+            let Some(p) = sources[i as usize] else {
+                continue;
+            };
+            let d = quantize(distance(sites[i as usize], points.points[p as usize]));
+            if d < state[p as usize].0 {
+                state[p as usize] = (d, i);
+                buckets[d as usize % BUCKETS].push(p);
+                pending += 1;
+            }
+        }
+        let mut current = 0usize;
+        while pending > 0 {
+            let slot = current % BUCKETS;
+            let mut bucket = std::mem::take(&mut buckets[slot]);
+            pending -= bucket.len();
+            for &p in &bucket {
+                let (reached, owner) = state[p as usize];
+                if reached as usize != current {
+                    continue; // superseded by a shorter path
+                }
+                let here = points.points[p as usize];
+                for &q in neighbors_of(p) {
+                    if state[q as usize].0 as usize <= current {
+                        continue; // settled: spare the distance
+                    }
+                    let step = quantize(distance(here, points.points[q as usize])).max(1);
+                    let d = current as u32 + step;
+                    if d < state[q as usize].0 {
+                        state[q as usize] = (d, owner);
+                        // step <= MAX_STEP < BUCKETS: never the slot being drained.
+                        buckets[d as usize % BUCKETS].push(q);
+                        pending += 1;
+                    }
+                }
+            }
+            bucket.clear();
+            buckets[slot] = bucket;
+            current += 1;
+        }
+    }
+    let label: Vec<u32> = state.into_iter().map(|(_, site)| site).collect();
+    Groups::new(&label, sites.len())
+}
+
+/// The point a site's search starts from.
+fn source(points: &PointSet, owned: &Groups, site: [f64; 2], near: &[u32; 2]) -> Option<u32> {
+    if let Some(grid) = &points.grid {
+        if let Some(p) = grid.point_at(site[0].floor() as i64, site[1].floor() as i64) {
+            if (p as usize) < points.len() {
+                return Some(p);
+            }
+        }
+    }
+    let mut best: Option<(f64, u32)> = None;
+    let pair: &[u32] = if near[0] == near[1] {
+        &near[..1]
+    } else {
+        &near[..]
+    };
+    for &old in pair {
+        for &p in owned.of(old as usize) {
+            let q = points.points[p as usize];
+            let d = (q[0] - site[0]).powi(2) + (q[1] - site[1]).powi(2);
+            let closer = match best {
+                None => true,
+                Some((b, bp)) => d < b || (d == b && p < bp),
+            };
+            if closer {
+                best = Some((d, p));
+            }
+        }
+    }
+    best.map(|(_, p)| p)
+}

@@ -1,0 +1,226 @@
+//! Small geometry for the fit: L1 medians (Weiszfeld), principal directions, least-squares line
+//! intersections and arc-length walks along polylines.
+
+/// Geometric (L1) median of `points[members]` by Weiszfeld's iteration from the mean (§3.4: the
+/// paper's `q'_i`, robust to outliers where the mean is not).
+///
+/// A point that coincides with the current estimate would get an infinite weight; it is handled as
+/// in Vardi and Zhang (2000): the step moves only as far as the pull of the other points exceeds
+/// the number of coincident points, and stops when it does not. Returns `None` for no members.
+pub fn l1_median(points: &[[f64; 2]], members: &[u32], iterations: usize) -> Option<[f64; 2]> {
+    if members.is_empty() {
+        return None;
+    }
+    let n = members.len() as f64;
+    let mut x = [0.0, 0.0];
+    for &m in members {
+        let p = points[m as usize];
+        x[0] += p[0];
+        x[1] += p[1];
+    }
+    x = [x[0] / n, x[1] / n];
+    for _ in 0..iterations {
+        let mut weighted = [0.0, 0.0];
+        let mut total = 0.0;
+        let mut coincident = 0usize;
+        for &m in members {
+            let p = points[m as usize];
+            let d = distance(p, x);
+            if d < 1e-9 {
+                coincident += 1;
+                continue;
+            }
+            let w = 1.0 / d;
+            weighted[0] += w * p[0];
+            weighted[1] += w * p[1];
+            total += w;
+        }
+        if total == 0.0 {
+            break; // every member sits on x
+        }
+        let target = [weighted[0] / total, weighted[1] / total];
+        let next = if coincident == 0 {
+            target
+        } else {
+            // Vardi-Zhang: |pull| = |sum w (p - x)| = total * |target - x|.
+            let pull = total * distance(target, x);
+            let c = coincident as f64;
+            if pull <= c {
+                break; // x itself is the median
+            }
+            let g = c / pull;
+            [
+                (1.0 - g) * target[0] + g * x[0],
+                (1.0 - g) * target[1] + g * x[1],
+            ]
+        };
+        let step = distance(next, x);
+        x = next;
+        if step < 1e-9 {
+            break;
+        }
+    }
+    Some(x)
+}
+
+/// Centroid and unit principal direction of a point sample (closed-form 2x2 PCA); `None` when the
+/// sample has no spread.
+pub fn principal_line(sample: &[[f64; 2]]) -> Option<([f64; 2], [f64; 2])> {
+    if sample.len() < 2 {
+        return None;
+    }
+    let n = sample.len() as f64;
+    let c = sample
+        .iter()
+        .fold([0.0, 0.0], |a, p| [a[0] + p[0], a[1] + p[1]]);
+    let c = [c[0] / n, c[1] / n];
+    let (mut sxx, mut sxy, mut syy) = (0.0, 0.0, 0.0);
+    for p in sample {
+        let (dx, dy) = (p[0] - c[0], p[1] - c[1]);
+        sxx += dx * dx;
+        sxy += dx * dy;
+        syy += dy * dy;
+    }
+    if sxx + syy < 1e-12 {
+        return None;
+    }
+    let angle = 0.5 * (2.0 * sxy).atan2(sxx - syy);
+    Some((c, [angle.cos(), angle.sin()]))
+}
+
+/// The point minimizing the summed squared distances to lines `(point, unit direction)`:
+/// `sum (I - d d^T) x = sum (I - d d^T) c`. `None` when the lines are (nearly) parallel, i.e. the
+/// smaller eigenvalue of the normal matrix is below `min_eigen`.
+pub fn line_intersection(lines: &[([f64; 2], [f64; 2])], min_eigen: f64) -> Option<[f64; 2]> {
+    let (mut a, mut b, mut d, mut rx, mut ry) = (0.0, 0.0, 0.0, 0.0, 0.0);
+    for &(c, u) in lines {
+        // Projector onto the line's normal.
+        let (pxx, pxy, pyy) = (1.0 - u[0] * u[0], -u[0] * u[1], 1.0 - u[1] * u[1]);
+        a += pxx;
+        b += pxy;
+        d += pyy;
+        rx += pxx * c[0] + pxy * c[1];
+        ry += pxy * c[0] + pyy * c[1];
+    }
+    let det = a * d - b * b;
+    let half_trace = 0.5 * (a + d);
+    let smallest = half_trace - (half_trace * half_trace - det).max(0.0).sqrt();
+    // Written so that a NaN eigenvalue is refused too.
+    if smallest.partial_cmp(&min_eigen) != Some(std::cmp::Ordering::Greater) {
+        return None;
+    }
+    Some([(d * rx - b * ry) / det, (a * ry - b * rx) / det])
+}
+
+/// Cumulative arc length at each polyline point.
+pub fn arc_lengths(polyline: &[[f64; 2]]) -> Vec<f64> {
+    let mut s = Vec::with_capacity(polyline.len());
+    let mut total = 0.0;
+    for (i, p) in polyline.iter().enumerate() {
+        if i > 0 {
+            total += crate::dist(polyline[i - 1], *p);
+        }
+        s.push(total);
+    }
+    s
+}
+
+/// The point at arc length `t` along a polyline with cumulative lengths `s`, and the index of the
+/// segment it lies on (clamped to the ends).
+pub fn point_at(polyline: &[[f64; 2]], s: &[f64], t: f64) -> ([f64; 2], usize) {
+    let n = polyline.len();
+    if n < 2 || t <= 0.0 {
+        return (polyline.first().copied().unwrap_or([0.0, 0.0]), 0);
+    }
+    if t >= s[n - 1] {
+        return (polyline[n - 1], n - 2);
+    }
+    // First point beyond t; the segment before it holds t.
+    let j = s.partition_point(|&x| x <= t).clamp(1, n - 1);
+    let (a, b) = (polyline[j - 1], polyline[j]);
+    let len = s[j] - s[j - 1];
+    let f = if len > 0.0 { (t - s[j - 1]) / len } else { 0.0 };
+    ([a[0] + f * (b[0] - a[0]), a[1] + f * (b[1] - a[1])], j - 1)
+}
+
+/// Euclidean distance by `sqrt` (`f64::hypot` guards against overflow that pixel coordinates
+/// cannot reach, and is several times slower in the per-point loops).
+#[inline]
+pub fn distance(a: [f64; 2], b: [f64; 2]) -> f64 {
+    let (dx, dy) = (a[0] - b[0], a[1] - b[1]);
+    (dx * dx + dy * dy).sqrt()
+}
+
+/// `v / |v|`, or `None` for a (near) zero vector.
+#[inline]
+pub fn unit(v: [f64; 2]) -> Option<[f64; 2]> {
+    let n = v[0].hypot(v[1]);
+    (n > 1e-12).then(|| [v[0] / n, v[1] / n])
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn all(points: &[[f64; 2]]) -> Vec<u32> {
+        (0..points.len() as u32).collect()
+    }
+
+    #[test]
+    fn weiszfeld_finds_the_diagonal_crossing_of_a_quadrilateral() {
+        // The geometric median of four points in convex position is where the diagonals cross.
+        let points = [[0.0, 0.0], [4.0, 0.0], [5.0, 6.0], [0.0, 2.0]];
+        let m = l1_median(&points, &all(&points), 200).unwrap();
+        // Diagonals (0,0)-(5,6) and (4,0)-(0,2) meet at t = 4/17 along the first.
+        let t = 4.0 / 17.0;
+        assert!(
+            (m[0] - 5.0 * t).abs() < 1e-3 && (m[1] - 6.0 * t).abs() < 1e-3,
+            "{m:?}"
+        );
+    }
+
+    #[test]
+    fn weiszfeld_ignores_an_outlier_and_survives_coincident_points() {
+        // Collinear: the median is the middle point, whatever the outlier's distance.
+        let points = [
+            [0.0, 0.0],
+            [1.0, 0.0],
+            [2.0, 0.0],
+            [3.0, 0.0],
+            [1000.0, 0.0],
+        ];
+        let m = l1_median(&points, &all(&points), 100).unwrap();
+        assert!((m[0] - 2.0).abs() < 1e-2 && m[1].abs() < 1e-9, "{m:?}");
+        // The mean (1, 1) is itself a member: the iteration must not divide by zero.
+        let points = [[1.0, 1.0], [0.0, 0.0], [2.0, 2.0], [0.0, 2.0], [2.0, 0.0]];
+        let m = l1_median(&points, &all(&points), 20).unwrap();
+        assert!(
+            (m[0] - 1.0).abs() < 1e-9 && (m[1] - 1.0).abs() < 1e-9,
+            "{m:?}"
+        );
+        assert_eq!(l1_median(&points, &[], 20), None);
+    }
+
+    #[test]
+    fn lines_meet_where_they_cross() {
+        let lines = [
+            ([0.0, 1.0], [1.0, 0.0]),
+            ([3.0, 5.0], [0.0, 1.0]),
+            ([-2.0, 1.0], [-1.0, 0.0]),
+        ];
+        let x = line_intersection(&lines, 1e-3).unwrap();
+        assert!((x[0] - 3.0).abs() < 1e-9 && (x[1] - 1.0).abs() < 1e-9);
+        assert_eq!(line_intersection(&lines[..1], 1e-3), None);
+        let (c, d) = principal_line(&[[0.0, 0.0], [1.0, 1.0], [2.0, 2.0]]).unwrap();
+        assert!((c[0] - 1.0).abs() < 1e-12 && (d[0].abs() - d[1].abs()).abs() < 1e-12);
+    }
+
+    #[test]
+    fn walking_a_polyline_by_arc_length() {
+        let line = [[0.0, 0.0], [3.0, 0.0], [3.0, 4.0]];
+        let s = arc_lengths(&line);
+        assert_eq!(s, vec![0.0, 3.0, 7.0]);
+        assert_eq!(point_at(&line, &s, 5.0), ([3.0, 2.0], 1));
+        assert_eq!(point_at(&line, &s, 9.0).0, [3.0, 4.0]);
+    }
+}

@@ -1,0 +1,332 @@
+//! §3.4 Approximation improvement, and building the stroke graph.
+//!
+//! In: the refined 1-D [`NodeGraph`] (§3.3) and the [`PointSet`]. Out: a [`StrokeGraph`] whose
+//! edges are polylines from vertex to vertex. The steps, each in its own module:
+//!
+//! 1. [`layout`]: cut the graph into chains between vertices (nodes of degree other than 2, one
+//!    node per closed loop) and resample every chain to node spacing `h = max(3, median width)`
+//!    ("equalizing the edge length", design 9);
+//! 2. [`assign`]: give every point to the nearest fitted node of its own ink component (a
+//!    geodesic Voronoi partition over the neighbour graph), then take the L1 median `q'_i` of each
+//!    node's points by Weiszfeld's iteration ([`math::l1_median`]);
+//! 3. [`solve`]: minimize Eq. (4), `sum W_i |q_i - q'_i|^2 + w |L Q|^2`. By default `L` is the
+//!    "held" Laplacian of design 9 (one row `q_i - (q_a + q_b) / 2` per degree-2 node, so ends and
+//!    junctions are not pulled inward) with data weight `anchor_weight` on ends and junctions; in
+//!    paper mode it is the uniform graph Laplacian with unit weights, as the paper writes it;
+//! 4. [`place`] (clean-up only): ends out to where the ink ends, junctions where their arms' lines
+//!    meet (design 10, 14);
+//! 5. widths (`2 x half_width` of the nearest point) and unit tangents along every polyline.
+
+mod assign;
+mod layout;
+mod math;
+mod place;
+mod solve;
+#[cfg(test)]
+mod tests;
+
+use crate::{Edge, NodeGraph, Params, PointSet, StrokeGraph, Vertex};
+use assign::Groups;
+use layout::Layout;
+use place::{End, Ink, Placement};
+use rayon::prelude::*;
+use solve::Smoothness;
+
+/// Data weight of a fitted node that no point reached: it follows its neighbours (Eq. (4) still
+/// needs a positive weight everywhere for a unique solution).
+const UNSUPPORTED_WEIGHT: f64 = 1e-3;
+
+/// Fits the refined graph to the points and builds the stroke graph (image size left at zero for
+/// the caller to set).
+pub fn fit(graph: &NodeGraph, points: &PointSet, params: &Params) -> StrokeGraph {
+    if graph.nodes.is_empty() {
+        return StrokeGraph::default();
+    }
+    // Lengths in pixels for images; in units of the point spacing `Dis_ave` for point lists.
+    let unit = if points.grid.is_some() || !(points.spacing.is_finite() && points.spacing > 0.0) {
+        1.0
+    } else {
+        points.spacing
+    };
+    let h = node_spacing(graph, params, unit);
+    let layout = layout::equalize(graph, h);
+    let count = layout.pos.len();
+
+    let owned = if graph.owner.len() == points.len() {
+        Groups::new(&graph.owner, graph.nodes.len())
+    } else {
+        Groups::default()
+    };
+    let cells = assign::assign(points, &owned, &layout.pos, &layout.near, unit);
+    let iterations = params.weiszfeld_iterations;
+    // Per-node medians are independent: parallel, and the same whatever the thread count.
+    let medians: Vec<Option<[f64; 2]>> = (0..count)
+        .into_par_iter()
+        .map(|i| math::l1_median(&points.points, cells.of(i), iterations))
+        .collect();
+
+    let degrees = layout.degrees();
+    let anchor = if params.paper {
+        1.0
+    } else {
+        params.anchor_weight
+    };
+    let mut weights = vec![1.0; count];
+    let mut targets = layout.pos.clone();
+    for i in 0..count {
+        match medians[i] {
+            Some(m) => targets[i] = m,
+            None => weights[i] = UNSUPPORTED_WEIGHT,
+        }
+    }
+    for (k, &degree) in degrees.iter().enumerate() {
+        let i = layout.vertex_unknown(k) as usize;
+        if degree != 2 && medians[i].is_some() {
+            weights[i] = anchor;
+        }
+    }
+    let mut polylines: Vec<Vec<u32>> = layout.edges.iter().map(|e| layout.polyline(e)).collect();
+    let smoothness = if params.paper {
+        uniform_laplacian(&polylines, count)
+    } else {
+        held_laplacian(&layout, &polylines, &degrees)
+    };
+    let mut positions = solve::solve(&targets, &weights, &smoothness, params.smoothness)
+        .unwrap_or_else(|| targets.clone());
+
+    if params.cleanup {
+        let ink = Ink::new(points, unit);
+        let placement = Placement {
+            ink: &ink,
+            spacing: h,
+            step: 0.5 * unit.min(1.0),
+        };
+        let ends = vertex_ends(&layout, &polylines);
+        for (k, &degree) in degrees.iter().enumerate() {
+            let width = vertex_width(graph, &layout, k, h);
+            let v = layout.vertex_unknown(k);
+            if degree >= 3 {
+                placement.place_junction(v, &ends[k], width, &mut polylines, &mut positions);
+            }
+        }
+        for (k, &degree) in degrees.iter().enumerate() {
+            let width = vertex_width(graph, &layout, k, h);
+            let v = layout.vertex_unknown(k);
+            if degree == 1 {
+                placement.place_end(v, &ends[k], width, &polylines, &mut positions);
+            }
+        }
+    }
+    build(
+        graph, points, &layout, &cells, &polylines, &positions, &degrees,
+    )
+}
+
+/// Design 9: `h = max(3, spacing_factor x median stroke width)` (lengths in `unit`).
+fn node_spacing(graph: &NodeGraph, params: &Params, unit: f64) -> f64 {
+    let mut widths: Vec<f64> = graph
+        .nodes
+        .iter()
+        .map(|n| n.width)
+        .filter(|w| w.is_finite() && *w > 0.0)
+        .collect();
+    let floor = 3.0 * unit;
+    if widths.is_empty() {
+        return floor;
+    }
+    let mid = widths.len() / 2;
+    let (_, median, _) = widths.select_nth_unstable_by(mid, f64::total_cmp);
+    (params.spacing_factor * *median).max(floor)
+}
+
+/// The local stroke width at vertex `k`: its graph node's width, or `h` when that is unknown.
+fn vertex_width(graph: &NodeGraph, layout: &Layout, k: usize, h: f64) -> f64 {
+    let w = graph.nodes[layout.vertex_node[k] as usize].width;
+    if w.is_finite() && w > 0.0 {
+        w
+    } else {
+        h
+    }
+}
+
+/// The edge ends at each vertex.
+fn vertex_ends(layout: &Layout, polylines: &[Vec<u32>]) -> Vec<Vec<End>> {
+    let mut ends = vec![Vec::new(); layout.vertex_node.len()];
+    for (edge, e) in layout.edges.iter().enumerate() {
+        debug_assert_eq!(polylines[edge][0], layout.vertex_unknown(e.from));
+        ends[e.from].push(End {
+            edge,
+            at_start: true,
+        });
+        ends[e.to].push(End {
+            edge,
+            at_start: false,
+        });
+    }
+    ends
+}
+
+/// Design 9: smoothness rows `q_i - (q_a + q_b) / 2` only where the curve passes through (chain
+/// interiors and the anchor of a closed loop), none at ends and junctions.
+fn held_laplacian(layout: &Layout, polylines: &[Vec<u32>], degrees: &[usize]) -> Smoothness {
+    let mut rows = Smoothness::new();
+    for ids in polylines {
+        for w in ids.windows(3) {
+            rows.push(w[1], &[w[0], w[2]]);
+        }
+    }
+    for (edge, e) in layout.edges.iter().enumerate() {
+        let ids = &polylines[edge];
+        if e.from == e.to && degrees[e.from] == 2 && ids.len() >= 4 {
+            rows.push(ids[0], &[ids[1], ids[ids.len() - 2]]);
+        }
+    }
+    rows
+}
+
+/// The paper's Eq. (4) as written: the uniform graph Laplacian, a row for every node.
+fn uniform_laplacian(polylines: &[Vec<u32>], count: usize) -> Smoothness {
+    let mut offsets = vec![0u32; count + 1];
+    for ids in polylines {
+        for w in ids.windows(2) {
+            offsets[w[0] as usize + 1] += 1;
+            offsets[w[1] as usize + 1] += 1;
+        }
+    }
+    for i in 0..count {
+        offsets[i + 1] += offsets[i];
+    }
+    let mut fill = offsets.clone();
+    let mut neighbors = vec![0u32; offsets[count] as usize];
+    for ids in polylines {
+        for w in ids.windows(2) {
+            neighbors[fill[w[0] as usize] as usize] = w[1];
+            fill[w[0] as usize] += 1;
+            neighbors[fill[w[1] as usize] as usize] = w[0];
+            fill[w[1] as usize] += 1;
+        }
+    }
+    let mut rows = Smoothness::new();
+    for i in 0..count {
+        rows.push(
+            i as u32,
+            &neighbors[offsets[i] as usize..offsets[i + 1] as usize],
+        );
+    }
+    rows
+}
+
+/// Stroke width at a fitted position: `2 x half_width` of the pixel under it, else of the nearest
+/// of the node's points, else the old node's width.
+fn width_at(
+    graph: &NodeGraph,
+    points: &PointSet,
+    layout: &Layout,
+    cells: &Groups,
+    p: [f64; 2],
+    unknown: u32,
+) -> f64 {
+    let half = |i: u32| points.half_width.get(i as usize).map(|&h| 2.0 * h as f64);
+    if let Some(grid) = &points.grid {
+        if let Some(w) = grid
+            .point_at(p[0].floor() as i64, p[1].floor() as i64)
+            .and_then(half)
+        {
+            return w;
+        }
+    }
+    let nearest = cells.of(unknown as usize).iter().copied().min_by(|&a, &b| {
+        let (da, db) = (
+            math::distance(points.points[a as usize], p),
+            math::distance(points.points[b as usize], p),
+        );
+        da.total_cmp(&db).then(a.cmp(&b))
+    });
+    if let Some(w) = nearest.and_then(half) {
+        return w;
+    }
+    let w = graph.nodes[layout.near[unknown as usize][0] as usize].width;
+    if w.is_finite() && w >= 0.0 {
+        w
+    } else {
+        0.0
+    }
+}
+
+/// Unit tangents by central differences (wrapping around a closed loop).
+fn directions(line: &[[f64; 2]], closed: bool) -> Vec<[f64; 2]> {
+    let n = line.len();
+    let closed = closed && n >= 4;
+    let chord = math::unit([line[n - 1][0] - line[0][0], line[n - 1][1] - line[0][1]]);
+    let mut last = chord.unwrap_or([1.0, 0.0]);
+    (0..n)
+        .map(|i| {
+            let prev = if i > 0 {
+                i - 1
+            } else if closed {
+                n - 2
+            } else {
+                0
+            };
+            let next = if i + 1 < n {
+                i + 1
+            } else if closed {
+                1
+            } else {
+                n - 1
+            };
+            let d = [line[next][0] - line[prev][0], line[next][1] - line[prev][1]];
+            last = math::unit(d).unwrap_or(last);
+            last
+        })
+        .collect()
+}
+
+fn build(
+    graph: &NodeGraph,
+    points: &PointSet,
+    layout: &Layout,
+    cells: &Groups,
+    polylines: &[Vec<u32>],
+    positions: &[[f64; 2]],
+    degrees: &[usize],
+) -> StrokeGraph {
+    let vertices = (0..layout.vertex_node.len())
+        .map(|k| {
+            let v = layout.vertex_unknown(k);
+            let pos = positions[v as usize];
+            Vertex {
+                pos,
+                degree: degrees[k],
+                width: width_at(graph, points, layout, cells, pos, v),
+            }
+        })
+        .collect();
+    let edges = layout
+        .edges
+        .iter()
+        .zip(polylines)
+        .map(|(e, ids)| {
+            let line: Vec<[f64; 2]> = ids.iter().map(|&i| positions[i as usize]).collect();
+            let widths = ids
+                .iter()
+                .zip(&line)
+                .map(|(&i, &p)| width_at(graph, points, layout, cells, p, i))
+                .collect();
+            let directions = directions(&line, e.from == e.to);
+            Edge {
+                from: e.from,
+                to: e.to,
+                points: line,
+                widths,
+                directions,
+            }
+        })
+        .collect();
+    StrokeGraph {
+        width: 0,
+        height: 0,
+        vertices,
+        edges,
+    }
+}

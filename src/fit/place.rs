@@ -1,0 +1,234 @@
+//! Design 10 and 14: put stroke ends where the ink ends and junctions where their arms meet.
+//!
+//! The L1 median of an end node's Voronoi cell lies inside the stroke, pulled back from the cap by
+//! half the cell; the median of a junction's cell is pulled toward the widest arm. Both are fixed
+//! from the ink and the fitted arms rather than from more smoothing.
+
+use super::math::{arc_lengths, line_intersection, point_at, principal_line, unit};
+use crate::{Grid, PointSet};
+
+/// "Is this position on the ink?": the pixel under it is ink, or (point lists) a point lies within
+/// `radius`.
+pub enum Ink<'a> {
+    /// Points from an image. In dropout mode a pixel counts as ink when any pixel of its 3x3 block
+    /// is (the ink has holes a ray must cross), which reaches `margin` = 1 px beyond the stroke.
+    Pixels {
+        /// The pixel grid.
+        grid: &'a Grid,
+        /// How far the test reaches beyond the ink, px.
+        margin: i64,
+    },
+    /// A point list, bucketed in square cells of side `radius`.
+    Points {
+        /// Search radius.
+        radius: f64,
+        /// `(cell x, cell y, point)`, sorted.
+        cells: Vec<(i64, i64, u32)>,
+        /// The points.
+        points: &'a [[f64; 2]],
+    },
+}
+
+impl<'a> Ink<'a> {
+    /// The test for `points`: its pixel grid, or buckets of radius `0.75 Dis_ave` (the reach of a
+    /// pixel's square around its center, for a point list).
+    pub fn new(points: &'a PointSet, unit: f64) -> Self {
+        if let Some(grid) = &points.grid {
+            return Ink::Pixels {
+                grid,
+                margin: i64::from(points.dropout),
+            };
+        }
+        let radius = 0.75 * unit;
+        let mut cells: Vec<(i64, i64, u32)> = points
+            .points
+            .iter()
+            .enumerate()
+            .map(|(i, p)| {
+                (
+                    (p[0] / radius).floor() as i64,
+                    (p[1] / radius).floor() as i64,
+                    i as u32,
+                )
+            })
+            .collect();
+        cells.sort_unstable();
+        Ink::Points {
+            radius,
+            cells,
+            points: &points.points,
+        }
+    }
+
+    /// How far [`Ink::contains`] reaches beyond the ink's edge.
+    pub fn margin(&self) -> f64 {
+        match self {
+            Ink::Pixels { margin, .. } => *margin as f64,
+            Ink::Points { .. } => 0.0,
+        }
+    }
+
+    /// Whether `p` is on the ink.
+    pub fn contains(&self, p: [f64; 2]) -> bool {
+        match self {
+            Ink::Pixels { grid, margin } => {
+                let (x, y) = (p[0].floor() as i64, p[1].floor() as i64);
+                (-margin..=*margin)
+                    .any(|dy| (-margin..=*margin).any(|dx| grid.point_at(x + dx, y + dy).is_some()))
+            }
+            Ink::Points {
+                radius,
+                cells,
+                points,
+            } => {
+                let (cx, cy) = (
+                    (p[0] / radius).floor() as i64,
+                    (p[1] / radius).floor() as i64,
+                );
+                for x in cx - 1..=cx + 1 {
+                    for y in cy - 1..=cy + 1 {
+                        let from = cells.partition_point(|c| (c.0, c.1) < (x, y));
+                        for c in cells[from..].iter().take_while(|c| (c.0, c.1) == (x, y)) {
+                            if crate::dist(points[c.2 as usize], p) <= *radius {
+                                return true;
+                            }
+                        }
+                    }
+                }
+                false
+            }
+        }
+    }
+}
+
+/// An edge end at a vertex: edge index and whether the edge starts there.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct End {
+    /// The edge.
+    pub edge: usize,
+    /// Whether the edge starts at the vertex (else it ends there).
+    pub at_start: bool,
+}
+
+/// The positions of an edge seen from one of its ends.
+fn arm(polylines: &[Vec<u32>], positions: &[[f64; 2]], end: End) -> Vec<[f64; 2]> {
+    let ids = &polylines[end.edge];
+    let mut arm: Vec<[f64; 2]> = ids.iter().map(|&i| positions[i as usize]).collect();
+    if !end.at_start {
+        arm.reverse();
+    }
+    arm
+}
+
+/// What the placement needs to know about the fit.
+pub struct Placement<'a> {
+    /// The ink test.
+    pub ink: &'a Ink<'a>,
+    /// Node spacing `h`.
+    pub spacing: f64,
+    /// Walking step along rays (at most half a pixel).
+    pub step: f64,
+}
+
+impl Placement<'_> {
+    /// Design 10: moves each stroke end (`vertex` of degree 1, local stroke width `width`) out
+    /// along its end tangent to the farthest ink, less half the width. An end only moves outward:
+    /// a ray that grazes the stroke's side stops early and must not pull the end in.
+    pub fn place_end(
+        &self,
+        vertex: u32,
+        ends: &[End],
+        width: f64,
+        polylines: &[Vec<u32>],
+        positions: &mut [[f64; 2]],
+    ) {
+        let [end] = ends[..] else { return };
+        let arm = arm(polylines, positions, end);
+        let s = arc_lengths(&arm);
+        let (inner, _) = point_at(&arm, &s, self.spacing.min(s[s.len() - 1]));
+        let p0 = arm[0];
+        let Some(t) = unit([p0[0] - inner[0], p0[1] - inner[1]]) else {
+            return;
+        };
+        if !self.ink.contains(p0) {
+            return;
+        }
+        let reach = 2.0 * width + 2.0 * self.spacing;
+        let mut far = 0.0;
+        while far + self.step <= reach
+            && self.ink.contains([
+                p0[0] + (far + self.step) * t[0],
+                p0[1] + (far + self.step) * t[1],
+            ])
+        {
+            far += self.step;
+        }
+        // The ink ends between the last sample on it and the first one off it.
+        let out = far + 0.5 * self.step - self.ink.margin() - 0.5 * width;
+        if out > 0.0 {
+            positions[vertex as usize] = [p0[0] + out * t[0], p0[1] + out * t[1]];
+        }
+    }
+
+    /// Design 10 and 14: moves a junction (`vertex` of degree 3 or more, local stroke width
+    /// `width`) to the least-squares intersection of lines fitted to its arms between `width` and
+    /// `4 width` from it, if that point is on the ink and within `1.5 width` of where the junction
+    /// is. Arm points left behind the new junction are dropped.
+    pub fn place_junction(
+        &self,
+        vertex: u32,
+        ends: &[End],
+        width: f64,
+        polylines: &mut [Vec<u32>],
+        positions: &mut [[f64; 2]],
+    ) {
+        if ends.len() < 3 {
+            return;
+        }
+        let here = positions[vertex as usize];
+        let mut lines = Vec::with_capacity(ends.len());
+        let mut outward = Vec::with_capacity(ends.len());
+        let mut sample = Vec::with_capacity(9);
+        for &end in ends {
+            let arm = arm(polylines, positions, end);
+            let s = arc_lengths(&arm);
+            let length = s[s.len() - 1];
+            let far = (4.0 * width).min(length);
+            let near = width.min(0.5 * far);
+            sample.clear();
+            for j in 0..=8 {
+                sample.push(point_at(&arm, &s, near + (far - near) * j as f64 / 8.0).0);
+            }
+            let Some((c, mut d)) = principal_line(&sample) else {
+                outward.push(None);
+                continue;
+            };
+            if (c[0] - here[0]) * d[0] + (c[1] - here[1]) * d[1] < 0.0 {
+                d = [-d[0], -d[1]];
+            }
+            lines.push((c, d));
+            outward.push(Some(d));
+        }
+        let Some(x) = line_intersection(&lines, 0.01) else {
+            return;
+        };
+        if crate::dist(x, here) > 1.5 * width || !self.ink.contains(x) {
+            return;
+        }
+        positions[vertex as usize] = x;
+        // Keep the arms running away from the new junction: drop first points that now sit
+        // behind it or on it, as long as the edge keeps an interior point.
+        for (end, d) in ends.iter().zip(outward) {
+            let Some(d) = d else { continue };
+            let ids = &mut polylines[end.edge];
+            while ids.len() > 3 {
+                let i = if end.at_start { 1 } else { ids.len() - 2 };
+                let p = positions[ids[i] as usize];
+                if (p[0] - x[0]) * d[0] + (p[1] - x[1]) * d[1] >= 0.25 * self.spacing {
+                    break;
+                }
+                ids.remove(i);
+            }
+        }
+    }
+}

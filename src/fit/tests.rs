@@ -27,6 +27,8 @@ fn point_set(binary: &Binary) -> PointSet {
         width: binary.width,
         height: binary.height,
         index,
+        x0: 0,
+        y0: 0,
     };
     let mut lists = Vec::with_capacity(set.points.len());
     for p in &set.points {
@@ -389,6 +391,8 @@ fn timing_one_million_points_one_hundred_thousand_nodes() {
         width,
         height,
         index,
+        x0: 0,
+        y0: 0,
     };
     set.offsets.push(0);
     for p in &set.points {

@@ -70,8 +70,9 @@ struct Chain {
 
 /// Cuts the graph into chains. Vertices are the nodes of degree other than 2, plus the lowest
 /// node of every cycle made only of degree-2 nodes (a closed loop, like an 'o'); every vertex is
-/// numbered in increasing node order and chains are found from vertices in that order.
-fn chains(graph: &NodeGraph) -> (Vec<u32>, Vec<Chain>) {
+/// numbered in increasing node order and chains are found from vertices in that order. With
+/// `collapse_dots`, an isolated chain shorter than its width becomes one lone vertex.
+fn chains(graph: &NodeGraph, collapse_dots: bool) -> (Vec<u32>, Vec<Chain>) {
     let n = graph.nodes.len();
     // CSR adjacency with edge ids; malformed edges (self-loops, missing nodes) are skipped.
     let valid = |&&[a, b]: &&[u32; 2]| a != b && (a as usize) < n && (b as usize) < n;
@@ -100,8 +101,13 @@ fn chains(graph: &NodeGraph) -> (Vec<u32>, Vec<Chain>) {
     let mut is_vertex: Vec<bool> = (0..n as u32).map(|v| degree(v) != 2).collect();
     let mut used = vec![false; adjacent.len() / 2];
     let mut on_chain = vec![false; n];
-    let mut found: Vec<(u32, u32, Vec<u32>)> = Vec::new();
-    let mut walk = |start: u32, is_vertex: &[bool], used: &mut [bool], on_chain: &mut [bool]| {
+    type Found = Vec<(u32, u32, Vec<u32>)>;
+    let mut found: Found = Vec::new();
+    let walk = |start: u32,
+                is_vertex: &[bool],
+                used: &mut [bool],
+                on_chain: &mut [bool],
+                found: &mut Found| {
         for &(first, edge) in around(start) {
             if used[edge as usize] {
                 continue;
@@ -126,14 +132,41 @@ fn chains(graph: &NodeGraph) -> (Vec<u32>, Vec<Chain>) {
     };
     for v in 0..n as u32 {
         if is_vertex[v as usize] {
-            walk(v, &is_vertex, &mut used, &mut on_chain);
+            walk(v, &is_vertex, &mut used, &mut on_chain, &mut found);
         }
+    }
+    if collapse_dots {
+        // A component that is one chain shorter than its stroke is wide is a dot, not a dash:
+        // keep its first end as a lone vertex (its points still reach it) and drop the rest.
+        found.retain(|(a, b, nodes)| {
+            let dot = a != b && degree(*a) == 1 && degree(*b) == 1 && {
+                let length: f64 = nodes
+                    .windows(2)
+                    .map(|w| {
+                        crate::dist(
+                            graph.nodes[w[0] as usize].pos,
+                            graph.nodes[w[1] as usize].pos,
+                        )
+                    })
+                    .sum();
+                let width = nodes
+                    .iter()
+                    .map(|&v| graph.nodes[v as usize].width)
+                    .fold(0.0, f64::max);
+                length < 0.5 * width
+            };
+            if dot {
+                is_vertex[*b as usize] = false;
+                on_chain[*b as usize] = true;
+            }
+            !dot
+        });
     }
     // What is left of the degree-2 nodes are closed loops: anchor each at its lowest node.
     for v in 0..n as u32 {
         if !is_vertex[v as usize] && !on_chain[v as usize] {
             is_vertex[v as usize] = true;
-            walk(v, &is_vertex, &mut used, &mut on_chain);
+            walk(v, &is_vertex, &mut used, &mut on_chain, &mut found);
         }
     }
     let vertex_node: Vec<u32> = (0..n as u32).filter(|&v| is_vertex[v as usize]).collect();
@@ -156,8 +189,8 @@ fn chains(graph: &NodeGraph) -> (Vec<u32>, Vec<Chain>) {
 /// Decomposes the graph into chains and resamples each to spacing `h`. A chain keeps at least its
 /// two end vertices; a loop keeps at least two interior nodes, and chains sharing both vertices
 /// with another keep at least one, so that no two edges collapse onto the same segment.
-pub fn equalize(graph: &NodeGraph, h: f64) -> Layout {
-    let (vertex_node, chains) = chains(graph);
+pub fn equalize(graph: &NodeGraph, h: f64, collapse_dots: bool) -> Layout {
+    let (vertex_node, chains) = chains(graph, collapse_dots);
     let mut pairs: Vec<(usize, usize)> = chains
         .iter()
         .map(|c| (c.from.min(c.to), c.from.max(c.to)))
@@ -260,7 +293,7 @@ mod tests {
                 [5, 8],
             ],
         );
-        let layout = equalize(&g, 5.0);
+        let layout = equalize(&g, 5.0, true);
         assert_eq!(layout.vertex_node, vec![0, 1, 3, 4, 5, 9]);
         assert_eq!(layout.degrees(), vec![1, 3, 1, 1, 2, 0]);
         let loops: Vec<_> = layout.edges.iter().filter(|e| e.from == e.to).collect();

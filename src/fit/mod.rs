@@ -5,7 +5,8 @@
 //!
 //! 1. [`layout`]: cut the graph into chains between vertices (nodes of degree other than 2, one
 //!    node per closed loop) and resample every chain to node spacing `h = max(3, median width)`
-//!    ("equalizing the edge length", design 9);
+//!    ("equalizing the edge length", design 9); with clean-up, an isolated chain shorter than
+//!    its stroke is wide is a dot and becomes one lone vertex;
 //! 2. [`assign`]: give every point to the nearest fitted node of its own ink component (a
 //!    geodesic Voronoi partition over the neighbour graph), then take the L1 median `q'_i` of each
 //!    node's points by Weiszfeld's iteration ([`math::l1_median`]);
@@ -49,7 +50,7 @@ pub fn fit(graph: &NodeGraph, points: &PointSet, params: &Params) -> StrokeGraph
         points.spacing
     };
     let h = node_spacing(graph, params, unit);
-    let layout = layout::equalize(graph, h);
+    let layout = layout::equalize(graph, h, params.cleanup);
     let count = layout.pos.len();
 
     let owned = if graph.owner.len() == points.len() {

@@ -120,6 +120,11 @@ fn arm(polylines: &[Vec<u32>], positions: &[[f64; 2]], end: End) -> Vec<[f64; 2]
     arm
 }
 
+/// An arm whose samples stray more than this many stroke widths from their fitted line is curved
+/// (an arch leaving a stem, as in 'h', 'n', 'm'): its line would pull the junction off the ink, so
+/// it does not vote. Measured on the synthetic text lines: F1@1 .898 -> .906, hard cases unchanged.
+const ARM_BEND: f64 = 0.25;
+
 /// What the placement needs to know about the fit.
 pub struct Placement<'a> {
     /// The ink test.
@@ -205,6 +210,14 @@ impl Placement<'_> {
             };
             if (c[0] - here[0]) * d[0] + (c[1] - here[1]) * d[1] < 0.0 {
                 d = [-d[0], -d[1]];
+            }
+            let bend = sample
+                .iter()
+                .map(|p| ((p[0] - c[0]) * d[1] - (p[1] - c[1]) * d[0]).abs())
+                .fold(0.0, f64::max);
+            if bend > ARM_BEND * width {
+                outward.push(None);
+                continue;
             }
             lines.push((c, d));
             outward.push(Some(d));

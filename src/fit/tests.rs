@@ -212,6 +212,17 @@ fn straight_stroke_lies_on_its_centerline_and_reaches_its_ends() {
         "{:?}",
         result.edges[0].widths
     );
+    // The same points as a point list (no pixel grid): ink is "near a point".
+    let mut list = points.clone();
+    list.grid = None;
+    let from_list = fit_checked(&graph, &list, &Params::default());
+    let worst = worst_distance(&from_list, std::slice::from_ref(&truth));
+    assert!(worst <= 0.5, "{worst}");
+    assert!(
+        ends_found(&from_list, &truth, 1.0),
+        "{:?}",
+        from_list.vertices
+    );
     let d = result.edges[0].directions[3];
     let true_d = [75.4 / 79.66, 25.7 / 79.66];
     assert!((d[0] * true_d[0] + d[1] * true_d[1]).abs() > 0.99);
@@ -322,6 +333,24 @@ fn a_lone_blob_becomes_an_isolated_vertex() {
         result.vertices[0]
     );
     assert!(result.vertices[0].width >= 8.0);
+}
+
+#[test]
+fn a_dot_refined_into_a_short_dash_is_one_vertex() {
+    let mut binary = Binary::new(20, 20);
+    for y in 8..12 {
+        for x in 8..12 {
+            binary.set(x, y, true);
+        }
+    }
+    let points = point_set(&binary);
+    let graph = node_graph(&points, &[[10.0, 9.6], [9.6, 10.4]], &[[0, 1]], 3.0);
+    let result = fit_checked(&graph, &points, &Params::default());
+    assert_eq!((result.vertices.len(), result.edges.len()), (1, 0));
+    assert!(crate::dist(result.vertices[0].pos, [10.0, 10.0]) < 0.5);
+    // Without clean-up the graph is taken as it is.
+    let as_is = fit_checked(&graph, &points, &Params::paper());
+    assert_eq!((as_is.vertices.len(), as_is.edges.len()), (2, 1));
 }
 
 #[test]

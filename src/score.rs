@@ -18,7 +18,8 @@ use std::collections::{BTreeMap, BinaryHeap};
 
 use serde::Serialize;
 
-use crate::synth::Case;
+use crate::synth::{render, Case};
+use crate::Binary;
 use crate::{dist, Edge, StrokeGraph, Vertex};
 
 /// Distance tolerances (px) at which centerline precision, recall and F1 are reported.
@@ -183,10 +184,7 @@ pub fn aggregate(scores: &[Scores]) -> GroupScores {
             num as f64 / den as f64
         }
     };
-    let mut g = GroupScores {
-        cases: n,
-        ..GroupScores::default()
-    };
+    let mut g = GroupScores { cases: n, ..GroupScores::default() };
     for k in 0..TAUS.len() {
         g.precision[k] = mean(&|s| s.precision[k]);
         g.recall[k] = mean(&|s| s.recall[k]);
@@ -217,11 +215,8 @@ pub fn aggregate(scores: &[Scores]) -> GroupScores {
     g.endpoint_recall = share(g.endpoints_found, g.true_endpoints);
     g.spurious_endpoints = sum(&|s| s.spurious_endpoints);
     g.true_strokes = sum(&|s| s.true_strokes);
-    g.spurs_per_stroke = if g.true_strokes == 0 {
-        0.0
-    } else {
-        g.spurious_endpoints as f64 / g.true_strokes as f64
-    };
+    g.spurs_per_stroke =
+        if g.true_strokes == 0 { 0.0 } else { g.spurious_endpoints as f64 / g.true_strokes as f64 };
     g.components_exact = mean(&|s| s.components_exact as usize as f64);
     g.cycles_exact = mean(&|s| s.cycles_exact as usize as f64);
     g
@@ -236,24 +231,32 @@ pub fn aggregate(scores: &[Scores]) -> GroupScores {
 /// the nearest point of that stroke (a T); a short tail past a crossing whose end lies inside the
 /// other stroke's ink is dropped; junctions closer than one stroke width are one vertex (two T's at
 /// one point make one degree-4 vertex); closed strokes are loops. Degree-2 vertices are dissolved,
-/// so every vertex is an end, a junction, a loop anchor or an isolated dot.
+/// so every vertex is an end, a junction, a loop anchor or an isolated dot. A loop or a pair of
+/// parallel edges around no hole of the ink (a closed stroke too small to leave one, a lens between
+/// two strokes that cross twice closely) is not a cycle: the loop becomes a dot, the longer of the
+/// parallel edges stays.
 pub fn truth_graph(case: &Case) -> StrokeGraph {
+    let holes = case_holes(case);
     let mut net = Net::from_strokes(case);
     let r_max = net.max_half_width();
     net.split_crossings();
     net.drop_tails(r_max);
-    net.join_ends(Join::Ink { r_max });
+    net.join_ends(Join::Ink { r_max, holes: &holes });
     net.merge_junctions(&|a, b| a.max(b));
     net.dissolve();
+    net.drop_filled_cycles(&holes);
     net.into_stroke_graph(case.binary.width, case.binary.height)
 }
 
 /// The prediction as a graph with a 1 px tolerance: ends within 1 px of a centerline joined to it,
-/// crossing polylines split, junctions within 1 px merged, degree-2 vertices dissolved.
-pub fn normalize(predicted: &StrokeGraph) -> StrokeGraph {
+/// crossing polylines split, junctions within 1 px merged, degree-2 vertices dissolved. As for the
+/// truth, a join that would close a cycle around no hole of the case's ink is not made (so the
+/// truth normalizes to itself).
+pub fn normalize(case: &Case, predicted: &StrokeGraph) -> StrokeGraph {
+    let holes = case_holes(case);
     let mut net = Net::from_graph(predicted);
     net.split_crossings();
-    net.join_ends(Join::Distance(PREDICTION_TOLERANCE));
+    net.join_ends(Join::Distance { tol: PREDICTION_TOLERANCE, holes: &holes });
     net.merge_junctions(&|_, _| PREDICTION_TOLERANCE);
     net.dissolve();
     net.into_stroke_graph(predicted.width, predicted.height)
@@ -272,7 +275,7 @@ pub fn score(case: &Case, truth: &StrokeGraph, predicted: &StrokeGraph) -> Score
     };
     geometry(case, truth, predicted, &mut s);
 
-    let norm = normalize(predicted);
+    let norm = normalize(case, predicted);
     let radius = |w: f64| w.max(MIN_MATCH_RADIUS);
 
     // Junctions: one-to-one matching, nearest pairs first.
@@ -295,24 +298,15 @@ pub fn score(case: &Case, truth: &StrokeGraph, predicted: &StrokeGraph) -> Score
         let correct = match matches[k] {
             Some(p) => {
                 norm.vertices[p].degree >= 4
-                    && pred_j
-                        .iter()
-                        .all(|&q| q == p || dist(norm.vertices[q].pos, pos) > r)
+                    && pred_j.iter().all(|&q| q == p || dist(norm.vertices[q].pos, pos) > r)
             }
             None => false,
         };
-        s.crossings.push(Crossing {
-            pos,
-            angle: crossing_angle(truth, t),
-            correct,
-        });
+        s.crossings.push(Crossing { pos, angle: crossing_angle(truth, t), correct });
     }
     let accuracy = |steep: bool| {
-        let chosen: Vec<&Crossing> = s
-            .crossings
-            .iter()
-            .filter(|c| (c.angle >= STEEP_CROSSING) == steep)
-            .collect();
+        let chosen: Vec<&Crossing> =
+            s.crossings.iter().filter(|c| (c.angle >= STEEP_CROSSING) == steep).collect();
         (!chosen.is_empty())
             .then(|| chosen.iter().filter(|c| c.correct).count() as f64 / chosen.len() as f64)
     };
@@ -336,11 +330,8 @@ pub fn score(case: &Case, truth: &StrokeGraph, predicted: &StrokeGraph) -> Score
                 .any(|&t| dist(truth.vertices[t].pos, pos) <= radius(truth.vertices[t].width))
         })
         .count();
-    s.spurs_per_stroke = if s.true_strokes == 0 {
-        0.0
-    } else {
-        s.spurious_endpoints as f64 / s.true_strokes as f64
-    };
+    s.spurs_per_stroke =
+        if s.true_strokes == 0 { 0.0 } else { s.spurious_endpoints as f64 / s.true_strokes as f64 };
 
     s.true_components = truth.components();
     s.predicted_components = norm.components();
@@ -364,14 +355,10 @@ fn geometry(case: &Case, truth: &StrokeGraph, predicted: &StrokeGraph, s: &mut S
     let true_samples = centerline_samples(truth);
     let pred_samples = centerline_samples(predicted);
     // An empty side is as far as the image is wide: finite, so means stay meaningful.
-    let far = (case.binary.width as f64)
-        .hypot(case.binary.height as f64)
-        .max(1.0);
+    let far = (case.binary.width as f64).hypot(case.binary.height as f64).max(1.0);
     let nearest_all = |from: &[[f64; 2]], to: &[[f64; 2]]| -> Vec<f64> {
         let grid = PointGrid::new(to, 2.0);
-        from.iter()
-            .map(|&p| grid.nearest(to, p).map_or(far, |(_, d)| d))
-            .collect()
+        from.iter().map(|&p| grid.nearest(to, p).map_or(far, |(_, d)| d)).collect()
     };
     let d_pred = nearest_all(&pred_samples, &true_samples);
     let d_true = nearest_all(&true_samples, &pred_samples);
@@ -499,10 +486,7 @@ fn crossing_angle(graph: &StrokeGraph, v: usize) -> f64 {
         .copied()
         .unwrap_or([0, 1, 2, 3]);
     let line = |a: [f64; 2], b: [f64; 2]| unit([a[0] - b[0], a[1] - b[1]]);
-    let (l1, l2) = (
-        line(arms[best[0]], arms[best[1]]),
-        line(arms[best[2]], arms[best[3]]),
-    );
+    let (l1, l2) = (line(arms[best[0]], arms[best[1]]), line(arms[best[2]], arms[best[3]]));
     dot(l1, l2).abs().min(1.0).acos().to_degrees()
 }
 
@@ -636,9 +620,7 @@ impl PointGrid {
         for cy in y0.max(0)..=y1.min(self.ny - 1) {
             for cx in x0.max(0)..=x1.min(self.nx - 1) {
                 out.extend(
-                    self.bucket(cx, cy)
-                        .iter()
-                        .filter(|&&i| dist(points[i as usize], p) <= r),
+                    self.bucket(cx, cy).iter().filter(|&&i| dist(points[i as usize], p) <= r),
                 );
             }
         }
@@ -652,12 +634,9 @@ impl PointGrid {
         let (qx, qy) = self.cell_of(p);
         let mut best: Option<(u32, f64)> = None;
         // Rings beyond this one cannot hold any cell of the grid.
-        let last_ring = [qx, self.nx - 1 - qx, qy, self.ny - 1 - qy]
-            .iter()
-            .map(|d| d.abs())
-            .max()
-            .unwrap_or(0)
-            + self.nx.max(self.ny);
+        let last_ring =
+            [qx, self.nx - 1 - qx, qy, self.ny - 1 - qy].iter().map(|d| d.abs()).max().unwrap_or(0)
+                + self.nx.max(self.ny);
         for ring in 0..=last_ring {
             let mut visit = |cx: i64, cy: i64| {
                 for &i in self.bucket(cx, cy) {
@@ -738,14 +717,27 @@ struct Net {
     closed_length: Vec<Option<f64>>,
 }
 
+/// The holes of a case's ink as drawn, before any dropout: the truth is what the strokes show.
+fn case_holes(case: &Case) -> Holes {
+    let max_width = case
+        .strokes
+        .iter()
+        .flat_map(|s| s.widths.iter().copied())
+        .filter(|w| w.is_finite())
+        .fold(0.0, f64::max);
+    Holes::new(&render(&case.strokes, case.binary.width, case.binary.height), max_width)
+}
+
 /// How free ends are joined to nearby centerlines.
-#[derive(Clone, Copy, Debug)]
-enum Join {
+#[derive(Clone, Copy)]
+enum Join<'a> {
     /// The truth: an end joins when its round cap's pixels touch (8-neighbour) pixels of another
-    /// stroke's ink. `r_max` is the largest half-width of any stroke.
-    Ink { r_max: f64 },
-    /// The prediction: an end joins a centerline within this distance.
-    Distance(f64),
+    /// stroke's ink, unless the join would close a cycle around no hole of the ink. `r_max` is the
+    /// largest half-width of any stroke.
+    Ink { r_max: f64, holes: &'a Holes },
+    /// The prediction: an end joins a centerline within `tol`, unless that would close a cycle
+    /// around no hole of the ink.
+    Distance { tol: f64, holes: &'a Holes },
 }
 
 /// How a wire end follows its vertex when the vertex moves.
@@ -759,12 +751,7 @@ enum Follow {
 
 impl Net {
     fn add_node(&mut self, pos: [f64; 2], width: f64, keep_isolated: bool) -> usize {
-        self.nodes.push(Node {
-            pos,
-            width,
-            keep_isolated,
-            alive: true,
-        });
+        self.nodes.push(Node { pos, width, keep_isolated, alive: true });
         self.nodes.len() - 1
     }
 
@@ -808,25 +795,13 @@ impl Net {
         } else {
             self.add_node(points[points.len() - 1], widths[widths.len() - 1], false)
         };
-        self.wires.push(Wire {
-            from,
-            to,
-            points,
-            widths,
-            arcs,
-            source,
-            alive: true,
-        });
+        self.wires.push(Wire { from, to, points, widths, arcs, source, alive: true });
     }
 
     fn from_graph(graph: &StrokeGraph) -> Net {
         let mut net = Net::default();
         for v in &graph.vertices {
-            let width = if v.width.is_finite() {
-                v.width.max(0.0)
-            } else {
-                0.0
-            };
+            let width = if v.width.is_finite() { v.width.max(0.0) } else { 0.0 };
             let pos = if finite(v.pos) { v.pos } else { [0.0, 0.0] };
             net.add_node(pos, width, true);
         }
@@ -836,13 +811,7 @@ impl Net {
                 continue;
             }
             let widths: Vec<f64> = (0..e.points.len())
-                .map(|k| {
-                    e.widths
-                        .get(k)
-                        .copied()
-                        .filter(|w| w.is_finite())
-                        .unwrap_or(0.0)
-                })
+                .map(|k| e.widths.get(k).copied().filter(|w| w.is_finite()).unwrap_or(0.0))
                 .collect();
             let (points, widths, arcs) = densify(&e.points, &widths);
             net.wires.push(Wire {
@@ -860,10 +829,7 @@ impl Net {
 
     fn max_half_width(&self) -> f64 {
         let wires = self.wires.iter().flat_map(|w| w.widths.iter().copied());
-        wires
-            .chain(self.nodes.iter().map(|n| n.width))
-            .fold(0.0, f64::max)
-            / 2.0
+        wires.chain(self.nodes.iter().map(|n| n.width)).fold(0.0, f64::max) / 2.0
     }
 
     fn degrees(&self) -> Vec<usize> {
@@ -892,6 +858,9 @@ impl Net {
         let mut hits: BTreeMap<usize, Vec<(usize, f64, usize)>> = BTreeMap::new();
         // Loop anchors a crossing passes through, with the crossing's vertex.
         let mut anchors: Vec<(usize, usize)> = Vec::new();
+        // Crossings found so far per pair of wires: a crossing through a polyline vertex is
+        // found on up to four pairs of segments and must make one vertex.
+        let mut found: BTreeMap<(usize, usize), Vec<[f64; 2]>> = BTreeMap::new();
         let mut near = Vec::new();
         for a in 0..segments.len() {
             near.clear();
@@ -899,24 +868,33 @@ impl Net {
             near.sort_unstable();
             for &b in near.iter().filter(|&&b| b as usize > a) {
                 let ((wa, i), (wb, j)) = (segments[a], segments[b as usize]);
-                if wa == wb && i.abs_diff(j) <= 1 {
+                let (pa, pb) = (&self.wires[wa].points, &self.wires[wb].points);
+                let is_loop = |w: usize| self.wires[w].from == self.wires[w].to;
+                // Neighbouring segments of one wire share a point; so do a loop's first and last.
+                if wa == wb
+                    && (i.abs_diff(j) <= 1
+                        || (is_loop(wa) && i.min(j) == 0 && i.max(j) == pa.len() - 2))
+                {
                     continue;
                 }
-                let (pa, pb) = (&self.wires[wa].points, &self.wires[wb].points);
                 let Some((t, u, point)) = intersect(pa[i], pa[i + 1], pb[j], pb[j + 1]) else {
                     continue;
                 };
-                // Half-open segments count each crossing once. A crossing at the end of an open
-                // wire is a touch, left to `join_ends`; at the anchor of a loop it is a crossing
-                // through the anchor, which then becomes the crossing vertex.
+                // A crossing at the end of an open wire is a touch, left to `join_ends`; at the
+                // anchor of a loop it is a crossing through the anchor, which then becomes the
+                // crossing vertex.
                 let at_end = |k: usize, s: f64, points: &[[f64; 2]]| {
                     (k == 0 && s <= 1e-9) || (k == points.len() - 2 && s >= 1.0 - 1e-9)
                 };
                 let (end_a, end_b) = (at_end(i, t, pa), at_end(j, u, pb));
-                let is_loop = |w: usize| self.wires[w].from == self.wires[w].to;
                 if (end_a && !is_loop(wa)) || (end_b && !is_loop(wb)) {
                     continue;
                 }
+                let seen = found.entry((wa, wb)).or_default();
+                if seen.iter().any(|&q| dist(q, point) <= 1e-7) {
+                    continue;
+                }
+                seen.push(point);
                 let width_at = |wire: &Wire, k: usize, s: f64| {
                     wire.widths[k] + s * (wire.widths[k + 1] - wire.widths[k])
                 };
@@ -941,11 +919,7 @@ impl Net {
             cuts.push((last, 1.0, wire.to));
             for pair in cuts.windows(2) {
                 let piece = cut(&wire, (pair[0].0, pair[0].1), (pair[1].0, pair[1].1));
-                self.wires.push(Wire {
-                    from: pair[0].2,
-                    to: pair[1].2,
-                    ..piece
-                });
+                self.wires.push(Wire { from: pair[0].2, to: pair[1].2, ..piece });
             }
         }
         if !anchors.is_empty() {
@@ -970,11 +944,8 @@ impl Net {
         let mut dropped = Vec::new();
         for (w, wire) in self.wires.iter().enumerate().filter(|(_, w)| w.alive) {
             for free_at_start in [true, false] {
-                let (end, other) = if free_at_start {
-                    (wire.from, wire.to)
-                } else {
-                    (wire.to, wire.from)
-                };
+                let (end, other) =
+                    if free_at_start { (wire.from, wire.to) } else { (wire.to, wire.from) };
                 if end == other
                     || degree[end] != 1
                     || degree[other] < 3
@@ -982,11 +953,7 @@ impl Net {
                 {
                     continue;
                 }
-                let k = if free_at_start {
-                    0
-                } else {
-                    wire.points.len() - 1
-                };
+                let k = if free_at_start { 0 } else { wire.points.len() - 1 };
                 let (p, r_p, arc_p) = (wire.points[k], wire.widths[k] / 2.0, wire.arcs[k]);
                 near.clear();
                 samples.grid.within(&samples.pos, p, r_max + 0.5, &mut near);
@@ -1044,25 +1011,38 @@ impl Net {
             let p = self.nodes[end].pos;
             let r_p = self.nodes[end].width / 2.0;
             let (reach, margin_max) = match rule {
-                Join::Ink { r_max } => (r_p + r_max + 1.5, r_p + r_max + 2.0),
-                Join::Distance(tol) => (tol, 2.0 * tol + 1.0),
+                Join::Ink { r_max, .. } => (r_p + r_max + 1.5, r_p + r_max + 2.0),
+                Join::Distance { tol, .. } => (tol, 2.0 * tol + 1.0),
             };
             near.clear();
             samples.grid.within(&samples.pos, p, reach, &mut near);
             if near.is_empty() {
                 continue;
             }
-            search.run(&samples, end, reach + margin_max + 1.0);
+            // Far enough to find every cycle that could fail to leave a hole in the ink.
+            let limit = match rule {
+                Join::Ink { holes, .. } | Join::Distance { holes, .. } => holes.cycle_reach,
+            };
+            search.run(&samples, end, (reach + margin_max + 1.0).max(limit));
             // "Far" samples: reached along the graph only the long way round, or not at all.
             let mut far: Vec<(f64, usize)> = near
                 .iter()
                 .map(|&s| (dist(samples.pos[s as usize], p), s as usize))
                 .filter(|&(d, s)| {
-                    let margin = match rule {
-                        Join::Ink { .. } => r_p + samples.width[s] / 2.0 + 2.0,
-                        Join::Distance(tol) => 2.0 * tol + 1.0,
-                    };
-                    search.distance(s) > d + margin
+                    let g = search.distance(s);
+                    match rule {
+                        // Joining would close a cycle: the ink must show it as a hole.
+                        Join::Ink { holes, .. } => {
+                            !g.is_finite()
+                                || (g > d + r_p + samples.width[s] / 2.0 + 2.0
+                                    && holes.inside(&search.path(&samples, s)))
+                        }
+                        Join::Distance { tol, holes } => {
+                            !g.is_finite()
+                                || (g > d + 2.0 * tol + 1.0
+                                    && holes.inside(&search.path(&samples, s)))
+                        }
+                    }
                 })
                 .collect();
             // A stroke's centerline is a better target than another free end at the same place
@@ -1080,7 +1060,7 @@ impl Net {
             let d = dist(samples.pos[target], p);
             let touches = match rule {
                 Join::Ink { .. } => ink_touches(p, r_p, &far, &samples),
-                Join::Distance(tol) => d <= tol,
+                Join::Distance { tol, .. } => d <= tol,
             };
             if touches {
                 joins.push((end, target));
@@ -1090,10 +1070,8 @@ impl Net {
             return;
         }
         // Targets inside wires become new vertices; then each end is united with its target.
-        let mut requests: Vec<(usize, usize)> = joins
-            .iter()
-            .filter_map(|&(_, t)| samples.wire_of(t))
-            .collect();
+        let mut requests: Vec<(usize, usize)> =
+            joins.iter().filter_map(|&(_, t)| samples.wire_of(t)).collect();
         requests.sort_unstable();
         requests.dedup();
         let split_nodes = self.split_wires(&requests);
@@ -1159,14 +1137,10 @@ impl Net {
     /// centroid, dropping the short bridges between them.
     fn merge_junctions(&mut self, radius: &dyn Fn(f64, f64) -> f64) {
         let degree = self.degrees();
-        let junctions: Vec<usize> = (0..self.nodes.len())
-            .filter(|&v| self.nodes[v].alive && degree[v] >= 3)
-            .collect();
+        let junctions: Vec<usize> =
+            (0..self.nodes.len()).filter(|&v| self.nodes[v].alive && degree[v] >= 3).collect();
         let pos: Vec<[f64; 2]> = junctions.iter().map(|&v| self.nodes[v].pos).collect();
-        let max_width = junctions
-            .iter()
-            .map(|&v| self.nodes[v].width)
-            .fold(0.0, f64::max);
+        let max_width = junctions.iter().map(|&v| self.nodes[v].width).fold(0.0, f64::max);
         let reach = radius(max_width, max_width);
         let grid = PointGrid::new(&pos, reach.max(1.0));
         let mut sets = UnionFind::new(self.nodes.len());
@@ -1236,12 +1210,7 @@ impl Net {
             } else {
                 [all[0] / count as f64, all[1] / count as f64]
             };
-            self.nodes[v] = Node {
-                pos,
-                width,
-                keep_isolated: keep,
-                alive: true,
-            };
+            self.nodes[v] = Node { pos, width, keep_isolated: keep, alive: true };
         }
         for wire in self.wires.iter_mut().filter(|w| w.alive) {
             let (from, to) = (sets.find(wire.from), sets.find(wire.to));
@@ -1307,6 +1276,68 @@ impl Net {
         }
     }
 
+    /// Removes the cycles of one or two edges that enclose no hole of the ink: a loop alone becomes
+    /// a dot at its centroid, a loop at a junction is dropped, of two edges between the same
+    /// vertices the shorter is dropped.
+    fn drop_filled_cycles(&mut self, holes: &Holes) {
+        loop {
+            let degree = self.degrees();
+            let mut changed = false;
+            let mut between: BTreeMap<(usize, usize), Vec<usize>> = BTreeMap::new();
+            for w in 0..self.wires.len() {
+                let wire = &self.wires[w];
+                if !wire.alive {
+                    continue;
+                }
+                if wire.from != wire.to {
+                    between
+                        .entry((wire.from.min(wire.to), wire.from.max(wire.to)))
+                        .or_default()
+                        .push(w);
+                    continue;
+                }
+                if holes.inside(&wire.points) {
+                    continue;
+                }
+                let v = wire.from;
+                if degree[v] == 2 {
+                    let n = wire.points.len() as f64;
+                    let sum =
+                        wire.points.iter().fold([0.0, 0.0], |a, p| [a[0] + p[0], a[1] + p[1]]);
+                    let width = wire.widths.iter().copied().fold(0.0, f64::max);
+                    let node = &mut self.nodes[v];
+                    node.pos = [sum[0] / n, sum[1] / n];
+                    node.width = width;
+                    node.keep_isolated = true;
+                }
+                self.wires[w].alive = false;
+                changed = true;
+            }
+            for wires in between.values().filter(|w| w.len() >= 2) {
+                let mut by_length: Vec<(f64, usize)> =
+                    wires.iter().map(|&w| (self.wires[w].length(), w)).collect();
+                by_length.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+                // The shortest against the next: a lens without a hole is one stroke.
+                let (a, b) = (by_length[0].1, by_length[1].1);
+                let mut ring = self.wires[a].points.clone();
+                let other = &self.wires[b];
+                if other.from == self.wires[a].to {
+                    ring.extend_from_slice(&other.points);
+                } else {
+                    ring.extend(other.points.iter().rev());
+                }
+                if !holes.inside(&ring) {
+                    self.wires[a].alive = false;
+                    changed = true;
+                }
+            }
+            if !changed {
+                return;
+            }
+            self.dissolve();
+        }
+    }
+
     fn into_stroke_graph(self, width: u32, height: u32) -> StrokeGraph {
         let degree = self.degrees();
         let mut index = vec![usize::MAX; self.nodes.len()];
@@ -1314,11 +1345,7 @@ impl Net {
         for (v, node) in self.nodes.iter().enumerate() {
             if node.alive {
                 index[v] = vertices.len();
-                vertices.push(Vertex {
-                    pos: node.pos,
-                    degree: degree[v],
-                    width: node.width,
-                });
+                vertices.push(Vertex { pos: node.pos, degree: degree[v], width: node.width });
             }
         }
         let edges = self
@@ -1341,12 +1368,7 @@ impl Net {
                 }
             })
             .collect();
-        StrokeGraph {
-            width,
-            height,
-            vertices,
-            edges,
-        }
+        StrokeGraph { width, height, vertices, edges }
     }
 }
 
@@ -1409,18 +1431,9 @@ fn densify(points: &[[f64; 2]], widths: &[f64]) -> (Vec<[f64; 2]>, Vec<f64>, Vec
 fn cut(wire: &Wire, a: (usize, f64), b: (usize, f64)) -> Wire {
     let at = |(k, t): (usize, f64)| {
         let s = |v: &[f64]| v[k] + t * (v[k + 1] - v[k]);
-        (
-            lerp(wire.points[k], wire.points[k + 1], t),
-            s(&wire.widths),
-            s(&wire.arcs),
-        )
+        (lerp(wire.points[k], wire.points[k + 1], t), s(&wire.widths), s(&wire.arcs))
     };
-    let mut piece = Wire {
-        points: vec![],
-        widths: vec![],
-        arcs: vec![],
-        ..wire.clone()
-    };
+    let mut piece = Wire { points: vec![], widths: vec![], arcs: vec![], ..wire.clone() };
     let mut push = |(p, w, s): ([f64; 2], f64, f64)| {
         if piece.points.last().map_or(true, |&q| dist(p, q) > 1e-9) {
             piece.points.push(p);
@@ -1441,7 +1454,7 @@ fn cut(wire: &Wire, a: (usize, f64), b: (usize, f64)) -> Wire {
     piece
 }
 
-/// Where segments `a0-a1` and `b0-b1` cross: parameters in `[0, 1)` on both, and the point.
+/// Where segments `a0-a1` and `b0-b1` cross: parameters in `[0, 1]` on both, and the point.
 fn intersect(
     a0: [f64; 2],
     a1: [f64; 2],
@@ -1457,7 +1470,14 @@ fn intersect(
     let q = [b0[0] - a0[0], b0[1] - a0[1]];
     let t = (q[0] * s[1] - q[1] * s[0]) / denom;
     let u = (q[0] * r[1] - q[1] * r[0]) / denom;
-    ((0.0..1.0).contains(&t) && (0.0..1.0).contains(&u)).then(|| (t, u, lerp(a0, a1, t)))
+    // Closed segments with a little slack: a crossing through a shared polyline vertex must not
+    // slip between two segments by rounding (the caller removes the duplicates).
+    let slack = -1e-9..=1.0 + 1e-9;
+    if !(slack.contains(&t) && slack.contains(&u)) {
+        return None;
+    }
+    let (t, u) = (t.clamp(0.0, 1.0), u.clamp(0.0, 1.0));
+    Some((t, u, lerp(a0, a1, t)))
 }
 
 /// Whether the round cap of radius `r_p` at `p` touches (shares or is 8-adjacent to a pixel of)
@@ -1475,9 +1495,8 @@ fn ink_touches(p: [f64; 2], r_p: f64, far: &[(f64, usize)], samples: &Samples) -
     for y in y0..=y1 {
         for x in x0..=x1 {
             let c = center(x, y);
-            ink[(y - y0) as usize * side + (x - x0) as usize] = far
-                .iter()
-                .any(|&(_, s)| dist(c, samples.pos[s]) <= samples.width[s] / 2.0 + 0.03);
+            ink[(y - y0) as usize * side + (x - x0) as usize] =
+                far.iter().any(|&(_, s)| dist(c, samples.pos[s]) <= samples.width[s] / 2.0 + 0.03);
         }
     }
     for y in y0 + 1..y1 {
@@ -1495,6 +1514,92 @@ fn ink_touches(p: [f64; 2], r_p: f64, far: &[(f64, usize)], samples: &Samples) -
         }
     }
     false
+}
+
+/// The holes of the ink: background components (4-connected) that do not reach the image border.
+/// A cycle of centerlines inside the ink encloses a hole entirely or not at all, so one pixel per
+/// hole decides.
+struct Holes {
+    /// One pixel center per hole.
+    reps: Vec<[f64; 2]>,
+    /// Length of the longest cycle that might enclose no hole: a ring leaves a hole once its
+    /// centerline's diameter exceeds the stroke width, so `pi (max width + 2)` with some slack.
+    cycle_reach: f64,
+}
+
+impl Holes {
+    fn new(ink: &Binary, max_width: f64) -> Holes {
+        let (w, h) = (ink.width as usize, ink.height as usize);
+        let mut seen = vec![false; w * h];
+        let mut stack = Vec::new();
+        let fill = |start: usize, seen: &mut Vec<bool>, stack: &mut Vec<usize>| -> bool {
+            // Returns whether the component touches the border.
+            let mut border = false;
+            seen[start] = true;
+            stack.push(start);
+            while let Some(i) = stack.pop() {
+                let (x, y) = (i % w, i / w);
+                border |= x == 0 || y == 0 || x + 1 == w || y + 1 == h;
+                let mut visit = |j: usize| {
+                    if !ink.ink[j] && !seen[j] {
+                        seen[j] = true;
+                        stack.push(j);
+                    }
+                };
+                if x > 0 {
+                    visit(i - 1);
+                }
+                if x + 1 < w {
+                    visit(i + 1);
+                }
+                if y > 0 {
+                    visit(i - w);
+                }
+                if y + 1 < h {
+                    visit(i + w);
+                }
+            }
+            border
+        };
+        let mut reps = Vec::new();
+        for i in 0..w * h {
+            if !ink.ink[i] && !seen[i] && !fill(i, &mut seen, &mut stack) {
+                reps.push([(i % w) as f64 + 0.5, (i / w) as f64 + 0.5]);
+            }
+        }
+        Holes { reps, cycle_reach: std::f64::consts::PI * (max_width + 2.0) + 10.0 }
+    }
+
+    /// Whether the closed polygon (last point joined to the first) encloses a hole (even-odd rule).
+    fn inside(&self, polygon: &[[f64; 2]]) -> bool {
+        if polygon.len() < 3 {
+            return false;
+        }
+        let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
+        for p in polygon {
+            for k in 0..2 {
+                lo[k] = lo[k].min(p[k]);
+                hi[k] = hi[k].max(p[k]);
+            }
+        }
+        self.reps.iter().any(|&q| {
+            if q[0] < lo[0] || q[0] > hi[0] || q[1] < lo[1] || q[1] > hi[1] {
+                return false;
+            }
+            let mut inside = false;
+            let n = polygon.len();
+            for i in 0..n {
+                let (a, b) = (polygon[i], polygon[(i + 1) % n]);
+                if (a[1] > q[1]) != (b[1] > q[1]) {
+                    let x = a[0] + (q[1] - a[1]) / (b[1] - a[1]) * (b[0] - a[0]);
+                    if q[0] < x {
+                        inside = !inside;
+                    }
+                }
+            }
+            inside
+        })
+    }
 }
 
 /// Every vertex and wire point of a [`Net`] as a node of one graph (consecutive points joined), for
@@ -1558,14 +1663,7 @@ impl Samples {
             })
             .collect();
         let grid = PointGrid::new(&searchable, 2.0);
-        Samples {
-            pos,
-            width,
-            place,
-            offsets,
-            neighbors,
-            grid,
-        }
+        Samples { pos, width, place, offsets, neighbors, grid }
     }
 
     fn wire_of(&self, s: usize) -> Option<(usize, usize)> {
@@ -1576,6 +1674,7 @@ impl Samples {
 /// Bounded shortest paths along the centerlines, reusing its buffers between searches.
 struct Dijkstra {
     distance: Vec<f64>,
+    previous: Vec<usize>,
     touched: Vec<usize>,
     heap: BinaryHeap<Reached>,
 }
@@ -1602,6 +1701,7 @@ impl Dijkstra {
     fn new(n: usize) -> Self {
         Dijkstra {
             distance: vec![f64::INFINITY; n],
+            previous: vec![usize::MAX; n],
             touched: Vec::new(),
             heap: BinaryHeap::new(),
         }
@@ -1614,6 +1714,7 @@ impl Dijkstra {
         self.touched.clear();
         self.heap.clear();
         self.distance[source] = 0.0;
+        self.previous[source] = usize::MAX;
         self.touched.push(source);
         self.heap.push(Reached(0.0, source));
         while let Some(Reached(d, v)) = self.heap.pop() {
@@ -1630,6 +1731,7 @@ impl Dijkstra {
                         self.touched.push(u);
                     }
                     self.distance[u] = next;
+                    self.previous[u] = v;
                     self.heap.push(Reached(next, u));
                 }
             }
@@ -1639,6 +1741,16 @@ impl Dijkstra {
     fn distance(&self, s: usize) -> f64 {
         self.distance[s]
     }
+
+    /// The positions along the shortest path from `s` back to the source (`s` reached).
+    fn path(&self, samples: &Samples, mut s: usize) -> Vec<[f64; 2]> {
+        let mut out = vec![samples.pos[s]];
+        while self.previous[s] != usize::MAX {
+            s = self.previous[s];
+            out.push(samples.pos[s]);
+        }
+        out
+    }
 }
 
 struct UnionFind {
@@ -1647,9 +1759,7 @@ struct UnionFind {
 
 impl UnionFind {
     fn new(n: usize) -> Self {
-        UnionFind {
-            parent: (0..n).collect(),
-        }
+        UnionFind { parent: (0..n).collect() }
     }
 
     fn find(&mut self, mut x: usize) -> usize {

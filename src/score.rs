@@ -641,7 +641,7 @@ impl PointGrid {
             let mut visit = |cx: i64, cy: i64| {
                 for &i in self.bucket(cx, cy) {
                     let d = dist(points[i as usize], p);
-                    if best.map_or(true, |(_, b)| d < b) {
+                    if best.is_none_or(|(_, b)| d < b) {
                         best = Some((i, d));
                     }
                 }
@@ -763,8 +763,7 @@ impl Net {
             let mut widths = Vec::with_capacity(n);
             for k in 0..n {
                 let (p, w) = (stroke.points[k], stroke.widths[k]);
-                if finite(p) && w.is_finite() && points.last().map_or(true, |&q| dist(p, q) > 1e-9)
-                {
+                if finite(p) && w.is_finite() && points.last().is_none_or(|&q| dist(p, q) > 1e-9) {
                     points.push(p);
                     widths.push(w.max(0.0));
                 }
@@ -1195,16 +1194,14 @@ impl Net {
             entry.4 = entry.4.max(self.nodes[v].width);
             entry.5 |= self.nodes[v].keep_isolated;
         }
-        for v in 0..n {
+        for (v, &(all, count, anchor, anchors, width, keep)) in sum.iter().enumerate() {
             if !self.nodes[v].alive {
                 continue;
             }
-            let root = sets.find(v);
-            if root != v {
+            if sets.find(v) != v {
                 self.nodes[v].alive = false;
                 continue;
             }
-            let (all, count, anchor, anchors, width, keep) = sum[v];
             let pos = if anchors > 0 {
                 [anchor[0] / anchors as f64, anchor[1] / anchors as f64]
             } else {
@@ -1239,8 +1236,7 @@ impl Net {
             }
             let mut touched = vec![false; self.wires.len()];
             let mut changed = false;
-            for v in 0..self.nodes.len() {
-                let ends = &incident[v];
+            for (v, ends) in incident.iter().enumerate() {
                 if ends.len() != 2 || ends[0] == ends[1] || touched[ends[0]] || touched[ends[1]] {
                     continue;
                 }
@@ -1435,7 +1431,7 @@ fn cut(wire: &Wire, a: (usize, f64), b: (usize, f64)) -> Wire {
     };
     let mut piece = Wire { points: vec![], widths: vec![], arcs: vec![], ..wire.clone() };
     let mut push = |(p, w, s): ([f64; 2], f64, f64)| {
-        if piece.points.last().map_or(true, |&q| dist(p, q) > 1e-9) {
+        if piece.points.last().is_none_or(|&q| dist(p, q) > 1e-9) {
             piece.points.push(p);
             piece.widths.push(w);
             piece.arcs.push(s);

@@ -137,8 +137,8 @@ fn main() -> anyhow::Result<()> {
 
     let cases: Vec<Case> = ridgeline::synth::all_cases()
         .into_iter()
-        .filter(|c| args.group.as_ref().map_or(true, |g| &c.group == g))
-        .filter(|c| args.case.as_ref().map_or(true, |n| &c.name == n))
+        .filter(|c| args.group.as_ref().is_none_or(|g| &c.group == g))
+        .filter(|c| args.case.as_ref().is_none_or(|n| &c.name == n))
         .collect();
     if cases.is_empty() {
         bail!("no case matches the filters");

@@ -43,11 +43,12 @@ fn zhang_suen(binary: &Binary) -> Vec<bool> {
                 if a != 1 {
                     continue;
                 }
-                // p[0] = P2 (N), p[2] = P4 (E), p[4] = P6 (S), p[6] = P8 (W).
+                // p[0] = P2 (N), p[2] = P4 (E), p[4] = P6 (S), p[6] = P8 (W). The first pass
+                // deletes unless P2.P4.P6 or P4.P6.P8 is set, the second unless P2.P4.P8 or P2.P6.P8.
                 let keep = if step == 0 {
-                    (p[0] && p[2] && p[4]) || (p[2] && p[4] && p[6])
+                    p[2] && p[4] && (p[0] || p[6])
                 } else {
-                    (p[0] && p[2] && p[6]) || (p[0] && p[4] && p[6])
+                    p[0] && p[6] && (p[2] || p[4])
                 };
                 if !keep {
                     marked.push(i);

@@ -30,6 +30,7 @@ pub mod point_list;
 pub mod raster;
 pub mod refine;
 pub mod sample;
+pub mod score;
 pub mod strokes;
 pub mod synth;
 

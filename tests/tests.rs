@@ -3,3 +3,4 @@
 mod cli;
 mod features;
 mod pipeline;
+mod score;

@@ -1,0 +1,1777 @@
+//! Quality scores of a predicted stroke graph against known centerlines (DESIGN.md, "Measuring
+//! quality").
+//!
+//! - [`truth_graph`] turns a case's true strokes into the graph *the ink shows*: strokes split where
+//!   they cross, a stroke end whose ink touches another stroke joined to it (a T), short overshooting
+//!   tails inside another stroke's ink dropped, junctions closer than one stroke width made one
+//!   vertex, closed strokes as loops.
+//! - [`score`] compares a prediction with it: centerline precision / recall / F1 at
+//!   [`TAUS`], chamfer and Hausdorff distances on samples every 0.5 px; junction, crossing and
+//!   endpoint scores on the prediction normalized with a 1 px tolerance; components and cycles.
+//! - [`aggregate`] pools the scores of a group of cases.
+//!
+//! Scoring never panics on a broken prediction: edges with bad indices, fewer than two points or
+//! non-finite coordinates are left out.
+
+use std::cmp::Ordering;
+use std::collections::{BTreeMap, BinaryHeap};
+
+use serde::Serialize;
+
+use crate::synth::{render, Case};
+use crate::Binary;
+use crate::{dist, Edge, StrokeGraph, Vertex};
+
+/// Distance tolerances (px) at which centerline precision, recall and F1 are reported.
+pub const TAUS: [f64; 3] = [1.0, 2.0, 3.0];
+
+/// Crossings at least this steep (degrees) count in [`Scores::crossing_accuracy`]; shallower ones
+/// (the 15-degree cases) are reported apart in [`Scores::shallow_crossing_accuracy`].
+pub const STEEP_CROSSING: f64 = 22.5;
+
+/// Spacing of the samples along centerlines, px.
+const SPACING: f64 = 0.5;
+
+/// The prediction's graph tolerance, px: ends this close to a centerline are joined to it and
+/// junctions this close are merged.
+const PREDICTION_TOLERANCE: f64 = 1.0;
+
+/// The smallest matching radius for junctions and endpoints, px (the radius is
+/// `max(MIN_MATCH_RADIUS, local stroke width)`).
+const MIN_MATCH_RADIUS: f64 = 3.0;
+
+/// Scores of one prediction against one case's truth.
+#[derive(Clone, Debug, Default, PartialEq, Serialize)]
+pub struct Scores {
+    /// Case name.
+    pub case: String,
+    /// Case group (`hard`, `text`, `prints`).
+    pub group: String,
+    /// Number of true strokes (the denominator of [`Scores::spurs_per_stroke`]).
+    pub true_strokes: usize,
+    /// Share of predicted centerline samples within each of [`TAUS`] of the truth.
+    pub precision: [f64; 3],
+    /// Share of true centerline samples within each of [`TAUS`] of the prediction.
+    pub recall: [f64; 3],
+    /// Harmonic mean of precision and recall at each of [`TAUS`].
+    pub f1: [f64; 3],
+    /// Mean chamfer distance, px: the mean of both directions' mean nearest-sample distance.
+    pub chamfer: f64,
+    /// Hausdorff distance, px.
+    pub hausdorff: f64,
+    /// True vertices of degree 3 or more.
+    pub true_junctions: usize,
+    /// Predicted vertices of degree 3 or more (after normalization).
+    pub predicted_junctions: usize,
+    /// Junctions matched one to one within `max(3, local width)`.
+    pub junctions_matched: usize,
+    /// `junctions_matched / predicted_junctions` (1 when nothing was predicted).
+    pub junction_precision: f64,
+    /// `junctions_matched / true_junctions` (1 when there is no true junction).
+    pub junction_recall: f64,
+    /// Every true crossing (degree-4 vertex) with its angle and whether it was found.
+    pub crossings: Vec<Crossing>,
+    /// Share of true crossings of [`STEEP_CROSSING`] degrees or more found, if there are any.
+    pub crossing_accuracy: Option<f64>,
+    /// Share of true crossings shallower than [`STEEP_CROSSING`] found, if there are any.
+    pub shallow_crossing_accuracy: Option<f64>,
+    /// True degree-1 vertices.
+    pub true_endpoints: usize,
+    /// Predicted degree-1 vertices (after normalization).
+    pub predicted_endpoints: usize,
+    /// True endpoints matched one to one by a predicted endpoint within `max(3, width)`.
+    pub endpoints_found: usize,
+    /// `endpoints_found / true_endpoints` (1 when there is no true endpoint).
+    pub endpoint_recall: f64,
+    /// Predicted endpoints with no true endpoint within `max(3, width)`.
+    pub spurious_endpoints: usize,
+    /// `spurious_endpoints / true_strokes`.
+    pub spurs_per_stroke: f64,
+    /// Connected components of the truth graph.
+    pub true_components: usize,
+    /// Connected components of the normalized prediction.
+    pub predicted_components: usize,
+    /// Whether the component counts agree.
+    pub components_exact: bool,
+    /// Independent cycles of the truth graph.
+    pub true_cycles: usize,
+    /// Independent cycles of the normalized prediction.
+    pub predicted_cycles: usize,
+    /// Whether the cycle counts agree.
+    pub cycles_exact: bool,
+}
+
+/// One true crossing and how the prediction did there.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Crossing {
+    /// Position of the true degree-4 vertex.
+    pub pos: [f64; 2],
+    /// Angle between the two strokes through it, degrees in `[0, 90]`.
+    pub angle: f64,
+    /// Whether the matched predicted vertex has degree 4 or more with no other predicted junction
+    /// nearby.
+    pub correct: bool,
+}
+
+/// Scores of a group of cases, pooled.
+#[derive(Clone, Debug, Default, PartialEq, Serialize)]
+pub struct GroupScores {
+    /// Number of cases scored.
+    pub cases: usize,
+    /// Mean precision at each of [`TAUS`].
+    pub precision: [f64; 3],
+    /// Mean recall at each of [`TAUS`].
+    pub recall: [f64; 3],
+    /// Mean F1 at each of [`TAUS`].
+    pub f1: [f64; 3],
+    /// Mean chamfer distance, px.
+    pub chamfer: f64,
+    /// Mean Hausdorff distance, px.
+    pub hausdorff: f64,
+    /// Pooled true junctions.
+    pub true_junctions: usize,
+    /// Pooled predicted junctions.
+    pub predicted_junctions: usize,
+    /// Pooled matched junctions.
+    pub junctions_matched: usize,
+    /// Pooled junction precision.
+    pub junction_precision: f64,
+    /// Pooled junction recall.
+    pub junction_recall: f64,
+    /// True crossings of [`STEEP_CROSSING`] degrees or more.
+    pub crossings: usize,
+    /// Of those, found.
+    pub crossings_correct: usize,
+    /// Pooled accuracy over steep crossings, if there are any.
+    pub crossing_accuracy: Option<f64>,
+    /// True crossings shallower than [`STEEP_CROSSING`].
+    pub shallow_crossings: usize,
+    /// Of those, found.
+    pub shallow_crossings_correct: usize,
+    /// Pooled accuracy over shallow crossings, if there are any.
+    pub shallow_crossing_accuracy: Option<f64>,
+    /// Pooled true endpoints.
+    pub true_endpoints: usize,
+    /// Pooled endpoints found.
+    pub endpoints_found: usize,
+    /// Pooled endpoint recall.
+    pub endpoint_recall: f64,
+    /// Pooled spurious endpoints.
+    pub spurious_endpoints: usize,
+    /// Pooled true strokes.
+    pub true_strokes: usize,
+    /// Spurious endpoints per true stroke, pooled.
+    pub spurs_per_stroke: f64,
+    /// Share of cases whose component count is exact.
+    pub components_exact: f64,
+    /// Share of cases whose cycle count is exact.
+    pub cycles_exact: f64,
+}
+
+/// Pools the scores of a group: means of the geometric scores, pooled counts for junctions,
+/// crossings, endpoints and spurs, shares of exact components and cycles.
+pub fn aggregate(scores: &[Scores]) -> GroupScores {
+    let n = scores.len();
+    if n == 0 {
+        return GroupScores::default();
+    }
+    let mean = |f: &dyn Fn(&Scores) -> f64| scores.iter().map(f).sum::<f64>() / n as f64;
+    let sum = |f: &dyn Fn(&Scores) -> usize| scores.iter().map(f).sum::<usize>();
+    let share = |num: usize, den: usize| {
+        if den == 0 {
+            1.0
+        } else {
+            num as f64 / den as f64
+        }
+    };
+    let mut g = GroupScores { cases: n, ..GroupScores::default() };
+    for k in 0..TAUS.len() {
+        g.precision[k] = mean(&|s| s.precision[k]);
+        g.recall[k] = mean(&|s| s.recall[k]);
+        g.f1[k] = mean(&|s| s.f1[k]);
+    }
+    g.chamfer = mean(&|s| s.chamfer);
+    g.hausdorff = mean(&|s| s.hausdorff);
+    g.true_junctions = sum(&|s| s.true_junctions);
+    g.predicted_junctions = sum(&|s| s.predicted_junctions);
+    g.junctions_matched = sum(&|s| s.junctions_matched);
+    g.junction_precision = share(g.junctions_matched, g.predicted_junctions);
+    g.junction_recall = share(g.junctions_matched, g.true_junctions);
+    for c in scores.iter().flat_map(|s| &s.crossings) {
+        if c.angle >= STEEP_CROSSING {
+            g.crossings += 1;
+            g.crossings_correct += c.correct as usize;
+        } else {
+            g.shallow_crossings += 1;
+            g.shallow_crossings_correct += c.correct as usize;
+        }
+    }
+    g.crossing_accuracy =
+        (g.crossings > 0).then(|| g.crossings_correct as f64 / g.crossings as f64);
+    g.shallow_crossing_accuracy = (g.shallow_crossings > 0)
+        .then(|| g.shallow_crossings_correct as f64 / g.shallow_crossings as f64);
+    g.true_endpoints = sum(&|s| s.true_endpoints);
+    g.endpoints_found = sum(&|s| s.endpoints_found);
+    g.endpoint_recall = share(g.endpoints_found, g.true_endpoints);
+    g.spurious_endpoints = sum(&|s| s.spurious_endpoints);
+    g.true_strokes = sum(&|s| s.true_strokes);
+    g.spurs_per_stroke =
+        if g.true_strokes == 0 { 0.0 } else { g.spurious_endpoints as f64 / g.true_strokes as f64 };
+    g.components_exact = mean(&|s| s.components_exact as usize as f64);
+    g.cycles_exact = mean(&|s| s.cycles_exact as usize as f64);
+    g
+}
+
+// ---------------------------------------------------------------------------------------------
+// The truth as the ink shows it
+
+/// The true stroke graph of a case as its ink shows it: stroke polylines split where they cross; a
+/// stroke end whose ink (its round cap, rendered as [`crate::synth::render`] does) touches the ink
+/// of another stroke, or of a part of its own stroke it does not reach along itself, is joined to
+/// the nearest point of that stroke (a T); a short tail past a crossing whose end lies inside the
+/// other stroke's ink is dropped; junctions closer than one stroke width are one vertex (two T's at
+/// one point make one degree-4 vertex); closed strokes are loops. Degree-2 vertices are dissolved,
+/// so every vertex is an end, a junction, a loop anchor or an isolated dot. A loop or a pair of
+/// parallel edges around no hole of the ink (a closed stroke too small to leave one, a lens between
+/// two strokes that cross twice closely) is not a cycle: the loop becomes a dot, the longer of the
+/// parallel edges stays.
+pub fn truth_graph(case: &Case) -> StrokeGraph {
+    let holes = case_holes(case);
+    let mut net = Net::from_strokes(case);
+    let r_max = net.max_half_width();
+    net.split_crossings();
+    net.drop_tails(r_max);
+    net.join_ends(Join::Ink { r_max, holes: &holes });
+    net.merge_junctions(&|a, b| a.max(b));
+    net.dissolve();
+    net.drop_filled_cycles(&holes);
+    net.into_stroke_graph(case.binary.width, case.binary.height)
+}
+
+/// The prediction as a graph with a 1 px tolerance: ends within 1 px of a centerline joined to it,
+/// crossing polylines split, junctions within 1 px merged, degree-2 vertices dissolved. As for the
+/// truth, a join that would close a cycle around no hole of the case's ink is not made (so the
+/// truth normalizes to itself).
+pub fn normalize(case: &Case, predicted: &StrokeGraph) -> StrokeGraph {
+    let holes = case_holes(case);
+    let mut net = Net::from_graph(predicted);
+    net.split_crossings();
+    net.join_ends(Join::Distance { tol: PREDICTION_TOLERANCE, holes: &holes });
+    net.merge_junctions(&|_, _| PREDICTION_TOLERANCE);
+    net.dissolve();
+    net.into_stroke_graph(predicted.width, predicted.height)
+}
+
+// ---------------------------------------------------------------------------------------------
+// Scoring
+
+/// Scores `predicted` against `truth` (normally [`truth_graph`] of `case`).
+pub fn score(case: &Case, truth: &StrokeGraph, predicted: &StrokeGraph) -> Scores {
+    let mut s = Scores {
+        case: case.name.clone(),
+        group: case.group.clone(),
+        true_strokes: case.strokes.len(),
+        ..Scores::default()
+    };
+    geometry(case, truth, predicted, &mut s);
+
+    let norm = normalize(case, predicted);
+    let radius = |w: f64| w.max(MIN_MATCH_RADIUS);
+
+    // Junctions: one-to-one matching, nearest pairs first.
+    let true_j: Vec<usize> = truth.junctions().collect();
+    let pred_j: Vec<usize> = norm.junctions().collect();
+    let matches = match_vertices(truth, &true_j, &norm, &pred_j, &radius);
+    s.true_junctions = true_j.len();
+    s.predicted_junctions = pred_j.len();
+    s.junctions_matched = matches.iter().filter(|m| m.is_some()).count();
+    s.junction_precision = ratio(s.junctions_matched, s.predicted_junctions);
+    s.junction_recall = ratio(s.junctions_matched, s.true_junctions);
+
+    // Crossings: the matched vertex must carry all four arms, alone.
+    for (k, &t) in true_j.iter().enumerate() {
+        if truth.vertices[t].degree != 4 {
+            continue;
+        }
+        let pos = truth.vertices[t].pos;
+        let r = radius(truth.vertices[t].width);
+        let correct = match matches[k] {
+            Some(p) => {
+                norm.vertices[p].degree >= 4
+                    && pred_j.iter().all(|&q| q == p || dist(norm.vertices[q].pos, pos) > r)
+            }
+            None => false,
+        };
+        s.crossings.push(Crossing { pos, angle: crossing_angle(truth, t), correct });
+    }
+    let accuracy = |steep: bool| {
+        let chosen: Vec<&Crossing> =
+            s.crossings.iter().filter(|c| (c.angle >= STEEP_CROSSING) == steep).collect();
+        (!chosen.is_empty())
+            .then(|| chosen.iter().filter(|c| c.correct).count() as f64 / chosen.len() as f64)
+    };
+    s.crossing_accuracy = accuracy(true);
+    s.shallow_crossing_accuracy = accuracy(false);
+
+    // Endpoints.
+    let true_e: Vec<usize> = truth.endpoints().collect();
+    let pred_e: Vec<usize> = norm.endpoints().collect();
+    let matches = match_vertices(truth, &true_e, &norm, &pred_e, &radius);
+    s.true_endpoints = true_e.len();
+    s.predicted_endpoints = pred_e.len();
+    s.endpoints_found = matches.iter().filter(|m| m.is_some()).count();
+    s.endpoint_recall = ratio(s.endpoints_found, s.true_endpoints);
+    s.spurious_endpoints = pred_e
+        .iter()
+        .filter(|&&p| {
+            let pos = norm.vertices[p].pos;
+            !true_e
+                .iter()
+                .any(|&t| dist(truth.vertices[t].pos, pos) <= radius(truth.vertices[t].width))
+        })
+        .count();
+    s.spurs_per_stroke =
+        if s.true_strokes == 0 { 0.0 } else { s.spurious_endpoints as f64 / s.true_strokes as f64 };
+
+    s.true_components = truth.components();
+    s.predicted_components = norm.components();
+    s.components_exact = s.true_components == s.predicted_components;
+    s.true_cycles = truth.cycles();
+    s.predicted_cycles = norm.cycles();
+    s.cycles_exact = s.true_cycles == s.predicted_cycles;
+    s
+}
+
+fn ratio(num: usize, den: usize) -> f64 {
+    if den == 0 {
+        1.0
+    } else {
+        num as f64 / den as f64
+    }
+}
+
+/// Centerline precision, recall, F1, chamfer and Hausdorff on samples every [`SPACING`] px.
+fn geometry(case: &Case, truth: &StrokeGraph, predicted: &StrokeGraph, s: &mut Scores) {
+    let true_samples = centerline_samples(truth);
+    let pred_samples = centerline_samples(predicted);
+    // An empty side is as far as the image is wide: finite, so means stay meaningful.
+    let far = (case.binary.width as f64).hypot(case.binary.height as f64).max(1.0);
+    let nearest_all = |from: &[[f64; 2]], to: &[[f64; 2]]| -> Vec<f64> {
+        let grid = PointGrid::new(to, 2.0);
+        from.iter().map(|&p| grid.nearest(to, p).map_or(far, |(_, d)| d)).collect()
+    };
+    let d_pred = nearest_all(&pred_samples, &true_samples);
+    let d_true = nearest_all(&true_samples, &pred_samples);
+    for (k, &tau) in TAUS.iter().enumerate() {
+        let within = |d: &[f64]| {
+            if d.is_empty() {
+                None
+            } else {
+                Some(d.iter().filter(|&&x| x <= tau).count() as f64 / d.len() as f64)
+            }
+        };
+        // An empty prediction claims nothing wrong (precision 1) and finds nothing.
+        let precision = within(&d_pred).unwrap_or(1.0);
+        let recall = within(&d_true).unwrap_or(1.0);
+        s.precision[k] = precision;
+        s.recall[k] = recall;
+        s.f1[k] = if precision + recall > 0.0 {
+            2.0 * precision * recall / (precision + recall)
+        } else {
+            0.0
+        };
+    }
+    let mean = |d: &[f64]| {
+        if d.is_empty() {
+            far
+        } else {
+            d.iter().sum::<f64>() / d.len() as f64
+        }
+    };
+    let max = |d: &[f64]| d.iter().copied().fold(0.0, f64::max);
+    s.chamfer = match (d_pred.is_empty(), d_true.is_empty()) {
+        (true, true) => 0.0,
+        _ => 0.5 * (mean(&d_pred) + mean(&d_true)),
+    };
+    s.hausdorff = match (d_pred.is_empty(), d_true.is_empty()) {
+        (true, true) => 0.0,
+        (true, false) | (false, true) => far,
+        (false, false) => max(&d_pred).max(max(&d_true)),
+    };
+}
+
+/// Samples every [`SPACING`] px along every usable edge, plus isolated vertices.
+fn centerline_samples(graph: &StrokeGraph) -> Vec<[f64; 2]> {
+    let mut out = Vec::new();
+    for e in graph.edges.iter().filter(|e| usable_edge(graph, e)) {
+        for w in e.points.windows(2) {
+            let n = (dist(w[0], w[1]) / SPACING).ceil().max(1.0) as usize;
+            for k in 0..n {
+                out.push(lerp(w[0], w[1], k as f64 / n as f64));
+            }
+        }
+        out.push(e.points[e.points.len() - 1]);
+    }
+    let mut degree = vec![0usize; graph.vertices.len()];
+    for e in graph.edges.iter().filter(|e| usable_edge(graph, e)) {
+        degree[e.from] += 1;
+        degree[e.to] += 1;
+    }
+    for (v, vertex) in graph.vertices.iter().enumerate() {
+        if degree[v] == 0 && finite(vertex.pos) {
+            out.push(vertex.pos);
+        }
+    }
+    out
+}
+
+fn usable_edge(graph: &StrokeGraph, e: &Edge) -> bool {
+    e.from < graph.vertices.len()
+        && e.to < graph.vertices.len()
+        && e.points.len() >= 2
+        && e.points.iter().all(|&p| finite(p))
+}
+
+fn finite(p: [f64; 2]) -> bool {
+    p[0].is_finite() && p[1].is_finite()
+}
+
+/// One-to-one matching of `true_ids` to `pred_ids` within `radius(true width)`, nearest pairs
+/// first; returns the predicted partner of each true vertex.
+fn match_vertices(
+    truth: &StrokeGraph,
+    true_ids: &[usize],
+    pred: &StrokeGraph,
+    pred_ids: &[usize],
+    radius: &dyn Fn(f64) -> f64,
+) -> Vec<Option<usize>> {
+    let mut pairs = Vec::new();
+    for (i, &t) in true_ids.iter().enumerate() {
+        let (pos, r) = (truth.vertices[t].pos, radius(truth.vertices[t].width));
+        for (j, &p) in pred_ids.iter().enumerate() {
+            let d = dist(pos, pred.vertices[p].pos);
+            if d <= r {
+                pairs.push((d, i, j));
+            }
+        }
+    }
+    pairs.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)).then(a.2.cmp(&b.2)));
+    let mut partner = vec![None; true_ids.len()];
+    let mut taken = vec![false; pred_ids.len()];
+    for (_, i, j) in pairs {
+        if partner[i].is_none() && !taken[j] {
+            partner[i] = Some(pred_ids[j]);
+            taken[j] = true;
+        }
+    }
+    partner
+}
+
+/// Angle (degrees, `[0, 90]`) between the two lines through a degree-4 vertex: its arms are paired
+/// into the two most nearly straight continuations.
+fn crossing_angle(graph: &StrokeGraph, v: usize) -> f64 {
+    let arms = arm_directions(graph, v);
+    if arms.len() != 4 {
+        return 90.0;
+    }
+    let dot = |a: [f64; 2], b: [f64; 2]| a[0] * b[0] + a[1] * b[1];
+    let pairings = [[0, 1, 2, 3], [0, 2, 1, 3], [0, 3, 1, 2]];
+    let best = pairings
+        .iter()
+        .max_by(|p, q| {
+            let straight =
+                |k: &[usize; 4]| -dot(arms[k[0]], arms[k[1]]) - dot(arms[k[2]], arms[k[3]]);
+            straight(p).total_cmp(&straight(q))
+        })
+        .copied()
+        .unwrap_or([0, 1, 2, 3]);
+    let line = |a: [f64; 2], b: [f64; 2]| unit([a[0] - b[0], a[1] - b[1]]);
+    let (l1, l2) = (line(arms[best[0]], arms[best[1]]), line(arms[best[2]], arms[best[3]]));
+    dot(l1, l2).abs().min(1.0).acos().to_degrees()
+}
+
+/// Unit directions of the arms leaving vertex `v`, each measured to the point one stroke width
+/// (at least 2 px) along its edge.
+fn arm_directions(graph: &StrokeGraph, v: usize) -> Vec<[f64; 2]> {
+    let pos = graph.vertices[v].pos;
+    let reach = graph.vertices[v].width.max(2.0);
+    let toward = |points: &mut dyn Iterator<Item = [f64; 2]>| {
+        let mut last = pos;
+        for p in points {
+            last = p;
+            if dist(p, pos) >= reach {
+                break;
+            }
+        }
+        unit([last[0] - pos[0], last[1] - pos[1]])
+    };
+    let mut arms = Vec::new();
+    for e in graph.edges.iter().filter(|e| usable_edge(graph, e)) {
+        if e.from == v {
+            arms.push(toward(&mut e.points.iter().copied()));
+        }
+        if e.to == v {
+            arms.push(toward(&mut e.points.iter().rev().copied()));
+        }
+    }
+    arms
+}
+
+fn unit(d: [f64; 2]) -> [f64; 2] {
+    let n = d[0].hypot(d[1]);
+    if n > 0.0 {
+        [d[0] / n, d[1] / n]
+    } else {
+        [1.0, 0.0]
+    }
+}
+
+fn lerp(a: [f64; 2], b: [f64; 2], t: f64) -> [f64; 2] {
+    [a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1])]
+}
+
+// ---------------------------------------------------------------------------------------------
+// Nearest-sample queries: a uniform grid in CSR form
+
+/// Points bucketed in square cells: radius queries and nearest-point queries by growing rings.
+struct PointGrid {
+    origin: [f64; 2],
+    cell: f64,
+    nx: i64,
+    ny: i64,
+    start: Vec<u32>,
+    items: Vec<u32>,
+}
+
+impl PointGrid {
+    fn new(points: &[[f64; 2]], cell: f64) -> Self {
+        let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
+        for p in points.iter().filter(|p| finite(**p)) {
+            for k in 0..2 {
+                lo[k] = lo[k].min(p[k]);
+                hi[k] = hi[k].max(p[k]);
+            }
+        }
+        if lo[0] > hi[0] {
+            return PointGrid {
+                origin: [0.0; 2],
+                cell,
+                nx: 0,
+                ny: 0,
+                start: vec![0],
+                items: vec![],
+            };
+        }
+        let nx = ((hi[0] - lo[0]) / cell).floor() as i64 + 1;
+        let ny = ((hi[1] - lo[1]) / cell).floor() as i64 + 1;
+        let mut grid = PointGrid {
+            origin: lo,
+            cell,
+            nx,
+            ny,
+            start: vec![0; (nx * ny) as usize + 1],
+            items: vec![],
+        };
+        let cells: Vec<Option<usize>> = points.iter().map(|&p| grid.cell_index(p)).collect();
+        for c in cells.iter().flatten() {
+            grid.start[c + 1] += 1;
+        }
+        for i in 0..grid.start.len() - 1 {
+            grid.start[i + 1] += grid.start[i];
+        }
+        let mut fill = grid.start.clone();
+        grid.items = vec![0; *grid.start.last().unwrap_or(&0) as usize];
+        for (i, c) in cells.iter().enumerate() {
+            if let Some(c) = *c {
+                grid.items[fill[c] as usize] = i as u32;
+                fill[c] += 1;
+            }
+        }
+        grid
+    }
+
+    fn cell_of(&self, p: [f64; 2]) -> (i64, i64) {
+        (
+            ((p[0] - self.origin[0]) / self.cell).floor() as i64,
+            ((p[1] - self.origin[1]) / self.cell).floor() as i64,
+        )
+    }
+
+    fn cell_index(&self, p: [f64; 2]) -> Option<usize> {
+        if !finite(p) {
+            return None;
+        }
+        let (cx, cy) = self.cell_of(p);
+        (cx >= 0 && cy >= 0 && cx < self.nx && cy < self.ny).then(|| (cy * self.nx + cx) as usize)
+    }
+
+    fn bucket(&self, cx: i64, cy: i64) -> &[u32] {
+        if cx < 0 || cy < 0 || cx >= self.nx || cy >= self.ny {
+            return &[];
+        }
+        let c = (cy * self.nx + cx) as usize;
+        &self.items[self.start[c] as usize..self.start[c + 1] as usize]
+    }
+
+    /// Indices of the points within `r` of `p` (exact test), appended to `out`.
+    fn within(&self, points: &[[f64; 2]], p: [f64; 2], r: f64, out: &mut Vec<u32>) {
+        let (x0, y0) = self.cell_of([p[0] - r, p[1] - r]);
+        let (x1, y1) = self.cell_of([p[0] + r, p[1] + r]);
+        for cy in y0.max(0)..=y1.min(self.ny - 1) {
+            for cx in x0.max(0)..=x1.min(self.nx - 1) {
+                out.extend(
+                    self.bucket(cx, cy).iter().filter(|&&i| dist(points[i as usize], p) <= r),
+                );
+            }
+        }
+    }
+
+    /// The nearest point and its distance.
+    fn nearest(&self, points: &[[f64; 2]], p: [f64; 2]) -> Option<(u32, f64)> {
+        if self.items.is_empty() || !finite(p) {
+            return None;
+        }
+        let (qx, qy) = self.cell_of(p);
+        let mut best: Option<(u32, f64)> = None;
+        // Rings beyond this one cannot hold any cell of the grid.
+        let last_ring =
+            [qx, self.nx - 1 - qx, qy, self.ny - 1 - qy].iter().map(|d| d.abs()).max().unwrap_or(0)
+                + self.nx.max(self.ny);
+        for ring in 0..=last_ring {
+            let mut visit = |cx: i64, cy: i64| {
+                for &i in self.bucket(cx, cy) {
+                    let d = dist(points[i as usize], p);
+                    if best.is_none_or(|(_, b)| d < b) {
+                        best = Some((i, d));
+                    }
+                }
+            };
+            if ring == 0 {
+                visit(qx, qy);
+            } else {
+                for cx in qx - ring..=qx + ring {
+                    visit(cx, qy - ring);
+                    visit(cx, qy + ring);
+                }
+                for cy in qy - ring + 1..qy + ring {
+                    visit(qx - ring, cy);
+                    visit(qx + ring, cy);
+                }
+            }
+            // Every point in ring + 1 or beyond is at least `ring * cell` away.
+            if let Some((_, b)) = best {
+                if b <= ring as f64 * self.cell {
+                    break;
+                }
+            }
+        }
+        best
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// The working graph both the truth and the normalized prediction are built in
+
+/// A centerline polyline between two vertices of a [`Net`].
+#[derive(Clone, Debug)]
+struct Wire {
+    from: usize,
+    to: usize,
+    points: Vec<[f64; 2]>,
+    widths: Vec<f64>,
+    /// Arc position of each point along the source polyline (a true stroke or a predicted edge).
+    arcs: Vec<f64>,
+    /// Index of the source polyline.
+    source: usize,
+    alive: bool,
+}
+
+impl Wire {
+    fn length(&self) -> f64 {
+        self.points.windows(2).map(|w| dist(w[0], w[1])).sum()
+    }
+
+    fn reverse(&mut self) {
+        std::mem::swap(&mut self.from, &mut self.to);
+        self.points.reverse();
+        self.widths.reverse();
+        self.arcs.reverse();
+    }
+}
+
+#[derive(Clone, Debug)]
+struct Node {
+    pos: [f64; 2],
+    width: f64,
+    /// Kept when it has no edge (a dot, or an isolated predicted vertex).
+    keep_isolated: bool,
+    alive: bool,
+}
+
+/// Vertices and wires, mutable: split, joined, merged and dissolved until it is the graph to score.
+#[derive(Clone, Debug, Default)]
+struct Net {
+    nodes: Vec<Node>,
+    wires: Vec<Wire>,
+    /// Length of each source polyline if it is closed (arc distances wrap around), else `None`.
+    closed_length: Vec<Option<f64>>,
+}
+
+/// The holes of a case's ink as drawn, before any dropout: the truth is what the strokes show.
+fn case_holes(case: &Case) -> Holes {
+    let max_width = case
+        .strokes
+        .iter()
+        .flat_map(|s| s.widths.iter().copied())
+        .filter(|w| w.is_finite())
+        .fold(0.0, f64::max);
+    Holes::new(&render(&case.strokes, case.binary.width, case.binary.height), max_width)
+}
+
+/// How free ends are joined to nearby centerlines.
+#[derive(Clone, Copy)]
+enum Join<'a> {
+    /// The truth: an end joins when its round cap's pixels touch (8-neighbour) pixels of another
+    /// stroke's ink, unless the join would close a cycle around no hole of the ink. `r_max` is the
+    /// largest half-width of any stroke.
+    Ink { r_max: f64, holes: &'a Holes },
+    /// The prediction: an end joins a centerline within `tol`, unless that would close a cycle
+    /// around no hole of the ink.
+    Distance { tol: f64, holes: &'a Holes },
+}
+
+/// How a wire end follows its vertex when the vertex moves.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Follow {
+    /// Add the vertex position as a new end point (a T's stem reaching the bar's centerline).
+    Extend,
+    /// Replace the end point (junctions merged into their centroid).
+    Snap,
+}
+
+impl Net {
+    fn add_node(&mut self, pos: [f64; 2], width: f64, keep_isolated: bool) -> usize {
+        self.nodes.push(Node { pos, width, keep_isolated, alive: true });
+        self.nodes.len() - 1
+    }
+
+    fn from_strokes(case: &Case) -> Net {
+        let mut net = Net::default();
+        for (source, stroke) in case.strokes.iter().enumerate() {
+            let n = stroke.points.len().min(stroke.widths.len());
+            let mut points = Vec::with_capacity(n);
+            let mut widths = Vec::with_capacity(n);
+            for k in 0..n {
+                let (p, w) = (stroke.points[k], stroke.widths[k]);
+                if finite(p) && w.is_finite() && points.last().is_none_or(|&q| dist(p, q) > 1e-9) {
+                    points.push(p);
+                    widths.push(w.max(0.0));
+                }
+            }
+            // A closed stroke repeats its first point at the end (a triangle has four points).
+            let closed = points.len() >= 4 && dist(points[0], points[points.len() - 1]) <= 1e-9;
+            net.add_polyline(source, &points, &widths, closed);
+        }
+        net
+    }
+
+    fn add_polyline(&mut self, source: usize, points: &[[f64; 2]], widths: &[f64], closed: bool) {
+        if points.is_empty() {
+            self.closed_length.push(None);
+            return;
+        }
+        if points.len() == 1 {
+            self.add_node(points[0], widths[0], true);
+            self.closed_length.push(None);
+            return;
+        }
+        let (points, widths, arcs) = densify(points, widths);
+        let length = arcs[arcs.len() - 1];
+        self.closed_length.push(closed.then_some(length));
+        let from = self.add_node(points[0], widths[0], false);
+        let to = if closed {
+            from
+        } else {
+            self.add_node(points[points.len() - 1], widths[widths.len() - 1], false)
+        };
+        self.wires.push(Wire { from, to, points, widths, arcs, source, alive: true });
+    }
+
+    fn from_graph(graph: &StrokeGraph) -> Net {
+        let mut net = Net::default();
+        for v in &graph.vertices {
+            let width = if v.width.is_finite() { v.width.max(0.0) } else { 0.0 };
+            let pos = if finite(v.pos) { v.pos } else { [0.0, 0.0] };
+            net.add_node(pos, width, true);
+        }
+        for (source, e) in graph.edges.iter().enumerate() {
+            net.closed_length.push(None);
+            if !usable_edge(graph, e) {
+                continue;
+            }
+            let widths: Vec<f64> = (0..e.points.len())
+                .map(|k| e.widths.get(k).copied().filter(|w| w.is_finite()).unwrap_or(0.0))
+                .collect();
+            let (points, widths, arcs) = densify(&e.points, &widths);
+            net.wires.push(Wire {
+                from: e.from,
+                to: e.to,
+                points,
+                widths,
+                arcs,
+                source,
+                alive: true,
+            });
+        }
+        net
+    }
+
+    fn max_half_width(&self) -> f64 {
+        let wires = self.wires.iter().flat_map(|w| w.widths.iter().copied());
+        wires.chain(self.nodes.iter().map(|n| n.width)).fold(0.0, f64::max) / 2.0
+    }
+
+    fn degrees(&self) -> Vec<usize> {
+        let mut degree = vec![0; self.nodes.len()];
+        for w in self.wires.iter().filter(|w| w.alive) {
+            degree[w.from] += 1;
+            degree[w.to] += 1;
+        }
+        degree
+    }
+
+    /// Splits wires where they cross one another or themselves (proper crossings away from wire
+    /// ends; a wire end on another wire is a touch, left to [`Net::join_ends`]).
+    fn split_crossings(&mut self) {
+        // Every segment is at most SPACING long, so two that cross have midpoints within SPACING.
+        let mut segments = Vec::new();
+        let mut mids = Vec::new();
+        for (w, wire) in self.wires.iter().enumerate().filter(|(_, w)| w.alive) {
+            for i in 0..wire.points.len() - 1 {
+                segments.push((w, i));
+                mids.push(lerp(wire.points[i], wire.points[i + 1], 0.5));
+            }
+        }
+        let grid = PointGrid::new(&mids, 2.0);
+        // Per wire: (segment, t, node) breakpoints.
+        let mut hits: BTreeMap<usize, Vec<(usize, f64, usize)>> = BTreeMap::new();
+        // Loop anchors a crossing passes through, with the crossing's vertex.
+        let mut anchors: Vec<(usize, usize)> = Vec::new();
+        // Crossings found so far per pair of wires: a crossing through a polyline vertex is
+        // found on up to four pairs of segments and must make one vertex.
+        let mut found: BTreeMap<(usize, usize), Vec<[f64; 2]>> = BTreeMap::new();
+        let mut near = Vec::new();
+        for a in 0..segments.len() {
+            near.clear();
+            grid.within(&mids, mids[a], SPACING + 1e-6, &mut near);
+            near.sort_unstable();
+            for &b in near.iter().filter(|&&b| b as usize > a) {
+                let ((wa, i), (wb, j)) = (segments[a], segments[b as usize]);
+                let (pa, pb) = (&self.wires[wa].points, &self.wires[wb].points);
+                let is_loop = |w: usize| self.wires[w].from == self.wires[w].to;
+                // Neighbouring segments of one wire share a point; so do a loop's first and last.
+                if wa == wb
+                    && (i.abs_diff(j) <= 1
+                        || (is_loop(wa) && i.min(j) == 0 && i.max(j) == pa.len() - 2))
+                {
+                    continue;
+                }
+                let Some((t, u, point)) = intersect(pa[i], pa[i + 1], pb[j], pb[j + 1]) else {
+                    continue;
+                };
+                // A crossing at the end of an open wire is a touch, left to `join_ends`; at the
+                // anchor of a loop it is a crossing through the anchor, which then becomes the
+                // crossing vertex.
+                let at_end = |k: usize, s: f64, points: &[[f64; 2]]| {
+                    (k == 0 && s <= 1e-9) || (k == points.len() - 2 && s >= 1.0 - 1e-9)
+                };
+                let (end_a, end_b) = (at_end(i, t, pa), at_end(j, u, pb));
+                if (end_a && !is_loop(wa)) || (end_b && !is_loop(wb)) {
+                    continue;
+                }
+                let seen = found.entry((wa, wb)).or_default();
+                if seen.iter().any(|&q| dist(q, point) <= 1e-7) {
+                    continue;
+                }
+                seen.push(point);
+                let width_at = |wire: &Wire, k: usize, s: f64| {
+                    wire.widths[k] + s * (wire.widths[k + 1] - wire.widths[k])
+                };
+                let width = width_at(&self.wires[wa], i, t).max(width_at(&self.wires[wb], j, u));
+                let node = self.add_node(point, width, false);
+                for (w, k, s, end) in [(wa, i, t, end_a), (wb, j, u, end_b)] {
+                    if end {
+                        anchors.push((self.wires[w].from, node));
+                    } else {
+                        hits.entry(w).or_default().push((k, s, node));
+                    }
+                }
+            }
+        }
+        for (w, mut breaks) in hits {
+            breaks.sort_by(|a, b| a.0.cmp(&b.0).then(a.1.total_cmp(&b.1)));
+            let wire = self.wires[w].clone();
+            self.wires[w].alive = false;
+            let last = wire.points.len() - 2;
+            let mut cuts = vec![(0, 0.0, wire.from)];
+            cuts.extend(breaks);
+            cuts.push((last, 1.0, wire.to));
+            for pair in cuts.windows(2) {
+                let piece = cut(&wire, (pair[0].0, pair[0].1), (pair[1].0, pair[1].1));
+                self.wires.push(Wire { from: pair[0].2, to: pair[1].2, ..piece });
+            }
+        }
+        if !anchors.is_empty() {
+            let mut sets = UnionFind::new(self.nodes.len());
+            for &(anchor, node) in &anchors {
+                sets.union(anchor, node);
+            }
+            let mut anchored = vec![false; self.nodes.len()];
+            for &(_, node) in &anchors {
+                anchored[node] = true;
+            }
+            self.merge(&mut sets, &anchored, Follow::Snap, None);
+        }
+    }
+
+    /// Drops the tail of a stroke that runs a little past a crossing and ends inside the other
+    /// stroke's ink: the ink shows a T there, not a crossing and an end.
+    fn drop_tails(&mut self, r_max: f64) {
+        let degree = self.degrees();
+        let samples = Samples::new(self);
+        let mut near = Vec::new();
+        let mut dropped = Vec::new();
+        for (w, wire) in self.wires.iter().enumerate().filter(|(_, w)| w.alive) {
+            for free_at_start in [true, false] {
+                let (end, other) =
+                    if free_at_start { (wire.from, wire.to) } else { (wire.to, wire.from) };
+                if end == other
+                    || degree[end] != 1
+                    || degree[other] < 3
+                    || wire.length() > 2.0 * r_max + 2.0
+                {
+                    continue;
+                }
+                let k = if free_at_start { 0 } else { wire.points.len() - 1 };
+                let (p, r_p, arc_p) = (wire.points[k], wire.widths[k] / 2.0, wire.arcs[k]);
+                near.clear();
+                samples.grid.within(&samples.pos, p, r_max + 0.5, &mut near);
+                let inside = near.iter().any(|&s| {
+                    let s = s as usize;
+                    let Some((sw, si)) = samples.wire_of(s) else {
+                        return false;
+                    };
+                    let other_wire = &self.wires[sw];
+                    let d = dist(samples.pos[s], p);
+                    let r_s = samples.width[s] / 2.0;
+                    d <= r_s + 0.5
+                        && self.distinct_parts(
+                            (wire.source, arc_p, r_p),
+                            (other_wire.source, other_wire.arcs[si], r_s),
+                            d,
+                        )
+                });
+                if inside {
+                    dropped.push((w, end));
+                }
+            }
+        }
+        for (w, end) in dropped {
+            self.wires[w].alive = false;
+            self.nodes[end].alive = false;
+        }
+    }
+
+    /// Whether two points lie on different strokes, or on parts of one stroke that do not reach
+    /// each other along it.
+    fn distinct_parts(&self, a: (usize, f64, f64), b: (usize, f64, f64), d: f64) -> bool {
+        if a.0 != b.0 {
+            return true;
+        }
+        let mut along = (a.1 - b.1).abs();
+        if let Some(Some(length)) = self.closed_length.get(a.0) {
+            along = along.min(length - along);
+        }
+        along > d + a.2 + b.2 + 2.0
+    }
+
+    /// Joins free ends (degree 1) to the nearest centerline they touch that they do not already
+    /// reach along the graph.
+    fn join_ends(&mut self, rule: Join) {
+        let degree = self.degrees();
+        let samples = Samples::new(self);
+        let mut search = Dijkstra::new(samples.pos.len());
+        let mut near = Vec::new();
+        let mut joins: Vec<(usize, usize)> = Vec::new();
+        for end in 0..self.nodes.len() {
+            if !self.nodes[end].alive || degree[end] != 1 {
+                continue;
+            }
+            let p = self.nodes[end].pos;
+            let r_p = self.nodes[end].width / 2.0;
+            let (reach, margin_max) = match rule {
+                Join::Ink { r_max, .. } => (r_p + r_max + 1.5, r_p + r_max + 2.0),
+                Join::Distance { tol, .. } => (tol, 2.0 * tol + 1.0),
+            };
+            near.clear();
+            samples.grid.within(&samples.pos, p, reach, &mut near);
+            if near.is_empty() {
+                continue;
+            }
+            // Far enough to find every cycle that could fail to leave a hole in the ink.
+            let limit = match rule {
+                Join::Ink { holes, .. } | Join::Distance { holes, .. } => holes.cycle_reach,
+            };
+            search.run(&samples, end, (reach + margin_max + 1.0).max(limit));
+            // "Far" samples: reached along the graph only the long way round, or not at all.
+            let mut far: Vec<(f64, usize)> = near
+                .iter()
+                .map(|&s| (dist(samples.pos[s as usize], p), s as usize))
+                .filter(|&(d, s)| {
+                    let g = search.distance(s);
+                    match rule {
+                        // Joining would close a cycle: the ink must show it as a hole.
+                        Join::Ink { holes, .. } => {
+                            !g.is_finite()
+                                || (g > d + r_p + samples.width[s] / 2.0 + 2.0
+                                    && holes.inside(&search.path(&samples, s)))
+                        }
+                        Join::Distance { tol, holes } => {
+                            !g.is_finite()
+                                || (g > d + 2.0 * tol + 1.0
+                                    && holes.inside(&search.path(&samples, s)))
+                        }
+                    }
+                })
+                .collect();
+            // A stroke's centerline is a better target than another free end at the same place
+            // (two ends meeting on a stem make a K, not a corner beside the stem).
+            let free_end = |s: usize| s < degree.len() && degree[s] == 1;
+            far.sort_by(|a, b| {
+                (free_end(a.1), a.0)
+                    .partial_cmp(&(free_end(b.1), b.0))
+                    .unwrap_or(Ordering::Equal)
+                    .then(a.1.cmp(&b.1))
+            });
+            let Some(&(_, target)) = far.first() else {
+                continue;
+            };
+            let d = dist(samples.pos[target], p);
+            let touches = match rule {
+                Join::Ink { .. } => ink_touches(p, r_p, &far, &samples),
+                Join::Distance { tol, .. } => d <= tol,
+            };
+            if touches {
+                joins.push((end, target));
+            }
+        }
+        if joins.is_empty() {
+            return;
+        }
+        // Targets inside wires become new vertices; then each end is united with its target.
+        let mut requests: Vec<(usize, usize)> =
+            joins.iter().filter_map(|&(_, t)| samples.wire_of(t)).collect();
+        requests.sort_unstable();
+        requests.dedup();
+        let split_nodes = self.split_wires(&requests);
+        let mut sets = UnionFind::new(self.nodes.len());
+        let mut anchored = vec![true; self.nodes.len()];
+        for &(end, target) in &joins {
+            anchored[end] = false;
+            let target_node = match samples.wire_of(target) {
+                Some(key) => split_nodes[&key],
+                None => target,
+            };
+            sets.union(end, target_node);
+        }
+        self.merge(&mut sets, &anchored, Follow::Extend, None);
+    }
+
+    /// Splits wires at the given (wire, point index) places; returns the vertex at each place.
+    fn split_wires(&mut self, requests: &[(usize, usize)]) -> BTreeMap<(usize, usize), usize> {
+        let mut at = BTreeMap::new();
+        let mut by_wire: BTreeMap<usize, Vec<usize>> = BTreeMap::new();
+        for &(w, i) in requests {
+            by_wire.entry(w).or_default().push(i);
+        }
+        for (w, idx) in by_wire {
+            let wire = self.wires[w].clone();
+            let last = wire.points.len() - 1;
+            let mut cuts = vec![(0, wire.from)];
+            for i in idx {
+                let node = if i == 0 {
+                    wire.from
+                } else if i == last {
+                    wire.to
+                } else {
+                    self.add_node(wire.points[i], wire.widths[i], false)
+                };
+                at.insert((w, i), node);
+                if i != 0 && i != last {
+                    cuts.push((i, node));
+                }
+            }
+            cuts.push((last, wire.to));
+            if cuts.len() == 2 {
+                continue;
+            }
+            self.wires[w].alive = false;
+            for pair in cuts.windows(2) {
+                let (a, b) = (pair[0].0, pair[1].0);
+                self.wires.push(Wire {
+                    from: pair[0].1,
+                    to: pair[1].1,
+                    points: wire.points[a..=b].to_vec(),
+                    widths: wire.widths[a..=b].to_vec(),
+                    arcs: wire.arcs[a..=b].to_vec(),
+                    source: wire.source,
+                    alive: true,
+                });
+            }
+        }
+        at
+    }
+
+    /// Merges junctions (degree 3 or more) closer than `radius(width_a, width_b)` into their
+    /// centroid, dropping the short bridges between them.
+    fn merge_junctions(&mut self, radius: &dyn Fn(f64, f64) -> f64) {
+        let degree = self.degrees();
+        let junctions: Vec<usize> =
+            (0..self.nodes.len()).filter(|&v| self.nodes[v].alive && degree[v] >= 3).collect();
+        let pos: Vec<[f64; 2]> = junctions.iter().map(|&v| self.nodes[v].pos).collect();
+        let max_width = junctions.iter().map(|&v| self.nodes[v].width).fold(0.0, f64::max);
+        let reach = radius(max_width, max_width);
+        let grid = PointGrid::new(&pos, reach.max(1.0));
+        let mut sets = UnionFind::new(self.nodes.len());
+        let mut near = Vec::new();
+        let mut any = false;
+        for (a, &v) in junctions.iter().enumerate() {
+            near.clear();
+            grid.within(&pos, pos[a], reach, &mut near);
+            for &b in &near {
+                let u = junctions[b as usize];
+                if u != v
+                    && dist(pos[a], pos[b as usize])
+                        <= radius(self.nodes[v].width, self.nodes[u].width)
+                {
+                    sets.union(u, v);
+                    any = true;
+                }
+            }
+        }
+        if any {
+            self.merge(
+                &mut sets,
+                &vec![true; self.nodes.len()],
+                Follow::Snap,
+                Some(2.0 * reach + 1.0),
+            );
+        }
+    }
+
+    /// Replaces each set of vertices by one at the mean of its `anchored` members (of all members
+    /// when none is anchored); wires follow. With `drop_bridges`, wires between two members of one
+    /// set no longer than that are dropped.
+    fn merge(
+        &mut self,
+        sets: &mut UnionFind,
+        anchored: &[bool],
+        follow: Follow,
+        drop_bridges: Option<f64>,
+    ) {
+        let n = self.nodes.len();
+        let mut sum = vec![([0.0, 0.0], 0usize, [0.0, 0.0], 0usize, 0.0f64, false); n];
+        for v in (0..n).filter(|&v| self.nodes[v].alive) {
+            let root = sets.find(v);
+            let entry = &mut sum[root];
+            let p = self.nodes[v].pos;
+            entry.0 = [entry.0[0] + p[0], entry.0[1] + p[1]];
+            entry.1 += 1;
+            if anchored[v] {
+                entry.2 = [entry.2[0] + p[0], entry.2[1] + p[1]];
+                entry.3 += 1;
+            }
+            entry.4 = entry.4.max(self.nodes[v].width);
+            entry.5 |= self.nodes[v].keep_isolated;
+        }
+        for (v, &(all, count, anchor, anchors, width, keep)) in sum.iter().enumerate() {
+            if !self.nodes[v].alive {
+                continue;
+            }
+            if sets.find(v) != v {
+                self.nodes[v].alive = false;
+                continue;
+            }
+            let pos = if anchors > 0 {
+                [anchor[0] / anchors as f64, anchor[1] / anchors as f64]
+            } else {
+                [all[0] / count as f64, all[1] / count as f64]
+            };
+            self.nodes[v] = Node { pos, width, keep_isolated: keep, alive: true };
+        }
+        for wire in self.wires.iter_mut().filter(|w| w.alive) {
+            let (from, to) = (sets.find(wire.from), sets.find(wire.to));
+            if let Some(limit) = drop_bridges {
+                if from == to && wire.from != wire.to && wire.length() <= limit {
+                    wire.alive = false;
+                    continue;
+                }
+            }
+            wire.from = from;
+            wire.to = to;
+            let (start, end) = (self.nodes[from].pos, self.nodes[to].pos);
+            attach(wire, start, true, follow);
+            attach(wire, end, false, follow);
+        }
+    }
+
+    /// Joins the two wires at every vertex of degree 2 into one (closed chains end as a loop at
+    /// one vertex), and removes vertices left without wires unless they are dots.
+    fn dissolve(&mut self) {
+        loop {
+            let mut incident: Vec<Vec<usize>> = vec![Vec::new(); self.nodes.len()];
+            for (w, wire) in self.wires.iter().enumerate().filter(|(_, w)| w.alive) {
+                incident[wire.from].push(w);
+                incident[wire.to].push(w);
+            }
+            let mut touched = vec![false; self.wires.len()];
+            let mut changed = false;
+            for (v, ends) in incident.iter().enumerate() {
+                if ends.len() != 2 || ends[0] == ends[1] || touched[ends[0]] || touched[ends[1]] {
+                    continue;
+                }
+                let (a, b) = (ends[0], ends[1]);
+                touched[a] = true;
+                touched[b] = true;
+                let mut first = self.wires[a].clone();
+                let mut second = self.wires[b].clone();
+                if first.to != v {
+                    first.reverse();
+                }
+                if second.from != v {
+                    second.reverse();
+                }
+                first.points.extend_from_slice(&second.points[1..]);
+                first.widths.extend_from_slice(&second.widths[1..]);
+                first.arcs.extend_from_slice(&second.arcs[1..]);
+                first.to = second.to;
+                self.wires[a] = first;
+                self.wires[b].alive = false;
+                self.nodes[v].alive = false;
+                changed = true;
+            }
+            if !changed {
+                break;
+            }
+        }
+        let degree = self.degrees();
+        for (v, node) in self.nodes.iter_mut().enumerate() {
+            if degree[v] == 0 && !node.keep_isolated {
+                node.alive = false;
+            }
+        }
+    }
+
+    /// Removes the cycles of one or two edges that enclose no hole of the ink: a loop alone becomes
+    /// a dot at its centroid, a loop at a junction is dropped, of two edges between the same
+    /// vertices the shorter is dropped.
+    fn drop_filled_cycles(&mut self, holes: &Holes) {
+        loop {
+            let degree = self.degrees();
+            let mut changed = false;
+            let mut between: BTreeMap<(usize, usize), Vec<usize>> = BTreeMap::new();
+            for w in 0..self.wires.len() {
+                let wire = &self.wires[w];
+                if !wire.alive {
+                    continue;
+                }
+                if wire.from != wire.to {
+                    between
+                        .entry((wire.from.min(wire.to), wire.from.max(wire.to)))
+                        .or_default()
+                        .push(w);
+                    continue;
+                }
+                if holes.inside(&wire.points) {
+                    continue;
+                }
+                let v = wire.from;
+                if degree[v] == 2 {
+                    let n = wire.points.len() as f64;
+                    let sum =
+                        wire.points.iter().fold([0.0, 0.0], |a, p| [a[0] + p[0], a[1] + p[1]]);
+                    let width = wire.widths.iter().copied().fold(0.0, f64::max);
+                    let node = &mut self.nodes[v];
+                    node.pos = [sum[0] / n, sum[1] / n];
+                    node.width = width;
+                    node.keep_isolated = true;
+                }
+                self.wires[w].alive = false;
+                changed = true;
+            }
+            for wires in between.values().filter(|w| w.len() >= 2) {
+                let mut by_length: Vec<(f64, usize)> =
+                    wires.iter().map(|&w| (self.wires[w].length(), w)).collect();
+                by_length.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+                // The shortest against the next: a lens without a hole is one stroke.
+                let (a, b) = (by_length[0].1, by_length[1].1);
+                let mut ring = self.wires[a].points.clone();
+                let other = &self.wires[b];
+                if other.from == self.wires[a].to {
+                    ring.extend_from_slice(&other.points);
+                } else {
+                    ring.extend(other.points.iter().rev());
+                }
+                if !holes.inside(&ring) {
+                    self.wires[a].alive = false;
+                    changed = true;
+                }
+            }
+            if !changed {
+                return;
+            }
+            self.dissolve();
+        }
+    }
+
+    fn into_stroke_graph(self, width: u32, height: u32) -> StrokeGraph {
+        let degree = self.degrees();
+        let mut index = vec![usize::MAX; self.nodes.len()];
+        let mut vertices = Vec::new();
+        for (v, node) in self.nodes.iter().enumerate() {
+            if node.alive {
+                index[v] = vertices.len();
+                vertices.push(Vertex { pos: node.pos, degree: degree[v], width: node.width });
+            }
+        }
+        let edges = self
+            .wires
+            .into_iter()
+            .filter(|w| w.alive)
+            .map(|mut w| {
+                // Ends sit exactly on their vertices (crossing points are computed once per pair
+                // of segments, so the second wire's end can differ by rounding).
+                let last = w.points.len() - 1;
+                w.points[0] = self.nodes[w.from].pos;
+                w.points[last] = self.nodes[w.to].pos;
+                let directions = tangents(&w.points);
+                Edge {
+                    from: index[w.from],
+                    to: index[w.to],
+                    points: w.points,
+                    widths: w.widths,
+                    directions,
+                }
+            })
+            .collect();
+        StrokeGraph { width, height, vertices, edges }
+    }
+}
+
+/// Makes a wire end at `pos`: by adding it as a new end point or by moving the end point.
+fn attach(wire: &mut Wire, pos: [f64; 2], at_start: bool, follow: Follow) {
+    let k = if at_start { 0 } else { wire.points.len() - 1 };
+    if dist(wire.points[k], pos) <= 1e-9 {
+        wire.points[k] = pos;
+        return;
+    }
+    match follow {
+        Follow::Snap => wire.points[k] = pos,
+        Follow::Extend if at_start => {
+            wire.points.insert(0, pos);
+            wire.widths.insert(0, wire.widths[0]);
+            wire.arcs.insert(0, wire.arcs[0]);
+        }
+        Follow::Extend => {
+            wire.points.push(pos);
+            wire.widths.push(wire.widths[k]);
+            wire.arcs.push(wire.arcs[k]);
+        }
+    }
+}
+
+/// Unit tangents by central differences.
+fn tangents(points: &[[f64; 2]]) -> Vec<[f64; 2]> {
+    let n = points.len();
+    (0..n)
+        .map(|i| {
+            let (a, b) = (points[i.saturating_sub(1)], points[(i + 1).min(n - 1)]);
+            unit([b[0] - a[0], b[1] - a[1]])
+        })
+        .collect()
+}
+
+/// A polyline resampled so no segment is longer than [`SPACING`], with widths and arc positions.
+fn densify(points: &[[f64; 2]], widths: &[f64]) -> (Vec<[f64; 2]>, Vec<f64>, Vec<f64>) {
+    let mut out = (Vec::new(), Vec::new(), Vec::new());
+    let mut arc = 0.0;
+    for i in 0..points.len() - 1 {
+        let (a, b) = (points[i], points[i + 1]);
+        let len = dist(a, b);
+        let n = (len / SPACING).ceil().max(1.0) as usize;
+        for k in 0..n {
+            let t = k as f64 / n as f64;
+            out.0.push(lerp(a, b, t));
+            out.1.push(widths[i] + t * (widths[i + 1] - widths[i]));
+            out.2.push(arc + t * len);
+        }
+        arc += len;
+    }
+    out.0.push(points[points.len() - 1]);
+    out.1.push(widths[widths.len() - 1]);
+    out.2.push(arc);
+    out
+}
+
+/// The part of a wire between two (segment, t) places, `a` before `b`.
+fn cut(wire: &Wire, a: (usize, f64), b: (usize, f64)) -> Wire {
+    let at = |(k, t): (usize, f64)| {
+        let s = |v: &[f64]| v[k] + t * (v[k + 1] - v[k]);
+        (lerp(wire.points[k], wire.points[k + 1], t), s(&wire.widths), s(&wire.arcs))
+    };
+    let mut piece = Wire { points: vec![], widths: vec![], arcs: vec![], ..wire.clone() };
+    let mut push = |(p, w, s): ([f64; 2], f64, f64)| {
+        if piece.points.last().is_none_or(|&q| dist(p, q) > 1e-9) {
+            piece.points.push(p);
+            piece.widths.push(w);
+            piece.arcs.push(s);
+        }
+    };
+    push(at(a));
+    for k in a.0 + 1..=b.0 {
+        push((wire.points[k], wire.widths[k], wire.arcs[k]));
+    }
+    let end = at(b);
+    if piece.points.len() == 1 || dist(piece.points[piece.points.len() - 1], end.0) > 1e-9 {
+        piece.points.push(end.0);
+        piece.widths.push(end.1);
+        piece.arcs.push(end.2);
+    }
+    piece
+}
+
+/// Where segments `a0-a1` and `b0-b1` cross: parameters in `[0, 1]` on both, and the point.
+fn intersect(
+    a0: [f64; 2],
+    a1: [f64; 2],
+    b0: [f64; 2],
+    b1: [f64; 2],
+) -> Option<(f64, f64, [f64; 2])> {
+    let r = [a1[0] - a0[0], a1[1] - a0[1]];
+    let s = [b1[0] - b0[0], b1[1] - b0[1]];
+    let denom = r[0] * s[1] - r[1] * s[0];
+    if denom.abs() <= 1e-12 * (r[0].hypot(r[1]) * s[0].hypot(s[1])).max(1e-300) {
+        return None;
+    }
+    let q = [b0[0] - a0[0], b0[1] - a0[1]];
+    let t = (q[0] * s[1] - q[1] * s[0]) / denom;
+    let u = (q[0] * r[1] - q[1] * r[0]) / denom;
+    // Closed segments with a little slack: a crossing through a shared polyline vertex must not
+    // slip between two segments by rounding (the caller removes the duplicates).
+    let slack = -1e-9..=1.0 + 1e-9;
+    if !(slack.contains(&t) && slack.contains(&u)) {
+        return None;
+    }
+    let (t, u) = (t.clamp(0.0, 1.0), u.clamp(0.0, 1.0));
+    Some((t, u, lerp(a0, a1, t)))
+}
+
+/// Whether the round cap of radius `r_p` at `p` touches (shares or is 8-adjacent to a pixel of)
+/// the ink around the `far` samples, with pixels decided as [`crate::synth::render`] does: a pixel
+/// is ink when its center lies within half the width of the centerline.
+fn ink_touches(p: [f64; 2], r_p: f64, far: &[(f64, usize)], samples: &Samples) -> bool {
+    let x0 = (p[0] - r_p).floor() as i64 - 1;
+    let y0 = (p[1] - r_p).floor() as i64 - 1;
+    let x1 = (p[0] + r_p).ceil() as i64 + 1;
+    let y1 = (p[1] + r_p).ceil() as i64 + 1;
+    let side = (x1 - x0 + 1) as usize;
+    let center = |x: i64, y: i64| [x as f64 + 0.5, y as f64 + 0.5];
+    // Ink of the far strokes in the box (0.03 px of slack for sampling the centerline).
+    let mut ink = vec![false; side * (y1 - y0 + 1) as usize];
+    for y in y0..=y1 {
+        for x in x0..=x1 {
+            let c = center(x, y);
+            ink[(y - y0) as usize * side + (x - x0) as usize] =
+                far.iter().any(|&(_, s)| dist(c, samples.pos[s]) <= samples.width[s] / 2.0 + 0.03);
+        }
+    }
+    for y in y0 + 1..y1 {
+        for x in x0 + 1..x1 {
+            if dist(center(x, y), p) > r_p + 1e-9 {
+                continue;
+            }
+            for dy in -1..=1 {
+                for dx in -1..=1 {
+                    if ink[(y + dy - y0) as usize * side + (x + dx - x0) as usize] {
+                        return true;
+                    }
+                }
+            }
+        }
+    }
+    false
+}
+
+/// The holes of the ink: background components (4-connected) that do not reach the image border.
+/// A cycle of centerlines inside the ink encloses a hole entirely or not at all, so one pixel per
+/// hole decides.
+struct Holes {
+    /// One pixel center per hole.
+    reps: Vec<[f64; 2]>,
+    /// Length of the longest cycle that might enclose no hole: a ring leaves a hole once its
+    /// centerline's diameter exceeds the stroke width, so `pi (max width + 2)` with some slack.
+    cycle_reach: f64,
+}
+
+impl Holes {
+    fn new(ink: &Binary, max_width: f64) -> Holes {
+        let (w, h) = (ink.width as usize, ink.height as usize);
+        let mut seen = vec![false; w * h];
+        let mut stack = Vec::new();
+        let fill = |start: usize, seen: &mut Vec<bool>, stack: &mut Vec<usize>| -> bool {
+            // Returns whether the component touches the border.
+            let mut border = false;
+            seen[start] = true;
+            stack.push(start);
+            while let Some(i) = stack.pop() {
+                let (x, y) = (i % w, i / w);
+                border |= x == 0 || y == 0 || x + 1 == w || y + 1 == h;
+                let mut visit = |j: usize| {
+                    if !ink.ink[j] && !seen[j] {
+                        seen[j] = true;
+                        stack.push(j);
+                    }
+                };
+                if x > 0 {
+                    visit(i - 1);
+                }
+                if x + 1 < w {
+                    visit(i + 1);
+                }
+                if y > 0 {
+                    visit(i - w);
+                }
+                if y + 1 < h {
+                    visit(i + w);
+                }
+            }
+            border
+        };
+        let mut reps = Vec::new();
+        for i in 0..w * h {
+            if !ink.ink[i] && !seen[i] && !fill(i, &mut seen, &mut stack) {
+                reps.push([(i % w) as f64 + 0.5, (i / w) as f64 + 0.5]);
+            }
+        }
+        Holes { reps, cycle_reach: std::f64::consts::PI * (max_width + 2.0) + 10.0 }
+    }
+
+    /// Whether the closed polygon (last point joined to the first) encloses a hole (even-odd rule).
+    fn inside(&self, polygon: &[[f64; 2]]) -> bool {
+        if polygon.len() < 3 {
+            return false;
+        }
+        let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
+        for p in polygon {
+            for k in 0..2 {
+                lo[k] = lo[k].min(p[k]);
+                hi[k] = hi[k].max(p[k]);
+            }
+        }
+        self.reps.iter().any(|&q| {
+            if q[0] < lo[0] || q[0] > hi[0] || q[1] < lo[1] || q[1] > hi[1] {
+                return false;
+            }
+            let mut inside = false;
+            let n = polygon.len();
+            for i in 0..n {
+                let (a, b) = (polygon[i], polygon[(i + 1) % n]);
+                if (a[1] > q[1]) != (b[1] > q[1]) {
+                    let x = a[0] + (q[1] - a[1]) / (b[1] - a[1]) * (b[0] - a[0]);
+                    if q[0] < x {
+                        inside = !inside;
+                    }
+                }
+            }
+            inside
+        })
+    }
+}
+
+/// Every vertex and wire point of a [`Net`] as a node of one graph (consecutive points joined), for
+/// radius queries and walks along the centerlines. Nodes `0..nodes.len()` are the vertices.
+struct Samples {
+    pos: Vec<[f64; 2]>,
+    width: Vec<f64>,
+    /// For wire-interior samples: (wire, point index).
+    place: Vec<Option<(usize, usize)>>,
+    offsets: Vec<u32>,
+    neighbors: Vec<u32>,
+    grid: PointGrid,
+}
+
+impl Samples {
+    fn new(net: &Net) -> Samples {
+        let mut pos: Vec<[f64; 2]> = net.nodes.iter().map(|n| n.pos).collect();
+        let mut width: Vec<f64> = net.nodes.iter().map(|n| n.width).collect();
+        let mut place = vec![None; pos.len()];
+        let mut links = Vec::new();
+        for (w, wire) in net.wires.iter().enumerate().filter(|(_, w)| w.alive) {
+            let last = wire.points.len() - 1;
+            let mut prev = wire.from;
+            for i in 1..last {
+                let id = pos.len();
+                pos.push(wire.points[i]);
+                width.push(wire.widths[i]);
+                place.push(Some((w, i)));
+                links.push((prev, id));
+                prev = id;
+            }
+            links.push((prev, wire.to));
+        }
+        let mut offsets = vec![0u32; pos.len() + 1];
+        for &(a, b) in &links {
+            offsets[a + 1] += 1;
+            offsets[b + 1] += 1;
+        }
+        for i in 0..pos.len() {
+            offsets[i + 1] += offsets[i];
+        }
+        let mut fill = offsets.clone();
+        let mut neighbors = vec![0u32; offsets[pos.len()] as usize];
+        for &(a, b) in &links {
+            neighbors[fill[a] as usize] = b as u32;
+            fill[a] += 1;
+            neighbors[fill[b] as usize] = a as u32;
+            fill[b] += 1;
+        }
+        // Only live vertices and wire points are searched.
+        let searchable: Vec<[f64; 2]> = pos
+            .iter()
+            .enumerate()
+            .map(|(i, &p)| {
+                let live = i >= net.nodes.len() || net.nodes[i].alive;
+                if live {
+                    p
+                } else {
+                    [f64::NAN, f64::NAN]
+                }
+            })
+            .collect();
+        let grid = PointGrid::new(&searchable, 2.0);
+        Samples { pos, width, place, offsets, neighbors, grid }
+    }
+
+    fn wire_of(&self, s: usize) -> Option<(usize, usize)> {
+        self.place[s]
+    }
+}
+
+/// Bounded shortest paths along the centerlines, reusing its buffers between searches.
+struct Dijkstra {
+    distance: Vec<f64>,
+    previous: Vec<usize>,
+    touched: Vec<usize>,
+    heap: BinaryHeap<Reached>,
+}
+
+#[derive(PartialEq)]
+struct Reached(f64, usize);
+
+impl Eq for Reached {}
+
+impl PartialOrd for Reached {
+    fn partial_cmp(&self, other: &Self) -> Option<Ordering> {
+        Some(self.cmp(other))
+    }
+}
+
+impl Ord for Reached {
+    fn cmp(&self, other: &Self) -> Ordering {
+        // Min-heap on distance.
+        other.0.total_cmp(&self.0).then(other.1.cmp(&self.1))
+    }
+}
+
+impl Dijkstra {
+    fn new(n: usize) -> Self {
+        Dijkstra {
+            distance: vec![f64::INFINITY; n],
+            previous: vec![usize::MAX; n],
+            touched: Vec::new(),
+            heap: BinaryHeap::new(),
+        }
+    }
+
+    fn run(&mut self, samples: &Samples, source: usize, limit: f64) {
+        for &t in &self.touched {
+            self.distance[t] = f64::INFINITY;
+        }
+        self.touched.clear();
+        self.heap.clear();
+        self.distance[source] = 0.0;
+        self.previous[source] = usize::MAX;
+        self.touched.push(source);
+        self.heap.push(Reached(0.0, source));
+        while let Some(Reached(d, v)) = self.heap.pop() {
+            if d > self.distance[v] {
+                continue;
+            }
+            for &u in
+                &samples.neighbors[samples.offsets[v] as usize..samples.offsets[v + 1] as usize]
+            {
+                let u = u as usize;
+                let next = d + dist(samples.pos[v], samples.pos[u]);
+                if next < self.distance[u] && next <= limit {
+                    if self.distance[u].is_infinite() {
+                        self.touched.push(u);
+                    }
+                    self.distance[u] = next;
+                    self.previous[u] = v;
+                    self.heap.push(Reached(next, u));
+                }
+            }
+        }
+    }
+
+    fn distance(&self, s: usize) -> f64 {
+        self.distance[s]
+    }
+
+    /// The positions along the shortest path from `s` back to the source (`s` reached).
+    fn path(&self, samples: &Samples, mut s: usize) -> Vec<[f64; 2]> {
+        let mut out = vec![samples.pos[s]];
+        while self.previous[s] != usize::MAX {
+            s = self.previous[s];
+            out.push(samples.pos[s]);
+        }
+        out
+    }
+}
+
+struct UnionFind {
+    parent: Vec<usize>,
+}
+
+impl UnionFind {
+    fn new(n: usize) -> Self {
+        UnionFind { parent: (0..n).collect() }
+    }
+
+    fn find(&mut self, mut x: usize) -> usize {
+        while self.parent[x] != x {
+            self.parent[x] = self.parent[self.parent[x]];
+            x = self.parent[x];
+        }
+        x
+    }
+
+    /// Unites two sets; the smaller root becomes the representative (deterministic).
+    fn union(&mut self, a: usize, b: usize) {
+        let (a, b) = (self.find(a), self.find(b));
+        if a != b {
+            let (lo, hi) = (a.min(b), a.max(b));
+            self.parent[hi] = lo;
+        }
+    }
+}

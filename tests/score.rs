@@ -1,0 +1,425 @@
+//! The quality scorer: the truth scored against itself is perfect, and known damage to a
+//! prediction lowers the score that measures it.
+
+use ridgeline::score::{aggregate, normalize, score, truth_graph, Scores};
+use ridgeline::synth::{render, Case, Stroke};
+use ridgeline::{Edge, StrokeGraph, Vertex};
+
+fn case(name: &str, strokes: Vec<Stroke>, width: u32, height: u32) -> Case {
+    Case {
+        name: name.to_string(),
+        group: "hard".to_string(),
+        binary: render(&strokes, width, height),
+        strokes,
+    }
+}
+
+fn line(a: [f64; 2], b: [f64; 2], w: f64) -> Stroke {
+    Stroke::new(vec![a, b], w)
+}
+
+/// A line through `center` at `angle` degrees, `half` long on each side.
+fn through(center: [f64; 2], angle: f64, half: f64, w: f64) -> Stroke {
+    let (s, c) = angle.to_radians().sin_cos();
+    line(
+        [center[0] - half * c, center[1] - half * s],
+        [center[0] + half * c, center[1] + half * s],
+        w,
+    )
+}
+
+fn circle(center: [f64; 2], radius: f64, w: f64) -> Stroke {
+    let n = 72;
+    let points = (0..=n)
+        .map(|k| {
+            let a = std::f64::consts::TAU * (k % n) as f64 / n as f64;
+            [center[0] + radius * a.cos(), center[1] + radius * a.sin()]
+        })
+        .collect();
+    Stroke::new(points, w)
+}
+
+/// Hand-made cases covering every rule of the truth: crossings, T's (touching at the centerline
+/// and at the ink's edge), overshooting tails, several ends at one point, loops, self-touching
+/// and self-crossing strokes, strokes that nearly touch.
+fn cases() -> Vec<Case> {
+    let mut out = Vec::new();
+    for (angle, w) in [(90.0, 6.0), (45.0, 8.0), (30.0, 5.0), (15.0, 4.0)] {
+        out.push(case(
+            &format!("x{angle}_w{w}"),
+            vec![through([50.0, 50.0], 0.0, 40.0, w), through([50.0, 50.0], angle, 40.0, w)],
+            100,
+            100,
+        ));
+    }
+    out.push(case(
+        "t_center",
+        vec![line([10.0, 20.0], [90.0, 20.0], 6.0), line([50.0, 20.0], [50.0, 80.0], 6.0)],
+        100,
+        100,
+    ));
+    out.push(case(
+        "t_edge",
+        vec![line([10.0, 20.0], [90.0, 20.0], 6.0), line([50.0, 80.0], [50.0, 23.5], 5.0)],
+        100,
+        100,
+    ));
+    out.push(case(
+        "t_overshoot",
+        vec![line([10.0, 20.0], [90.0, 20.0], 8.0), line([50.0, 80.0], [50.0, 17.0], 4.0)],
+        100,
+        100,
+    ));
+    let c = [50.0, 50.0];
+    out.push(case(
+        "plus_of_four",
+        [[50.0, 10.0], [90.0, 50.0], [50.0, 90.0], [10.0, 50.0]]
+            .iter()
+            .map(|&p| line(c, p, 6.0))
+            .collect(),
+        100,
+        100,
+    ));
+    out.push(case(
+        "star6",
+        (0..6)
+            .map(|k| {
+                let a = (k as f64 * 60.0 + 10.0).to_radians();
+                line(c, [c[0] + 40.0 * a.cos(), c[1] + 40.0 * a.sin()], 5.0)
+            })
+            .collect(),
+        100,
+        100,
+    ));
+    out.push(case(
+        "k",
+        vec![
+            line([20.0, 10.0], [20.0, 90.0], 5.0),
+            line([80.0, 10.0], [20.0, 55.0], 5.0),
+            line([20.0, 55.0], [80.0, 90.0], 5.0),
+        ],
+        100,
+        100,
+    ));
+    out.push(case(
+        "v_corner",
+        vec![line([20.0, 10.0], [50.0, 90.0], 5.0), line([50.0, 90.0], [80.0, 10.0], 5.0)],
+        100,
+        100,
+    ));
+    out.push(case("circle", vec![circle([50.0, 50.0], 30.0, 5.0)], 100, 100));
+    out.push(case(
+        "circle_cross",
+        vec![
+            circle([50.0, 50.0], 30.0, 5.0),
+            through([50.0, 50.0], 45.0, 40.0, 5.0),
+            through([50.0, 50.0], 135.0, 40.0, 5.0),
+        ],
+        100,
+        100,
+    ));
+    // A figure-8: one closed stroke crossing itself once.
+    let eight: Vec<[f64; 2]> = (0..=96)
+        .map(|k| {
+            let t = std::f64::consts::TAU * (k % 96) as f64 / 96.0;
+            [50.0 + 35.0 * t.sin(), 50.0 + 25.0 * (2.0 * t).sin()]
+        })
+        .collect();
+    out.push(case("figure8", vec![Stroke::new(eight, 5.0)], 100, 100));
+    // An 'e': the stroke starts on the bowl it draws later.
+    out.push(case(
+        "e",
+        vec![Stroke::new(
+            vec![
+                [20.0, 50.0],
+                [80.0, 50.0],
+                [80.0, 40.0],
+                [65.0, 22.0],
+                [40.0, 22.0],
+                [24.0, 35.0],
+                [20.0, 50.0],
+                [24.0, 68.0],
+                [45.0, 80.0],
+                [80.0, 72.0],
+            ],
+            5.0,
+        )],
+        100,
+        100,
+    ));
+    out.push(case(
+        "near_touch",
+        vec![line([10.0, 20.0], [90.0, 20.0], 5.0), line([50.0, 80.0], [50.0, 27.0], 5.0)],
+        100,
+        100,
+    ));
+    out.push(case(
+        "parallel",
+        vec![line([10.0, 20.0], [90.0, 20.0], 4.0), line([10.0, 27.0], [90.0, 27.0], 4.0)],
+        100,
+        60,
+    ));
+    out.push(case(
+        "hash",
+        vec![
+            line([30.0, 10.0], [30.0, 90.0], 5.0),
+            line([70.0, 10.0], [70.0, 90.0], 5.0),
+            line([10.0, 30.0], [90.0, 30.0], 5.0),
+            line([10.0, 70.0], [90.0, 70.0], 5.0),
+        ],
+        100,
+        100,
+    ));
+    out.push(case(
+        "widening",
+        vec![Stroke {
+            points: vec![[10.0, 50.0], [50.0, 45.0], [90.0, 50.0]],
+            widths: vec![3.0, 6.0, 9.0],
+        }],
+        100,
+        100,
+    ));
+    out
+}
+
+fn assert_perfect(s: &Scores) {
+    let name = &s.case;
+    for k in 0..3 {
+        assert_eq!(s.f1[k], 1.0, "{name}: F1 at tau index {k}");
+    }
+    assert!(s.hausdorff < 0.5, "{name}: hausdorff {}", s.hausdorff);
+    assert_eq!(s.junction_precision, 1.0, "{name}: junction precision");
+    assert_eq!(s.junction_recall, 1.0, "{name}: junction recall");
+    assert!(s.crossings.iter().all(|c| c.correct), "{name}: crossings {:?}", s.crossings);
+    assert_eq!(s.spurious_endpoints, 0, "{name}: spurs");
+    assert_eq!(s.endpoint_recall, 1.0, "{name}: endpoint recall");
+    assert!(s.components_exact && s.cycles_exact, "{name}: components/cycles {s:?}");
+}
+
+/// Degrees of the truth's vertices, sorted, and its cycle count.
+fn shape(c: &Case) -> (Vec<usize>, usize) {
+    let t = truth_graph(c);
+    let mut degrees: Vec<usize> = t.vertices.iter().map(|v| v.degree).collect();
+    degrees.sort_unstable();
+    (degrees, t.cycles())
+}
+
+#[test]
+fn truth_scored_against_itself_is_perfect() {
+    let mut all = Vec::new();
+    for c in cases() {
+        let truth = truth_graph(&c);
+        truth.validate().unwrap_or_else(|e| panic!("{}: {e}", c.name));
+        let s = score(&c, &truth, &truth);
+        assert_perfect(&s);
+        all.push(s);
+    }
+    let group = aggregate(&all);
+    assert_eq!(group.cases, all.len());
+    assert_eq!(group.f1, [1.0; 3]);
+    assert_eq!(group.crossing_accuracy, Some(1.0));
+    assert_eq!(group.shallow_crossing_accuracy, Some(1.0));
+    assert_eq!(group.components_exact, 1.0);
+}
+
+#[test]
+fn truth_follows_the_ink() {
+    let by_name = |name: &str| cases().into_iter().find(|c| c.name == name).unwrap();
+    // Crossings are degree-4 vertices, whatever the angle.
+    for name in ["x90_w6", "x45_w8", "x30_w5", "x15_w4"] {
+        assert_eq!(shape(&by_name(name)), (vec![1, 1, 1, 1, 4], 0), "{name}");
+    }
+    // A stem ending on the bar's centerline, at its ink's edge, or a little past it: a T.
+    for name in ["t_center", "t_edge", "t_overshoot"] {
+        assert_eq!(shape(&by_name(name)), (vec![1, 1, 1, 3], 0), "{name}");
+    }
+    // Four strokes from one point: one degree-4 vertex; six: degree 6; two T's at one point: 4.
+    assert_eq!(shape(&by_name("plus_of_four")), (vec![1, 1, 1, 1, 4], 0));
+    assert_eq!(shape(&by_name("star6")), (vec![1, 1, 1, 1, 1, 1, 6], 0));
+    assert_eq!(shape(&by_name("k")), (vec![1, 1, 1, 1, 4], 0));
+    // Two strokes sharing an end are one stroke with a corner.
+    assert_eq!(shape(&by_name("v_corner")), (vec![1, 1], 0));
+    assert_eq!(shape(&by_name("circle")), (vec![2], 1));
+    assert_eq!(shape(&by_name("figure8")), (vec![4], 2));
+    assert_eq!(shape(&by_name("e")), (vec![1, 3], 1));
+    // The circle with a cross: 4 crossings on the circle and one in the middle.
+    assert_eq!(shape(&by_name("circle_cross")), (vec![1, 1, 1, 1, 4, 4, 4, 4, 4], 4));
+    // Inks 2 px apart do not touch.
+    assert_eq!(truth_graph(&by_name("near_touch")).components(), 2);
+    assert_eq!(truth_graph(&by_name("parallel")).components(), 2);
+}
+
+fn shifted(g: &StrokeGraph, d: [f64; 2]) -> StrokeGraph {
+    let mut out = g.clone();
+    let mv = |p: &mut [f64; 2]| {
+        p[0] += d[0];
+        p[1] += d[1];
+    };
+    out.vertices.iter_mut().for_each(|v| mv(&mut v.pos));
+    out.edges.iter_mut().for_each(|e| e.points.iter_mut().for_each(mv));
+    out
+}
+
+#[test]
+fn shift_by_one_and_a_half_pixels() {
+    let c = case(
+        "bars",
+        vec![
+            line([10.0, 20.0], [90.0, 20.0], 5.0),
+            line([10.0, 40.0], [90.0, 40.0], 5.0),
+            line([10.0, 60.0], [90.0, 62.0], 5.0),
+        ],
+        100,
+        100,
+    );
+    let truth = truth_graph(&c);
+    let s = score(&c, &truth, &shifted(&truth, [0.0, 1.5]));
+    assert!(s.f1[0] < 0.5, "F1@1 {}", s.f1[0]);
+    assert_eq!(s.f1[1], 1.0);
+    assert!((s.chamfer - 1.5).abs() < 0.1, "chamfer {}", s.chamfer);
+}
+
+#[test]
+fn deleting_an_edge_lowers_recall() {
+    let c = cases().into_iter().find(|c| c.name == "hash").unwrap();
+    let truth = truth_graph(&c);
+    let mut damaged = truth.clone();
+    let longest = (0..damaged.edges.len())
+        .max_by(|&a, &b| damaged.edges[a].length().total_cmp(&damaged.edges[b].length()))
+        .unwrap();
+    let e = damaged.edges.remove(longest);
+    damaged.vertices[e.from].degree -= 1;
+    damaged.vertices[e.to].degree -= 1;
+    let s = score(&c, &truth, &damaged);
+    assert!(s.recall[1] < 0.95, "recall {}", s.recall[1]);
+    assert_eq!(s.precision[1], 1.0);
+    assert!(!s.cycles_exact);
+}
+
+/// Replaces the degree-4 vertex of an X by two Y's joined by a bridge 6 px long, the way thinning
+/// draws a crossing: each Y takes two neighbouring arms and sits 3 px out between them.
+fn two_ys(truth: &StrokeGraph) -> StrokeGraph {
+    let x = truth.vertices.iter().position(|v| v.degree == 4).unwrap();
+    let c = truth.vertices[x].pos;
+    let mut out = truth.clone();
+    // Each arm: (angle, edge, at start).
+    let mut arms: Vec<(f64, usize, bool)> = Vec::new();
+    for (i, e) in out.edges.iter().enumerate() {
+        for at_start in [true, false] {
+            if (at_start && e.from == x) || (!at_start && e.to == x) {
+                let k = if at_start { 1 } else { e.points.len() - 2 };
+                let d = [e.points[k][0] - c[0], e.points[k][1] - c[1]];
+                arms.push((d[1].atan2(d[0]), i, at_start));
+            }
+        }
+    }
+    arms.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let first = out.vertices.len();
+    for pair in arms.chunks(2) {
+        let mid = [(pair[0].0.cos() + pair[1].0.cos()), (pair[0].0.sin() + pair[1].0.sin())];
+        let n = mid[0].hypot(mid[1]);
+        let pos = [c[0] + 3.0 * mid[0] / n, c[1] + 3.0 * mid[1] / n];
+        let y = out.vertices.len();
+        out.vertices.push(Vertex { pos, degree: 3, width: truth.vertices[x].width });
+        for &(_, i, at_start) in pair {
+            let e = &mut out.edges[i];
+            if at_start {
+                e.from = y;
+                e.points[0] = pos;
+            } else {
+                e.to = y;
+                let last = e.points.len() - 1;
+                e.points[last] = pos;
+            }
+        }
+    }
+    out.vertices[x].degree = 0;
+    let (a, b) = (out.vertices[first].pos, out.vertices[first + 1].pos);
+    out.edges.push(Edge {
+        from: first,
+        to: first + 1,
+        points: vec![a, b],
+        widths: vec![5.0; 2],
+        directions: vec![[1.0, 0.0]; 2],
+    });
+    out.validate().unwrap();
+    out
+}
+
+#[test]
+fn two_ys_for_an_x_fail_the_crossing() {
+    for name in ["x90_w6", "x45_w8"] {
+        let c = cases().into_iter().find(|c| c.name == name).unwrap();
+        let truth = truth_graph(&c);
+        let s = score(&c, &truth, &two_ys(&truth));
+        assert_eq!(s.crossing_accuracy, Some(0.0), "{name}");
+        assert!(s.junction_precision < 1.0, "{name}");
+        // The geometry barely changes.
+        assert!(s.f1[2] > 0.95, "{name}: F1@3 {}", s.f1[2]);
+    }
+}
+
+#[test]
+fn prediction_is_normalized_with_one_pixel_tolerance() {
+    // Two polylines crossing without a vertex, and a stem stopping 0.8 px short of a bar.
+    let edge = |a: [f64; 2], b: [f64; 2], from, to| Edge {
+        from,
+        to,
+        points: vec![a, b],
+        widths: vec![5.0; 2],
+        directions: vec![[1.0, 0.0]; 2],
+    };
+    let vertex = |pos| Vertex { pos, degree: 1, width: 5.0 };
+    let g = StrokeGraph {
+        width: 100,
+        height: 100,
+        vertices: [
+            [10.0, 50.0],
+            [90.0, 50.0],
+            [50.0, 10.0],
+            [50.0, 90.0],
+            [70.0, 50.8],
+            [70.0, 80.0],
+        ]
+        .into_iter()
+        .map(vertex)
+        .collect(),
+        edges: vec![
+            edge([10.0, 50.0], [90.0, 50.0], 0, 1),
+            edge([50.0, 10.0], [50.0, 90.0], 2, 3),
+            edge([70.0, 50.8], [70.0, 80.0], 4, 5),
+        ],
+    };
+    let n = normalize(&case("blank", vec![], 100, 100), &g);
+    n.validate().unwrap();
+    let mut degrees: Vec<usize> = n.vertices.iter().map(|v| v.degree).collect();
+    degrees.sort_unstable();
+    assert_eq!(degrees, vec![1, 1, 1, 1, 1, 3, 4]);
+}
+
+#[test]
+fn broken_predictions_do_not_panic() {
+    let c = cases().into_iter().next().unwrap();
+    let truth = truth_graph(&c);
+    let empty = StrokeGraph::default();
+    let s = score(&c, &truth, &empty);
+    assert_eq!(s.f1, [0.0; 3]);
+    assert_eq!(s.junction_recall, 0.0);
+    let mut bad = truth.clone();
+    bad.edges[0].to = 999;
+    bad.edges[1].points = vec![[f64::NAN, 1.0], [2.0, 2.0]];
+    bad.edges[2].points.truncate(1);
+    let s = score(&c, &truth, &bad);
+    assert!(s.recall[1] < 1.0);
+}
+
+#[test]
+fn truth_of_every_generated_case_scored_against_itself_is_perfect() {
+    let cases = ridgeline::synth::all_cases();
+    assert!(!cases.is_empty());
+    for c in &cases {
+        let truth = truth_graph(c);
+        truth.validate().unwrap_or_else(|e| panic!("{}: {e}", c.name));
+        assert_perfect(&score(c, &truth, &truth));
+    }
+}

@@ -177,7 +177,11 @@ fn source(points: &PointSet, owned: &Groups, site: [f64; 2], near: &[u32; 2]) ->
         &near[..]
     };
     for &old in pair {
-        for &p in owned.of(old as usize) {
+        // A node of a huge blob can own millions of points; a regular subsample keeps this
+        // bounded (the search from the source corrects a slightly farther start).
+        let members = owned.of(old as usize);
+        let stride = members.len().div_ceil(2048).max(1);
+        for &p in members.iter().step_by(stride) {
             let q = points.points[p as usize];
             let d = (q[0] - site[0]).powi(2) + (q[1] - site[1]).powi(2);
             let closer = match best {

@@ -15,6 +15,7 @@
 
 mod binary;
 mod error;
+mod mask;
 mod node_graph;
 mod params;
 mod point_set;

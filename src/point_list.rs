@@ -1,10 +1,268 @@
-//! Point-list input: parse `x y` lines or CSV and build the point set with k-d tree neighbours.
+//! Point-list input, the paper's own setting: parse `x y` lines or CSV and build the point set with
+//! symmetric k-nearest-neighbour graphs from a k-d tree (§3.2: `k = 5`), `Dis_ave`, and a
+//! half-width from a distance transform on a raster of the points.
 
-use crate::{Params, PointSet, Result};
+use std::num::NonZero;
 
-/// Builds the point set for a list of points.
-pub fn point_set(_list: &[[f64; 2]], _params: &Params) -> Result<PointSet> {
-    todo!("point list")
+use kiddo::{ImmutableKdTree, SquaredEuclidean};
+use rayon::prelude::*;
+
+use crate::mask::{close3, ink_row_starts, squared_distance_rows, tiny_hole_pixels};
+use crate::{Error, Params, PointSet, Result};
+
+/// Coordinates are translated so the smallest is 0; an extent beyond this would overflow squared
+/// distances.
+const MAX_EXTENT: f64 = 1e150;
+/// Largest dense raster for the half-width, in cells, on top of a share per point. Beyond it
+/// (points spread thinly over a huge extent) a sparse search gives the same values.
+const DENSE_CELLS_BASE: u64 = 1 << 22;
+/// Dense raster cells allowed per point.
+const DENSE_CELLS_PER_POINT: u64 = 32;
+
+/// Parses a point list: one point per line, two numbers separated by spaces, tabs, `,` or `;`.
+/// Blank lines and `#` comments are skipped, and so is one header line (no number in it) before
+/// the first point. Any other line that is not exactly two finite numbers is an
+/// [`Error::PointParse`] naming its line.
+pub fn parse(text: &str) -> Result<Vec<[f64; 2]>> {
+    let text = text.strip_prefix('\u{feff}').unwrap_or(text);
+    let mut list = Vec::new();
+    let mut header_allowed = true;
+    for (i, raw) in text.lines().enumerate() {
+        let line = i + 1;
+        let content = raw.split('#').next().unwrap_or("").trim();
+        if content.is_empty() {
+            continue;
+        }
+        let fields: Vec<&str> = content
+            .split(|c: char| c == ',' || c == ';' || c.is_whitespace())
+            .filter(|f| !f.is_empty())
+            .collect();
+        let numbers: Vec<Option<f64>> = fields.iter().map(|f| f.parse::<f64>().ok()).collect();
+        if header_allowed && numbers.iter().all(Option::is_none) {
+            header_allowed = false;
+            continue;
+        }
+        header_allowed = false;
+        if fields.len() != 2 {
+            return Err(Error::PointParse {
+                line,
+                message: format!("expected 2 numbers (x y), found {} values", fields.len()),
+            });
+        }
+        let mut point = [0.0; 2];
+        for (k, (field, number)) in fields.iter().zip(&numbers).enumerate() {
+            let value = number.ok_or_else(|| Error::PointParse {
+                line,
+                message: format!("'{field}' is not a number"),
+            })?;
+            if !value.is_finite() {
+                return Err(Error::PointParse {
+                    line,
+                    message: format!("coordinate '{field}' is not finite"),
+                });
+            }
+            point[k] = value;
+        }
+        list.push(point);
+    }
+    Ok(list)
+}
+
+/// Builds the point set for a list of points: exact duplicates removed (the first occurrence kept,
+/// input order otherwise), symmetric `k`-nearest-neighbour lists, `Dis_ave`, and half-widths.
+/// Output coordinates are the input's.
+pub fn point_set(list: &[[f64; 2]], params: &Params) -> Result<PointSet> {
+    if list.len() as u64 > params.limits.max_points {
+        return Err(Error::Limit {
+            what: "points",
+            actual: list.len() as u64,
+            limit: params.limits.max_points,
+            flag: "--max-points",
+        });
+    }
+    if let Some(i) = list.iter().position(|p| !(p[0].is_finite() && p[1].is_finite())) {
+        return Err(Error::PointParse {
+            line: i + 1,
+            message: format!("point {} ({}, {}) is not finite", i + 1, list[i][0], list[i][1]),
+        });
+    }
+    let points = without_duplicates(list);
+    let n = points.len();
+    if n == 0 {
+        return Ok(PointSet { offsets: vec![0], spacing: 1.0, ..PointSet::default() });
+    }
+
+    // Work in coordinates translated to the origin: the tree and the raster then see numbers of
+    // the size of the extent, not of the offset.
+    let min = points.iter().fold([f64::INFINITY; 2], |m, p| [m[0].min(p[0]), m[1].min(p[1])]);
+    let local: Vec<[f64; 2]> = points.iter().map(|p| [p[0] - min[0], p[1] - min[1]]).collect();
+    let extent = local.iter().fold(0.0f64, |m, p| m.max(p[0]).max(p[1]));
+    if !(extent <= MAX_EXTENT) {
+        return Err(Error::InvalidParams(format!(
+            "the points span {extent:e} units; at most {MAX_EXTENT:e} is supported"
+        )));
+    }
+
+    let k = params.k.min(n - 1);
+    let (offsets, neighbors, spacing) = if k == 0 {
+        (vec![0; n + 1], Vec::new(), 1.0)
+    } else {
+        nearest_neighbours(&local, k)?
+    };
+    let half_width = half_widths(&local, spacing, params);
+    Ok(PointSet {
+        points,
+        half_width,
+        offsets,
+        neighbors,
+        spacing,
+        dropout: false,
+        grid: None,
+    })
+}
+
+/// Drops exact repeats, keeping the first occurrence; `-0.0` equals `0.0`.
+fn without_duplicates(list: &[[f64; 2]]) -> Vec<[f64; 2]> {
+    let normal: Vec<[f64; 2]> = list.iter().map(|p| [p[0] + 0.0, p[1] + 0.0]).collect();
+    let mut order: Vec<u32> = (0..normal.len() as u32).collect();
+    let key = |i: u32| normal[i as usize];
+    order.par_sort_unstable_by(|&a, &b| {
+        let (p, q) = (key(a), key(b));
+        p[0].total_cmp(&q[0]).then(p[1].total_cmp(&q[1])).then(a.cmp(&b))
+    });
+    let mut keep = vec![true; normal.len()];
+    for pair in order.windows(2) {
+        if key(pair[0]) == key(pair[1]) {
+            keep[pair[1] as usize] = false;
+        }
+    }
+    normal.into_iter().zip(keep).filter(|(_, k)| *k).map(|(p, _)| p).collect()
+}
+
+/// Symmetric k nearest neighbours (§3.2) as CSR, and `Dis_ave` (mean nearest-neighbour distance).
+/// Needs `1 <= k < points.len()` and distinct points.
+fn nearest_neighbours(points: &[[f64; 2]], k: usize) -> Result<(Vec<u32>, Vec<u32>, f64)> {
+    let n = points.len();
+    // The immutable tree: the mutable one fails on collinear or repeated coordinates (DESIGN,
+    // crates).
+    let tree: ImmutableKdTree<f64, 2> = ImmutableKdTree::new_from_slice(points)
+        .map_err(|e| Error::InvalidParams(format!("cannot index the points: {e:?}")))?;
+    let wanted = NonZero::new(k + 1).unwrap_or(NonZero::<usize>::MIN);
+    let mut lists = vec![u32::MAX; n * k];
+    let nearest: Vec<f64> = lists
+        .par_chunks_mut(k)
+        .enumerate()
+        .map(|(i, list)| {
+            let mut found = tree.query(&points[i]).nearest_n::<SquaredEuclidean<f64>>(wanted).execute();
+            // Ties at equal distance are ordered by index so the choice never depends on the
+            // tree's layout.
+            found.retain(|r| r.item as usize != i);
+            found.sort_by(|a, b| a.distance.total_cmp(&b.distance).then(a.item.cmp(&b.item)));
+            for (slot, r) in list.iter_mut().zip(&found) {
+                *slot = r.item;
+            }
+            found.first().map_or(0.0, |r| r.distance.sqrt())
+        })
+        .collect();
+    let spacing = nearest.iter().sum::<f64>() / n as f64;
+
+    // Both directions of every k-nearest pair, sorted: the CSR of the symmetric relation.
+    let mut pairs: Vec<(u32, u32)> = Vec::with_capacity(2 * n * k);
+    for (i, list) in lists.chunks(k).enumerate() {
+        for &j in list.iter().filter(|&&j| j != u32::MAX) {
+            pairs.push((i as u32, j));
+            pairs.push((j, i as u32));
+        }
+    }
+    pairs.par_sort_unstable();
+    pairs.dedup();
+    let mut offsets = vec![0u32; n + 1];
+    for &(i, _) in &pairs {
+        offsets[i as usize + 1] += 1;
+    }
+    for i in 0..n {
+        offsets[i + 1] += offsets[i];
+    }
+    let neighbors = pairs.into_iter().map(|(_, j)| j).collect();
+    Ok((offsets, neighbors, spacing))
+}
+
+/// Half-widths for points without a pixel grid: rasterize the points onto cells of side `Dis_ave`
+/// and run the image path's distance transform there. A strip sampled at spacing `Dis_ave` fills
+/// about one cell per point, so the distance in cells from a point's cell to the nearest empty cell
+/// counts point spacings to the strip's edge, and scaling by `Dis_ave` puts it back in the
+/// coordinates' unit. For pixel centers listed as points this is exactly the image path.
+fn half_widths(points: &[[f64; 2]], spacing: f64, params: &Params) -> Vec<f32> {
+    let cell_of = |p: &[f64; 2]| -> (i64, i64) {
+        // Cells centered on the lattice through the origin, so points on a lattice of step
+        // `Dis_ave` land in consecutive cells despite rounding noise.
+        ((p[0] / spacing + 0.5).floor() as i64, (p[1] / spacing + 0.5).floor() as i64)
+    };
+    let cells: Vec<(i64, i64)> = points.iter().map(cell_of).collect();
+    let width = cells.iter().map(|c| c.0).max().unwrap_or(0) as u64 + 1;
+    let height = cells.iter().map(|c| c.1).max().unwrap_or(0) as u64 + 1;
+    let area = width.saturating_mul(height);
+    let cap = DENSE_CELLS_BASE
+        .saturating_add(DENSE_CELLS_PER_POINT.saturating_mul(points.len() as u64))
+        .min(params.limits.max_pixels);
+    let scale = spacing as f32;
+    if area <= cap {
+        let (w, h) = (width as usize, height as usize);
+        let mut ink = vec![false; w * h];
+        for &(x, y) in &cells {
+            ink[y as usize * w + x as usize] = true;
+        }
+        // Dropout mode's rule: gaps between unevenly spread samples are closed as in images.
+        let occupied = ink.iter().filter(|&&b| b).count();
+        let close = params.dropout.unwrap_or_else(|| {
+            tiny_hole_pixels(&ink, w, h) as f64 > params.dropout_fraction * occupied as f64
+        });
+        if close {
+            ink = close3(&ink, w, h);
+        }
+        let starts = ink_row_starts(&ink, w, h);
+        let mut distance = vec![0f32; starts[h]];
+        squared_distance_rows(&ink, w, h, &starts, &mut distance, |d2| (d2 as f64).sqrt() as f32);
+        // Rank of each ink cell in raster order = its slot in `distance`.
+        let mut rank = vec![u32::MAX; w * h];
+        let mut next = 0u32;
+        for (slot, &on) in rank.iter_mut().zip(&ink) {
+            if on {
+                *slot = next;
+                next += 1;
+            }
+        }
+        cells.iter().map(|&(x, y)| distance[rank[y as usize * w + x as usize] as usize] * scale).collect()
+    } else {
+        sparse_half_widths(&cells, scale)
+    }
+}
+
+/// The same distances as the dense raster (without closing), by searching square rings around
+/// each cell in a sorted list of the occupied cells.
+fn sparse_half_widths(cells: &[(i64, i64)], scale: f32) -> Vec<f32> {
+    let mut occupied: Vec<(i64, i64)> = cells.iter().map(|&(x, y)| (y, x)).collect();
+    occupied.par_sort_unstable();
+    occupied.dedup();
+    let empty = |x: i64, y: i64| x < 0 || y < 0 || occupied.binary_search(&(y, x)).is_err();
+    cells
+        .par_iter()
+        .map(|&(x, y)| {
+            let mut best = i64::MAX;
+            let mut r = 1i64;
+            while r * r < best {
+                for d in -r..=r {
+                    for (dx, dy) in [(d, -r), (d, r), (-r, d), (r, d)] {
+                        if empty(x + dx, y + dy) {
+                            best = best.min(dx * dx + dy * dy);
+                        }
+                    }
+                }
+                r += 1;
+            }
+            (best as f64).sqrt() as f32 * scale
+        })
+        .collect()
 }
 
 /// Image-like extent (width, height) covering all points.
@@ -24,4 +282,148 @@ pub fn extent(list: &[[f64; 2]]) -> (u32, u32) {
 /// Parses a point list: one point per line, `x y` or `x,y`.
 pub fn parse(_text: &str) -> Result<Vec<[f64; 2]>> {
     todo!("point list parse")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn parse_error(text: &str) -> (usize, String) {
+        match parse(text) {
+            Err(Error::PointParse { line, message }) => (line, message),
+            other => panic!("expected a parse error for {text:?}, got {other:?}"),
+        }
+    }
+
+    #[test]
+    fn parses_separators_comments_and_header() {
+        let text = "x,y\n# a comment\n1 2\n\n3,4\n5;6\n7\t8 # trailing\n -1.5e1 , 2.25 \r\n";
+        assert_eq!(
+            parse(text).unwrap(),
+            vec![[1.0, 2.0], [3.0, 4.0], [5.0, 6.0], [7.0, 8.0], [-15.0, 2.25]]
+        );
+        assert!(parse("").unwrap().is_empty());
+        assert!(parse("# only comments\n\n").unwrap().is_empty());
+    }
+
+    #[test]
+    fn parse_errors_name_the_line() {
+        assert_eq!(parse_error("1 2\n3 4 5\n").0, 2);
+        assert_eq!(parse_error("1 2\n3\n").0, 2);
+        let (line, message) = parse_error("x y\n1 2\n\n# c\n3 abc\n");
+        assert_eq!(line, 5);
+        assert!(message.contains("abc"), "{message}");
+        assert_eq!(parse_error("1 2\nNaN 3\n").0, 2);
+        assert_eq!(parse_error("inf 3\n").0, 1);
+        // Only one header, and only before the first point.
+        assert_eq!(parse_error("x y\nu v\n1 2\n").0, 2);
+        assert_eq!(parse_error("1 2\nx y\n").0, 2);
+    }
+
+    fn is_symmetric(set: &PointSet) -> bool {
+        (0..set.len() as u32).all(|i| set.neighbors_of(i).iter().all(|&j| set.neighbors_of(j).contains(&i)))
+    }
+
+    #[test]
+    fn knn_is_symmetric_and_contains_the_k_nearest() {
+        // A noisy arc.
+        let list: Vec<[f64; 2]> = (0..200)
+            .map(|i| {
+                let t = i as f64 * 0.03;
+                let jitter = ((i * 7919) % 13) as f64 * 0.01;
+                [100.0 * t.cos() + jitter, 100.0 * t.sin() - jitter]
+            })
+            .collect();
+        let params = Params::default();
+        let set = point_set(&list, &params).unwrap();
+        set.validate().unwrap();
+        assert!(is_symmetric(&set));
+        for i in 0..set.len() {
+            let p = set.points[i];
+            let mut by_distance: Vec<(f64, usize)> = (0..set.len())
+                .filter(|&j| j != i)
+                .map(|j| ((set.points[j][0] - p[0]).hypot(set.points[j][1] - p[1]), j))
+                .collect();
+            by_distance.sort_by(|a, b| a.0.total_cmp(&b.0));
+            let neighbours = set.neighbors_of(i as u32);
+            assert!(neighbours.len() >= params.k);
+            for &(_, j) in &by_distance[..params.k] {
+                assert!(neighbours.contains(&(j as u32)), "point {i} misses {j}");
+            }
+            // Sorted, no duplicates.
+            assert!(neighbours.windows(2).all(|w| w[0] < w[1]));
+        }
+        let mean_nn: f64 = (0..set.len())
+            .map(|i| {
+                let p = set.points[i];
+                (0..set.len())
+                    .filter(|&j| j != i)
+                    .map(|j| (set.points[j][0] - p[0]).hypot(set.points[j][1] - p[1]))
+                    .fold(f64::INFINITY, f64::min)
+            })
+            .sum::<f64>()
+            / set.len() as f64;
+        assert!((set.spacing - mean_nn).abs() < 1e-9);
+    }
+
+    #[test]
+    fn tiny_collinear_and_duplicate_inputs() {
+        let params = Params::default();
+        let empty = point_set(&[], &params).unwrap();
+        assert!(empty.is_empty());
+        empty.validate().unwrap();
+        let one = point_set(&[[3.0, -4.0]], &params).unwrap();
+        one.validate().unwrap();
+        assert_eq!(one.half_width, vec![1.0]);
+        let two = point_set(&[[0.0, 0.0], [0.0, 2.0]], &params).unwrap();
+        two.validate().unwrap();
+        assert_eq!(two.neighbors_of(0), &[1]);
+        assert_eq!(two.spacing, 2.0);
+        // Collinear with repeats and -0.0: duplicates go, first occurrence order kept.
+        let mut line: Vec<[f64; 2]> = (0..50).map(|i| [i as f64, 0.0]).collect();
+        line.push([3.0, -0.0]);
+        line.push([7.0, 0.0]);
+        line.insert(0, [49.0, 0.0]);
+        let set = point_set(&line, &params).unwrap();
+        set.validate().unwrap();
+        assert_eq!(set.len(), 50);
+        assert_eq!(set.points[0], [49.0, 0.0]);
+        assert_eq!(set.points[1], [0.0, 0.0]);
+        assert_eq!(set.spacing, 1.0);
+        assert!(set.half_width.iter().all(|&h| h == 1.0));
+        // All points at one spot.
+        let same = point_set(&[[5.0, 5.0]; 10], &params).unwrap();
+        assert_eq!(same.len(), 1);
+        // Non-finite input is refused.
+        assert!(matches!(point_set(&[[0.0, f64::NAN]], &params), Err(Error::PointParse { line: 1, .. })));
+    }
+
+    #[test]
+    fn large_and_negative_coordinates_keep_their_values() {
+        let list: Vec<[f64; 2]> = (0..30).map(|i| [-1e9 + i as f64 * 0.5, 1e9]).collect();
+        let set = point_set(&list, &Params::default()).unwrap();
+        assert_eq!(set.points, list);
+        assert!((set.spacing - 0.5).abs() < 1e-6);
+        assert!(set.half_width.iter().all(|&h| (h - 0.5).abs() < 1e-6));
+        let limits = crate::Limits { max_points: 10, ..crate::Limits::default() };
+        let params = Params { limits, ..Params::default() };
+        assert!(matches!(point_set(&list, &params), Err(Error::Limit { .. })));
+    }
+
+    #[test]
+    fn half_width_of_pixel_centers_matches_the_image_path() {
+        // A 5-px bar as pixel centers: center row 3, edges 1.
+        let list: Vec<[f64; 2]> = (0..5)
+            .flat_map(|y| (0..40).map(move |x| [x as f64 + 0.5, y as f64 + 10.5]))
+            .collect();
+        let set = point_set(&list, &Params { dropout: Some(false), ..Params::default() }).unwrap();
+        let at = |x: usize, y: usize| set.half_width[y * 40 + x];
+        assert_eq!(at(20, 2), 3.0);
+        assert_eq!(at(20, 0), 1.0);
+        assert_eq!(at(20, 1), 2.0);
+        // The sparse search gives the same values as the dense raster.
+        let cells: Vec<(i64, i64)> =
+            list.iter().map(|p| ((p[0] - 0.5) as i64, (p[1] - 10.5) as i64)).collect();
+        assert_eq!(sparse_half_widths(&cells, 1.0), set.half_width);
+    }
 }

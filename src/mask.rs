@@ -1,0 +1,369 @@
+//! Operations on foreground masks shared by both front ends (images and point lists): the exact
+//! Euclidean distance transform that gives each point its half-width, the 3x3 closing of dropout
+//! mode, and the count of tiny background holes that switches dropout mode on (design items 1, 11).
+//!
+//! Plain math on row-major `bool` masks; it knows nothing about stages.
+
+use rayon::prelude::*;
+
+/// Squared distance transform values at the ink pixels only, in raster order: entry `i` belongs to
+/// the `i`-th ink pixel of `ink`. Pixels outside the image count as background, so a 1-px line has 1 and
+/// the center of a 3-px line 2. See [`squared_distance_rows`].
+#[cfg(test)]
+pub(crate) fn ink_distances(ink: &[bool], width: usize, height: usize) -> Vec<f32> {
+    let row_starts = ink_row_starts(ink, width, height);
+    let mut half_width = vec![0f32; row_starts[height]];
+    squared_distance_rows(ink, width, height, &row_starts, &mut half_width, |d2| (d2 as f64).sqrt() as f32);
+    half_width
+}
+
+/// Prefix counts of ink per row: the ink pixels of row `y` are numbers
+/// `row_starts[y]..row_starts[y + 1]` in raster order. Has `height + 1` entries.
+pub(crate) fn ink_row_starts(ink: &[bool], width: usize, height: usize) -> Vec<usize> {
+    let counts: Vec<usize> = if width == 0 {
+        vec![0; height]
+    } else {
+        ink.par_chunks(width).map(|row| row.iter().filter(|&&b| b).count()).collect()
+    };
+    let mut starts = Vec::with_capacity(height + 1);
+    let mut total = 0;
+    starts.push(0);
+    for c in counts {
+        total += c;
+        starts.push(total);
+    }
+    starts
+}
+
+/// Splits `data` into consecutive pieces `starts[k]..starts[k + 1]` (so each row's share can be
+/// written in parallel).
+pub(crate) fn split_by<'a, T>(mut data: &'a mut [T], starts: &[usize]) -> Vec<&'a mut [T]> {
+    let mut pieces = Vec::with_capacity(starts.len().saturating_sub(1));
+    for w in starts.windows(2) {
+        let (head, tail) = std::mem::take(&mut data).split_at_mut(w[1] - w[0]);
+        pieces.push(head);
+        data = tail;
+    }
+    pieces
+}
+
+/// Exact squared Euclidean distance transform (Meijster et al. 2000), evaluated at the ink pixels:
+/// writes `value(d²)` for the `k`-th ink pixel of the image into `out[k]` (`out` has one entry per
+/// ink pixel; `row_starts` from [`ink_row_starts`]). Pixels outside the image are background.
+pub(crate) fn squared_distance_rows<T, F>(
+    ink: &[bool],
+    width: usize,
+    height: usize,
+    row_starts: &[usize],
+    out: &mut [T],
+    value: F,
+) where
+    T: Send,
+    F: Fn(u64) -> T + Sync,
+{
+    if width == 0 || height == 0 {
+        return;
+    }
+    // Column pass: g = vertical distance to the nearest background pixel in the column, with
+    // virtual background rows at -1 and `height`. Both sweeps run row by row so memory is
+    // touched in order.
+    let mut g = vec![0u32; width * height];
+    for x in 0..width {
+        g[x] = u32::from(ink[x]);
+    }
+    for y in 1..height {
+        let (above, row) = g[(y - 1) * width..(y + 1) * width].split_at_mut(width);
+        let ink_row = &ink[y * width..(y + 1) * width];
+        for x in 0..width {
+            row[x] = if ink_row[x] { above[x] + 1 } else { 0 };
+        }
+    }
+    for x in 0..width {
+        let last = (height - 1) * width + x;
+        g[last] = g[last].min(1);
+    }
+    for y in (0..height - 1).rev() {
+        let (row, below) = g[y * width..(y + 2) * width].split_at_mut(width);
+        for x in 0..width {
+            row[x] = row[x].min(below[x] + 1);
+        }
+    }
+
+    // Row pass, rows in parallel: each row writes only its own ink pixels' entries.
+    let pieces = split_by(out, row_starts);
+    pieces.into_par_iter().enumerate().for_each_init(
+        || (vec![0usize; width], vec![0i64; width], vec![0u64; width]),
+        |(s, t, row_d2), (y, piece)| {
+            if piece.is_empty() {
+                return;
+            }
+            let row_g = &g[y * width..(y + 1) * width];
+            envelope_row(row_g, s, t, row_d2);
+            let ink_row = &ink[y * width..(y + 1) * width];
+            let mut k = 0;
+            for x in 0..width {
+                if ink_row[x] {
+                    // Virtual background columns at -1 and `width`.
+                    let side = ((x + 1).min(width - x) as u64).pow(2);
+                    piece[k] = value(row_d2[x].min(side));
+                    k += 1;
+                }
+            }
+        },
+    );
+}
+
+/// One row of Meijster's second phase: `d2[x] = min_i (x - i)² + g(i)²`.
+fn envelope_row(g: &[u32], s: &mut [usize], t: &mut [i64], d2: &mut [u64]) {
+    let w = g.len();
+    let f = |x: usize, i: usize| -> i64 {
+        let dx = x as i64 - i as i64;
+        dx * dx + (g[i] as i64) * (g[i] as i64)
+    };
+    // Sep(i, u): first x where the parabola of u is below that of i (floor division).
+    let sep = |i: usize, u: usize| -> i64 {
+        let (ii, uu) = (i as i64, u as i64);
+        let (gi, gu) = (g[i] as i64, g[u] as i64);
+        (uu * uu - ii * ii + gu * gu - gi * gi).div_euclid(2 * (uu - ii))
+    };
+    let mut q: isize = 0;
+    s[0] = 0;
+    t[0] = 0;
+    for u in 1..w {
+        while q >= 0 && f(t[q as usize] as usize, s[q as usize]) > f(t[q as usize] as usize, u) {
+            q -= 1;
+        }
+        if q < 0 {
+            q = 0;
+            s[0] = u;
+        } else {
+            let boundary = 1 + sep(s[q as usize], u);
+            if boundary < w as i64 {
+                q += 1;
+                s[q as usize] = u;
+                t[q as usize] = boundary;
+            }
+        }
+    }
+    for u in (0..w).rev() {
+        d2[u] = f(u, s[q as usize]) as u64;
+        if u as i64 == t[q as usize] {
+            q -= 1;
+        }
+    }
+}
+
+/// The 3x3 morphological closing (dilation then erosion, square element) of dropout mode
+/// (design item 1): it bridges the one- and two-pixel gaps that random dropout leaves inside
+/// strokes, so the distance transform sees the stroke's full width. Computed on the image padded
+/// with one ring of background, so the result is the closing on an unbounded background plane,
+/// cropped: it contains `ink` and does not glue strokes to the image border.
+pub(crate) fn close3(ink: &[bool], width: usize, height: usize) -> Vec<bool> {
+    let (pw, ph) = (width + 2, height + 2);
+    let mut padded = vec![false; pw * ph];
+    for y in 0..height {
+        padded[(y + 1) * pw + 1..(y + 1) * pw + 1 + width].copy_from_slice(&ink[y * width..(y + 1) * width]);
+    }
+    let dilated = filter3(&padded, pw, ph, true);
+    let closed = filter3(&dilated, pw, ph, false);
+    let mut out = Vec::with_capacity(width * height);
+    for y in 0..height {
+        out.extend_from_slice(&closed[(y + 1) * pw + 1..(y + 1) * pw + 1 + width]);
+    }
+    out
+}
+
+/// Separable 3x3 max (`dilate`) or min filter over the pixels inside the image.
+fn filter3(mask: &[bool], width: usize, height: usize, dilate: bool) -> Vec<bool> {
+    let combine = |a: bool, b: bool| if dilate { a || b } else { a && b };
+    let mut horizontal = vec![false; mask.len()];
+    horizontal.par_chunks_mut(width.max(1)).zip(mask.par_chunks(width.max(1))).for_each(|(out, row)| {
+        for x in 0..width {
+            let mut v = row[x];
+            if x > 0 {
+                v = combine(v, row[x - 1]);
+            }
+            if x + 1 < width {
+                v = combine(v, row[x + 1]);
+            }
+            out[x] = v;
+        }
+    });
+    let mut result = vec![false; mask.len()];
+    result.par_chunks_mut(width.max(1)).enumerate().for_each(|(y, out)| {
+        let row = &horizontal[y * width..(y + 1) * width];
+        for x in 0..width {
+            let mut v = row[x];
+            if y > 0 {
+                v = combine(v, horizontal[(y - 1) * width + x]);
+            }
+            if y + 1 < height {
+                v = combine(v, horizontal[(y + 1) * width + x]);
+            }
+            out[x] = v;
+        }
+    });
+    result
+}
+
+/// Total pixel count of the background 4-connected components of at most 3 pixels that do not
+/// touch the image border: the specks random dropout punches into strokes (design items 1, 11).
+pub(crate) fn tiny_hole_pixels(ink: &[bool], width: usize, height: usize) -> usize {
+    if width < 3 || height < 3 {
+        return 0;
+    }
+    (1..height - 1)
+        .into_par_iter()
+        .map(|y| {
+            let mut total = 0;
+            for x in 1..width - 1 {
+                let i = y * width + x;
+                if ink[i] {
+                    continue;
+                }
+                // A pixel with four background neighbours is in a component of 5 or more.
+                if !ink[i - 1] && !ink[i + 1] && !ink[i - width] && !ink[i + width] {
+                    continue;
+                }
+                if let Some(size) = tiny_component(ink, width, height, i) {
+                    total += size;
+                }
+            }
+            total
+        })
+        .sum()
+}
+
+/// The size of the background component of pixel `start` when it has at most 3 pixels, does not
+/// touch the border, and `start` is its first pixel in raster order (so each is counted once).
+fn tiny_component(ink: &[bool], width: usize, height: usize, start: usize) -> Option<usize> {
+    let mut component = [start; 3];
+    let mut len = 1;
+    let mut next = 0;
+    while next < len {
+        let p = component[next];
+        next += 1;
+        let (x, y) = (p % width, p / width);
+        if x == 0 || y == 0 || x == width - 1 || y == height - 1 {
+            return None;
+        }
+        for q in [p - 1, p + 1, p - width, p + width] {
+            if ink[q] || component[..len].contains(&q) {
+                continue;
+            }
+            if len == 3 {
+                return None;
+            }
+            component[len] = q;
+            len += 1;
+        }
+    }
+    (component[..len].iter().min() == Some(&start)).then_some(len)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn mask(rows: &[&str]) -> (Vec<bool>, usize, usize) {
+        let w = rows[0].len();
+        let ink = rows.iter().flat_map(|r| r.bytes().map(|b| b == b'#')).collect();
+        (ink, w, rows.len())
+    }
+
+    /// Brute force: nearest background center, outside pixels included.
+    fn brute(ink: &[bool], w: usize, h: usize) -> Vec<u64> {
+        let mut out = Vec::new();
+        for y in 0..h as i64 {
+            for x in 0..w as i64 {
+                if !ink[y as usize * w + x as usize] {
+                    continue;
+                }
+                let mut best = u64::MAX;
+                for by in -1..=h as i64 {
+                    for bx in -1..=w as i64 {
+                        let outside = bx < 0 || by < 0 || bx >= w as i64 || by >= h as i64;
+                        if outside || !ink[by as usize * w + bx as usize] {
+                            best = best.min(((bx - x).pow(2) + (by - y).pow(2)) as u64);
+                        }
+                    }
+                }
+                out.push(best);
+            }
+        }
+        out
+    }
+
+    fn exact(ink: &[bool], w: usize, h: usize) -> Vec<u64> {
+        let starts = ink_row_starts(ink, w, h);
+        let mut out = vec![0u64; starts[h]];
+        squared_distance_rows(ink, w, h, &starts, &mut out, |d2| d2);
+        out
+    }
+
+    #[test]
+    fn distance_transform_matches_brute_force() {
+        // A deterministic pseudo-random blobby mask.
+        let (w, h) = (37, 23);
+        let mut state = 12345u32;
+        let ink: Vec<bool> = (0..w * h)
+            .map(|i| {
+                state = state.wrapping_mul(1_103_515_245).wrapping_add(12345);
+                let (x, y) = (i % w, i / w);
+                (state >> 16) % 7 != 0 && (x * y) % 11 != 3
+            })
+            .collect();
+        assert_eq!(exact(&ink, w, h), brute(&ink, w, h));
+        let all = vec![true; w * h];
+        assert_eq!(exact(&all, w, h), brute(&all, w, h));
+    }
+
+    #[test]
+    fn distance_on_3_and_5_pixel_lines() {
+        let (ink, w, h) = mask(&[
+            "...........",
+            "###########",
+            "###########",
+            "###########",
+            "...........",
+            "...........",
+            "###########",
+            "###########",
+            "###########",
+            "###########",
+            "###########",
+            "...........",
+        ]);
+        let d: Vec<f32> = ink_distances(&ink, w, h);
+        // Center of a 3-px line at x = 5 (row 2): 2; edge rows 1.
+        assert_eq!(d[w + 5], 2.0);
+        assert_eq!(d[5], 1.0);
+        // Center row of the 5-px line (row 8 = third line of block 2): 3.
+        assert_eq!(d[3 * w + 2 * w + 5], 3.0);
+        // Ends of the lines touch the image border: 1.
+        assert_eq!(d[w], 1.0);
+    }
+
+    #[test]
+    fn closing_fills_pinholes() {
+        let (ink, w, h) = mask(&["......", ".####.", ".#.##.", ".####.", "......"]);
+        let closed = close3(&ink, w, h);
+        assert!(closed[2 * w + 2]);
+        assert_eq!(closed.iter().filter(|&&b| b).count(), 12);
+    }
+
+    #[test]
+    fn tiny_holes_counted_once() {
+        let (ink, w, h) = mask(&[
+            "..........",
+            ".########.",
+            ".#.##..##.",
+            ".########.",
+            ".#....####",
+            ".########.",
+            "..........",
+        ]);
+        // Holes: 1 px at (2,2), 2 px at (5..7,2); the 4-px hole on row 4 is too big.
+        assert_eq!(tiny_hole_pixels(&ink, w, h), 3);
+    }
+}

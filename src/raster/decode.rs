@@ -1,0 +1,422 @@
+//! Decoding: image bytes to 8-bit grayscale within the configured limits.
+//!
+//! Untrusted files are the norm (batches of scans from anywhere), so the size is checked from the
+//! header before any pixel buffer exists, the decoder gets strict side limits and an allocation
+//! bound, and whatever a codec reports is turned into an [`Error`] a user can act on.
+
+use std::io::{Cursor, ErrorKind};
+use std::path::Path;
+
+use image::{DynamicImage, ImageDecoder, ImageError, ImageFormat, ImageReader};
+
+use crate::{Error, GrayImage, Limits, Result};
+
+/// Decoder allocation bound per image pixel: an RGBA image with 16 bits per channel, the widest
+/// layout the enabled codecs produce, plus room for the codec's own buffers.
+const BYTES_PER_PIXEL_BOUND: u64 = 8 + 4;
+/// Fixed allowance on top of the per-pixel bound (palettes, metadata, line buffers).
+const ALLOC_SLACK: u64 = 64 << 20;
+
+/// Decodes image bytes (PNG, JPEG, TIFF, BMP, PNM, GIF, WebP; format guessed from the content) to
+/// grayscale. Transparent pixels are composited over white paper. Images with more than
+/// `limits.max_pixels` pixels or a side longer than `limits.max_side` are refused from their header,
+/// before their pixels are allocated.
+pub fn decode(bytes: &[u8], limits: &Limits) -> Result<GrayImage> {
+    // A codec that panics on malformed data must not take the caller down: the input is
+    // untrusted and a panic is a decoding failure like any other.
+    match std::panic::catch_unwind(|| decode_unguarded(bytes, limits)) {
+        Ok(result) => result,
+        Err(_) => Err(Error::Decode("the image decoder failed on malformed data".into())),
+    }
+}
+
+/// Reads and decodes an image file; see [`decode`].
+pub fn decode_file(path: &Path, limits: &Limits) -> Result<GrayImage> {
+    let bytes =
+        std::fs::read(path).map_err(|source| Error::Io { path: path.to_path_buf(), source })?;
+    decode(&bytes, limits)
+}
+
+fn decode_unguarded(bytes: &[u8], limits: &Limits) -> Result<GrayImage> {
+    if bytes.is_empty() {
+        return Err(Error::Decode("the input is empty (0 bytes)".into()));
+    }
+    let format = guess_format(bytes)?;
+    let decoder = match reader(bytes, format, image_limits(limits, true)).into_decoder() {
+        Ok(decoder) => decoder,
+        Err(ImageError::Limits(_)) => return Err(side_limit_error(bytes, format, limits)),
+        Err(e) => return Err(decode_error(e, format)),
+    };
+    let (width, height) = decoder.dimensions();
+    check_size(width, height, limits)?;
+    let image = DynamicImage::from_decoder(decoder).map_err(|e| decode_error(e, format))?;
+    Ok(to_gray(image))
+}
+
+fn guess_format(bytes: &[u8]) -> Result<ImageFormat> {
+    image::guess_format(bytes).map_err(|_| {
+        Error::Decode(
+            "not a recognized image format (expected PNG, JPEG, TIFF, BMP, PNM, GIF or WebP)"
+                .into(),
+        )
+    })
+}
+
+fn reader(bytes: &[u8], format: ImageFormat, limits: image::Limits) -> ImageReader<Cursor<&[u8]>> {
+    let mut reader = ImageReader::with_format(Cursor::new(bytes), format);
+    reader.limits(limits);
+    reader
+}
+
+/// The decoder's limits: strict side limits (some decoders ignore `max_alloc`) and an allocation
+/// bound derived from `max_pixels`.
+fn image_limits(limits: &Limits, with_sides: bool) -> image::Limits {
+    let mut bound = image::Limits::no_limits();
+    if with_sides {
+        bound.max_image_width = Some(limits.max_side);
+        bound.max_image_height = Some(limits.max_side);
+    }
+    bound.max_alloc =
+        Some(limits.max_pixels.saturating_mul(BYTES_PER_PIXEL_BOUND).saturating_add(ALLOC_SLACK));
+    bound
+}
+
+fn check_size(width: u32, height: u32, limits: &Limits) -> Result<()> {
+    if width == 0 || height == 0 {
+        return Err(Error::Decode(format!("the image is empty ({width}x{height} pixels)")));
+    }
+    let pixels = width as u64 * height as u64;
+    if pixels > limits.max_pixels {
+        return Err(Error::Limit {
+            what: "image pixels",
+            actual: pixels,
+            limit: limits.max_pixels,
+            flag: "--max-pixels",
+        });
+    }
+    let side = width.max(height);
+    if side > limits.max_side {
+        return Err(Error::Limit {
+            what: "image side",
+            actual: side as u64,
+            limit: limits.max_side as u64,
+            flag: "--max-side",
+        });
+    }
+    Ok(())
+}
+
+/// The decoder refused the header against the side limits: read the header again without them to
+/// say which limit and by how much.
+fn side_limit_error(bytes: &[u8], format: ImageFormat, limits: &Limits) -> Error {
+    match reader(bytes, format, image_limits(limits, false)).into_dimensions() {
+        Ok((width, height)) => match check_size(width, height, limits) {
+            Err(e) => e,
+            Ok(()) => Error::Decode(format!(
+                "the {} decoder refused a {width}x{height} image within the limits",
+                format_name(format)
+            )),
+        },
+        Err(e) => decode_error(e, format),
+    }
+}
+
+fn format_name(format: ImageFormat) -> &'static str {
+    match format {
+        ImageFormat::Png => "PNG",
+        ImageFormat::Jpeg => "JPEG",
+        ImageFormat::Tiff => "TIFF",
+        ImageFormat::Bmp => "BMP",
+        ImageFormat::Pnm => "PNM",
+        ImageFormat::Gif => "GIF",
+        ImageFormat::WebP => "WebP",
+        _ => "image",
+    }
+}
+
+fn decode_error(error: ImageError, format: ImageFormat) -> Error {
+    let name = format_name(format);
+    match error {
+        ImageError::Decoding(e) => Error::Decode(format!("truncated or corrupt {name} data: {e}")),
+        ImageError::IoError(e) if e.kind() == ErrorKind::UnexpectedEof => {
+            Error::Decode(format!("truncated {name} data: the file ends early"))
+        }
+        ImageError::IoError(e) => Error::Decode(format!("truncated or corrupt {name} data: {e}")),
+        ImageError::Limits(e) => Error::Decode(format!(
+            "the {name} image needs more memory than --max-pixels allows: {e}"
+        )),
+        ImageError::Unsupported(e) => Error::Decode(format!("unsupported {name} variant: {e}")),
+        other => Error::Decode(format!("{name}: {other}")),
+    }
+}
+
+/// Luminance (Rec. 709 weights, as the image crate uses) of straight-alpha pixels composited over
+/// white paper: a transparent background reads as paper, not as black ink.
+fn to_gray(image: DynamicImage) -> GrayImage {
+    let (width, height) = (image.width(), image.height());
+    let gray_of = |rgba: [f32; 4]| -> u8 {
+        let luma = 0.2126 * rgba[0] + 0.7152 * rgba[1] + 0.0722 * rgba[2];
+        let over_white = luma * rgba[3] + (1.0 - rgba[3]);
+        (over_white.clamp(0.0, 1.0) * 255.0).round() as u8
+    };
+    let collect = |values: Vec<u8>| {
+        GrayImage::from_raw(width, height, values).unwrap_or_else(|| GrayImage::new(width, height))
+    };
+    const S8: f32 = 1.0 / 255.0;
+    const S16: f32 = 1.0 / 65535.0;
+    match image {
+        DynamicImage::ImageLuma8(gray) => gray,
+        DynamicImage::ImageLumaA8(img) => collect(
+            img.pixels()
+                .map(|p| {
+                    let v = p.0[0] as f32 * S8;
+                    gray_of([v, v, v, p.0[1] as f32 * S8])
+                })
+                .collect(),
+        ),
+        DynamicImage::ImageRgb8(img) => collect(
+            img.pixels()
+                .map(|p| {
+                    let c = p.0.map(|v| v as f32 * S8);
+                    gray_of([c[0], c[1], c[2], 1.0])
+                })
+                .collect(),
+        ),
+        DynamicImage::ImageRgba8(img) => {
+            collect(img.pixels().map(|p| gray_of(p.0.map(|v| v as f32 * S8))).collect())
+        }
+        DynamicImage::ImageLuma16(img) => collect(
+            img.pixels()
+                .map(|p| {
+                    let v = p.0[0] as f32 * S16;
+                    gray_of([v, v, v, 1.0])
+                })
+                .collect(),
+        ),
+        DynamicImage::ImageLumaA16(img) => collect(
+            img.pixels()
+                .map(|p| {
+                    let v = p.0[0] as f32 * S16;
+                    gray_of([v, v, v, p.0[1] as f32 * S16])
+                })
+                .collect(),
+        ),
+        DynamicImage::ImageRgb16(img) => collect(
+            img.pixels()
+                .map(|p| {
+                    let c = p.0.map(|v| v as f32 * S16);
+                    gray_of([c[0], c[1], c[2], 1.0])
+                })
+                .collect(),
+        ),
+        DynamicImage::ImageRgba16(img) => {
+            collect(img.pixels().map(|p| gray_of(p.0.map(|v| v as f32 * S16))).collect())
+        }
+        DynamicImage::ImageRgb32F(img) => {
+            collect(img.pixels().map(|p| gray_of([p.0[0], p.0[1], p.0[2], 1.0])).collect())
+        }
+        DynamicImage::ImageRgba32F(img) => {
+            collect(img.pixels().map(|p| gray_of(p.0.map(|v| v.clamp(0.0, 1.0)))).collect())
+        }
+        other => other.to_luma8(),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use image::{ImageEncoder, Luma, Rgba};
+
+    fn png(encode: impl FnOnce(&mut Vec<u8>)) -> Vec<u8> {
+        let mut bytes = Vec::new();
+        encode(&mut bytes);
+        bytes
+    }
+
+    fn encode_png(
+        bytes: &mut Vec<u8>,
+        raw: &[u8],
+        width: u32,
+        height: u32,
+        color: image::ExtendedColorType,
+    ) {
+        image::codecs::png::PngEncoder::new(bytes)
+            .write_image(raw, width, height, color)
+            .expect("encode fixture");
+    }
+
+    fn crc32(data: &[u8]) -> u32 {
+        let mut crc = 0xFFFF_FFFFu32;
+        for &byte in data {
+            crc ^= byte as u32;
+            for _ in 0..8 {
+                crc = if crc & 1 != 0 { (crc >> 1) ^ 0xEDB8_8320 } else { crc >> 1 };
+            }
+        }
+        !crc
+    }
+
+    fn chunk(out: &mut Vec<u8>, kind: &[u8; 4], body: &[u8]) {
+        out.extend_from_slice(&(body.len() as u32).to_be_bytes());
+        let mut crc_input = kind.to_vec();
+        crc_input.extend_from_slice(body);
+        out.extend_from_slice(&crc_input);
+        out.extend_from_slice(&crc32(&crc_input).to_be_bytes());
+    }
+
+    /// A PNG header declaring `side` x `side` 8-bit gray pixels, with a few bytes of IDAT.
+    fn bomb(side: u32) -> Vec<u8> {
+        let mut out = b"\x89PNG\r\n\x1a\n".to_vec();
+        let mut ihdr = Vec::new();
+        ihdr.extend_from_slice(&side.to_be_bytes());
+        ihdr.extend_from_slice(&side.to_be_bytes());
+        ihdr.extend_from_slice(&[8, 0, 0, 0, 0]);
+        chunk(&mut out, b"IHDR", &ihdr);
+        // zlib stream of a few zero bytes; the decoder would have to inflate 10^10 of them.
+        chunk(&mut out, b"IDAT", &[0x78, 0x9c, 0x63, 0x60, 0x00, 0x00, 0x00, 0x02, 0x00, 0x01]);
+        chunk(&mut out, b"IEND", &[]);
+        out
+    }
+
+    fn message(e: Error) -> String {
+        e.to_string()
+    }
+
+    #[test]
+    fn bomb_crc_is_valid() {
+        // The PNG spec's CRC of "IEND" is AE 42 60 82.
+        assert_eq!(crc32(b"IEND"), 0xAE42_6082);
+    }
+
+    #[test]
+    fn zero_bytes_and_text_are_refused() {
+        let limits = Limits::default();
+        assert!(matches!(decode(&[], &limits), Err(Error::Decode(_))));
+        let text = b"x y\n1 2\nthis is not an image at all\n";
+        let e = message(decode(text, &limits).unwrap_err());
+        assert!(e.contains("not a recognized image format"), "{e}");
+    }
+
+    #[test]
+    fn truncated_png_is_refused() {
+        let raw: Vec<u8> = (0..64 * 64).map(|i| (i % 251) as u8).collect();
+        let bytes = png(|b| encode_png(b, &raw, 64, 64, image::ExtendedColorType::L8));
+        let limits = Limits::default();
+        assert!(decode(&bytes, &limits).is_ok());
+        for cut in [9, 20, 33, 60, bytes.len() / 2, bytes.len() - 13] {
+            let e = decode(&bytes[..cut], &limits).unwrap_err();
+            let text = message(e);
+            assert!(text.contains("PNG"), "cut {cut}: {text}");
+        }
+    }
+
+    #[test]
+    fn decompression_bomb_is_refused_from_the_header() {
+        let limits = Limits::default();
+        match decode(&bomb(100_000), &limits) {
+            Err(Error::Limit { flag, actual, .. }) => {
+                assert_eq!(flag, "--max-pixels");
+                assert_eq!(actual, 10_000_000_000);
+            }
+            other => panic!("expected a limit error, got {other:?}"),
+        }
+        // Within the side limit but over the pixel limit.
+        let tight = Limits { max_pixels: 1000, ..Limits::default() };
+        assert!(matches!(decode(&bomb(40_000), &tight), Err(Error::Limit { .. })));
+        // Within every limit: the tiny IDAT is simply not enough data.
+        assert!(matches!(decode(&bomb(100), &limits), Err(Error::Decode(_))));
+    }
+
+    #[test]
+    fn sixteen_bit_gray_png() {
+        let values = [0u16, 65535, 32768, 257 * 10];
+        let raw: Vec<u8> = values.iter().flat_map(|v| v.to_ne_bytes()).collect();
+        let bytes = png(|b| encode_png(b, &raw, 2, 2, image::ExtendedColorType::L16));
+        let gray = decode(&bytes, &Limits::default()).unwrap();
+        assert_eq!(gray.as_raw(), &vec![0, 255, 128, 10]);
+    }
+
+    /// A hand-made PNG: `ihdr_tail` = bit depth, color type, 0, 0, 0; `chunks` before IDAT;
+    /// `scanlines` = the filtered rows (filter byte first), stored uncompressed in zlib.
+    fn hand_png(width: u32, height: u32, ihdr_tail: [u8; 5], chunks: &[(&[u8; 4], &[u8])], scanlines: &[u8]) -> Vec<u8> {
+        let mut out = b"\x89PNG\r\n\x1a\n".to_vec();
+        let mut ihdr = Vec::new();
+        ihdr.extend_from_slice(&width.to_be_bytes());
+        ihdr.extend_from_slice(&height.to_be_bytes());
+        ihdr.extend_from_slice(&ihdr_tail);
+        chunk(&mut out, b"IHDR", &ihdr);
+        for (kind, body) in chunks {
+            chunk(&mut out, kind, body);
+        }
+        let mut idat = vec![0x78, 0x01, 0x01];
+        let len = scanlines.len() as u16;
+        idat.extend_from_slice(&len.to_le_bytes());
+        idat.extend_from_slice(&(!len).to_le_bytes());
+        idat.extend_from_slice(scanlines);
+        let (mut a, mut b) = (1u32, 0u32);
+        for &v in scanlines {
+            a = (a + v as u32) % 65521;
+            b = (b + a) % 65521;
+        }
+        idat.extend_from_slice(&((b << 16) | a).to_be_bytes());
+        chunk(&mut out, b"IDAT", &idat);
+        chunk(&mut out, b"IEND", &[]);
+        out
+    }
+
+    #[test]
+    fn palette_png_with_transparency() {
+        // 2x1 palette image: entry 0 opaque black, entry 1 fully transparent red.
+        let bytes = hand_png(
+            2,
+            1,
+            [8, 3, 0, 0, 0],
+            &[(b"PLTE", &[0, 0, 0, 255, 0, 0]), (b"tRNS", &[255, 0])],
+            &[0, 0, 1],
+        );
+        let gray = decode(&bytes, &Limits::default()).unwrap();
+        assert_eq!(gray.as_raw(), &vec![0, 255], "transparent pixel must read as white paper");
+    }
+
+    #[test]
+    fn one_bit_gray_png() {
+        // 8x1 pixels 10110000, bit depth 1, color type 0.
+        let bytes = hand_png(8, 1, [1, 0, 0, 0, 0], &[], &[0, 0b1011_0000]);
+        let gray = decode(&bytes, &Limits::default()).unwrap();
+        assert_eq!(gray.as_raw(), &vec![255, 0, 255, 255, 0, 0, 0, 0]);
+    }
+
+    #[test]
+    fn rgba_png_composites_over_white() {
+        let mut img = image::RgbaImage::new(3, 1);
+        img.put_pixel(0, 0, Rgba([0, 0, 0, 255]));
+        img.put_pixel(1, 0, Rgba([0, 0, 0, 0]));
+        img.put_pixel(2, 0, Rgba([0, 0, 0, 128]));
+        let bytes = png(|b| encode_png(b, img.as_raw(), 3, 1, image::ExtendedColorType::Rgba8));
+        let gray = decode(&bytes, &Limits::default()).unwrap();
+        assert_eq!(gray.as_raw(), &vec![0, 255, 127]);
+    }
+
+    #[test]
+    fn other_formats_decode() {
+        let mut img = GrayImage::new(8, 4);
+        img.put_pixel(3, 2, Luma([200]));
+        for format in [ImageFormat::Bmp, ImageFormat::Pnm, ImageFormat::Tiff, ImageFormat::Gif] {
+            let mut bytes = Vec::new();
+            let rgb = DynamicImage::ImageLuma8(img.clone()).to_rgb8();
+            DynamicImage::ImageRgb8(rgb)
+                .write_to(&mut Cursor::new(&mut bytes), format)
+                .expect("encode fixture");
+            let gray = decode(&bytes, &Limits::default()).unwrap();
+            assert_eq!(gray.dimensions(), (8, 4), "{format:?}");
+            assert!(gray.get_pixel(3, 2).0[0] > 150, "{format:?}");
+            assert!(gray.get_pixel(0, 0).0[0] < 50, "{format:?}");
+        }
+    }
+
+    #[test]
+    fn file_errors_are_io_errors() {
+        let missing = Path::new("/nonexistent/ridgeline/scan.png");
+        assert!(matches!(decode_file(missing, &Limits::default()), Err(Error::Io { .. })));
+    }
+}

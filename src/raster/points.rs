@@ -1,0 +1,386 @@
+//! Ink pixels to the strip point set `P` (design item 1): one point per ink pixel center in raster
+//! order, the pixel neighbour graph (8-neighbourhood, or 5x5 in dropout mode) in CSR form, the
+//! half-width from an exact Euclidean distance transform, and `Dis_ave`.
+//!
+//! Everything here is O(pixels) with no allocation per point; rows run in parallel and write only
+//! their own slices, so the output does not depend on the thread count.
+
+use rayon::prelude::*;
+
+use crate::mask::{close3, ink_row_starts, split_by, squared_distance_rows, tiny_hole_pixels};
+use crate::{Binary, Error, Grid, Params, PointSet, Result};
+
+/// Offsets of the 8-neighbourhood, in raster order (so neighbour lists come out sorted).
+const RING_8: [(i64, i64); 8] = [(-1, -1), (0, -1), (1, -1), (-1, 0), (1, 0), (-1, 1), (0, 1), (1, 1)];
+
+/// `Dis_ave` above this switches dropout mode on (design item 1): more than about 5% of the
+/// points have no ink pixel touching them.
+const DROPOUT_SPACING: f64 = 1.05;
+
+/// Nearest-neighbour search radius (Chebyshev, pixels) for points with no touching ink pixel.
+/// Points with nothing closer are isolated specks, not samples of a stroke, and are left out of
+/// `Dis_ave`.
+const SPACING_SEARCH: i64 = 6;
+
+/// Builds the point set of the ink pixels of `binary`.
+pub fn points(binary: &Binary, params: &Params) -> Result<PointSet> {
+    let (width, height) = (binary.width as usize, binary.height as usize);
+    if binary.ink.len() != width * height {
+        return Err(Error::InvalidParams(format!(
+            "mask has {} pixels for a {width}x{height} image",
+            binary.ink.len()
+        )));
+    }
+    let ink = &binary.ink[..];
+    let row_starts = ink_row_starts(ink, width, height);
+    let count = row_starts[height];
+    if count as u64 > params.limits.max_points {
+        return Err(Error::Limit {
+            what: "foreground points",
+            actual: count as u64,
+            limit: params.limits.max_points,
+            flag: "--max-points",
+        });
+    }
+
+    // Points and the pixel -> point index, row by row.
+    let mut points = vec![[0.0f64; 2]; count];
+    let mut index = vec![Grid::NONE; width * height];
+    if width > 0 {
+        index
+            .par_chunks_mut(width)
+            .zip(split_by(&mut points, &row_starts).into_par_iter())
+            .enumerate()
+            .for_each(|(y, (index_row, points_row))| {
+                let mut id = row_starts[y];
+                let mut k = 0;
+                for (x, slot) in index_row.iter_mut().enumerate() {
+                    if ink[y * width + x] {
+                        *slot = id as u32;
+                        points_row[k] = [x as f64 + 0.5, y as f64 + 0.5];
+                        id += 1;
+                        k += 1;
+                    }
+                }
+            });
+    }
+    let grid = Grid { width: binary.width, height: binary.height, index };
+
+    let spacing = mean_spacing(ink, width, height);
+    let dropout = match params.dropout {
+        Some(forced) => forced,
+        None => {
+            // Design item 11: tiny holes above a share of the ink (1.5% by default; 0.5% misfired
+            // on script, whose loops leave tiny holes), or item 1: sparse points.
+            let holes = tiny_hole_pixels(ink, width, height) as f64;
+            holes > params.dropout_fraction * count as f64 || spacing > DROPOUT_SPACING
+        }
+    };
+
+    // Half-width = distance to the nearest background pixel center. In dropout mode the gaps
+    // punched into a stroke would make it look thin, so the transform runs on the 3x3 closing.
+    let mut half_width = vec![0f32; count];
+    let to_half_width = |d2: u64| (d2 as f64).sqrt() as f32;
+    if dropout && count > 0 {
+        let closed = close3(ink, width, height);
+        let closed_starts = ink_row_starts(&closed, width, height);
+        let mut closed_width = vec![0f32; closed_starts[height]];
+        squared_distance_rows(&closed, width, height, &closed_starts, &mut closed_width, to_half_width);
+        // Keep the values at the original ink pixels (the closing contains them).
+        let mut k = 0;
+        for (i, &on) in closed.iter().enumerate() {
+            if on {
+                if ink[i] {
+                    let id = grid.index[i] as usize;
+                    half_width[id] = closed_width[k];
+                }
+                k += 1;
+            }
+        }
+    } else {
+        squared_distance_rows(ink, width, height, &row_starts, &mut half_width, to_half_width);
+    }
+
+    let reach = if dropout { 2 } else { 1 };
+    let (offsets, neighbors) = neighbour_csr(&grid, &row_starts, reach);
+
+    Ok(PointSet { points, half_width, offsets, neighbors, spacing, dropout, grid: Some(grid) })
+}
+
+/// The neighbour graph in CSR form: the ink pixels within Chebyshev distance `reach` (1: the
+/// 8-neighbourhood; 2: the 5x5 neighbourhood of dropout mode), sorted by point index. Two passes
+/// over the rows (degrees, then lists) so nothing is allocated per point.
+fn neighbour_csr(grid: &Grid, row_starts: &[usize], reach: i64) -> (Vec<u32>, Vec<u32>) {
+    let count = *row_starts.last().unwrap_or(&0);
+    let (width, height) = (grid.width as i64, grid.height as i64);
+    let offsets_in_window: Vec<(i64, i64)> = (-reach..=reach)
+        .flat_map(|dy| (-reach..=reach).map(move |dx| (dx, dy)))
+        .filter(|&(dx, dy)| (dx, dy) != (0, 0))
+        .collect();
+    let window = if reach == 1 { &RING_8[..] } else { &offsets_in_window[..] };
+
+    // Pass 1: degree of each point, row by row.
+    let mut degree = vec![0u32; count];
+    split_by(&mut degree, row_starts).into_par_iter().enumerate().for_each(|(y, row)| {
+        let mut k = 0;
+        for x in 0..width {
+            if grid.point_at(x, y as i64).is_some() {
+                row[k] = window
+                    .iter()
+                    .filter(|&&(dx, dy)| grid.point_at(x + dx, y as i64 + dy).is_some())
+                    .count() as u32;
+                k += 1;
+            }
+        }
+    });
+    let mut offsets = Vec::with_capacity(count + 1);
+    offsets.push(0u32);
+    let mut total = 0u64;
+    for d in &degree {
+        total += *d as u64;
+        offsets.push(total as u32);
+    }
+    drop(degree);
+
+    // Pass 2: the lists, each row into its own slice of `neighbors`.
+    let mut neighbors = vec![0u32; total as usize];
+    let neighbor_starts: Vec<usize> = row_starts.iter().map(|&s| offsets[s] as usize).collect();
+    split_by(&mut neighbors, &neighbor_starts).into_par_iter().enumerate().for_each(|(y, row)| {
+        let mut k = 0;
+        let y = y as i64;
+        if y >= height {
+            return;
+        }
+        for x in 0..width {
+            if grid.point_at(x, y).is_none() {
+                continue;
+            }
+            for &(dx, dy) in window {
+                if let Some(j) = grid.point_at(x + dx, y + dy) {
+                    row[k] = j;
+                    k += 1;
+                }
+            }
+        }
+    });
+    (offsets, neighbors)
+}
+
+/// `Dis_ave`: mean distance from an ink pixel to its nearest other ink pixel. Pixels touching
+/// another ink pixel (8-neighbourhood) count one grid step, 1: they are adjacent samples of the
+/// pixel grid, and counting √2 for diagonal contacts would call every thin diagonal line sparse.
+/// Other pixels count their true Euclidean nearest distance, searched up to [`SPACING_SEARCH`];
+/// pixels with nothing that close are left out. 1.0 when no pixel has a neighbour.
+fn mean_spacing(ink: &[bool], width: usize, height: usize) -> f64 {
+    if width == 0 {
+        return 1.0;
+    }
+    let at = |x: i64, y: i64| {
+        x >= 0 && y >= 0 && (x as usize) < width && (y as usize) < height && ink[y as usize * width + x as usize]
+    };
+    let (sum, counted) = (0..height)
+        .into_par_iter()
+        .map(|y| {
+            let y = y as i64;
+            let (mut sum, mut counted) = (0.0f64, 0u64);
+            for x in 0..width as i64 {
+                if !at(x, y) {
+                    continue;
+                }
+                if RING_8.iter().any(|&(dx, dy)| at(x + dx, y + dy)) {
+                    sum += 1.0;
+                    counted += 1;
+                } else if let Some(d) = isolated_distance(&at, x, y) {
+                    sum += d;
+                    counted += 1;
+                }
+            }
+            (sum, counted)
+        })
+        .reduce(|| (0.0, 0), |a, b| (a.0 + b.0, a.1 + b.1));
+    if counted == 0 {
+        1.0
+    } else {
+        sum / counted as f64
+    }
+}
+
+/// Nearest ink pixel to an isolated one, by growing square rings until no closer one can exist.
+fn isolated_distance(at: &impl Fn(i64, i64) -> bool, x: i64, y: i64) -> Option<f64> {
+    let mut best = i64::MAX;
+    for r in 2..=SPACING_SEARCH {
+        if r * r >= best {
+            break;
+        }
+        for d in -r..=r {
+            for (dx, dy) in [(d, -r), (d, r), (-r, d), (r, d)] {
+                if at(x + dx, y + dy) {
+                    best = best.min(dx * dx + dy * dy);
+                }
+            }
+        }
+    }
+    (best != i64::MAX).then(|| (best as f64).sqrt())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn mask(rows: &[&str]) -> Binary {
+        let mut binary = Binary::new(rows[0].len() as u32, rows.len() as u32);
+        for (y, row) in rows.iter().enumerate() {
+            for (x, c) in row.bytes().enumerate() {
+                binary.set(x as i64, y as i64, c == b'#');
+            }
+        }
+        binary
+    }
+
+    fn horizontal_bar(width: u32, height: u32, y0: u32, thickness: u32) -> Binary {
+        let mut binary = Binary::new(width, height);
+        for y in y0..y0 + thickness {
+            for x in 2..width - 2 {
+                binary.set(x as i64, y as i64, true);
+            }
+        }
+        binary
+    }
+
+    /// Pseudo-random drop of ink pixels.
+    fn drop_pixels(binary: &mut Binary, share: f64, seed: u64) {
+        let mut state = seed;
+        for pixel in binary.ink.iter_mut() {
+            state = state.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1_442_695_040_888_963_407);
+            if *pixel && ((state >> 33) as f64 / (1u64 << 31) as f64) < share {
+                *pixel = false;
+            }
+        }
+    }
+
+    #[test]
+    fn points_in_raster_order_with_grid() {
+        let binary = mask(&[".#.", "##.", "..#"]);
+        let set = points(&binary, &Params::default()).unwrap();
+        assert_eq!(set.points, vec![[1.5, 0.5], [0.5, 1.5], [1.5, 1.5], [2.5, 2.5]]);
+        let grid = set.grid.as_ref().unwrap();
+        assert_eq!(grid.point_at(2, 2), Some(3));
+        assert_eq!(grid.point_at(0, 0), None);
+        set.validate().unwrap();
+        assert_eq!(set.neighbors_of(2), &[0, 1, 3]);
+        assert_eq!(set.neighbors_of(3), &[2]);
+        assert_eq!(set.spacing, 1.0);
+        assert!(!set.dropout);
+    }
+
+    #[test]
+    fn half_width_on_3_and_5_pixel_lines() {
+        for (thickness, center) in [(1u32, 1.0f32), (3, 2.0), (5, 3.0)] {
+            let binary = horizontal_bar(40, 15, 5, thickness);
+            let set = points(&binary, &Params::default()).unwrap();
+            let grid = set.grid.as_ref().unwrap();
+            let mid = grid.point_at(20, (5 + thickness / 2) as i64).unwrap();
+            assert_eq!(set.half_width[mid as usize], center, "thickness {thickness}");
+            let edge = grid.point_at(20, 5).unwrap();
+            assert_eq!(set.half_width[edge as usize], 1.0);
+        }
+    }
+
+    #[test]
+    fn dropout_detection_on_and_off() {
+        let clean = horizontal_bar(200, 30, 10, 9);
+        let set = points(&clean, &Params::default()).unwrap();
+        assert!(!set.dropout);
+        let mut broken = clean.clone();
+        drop_pixels(&mut broken, 0.4, 7);
+        let set = points(&broken, &Params::default()).unwrap();
+        assert!(set.dropout);
+        set.validate().unwrap();
+        // 5x5 neighbourhood: an interior point sees up to 24 neighbours.
+        let most = (0..set.len() as u32).map(|i| set.neighbors_of(i).len()).max().unwrap();
+        assert!(most > 8 && most <= 24);
+        // The closing restores the bar's width for the distance transform: center ~ 5.
+        let grid = set.grid.as_ref().unwrap();
+        let center: Vec<f32> = (50..150)
+            .filter_map(|x| grid.point_at(x, 14))
+            .map(|i| set.half_width[i as usize])
+            .collect();
+        let mean = center.iter().sum::<f32>() / center.len() as f32;
+        assert!(mean > 4.0, "{mean}");
+        // Forced off.
+        let params = Params { dropout: Some(false), ..Params::default() };
+        let set = points(&broken, &params).unwrap();
+        assert!(!set.dropout);
+        assert!(set.neighbors.len() <= 8 * set.len());
+        // A few pinholes stay under the 1.5% share.
+        let mut speckled = clean.clone();
+        speckled.set(50, 14, false);
+        speckled.set(120, 12, false);
+        assert!(!points(&speckled, &Params::default()).unwrap().dropout);
+    }
+
+    #[test]
+    fn spacing_counts_isolated_points() {
+        // Two pixels 3 apart horizontally: each has nearest distance 3.
+        let binary = mask(&["........", ".#..#...", "........"]);
+        let set = points(&binary, &Params::default()).unwrap();
+        assert!((set.spacing - 3.0).abs() < 1e-12);
+        assert!(set.dropout, "sparse points switch dropout mode on");
+        assert!(set.neighbors_of(0).is_empty(), "3 px apart is outside the 5x5 window");
+        // A lone pixel has no neighbour: spacing falls back to 1.
+        let lone = mask(&["...", ".#.", "..."]);
+        let set = points(&lone, &params_forced_off()).unwrap();
+        assert_eq!(set.spacing, 1.0);
+        assert_eq!(set.offsets, vec![0, 0]);
+    }
+
+    fn params_forced_off() -> Params {
+        Params { dropout: Some(false), ..Params::default() }
+    }
+
+    #[test]
+    fn limits_and_empty_masks() {
+        let binary = horizontal_bar(20, 10, 3, 2);
+        let params = Params {
+            limits: crate::Limits { max_points: 10, ..crate::Limits::default() },
+            ..Params::default()
+        };
+        match points(&binary, &params) {
+            Err(Error::Limit { flag, actual, .. }) => {
+                assert_eq!(flag, "--max-points");
+                assert_eq!(actual, 32);
+            }
+            other => panic!("expected a limit error, got {other:?}"),
+        }
+        let empty = Binary::new(30, 20);
+        let set = points(&empty, &Params::default()).unwrap();
+        assert!(set.is_empty());
+        assert_eq!(set.offsets, vec![0]);
+        set.validate().unwrap();
+        let nothing = Binary::new(0, 0);
+        assert!(points(&nothing, &Params::default()).unwrap().is_empty());
+    }
+
+    #[test]
+    fn neighbours_match_brute_force() {
+        let mut binary = horizontal_bar(30, 12, 2, 7);
+        drop_pixels(&mut binary, 0.3, 3);
+        for dropout in [false, true] {
+            let params = Params { dropout: Some(dropout), ..Params::default() };
+            let set = points(&binary, &params).unwrap();
+            set.validate().unwrap();
+            let reach = if dropout { 2.0 } else { 1.0 };
+            for i in 0..set.len() {
+                let expected: Vec<u32> = (0..set.len() as u32)
+                    .filter(|&j| {
+                        let (p, q) = (set.points[i], set.points[j as usize]);
+                        j as usize != i
+                            && (p[0] - q[0]).abs() <= reach
+                            && (p[1] - q[1]).abs() <= reach
+                    })
+                    .collect();
+                assert_eq!(set.neighbors_of(i as u32), &expected[..]);
+            }
+        }
+    }
+}

@@ -61,53 +61,104 @@ pub(crate) fn squared_distance_rows<T, F>(
     T: Send,
     F: Fn(u64) -> T + Sync,
 {
+    let mask = Mask { ink, width, height, row_starts };
+    squared_distance_at(&mask, &mask, out, value);
+}
+
+/// A row-major mask with its per-row ink counts (see [`ink_row_starts`]).
+pub(crate) struct Mask<'a> {
+    /// Row-major ink flags.
+    pub ink: &'a [bool],
+    /// Width in pixels.
+    pub width: usize,
+    /// Height in pixels.
+    pub height: usize,
+    /// Ink pixels before each row; `height + 1` entries.
+    pub row_starts: &'a [usize],
+}
+
+/// Like [`squared_distance_rows`] for the distance transform of `mask`, written only at the ink
+/// pixels of `keep`, a subset of `mask` of the same size: `out[k]` for the `k`-th ink pixel of
+/// `keep`. Dropout mode measures on the closing but keeps the original pixels.
+pub(crate) fn squared_distance_at<T, F>(mask: &Mask, keep: &Mask, out: &mut [T], value: F)
+where
+    T: Send,
+    F: Fn(u64) -> T + Sync,
+{
+    let Mask { ink, width, height, row_starts } = *mask;
     if width == 0 || height == 0 {
         return;
     }
     // Column pass: g = vertical distance to the nearest background pixel in the column, with
-    // virtual background rows at -1 and `height`. Both sweeps run row by row so memory is
-    // touched in order.
-    let mut g = vec![0u32; width * height];
-    for x in 0..width {
-        g[x] = u32::from(ink[x]);
-    }
-    for y in 1..height {
-        let (above, row) = g[(y - 1) * width..(y + 1) * width].split_at_mut(width);
-        let ink_row = &ink[y * width..(y + 1) * width];
-        for x in 0..width {
-            row[x] = if ink_row[x] { above[x] + 1 } else { 0 };
+    // virtual background rows at -1 and `height`. Stored only for the ink pixels, in raster order
+    // (the background has 0), with one running value per column for each sweep.
+    let count = row_starts[height];
+    let mut g = vec![0u32; count];
+    let mut run = vec![0u32; width];
+    let mut k = 0;
+    for ink_row in ink.chunks_exact(width) {
+        for (x, &on) in ink_row.iter().enumerate() {
+            if on {
+                run[x] += 1;
+                g[k] = run[x];
+                k += 1;
+            } else {
+                run[x] = 0;
+            }
         }
     }
-    for x in 0..width {
-        let last = (height - 1) * width + x;
-        g[last] = g[last].min(1);
-    }
-    for y in (0..height - 1).rev() {
-        let (row, below) = g[y * width..(y + 2) * width].split_at_mut(width);
-        for x in 0..width {
-            row[x] = row[x].min(below[x] + 1);
+    run.fill(0);
+    let mut k = count;
+    for ink_row in ink.chunks_exact(width).rev() {
+        for (x, &on) in ink_row.iter().enumerate().rev() {
+            if on {
+                run[x] += 1;
+                k -= 1;
+                g[k] = g[k].min(run[x]);
+            } else {
+                run[x] = 0;
+            }
         }
     }
 
-    // Row pass, rows in parallel: each row writes only its own ink pixels' entries.
-    let pieces = split_by(out, row_starts);
+    // Row pass, rows in parallel: each row writes only its own ink pixels' entries. A run of ink
+    // between two background pixels (or the image edge: virtual background) is independent of the
+    // rest of the row: every background pixel beyond the run's ends is farther than the end
+    // pixel itself. So the lower envelope runs over the ink only, O(ink) instead of O(pixels),
+    // and a run's `g` values are contiguous.
+    let pieces = split_by(out, keep.row_starts);
     pieces.into_par_iter().enumerate().for_each_init(
         || (vec![0usize; width], vec![0i64; width], vec![0u64; width]),
-        |(s, t, row_d2), (y, piece)| {
-            if piece.is_empty() {
-                return;
-            }
-            let row_g = &g[y * width..(y + 1) * width];
-            envelope_row(row_g, s, t, row_d2);
+        |(s, t, run_d2), (y, piece)| {
+            let row_g = &g[row_starts[y]..row_starts[y + 1]];
             let ink_row = &ink[y * width..(y + 1) * width];
+            let keep_row = &keep.ink[y * width..(y + 1) * width];
+            // k: this row's ink pixels of `mask` seen so far; kept: entries of `piece` written.
             let mut k = 0;
-            for x in 0..width {
-                if ink_row[x] {
-                    // Virtual background columns at -1 and `width`.
-                    let side = ((x + 1).min(width - x) as u64).pow(2);
-                    piece[k] = value(row_d2[x].min(side));
-                    k += 1;
+            let mut kept = 0;
+            let mut x = 0;
+            while kept < piece.len() && x < width {
+                if !ink_row[x] {
+                    x += 1;
+                    continue;
                 }
+                let start = x;
+                while x < width && ink_row[x] {
+                    x += 1;
+                }
+                let len = x - start;
+                let run = &row_g[k..k + len];
+                envelope_row(run, &mut s[..len], &mut t[..len], &mut run_d2[..len]);
+                for (i, &d2) in run_d2[..len].iter().enumerate() {
+                    if keep_row[start + i] {
+                        // The background pixels (or virtual columns) just before and after the
+                        // run.
+                        let side = ((i + 1).min(len - i) as u64).pow(2);
+                        piece[kept] = value(d2.min(side));
+                        kept += 1;
+                    }
+                }
+                k += len;
             }
         },
     );
@@ -175,33 +226,41 @@ pub(crate) fn close3(ink: &[bool], width: usize, height: usize) -> Vec<bool> {
 
 /// Separable 3x3 max (`dilate`) or min filter over the pixels inside the image.
 fn filter3(mask: &[bool], width: usize, height: usize, dilate: bool) -> Vec<bool> {
-    let combine = |a: bool, b: bool| if dilate { a || b } else { a && b };
-    let mut horizontal = vec![false; mask.len()];
-    horizontal.par_chunks_mut(width.max(1)).zip(mask.par_chunks(width.max(1))).for_each(|(out, row)| {
-        for x in 0..width {
-            let mut v = row[x];
-            if x > 0 {
-                v = combine(v, row[x - 1]);
+    if width == 0 || height == 0 {
+        return Vec::new();
+    }
+    // Combines three equally long slices element by element (written as straight loops over
+    // slices so they vectorize).
+    let combine3 = |out: &mut [bool], a: &[bool], b: &[bool], c: &[bool]| {
+        if dilate {
+            for (((o, &a), &b), &c) in out.iter_mut().zip(a).zip(b).zip(c) {
+                *o = a | b | c;
             }
-            if x + 1 < width {
-                v = combine(v, row[x + 1]);
+        } else {
+            for (((o, &a), &b), &c) in out.iter_mut().zip(a).zip(b).zip(c) {
+                *o = a & b & c;
             }
-            out[x] = v;
         }
+    };
+    let mut horizontal = vec![false; mask.len()];
+    horizontal.par_chunks_mut(width).zip(mask.par_chunks(width)).for_each(|(out, row)| {
+        if width < 3 {
+            for x in 0..width {
+                let (a, b) = (x.saturating_sub(1), (x + 1).min(width - 1));
+                out[x] = if dilate { row[a] | row[x] | row[b] } else { row[a] & row[x] & row[b] };
+            }
+            return;
+        }
+        combine3(&mut out[1..width - 1], &row[..width - 2], &row[1..width - 1], &row[2..]);
+        out[0] = if dilate { row[0] | row[1] } else { row[0] & row[1] };
+        let last = width - 1;
+        out[last] = if dilate { row[last - 1] | row[last] } else { row[last - 1] & row[last] };
     });
     let mut result = vec![false; mask.len()];
-    result.par_chunks_mut(width.max(1)).enumerate().for_each(|(y, out)| {
-        let row = &horizontal[y * width..(y + 1) * width];
-        for x in 0..width {
-            let mut v = row[x];
-            if y > 0 {
-                v = combine(v, horizontal[(y - 1) * width + x]);
-            }
-            if y + 1 < height {
-                v = combine(v, horizontal[(y + 1) * width + x]);
-            }
-            out[x] = v;
-        }
+    result.par_chunks_mut(width).enumerate().for_each(|(y, out)| {
+        let row = |v: usize| &horizontal[v * width..(v + 1) * width];
+        let (above, below) = (row(y.saturating_sub(1)), row((y + 1).min(height - 1)));
+        combine3(out, above, row(y), below);
     });
     result
 }

@@ -7,11 +7,11 @@
 
 use rayon::prelude::*;
 
-use crate::mask::{close3, ink_row_starts, split_by, squared_distance_rows, tiny_hole_pixels};
+use crate::mask::{
+    close3, ink_row_starts, split_by, squared_distance_at, squared_distance_rows, tiny_hole_pixels,
+    Mask,
+};
 use crate::{Binary, Error, Grid, Params, PointSet, Result};
-
-/// Offsets of the 8-neighbourhood, in raster order (so neighbour lists come out sorted).
-const RING_8: [(i64, i64); 8] = [(-1, -1), (0, -1), (1, -1), (-1, 0), (1, 0), (-1, 1), (0, 1), (1, 1)];
 
 /// `Dis_ave` above this switches dropout mode on (design item 1): more than about 5% of the
 /// points have no ink pixel touching them.
@@ -34,7 +34,8 @@ pub fn points(binary: &Binary, params: &Params) -> Result<PointSet> {
     let ink = &binary.ink[..];
     let row_starts = ink_row_starts(ink, width, height);
     let count = row_starts[height];
-    if count as u64 > params.limits.max_points {
+    // Point indices are u32 (`Grid::NONE` reserved) whatever the configured limit.
+    if count as u64 > params.limits.max_points || count as u64 >= u32::MAX as u64 {
         return Err(Error::Limit {
             what: "foreground points",
             actual: count as u64,
@@ -43,30 +44,39 @@ pub fn points(binary: &Binary, params: &Params) -> Result<PointSet> {
         });
     }
 
-    // Points and the pixel -> point index, row by row.
+    // Points, the pixel -> point index and the nearest-neighbour distances, row by row.
     let mut points = vec![[0.0f64; 2]; count];
     let mut index = vec![Grid::NONE; width * height];
+    let mut spacing_sum = (0.0f64, 0u64);
     if width > 0 {
-        index
+        spacing_sum = index
             .par_chunks_mut(width)
             .zip(split_by(&mut points, &row_starts).into_par_iter())
             .enumerate()
-            .for_each(|(y, (index_row, points_row))| {
+            .map(|(y, (index_row, points_row))| {
                 let mut id = row_starts[y];
                 let mut k = 0;
+                let mut spacing = (0.0f64, 0u64);
                 for (x, slot) in index_row.iter_mut().enumerate() {
                     if ink[y * width + x] {
                         *slot = id as u32;
                         points_row[k] = [x as f64 + 0.5, y as f64 + 0.5];
                         id += 1;
                         k += 1;
+                        if let Some(d) = nearest_distance(ink, width, height, x, y) {
+                            spacing.0 += d;
+                            spacing.1 += 1;
+                        }
                     }
                 }
-            });
+                spacing
+            })
+            .reduce(|| (0.0, 0), |a, b| (a.0 + b.0, a.1 + b.1));
     }
     let grid = Grid { width: binary.width, height: binary.height, index };
+    // `Dis_ave`; 1 when no pixel has a neighbour.
+    let spacing = if spacing_sum.1 == 0 { 1.0 } else { spacing_sum.0 / spacing_sum.1 as f64 };
 
-    let spacing = mean_spacing(ink, width, height);
     let dropout = match params.dropout {
         Some(forced) => forced,
         None => {
@@ -84,125 +94,123 @@ pub fn points(binary: &Binary, params: &Params) -> Result<PointSet> {
     if dropout && count > 0 {
         let closed = close3(ink, width, height);
         let closed_starts = ink_row_starts(&closed, width, height);
-        let mut closed_width = vec![0f32; closed_starts[height]];
-        squared_distance_rows(&closed, width, height, &closed_starts, &mut closed_width, to_half_width);
-        // Keep the values at the original ink pixels (the closing contains them).
-        let mut k = 0;
-        for (i, &on) in closed.iter().enumerate() {
-            if on {
-                if ink[i] {
-                    let id = grid.index[i] as usize;
-                    half_width[id] = closed_width[k];
-                }
-                k += 1;
-            }
-        }
+        let closed = Mask { ink: &closed, width, height, row_starts: &closed_starts };
+        let original = Mask { ink, width, height, row_starts: &row_starts };
+        squared_distance_at(&closed, &original, &mut half_width, to_half_width);
     } else {
         squared_distance_rows(ink, width, height, &row_starts, &mut half_width, to_half_width);
     }
 
     let reach = if dropout { 2 } else { 1 };
-    let (offsets, neighbors) = neighbour_csr(&grid, &row_starts, reach);
+    let (offsets, neighbors) = neighbour_csr(ink, &grid, &row_starts, reach)?;
 
     Ok(PointSet { points, half_width, offsets, neighbors, spacing, dropout, grid: Some(grid) })
 }
 
 /// The neighbour graph in CSR form: the ink pixels within Chebyshev distance `reach` (1: the
-/// 8-neighbourhood; 2: the 5x5 neighbourhood of dropout mode), sorted by point index. Two passes
-/// over the rows (degrees, then lists) so nothing is allocated per point.
-fn neighbour_csr(grid: &Grid, row_starts: &[usize], reach: i64) -> (Vec<u32>, Vec<u32>) {
+/// 8-neighbourhood; 2: the 5x5 neighbourhood of dropout mode), sorted by point index (the window
+/// is scanned in raster order). Two passes over the rows (degrees, then lists) so nothing is
+/// allocated per point.
+fn neighbour_csr(
+    ink: &[bool],
+    grid: &Grid,
+    row_starts: &[usize],
+    reach: usize,
+) -> Result<(Vec<u32>, Vec<u32>)> {
     let count = *row_starts.last().unwrap_or(&0);
-    let (width, height) = (grid.width as i64, grid.height as i64);
-    let offsets_in_window: Vec<(i64, i64)> = (-reach..=reach)
-        .flat_map(|dy| (-reach..=reach).map(move |dx| (dx, dy)))
-        .filter(|&(dx, dy)| (dx, dy) != (0, 0))
-        .collect();
-    let window = if reach == 1 { &RING_8[..] } else { &offsets_in_window[..] };
+    let (width, height) = (grid.width as usize, grid.height as usize);
+    let index = &grid.index[..];
 
-    // Pass 1: degree of each point, row by row.
-    let mut degree = vec![0u32; count];
-    split_by(&mut degree, row_starts).into_par_iter().enumerate().for_each(|(y, row)| {
+    // Pass 1: the degree of point i goes to offsets[i + 1], row by row (counted on the mask,
+    // which is a quarter the size of the index); then prefix sums.
+    let mut offsets = vec![0u32; count + 1];
+    split_by(&mut offsets[1..], row_starts).into_par_iter().enumerate().for_each(|(y, row)| {
         let mut k = 0;
-        for x in 0..width {
-            if grid.point_at(x, y as i64).is_some() {
-                row[k] = window
-                    .iter()
-                    .filter(|&&(dx, dy)| grid.point_at(x + dx, y as i64 + dy).is_some())
-                    .count() as u32;
+        for (x, &on) in ink[y * width..(y + 1) * width].iter().enumerate() {
+            if on {
+                let mut degree = 0;
+                for_each_in_window(ink, width, height, reach, x, y, |other| degree += u32::from(other));
+                row[k] = degree;
                 k += 1;
             }
         }
     });
-    let mut offsets = Vec::with_capacity(count + 1);
-    offsets.push(0u32);
     let mut total = 0u64;
-    for d in &degree {
-        total += *d as u64;
-        offsets.push(total as u32);
+    for slot in offsets.iter_mut() {
+        total += *slot as u64;
+        // The CSR arrays index with u32 (`PointSet`): 24 neighbours of 178 million points.
+        if total > u32::MAX as u64 {
+            return Err(Error::Limit {
+                what: "neighbour pairs",
+                actual: total,
+                limit: u32::MAX as u64,
+                flag: "--max-points",
+            });
+        }
+        *slot = total as u32;
     }
-    drop(degree);
 
     // Pass 2: the lists, each row into its own slice of `neighbors`.
     let mut neighbors = vec![0u32; total as usize];
     let neighbor_starts: Vec<usize> = row_starts.iter().map(|&s| offsets[s] as usize).collect();
     split_by(&mut neighbors, &neighbor_starts).into_par_iter().enumerate().for_each(|(y, row)| {
         let mut k = 0;
-        let y = y as i64;
-        if y >= height {
-            return;
-        }
-        for x in 0..width {
-            if grid.point_at(x, y).is_none() {
-                continue;
-            }
-            for &(dx, dy) in window {
-                if let Some(j) = grid.point_at(x + dx, y + dy) {
-                    row[k] = j;
-                    k += 1;
-                }
+        for (x, &on) in ink[y * width..(y + 1) * width].iter().enumerate() {
+            if on {
+                for_each_in_window(index, width, height, reach, x, y, |j| {
+                    if j != Grid::NONE {
+                        row[k] = j;
+                        k += 1;
+                    }
+                });
             }
         }
     });
-    (offsets, neighbors)
+    Ok((offsets, neighbors))
 }
 
-/// `Dis_ave`: mean distance from an ink pixel to its nearest other ink pixel. Pixels touching
-/// another ink pixel (8-neighbourhood) count one grid step, 1: they are adjacent samples of the
-/// pixel grid, and counting √2 for diagonal contacts would call every thin diagonal line sparse.
-/// Other pixels count their true Euclidean nearest distance, searched up to [`SPACING_SEARCH`];
-/// pixels with nothing that close are left out. 1.0 when no pixel has a neighbour.
-fn mean_spacing(ink: &[bool], width: usize, height: usize) -> f64 {
-    if width == 0 {
-        return 1.0;
-    }
-    let at = |x: i64, y: i64| {
-        x >= 0 && y >= 0 && (x as usize) < width && (y as usize) < height && ink[y as usize * width + x as usize]
-    };
-    let (sum, counted) = (0..height)
-        .into_par_iter()
-        .map(|y| {
-            let y = y as i64;
-            let (mut sum, mut counted) = (0.0f64, 0u64);
-            for x in 0..width as i64 {
-                if !at(x, y) {
-                    continue;
-                }
-                if RING_8.iter().any(|&(dx, dy)| at(x + dx, y + dy)) {
-                    sum += 1.0;
-                    counted += 1;
-                } else if let Some(d) = isolated_distance(&at, x, y) {
-                    sum += d;
-                    counted += 1;
-                }
+/// Calls `visit` with the cells within Chebyshev distance `reach` of `(x, y)`, the center
+/// excluded, in raster order.
+#[inline(always)]
+fn for_each_in_window<T: Copy>(
+    cells: &[T],
+    width: usize,
+    height: usize,
+    reach: usize,
+    x: usize,
+    y: usize,
+    mut visit: impl FnMut(T),
+) {
+    let (u0, u1) = (x.saturating_sub(reach), (x + reach).min(width - 1));
+    for v in y.saturating_sub(reach)..=(y + reach).min(height - 1) {
+        let row = &cells[v * width + u0..=v * width + u1];
+        for (u, &cell) in (u0..).zip(row) {
+            if u != x || v != y {
+                visit(cell);
             }
-            (sum, counted)
-        })
-        .reduce(|| (0.0, 0), |a, b| (a.0 + b.0, a.1 + b.1));
-    if counted == 0 {
-        1.0
-    } else {
-        sum / counted as f64
+        }
     }
+}
+
+/// The contribution of ink pixel `(x, y)` to `Dis_ave` (mean distance to the nearest other ink
+/// pixel). Pixels touching another ink pixel (8-neighbourhood) count one grid step, 1: they are
+/// adjacent samples of the pixel grid, and counting √2 for diagonal contacts would call every thin
+/// diagonal line sparse. Other pixels count their true Euclidean nearest distance, searched up to
+/// [`SPACING_SEARCH`]; with nothing that close they are left out (`None`).
+fn nearest_distance(ink: &[bool], width: usize, height: usize, x: usize, y: usize) -> Option<f64> {
+    let (u0, u1) = (x.saturating_sub(1), (x + 1).min(width - 1));
+    let mut touching = false;
+    for v in y.saturating_sub(1)..=(y + 1).min(height - 1) {
+        let row = &ink[v * width + u0..=v * width + u1];
+        touching |= row.iter().zip(u0..).any(|(&on, u)| on && (u != x || v != y));
+    }
+    if touching {
+        return Some(1.0);
+    }
+    let at = |u: i64, v: i64| {
+        u >= 0 && v >= 0 && (u as usize) < width && (v as usize) < height && ink[v as usize * width + u as usize]
+    };
+    isolated_distance(&at, x as i64, y as i64)
 }
 
 /// Nearest ink pixel to an isolated one, by growing square rings until no closer one can exist.

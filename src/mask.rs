@@ -13,7 +13,9 @@ use rayon::prelude::*;
 pub(crate) fn ink_distances(ink: &[bool], width: usize, height: usize) -> Vec<f32> {
     let row_starts = ink_row_starts(ink, width, height);
     let mut half_width = vec![0f32; row_starts[height]];
-    squared_distance_rows(ink, width, height, &row_starts, &mut half_width, |d2| (d2 as f64).sqrt() as f32);
+    squared_distance_rows(ink, width, height, &row_starts, &mut half_width, |d2| {
+        (d2 as f64).sqrt() as f32
+    });
     half_width
 }
 
@@ -23,7 +25,9 @@ pub(crate) fn ink_row_starts(ink: &[bool], width: usize, height: usize) -> Vec<u
     let counts: Vec<usize> = if width == 0 {
         vec![0; height]
     } else {
-        ink.par_chunks(width).map(|row| row.iter().filter(|&&b| b).count()).collect()
+        ink.par_chunks(width)
+            .map(|row| row.iter().filter(|&&b| b).count())
+            .collect()
     };
     let mut starts = Vec::with_capacity(height + 1);
     let mut total = 0;
@@ -61,7 +65,12 @@ pub(crate) fn squared_distance_rows<T, F>(
     T: Send,
     F: Fn(u64) -> T + Sync,
 {
-    let mask = Mask { ink, width, height, row_starts };
+    let mask = Mask {
+        ink,
+        width,
+        height,
+        row_starts,
+    };
     squared_distance_at(&mask, &mask, out, value);
 }
 
@@ -85,7 +94,12 @@ where
     T: Send,
     F: Fn(u64) -> T + Sync,
 {
-    let Mask { ink, width, height, row_starts } = *mask;
+    let Mask {
+        ink,
+        width,
+        height,
+        row_starts,
+    } = *mask;
     if width == 0 || height == 0 {
         return;
     }
@@ -213,7 +227,8 @@ pub(crate) fn close3(ink: &[bool], width: usize, height: usize) -> Vec<bool> {
     let (pw, ph) = (width + 2, height + 2);
     let mut padded = vec![false; pw * ph];
     for y in 0..height {
-        padded[(y + 1) * pw + 1..(y + 1) * pw + 1 + width].copy_from_slice(&ink[y * width..(y + 1) * width]);
+        padded[(y + 1) * pw + 1..(y + 1) * pw + 1 + width]
+            .copy_from_slice(&ink[y * width..(y + 1) * width]);
     }
     let dilated = filter3(&padded, pw, ph, true);
     let closed = filter3(&dilated, pw, ph, false);
@@ -243,25 +258,48 @@ fn filter3(mask: &[bool], width: usize, height: usize, dilate: bool) -> Vec<bool
         }
     };
     let mut horizontal = vec![false; mask.len()];
-    horizontal.par_chunks_mut(width).zip(mask.par_chunks(width)).for_each(|(out, row)| {
-        if width < 3 {
-            for x in 0..width {
-                let (a, b) = (x.saturating_sub(1), (x + 1).min(width - 1));
-                out[x] = if dilate { row[a] | row[x] | row[b] } else { row[a] & row[x] & row[b] };
+    horizontal
+        .par_chunks_mut(width)
+        .zip(mask.par_chunks(width))
+        .for_each(|(out, row)| {
+            if width < 3 {
+                for x in 0..width {
+                    let (a, b) = (x.saturating_sub(1), (x + 1).min(width - 1));
+                    out[x] = if dilate {
+                        row[a] | row[x] | row[b]
+                    } else {
+                        row[a] & row[x] & row[b]
+                    };
+                }
+                return;
             }
-            return;
-        }
-        combine3(&mut out[1..width - 1], &row[..width - 2], &row[1..width - 1], &row[2..]);
-        out[0] = if dilate { row[0] | row[1] } else { row[0] & row[1] };
-        let last = width - 1;
-        out[last] = if dilate { row[last - 1] | row[last] } else { row[last - 1] & row[last] };
-    });
+            combine3(
+                &mut out[1..width - 1],
+                &row[..width - 2],
+                &row[1..width - 1],
+                &row[2..],
+            );
+            out[0] = if dilate {
+                row[0] | row[1]
+            } else {
+                row[0] & row[1]
+            };
+            let last = width - 1;
+            out[last] = if dilate {
+                row[last - 1] | row[last]
+            } else {
+                row[last - 1] & row[last]
+            };
+        });
     let mut result = vec![false; mask.len()];
-    result.par_chunks_mut(width).enumerate().for_each(|(y, out)| {
-        let row = |v: usize| &horizontal[v * width..(v + 1) * width];
-        let (above, below) = (row(y.saturating_sub(1)), row((y + 1).min(height - 1)));
-        combine3(out, above, row(y), below);
-    });
+    result
+        .par_chunks_mut(width)
+        .enumerate()
+        .for_each(|(y, out)| {
+            let row = |v: usize| &horizontal[v * width..(v + 1) * width];
+            let (above, below) = (row(y.saturating_sub(1)), row((y + 1).min(height - 1)));
+            combine3(out, above, row(y), below);
+        });
     result
 }
 
@@ -326,7 +364,10 @@ mod tests {
 
     fn mask(rows: &[&str]) -> (Vec<bool>, usize, usize) {
         let w = rows[0].len();
-        let ink = rows.iter().flat_map(|r| r.bytes().map(|b| b == b'#')).collect();
+        let ink = rows
+            .iter()
+            .flat_map(|r| r.bytes().map(|b| b == b'#'))
+            .collect();
         (ink, w, rows.len())
     }
 

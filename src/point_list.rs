@@ -2,6 +2,7 @@
 //! symmetric k-nearest-neighbour graphs from a k-d tree (§3.2: `k = 5`), `Dis_ave`, and a
 //! half-width from a distance transform on a raster of the points.
 
+use std::collections::HashSet;
 use std::num::NonZero;
 
 use kiddo::{ImmutableKdTree, SquaredEuclidean};
@@ -16,6 +17,8 @@ const MAX_EXTENT: f64 = 1e150;
 /// Largest dense raster for the half-width, in cells, on top of a share per point. Beyond it
 /// (points spread thinly over a huge extent) a sparse search gives the same values.
 const DENSE_CELLS_BASE: u64 = 1 << 22;
+/// Largest raster side in cells (a whole number in f64 and far from i64 overflow).
+const MAX_RASTER_SIDE: f64 = 1e15;
 /// Dense raster cells allowed per point.
 const DENSE_CELLS_PER_POINT: u64 = 32;
 
@@ -80,24 +83,41 @@ pub fn point_set(list: &[[f64; 2]], params: &Params) -> Result<PointSet> {
             flag: "--max-points",
         });
     }
-    if let Some(i) = list.iter().position(|p| !(p[0].is_finite() && p[1].is_finite())) {
+    if let Some(i) = list
+        .iter()
+        .position(|p| !(p[0].is_finite() && p[1].is_finite()))
+    {
         return Err(Error::PointParse {
             line: i + 1,
-            message: format!("point {} ({}, {}) is not finite", i + 1, list[i][0], list[i][1]),
+            message: format!(
+                "point {} ({}, {}) is not finite",
+                i + 1,
+                list[i][0],
+                list[i][1]
+            ),
         });
     }
     let points = without_duplicates(list);
     let n = points.len();
     if n == 0 {
-        return Ok(PointSet { offsets: vec![0], spacing: 1.0, ..PointSet::default() });
+        return Ok(PointSet {
+            offsets: vec![0],
+            spacing: 1.0,
+            ..PointSet::default()
+        });
     }
 
     // Work in coordinates translated to the origin: the tree and the raster then see numbers of
     // the size of the extent, not of the offset.
-    let min = points.iter().fold([f64::INFINITY; 2], |m, p| [m[0].min(p[0]), m[1].min(p[1])]);
-    let local: Vec<[f64; 2]> = points.iter().map(|p| [p[0] - min[0], p[1] - min[1]]).collect();
+    let min = points
+        .iter()
+        .fold([f64::INFINITY; 2], |m, p| [m[0].min(p[0]), m[1].min(p[1])]);
+    let local: Vec<[f64; 2]> = points
+        .iter()
+        .map(|p| [p[0] - min[0], p[1] - min[1]])
+        .collect();
     let extent = local.iter().fold(0.0f64, |m, p| m.max(p[0]).max(p[1]));
-    if !(extent <= MAX_EXTENT) {
+    if extent.is_nan() || extent > MAX_EXTENT {
         return Err(Error::InvalidParams(format!(
             "the points span {extent:e} units; at most {MAX_EXTENT:e} is supported"
         )));
@@ -121,22 +141,14 @@ pub fn point_set(list: &[[f64; 2]], params: &Params) -> Result<PointSet> {
     })
 }
 
-/// Drops exact repeats, keeping the first occurrence; `-0.0` equals `0.0`.
+/// Drops exact repeats, keeping the first occurrence; `-0.0` equals `0.0`. The set only answers
+/// "seen before?", so its iteration order never reaches the output.
 fn without_duplicates(list: &[[f64; 2]]) -> Vec<[f64; 2]> {
-    let normal: Vec<[f64; 2]> = list.iter().map(|p| [p[0] + 0.0, p[1] + 0.0]).collect();
-    let mut order: Vec<u32> = (0..normal.len() as u32).collect();
-    let key = |i: u32| normal[i as usize];
-    order.par_sort_unstable_by(|&a, &b| {
-        let (p, q) = (key(a), key(b));
-        p[0].total_cmp(&q[0]).then(p[1].total_cmp(&q[1])).then(a.cmp(&b))
-    });
-    let mut keep = vec![true; normal.len()];
-    for pair in order.windows(2) {
-        if key(pair[0]) == key(pair[1]) {
-            keep[pair[1] as usize] = false;
-        }
-    }
-    normal.into_iter().zip(keep).filter(|(_, k)| *k).map(|(p, _)| p).collect()
+    let mut seen = HashSet::with_capacity(list.len());
+    list.iter()
+        .map(|p| [p[0] + 0.0, p[1] + 0.0])
+        .filter(|p| seen.insert((p[0].to_bits(), p[1].to_bits())))
+        .collect()
 }
 
 /// Symmetric k nearest neighbours (§3.2) as CSR, and `Dis_ave` (mean nearest-neighbour distance).
@@ -153,7 +165,10 @@ fn nearest_neighbours(points: &[[f64; 2]], k: usize) -> Result<(Vec<u32>, Vec<u3
         .par_chunks_mut(k)
         .enumerate()
         .map(|(i, list)| {
-            let mut found = tree.query(&points[i]).nearest_n::<SquaredEuclidean<f64>>(wanted).execute();
+            let mut found = tree
+                .query(&points[i])
+                .nearest_n::<SquaredEuclidean<f64>>(wanted)
+                .execute();
             // Ties at equal distance are ordered by index so the choice never depends on the
             // tree's layout.
             found.retain(|r| r.item as usize != i);
@@ -166,24 +181,44 @@ fn nearest_neighbours(points: &[[f64; 2]], k: usize) -> Result<(Vec<u32>, Vec<u3
         .collect();
     let spacing = nearest.iter().sum::<f64>() / n as f64;
 
-    // Both directions of every k-nearest pair, sorted: the CSR of the symmetric relation.
-    let mut pairs: Vec<(u32, u32)> = Vec::with_capacity(2 * n * k);
-    for (i, list) in lists.chunks(k).enumerate() {
-        for &j in list.iter().filter(|&&j| j != u32::MAX) {
-            pairs.push((i as u32, j));
-            pairs.push((j, i as u32));
-        }
-    }
-    pairs.par_sort_unstable();
-    pairs.dedup();
-    let mut offsets = vec![0u32; n + 1];
-    for &(i, _) in &pairs {
-        offsets[i as usize + 1] += 1;
+    // The symmetric relation as CSR: room for both directions of every k-nearest pair, then each
+    // point's list sorted and its repeats (mutual pairs) squeezed out.
+    let pairs = lists.chunks(k).enumerate().flat_map(|(i, list)| {
+        list.iter()
+            .filter(|&&j| j != u32::MAX)
+            .map(move |&j| (i as u32, j))
+    });
+    let mut room = vec![0u32; n + 1];
+    for (i, j) in pairs.clone() {
+        room[i as usize + 1] += 1;
+        room[j as usize + 1] += 1;
     }
     for i in 0..n {
-        offsets[i + 1] += offsets[i];
+        room[i + 1] += room[i];
     }
-    let neighbors = pairs.into_iter().map(|(_, j)| j).collect();
+    let mut filled = room.clone();
+    let mut all = vec![0u32; room[n] as usize];
+    for (i, j) in pairs {
+        all[filled[i as usize] as usize] = j;
+        filled[i as usize] += 1;
+        all[filled[j as usize] as usize] = i;
+        filled[j as usize] += 1;
+    }
+    drop(filled);
+    let mut offsets = Vec::with_capacity(n + 1);
+    offsets.push(0u32);
+    let mut neighbors = Vec::with_capacity(all.len());
+    for i in 0..n {
+        let list = &mut all[room[i] as usize..room[i + 1] as usize];
+        list.sort_unstable();
+        let start = neighbors.len();
+        for &j in list.iter() {
+            if neighbors.len() == start || neighbors.last() != Some(&j) {
+                neighbors.push(j);
+            }
+        }
+        offsets.push(neighbors.len() as u32);
+    }
     Ok((offsets, neighbors, spacing))
 }
 
@@ -196,7 +231,10 @@ fn half_widths(points: &[[f64; 2]], spacing: f64, params: &Params) -> Vec<f32> {
     let cell_of = |p: &[f64; 2]| -> (i64, i64) {
         // Cells centered on the lattice through the origin, so points on a lattice of step
         // `Dis_ave` land in consecutive cells despite rounding noise.
-        ((p[0] / spacing + 0.5).floor() as i64, (p[1] / spacing + 0.5).floor() as i64)
+        (
+            (p[0] / spacing + 0.5).floor() as i64,
+            (p[1] / spacing + 0.5).floor() as i64,
+        )
     };
     let cells: Vec<(i64, i64)> = points.iter().map(cell_of).collect();
     let width = cells.iter().map(|c| c.0).max().unwrap_or(0) as u64 + 1;
@@ -206,6 +244,10 @@ fn half_widths(points: &[[f64; 2]], spacing: f64, params: &Params) -> Vec<f32> {
         .saturating_add(DENSE_CELLS_PER_POINT.saturating_mul(points.len() as u64))
         .min(params.limits.max_pixels);
     let scale = spacing as f32;
+    if extent_cells(points, spacing) > MAX_RASTER_SIDE {
+        // Cells this fine cannot be indexed; every point gets the strip's minimum half-width.
+        return vec![scale; points.len()];
+    }
     if area <= cap {
         let (w, h) = (width as usize, height as usize);
         let mut ink = vec![false; w * h];
@@ -222,7 +264,9 @@ fn half_widths(points: &[[f64; 2]], spacing: f64, params: &Params) -> Vec<f32> {
         }
         let starts = ink_row_starts(&ink, w, h);
         let mut distance = vec![0f32; starts[h]];
-        squared_distance_rows(&ink, w, h, &starts, &mut distance, |d2| (d2 as f64).sqrt() as f32);
+        squared_distance_rows(&ink, w, h, &starts, &mut distance, |d2| {
+            (d2 as f64).sqrt() as f32
+        });
         // Rank of each ink cell in raster order = its slot in `distance`.
         let mut rank = vec![u32::MAX; w * h];
         let mut next = 0u32;
@@ -232,10 +276,18 @@ fn half_widths(points: &[[f64; 2]], spacing: f64, params: &Params) -> Vec<f32> {
                 next += 1;
             }
         }
-        cells.iter().map(|&(x, y)| distance[rank[y as usize * w + x as usize] as usize] * scale).collect()
+        cells
+            .iter()
+            .map(|&(x, y)| distance[rank[y as usize * w + x as usize] as usize] * scale)
+            .collect()
     } else {
         sparse_half_widths(&cells, scale)
     }
+}
+
+/// The larger side of the points' bounding box (from the origin), in cells of side `spacing`.
+fn extent_cells(points: &[[f64; 2]], spacing: f64) -> f64 {
+    points.iter().fold(0.0f64, |m, p| m.max(p[0]).max(p[1])) / spacing
 }
 
 /// The same distances as the dense raster (without closing), by searching square rings around
@@ -279,11 +331,6 @@ pub fn extent(list: &[[f64; 2]]) -> (u32, u32) {
     )
 }
 
-/// Parses a point list: one point per line, `x y` or `x,y`.
-pub fn parse(_text: &str) -> Result<Vec<[f64; 2]>> {
-    todo!("point list parse")
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -300,7 +347,13 @@ mod tests {
         let text = "x,y\n# a comment\n1 2\n\n3,4\n5;6\n7\t8 # trailing\n -1.5e1 , 2.25 \r\n";
         assert_eq!(
             parse(text).unwrap(),
-            vec![[1.0, 2.0], [3.0, 4.0], [5.0, 6.0], [7.0, 8.0], [-15.0, 2.25]]
+            vec![
+                [1.0, 2.0],
+                [3.0, 4.0],
+                [5.0, 6.0],
+                [7.0, 8.0],
+                [-15.0, 2.25]
+            ]
         );
         assert!(parse("").unwrap().is_empty());
         assert!(parse("# only comments\n\n").unwrap().is_empty());
@@ -321,7 +374,11 @@ mod tests {
     }
 
     fn is_symmetric(set: &PointSet) -> bool {
-        (0..set.len() as u32).all(|i| set.neighbors_of(i).iter().all(|&j| set.neighbors_of(j).contains(&i)))
+        (0..set.len() as u32).all(|i| {
+            set.neighbors_of(i)
+                .iter()
+                .all(|&j| set.neighbors_of(j).contains(&i))
+        })
     }
 
     #[test]
@@ -395,7 +452,10 @@ mod tests {
         let same = point_set(&[[5.0, 5.0]; 10], &params).unwrap();
         assert_eq!(same.len(), 1);
         // Non-finite input is refused.
-        assert!(matches!(point_set(&[[0.0, f64::NAN]], &params), Err(Error::PointParse { line: 1, .. })));
+        assert!(matches!(
+            point_set(&[[0.0, f64::NAN]], &params),
+            Err(Error::PointParse { line: 1, .. })
+        ));
     }
 
     #[test]
@@ -405,9 +465,18 @@ mod tests {
         assert_eq!(set.points, list);
         assert!((set.spacing - 0.5).abs() < 1e-6);
         assert!(set.half_width.iter().all(|&h| (h - 0.5).abs() < 1e-6));
-        let limits = crate::Limits { max_points: 10, ..crate::Limits::default() };
-        let params = Params { limits, ..Params::default() };
-        assert!(matches!(point_set(&list, &params), Err(Error::Limit { .. })));
+        let limits = crate::Limits {
+            max_points: 10,
+            ..crate::Limits::default()
+        };
+        let params = Params {
+            limits,
+            ..Params::default()
+        };
+        assert!(matches!(
+            point_set(&list, &params),
+            Err(Error::Limit { .. })
+        ));
     }
 
     #[test]
@@ -416,14 +485,23 @@ mod tests {
         let list: Vec<[f64; 2]> = (0..5)
             .flat_map(|y| (0..40).map(move |x| [x as f64 + 0.5, y as f64 + 10.5]))
             .collect();
-        let set = point_set(&list, &Params { dropout: Some(false), ..Params::default() }).unwrap();
+        let set = point_set(
+            &list,
+            &Params {
+                dropout: Some(false),
+                ..Params::default()
+            },
+        )
+        .unwrap();
         let at = |x: usize, y: usize| set.half_width[y * 40 + x];
         assert_eq!(at(20, 2), 3.0);
         assert_eq!(at(20, 0), 1.0);
         assert_eq!(at(20, 1), 2.0);
         // The sparse search gives the same values as the dense raster.
-        let cells: Vec<(i64, i64)> =
-            list.iter().map(|p| ((p[0] - 0.5) as i64, (p[1] - 10.5) as i64)).collect();
+        let cells: Vec<(i64, i64)> = list
+            .iter()
+            .map(|p| ((p[0] - 0.5) as i64, (p[1] - 10.5) as i64))
+            .collect();
         assert_eq!(sparse_half_widths(&cells, 1.0), set.half_width);
     }
 }

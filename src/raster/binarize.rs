@@ -36,9 +36,13 @@ pub fn binarize(gray: &GrayImage, params: &Params) -> Result<Binary> {
                 Polarity::LightInk => false,
                 Polarity::Auto => dark_is_ink(gray, level),
             };
-            binary.ink.par_iter_mut().zip(pixels.par_iter()).for_each(|(ink, &v)| {
-                *ink = (v <= level) == dark_ink;
-            });
+            binary
+                .ink
+                .par_iter_mut()
+                .zip(pixels.par_iter())
+                .for_each(|(ink, &v)| {
+                    *ink = (v <= level) == dark_ink;
+                });
         }
         Threshold::Sauvola { window, k } => {
             let dark_ink = match params.polarity {
@@ -61,7 +65,11 @@ pub fn otsu_level(pixels: &[u8]) -> u8 {
         histogram[v as usize] += 1;
     }
     let total = pixels.len() as f64;
-    let total_sum: f64 = histogram.iter().enumerate().map(|(v, &c)| v as f64 * c as f64).sum();
+    let total_sum: f64 = histogram
+        .iter()
+        .enumerate()
+        .map(|(v, &c)| v as f64 * c as f64)
+        .sum();
     let (mut dark_weight, mut dark_sum) = (0.0f64, 0.0f64);
     let (mut best, mut best_variance) = (0u8, 0.0f64);
     for (level, &count) in histogram.iter().enumerate() {
@@ -222,7 +230,11 @@ mod tests {
     use image::Luma;
 
     fn params(threshold: Threshold, polarity: Polarity) -> Params {
-        Params { threshold, polarity, ..Params::default() }
+        Params {
+            threshold,
+            polarity,
+            ..Params::default()
+        }
     }
 
     /// Strokes (a cross and a box) on paper; `paper` and `ink` gray levels.
@@ -284,9 +296,11 @@ mod tests {
 
     #[test]
     fn uniform_image_gives_empty_mask() {
-        for threshold in
-            [Threshold::Otsu, Threshold::Fixed { level: 255 }, Threshold::Sauvola { window: 15, k: 0.2 }]
-        {
+        for threshold in [
+            Threshold::Otsu,
+            Threshold::Fixed { level: 255 },
+            Threshold::Sauvola { window: 15, k: 0.2 },
+        ] {
             let img = GrayImage::from_pixel(30, 20, Luma([17]));
             let binary = binarize(&img, &params(threshold, Polarity::DarkInk)).unwrap();
             assert_eq!(binary.count(), 0);
@@ -335,10 +349,16 @@ mod tests {
             let (img, truth) = gradient_lit(light_strokes);
             let binary = binarize(&img, &sauvola).unwrap();
             let (recall, precision) = agreement(&binary.ink, &truth);
-            assert!(recall > 0.97 && precision > 0.97, "{light_strokes}: {recall} {precision}");
+            assert!(
+                recall > 0.97 && precision > 0.97,
+                "{light_strokes}: {recall} {precision}"
+            );
             let otsu = binarize(&img, &Params::default()).unwrap();
             let (recall, precision) = agreement(&otsu.ink, &truth);
-            assert!(recall < 0.9 || precision < 0.9, "Otsu should fail: {recall} {precision}");
+            assert!(
+                recall < 0.9 || precision < 0.9,
+                "Otsu should fail: {recall} {precision}"
+            );
         }
     }
 }

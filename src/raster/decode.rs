@@ -26,14 +26,18 @@ pub fn decode(bytes: &[u8], limits: &Limits) -> Result<GrayImage> {
     // untrusted and a panic is a decoding failure like any other.
     match std::panic::catch_unwind(|| decode_unguarded(bytes, limits)) {
         Ok(result) => result,
-        Err(_) => Err(Error::Decode("the image decoder failed on malformed data".into())),
+        Err(_) => Err(Error::Decode(
+            "the image decoder failed on malformed data".into(),
+        )),
     }
 }
 
 /// Reads and decodes an image file; see [`decode`].
 pub fn decode_file(path: &Path, limits: &Limits) -> Result<GrayImage> {
-    let bytes =
-        std::fs::read(path).map_err(|source| Error::Io { path: path.to_path_buf(), source })?;
+    let bytes = std::fs::read(path).map_err(|source| Error::Io {
+        path: path.to_path_buf(),
+        source,
+    })?;
     decode(&bytes, limits)
 }
 
@@ -76,14 +80,20 @@ fn image_limits(limits: &Limits, with_sides: bool) -> image::Limits {
         bound.max_image_width = Some(limits.max_side);
         bound.max_image_height = Some(limits.max_side);
     }
-    bound.max_alloc =
-        Some(limits.max_pixels.saturating_mul(BYTES_PER_PIXEL_BOUND).saturating_add(ALLOC_SLACK));
+    bound.max_alloc = Some(
+        limits
+            .max_pixels
+            .saturating_mul(BYTES_PER_PIXEL_BOUND)
+            .saturating_add(ALLOC_SLACK),
+    );
     bound
 }
 
 fn check_size(width: u32, height: u32, limits: &Limits) -> Result<()> {
     if width == 0 || height == 0 {
-        return Err(Error::Decode(format!("the image is empty ({width}x{height} pixels)")));
+        return Err(Error::Decode(format!(
+            "the image is empty ({width}x{height} pixels)"
+        )));
     }
     let pixels = width as u64 * height as u64;
     if pixels > limits.max_pixels {
@@ -182,9 +192,11 @@ fn to_gray(image: DynamicImage) -> GrayImage {
                 })
                 .collect(),
         ),
-        DynamicImage::ImageRgba8(img) => {
-            collect(img.pixels().map(|p| gray_of(p.0.map(|v| v as f32 * S8))).collect())
-        }
+        DynamicImage::ImageRgba8(img) => collect(
+            img.pixels()
+                .map(|p| gray_of(p.0.map(|v| v as f32 * S8)))
+                .collect(),
+        ),
         DynamicImage::ImageLuma16(img) => collect(
             img.pixels()
                 .map(|p| {
@@ -209,15 +221,21 @@ fn to_gray(image: DynamicImage) -> GrayImage {
                 })
                 .collect(),
         ),
-        DynamicImage::ImageRgba16(img) => {
-            collect(img.pixels().map(|p| gray_of(p.0.map(|v| v as f32 * S16))).collect())
-        }
-        DynamicImage::ImageRgb32F(img) => {
-            collect(img.pixels().map(|p| gray_of([p.0[0], p.0[1], p.0[2], 1.0])).collect())
-        }
-        DynamicImage::ImageRgba32F(img) => {
-            collect(img.pixels().map(|p| gray_of(p.0.map(|v| v.clamp(0.0, 1.0)))).collect())
-        }
+        DynamicImage::ImageRgba16(img) => collect(
+            img.pixels()
+                .map(|p| gray_of(p.0.map(|v| v as f32 * S16)))
+                .collect(),
+        ),
+        DynamicImage::ImageRgb32F(img) => collect(
+            img.pixels()
+                .map(|p| gray_of([p.0[0], p.0[1], p.0[2], 1.0]))
+                .collect(),
+        ),
+        DynamicImage::ImageRgba32F(img) => collect(
+            img.pixels()
+                .map(|p| gray_of(p.0.map(|v| v.clamp(0.0, 1.0))))
+                .collect(),
+        ),
         other => other.to_luma8(),
     }
 }
@@ -250,7 +268,11 @@ mod tests {
         for &byte in data {
             crc ^= byte as u32;
             for _ in 0..8 {
-                crc = if crc & 1 != 0 { (crc >> 1) ^ 0xEDB8_8320 } else { crc >> 1 };
+                crc = if crc & 1 != 0 {
+                    (crc >> 1) ^ 0xEDB8_8320
+                } else {
+                    crc >> 1
+                };
             }
         }
         !crc
@@ -273,7 +295,11 @@ mod tests {
         ihdr.extend_from_slice(&[8, 0, 0, 0, 0]);
         chunk(&mut out, b"IHDR", &ihdr);
         // zlib stream of a few zero bytes; the decoder would have to inflate 10^10 of them.
-        chunk(&mut out, b"IDAT", &[0x78, 0x9c, 0x63, 0x60, 0x00, 0x00, 0x00, 0x02, 0x00, 0x01]);
+        chunk(
+            &mut out,
+            b"IDAT",
+            &[0x78, 0x9c, 0x63, 0x60, 0x00, 0x00, 0x00, 0x02, 0x00, 0x01],
+        );
         chunk(&mut out, b"IEND", &[]);
         out
     }
@@ -321,8 +347,14 @@ mod tests {
             other => panic!("expected a limit error, got {other:?}"),
         }
         // Within the side limit but over the pixel limit.
-        let tight = Limits { max_pixels: 1000, ..Limits::default() };
-        assert!(matches!(decode(&bomb(40_000), &tight), Err(Error::Limit { .. })));
+        let tight = Limits {
+            max_pixels: 1000,
+            ..Limits::default()
+        };
+        assert!(matches!(
+            decode(&bomb(40_000), &tight),
+            Err(Error::Limit { .. })
+        ));
         // Within every limit: the tiny IDAT is simply not enough data.
         assert!(matches!(decode(&bomb(100), &limits), Err(Error::Decode(_))));
     }
@@ -338,7 +370,13 @@ mod tests {
 
     /// A hand-made PNG: `ihdr_tail` = bit depth, color type, 0, 0, 0; `chunks` before IDAT;
     /// `scanlines` = the filtered rows (filter byte first), stored uncompressed in zlib.
-    fn hand_png(width: u32, height: u32, ihdr_tail: [u8; 5], chunks: &[(&[u8; 4], &[u8])], scanlines: &[u8]) -> Vec<u8> {
+    fn hand_png(
+        width: u32,
+        height: u32,
+        ihdr_tail: [u8; 5],
+        chunks: &[(&[u8; 4], &[u8])],
+        scanlines: &[u8],
+    ) -> Vec<u8> {
         let mut out = b"\x89PNG\r\n\x1a\n".to_vec();
         let mut ihdr = Vec::new();
         ihdr.extend_from_slice(&width.to_be_bytes());
@@ -375,7 +413,11 @@ mod tests {
             &[0, 0, 1],
         );
         let gray = decode(&bytes, &Limits::default()).unwrap();
-        assert_eq!(gray.as_raw(), &vec![0, 255], "transparent pixel must read as white paper");
+        assert_eq!(
+            gray.as_raw(),
+            &vec![0, 255],
+            "transparent pixel must read as white paper"
+        );
     }
 
     #[test]
@@ -399,24 +441,78 @@ mod tests {
 
     #[test]
     fn other_formats_decode() {
-        let mut img = GrayImage::new(8, 4);
-        img.put_pixel(3, 2, Luma([200]));
-        for format in [ImageFormat::Bmp, ImageFormat::Pnm, ImageFormat::Tiff, ImageFormat::Gif] {
+        let mut img = GrayImage::new(16, 16);
+        for y in 4..12 {
+            for x in 4..12 {
+                img.put_pixel(x, y, Luma([220]));
+            }
+        }
+        for format in [
+            ImageFormat::Bmp,
+            ImageFormat::Pnm,
+            ImageFormat::Tiff,
+            ImageFormat::Gif,
+            ImageFormat::Jpeg,
+            ImageFormat::WebP,
+        ] {
             let mut bytes = Vec::new();
             let rgb = DynamicImage::ImageLuma8(img.clone()).to_rgb8();
             DynamicImage::ImageRgb8(rgb)
                 .write_to(&mut Cursor::new(&mut bytes), format)
                 .expect("encode fixture");
             let gray = decode(&bytes, &Limits::default()).unwrap();
-            assert_eq!(gray.dimensions(), (8, 4), "{format:?}");
-            assert!(gray.get_pixel(3, 2).0[0] > 150, "{format:?}");
+            assert_eq!(gray.dimensions(), (16, 16), "{format:?}");
+            assert!(gray.get_pixel(8, 8).0[0] > 150, "{format:?}");
             assert!(gray.get_pixel(0, 0).0[0] < 50, "{format:?}");
+        }
+    }
+
+    /// Deterministic byte flips and truncations of small valid files of every format: the
+    /// codecs must return errors, not panic (tested below the panic guard).
+    #[test]
+    fn corrupted_files_give_errors() {
+        let img = GrayImage::from_fn(24, 17, |x, y| Luma([((x * 37 + y * 11) % 256) as u8]));
+        let mut state = 99u64;
+        for format in [
+            ImageFormat::Png,
+            ImageFormat::Bmp,
+            ImageFormat::Pnm,
+            ImageFormat::Tiff,
+            ImageFormat::Gif,
+            ImageFormat::Jpeg,
+            ImageFormat::WebP,
+        ] {
+            let mut bytes = Vec::new();
+            DynamicImage::ImageRgb8(DynamicImage::ImageLuma8(img.clone()).to_rgb8())
+                .write_to(&mut Cursor::new(&mut bytes), format)
+                .expect("encode fixture");
+            let limits = Limits {
+                max_pixels: 1 << 20,
+                ..Limits::default()
+            };
+            for cut in (0..bytes.len()).step_by(7) {
+                let _ = decode_unguarded(&bytes[..cut], &limits);
+            }
+            for _ in 0..300 {
+                let mut broken = bytes.clone();
+                for _ in 0..3 {
+                    state = state
+                        .wrapping_mul(6_364_136_223_846_793_005)
+                        .wrapping_add(1);
+                    let at = (state >> 33) as usize % broken.len();
+                    broken[at] ^= 1 << ((state >> 20) % 8);
+                }
+                let _ = decode_unguarded(&broken, &limits);
+            }
         }
     }
 
     #[test]
     fn file_errors_are_io_errors() {
         let missing = Path::new("/nonexistent/ridgeline/scan.png");
-        assert!(matches!(decode_file(missing, &Limits::default()), Err(Error::Io { .. })));
+        assert!(matches!(
+            decode_file(missing, &Limits::default()),
+            Err(Error::Io { .. })
+        ));
     }
 }

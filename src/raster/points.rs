@@ -73,9 +73,17 @@ pub fn points(binary: &Binary, params: &Params) -> Result<PointSet> {
             })
             .reduce(|| (0.0, 0), |a, b| (a.0 + b.0, a.1 + b.1));
     }
-    let grid = Grid { width: binary.width, height: binary.height, index };
+    let grid = Grid {
+        width: binary.width,
+        height: binary.height,
+        index,
+    };
     // `Dis_ave`; 1 when no pixel has a neighbour.
-    let spacing = if spacing_sum.1 == 0 { 1.0 } else { spacing_sum.0 / spacing_sum.1 as f64 };
+    let spacing = if spacing_sum.1 == 0 {
+        1.0
+    } else {
+        spacing_sum.0 / spacing_sum.1 as f64
+    };
 
     let dropout = match params.dropout {
         Some(forced) => forced,
@@ -94,17 +102,42 @@ pub fn points(binary: &Binary, params: &Params) -> Result<PointSet> {
     if dropout && count > 0 {
         let closed = close3(ink, width, height);
         let closed_starts = ink_row_starts(&closed, width, height);
-        let closed = Mask { ink: &closed, width, height, row_starts: &closed_starts };
-        let original = Mask { ink, width, height, row_starts: &row_starts };
+        let closed = Mask {
+            ink: &closed,
+            width,
+            height,
+            row_starts: &closed_starts,
+        };
+        let original = Mask {
+            ink,
+            width,
+            height,
+            row_starts: &row_starts,
+        };
         squared_distance_at(&closed, &original, &mut half_width, to_half_width);
     } else {
-        squared_distance_rows(ink, width, height, &row_starts, &mut half_width, to_half_width);
+        squared_distance_rows(
+            ink,
+            width,
+            height,
+            &row_starts,
+            &mut half_width,
+            to_half_width,
+        );
     }
 
     let reach = if dropout { 2 } else { 1 };
     let (offsets, neighbors) = neighbour_csr(ink, &grid, &row_starts, reach)?;
 
-    Ok(PointSet { points, half_width, offsets, neighbors, spacing, dropout, grid: Some(grid) })
+    Ok(PointSet {
+        points,
+        half_width,
+        offsets,
+        neighbors,
+        spacing,
+        dropout,
+        grid: Some(grid),
+    })
 }
 
 /// The neighbour graph in CSR form: the ink pixels within Chebyshev distance `reach` (1: the
@@ -124,17 +157,22 @@ fn neighbour_csr(
     // Pass 1: the degree of point i goes to offsets[i + 1], row by row (counted on the mask,
     // which is a quarter the size of the index); then prefix sums.
     let mut offsets = vec![0u32; count + 1];
-    split_by(&mut offsets[1..], row_starts).into_par_iter().enumerate().for_each(|(y, row)| {
-        let mut k = 0;
-        for (x, &on) in ink[y * width..(y + 1) * width].iter().enumerate() {
-            if on {
-                let mut degree = 0;
-                for_each_in_window(ink, width, height, reach, x, y, |other| degree += u32::from(other));
-                row[k] = degree;
-                k += 1;
+    split_by(&mut offsets[1..], row_starts)
+        .into_par_iter()
+        .enumerate()
+        .for_each(|(y, row)| {
+            let mut k = 0;
+            for (x, &on) in ink[y * width..(y + 1) * width].iter().enumerate() {
+                if on {
+                    let mut degree = 0;
+                    for_each_in_window(ink, width, height, reach, x, y, |other| {
+                        degree += u32::from(other)
+                    });
+                    row[k] = degree;
+                    k += 1;
+                }
             }
-        }
-    });
+        });
     let mut total = 0u64;
     for slot in offsets.iter_mut() {
         total += *slot as u64;
@@ -153,19 +191,22 @@ fn neighbour_csr(
     // Pass 2: the lists, each row into its own slice of `neighbors`.
     let mut neighbors = vec![0u32; total as usize];
     let neighbor_starts: Vec<usize> = row_starts.iter().map(|&s| offsets[s] as usize).collect();
-    split_by(&mut neighbors, &neighbor_starts).into_par_iter().enumerate().for_each(|(y, row)| {
-        let mut k = 0;
-        for (x, &on) in ink[y * width..(y + 1) * width].iter().enumerate() {
-            if on {
-                for_each_in_window(index, width, height, reach, x, y, |j| {
-                    if j != Grid::NONE {
-                        row[k] = j;
-                        k += 1;
-                    }
-                });
+    split_by(&mut neighbors, &neighbor_starts)
+        .into_par_iter()
+        .enumerate()
+        .for_each(|(y, row)| {
+            let mut k = 0;
+            for (x, &on) in ink[y * width..(y + 1) * width].iter().enumerate() {
+                if on {
+                    for_each_in_window(index, width, height, reach, x, y, |j| {
+                        if j != Grid::NONE {
+                            row[k] = j;
+                            k += 1;
+                        }
+                    });
+                }
             }
-        }
-    });
+        });
     Ok((offsets, neighbors))
 }
 
@@ -202,13 +243,20 @@ fn nearest_distance(ink: &[bool], width: usize, height: usize, x: usize, y: usiz
     let mut touching = false;
     for v in y.saturating_sub(1)..=(y + 1).min(height - 1) {
         let row = &ink[v * width + u0..=v * width + u1];
-        touching |= row.iter().zip(u0..).any(|(&on, u)| on && (u != x || v != y));
+        touching |= row
+            .iter()
+            .zip(u0..)
+            .any(|(&on, u)| on && (u != x || v != y));
     }
     if touching {
         return Some(1.0);
     }
     let at = |u: i64, v: i64| {
-        u >= 0 && v >= 0 && (u as usize) < width && (v as usize) < height && ink[v as usize * width + u as usize]
+        u >= 0
+            && v >= 0
+            && (u as usize) < width
+            && (v as usize) < height
+            && ink[v as usize * width + u as usize]
     };
     isolated_distance(&at, x as i64, y as i64)
 }
@@ -259,7 +307,9 @@ mod tests {
     fn drop_pixels(binary: &mut Binary, share: f64, seed: u64) {
         let mut state = seed;
         for pixel in binary.ink.iter_mut() {
-            state = state.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1_442_695_040_888_963_407);
+            state = state
+                .wrapping_mul(6_364_136_223_846_793_005)
+                .wrapping_add(1_442_695_040_888_963_407);
             if *pixel && ((state >> 33) as f64 / (1u64 << 31) as f64) < share {
                 *pixel = false;
             }
@@ -270,7 +320,10 @@ mod tests {
     fn points_in_raster_order_with_grid() {
         let binary = mask(&[".#.", "##.", "..#"]);
         let set = points(&binary, &Params::default()).unwrap();
-        assert_eq!(set.points, vec![[1.5, 0.5], [0.5, 1.5], [1.5, 1.5], [2.5, 2.5]]);
+        assert_eq!(
+            set.points,
+            vec![[1.5, 0.5], [0.5, 1.5], [1.5, 1.5], [2.5, 2.5]]
+        );
         let grid = set.grid.as_ref().unwrap();
         assert_eq!(grid.point_at(2, 2), Some(3));
         assert_eq!(grid.point_at(0, 0), None);
@@ -288,7 +341,10 @@ mod tests {
             let set = points(&binary, &Params::default()).unwrap();
             let grid = set.grid.as_ref().unwrap();
             let mid = grid.point_at(20, (5 + thickness / 2) as i64).unwrap();
-            assert_eq!(set.half_width[mid as usize], center, "thickness {thickness}");
+            assert_eq!(
+                set.half_width[mid as usize], center,
+                "thickness {thickness}"
+            );
             let edge = grid.point_at(20, 5).unwrap();
             assert_eq!(set.half_width[edge as usize], 1.0);
         }
@@ -305,7 +361,10 @@ mod tests {
         assert!(set.dropout);
         set.validate().unwrap();
         // 5x5 neighbourhood: an interior point sees up to 24 neighbours.
-        let most = (0..set.len() as u32).map(|i| set.neighbors_of(i).len()).max().unwrap();
+        let most = (0..set.len() as u32)
+            .map(|i| set.neighbors_of(i).len())
+            .max()
+            .unwrap();
         assert!(most > 8 && most <= 24);
         // The closing restores the bar's width for the distance transform: center ~ 5.
         let grid = set.grid.as_ref().unwrap();
@@ -316,7 +375,10 @@ mod tests {
         let mean = center.iter().sum::<f32>() / center.len() as f32;
         assert!(mean > 4.0, "{mean}");
         // Forced off.
-        let params = Params { dropout: Some(false), ..Params::default() };
+        let params = Params {
+            dropout: Some(false),
+            ..Params::default()
+        };
         let set = points(&broken, &params).unwrap();
         assert!(!set.dropout);
         assert!(set.neighbors.len() <= 8 * set.len());
@@ -334,7 +396,10 @@ mod tests {
         let set = points(&binary, &Params::default()).unwrap();
         assert!((set.spacing - 3.0).abs() < 1e-12);
         assert!(set.dropout, "sparse points switch dropout mode on");
-        assert!(set.neighbors_of(0).is_empty(), "3 px apart is outside the 5x5 window");
+        assert!(
+            set.neighbors_of(0).is_empty(),
+            "3 px apart is outside the 5x5 window"
+        );
         // A lone pixel has no neighbour: spacing falls back to 1.
         let lone = mask(&["...", ".#.", "..."]);
         let set = points(&lone, &params_forced_off()).unwrap();
@@ -343,14 +408,20 @@ mod tests {
     }
 
     fn params_forced_off() -> Params {
-        Params { dropout: Some(false), ..Params::default() }
+        Params {
+            dropout: Some(false),
+            ..Params::default()
+        }
     }
 
     #[test]
     fn limits_and_empty_masks() {
         let binary = horizontal_bar(20, 10, 3, 2);
         let params = Params {
-            limits: crate::Limits { max_points: 10, ..crate::Limits::default() },
+            limits: crate::Limits {
+                max_points: 10,
+                ..crate::Limits::default()
+            },
             ..Params::default()
         };
         match points(&binary, &params) {
@@ -374,7 +445,10 @@ mod tests {
         let mut binary = horizontal_bar(30, 12, 2, 7);
         drop_pixels(&mut binary, 0.3, 3);
         for dropout in [false, true] {
-            let params = Params { dropout: Some(dropout), ..Params::default() };
+            let params = Params {
+                dropout: Some(dropout),
+                ..Params::default()
+            };
             let set = points(&binary, &params).unwrap();
             set.validate().unwrap();
             let reach = if dropout { 2.0 } else { 1.0 };

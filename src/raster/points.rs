@@ -71,7 +71,10 @@ pub fn points(binary: &Binary, params: &Params) -> Result<PointSet> {
                 }
                 spacing
             })
-            .reduce(|| (0.0, 0), |a, b| (a.0 + b.0, a.1 + b.1));
+            // Rows summed in order: a parallel float reduction would depend on the thread count.
+            .collect::<Vec<(f64, u64)>>()
+            .into_iter()
+            .fold((0.0, 0), |a, b| (a.0 + b.0, a.1 + b.1));
     }
     let grid = Grid {
         width: binary.width,

@@ -80,6 +80,8 @@ pub fn points(binary: &Binary, params: &Params) -> Result<PointSet> {
         width: binary.width,
         height: binary.height,
         index,
+        x0: 0,
+        y0: 0,
     };
     // `Dis_ave`; 1 when no pixel has a neighbour.
     let spacing = if spacing_sum.1 == 0 {

@@ -44,16 +44,19 @@ pub fn points(binary: &Binary, params: &Params) -> Result<PointSet> {
         });
     }
 
-    // Points, the pixel -> point index and the nearest-neighbour distances, row by row.
+    // Points, the pixel -> point index, the 8-neighbour degrees (at `degrees[i + 1]`, the layout
+    // of the CSR offsets) and the nearest-neighbour distances, row by row.
     let mut points = vec![[0.0f64; 2]; count];
     let mut index = vec![Grid::NONE; width * height];
+    let mut degrees = vec![0u32; count + 1];
     let mut spacing_sum = (0.0f64, 0u64);
     if width > 0 {
         spacing_sum = index
             .par_chunks_mut(width)
             .zip(split_by(&mut points, &row_starts).into_par_iter())
+            .zip(split_by(&mut degrees[1..], &row_starts).into_par_iter())
             .enumerate()
-            .map(|(y, (index_row, points_row))| {
+            .map(|(y, ((index_row, points_row), degree_row))| {
                 let mut id = row_starts[y];
                 let mut k = 0;
                 let mut spacing = (0.0f64, 0u64);
@@ -61,9 +64,14 @@ pub fn points(binary: &Binary, params: &Params) -> Result<PointSet> {
                     if ink[y * width + x] {
                         *slot = id as u32;
                         points_row[k] = [x as f64 + 0.5, y as f64 + 0.5];
+                        let mut degree = 0;
+                        for_each_in_window(ink, width, height, 1, x, y, |other| {
+                            degree += u32::from(other)
+                        });
+                        degree_row[k] = degree;
                         id += 1;
                         k += 1;
-                        if let Some(d) = nearest_distance(ink, width, height, x, y) {
+                        if let Some(d) = nearest_distance(ink, width, height, x, y, degree) {
                             spacing.0 += d;
                             spacing.1 += 1;
                         }
@@ -132,7 +140,7 @@ pub fn points(binary: &Binary, params: &Params) -> Result<PointSet> {
     }
 
     let reach = if dropout { 2 } else { 1 };
-    let (offsets, neighbors) = neighbour_csr(ink, &grid, &row_starts, reach)?;
+    let (offsets, neighbors) = neighbour_csr(ink, &grid, &row_starts, reach, degrees)?;
 
     Ok(PointSet {
         points,
@@ -154,30 +162,33 @@ fn neighbour_csr(
     grid: &Grid,
     row_starts: &[usize],
     reach: usize,
+    degrees_8: Vec<u32>,
 ) -> Result<(Vec<u32>, Vec<u32>)> {
-    let count = *row_starts.last().unwrap_or(&0);
     let (width, height) = (grid.width as usize, grid.height as usize);
     let index = &grid.index[..];
 
     // Pass 1: the degree of point i goes to offsets[i + 1], row by row (counted on the mask,
-    // which is a quarter the size of the index); then prefix sums.
-    let mut offsets = vec![0u32; count + 1];
-    split_by(&mut offsets[1..], row_starts)
-        .into_par_iter()
-        .enumerate()
-        .for_each(|(y, row)| {
-            let mut k = 0;
-            for (x, &on) in ink[y * width..(y + 1) * width].iter().enumerate() {
-                if on {
-                    let mut degree = 0;
-                    for_each_in_window(ink, width, height, reach, x, y, |other| {
-                        degree += u32::from(other)
-                    });
-                    row[k] = degree;
-                    k += 1;
+    // which is a quarter the size of the index); then prefix sums. The 8-neighbour degrees are
+    // already known.
+    let mut offsets = degrees_8;
+    if reach != 1 {
+        split_by(&mut offsets[1..], row_starts)
+            .into_par_iter()
+            .enumerate()
+            .for_each(|(y, row)| {
+                let mut k = 0;
+                for (x, &on) in ink[y * width..(y + 1) * width].iter().enumerate() {
+                    if on {
+                        let mut degree = 0;
+                        for_each_in_window(ink, width, height, reach, x, y, |other| {
+                            degree += u32::from(other)
+                        });
+                        row[k] = degree;
+                        k += 1;
+                    }
                 }
-            }
-        });
+            });
+    }
     let mut total = 0u64;
     for slot in offsets.iter_mut() {
         total += *slot as u64;
@@ -242,18 +253,17 @@ fn for_each_in_window<T: Copy>(
 /// pixel). Pixels touching another ink pixel (8-neighbourhood) count one grid step, 1: they are
 /// adjacent samples of the pixel grid, and counting √2 for diagonal contacts would call every thin
 /// diagonal line sparse. Other pixels count their true Euclidean nearest distance, searched up to
-/// [`SPACING_SEARCH`]; with nothing that close they are left out (`None`).
-fn nearest_distance(ink: &[bool], width: usize, height: usize, x: usize, y: usize) -> Option<f64> {
-    let (u0, u1) = (x.saturating_sub(1), (x + 1).min(width - 1));
-    let mut touching = false;
-    for v in y.saturating_sub(1)..=(y + 1).min(height - 1) {
-        let row = &ink[v * width + u0..=v * width + u1];
-        touching |= row
-            .iter()
-            .zip(u0..)
-            .any(|(&on, u)| on && (u != x || v != y));
-    }
-    if touching {
+/// [`SPACING_SEARCH`]; with nothing that close they are left out (`None`). `degree_8` is the
+/// number of ink pixels touching `(x, y)`.
+fn nearest_distance(
+    ink: &[bool],
+    width: usize,
+    height: usize,
+    x: usize,
+    y: usize,
+    degree_8: u32,
+) -> Option<f64> {
+    if degree_8 > 0 {
         return Some(1.0);
     }
     let at = |u: i64, v: i64| {
@@ -443,6 +453,32 @@ mod tests {
         set.validate().unwrap();
         let nothing = Binary::new(0, 0);
         assert!(points(&nothing, &Params::default()).unwrap().is_empty());
+    }
+
+    #[test]
+    fn output_does_not_depend_on_the_thread_count() {
+        let mut binary = horizontal_bar(300, 200, 20, 150);
+        drop_pixels(&mut binary, 0.3, 11);
+        for dropout in [None, Some(true), Some(false)] {
+            let params = Params {
+                dropout,
+                ..Params::default()
+            };
+            let run = |threads: usize| {
+                let pool = rayon::ThreadPoolBuilder::new()
+                    .num_threads(threads)
+                    .build()
+                    .unwrap();
+                pool.install(|| points(&binary, &params).unwrap())
+            };
+            let (one, three) = (run(1), run(3));
+            assert_eq!(one.points, three.points);
+            assert_eq!(one.half_width, three.half_width);
+            assert_eq!(one.offsets, three.offsets);
+            assert_eq!(one.neighbors, three.neighbors);
+            assert_eq!(one.spacing.to_bits(), three.spacing.to_bits());
+            assert_eq!(one.dropout, three.dropout);
+        }
     }
 
     #[test]

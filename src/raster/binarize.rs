@@ -2,8 +2,10 @@
 //! [`Params`].
 //!
 //! Polarity matters as much as the level: text is dark ink on light paper, fingerprint ridges are
-//! often light on a dark background. `Auto` looks at the image border, which is almost always
-//! paper.
+//! often light on a dark background. `Auto` takes the minority side as ink (strokes are thin, so
+//! they cover less of the page than the paper, even when the page lies on a dark table, where the
+//! border would point the wrong way); only when the split is close to even (fingerprints, where
+//! ridges and valleys are about as wide) does it look at the image border, which is then paper.
 
 use rayon::prelude::*;
 
@@ -92,19 +94,19 @@ pub fn otsu_level(pixels: &[u8]) -> u8 {
     best
 }
 
-/// Whether the dark side of `level` is ink: the side holding most of the border pixels is paper;
-/// when the border is split (40-60%), the minority side of the whole image is ink.
+/// Whether the dark side of `level` is ink: the minority side of the whole image is ink; when the
+/// split is close to even (40-60%), the side holding most of the border pixels is paper.
 fn dark_is_ink(gray: &GrayImage, level: u8) -> bool {
-    let (dark, total) = border_counts(gray, |v| v <= level);
-    let share = dark as f64 / total.max(1) as f64;
-    if share < AMBIGUOUS_BORDER.0 {
-        true
-    } else if share > AMBIGUOUS_BORDER.1 {
-        false
-    } else {
-        let dark_all = gray.as_raw().par_iter().filter(|&&v| v <= level).count();
-        dark_all * 2 <= gray.as_raw().len()
+    let dark_all = gray.as_raw().par_iter().filter(|&&v| v <= level).count();
+    let share_all = dark_all as f64 / gray.as_raw().len().max(1) as f64;
+    if share_all < AMBIGUOUS_BORDER.0 {
+        return true;
     }
+    if share_all > AMBIGUOUS_BORDER.1 {
+        return false;
+    }
+    let (dark, total) = border_counts(gray, |v| v <= level);
+    dark * 2 <= total
 }
 
 /// Polarity for Sauvola, which is decided before thresholding because the formula is asymmetric:

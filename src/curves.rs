@@ -130,7 +130,7 @@ pub fn fit_beziers(points: &[[f64; 2]], tolerance: f64, corner_angle_deg: f64) -
         if !(p[0].is_finite() && p[1].is_finite()) {
             continue;
         }
-        if clean.last().map_or(true, |&q| norm(sub(p, q)) > 1e-9) {
+        if clean.last().is_none_or(|&q| norm(sub(p, q)) > 1e-9) {
             clean.push(p);
         }
     }
@@ -331,7 +331,7 @@ pub fn svg_path_data(segments: &[CubicBezier]) -> String {
     let mut data = String::new();
     let mut at: Option<Point> = None;
     for s in segments {
-        if at.map_or(true, |p| norm(sub(p, s.p0)) > 1e-6) {
+        if at.is_none_or(|p| norm(sub(p, s.p0)) > 1e-6) {
             let separator = if data.is_empty() { "" } else { " " };
             let _ = write!(data, "{separator}M {:.2} {:.2}", s.p0[0], s.p0[1]);
         }

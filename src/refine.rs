@@ -18,14 +18,20 @@ use crate::{dist, GraphNode, NodeGraph, Params, PointSet};
 
 /// Refines `H` into a 1-D graph (no triangles; one vertex per crossing).
 pub fn refine(graph: &NodeGraph, points: &PointSet, params: &Params) -> NodeGraph {
-    let mut work = Work::new(graph);
+    // Holes guide contraction, merging and clean-up; the paper's rules (paper mode) ignore them.
+    let holes = if params.cleanup {
+        Holes::find(points)
+    } else {
+        Holes::Unknown
+    };
+    let mut work = Work::new(graph, holes);
     work.contract_triangles();
-    work.merge_clusters(params.merge_span);
+    let holes = work.holes.clone();
+    work.merge_clusters(params.merge_span, &holes);
     if params.cleanup {
-        let holes = Holes::find(points);
         for _ in 0..8 {
             let mut changed = work.contract_hole_free_cycles(&holes);
-            changed |= work.prune_spurs();
+            changed |= work.prune_spurs(points);
             changed |= work.collapse_short_bars();
             changed |= work.merge_y_bar_y();
             if !changed {
@@ -63,10 +69,12 @@ struct Work {
     alive: Vec<bool>,
     /// Merge forest: `parent[i] == i` for live nodes.
     parent: Vec<u32>,
+    /// Background holes of the ink (empty knowledge in paper mode).
+    holes: Holes,
 }
 
 impl Work {
-    fn new(graph: &NodeGraph) -> Self {
+    fn new(graph: &NodeGraph, holes: Holes) -> Self {
         let n = graph.nodes.len();
         Work {
             nodes: graph.nodes.clone(),
@@ -74,6 +82,7 @@ impl Work {
             adj: graph.adjacency(),
             alive: vec![true; n],
             parent: (0..n as u32).collect(),
+            holes,
         }
     }
 
@@ -96,7 +105,21 @@ impl Work {
             match la[i].cmp(&lb[j]) {
                 std::cmp::Ordering::Less => i += 1,
                 std::cmp::Ordering::Greater => j += 1,
-                std::cmp::Ordering::Equal => return true,
+                std::cmp::Ordering::Equal => {
+                    // A triangle around a background hole is a real (small) loop, not a
+                    // thick-region artifact: it must survive contraction.
+                    let c = la[i];
+                    let triangle = [
+                        self.nodes[a as usize].pos,
+                        self.nodes[b as usize].pos,
+                        self.nodes[c as usize].pos,
+                    ];
+                    if !self.holes.encloses_known(&triangle) {
+                        return true;
+                    }
+                    i += 1;
+                    j += 1;
+                }
             }
         }
         false
@@ -221,7 +244,7 @@ impl Work {
     }
 
     /// Merging operator with complete-linkage groups (design 13).
-    fn merge_clusters(&mut self, span: f64) {
+    fn merge_clusters(&mut self, span: f64, holes: &Holes) {
         let mut members: Vec<Vec<u32>> = Vec::new();
         for i in 0..self.nodes.len() as u32 {
             if !self.alive[i as usize] || self.degree(i) <= 2 {
@@ -244,9 +267,12 @@ impl Work {
                     * self.nodes[a as usize]
                         .r_min
                         .max(self.nodes[b as usize].r_min);
+                // Two junctions on either side of a background hole are two junctions (the
+                // crossings of a small '#'), however close: merging them would erase the hole.
                 self.len(a, b) <= limit
+                    && !holes.near_segment(self.nodes[a as usize].pos, self.nodes[b as usize].pos)
             }) {
-                if group.len() < 2 {
+                if group.len() < 2 || self.merge_loses_hole(&group, holes) {
                     continue;
                 }
                 let pos = self.centroid(&group);
@@ -254,6 +280,75 @@ impl Work {
                 self.absorb_dangling(m, cluster as u32);
             }
         }
+    }
+
+    /// Whether merging `group` would erase a cycle around a background hole: two members with a
+    /// common neighbour `x` lose the cycle `a - x - b - (path back to a)`, which is a real loop
+    /// when it encloses a hole (two crossings of a small '#' on either side of its hole).
+    fn merge_loses_hole(&self, group: &[u32], holes: &Holes) -> bool {
+        if !matches!(holes, Holes::Known(_)) {
+            return false;
+        }
+        for (i, &a) in group.iter().enumerate() {
+            for &b in &group[i + 1..] {
+                for &x in &self.adj[a as usize] {
+                    if group.contains(&x) || !self.adjacent(b, x) {
+                        continue;
+                    }
+                    let mut polygon = vec![self.nodes[a as usize].pos, self.nodes[x as usize].pos];
+                    let reach = 20.0 * self.nodes[a as usize].width.max(3.0);
+                    if let Some(path) = self.shortest_path_avoiding(b, a, x, reach) {
+                        polygon.extend(path.iter().map(|&k| self.nodes[k as usize].pos));
+                    } else {
+                        polygon.push(self.nodes[b as usize].pos);
+                    }
+                    if holes.encloses(&polygon) {
+                        return true;
+                    }
+                }
+            }
+        }
+        false
+    }
+
+    /// Shortest path from `from` to `to` (both included) not passing through `avoid`.
+    fn shortest_path_avoiding(
+        &self,
+        from: u32,
+        to: u32,
+        avoid: u32,
+        limit: f64,
+    ) -> Option<Vec<u32>> {
+        let mut best: std::collections::HashMap<u32, (f64, u32)> = std::collections::HashMap::new();
+        let mut heap = BinaryHeap::new();
+        best.insert(from, (0.0, from));
+        heap.push(Reverse((Key(0.0), from)));
+        while let Some(Reverse((Key(d), x))) = heap.pop() {
+            if best.get(&x).is_some_and(|&(bd, _)| bd < d) {
+                continue;
+            }
+            if x == to {
+                let mut path = vec![to];
+                let mut cur = to;
+                while cur != from {
+                    cur = best[&cur].1;
+                    path.push(cur);
+                }
+                path.reverse();
+                return Some(path);
+            }
+            for &y in &self.adj[x as usize] {
+                if y == avoid {
+                    continue;
+                }
+                let nd = d + self.len(x, y);
+                if nd <= limit && best.get(&y).is_none_or(|&(bd, _)| nd < bd) {
+                    best.insert(y, (nd, x));
+                    heap.push(Reverse((Key(nd), y)));
+                }
+            }
+        }
+        None
     }
 
     /// After a merge, nodes of the same cluster hanging off the merged node alone (left over from
@@ -438,7 +533,7 @@ impl Work {
     }
 
     /// Clean-up 2: terminal branches shorter than the stroke width at their junction are spurs.
-    fn prune_spurs(&mut self) -> bool {
+    fn prune_spurs(&mut self, points: &PointSet) -> bool {
         let mut changed = false;
         for e in self.live() {
             if !self.alive[e as usize] || self.degree(e) != 1 {
@@ -450,8 +545,20 @@ impl Work {
             if self.degree(junction) < 3 {
                 continue;
             }
+            // A spur is a bump on the side of a stroke: its ink ends within about one width of
+            // the junction. A real short branch (the bar of an 'f', the tail of a 't') sticks out
+            // well beyond the stroke it leaves, so its ink tip, not its last node, decides.
             let width = self.nodes[junction as usize].width;
-            if length < width {
+            let reach = match ink_tip(
+                points,
+                self.nodes[first as usize].pos,
+                self.nodes[e as usize].pos,
+                3.0 * width,
+            ) {
+                Some(tip) => dist(self.nodes[junction as usize].pos, tip),
+                None => length,
+            };
+            if reach < SPUR_REACH * width {
                 let pos = self.nodes[junction as usize].pos;
                 let mut group = vec![junction, e];
                 group.extend_from_slice(&path[..path.len() - 1]);
@@ -630,6 +737,37 @@ impl Work {
     }
 }
 
+/// A terminal branch whose ink reaches less than this many stroke widths from its junction is a
+/// spur (a corner of a thick stroke reaches about 0.7 w, a real short branch 1.5 w or more).
+const SPUR_REACH: f64 = 1.1;
+
+/// The last ink position when walking from `end` away from `from` (in 0.5 px steps, at most
+/// `limit`); `None` without a pixel grid.
+fn ink_tip(points: &PointSet, from: [f64; 2], end: [f64; 2], limit: f64) -> Option<[f64; 2]> {
+    let grid = points.grid.as_ref()?;
+    let d = [end[0] - from[0], end[1] - from[1]];
+    let norm = d[0].hypot(d[1]);
+    if norm < 1e-9 {
+        return Some(end);
+    }
+    let u = [d[0] / norm, d[1] / norm];
+    let on_ink = |p: [f64; 2]| {
+        grid.point_at(p[0].floor() as i64, p[1].floor() as i64)
+            .is_some()
+    };
+    let mut tip = end;
+    let mut t = 0.5;
+    while t <= limit {
+        let p = [end[0] + u[0] * t, end[1] + u[1] * t];
+        if !on_ink(p) {
+            break;
+        }
+        tip = p;
+        t += 0.5;
+    }
+    Some(tip)
+}
+
 /// Complete-linkage agglomeration: groups in which every pair satisfies `close`.
 fn complete_linkage(items: &[u32], close: impl Fn(u32, u32) -> bool) -> Vec<Vec<u32>> {
     let mut groups: Vec<Vec<u32>> = items.iter().map(|&i| vec![i]).collect();
@@ -655,6 +793,7 @@ fn complete_linkage(items: &[u32], close: impl Fn(u32, u32) -> bool) -> Vec<Vec<
 }
 
 /// Background holes (bounded background components) of the ink, each by a representative pixel.
+#[derive(Clone)]
 enum Holes {
     /// Representative pixel centers of the holes, sorted by x.
     Known(Vec<[f64; 2]>),
@@ -746,6 +885,25 @@ impl Holes {
         let mut reps: Vec<[f64; 2]> = best.values().map(|&(p, _)| p).collect();
         reps.sort_by(|a, b| a[0].total_cmp(&b[0]));
         Holes::Known(reps)
+    }
+
+    /// Whether a known hole lies inside the polygon (false without hole knowledge).
+    fn encloses_known(&self, polygon: &[[f64; 2]]) -> bool {
+        matches!(self, Holes::Known(_)) && self.encloses(polygon)
+    }
+
+    /// Whether a hole's representative pixel lies in the disk whose diameter is `a`-`b`.
+    fn near_segment(&self, a: [f64; 2], b: [f64; 2]) -> bool {
+        let Holes::Known(reps) = self else {
+            return false;
+        };
+        let center = [(a[0] + b[0]) / 2.0, (a[1] + b[1]) / 2.0];
+        let radius = dist(a, b) / 2.0 + 0.5;
+        let start = reps.partition_point(|r| r[0] < center[0] - radius);
+        reps[start..]
+            .iter()
+            .take_while(|r| r[0] <= center[0] + radius)
+            .any(|&r| dist(r, center) <= radius)
     }
 
     /// Whether a hole's representative pixel lies inside the polygon (even-odd rule).

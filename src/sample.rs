@@ -304,13 +304,22 @@ impl<'a> Sampler<'a> {
         let spacing = self.points.spacing.max(1e-9);
         // Local width (design 2): w_loc = 2 max(dt) - 1 over the disk of radius max(3, 3 dt(c)).
         let dt_center = self.points.half_width[center as usize] as f64;
-        let probe = (3.0 * spacing).max(3.0 * dt_center);
-        self.grow_disk(c, probe);
-        let count = self.prefix(probe);
-        let max_dt = self.order[..count]
-            .iter()
-            .map(|&(_, p)| self.points.half_width[p as usize] as f64)
-            .fold(dt_center, f64::max);
+        // A center on the edge of a wide stroke (dt(c) small) would not see the stroke's middle in
+        // that disk: widen the probe until it reaches past the deepest point found (at most 3x).
+        let mut probe = (3.0 * spacing).max(3.0 * dt_center);
+        let mut max_dt = dt_center;
+        for _ in 0..3 {
+            self.grow_disk(c, probe);
+            let count = self.prefix(probe);
+            max_dt = self.order[..count]
+                .iter()
+                .map(|&(_, p)| self.points.half_width[p as usize] as f64)
+                .fold(max_dt, f64::max);
+            if 2.0 * max_dt + spacing <= probe {
+                break;
+            }
+            probe = 2.0 * max_dt + spacing;
+        }
         let width = (2.0 * max_dt - spacing).max(spacing);
         let r_min = if self.params.paper {
             self.params.r_min_factor * spacing

@@ -16,6 +16,8 @@ use crate::{Binary, Error, Grid, Params, PointSet, Result};
 /// `Dis_ave` above this switches dropout mode on (design item 1): more than about 5% of the
 /// points have no ink pixel touching them.
 const DROPOUT_SPACING: f64 = 1.05;
+/// Share of ink pixels with exactly one ink 8-neighbour above which dropout mode switches on.
+const LOOSE_FRACTION: f64 = 0.025;
 
 /// Nearest-neighbour search radius (Chebyshev, pixels) for points with no touching ink pixel.
 /// Points with nothing closer are isolated specks, not samples of a stroke, and are left out of
@@ -104,7 +106,13 @@ pub fn points(binary: &Binary, params: &Params) -> Result<PointSet> {
             // Design item 11: tiny holes above a share of the ink (1.5% by default; 0.5% misfired
             // on script, whose loops leave tiny holes), or item 1: sparse points.
             let holes = tiny_hole_pixels(ink, width, height) as f64;
-            holes > params.dropout_fraction * count as f64 || spacing > DROPOUT_SPACING
+            // Heavy dropout (over half the pixels of a stroke gone) opens the holes to the
+            // outside, so they are no longer tiny; what remains is pixels hanging on by a single
+            // neighbour, which solid strokes of any width have only at 1-px line ends.
+            let loose = degrees[1..].iter().filter(|&&d| d == 1).count() as f64;
+            holes > params.dropout_fraction * count as f64
+                || loose > LOOSE_FRACTION * count as f64
+                || spacing > DROPOUT_SPACING
         }
     };
 

@@ -111,7 +111,7 @@ pub fn points(binary: &Binary, params: &Params) -> Result<PointSet> {
             // neighbour, which solid strokes of any width have only at 1-px line ends.
             let loose = degrees[1..].iter().filter(|&&d| d == 1).count() as f64;
             holes > params.dropout_fraction * count as f64
-                || loose > LOOSE_FRACTION * count as f64
+                || (loose > LOOSE_FRACTION * count as f64 && loose >= 16.0)
                 || spacing > DROPOUT_SPACING
         }
     };

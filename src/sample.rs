@@ -240,7 +240,10 @@ impl<'a> Sampler<'a> {
         let inner = (r - 2.0 * self.points.spacing).max(0.0);
         let inner2 = inner * inner;
         self.rim.clear();
-        for &(_, p) in &self.order[..count] {
+        // Keys are never below the Euclidean distance, so rim points sit in the suffix of the
+        // disk whose keys exceed the inner radius.
+        let start = self.order[..count].partition_point(|&(key, _)| key <= quantize_bound(inner));
+        for &(_, p) in &self.order[start..count] {
             let q = self.points.points[p as usize];
             if (q[0] - center[0]).powi(2) + (q[1] - center[1]).powi(2) > inner2 {
                 self.rim.push(p);
@@ -397,7 +400,7 @@ impl<'a> Sampler<'a> {
 
 /// Squared distances in quarter units: exact for pixel centers (integer squared distances).
 fn quantize(d2: f64) -> u32 {
-    (d2 * 4.0).round().min(u32::MAX as f64 / 2.0) as u32
+    (d2 * 4.0 + 0.5).min(u32::MAX as f64 / 2.0) as u32
 }
 
 /// The largest key inside radius `r`.

@@ -27,6 +27,7 @@ pub fn build(points: &PointSet, samples: &Samples, params: &Params) -> NodeGraph
             direction: node.direction,
             linear: node.linear,
             cluster: None,
+            tip: node.tip,
         })
         .collect();
     let owner = &samples.owner;

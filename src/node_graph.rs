@@ -15,6 +15,8 @@ pub struct GraphNode {
     pub linear: bool,
     /// The non-linear cluster ("color") the node belongs to, if any.
     pub cluster: Option<u32>,
+    /// Whether the node holds a stroke end (see [`crate::Node::tip`]).
+    pub tip: bool,
 }
 
 /// An undirected graph on [`GraphNode`]s with the point partition.

@@ -155,6 +155,7 @@ impl Work {
         node.width = (na.width * ma + nb.width * mb) / (ma + mb);
         node.linear = na.linear && nb.linear;
         node.cluster = na.cluster.or(nb.cluster);
+        node.tip = na.tip && nb.tip;
         self.mass[ai] = ma + mb;
         self.alive[bi] = false;
         self.parent[bi] = a;

@@ -237,6 +237,11 @@ impl<'a> Sampler<'a> {
     /// The arms test (design 4): the rim `(r - 2, r]` of the disk must cut the ink in 1 or 2
     /// places. A crossing gives 4 cuts, a T 3, a disk that holds a whole small part 0.
     fn arms_ok(&mut self, center: [f64; 2], count: usize, r: f64) -> bool {
+        (1..=2).contains(&self.rim_cuts(center, count, r))
+    }
+
+    /// Number of places (up to 3) where the rim `(r - 2, r]` of the disk cuts the ink.
+    fn rim_cuts(&mut self, center: [f64; 2], count: usize, r: f64) -> usize {
         let inner = (r - 2.0 * self.points.spacing).max(0.0);
         let inner2 = inner * inner;
         self.rim.clear();
@@ -259,7 +264,7 @@ impl<'a> Sampler<'a> {
             }
             cuts += 1;
             if cuts > 2 {
-                return false;
+                return cuts;
             }
             self.rim_seen[start as usize] = self.epoch.wrapping_sub(1);
             self.stack.push(start);
@@ -272,7 +277,7 @@ impl<'a> Sampler<'a> {
                 }
             }
         }
-        cuts >= 1
+        cuts
     }
 
     fn epoch_rim_mark(&mut self) {
@@ -360,6 +365,9 @@ impl<'a> Sampler<'a> {
         let count = self.prefix(r);
         let (linearity, direction, mean) = self.pca(count);
         let pos = [c[0] + mean[0], c[1] + mean[1]];
+        // A disk whose rim cuts the ink once holds the end of a stroke: refinement keeps such
+        // tips (short arms of thin strokes would otherwise be contracted away).
+        let tip = self.rim_cuts(c, count, r) == 1;
 
         // Eq. (1) in 2-D: d = |u·(p - q)| + 0.1 / (1 + |v·(p - q)|), u the principal direction.
         let (u, v) = (direction, [-direction[1], direction[0]]);
@@ -394,6 +402,7 @@ impl<'a> Sampler<'a> {
             linearity,
             linear,
             width,
+            tip,
         }
     }
 }

@@ -20,6 +20,8 @@ pub struct Node {
     pub linear: bool,
     /// Local stroke width `w_loc` around the node, in px.
     pub width: f64,
+    /// Whether the node's disk holds a stroke end (its rim cuts the ink once).
+    pub tip: bool,
 }
 
 /// The nodes and which node owns each point.

@@ -255,6 +255,7 @@ mod tests {
             direction: [1.0, 0.0],
             linear: true,
             cluster: None,
+            tip: false,
         };
         let mut edges = edges.to_vec();
         edges.sort_unstable();

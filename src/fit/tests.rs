@@ -97,6 +97,7 @@ fn node_graph(points: &PointSet, nodes: &[[f64; 2]], edges: &[[u32; 2]], width: 
             direction: [1.0, 0.0],
             linear: true,
             cluster: None,
+            tip: false,
         })
         .collect();
     let owner = points
@@ -455,6 +456,7 @@ fn timing_one_million_points_one_hundred_thousand_nodes() {
                 direction: [1.0, 0.0],
                 linear: true,
                 cluster: None,
+                tip: false,
             });
             if j > 0 {
                 let i = (s * per + j) as u32;

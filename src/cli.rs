@@ -88,6 +88,13 @@ pub struct Cli {
     #[arg(long, help_heading = "Output")]
     pretty: bool,
 
+    /// Also draw every pipeline stage as a PNG into DIR (created if missing): 1-foreground,
+    /// 2-sampling (disks; linear blue, non-linear orange), 3-node-graph (clusters colored),
+    /// 4-refined, 5-fitted, 6-final (endpoints green, junctions blue); images only. With several
+    /// inputs, each gets DIR/<output name>/ [default: no pictures]
+    #[arg(long, value_name = "DIR", help_heading = "Output")]
+    debug: Option<PathBuf>,
+
     /// Read every named file as a point list, whatever its extension (files ending in .txt, .csv,
     /// .xy or .pts always are)
     #[arg(long, help_heading = "Input and binarization")]
@@ -390,6 +397,8 @@ struct Job {
     input: PathBuf,
     kind: Kind,
     destination: Destination,
+    /// Where `--debug` pictures go.
+    debug: Option<PathBuf>,
 }
 
 /// Everything that is the same for every job.
@@ -446,13 +455,25 @@ fn run_with(cli: &Cli) -> Result<ExitCode> {
     let (files, batch) = collect_inputs(cli, &mut warnings, &mut failures);
     let unreadable_inputs = failures.len();
     let destinations = plan_outputs(cli, &files, batch, format)?;
+    let several = files.len() > 1;
     let jobs: Vec<Job> = files
         .into_iter()
         .zip(destinations)
-        .map(|((input, kind), destination)| Job {
-            input,
-            kind,
-            destination,
+        .map(|((input, kind), destination)| {
+            // One input draws into DIR itself; several into DIR/<output stem>, unique because
+            // output names are.
+            let debug = cli.debug.as_ref().map(|dir| match &destination {
+                Destination::File(path) if several => {
+                    dir.join(path.file_stem().unwrap_or(path.as_os_str()))
+                }
+                _ => dir.clone(),
+            });
+            Job {
+                input,
+                kind,
+                destination,
+                debug,
+            }
         })
         .collect();
 
@@ -792,7 +813,10 @@ fn trace_and_write(job: &Job, settings: &Settings) -> Result<Vec<String>> {
         Kind::Image => {
             let bytes = fs::read(&job.input).context("cannot read the file")?;
             let gray = ridgeline::decode(&bytes, &params.limits)?;
-            let trace = ridgeline::trace_image(&gray, params)?;
+            let trace = match &job.debug {
+                Some(dir) => trace_with_pictures(&gray, params, dir)?,
+                None => ridgeline::trace_image(&gray, params)?,
+            };
             let ink = trace.binary.as_ref().map(|binary| binary.count());
             (trace.graph, Some(gray), ink)
         }
@@ -800,6 +824,9 @@ fn trace_and_write(job: &Job, settings: &Settings) -> Result<Vec<String>> {
             let text = fs::read_to_string(&job.input).context("cannot read the file")?;
             let list = ridgeline::point_list::parse(&text)?;
             let trace = ridgeline::trace_points(&list, params)?;
+            if job.debug.is_some() {
+                warnings.push("--debug draws pictures of images only; none for a point list".into());
+            }
             (trace.graph, None, Some(list.len()))
         }
     };
@@ -832,6 +859,22 @@ fn trace_and_write(job: &Job, settings: &Settings) -> Result<Vec<String>> {
         Destination::File(path) => write_atomically(path, text.as_bytes())?,
     }
     Ok(warnings)
+}
+
+/// Traces `gray` keeping the intermediate stages, and writes their pictures into `dir`.
+fn trace_with_pictures(
+    gray: &ridgeline::GrayImage,
+    params: &Params,
+    dir: &Path,
+) -> Result<ridgeline::Trace> {
+    let binary = ridgeline::raster::binarize(gray, params)?;
+    let mut trace = ridgeline::trace_binary_with_stages(&binary, params)?;
+    if let Some(stages) = &trace.stages {
+        ridgeline::debug::write_stage_pictures(dir, &binary, &trace.points, stages, &trace.graph)
+            .context("cannot write the --debug pictures")?;
+    }
+    trace.binary = Some(binary);
+    Ok(trace)
 }
 
 /// Writes `bytes` to a temporary file beside `path`, then renames it over `path`: readers see

@@ -23,6 +23,7 @@ mod samples;
 mod stroke_graph;
 
 pub mod curves;
+pub mod debug;
 pub mod export;
 pub mod fit;
 pub mod graph;

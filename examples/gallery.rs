@@ -1,0 +1,223 @@
+//! The gallery: ridgeline run on every image in `samples/`, each shown as input beside result.
+//!
+//! ```sh
+//! cargo run --release --example gallery [-- OUTDIR]
+//! ```
+//!
+//! Writes `OUTDIR/<name>.png` (default `docs/gallery`) for every image in `samples/`: the input on
+//! the left (or on top, for wide images), and on the right the SVG that ridgeline writes, rendered
+//! with resvg — centerlines red, endpoints green, junctions blue, over the image. It also writes the
+//! `--debug` pictures of one sample into `OUTDIR/stages/`, for the README.
+//!
+//! When `../shared/data/{text,fingerprints}` exists (real scans, not part of this repository), their
+//! images are traced too and written to `target/gallery-shared/`: they are read in place and never
+//! copied into the repository.
+//!
+//! Prints one line per image: size, ink pixels, vertices, edges, endpoints, junctions, time.
+
+use std::fs;
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use anyhow::{anyhow, Context, Result};
+use image::imageops::{self, FilterType};
+use image::{GrayImage, Rgb, RgbImage};
+use resvg::{tiny_skia, usvg};
+use ridgeline::export::svg::{self, SvgOptions};
+use ridgeline::Params;
+
+/// The combined picture is at most about this wide.
+const MAX_WIDTH: u32 = 1200;
+/// Nor taller than this per panel.
+const MAX_PANEL_HEIGHT: u32 = 1000;
+/// Small images are enlarged at most this much.
+const MAX_UPSCALE: f64 = 4.0;
+/// White space between and around the panels.
+const GAP: u32 = 8;
+/// The sample whose stage pictures go into `OUTDIR/stages/`.
+const STAGES_SAMPLE: &str = "crossings";
+
+const IMAGE_EXTENSIONS: &[&str] = &["png", "jpg", "jpeg", "tif", "tiff", "bmp", "gif", "webp"];
+
+fn main() -> Result<()> {
+    let out_dir = std::env::args_os()
+        .nth(1)
+        .map(PathBuf::from)
+        .unwrap_or_else(|| PathBuf::from("docs/gallery"));
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let params = Params::default();
+
+    println!(
+        "{:<44} {:>11} {:>8} {:>6} {:>6} {:>5} {:>5} {:>8}",
+        "image", "size", "ink", "verts", "edges", "ends", "junc", "ms"
+    );
+    for input in images_in(&root.join("samples"))? {
+        let stages = input.file_stem().is_some_and(|s| s == STAGES_SAMPLE);
+        let stage_dir = stages.then(|| out_dir.join("stages"));
+        show(&input, &out_dir, &params, stage_dir.as_deref())?;
+    }
+
+    let shared = root.join("../shared/data");
+    for group in ["text", "fingerprints"] {
+        let dir = shared.join(group);
+        if !dir.is_dir() {
+            continue;
+        }
+        let out = root.join("target/gallery-shared").join(group);
+        for input in images_in(&dir)? {
+            // One unreadable scan should not hide the others.
+            if let Err(err) = show(&input, &out, &params, None) {
+                println!("{}: {err:#}", input.display());
+            }
+        }
+    }
+    Ok(())
+}
+
+/// The images directly in `dir`, sorted by name; none when `dir` does not exist.
+fn images_in(dir: &Path) -> Result<Vec<PathBuf>> {
+    if !dir.is_dir() {
+        return Ok(Vec::new());
+    }
+    let mut found: Vec<PathBuf> = fs::read_dir(dir)
+        .with_context(|| format!("cannot list {}", dir.display()))?
+        .filter_map(|entry| entry.ok().map(|e| e.path()))
+        .filter(|path| {
+            path.extension()
+                .and_then(|e| e.to_str())
+                .is_some_and(|e| IMAGE_EXTENSIONS.contains(&e.to_ascii_lowercase().as_str()))
+        })
+        .collect();
+    found.sort();
+    Ok(found)
+}
+
+/// Traces `input` and writes `<out_dir>/<stem>.png`, input beside result; with `stage_dir`, also
+/// the stage pictures.
+fn show(input: &Path, out_dir: &Path, params: &Params, stage_dir: Option<&Path>) -> Result<()> {
+    let bytes = fs::read(input).with_context(|| format!("cannot read {}", input.display()))?;
+    let gray = ridgeline::decode(&bytes, &params.limits)?;
+    let clock = Instant::now();
+    let trace = ridgeline::trace_image(&gray, params)?;
+    let elapsed = clock.elapsed();
+    let graph = &trace.graph;
+    let ink = trace.binary.as_ref().map_or(0, |b| b.count());
+    println!(
+        "{:<44} {:>11} {:>8} {:>6} {:>6} {:>5} {:>5} {:>8.1}",
+        input.file_name().unwrap_or_default().to_string_lossy(),
+        format!("{}x{}", gray.width(), gray.height()),
+        ink,
+        graph.vertices.len(),
+        graph.edges.len(),
+        graph.endpoints().count(),
+        graph.junctions().count(),
+        elapsed.as_secs_f64() * 1e3,
+    );
+
+    let (w, h) = gray.dimensions();
+    let stacked = w > 2 * h;
+    let panel_width = if stacked {
+        MAX_WIDTH - 2 * GAP
+    } else {
+        (MAX_WIDTH - 3 * GAP) / 2
+    };
+    let scale = panel_scale(w, h, panel_width);
+    // Lines stay at least one output pixel wide when the picture is scaled down.
+    let line = svg::stroke_width(graph, &SvgOptions::default()).max(1.2 / scale);
+    let document = svg::to_string(
+        graph,
+        Some(&gray),
+        &SvgOptions::default().with_stroke_width(Some(line)),
+    );
+    let left = scaled_input(&gray, scale);
+    let right = render_svg(&document, left.width(), left.height(), scale)?;
+    let picture = side_by_side(&left, &right, stacked);
+
+    fs::create_dir_all(out_dir).with_context(|| format!("cannot create {}", out_dir.display()))?;
+    let stem = input.file_stem().unwrap_or_default().to_string_lossy();
+    let path = out_dir.join(format!("{stem}.png"));
+    picture
+        .save(&path)
+        .with_context(|| format!("cannot write {}", path.display()))?;
+
+    if let Some(dir) = stage_dir {
+        let binary = trace
+            .binary
+            .as_ref()
+            .ok_or_else(|| anyhow!("no foreground for {}", input.display()))?;
+        let staged = ridgeline::trace_binary_with_stages(binary, params)?;
+        let stages = staged
+            .stages
+            .as_ref()
+            .ok_or_else(|| anyhow!("stages not kept"))?;
+        ridgeline::debug::write_stage_pictures(dir, binary, &staged.points, stages, &staged.graph)?;
+    }
+    Ok(())
+}
+
+/// Output pixels per image pixel: enlarge small images by a whole factor (pixels stay sharp),
+/// shrink large ones to fit `panel_width` x [`MAX_PANEL_HEIGHT`].
+fn panel_scale(width: u32, height: u32, panel_width: u32) -> f64 {
+    let fit = (panel_width as f64 / width.max(1) as f64)
+        .min(MAX_PANEL_HEIGHT as f64 / height.max(1) as f64);
+    if fit >= 1.0 {
+        fit.floor().min(MAX_UPSCALE)
+    } else {
+        fit
+    }
+}
+
+/// The input at `scale`, as RGB: nearest neighbour when enlarging, smoothed when shrinking.
+fn scaled_input(gray: &GrayImage, scale: f64) -> RgbImage {
+    let size = |n: u32| ((n as f64 * scale).round() as u32).max(1);
+    let (w, h) = (size(gray.width()), size(gray.height()));
+    let filter = if scale >= 1.0 {
+        FilterType::Nearest
+    } else {
+        FilterType::Triangle
+    };
+    let scaled = imageops::resize(gray, w, h, filter);
+    RgbImage::from_fn(w, h, |x, y| {
+        let v = scaled.get_pixel(x, y).0[0];
+        Rgb([v, v, v])
+    })
+}
+
+/// The SVG rendered by resvg at `scale` into a `width` x `height` picture on white.
+fn render_svg(document: &str, width: u32, height: u32, scale: f64) -> Result<RgbImage> {
+    let tree = usvg::Tree::from_str(document, &usvg::Options::default())
+        .context("resvg cannot parse the SVG")?;
+    let mut pixmap =
+        tiny_skia::Pixmap::new(width, height).ok_or_else(|| anyhow!("empty picture"))?;
+    pixmap.fill(tiny_skia::Color::WHITE);
+    resvg::render(
+        &tree,
+        tiny_skia::Transform::from_scale(scale as f32, scale as f32),
+        &mut pixmap.as_mut(),
+    );
+    // The pixmap is opaque (filled white first), so its premultiplied RGBA is plain RGBA.
+    let rgba = pixmap.data();
+    Ok(RgbImage::from_fn(width, height, |x, y| {
+        let i = 4 * (y as usize * width as usize + x as usize);
+        Rgb([rgba[i], rgba[i + 1], rgba[i + 2]])
+    }))
+}
+
+/// `left` and `right` next to each other (or `left` above `right`), with white margins.
+fn side_by_side(left: &RgbImage, right: &RgbImage, stacked: bool) -> RgbImage {
+    let (w, h) = left.dimensions();
+    let (total_w, total_h) = if stacked {
+        (w + 2 * GAP, 2 * h + 3 * GAP)
+    } else {
+        (2 * w + 3 * GAP, h + 2 * GAP)
+    };
+    let mut picture = RgbImage::from_pixel(total_w, total_h, Rgb([255, 255, 255]));
+    imageops::replace(&mut picture, left, GAP as i64, GAP as i64);
+    let (x, y) = if stacked {
+        (GAP, h + 2 * GAP)
+    } else {
+        (w + 2 * GAP, GAP)
+    };
+    imageops::replace(&mut picture, right, x as i64, y as i64);
+    picture
+}

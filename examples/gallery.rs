@@ -32,6 +32,8 @@ const MAX_WIDTH: u32 = 1200;
 const MAX_PANEL_HEIGHT: u32 = 1000;
 /// Small images are enlarged at most this much.
 const MAX_UPSCALE: f64 = 4.0;
+/// Enlargement of the detail pictures.
+const DETAIL_SCALE: f64 = 3.0;
 /// White space between and around the panels.
 const GAP: u32 = 8;
 /// The sample whose stage pictures go into `OUTDIR/stages/`.
@@ -129,16 +131,23 @@ fn show(input: &Path, out_dir: &Path, params: &Params, stage_dir: Option<&Path>)
         Some(&gray),
         &SvgOptions::default().with_stroke_width(Some(line)),
     );
-    let left = scaled_input(&gray, scale);
-    let right = render_svg(&document, left.width(), left.height(), scale)?;
-    let picture = side_by_side(&left, &right, stacked);
-
+    let tree = usvg::Tree::from_str(&document, &usvg::Options::default())
+        .context("resvg cannot parse the SVG")?;
     fs::create_dir_all(out_dir).with_context(|| format!("cannot create {}", out_dir.display()))?;
     let stem = input.file_stem().unwrap_or_default().to_string_lossy();
-    let path = out_dir.join(format!("{stem}.png"));
-    picture
-        .save(&path)
-        .with_context(|| format!("cannot write {}", path.display()))?;
+    let whole = [0, 0, w, h];
+    let picture = side_by_side(&gray, &tree, whole, scale, stacked)?;
+    save(&picture, &out_dir.join(format!("{stem}.png")))?;
+
+    // When the whole image had to be shown at less than 2x, a detail from its middle at
+    // DETAIL_SCALE shows what the centerlines do inside the strokes.
+    if scale < 2.0 {
+        let side = |n: u32, limit: u32| n.min((limit as f64 / DETAIL_SCALE) as u32);
+        let (cw, ch) = (side(w, panel_width), side(h, MAX_PANEL_HEIGHT / 2));
+        let window = [(w - cw) / 2, (h - ch) / 2, cw, ch];
+        let detail = side_by_side(&gray, &tree, window, DETAIL_SCALE, stacked)?;
+        save(&detail, &out_dir.join(format!("{stem}-detail.png")))?;
+    }
 
     if let Some(dir) = stage_dir {
         let binary = trace
@@ -167,6 +176,42 @@ fn panel_scale(width: u32, height: u32, panel_width: u32) -> f64 {
     }
 }
 
+/// The part `window` (`[x, y, width, height]`, image px) of the input and of the rendered SVG at
+/// `scale`, next to each other (or one above the other when `stacked`), with white margins.
+fn side_by_side(
+    gray: &GrayImage,
+    tree: &usvg::Tree,
+    window: [u32; 4],
+    scale: f64,
+    stacked: bool,
+) -> Result<RgbImage> {
+    let [x0, y0, cw, ch] = window;
+    let crop = imageops::crop_imm(gray, x0, y0, cw, ch).to_image();
+    let left = scaled_input(&crop, scale);
+    let (w, h) = left.dimensions();
+    let right = render_svg(tree, [x0, y0], w, h, scale)?;
+    let (total_w, total_h) = if stacked {
+        (w + 2 * GAP, 2 * h + 3 * GAP)
+    } else {
+        (2 * w + 3 * GAP, h + 2 * GAP)
+    };
+    let mut picture = RgbImage::from_pixel(total_w, total_h, Rgb([255, 255, 255]));
+    imageops::replace(&mut picture, &left, GAP as i64, GAP as i64);
+    let (x, y) = if stacked {
+        (GAP, h + 2 * GAP)
+    } else {
+        (w + 2 * GAP, GAP)
+    };
+    imageops::replace(&mut picture, &right, x as i64, y as i64);
+    Ok(picture)
+}
+
+fn save(picture: &RgbImage, path: &Path) -> Result<()> {
+    picture
+        .save(path)
+        .with_context(|| format!("cannot write {}", path.display()))
+}
+
 /// The input at `scale`, as RGB: nearest neighbour when enlarging, smoothed when shrinking.
 fn scaled_input(gray: &GrayImage, scale: f64) -> RgbImage {
     let size = |n: u32| ((n as f64 * scale).round() as u32).max(1);
@@ -183,16 +228,26 @@ fn scaled_input(gray: &GrayImage, scale: f64) -> RgbImage {
     })
 }
 
-/// The SVG rendered by resvg at `scale` into a `width` x `height` picture on white.
-fn render_svg(document: &str, width: u32, height: u32, scale: f64) -> Result<RgbImage> {
-    let tree = usvg::Tree::from_str(document, &usvg::Options::default())
-        .context("resvg cannot parse the SVG")?;
+/// The SVG rendered by resvg at `scale` into a `width` x `height` picture on white, its top-left
+/// corner at image point `origin`.
+fn render_svg(
+    tree: &usvg::Tree,
+    origin: [u32; 2],
+    width: u32,
+    height: u32,
+    scale: f64,
+) -> Result<RgbImage> {
     let mut pixmap =
         tiny_skia::Pixmap::new(width, height).ok_or_else(|| anyhow!("empty picture"))?;
     pixmap.fill(tiny_skia::Color::WHITE);
+    let (s, dx, dy) = (
+        scale as f32,
+        -(origin[0] as f64 * scale) as f32,
+        -(origin[1] as f64 * scale) as f32,
+    );
     resvg::render(
-        &tree,
-        tiny_skia::Transform::from_scale(scale as f32, scale as f32),
+        tree,
+        tiny_skia::Transform::from_row(s, 0.0, 0.0, s, dx, dy),
         &mut pixmap.as_mut(),
     );
     // The pixmap is opaque (filled white first), so its premultiplied RGBA is plain RGBA.
@@ -201,23 +256,4 @@ fn render_svg(document: &str, width: u32, height: u32, scale: f64) -> Result<Rgb
         let i = 4 * (y as usize * width as usize + x as usize);
         Rgb([rgba[i], rgba[i + 1], rgba[i + 2]])
     }))
-}
-
-/// `left` and `right` next to each other (or `left` above `right`), with white margins.
-fn side_by_side(left: &RgbImage, right: &RgbImage, stacked: bool) -> RgbImage {
-    let (w, h) = left.dimensions();
-    let (total_w, total_h) = if stacked {
-        (w + 2 * GAP, 2 * h + 3 * GAP)
-    } else {
-        (2 * w + 3 * GAP, h + 2 * GAP)
-    };
-    let mut picture = RgbImage::from_pixel(total_w, total_h, Rgb([255, 255, 255]));
-    imageops::replace(&mut picture, left, GAP as i64, GAP as i64);
-    let (x, y) = if stacked {
-        (GAP, h + 2 * GAP)
-    } else {
-        (w + 2 * GAP, GAP)
-    };
-    imageops::replace(&mut picture, right, x as i64, y as i64);
-    picture
 }

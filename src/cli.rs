@@ -825,7 +825,8 @@ fn trace_and_write(job: &Job, settings: &Settings) -> Result<Vec<String>> {
             let list = ridgeline::point_list::parse(&text)?;
             let trace = ridgeline::trace_points(&list, params)?;
             if job.debug.is_some() {
-                warnings.push("--debug draws pictures of images only; none for a point list".into());
+                warnings
+                    .push("--debug draws pictures of images only; none for a point list".into());
             }
             (trace.graph, None, Some(list.len()))
         }

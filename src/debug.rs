@@ -58,23 +58,20 @@ const CURVE: Rgb<u8> = Rgb([30, 30, 30]);
 /// Isolated nodes and vertices (degree 0).
 const ISOLATED: Rgb<u8> = Rgb([200, 0, 200]);
 
-/// Distinct colors for clusters and edges (Sasha Trubetskoy's list, without the grays and the
-/// red, green and blue that mean edge, endpoint and junction elsewhere).
-const PALETTE: [Rgb<u8>; 16] = [
+/// Distinct colors for clusters and edges, dark enough to stand out on the light gray ink
+/// (after Sasha Trubetskoy's list, without the red, green and blue that mean edge, endpoint and
+/// junction elsewhere).
+const PALETTE: [Rgb<u8>; 12] = [
     Rgb([245, 130, 49]),
     Rgb([145, 30, 180]),
-    Rgb([70, 240, 240]),
+    Rgb([0, 160, 200]),
     Rgb([240, 50, 230]),
-    Rgb([188, 246, 12]),
-    Rgb([250, 190, 190]),
+    Rgb([110, 190, 0]),
     Rgb([0, 128, 128]),
-    Rgb([230, 190, 255]),
     Rgb([154, 99, 36]),
-    Rgb([255, 225, 25]),
+    Rgb([230, 180, 0]),
     Rgb([128, 0, 0]),
-    Rgb([170, 255, 195]),
     Rgb([128, 128, 0]),
-    Rgb([255, 216, 177]),
     Rgb([0, 0, 117]),
     Rgb([255, 105, 180]),
 ];
@@ -248,10 +245,10 @@ impl Scene<'_> {
         for (i, edge) in self.graph.edges.iter().enumerate() {
             let color = PALETTE[i % PALETTE.len()];
             for pair in edge.points.windows(2) {
-                canvas.line(pair[0], pair[1], canvas.line_width(), color);
+                canvas.line(pair[0], pair[1], 2.0 * canvas.line_width(), color);
             }
             for &point in &edge.points {
-                canvas.disk(point, dot * 0.6, CURVE);
+                canvas.disk(point, dot * 0.45, CURVE);
             }
         }
     }
@@ -317,7 +314,8 @@ impl Canvas {
         }
         let (out_w, out_h) = self.image.dimensions();
         // Source column of every picture column, computed once (nearest neighbour).
-        let source = |o: u32, n: u32| (((o as f64 + 0.5) / self.scale) as usize).min(n as usize - 1);
+        let source =
+            |o: u32, n: u32| (((o as f64 + 0.5) / self.scale) as usize).min(n as usize - 1);
         let columns: Vec<usize> = (0..out_w).map(|x| source(x, self.width)).collect();
         for y in 0..out_h {
             let row = source(y, self.height) * self.width as usize;
@@ -430,7 +428,10 @@ fn cell_colors(nodes: usize, edges: &[[u32; 2]]) -> Vec<usize> {
                 *flag = true;
             }
         }
-        colors[node] = used.iter().position(|&u| !u).unwrap_or(node % PALETTE.len());
+        colors[node] = used
+            .iter()
+            .position(|&u| !u)
+            .unwrap_or(node % PALETTE.len());
     }
     colors
 }

@@ -8,8 +8,8 @@ use image::{Rgb, RgbImage};
 use ridgeline::debug::{picture_scale, stage_pictures, write_stage_pictures, PICTURE_NAMES};
 use ridgeline::synth::{render, Stroke};
 use ridgeline::{
-    trace_binary_with_stages, Binary, Edge, GrayImage, Grid, Params, PointSet, Stages,
-    StrokeGraph, Vertex,
+    trace_binary_with_stages, Binary, Edge, GrayImage, Grid, Params, PointSet, Stages, StrokeGraph,
+    Vertex,
 };
 
 const SIDE: u32 = 80;
@@ -224,7 +224,10 @@ fn check_pictures(pictures: &[(String, RgbImage)], graph: &StrokeGraph) {
         })
         .count();
     assert_eq!(stray, 0, "markers only at vertices");
-    assert!(count(final_picture, rgb("#e6194b")) > 200, "red centerlines");
+    assert!(
+        count(final_picture, rgb("#e6194b")) > 200,
+        "red centerlines"
+    );
 }
 
 #[test]

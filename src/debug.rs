@@ -22,7 +22,10 @@ use std::io::{Cursor, Write};
 use std::path::Path;
 
 use image::{ImageFormat, Rgb, RgbImage};
-use imageproc::drawing::{draw_filled_circle_mut, draw_hollow_circle_mut, draw_line_segment_mut};
+use imageproc::drawing::{
+    draw_filled_circle_mut, draw_hollow_circle_mut, draw_line_segment_mut, draw_polygon_mut,
+};
+use imageproc::point::Point;
 
 use crate::export::svg::{EDGE_COLOR, ENDPOINT_COLOR, JUNCTION_COLOR};
 use crate::{Binary, Error, PointSet, Result, Stages, StrokeGraph};
@@ -354,33 +357,39 @@ impl Canvas {
         (x.is_finite() && y.is_finite() && x.abs() < limit && y.abs() < limit).then_some([x, y])
     }
 
-    /// A line `width` picture px wide from image point `a` to `b`: parallel 1-px lines half a pixel
-    /// apart (imageproc draws 1-px lines only).
+    /// A line `width` picture px wide from image point `a` to `b`: imageproc's 1-px line, or a
+    /// filled quadrilateral with round ends for wider lines.
     fn line(&mut self, a: [f64; 2], b: [f64; 2], width: f64, color: Rgb<u8>) {
         let (Some(a), Some(b)) = (self.to_picture(a), self.to_picture(b)) else {
             return;
         };
+        if width <= 1.5 {
+            let at = |p: [f64; 2]| (p[0] as f32, p[1] as f32);
+            draw_line_segment_mut(&mut self.image, at(a), at(b), color);
+            return;
+        }
         let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
         let length = dx.hypot(dy);
-        let normal = if length > 0.0 {
-            [-dy / length, dx / length]
-        } else {
-            [0.0, 0.0]
-        };
-        let steps = ((width - 1.0).max(0.0) * 2.0).round() as i32;
-        for k in 0..=steps {
-            let offset = 0.5 * k as f64 - 0.25 * steps as f64;
-            let shift = |p: [f64; 2]| {
-                (
-                    (p[0] + 0.5 + offset * normal[0]) as f32,
-                    (p[1] + 0.5 + offset * normal[1]) as f32,
+        if length > 0.0 {
+            let half = width / 2.0;
+            let normal = [-dy / length * half, dx / length * half];
+            let corner = |p: [f64; 2], sign: f64| {
+                Point::new(
+                    (p[0] + sign * normal[0] - 0.5).round() as i32,
+                    (p[1] + sign * normal[1] - 0.5).round() as i32,
                 )
             };
-            draw_line_segment_mut(&mut self.image, shift(a), shift(b), color);
+            let quad = [
+                corner(a, 1.0),
+                corner(b, 1.0),
+                corner(b, -1.0),
+                corner(a, -1.0),
+            ];
+            draw_polygon_mut(&mut self.image, &quad, color);
         }
-        if length == 0.0 {
-            self.disk_px(a, width / 2.0, color);
-        }
+        // Round joins between the segments of a polyline.
+        self.disk_px(a, width / 2.0 - 0.5, color);
+        self.disk_px(b, width / 2.0 - 0.5, color);
     }
 
     /// A filled disk of `radius` picture px around image point `center`.

@@ -24,7 +24,7 @@ use image::imageops::{self, FilterType};
 use image::{GrayImage, Rgb, RgbImage};
 use resvg::{tiny_skia, usvg};
 use ridgeline::export::svg::{self, SvgOptions};
-use ridgeline::Params;
+use ridgeline::{Params, Threshold};
 
 /// The combined picture is at most about this wide.
 const MAX_WIDTH: u32 = 1200;
@@ -60,7 +60,13 @@ fn main() -> Result<()> {
     }
 
     let shared = root.join("../shared/data");
-    for group in ["text", "fingerprints"] {
+    // Live scans of fingers are unevenly lit and low in contrast: Sauvola's threshold, as
+    // `ridgeline --sauvola --window 25` (the fingerprint example of `--help`).
+    let prints = Params {
+        threshold: Threshold::Sauvola { window: 25, k: 0.2 },
+        ..Params::default()
+    };
+    for (group, params) in [("text", &params), ("fingerprints", &prints)] {
         let dir = shared.join(group);
         if !dir.is_dir() {
             continue;
@@ -68,7 +74,7 @@ fn main() -> Result<()> {
         let out = root.join("target/gallery-shared").join(group);
         for input in images_in(&dir)? {
             // One unreadable scan should not hide the others.
-            if let Err(err) = show(&input, &out, &params, None) {
+            if let Err(err) = show(&input, &out, params, None) {
                 println!("{}: {err:#}", input.display());
             }
         }

@@ -24,7 +24,7 @@ use image::imageops::{self, FilterType};
 use image::{GrayImage, Rgb, RgbImage};
 use resvg::{tiny_skia, usvg};
 use ridgeline::export::svg::{self, SvgOptions};
-use ridgeline::{Params, Threshold};
+use ridgeline::{Params, Polarity, StrokeGraph, Threshold};
 
 /// The combined picture is at most about this wide.
 const MAX_WIDTH: u32 = 1200;
@@ -60,10 +60,12 @@ fn main() -> Result<()> {
     }
 
     let shared = root.join("../shared/data");
-    // Live scans of fingers are unevenly lit and low in contrast: Sauvola's threshold, as
-    // `ridgeline --sauvola --window 25` (the fingerprint example of `--help`).
+    // Scans of fingers are unevenly lit and low in contrast, and ridges and valleys cover about
+    // the same area, so the minority rule cannot tell which is ink: Sauvola's threshold and dark
+    // ridges, as `ridgeline --sauvola --window 25 --polarity dark`.
     let prints = Params {
         threshold: Threshold::Sauvola { window: 25, k: 0.2 },
+        polarity: Polarity::DarkInk,
         ..Params::default()
     };
     for (group, params) in [("text", &params), ("fingerprints", &prints)] {
@@ -130,15 +132,7 @@ fn show(input: &Path, out_dir: &Path, params: &Params, stage_dir: Option<&Path>)
         (MAX_WIDTH - 3 * GAP) / 2
     };
     let scale = panel_scale(w, h, panel_width);
-    // Lines stay at least one output pixel wide when the picture is scaled down.
-    let line = svg::stroke_width(graph, &SvgOptions::default()).max(1.2 / scale);
-    let document = svg::to_string(
-        graph,
-        Some(&gray),
-        &SvgOptions::default().with_stroke_width(Some(line)),
-    );
-    let tree = usvg::Tree::from_str(&document, &usvg::Options::default())
-        .context("resvg cannot parse the SVG")?;
+    let tree = svg_tree(graph, &gray, scale)?;
     fs::create_dir_all(out_dir).with_context(|| format!("cannot create {}", out_dir.display()))?;
     let stem = input.file_stem().unwrap_or_default().to_string_lossy();
     let whole = [0, 0, w, h];
@@ -151,6 +145,7 @@ fn show(input: &Path, out_dir: &Path, params: &Params, stage_dir: Option<&Path>)
         let side = |n: u32, limit: u32| n.min((limit as f64 / DETAIL_SCALE) as u32);
         let (cw, ch) = (side(w, panel_width), side(h, MAX_PANEL_HEIGHT / 2));
         let window = [(w - cw) / 2, (h - ch) / 2, cw, ch];
+        let tree = svg_tree(graph, &gray, DETAIL_SCALE)?;
         let detail = side_by_side(&gray, &tree, window, DETAIL_SCALE, stacked)?;
         save(&detail, &out_dir.join(format!("{stem}-detail.png")))?;
     }
@@ -168,6 +163,18 @@ fn show(input: &Path, out_dir: &Path, params: &Params, stage_dir: Option<&Path>)
         ridgeline::debug::write_stage_pictures(dir, binary, &staged.points, stages, &staged.graph)?;
     }
     Ok(())
+}
+
+/// The SVG that ridgeline writes for `graph` over `gray`, parsed for rendering at `scale`: lines
+/// stay at least about one output pixel wide when the picture is scaled down.
+fn svg_tree(graph: &StrokeGraph, gray: &GrayImage, scale: f64) -> Result<usvg::Tree> {
+    let line = svg::stroke_width(graph, &SvgOptions::default()).max(1.2 / scale);
+    let document = svg::to_string(
+        graph,
+        Some(gray),
+        &SvgOptions::default().with_stroke_width(Some(line)),
+    );
+    usvg::Tree::from_str(&document, &usvg::Options::default()).context("resvg cannot parse the SVG")
 }
 
 /// Output pixels per image pixel: enlarge small images by a whole factor (pixels stay sharp),

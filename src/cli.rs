@@ -45,6 +45,8 @@ Examples:
     ridgeline --paper points.xy -o points.svg
   Batch: every image and point list under scans/, 4 files at a time, into out/
     ridgeline scans/ -o out/ --format json --jobs 4
+  Why does a result look wrong? Pictures of every stage into stages/
+    ridgeline --debug stages/ page.png
 
 Outputs are written atomically: a failed run never leaves an output half-written or emptied.
 Exit status: 0 on success (a blank page is a warning), 1 if any input failed, 2 on usage errors.";
@@ -88,10 +90,13 @@ pub struct Cli {
     #[arg(long, help_heading = "Output")]
     pretty: bool,
 
-    /// Also draw every pipeline stage as a PNG into DIR (created if missing): 1-foreground,
-    /// 2-sampling (disks; linear blue, non-linear orange), 3-node-graph (clusters colored),
-    /// 4-refined, 5-fitted, 6-final (endpoints green, junctions blue); images only. With several
-    /// inputs, each gets DIR/<output name>/ [default: no pictures]
+    /// Also draw every pipeline stage of each image as a PNG into DIR [default: no pictures]
+    ///
+    /// DIR is created if missing. The pictures: 1-foreground (the binarized ink), 2-sampling (the
+    /// disks: linear blue, non-linear orange), 3-node-graph (graph H, a color per non-linear
+    /// cluster), 4-refined (the 1-D graph), 5-fitted (a color per edge), 6-final (centerlines
+    /// red, endpoints green, junctions blue). With several inputs each gets DIR/<output name>/.
+    /// Point lists get no pictures.
     #[arg(long, value_name = "DIR", help_heading = "Output")]
     debug: Option<PathBuf>,
 
@@ -214,7 +219,8 @@ pub struct Cli {
     #[arg(long, help_heading = "Graph and refinement (paper §3.2, §3.3)")]
     no_cleanup: bool,
 
-    /// Laplacian weight w of Eq. (4), >= 0 [default: 1]
+    /// Laplacian weight w of Eq. (4), >= 0: higher is smoother, lower follows the ink more
+    /// closely [default: 1]
     #[arg(long, value_name = "W", help_heading = "Fitting (paper §3.4)")]
     smoothness: Option<f64>,
 

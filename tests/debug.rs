@@ -356,3 +356,67 @@ fn cli_debug_writes_the_pictures() {
         }
     }
 }
+
+#[test]
+fn help_explains_debug() {
+    let output = Command::new(env!("CARGO_BIN_EXE_ridgeline"))
+        .arg("--help")
+        .output()
+        .expect("run ridgeline");
+    let help = String::from_utf8_lossy(&output.stdout);
+    for expected in ["--debug <DIR>", "6-final", "ridgeline --debug"] {
+        assert!(help.contains(expected), "help lacks {expected:?}");
+    }
+}
+
+/// Every key the JSON writer emits is described in `docs/json.md` (which keeps the two in step).
+#[test]
+fn json_fields_are_all_documented() {
+    fn keys(value: &serde_json::Value, prefix: &str, out: &mut Vec<String>) {
+        match value {
+            serde_json::Value::Object(map) => {
+                for (key, inner) in map {
+                    out.push(format!("{prefix}{key}"));
+                    // Nested parameter objects are documented with their parent's name.
+                    let nested = match key.as_str() {
+                        "limits" | "threshold" if prefix.is_empty() => format!("{key}."),
+                        _ => String::new(),
+                    };
+                    keys(inner, &nested, out);
+                }
+            }
+            serde_json::Value::Array(items) => {
+                for item in items {
+                    keys(item, prefix, out);
+                }
+            }
+            _ => {}
+        }
+    }
+    let docs = fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("docs/json.md"))
+        .expect("docs/json.md");
+    for params in [
+        Params::default(),
+        Params {
+            threshold: ridgeline::Threshold::Sauvola { window: 25, k: 0.2 },
+            ..Params::paper()
+        },
+        Params {
+            threshold: ridgeline::Threshold::Fixed { level: 100 },
+            ..Params::default()
+        },
+    ] {
+        let meta = ridgeline::export::json::JsonMeta::new(params).with_source_path("a.png");
+        let text = ridgeline::export::json::to_string(&plus_graph(), &meta);
+        let value: serde_json::Value = serde_json::from_str(&text).expect("JSON");
+        let mut found = Vec::new();
+        keys(&value, "", &mut found);
+        assert!(found.len() > 30, "{found:?}");
+        for key in found {
+            assert!(
+                docs.contains(&format!("`{key}`")),
+                "docs/json.md lacks `{key}`"
+            );
+        }
+    }
+}

@@ -143,9 +143,15 @@ pub fn write_stage_pictures(
         picture
             .write_to(&mut Cursor::new(&mut png), ImageFormat::Png)
             .map_err(|err| io_error(&path, std::io::Error::other(err)))?;
-        let mut file = tempfile::Builder::new()
-            .prefix(".ridgeline-")
-            .suffix(".tmp")
+        let mut builder = tempfile::Builder::new();
+        builder.prefix(".ridgeline-").suffix(".tmp");
+        // tempfile creates private (0600) files; pictures are ordinary files (the umask applies).
+        #[cfg(unix)]
+        {
+            use std::os::unix::fs::PermissionsExt;
+            builder.permissions(std::fs::Permissions::from_mode(0o644));
+        }
+        let mut file = builder
             .tempfile_in(dir)
             .map_err(|err| io_error(dir, err))?;
         file.write_all(&png).map_err(|err| io_error(&path, err))?;

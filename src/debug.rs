@@ -151,9 +151,7 @@ pub fn write_stage_pictures(
             use std::os::unix::fs::PermissionsExt;
             builder.permissions(std::fs::Permissions::from_mode(0o644));
         }
-        let mut file = builder
-            .tempfile_in(dir)
-            .map_err(|err| io_error(dir, err))?;
+        let mut file = builder.tempfile_in(dir).map_err(|err| io_error(dir, err))?;
         file.write_all(&png).map_err(|err| io_error(&path, err))?;
         file.persist(&path)
             .map_err(|err| io_error(&path, err.error))?;

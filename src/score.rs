@@ -184,10 +184,7 @@ pub fn aggregate(scores: &[Scores]) -> GroupScores {
             num as f64 / den as f64
         }
     };
-    let mut g = GroupScores {
-        cases: n,
-        ..GroupScores::default()
-    };
+    let mut g = GroupScores { cases: n, ..GroupScores::default() };
     for k in 0..TAUS.len() {
         g.precision[k] = mean(&|s| s.precision[k]);
         g.recall[k] = mean(&|s| s.recall[k]);
@@ -218,11 +215,8 @@ pub fn aggregate(scores: &[Scores]) -> GroupScores {
     g.endpoint_recall = share(g.endpoints_found, g.true_endpoints);
     g.spurious_endpoints = sum(&|s| s.spurious_endpoints);
     g.true_strokes = sum(&|s| s.true_strokes);
-    g.spurs_per_stroke = if g.true_strokes == 0 {
-        0.0
-    } else {
-        g.spurious_endpoints as f64 / g.true_strokes as f64
-    };
+    g.spurs_per_stroke =
+        if g.true_strokes == 0 { 0.0 } else { g.spurious_endpoints as f64 / g.true_strokes as f64 };
     g.components_exact = mean(&|s| s.components_exact as usize as f64);
     g.cycles_exact = mean(&|s| s.cycles_exact as usize as f64);
     g
@@ -247,10 +241,7 @@ pub fn truth_graph(case: &Case) -> StrokeGraph {
     let r_max = net.max_half_width();
     net.split_crossings();
     net.drop_tails(r_max);
-    net.join_ends(Join::Ink {
-        r_max,
-        holes: &holes,
-    });
+    net.join_ends(Join::Ink { r_max, holes: &holes });
     net.merge_junctions(&|a, b| a.max(b));
     net.dissolve();
     net.drop_filled_cycles(&holes);
@@ -265,10 +256,7 @@ pub fn normalize(case: &Case, predicted: &StrokeGraph) -> StrokeGraph {
     let holes = case_holes(case);
     let mut net = Net::from_graph(predicted);
     net.split_crossings();
-    net.join_ends(Join::Distance {
-        tol: PREDICTION_TOLERANCE,
-        holes: &holes,
-    });
+    net.join_ends(Join::Distance { tol: PREDICTION_TOLERANCE, holes: &holes });
     net.merge_junctions(&|_, _| PREDICTION_TOLERANCE);
     net.dissolve();
     net.into_stroke_graph(predicted.width, predicted.height)
@@ -310,24 +298,15 @@ pub fn score(case: &Case, truth: &StrokeGraph, predicted: &StrokeGraph) -> Score
         let correct = match matches[k] {
             Some(p) => {
                 norm.vertices[p].degree >= 4
-                    && pred_j
-                        .iter()
-                        .all(|&q| q == p || dist(norm.vertices[q].pos, pos) > r)
+                    && pred_j.iter().all(|&q| q == p || dist(norm.vertices[q].pos, pos) > r)
             }
             None => false,
         };
-        s.crossings.push(Crossing {
-            pos,
-            angle: crossing_angle(truth, t),
-            correct,
-        });
+        s.crossings.push(Crossing { pos, angle: crossing_angle(truth, t), correct });
     }
     let accuracy = |steep: bool| {
-        let chosen: Vec<&Crossing> = s
-            .crossings
-            .iter()
-            .filter(|c| (c.angle >= STEEP_CROSSING) == steep)
-            .collect();
+        let chosen: Vec<&Crossing> =
+            s.crossings.iter().filter(|c| (c.angle >= STEEP_CROSSING) == steep).collect();
         (!chosen.is_empty())
             .then(|| chosen.iter().filter(|c| c.correct).count() as f64 / chosen.len() as f64)
     };
@@ -351,11 +330,8 @@ pub fn score(case: &Case, truth: &StrokeGraph, predicted: &StrokeGraph) -> Score
                 .any(|&t| dist(truth.vertices[t].pos, pos) <= radius(truth.vertices[t].width))
         })
         .count();
-    s.spurs_per_stroke = if s.true_strokes == 0 {
-        0.0
-    } else {
-        s.spurious_endpoints as f64 / s.true_strokes as f64
-    };
+    s.spurs_per_stroke =
+        if s.true_strokes == 0 { 0.0 } else { s.spurious_endpoints as f64 / s.true_strokes as f64 };
 
     s.true_components = truth.components();
     s.predicted_components = norm.components();
@@ -379,14 +355,10 @@ fn geometry(case: &Case, truth: &StrokeGraph, predicted: &StrokeGraph, s: &mut S
     let true_samples = centerline_samples(truth);
     let pred_samples = centerline_samples(predicted);
     // An empty side is as far as the image is wide: finite, so means stay meaningful.
-    let far = (case.binary.width as f64)
-        .hypot(case.binary.height as f64)
-        .max(1.0);
+    let far = (case.binary.width as f64).hypot(case.binary.height as f64).max(1.0);
     let nearest_all = |from: &[[f64; 2]], to: &[[f64; 2]]| -> Vec<f64> {
         let grid = PointGrid::new(to, 2.0);
-        from.iter()
-            .map(|&p| grid.nearest(to, p).map_or(far, |(_, d)| d))
-            .collect()
+        from.iter().map(|&p| grid.nearest(to, p).map_or(far, |(_, d)| d)).collect()
     };
     let d_pred = nearest_all(&pred_samples, &true_samples);
     let d_true = nearest_all(&true_samples, &pred_samples);
@@ -514,10 +486,7 @@ fn crossing_angle(graph: &StrokeGraph, v: usize) -> f64 {
         .copied()
         .unwrap_or([0, 1, 2, 3]);
     let line = |a: [f64; 2], b: [f64; 2]| unit([a[0] - b[0], a[1] - b[1]]);
-    let (l1, l2) = (
-        line(arms[best[0]], arms[best[1]]),
-        line(arms[best[2]], arms[best[3]]),
-    );
+    let (l1, l2) = (line(arms[best[0]], arms[best[1]]), line(arms[best[2]], arms[best[3]]));
     dot(l1, l2).abs().min(1.0).acos().to_degrees()
 }
 
@@ -651,9 +620,7 @@ impl PointGrid {
         for cy in y0.max(0)..=y1.min(self.ny - 1) {
             for cx in x0.max(0)..=x1.min(self.nx - 1) {
                 out.extend(
-                    self.bucket(cx, cy)
-                        .iter()
-                        .filter(|&&i| dist(points[i as usize], p) <= r),
+                    self.bucket(cx, cy).iter().filter(|&&i| dist(points[i as usize], p) <= r),
                 );
             }
         }
@@ -667,12 +634,9 @@ impl PointGrid {
         let (qx, qy) = self.cell_of(p);
         let mut best: Option<(u32, f64)> = None;
         // Rings beyond this one cannot hold any cell of the grid.
-        let last_ring = [qx, self.nx - 1 - qx, qy, self.ny - 1 - qy]
-            .iter()
-            .map(|d| d.abs())
-            .max()
-            .unwrap_or(0)
-            + self.nx.max(self.ny);
+        let last_ring =
+            [qx, self.nx - 1 - qx, qy, self.ny - 1 - qy].iter().map(|d| d.abs()).max().unwrap_or(0)
+                + self.nx.max(self.ny);
         for ring in 0..=last_ring {
             let mut visit = |cx: i64, cy: i64| {
                 for &i in self.bucket(cx, cy) {
@@ -761,10 +725,7 @@ fn case_holes(case: &Case) -> Holes {
         .flat_map(|s| s.widths.iter().copied())
         .filter(|w| w.is_finite())
         .fold(0.0, f64::max);
-    Holes::new(
-        &render(&case.strokes, case.binary.width, case.binary.height),
-        max_width,
-    )
+    Holes::new(&render(&case.strokes, case.binary.width, case.binary.height), max_width)
 }
 
 /// How free ends are joined to nearby centerlines.
@@ -790,12 +751,7 @@ enum Follow {
 
 impl Net {
     fn add_node(&mut self, pos: [f64; 2], width: f64, keep_isolated: bool) -> usize {
-        self.nodes.push(Node {
-            pos,
-            width,
-            keep_isolated,
-            alive: true,
-        });
+        self.nodes.push(Node { pos, width, keep_isolated, alive: true });
         self.nodes.len() - 1
     }
 
@@ -838,25 +794,13 @@ impl Net {
         } else {
             self.add_node(points[points.len() - 1], widths[widths.len() - 1], false)
         };
-        self.wires.push(Wire {
-            from,
-            to,
-            points,
-            widths,
-            arcs,
-            source,
-            alive: true,
-        });
+        self.wires.push(Wire { from, to, points, widths, arcs, source, alive: true });
     }
 
     fn from_graph(graph: &StrokeGraph) -> Net {
         let mut net = Net::default();
         for v in &graph.vertices {
-            let width = if v.width.is_finite() {
-                v.width.max(0.0)
-            } else {
-                0.0
-            };
+            let width = if v.width.is_finite() { v.width.max(0.0) } else { 0.0 };
             let pos = if finite(v.pos) { v.pos } else { [0.0, 0.0] };
             net.add_node(pos, width, true);
         }
@@ -866,13 +810,7 @@ impl Net {
                 continue;
             }
             let widths: Vec<f64> = (0..e.points.len())
-                .map(|k| {
-                    e.widths
-                        .get(k)
-                        .copied()
-                        .filter(|w| w.is_finite())
-                        .unwrap_or(0.0)
-                })
+                .map(|k| e.widths.get(k).copied().filter(|w| w.is_finite()).unwrap_or(0.0))
                 .collect();
             let (points, widths, arcs) = densify(&e.points, &widths);
             net.wires.push(Wire {
@@ -890,10 +828,7 @@ impl Net {
 
     fn max_half_width(&self) -> f64 {
         let wires = self.wires.iter().flat_map(|w| w.widths.iter().copied());
-        wires
-            .chain(self.nodes.iter().map(|n| n.width))
-            .fold(0.0, f64::max)
-            / 2.0
+        wires.chain(self.nodes.iter().map(|n| n.width)).fold(0.0, f64::max) / 2.0
     }
 
     fn degrees(&self) -> Vec<usize> {
@@ -983,11 +918,7 @@ impl Net {
             cuts.push((last, 1.0, wire.to));
             for pair in cuts.windows(2) {
                 let piece = cut(&wire, (pair[0].0, pair[0].1), (pair[1].0, pair[1].1));
-                self.wires.push(Wire {
-                    from: pair[0].2,
-                    to: pair[1].2,
-                    ..piece
-                });
+                self.wires.push(Wire { from: pair[0].2, to: pair[1].2, ..piece });
             }
         }
         if !anchors.is_empty() {
@@ -1012,11 +943,8 @@ impl Net {
         let mut dropped = Vec::new();
         for (w, wire) in self.wires.iter().enumerate().filter(|(_, w)| w.alive) {
             for free_at_start in [true, false] {
-                let (end, other) = if free_at_start {
-                    (wire.from, wire.to)
-                } else {
-                    (wire.to, wire.from)
-                };
+                let (end, other) =
+                    if free_at_start { (wire.from, wire.to) } else { (wire.to, wire.from) };
                 if end == other
                     || degree[end] != 1
                     || degree[other] < 3
@@ -1024,11 +952,7 @@ impl Net {
                 {
                     continue;
                 }
-                let k = if free_at_start {
-                    0
-                } else {
-                    wire.points.len() - 1
-                };
+                let k = if free_at_start { 0 } else { wire.points.len() - 1 };
                 let (p, r_p, arc_p) = (wire.points[k], wire.widths[k] / 2.0, wire.arcs[k]);
                 near.clear();
                 samples.grid.within(&samples.pos, p, r_max + 0.5, &mut near);
@@ -1145,10 +1069,8 @@ impl Net {
             return;
         }
         // Targets inside wires become new vertices; then each end is united with its target.
-        let mut requests: Vec<(usize, usize)> = joins
-            .iter()
-            .filter_map(|&(_, t)| samples.wire_of(t))
-            .collect();
+        let mut requests: Vec<(usize, usize)> =
+            joins.iter().filter_map(|&(_, t)| samples.wire_of(t)).collect();
         requests.sort_unstable();
         requests.dedup();
         let split_nodes = self.split_wires(&requests);
@@ -1214,14 +1136,10 @@ impl Net {
     /// centroid, dropping the short bridges between them.
     fn merge_junctions(&mut self, radius: &dyn Fn(f64, f64) -> f64) {
         let degree = self.degrees();
-        let junctions: Vec<usize> = (0..self.nodes.len())
-            .filter(|&v| self.nodes[v].alive && degree[v] >= 3)
-            .collect();
+        let junctions: Vec<usize> =
+            (0..self.nodes.len()).filter(|&v| self.nodes[v].alive && degree[v] >= 3).collect();
         let pos: Vec<[f64; 2]> = junctions.iter().map(|&v| self.nodes[v].pos).collect();
-        let max_width = junctions
-            .iter()
-            .map(|&v| self.nodes[v].width)
-            .fold(0.0, f64::max);
+        let max_width = junctions.iter().map(|&v| self.nodes[v].width).fold(0.0, f64::max);
         let reach = radius(max_width, max_width);
         let grid = PointGrid::new(&pos, reach.max(1.0));
         let mut sets = UnionFind::new(self.nodes.len());
@@ -1289,12 +1207,7 @@ impl Net {
             } else {
                 [all[0] / count as f64, all[1] / count as f64]
             };
-            self.nodes[v] = Node {
-                pos,
-                width,
-                keep_isolated: keep,
-                alive: true,
-            };
+            self.nodes[v] = Node { pos, width, keep_isolated: keep, alive: true };
         }
         for wire in self.wires.iter_mut().filter(|w| w.alive) {
             let (from, to) = (sets.find(wire.from), sets.find(wire.to));
@@ -1385,10 +1298,8 @@ impl Net {
                 let v = wire.from;
                 if degree[v] == 2 {
                     let n = wire.points.len() as f64;
-                    let sum = wire
-                        .points
-                        .iter()
-                        .fold([0.0, 0.0], |a, p| [a[0] + p[0], a[1] + p[1]]);
+                    let sum =
+                        wire.points.iter().fold([0.0, 0.0], |a, p| [a[0] + p[0], a[1] + p[1]]);
                     let width = wire.widths.iter().copied().fold(0.0, f64::max);
                     let node = &mut self.nodes[v];
                     node.pos = [sum[0] / n, sum[1] / n];
@@ -1430,11 +1341,7 @@ impl Net {
         for (v, node) in self.nodes.iter().enumerate() {
             if node.alive {
                 index[v] = vertices.len();
-                vertices.push(Vertex {
-                    pos: node.pos,
-                    degree: degree[v],
-                    width: node.width,
-                });
+                vertices.push(Vertex { pos: node.pos, degree: degree[v], width: node.width });
             }
         }
         let edges = self
@@ -1457,12 +1364,7 @@ impl Net {
                 }
             })
             .collect();
-        StrokeGraph {
-            width,
-            height,
-            vertices,
-            edges,
-        }
+        StrokeGraph { width, height, vertices, edges }
     }
 }
 
@@ -1525,18 +1427,9 @@ fn densify(points: &[[f64; 2]], widths: &[f64]) -> (Vec<[f64; 2]>, Vec<f64>, Vec
 fn cut(wire: &Wire, a: (usize, f64), b: (usize, f64)) -> Wire {
     let at = |(k, t): (usize, f64)| {
         let s = |v: &[f64]| v[k] + t * (v[k + 1] - v[k]);
-        (
-            lerp(wire.points[k], wire.points[k + 1], t),
-            s(&wire.widths),
-            s(&wire.arcs),
-        )
+        (lerp(wire.points[k], wire.points[k + 1], t), s(&wire.widths), s(&wire.arcs))
     };
-    let mut piece = Wire {
-        points: vec![],
-        widths: vec![],
-        arcs: vec![],
-        ..wire.clone()
-    };
+    let mut piece = Wire { points: vec![], widths: vec![], arcs: vec![], ..wire.clone() };
     let mut push = |(p, w, s): ([f64; 2], f64, f64)| {
         if piece.points.last().is_none_or(|&q| dist(p, q) > 1e-9) {
             piece.points.push(p);
@@ -1598,9 +1491,8 @@ fn ink_touches(p: [f64; 2], r_p: f64, far: &[(f64, usize)], samples: &Samples) -
     for y in y0..=y1 {
         for x in x0..=x1 {
             let c = center(x, y);
-            ink[(y - y0) as usize * side + (x - x0) as usize] = far
-                .iter()
-                .any(|&(_, s)| dist(c, samples.pos[s]) <= samples.width[s] / 2.0 + 0.03);
+            ink[(y - y0) as usize * side + (x - x0) as usize] =
+                far.iter().any(|&(_, s)| dist(c, samples.pos[s]) <= samples.width[s] / 2.0 + 0.03);
         }
     }
     for y in y0 + 1..y1 {
@@ -1671,10 +1563,7 @@ impl Holes {
                 reps.push([(i % w) as f64 + 0.5, (i / w) as f64 + 0.5]);
             }
         }
-        Holes {
-            reps,
-            cycle_reach: std::f64::consts::PI * (max_width + 2.0) + 10.0,
-        }
+        Holes { reps, cycle_reach: std::f64::consts::PI * (max_width + 2.0) + 10.0 }
     }
 
     /// Whether the closed polygon (last point joined to the first) encloses a hole (even-odd rule).
@@ -1770,14 +1659,7 @@ impl Samples {
             })
             .collect();
         let grid = PointGrid::new(&searchable, 2.0);
-        Samples {
-            pos,
-            width,
-            place,
-            offsets,
-            neighbors,
-            grid,
-        }
+        Samples { pos, width, place, offsets, neighbors, grid }
     }
 
     fn wire_of(&self, s: usize) -> Option<(usize, usize)> {
@@ -1873,9 +1755,7 @@ struct UnionFind {
 
 impl UnionFind {
     fn new(n: usize) -> Self {
-        UnionFind {
-            parent: (0..n).collect(),
-        }
+        UnionFind { parent: (0..n).collect() }
     }
 
     fn find(&mut self, mut x: usize) -> usize {

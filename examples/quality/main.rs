@@ -179,10 +179,8 @@ fn main() -> anyhow::Result<()> {
     let mut rows = Vec::new();
     for group in &groups {
         for method in METHODS {
-            let mine: Vec<&Outcome> = outcomes
-                .iter()
-                .filter(|o| &o.group == group && o.method == method)
-                .collect();
+            let mine: Vec<&Outcome> =
+                outcomes.iter().filter(|o| &o.group == group && o.method == method).collect();
             let scores: Vec<Scores> = mine.iter().filter_map(|o| o.scores.clone()).collect();
             rows.push(GroupRow {
                 group: group.clone(),
@@ -205,27 +203,15 @@ fn main() -> anyhow::Result<()> {
     }
     let failures: Vec<&Outcome> = outcomes.iter().filter(|o| o.failure.is_some()).collect();
     if !failures.is_empty() {
-        println!(
-            "\n{} failures (method/case: reason), first ones:",
-            failures.len()
-        );
+        println!("\n{} failures (method/case: reason), first ones:", failures.len());
         for o in failures.iter().take(10) {
-            println!(
-                "  {}/{}: {}",
-                o.method,
-                o.case,
-                o.failure.as_deref().unwrap_or("")
-            );
+            println!("  {}/{}: {}", o.method, o.case, o.failure.as_deref().unwrap_or(""));
         }
     }
 
     let real_images = real_images(args.verbose);
 
-    let report = Report {
-        groups: rows,
-        cases: outcomes,
-        real_images,
-    };
+    let report = Report { groups: rows, cases: outcomes, real_images };
     if let Some(dir) = args.json.parent() {
         std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
     }
@@ -317,21 +303,13 @@ fn real_images(verbose: bool) -> Vec<RealImage> {
     let data = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/data");
     let mut files = Vec::new();
     for dir in ["fingerprints", "text"] {
-        let Ok(entries) = std::fs::read_dir(data.join(dir)) else {
-            continue;
-        };
+        let Ok(entries) = std::fs::read_dir(data.join(dir)) else { continue };
         let mut found: Vec<PathBuf> = entries
             .filter_map(|e| e.ok().map(|e| e.path()))
             .filter(|p| {
-                let ext = p
-                    .extension()
-                    .and_then(|e| e.to_str())
-                    .unwrap_or("")
-                    .to_lowercase();
-                [
-                    "png", "jpg", "jpeg", "tif", "tiff", "bmp", "gif", "webp", "pgm", "pbm",
-                ]
-                .contains(&ext.as_str())
+                let ext = p.extension().and_then(|e| e.to_str()).unwrap_or("").to_lowercase();
+                ["png", "jpg", "jpeg", "tif", "tiff", "bmp", "gif", "webp", "pgm", "pbm"]
+                    .contains(&ext.as_str())
             })
             .collect();
         found.sort();
@@ -342,11 +320,7 @@ fn real_images(verbose: bool) -> Vec<RealImage> {
     }
     let mut out = Vec::new();
     for path in &files {
-        let name = path
-            .strip_prefix(&data)
-            .unwrap_or(path)
-            .display()
-            .to_string();
+        let name = path.strip_prefix(&data).unwrap_or(path).display().to_string();
         let mut image = RealImage {
             file: name,
             width: 0,
@@ -374,13 +348,8 @@ fn real_images(verbose: bool) -> Vec<RealImage> {
         match traced {
             Ok(g) => {
                 let length: f64 = g.edges.iter().map(|e| e.length()).sum();
-                let per_1000 = |n: usize| {
-                    if length > 0.0 {
-                        1000.0 * n as f64 / length
-                    } else {
-                        0.0
-                    }
-                };
+                let per_1000 =
+                    |n: usize| if length > 0.0 { 1000.0 * n as f64 / length } else { 0.0 };
                 let short_tips = g
                     .edges
                     .iter()
@@ -395,11 +364,8 @@ fn real_images(verbose: bool) -> Vec<RealImage> {
                 image.centerline_px = length;
                 image.endpoints_per_1000px = per_1000(g.endpoints().count());
                 image.junctions_per_1000px = per_1000(g.junctions().count());
-                image.spur_share = if g.edges.is_empty() {
-                    0.0
-                } else {
-                    short_tips as f64 / g.edges.len() as f64
-                };
+                image.spur_share =
+                    if g.edges.is_empty() { 0.0 } else { short_tips as f64 / g.edges.len() as f64 };
             }
             Err(e) => image.failure = Some(e),
         }
@@ -412,15 +378,8 @@ fn real_images(verbose: bool) -> Vec<RealImage> {
     for r in &out {
         match &r.failure {
             Some(f) => {
-                let reason = if verbose {
-                    f.as_str()
-                } else {
-                    f.lines().next().unwrap_or("")
-                };
-                println!(
-                    "| {} | {}x{} | failed: {} |",
-                    r.file, r.width, r.height, reason
-                )
+                let reason = if verbose { f.as_str() } else { f.lines().next().unwrap_or("") };
+                println!("| {} | {}x{} | failed: {} |", r.file, r.width, r.height, reason)
             }
             None => println!(
                 "| {} | {}x{} | {:.0} | {} | {} | {:.0} | {:.2} | {:.2} | {:.3} |",

@@ -45,6 +45,8 @@ Examples:
     ridgeline --paper points.xy -o points.svg
   Batch: every image and point list under scans/, 4 files at a time, into out/
     ridgeline scans/ -o out/ --format json --jobs 4
+  Why does a result look wrong? Pictures of every stage into stages/
+    ridgeline --debug stages/ page.png
 
 Outputs are written atomically: a failed run never leaves an output half-written or emptied.
 Exit status: 0 on success (a blank page is a warning), 1 if any input failed, 2 on usage errors.";
@@ -87,6 +89,16 @@ pub struct Cli {
     /// JSON: indent the document instead of writing one line
     #[arg(long, help_heading = "Output")]
     pretty: bool,
+
+    /// Also draw every pipeline stage of each image as a PNG into DIR [default: no pictures]
+    ///
+    /// DIR is created if missing. The pictures: 1-foreground (the binarized ink), 2-sampling (the
+    /// disks: linear blue, non-linear orange), 3-node-graph (graph H, a color per non-linear
+    /// cluster), 4-refined (the 1-D graph), 5-fitted (a color per edge), 6-final (centerlines
+    /// red, endpoints green, junctions blue). With several inputs each gets DIR/<output name>/.
+    /// Point lists get no pictures.
+    #[arg(long, value_name = "DIR", help_heading = "Output")]
+    debug: Option<PathBuf>,
 
     /// Read every named file as a point list, whatever its extension (files ending in .txt, .csv,
     /// .xy or .pts always are)
@@ -207,7 +219,8 @@ pub struct Cli {
     #[arg(long, help_heading = "Graph and refinement (paper §3.2, §3.3)")]
     no_cleanup: bool,
 
-    /// Laplacian weight w of Eq. (4), >= 0 [default: 1]
+    /// Laplacian weight w of Eq. (4), >= 0: higher is smoother, lower follows the ink more
+    /// closely [default: 1]
     #[arg(long, value_name = "W", help_heading = "Fitting (paper §3.4)")]
     smoothness: Option<f64>,
 
@@ -390,6 +403,8 @@ struct Job {
     input: PathBuf,
     kind: Kind,
     destination: Destination,
+    /// Where `--debug` pictures go.
+    debug: Option<PathBuf>,
 }
 
 /// Everything that is the same for every job.
@@ -446,13 +461,25 @@ fn run_with(cli: &Cli) -> Result<ExitCode> {
     let (files, batch) = collect_inputs(cli, &mut warnings, &mut failures);
     let unreadable_inputs = failures.len();
     let destinations = plan_outputs(cli, &files, batch, format)?;
+    let several = files.len() > 1;
     let jobs: Vec<Job> = files
         .into_iter()
         .zip(destinations)
-        .map(|((input, kind), destination)| Job {
-            input,
-            kind,
-            destination,
+        .map(|((input, kind), destination)| {
+            // One input draws into DIR itself; several into DIR/<output stem>, unique because
+            // output names are.
+            let debug = cli.debug.as_ref().map(|dir| match &destination {
+                Destination::File(path) if several => {
+                    dir.join(path.file_stem().unwrap_or(path.as_os_str()))
+                }
+                _ => dir.clone(),
+            });
+            Job {
+                input,
+                kind,
+                destination,
+                debug,
+            }
         })
         .collect();
 
@@ -792,7 +819,10 @@ fn trace_and_write(job: &Job, settings: &Settings) -> Result<Vec<String>> {
         Kind::Image => {
             let bytes = fs::read(&job.input).context("cannot read the file")?;
             let gray = ridgeline::decode(&bytes, &params.limits)?;
-            let trace = ridgeline::trace_image(&gray, params)?;
+            let trace = match &job.debug {
+                Some(dir) => trace_with_pictures(&gray, params, dir)?,
+                None => ridgeline::trace_image(&gray, params)?,
+            };
             let ink = trace.binary.as_ref().map(|binary| binary.count());
             (trace.graph, Some(gray), ink)
         }
@@ -800,6 +830,10 @@ fn trace_and_write(job: &Job, settings: &Settings) -> Result<Vec<String>> {
             let text = fs::read_to_string(&job.input).context("cannot read the file")?;
             let list = ridgeline::point_list::parse(&text)?;
             let trace = ridgeline::trace_points(&list, params)?;
+            if job.debug.is_some() {
+                warnings
+                    .push("--debug draws pictures of images only; none for a point list".into());
+            }
             (trace.graph, None, Some(list.len()))
         }
     };
@@ -832,6 +866,22 @@ fn trace_and_write(job: &Job, settings: &Settings) -> Result<Vec<String>> {
         Destination::File(path) => write_atomically(path, text.as_bytes())?,
     }
     Ok(warnings)
+}
+
+/// Traces `gray` keeping the intermediate stages, and writes their pictures into `dir`.
+fn trace_with_pictures(
+    gray: &ridgeline::GrayImage,
+    params: &Params,
+    dir: &Path,
+) -> Result<ridgeline::Trace> {
+    let binary = ridgeline::raster::binarize(gray, params)?;
+    let mut trace = ridgeline::trace_binary_with_stages(&binary, params)?;
+    if let Some(stages) = &trace.stages {
+        ridgeline::debug::write_stage_pictures(dir, &binary, &trace.points, stages, &trace.graph)
+            .context("cannot write the --debug pictures")?;
+    }
+    trace.binary = Some(binary);
+    Ok(trace)
 }
 
 /// Writes `bytes` to a temporary file beside `path`, then renames it over `path`: readers see

@@ -10,6 +10,54 @@
 //! bytes ─decode─> gray ─binarize─> Binary ─points─> PointSet ─sample─> Samples
 //!       ─graph─> NodeGraph (H + clusters) ─refine─> NodeGraph (1-D) ─fit─> StrokeGraph ─export─> SVG/JSON
 //! ```
+//!
+//! # Example
+//!
+//! Trace a '+' drawn with 6 px strokes: the result is one vertex of degree 4 at the crossing,
+//! four stroke ends of degree 1, and four edges between them.
+//!
+//! ```
+//! use ridgeline::synth::{render, Stroke};
+//! use ridgeline::{trace_binary, Params};
+//!
+//! let plus = render(
+//!     &[
+//!         Stroke::new(vec![[10.0, 40.0], [70.0, 40.0]], 6.0),
+//!         Stroke::new(vec![[40.0, 10.0], [40.0, 70.0]], 6.0),
+//!     ],
+//!     80,
+//!     80,
+//! );
+//! let trace = trace_binary(&plus, &Params::default())?;
+//! let graph = &trace.graph;
+//! let crossings: Vec<_> = graph.vertices.iter().filter(|v| v.degree == 4).collect();
+//! assert_eq!(crossings.len(), 1);
+//! assert!(ridgeline::dist(crossings[0].pos, [40.0, 40.0]) < 2.0);
+//! assert_eq!(graph.endpoints().count(), 4);
+//! assert_eq!(graph.edges.len(), 4);
+//!
+//! // The same graph as SVG (over the image, when one is given) and as JSON.
+//! let svg = ridgeline::export::svg::to_string(graph, None, &Default::default());
+//! assert!(svg.starts_with("<svg"));
+//! let meta = ridgeline::export::json::JsonMeta::new(Params::default());
+//! let json = ridgeline::export::json::to_string(graph, &meta);
+//! assert!(json.contains("\"junctions\":1"));
+//! # Ok::<(), ridgeline::Error>(())
+//! ```
+//!
+//! # Where to start
+//!
+//! - From a file: [`decode`] then [`trace_image`]; from a mask: [`trace_binary`]; from `x y`
+//!   points: [`point_list::parse`] then [`trace_points`]. Every tunable is in [`Params`], whose
+//!   defaults are the values that measure best on pixel images ([`Params::paper`] gives the
+//!   paper's).
+//! - The result is a [`StrokeGraph`]; [`export::svg`] and [`export::json`] write it, and
+//!   [`strokes`], [`minutiae`] and [`curves`] derive pen strokes, fingerprint minutiae and Bézier
+//!   curves from it.
+//! - To see what each stage did, trace with [`trace_binary_with_stages`] and draw the stages with
+//!   [`debug::stage_pictures`] (the CLI's `--debug DIR`).
+//! - Errors are [`Error`]; the library never panics on input, and refuses inputs larger than
+//!   [`Limits`] before allocating for them.
 
 #![warn(missing_docs)]
 
@@ -23,6 +71,7 @@ mod samples;
 mod stroke_graph;
 
 pub mod curves;
+pub mod debug;
 pub mod export;
 pub mod fit;
 pub mod graph;

@@ -1,6 +1,7 @@
 //! The one integration-test binary: each module tests one side of ridgeline.
 
 mod cli;
+mod debug;
 mod features;
 mod pipeline;
 mod score;

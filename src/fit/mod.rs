@@ -3,18 +3,18 @@
 //! In: the refined 1-D [`NodeGraph`] (§3.3) and the [`PointSet`]. Out: a [`StrokeGraph`] whose
 //! edges are polylines from vertex to vertex. The steps, each in its own module:
 //!
-//! 1. [`layout`]: cut the graph into chains between vertices (nodes of degree other than 2, one
+//! 1. `layout`: cut the graph into chains between vertices (nodes of degree other than 2, one
 //!    node per closed loop) and resample every chain to node spacing `h = max(3, median width)`
 //!    ("equalizing the edge length", design 9); with clean-up, an isolated chain shorter than
 //!    its stroke is wide is a dot and becomes one lone vertex;
-//! 2. [`assign`]: give every point to the nearest fitted node of its own ink component (a
+//! 2. `assign`: give every point to the nearest fitted node of its own ink component (a
 //!    geodesic Voronoi partition over the neighbour graph), then take the L1 median `q'_i` of each
-//!    node's points by Weiszfeld's iteration ([`math::l1_median`]);
-//! 3. [`solve`]: minimize Eq. (4), `sum W_i |q_i - q'_i|^2 + w |L Q|^2`. By default `L` is the
+//!    node's points by Weiszfeld's iteration (`math::l1_median`);
+//! 3. `solve`: minimize Eq. (4), `sum W_i |q_i - q'_i|^2 + w |L Q|^2`. By default `L` is the
 //!    "held" Laplacian of design 9 (one row `q_i - (q_a + q_b) / 2` per degree-2 node, so ends and
 //!    junctions are not pulled inward) with data weight `anchor_weight` on ends and junctions; in
 //!    paper mode it is the uniform graph Laplacian with unit weights, as the paper writes it;
-//! 4. [`place`] (clean-up only): ends out to where the ink ends, junctions where their arms' lines
+//! 4. `place` (clean-up only): ends out to where the ink ends, junctions where their arms' lines
 //!    meet (design 10, 14);
 //! 5. widths (`2 x half_width` of the nearest point) and unit tangents along every polyline.
 

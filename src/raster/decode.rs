@@ -32,7 +32,7 @@ pub fn decode(bytes: &[u8], limits: &Limits) -> Result<GrayImage> {
     }
 }
 
-/// Reads and decodes an image file; see [`decode`].
+/// Reads and decodes an image file; see [`decode`](crate::raster::decode).
 pub fn decode_file(path: &Path, limits: &Limits) -> Result<GrayImage> {
     let bytes = std::fs::read(path).map_err(|source| Error::Io {
         path: path.to_path_buf(),

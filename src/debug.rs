@@ -1,0 +1,509 @@
+//! Pictures of every stage (`--debug DIR`), in the spirit of the paper's Figure 1: what the
+//! pipeline saw and decided at each step, so that a bad result can be traced to the stage that
+//! made it.
+//!
+//! | file | shows |
+//! |---|---|
+//! | `1-foreground.png` | the binarized foreground: ink dark gray on white |
+//! | `2-sampling.png` | §3.1: the points tinted by the node that owns them (the partition `P_i`), each node's disk of radius `r_i` around its barycenter; linear nodes blue, non-linear nodes orange |
+//! | `3-node-graph.png` | §3.2: graph `H` (edges dark gray), linear nodes gray, non-linear nodes in one color per cluster |
+//! | `4-refined.png` | §3.3: the 1-D graph after contraction, merging and clean-up; nodes of degree 1 green, degree ≥ 3 blue, others dark |
+//! | `5-fitted.png` | §3.4: the fitted polylines, one color per edge, with their points as dots |
+//! | `6-final.png` | the stroke graph over the foreground: centerlines red, endpoints green, junctions blue (the SVG's colors) |
+//!
+//! The paper shows contraction and merging as two panels; the pipeline keeps only the graph after
+//! all of §3.3 ([`Stages::refined`]), so both are one picture here.
+//!
+//! Pictures are upscaled by a whole factor (pixels stay sharp squares) so that the longer side is
+//! at least [`MIN_LONG_SIDE`] px, at most [`MAX_UPSCALE`] times, and never beyond
+//! [`MAX_PICTURE_PIXELS`]; an image larger than that is drawn scaled down instead.
+
+use std::io::{Cursor, Write};
+use std::path::Path;
+
+use image::{ImageFormat, Rgb, RgbImage};
+use imageproc::drawing::{
+    draw_filled_circle_mut, draw_hollow_circle_mut, draw_line_segment_mut, draw_polygon_mut,
+};
+use imageproc::point::Point;
+
+use crate::export::svg::{EDGE_COLOR, ENDPOINT_COLOR, JUNCTION_COLOR};
+use crate::{Binary, Error, PointSet, Result, Stages, StrokeGraph};
+
+/// Pictures are upscaled until their longer side reaches this many pixels (within the limits
+/// below).
+pub const MIN_LONG_SIDE: u32 = 800;
+/// Largest upscale factor.
+pub const MAX_UPSCALE: u32 = 4;
+/// Largest picture, in pixels: upscaling stops below it, and larger images are drawn scaled down.
+pub const MAX_PICTURE_PIXELS: u64 = 16_000_000;
+
+/// File names of the pictures, in pipeline order.
+pub const PICTURE_NAMES: [&str; 6] = [
+    "1-foreground.png",
+    "2-sampling.png",
+    "3-node-graph.png",
+    "4-refined.png",
+    "5-fitted.png",
+    "6-final.png",
+];
+
+const WHITE: Rgb<u8> = Rgb([255, 255, 255]);
+/// Ink in the foreground picture.
+const INK: Rgb<u8> = Rgb([70, 70, 70]);
+/// Ink as the backdrop of the graph pictures: light enough that lines and dots stand out.
+const BACKDROP: Rgb<u8> = Rgb([218, 218, 218]);
+const LINEAR: Rgb<u8> = Rgb([31, 119, 180]);
+const NON_LINEAR: Rgb<u8> = Rgb([255, 127, 14]);
+const GRAPH_EDGE: Rgb<u8> = Rgb([80, 80, 80]);
+const LINEAR_NODE: Rgb<u8> = Rgb([140, 140, 140]);
+const CURVE: Rgb<u8> = Rgb([30, 30, 30]);
+/// Isolated nodes and vertices (degree 0).
+const ISOLATED: Rgb<u8> = Rgb([200, 0, 200]);
+
+/// Distinct colors for clusters and edges, dark enough to stand out on the light gray ink
+/// (after Sasha Trubetskoy's list, without the red, green and blue that mean edge, endpoint and
+/// junction elsewhere).
+const PALETTE: [Rgb<u8>; 12] = [
+    Rgb([245, 130, 49]),
+    Rgb([145, 30, 180]),
+    Rgb([0, 160, 200]),
+    Rgb([240, 50, 230]),
+    Rgb([110, 190, 0]),
+    Rgb([0, 128, 128]),
+    Rgb([154, 99, 36]),
+    Rgb([230, 180, 0]),
+    Rgb([128, 0, 0]),
+    Rgb([128, 128, 0]),
+    Rgb([0, 0, 117]),
+    Rgb([255, 105, 180]),
+];
+
+/// Picture pixels per image pixel for a `width` x `height` image: a whole number from 1 to
+/// [`MAX_UPSCALE`] while the picture stays within [`MAX_PICTURE_PIXELS`], below 1 for images
+/// larger than that.
+pub fn picture_scale(width: u32, height: u32) -> f64 {
+    let long = width.max(height).max(1);
+    let area = (width.max(1) as u64) * (height.max(1) as u64);
+    if area > MAX_PICTURE_PIXELS {
+        return (MAX_PICTURE_PIXELS as f64 / area as f64).sqrt();
+    }
+    let mut scale = MIN_LONG_SIDE.div_ceil(long).clamp(1, MAX_UPSCALE);
+    while scale > 1 && area * (scale as u64).pow(2) > MAX_PICTURE_PIXELS {
+        scale -= 1;
+    }
+    scale as f64
+}
+
+/// Draws every stage; returns `(file name, picture)` pairs in pipeline order (the names of
+/// [`PICTURE_NAMES`]). `points` and `stages` are the ones of the trace of `binary` that produced
+/// `graph` (see [`crate::trace_binary_with_stages`]).
+pub fn stage_pictures(
+    binary: &Binary,
+    points: &PointSet,
+    stages: &Stages,
+    graph: &StrokeGraph,
+) -> Vec<(String, RgbImage)> {
+    let scene = Scene {
+        binary,
+        points,
+        stages,
+        graph,
+    };
+    (0..PICTURE_NAMES.len())
+        .map(|stage| (PICTURE_NAMES[stage].to_string(), scene.draw(stage)))
+        .collect()
+}
+
+/// Writes the pictures of [`stage_pictures`] as PNG files into `dir` (created if missing). Each
+/// file is written to a temporary file in `dir` and renamed over its name, so a reader never sees
+/// a half-written picture. Pictures are drawn one at a time to keep memory low on big pages.
+pub fn write_stage_pictures(
+    dir: &Path,
+    binary: &Binary,
+    points: &PointSet,
+    stages: &Stages,
+    graph: &StrokeGraph,
+) -> Result<()> {
+    let io_error = |path: &Path, source: std::io::Error| Error::Io {
+        path: path.to_path_buf(),
+        source,
+    };
+    std::fs::create_dir_all(dir).map_err(|err| io_error(dir, err))?;
+    let scene = Scene {
+        binary,
+        points,
+        stages,
+        graph,
+    };
+    for (stage, name) in PICTURE_NAMES.iter().enumerate() {
+        let path = dir.join(name);
+        let picture = scene.draw(stage);
+        let mut png = Vec::new();
+        picture
+            .write_to(&mut Cursor::new(&mut png), ImageFormat::Png)
+            .map_err(|err| io_error(&path, std::io::Error::other(err)))?;
+        let mut builder = tempfile::Builder::new();
+        builder.prefix(".ridgeline-").suffix(".tmp");
+        // tempfile creates private (0600) files; pictures are ordinary files (the umask applies).
+        #[cfg(unix)]
+        {
+            use std::os::unix::fs::PermissionsExt;
+            builder.permissions(std::fs::Permissions::from_mode(0o644));
+        }
+        let mut file = builder.tempfile_in(dir).map_err(|err| io_error(dir, err))?;
+        file.write_all(&png).map_err(|err| io_error(&path, err))?;
+        file.persist(&path)
+            .map_err(|err| io_error(&path, err.error))?;
+    }
+    Ok(())
+}
+
+/// What the pictures are drawn from.
+struct Scene<'a> {
+    binary: &'a Binary,
+    points: &'a PointSet,
+    stages: &'a Stages,
+    graph: &'a StrokeGraph,
+}
+
+impl Scene<'_> {
+    fn draw(&self, stage: usize) -> RgbImage {
+        let mut canvas = Canvas::new(self.binary.width, self.binary.height);
+        match stage {
+            0 => canvas.foreground(self.binary, INK),
+            1 => self.sampling(&mut canvas),
+            2 => self.node_graph(&mut canvas),
+            3 => self.refined(&mut canvas),
+            4 => self.fitted(&mut canvas),
+            _ => self.final_graph(&mut canvas),
+        }
+        canvas.image
+    }
+
+    /// §3.1: the partition `P_i` as pale tints, the disks, and the nodes.
+    fn sampling(&self, canvas: &mut Canvas) {
+        canvas.foreground(self.binary, BACKDROP);
+        let nodes = &self.stages.samples.nodes;
+        let tints = cell_colors(nodes.len(), &self.stages.node_graph.edges);
+        for (point, &owner) in self.points.points.iter().zip(&self.stages.samples.owner) {
+            if let Some(&tint) = tints.get(owner as usize) {
+                canvas.cell(*point, pale(PALETTE[tint]));
+            }
+        }
+        let dot = canvas.dot_radius();
+        for node in nodes {
+            let color = if node.linear { LINEAR } else { NON_LINEAR };
+            canvas.ring(node.pos, node.radius, color);
+            canvas.disk(node.pos, dot * 0.6, color);
+        }
+    }
+
+    /// §3.2: graph `H` with its clusters.
+    fn node_graph(&self, canvas: &mut Canvas) {
+        canvas.foreground(self.binary, BACKDROP);
+        let graph = &self.stages.node_graph;
+        for &[a, b] in &graph.edges {
+            if let (Some(na), Some(nb)) = (graph.nodes.get(a as usize), graph.nodes.get(b as usize))
+            {
+                canvas.line(na.pos, nb.pos, 1.0, GRAPH_EDGE);
+            }
+        }
+        let dot = canvas.dot_radius();
+        for node in &graph.nodes {
+            match (node.linear, node.cluster) {
+                (false, Some(cluster)) => {
+                    canvas.disk(node.pos, dot, PALETTE[cluster as usize % PALETTE.len()]);
+                }
+                (false, None) => canvas.disk(node.pos, dot, ISOLATED),
+                (true, _) => canvas.disk(node.pos, dot * 0.6, LINEAR_NODE),
+            }
+        }
+    }
+
+    /// §3.3: the 1-D graph, nodes by degree.
+    fn refined(&self, canvas: &mut Canvas) {
+        canvas.foreground(self.binary, BACKDROP);
+        let graph = &self.stages.refined;
+        let mut degree = vec![0usize; graph.nodes.len()];
+        for &[a, b] in &graph.edges {
+            if let (Some(na), Some(nb)) = (graph.nodes.get(a as usize), graph.nodes.get(b as usize))
+            {
+                canvas.line(na.pos, nb.pos, canvas.line_width(), CURVE);
+                degree[a as usize] += 1;
+                degree[b as usize] += 1;
+            }
+        }
+        let dot = canvas.dot_radius();
+        for (node, &d) in graph.nodes.iter().zip(&degree) {
+            match d {
+                0 => canvas.disk(node.pos, dot, ISOLATED),
+                1 => canvas.disk(node.pos, dot * 1.5, rgb(ENDPOINT_COLOR)),
+                2 => canvas.disk(node.pos, dot * 0.6, CURVE),
+                _ => canvas.disk(node.pos, dot * 1.5, rgb(JUNCTION_COLOR)),
+            }
+        }
+    }
+
+    /// §3.4: the fitted polylines, one color per edge, with their points.
+    fn fitted(&self, canvas: &mut Canvas) {
+        canvas.foreground(self.binary, BACKDROP);
+        let dot = canvas.dot_radius();
+        for (i, edge) in self.graph.edges.iter().enumerate() {
+            let color = PALETTE[i % PALETTE.len()];
+            for pair in edge.points.windows(2) {
+                canvas.line(pair[0], pair[1], 2.0 * canvas.line_width(), color);
+            }
+            for &point in &edge.points {
+                canvas.disk(point, dot * 0.45, CURVE);
+            }
+        }
+    }
+
+    /// The result as the SVG shows it.
+    fn final_graph(&self, canvas: &mut Canvas) {
+        canvas.foreground(self.binary, BACKDROP);
+        let red = rgb(EDGE_COLOR);
+        for edge in &self.graph.edges {
+            for pair in edge.points.windows(2) {
+                canvas.line(pair[0], pair[1], canvas.line_width(), red);
+            }
+        }
+        let marker = canvas.dot_radius() * 1.8;
+        for vertex in &self.graph.vertices {
+            match vertex.degree {
+                0 => canvas.disk(vertex.pos, marker * 0.6, red),
+                1 => canvas.disk(vertex.pos, marker, rgb(ENDPOINT_COLOR)),
+                2 => {}
+                _ => canvas.disk(vertex.pos, marker, rgb(JUNCTION_COLOR)),
+            }
+        }
+    }
+}
+
+/// A picture of a `width` x `height` image at [`picture_scale`]; draws in image coordinates.
+struct Canvas {
+    image: RgbImage,
+    scale: f64,
+    width: u32,
+    height: u32,
+}
+
+impl Canvas {
+    fn new(width: u32, height: u32) -> Canvas {
+        let scale = picture_scale(width, height);
+        let side = |n: u32| ((n as f64 * scale).round() as u32).max(1);
+        Canvas {
+            image: RgbImage::from_pixel(side(width), side(height), WHITE),
+            scale,
+            width,
+            height,
+        }
+    }
+
+    /// Radius of a node dot, picture px: visible at every scale.
+    fn dot_radius(&self) -> f64 {
+        (1.2 * self.scale).max(2.0)
+    }
+
+    /// Width of curve lines, picture px.
+    fn line_width(&self) -> f64 {
+        (0.5 * self.scale).max(1.0)
+    }
+
+    /// Paints the ink of `binary` (same size as the canvas's image) in `ink`.
+    fn foreground(&mut self, binary: &Binary, ink: Rgb<u8>) {
+        if binary.width != self.width
+            || binary.height != self.height
+            || binary.ink.len() != self.width as usize * self.height as usize
+        {
+            return;
+        }
+        let (out_w, out_h) = self.image.dimensions();
+        // Source column of every picture column, computed once (nearest neighbour).
+        let source =
+            |o: u32, n: u32| (((o as f64 + 0.5) / self.scale) as usize).min(n as usize - 1);
+        let columns: Vec<usize> = (0..out_w).map(|x| source(x, self.width)).collect();
+        for y in 0..out_h {
+            let row = source(y, self.height) * self.width as usize;
+            for (x, &column) in columns.iter().enumerate() {
+                if binary.ink[row + column] {
+                    self.image.put_pixel(x as u32, y, ink);
+                }
+            }
+        }
+    }
+
+    /// Fills the picture square of the image pixel containing `point`.
+    fn cell(&mut self, point: [f64; 2], color: Rgb<u8>) {
+        if !(point[0] >= 0.0 && point[1] >= 0.0) {
+            return;
+        }
+        let (out_w, out_h) = self.image.dimensions();
+        let (cx, cy) = (point[0].floor(), point[1].floor());
+        let span = |c: f64, n: u32| {
+            let start = (c * self.scale).floor() as u32;
+            let end = (((c + 1.0) * self.scale).floor() as u32).max(start + 1);
+            start.min(n)..end.min(n)
+        };
+        for y in span(cy, out_h) {
+            for x in span(cx, out_w) {
+                self.image.put_pixel(x, y, color);
+            }
+        }
+    }
+
+    /// Picture coordinates of image point `p`, or `None` when it is not finite or far outside
+    /// (so that no drawing routine loops over a huge range).
+    fn to_picture(&self, p: [f64; 2]) -> Option<[f64; 2]> {
+        let (x, y) = (p[0] * self.scale, p[1] * self.scale);
+        let limit = 4.0 * (self.image.width().max(self.image.height()) as f64) + 64.0;
+        (x.is_finite() && y.is_finite() && x.abs() < limit && y.abs() < limit).then_some([x, y])
+    }
+
+    /// A line `width` picture px wide from image point `a` to `b`: imageproc's 1-px line, or a
+    /// filled quadrilateral with round ends for wider lines.
+    fn line(&mut self, a: [f64; 2], b: [f64; 2], width: f64, color: Rgb<u8>) {
+        let (Some(a), Some(b)) = (self.to_picture(a), self.to_picture(b)) else {
+            return;
+        };
+        if width <= 1.5 {
+            let at = |p: [f64; 2]| (p[0] as f32, p[1] as f32);
+            draw_line_segment_mut(&mut self.image, at(a), at(b), color);
+            return;
+        }
+        let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
+        let length = dx.hypot(dy);
+        if length > 0.0 {
+            let half = width / 2.0;
+            let normal = [-dy / length * half, dx / length * half];
+            let corner = |p: [f64; 2], sign: f64| {
+                Point::new(
+                    (p[0] + sign * normal[0] - 0.5).round() as i32,
+                    (p[1] + sign * normal[1] - 0.5).round() as i32,
+                )
+            };
+            let quad = [
+                corner(a, 1.0),
+                corner(b, 1.0),
+                corner(b, -1.0),
+                corner(a, -1.0),
+            ];
+            draw_polygon_mut(&mut self.image, &quad, color);
+        }
+        // Round joins between the segments of a polyline.
+        self.disk_px(a, width / 2.0 - 0.5, color);
+        self.disk_px(b, width / 2.0 - 0.5, color);
+    }
+
+    /// A filled disk of `radius` picture px around image point `center`.
+    fn disk(&mut self, center: [f64; 2], radius: f64, color: Rgb<u8>) {
+        if let Some(center) = self.to_picture(center) {
+            self.disk_px(center, radius, color);
+        }
+    }
+
+    fn disk_px(&mut self, center: [f64; 2], radius: f64, color: Rgb<u8>) {
+        let center = (center[0].floor() as i32, center[1].floor() as i32);
+        draw_filled_circle_mut(&mut self.image, center, radius.round() as i32, color);
+    }
+
+    /// A circle of `radius` image px around image point `center`.
+    fn ring(&mut self, center: [f64; 2], radius: f64, color: Rgb<u8>) {
+        let radius = radius * self.scale;
+        let largest = (self.image.width() + self.image.height()) as f64;
+        if !(radius.is_finite() && radius >= 0.0 && radius <= largest) {
+            return;
+        }
+        if let Some(c) = self.to_picture(center) {
+            let c = (c[0].floor() as i32, c[1].floor() as i32);
+            draw_hollow_circle_mut(&mut self.image, c, radius.round() as i32, color);
+        }
+    }
+}
+
+/// A palette index per node such that nodes joined in `H` (their point sets touch, §3.2) differ
+/// where the palette allows: greedy coloring in node order, so the cells `P_i` of the partition
+/// are told apart in the sampling picture.
+fn cell_colors(nodes: usize, edges: &[[u32; 2]]) -> Vec<usize> {
+    let mut adjacency = vec![Vec::new(); nodes];
+    for &[a, b] in edges {
+        if (a as usize) < nodes && (b as usize) < nodes {
+            adjacency[a as usize].push(b as usize);
+            adjacency[b as usize].push(a as usize);
+        }
+    }
+    let mut colors = vec![usize::MAX; nodes];
+    for node in 0..nodes {
+        let mut used = [false; PALETTE.len()];
+        for &other in &adjacency[node] {
+            if let Some(flag) = used.get_mut(colors[other]) {
+                *flag = true;
+            }
+        }
+        colors[node] = used
+            .iter()
+            .position(|&u| !u)
+            .unwrap_or(node % PALETTE.len());
+    }
+    colors
+}
+
+/// `color` mixed 3 : 1 with white.
+fn pale(color: Rgb<u8>) -> Rgb<u8> {
+    Rgb(color.0.map(|c| ((c as u16 + 3 * 255) / 4) as u8))
+}
+
+/// `#rrggbb` as a pixel (black if malformed; the constants used are well-formed).
+fn rgb(hex: &str) -> Rgb<u8> {
+    let channel = |i: usize| {
+        hex.get(1 + 2 * i..3 + 2 * i)
+            .and_then(|s| u8::from_str_radix(s, 16).ok())
+            .unwrap_or(0)
+    };
+    Rgb([channel(0), channel(1), channel(2)])
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn scale_is_whole_and_bounded() {
+        assert_eq!(picture_scale(100, 50), 4.0);
+        assert_eq!(picture_scale(300, 200), 3.0);
+        assert_eq!(picture_scale(800, 600), 1.0);
+        assert_eq!(picture_scale(2480, 3508), 1.0);
+        assert_eq!(picture_scale(500, 10), 2.0);
+        let huge = picture_scale(10_000, 10_000);
+        assert!(huge < 1.0 && 1e8 * huge * huge <= MAX_PICTURE_PIXELS as f64 + 1.0);
+    }
+
+    #[test]
+    fn touching_cells_get_different_colors() {
+        // A star: node 0 touches 1..=5, and 1-2 touch.
+        let edges = [[0, 1], [0, 2], [0, 3], [0, 4], [0, 5], [1, 2]];
+        let colors = cell_colors(6, &edges);
+        for [a, b] in edges {
+            assert_ne!(colors[a as usize], colors[b as usize]);
+        }
+        assert!(colors.iter().all(|&c| c < PALETTE.len()));
+    }
+
+    #[test]
+    fn colors_parse() {
+        assert_eq!(rgb("#3cb44b"), Rgb([0x3c, 0xb4, 0x4b]));
+        assert_eq!(rgb("#zz"), Rgb([0, 0, 0]));
+        assert_eq!(pale(Rgb([255, 0, 0])), Rgb([255, 191, 191]));
+    }
+
+    #[test]
+    fn far_away_and_nan_coordinates_draw_nothing() {
+        let mut canvas = Canvas::new(10, 10);
+        canvas.line([f64::NAN, 0.0], [5.0, 5.0], 3.0, CURVE);
+        canvas.line([-1e12, 0.0], [1e12, 5.0], 3.0, CURVE);
+        canvas.ring([5.0, 5.0], 1e12, CURVE);
+        canvas.disk([f64::INFINITY, 1.0], 3.0, CURVE);
+        assert!(canvas.image.pixels().all(|p| *p == WHITE));
+    }
+}

@@ -19,8 +19,12 @@ use clap::{Parser, ValueEnum};
 use indicatif::{ProgressBar, ProgressStyle};
 use rayon::prelude::*;
 
+use ridgeline::curves::{fit_beziers, fit_edges, CurveOptions};
 use ridgeline::export::json::{self, JsonMeta};
 use ridgeline::export::svg::{self, SvgOptions};
+use ridgeline::export::Features;
+use ridgeline::minutiae::{minutiae, MinutiaeOptions};
+use ridgeline::strokes::{strokes, StrokeOptions};
 use ridgeline::{Params, Polarity, Threshold};
 
 /// Sauvola window when `--sauvola` is given without `--window` (the value `Threshold` documents).
@@ -99,6 +103,43 @@ pub struct Cli {
     /// Point lists get no pictures.
     #[arg(long, value_name = "DIR", help_heading = "Output")]
     debug: Option<PathBuf>,
+    /// SVG: draw strokes (edges chained straight through crossings, the way a pen drew them), each
+    /// in its own color, instead of edges; JSON always lists the strokes
+    #[arg(long, help_heading = "Features")]
+    strokes: bool,
+
+    /// SVG: draw each edge as wide as its mean stroke width, semi-transparent under its
+    /// centerline, so the drawing covers the ink where the widths are right
+    #[arg(long, help_heading = "Features")]
+    width: bool,
+
+    /// Fingerprint minutiae: ridge endings and bifurcations with their direction, except near the
+    /// print's border, listed in the JSON and marked in the SVG
+    #[arg(long, help_heading = "Features")]
+    minutiae: bool,
+
+    /// SVG: smooth cubic Bézier paths instead of polylines
+    #[arg(long, help_heading = "Features")]
+    curves: bool,
+
+    /// Largest distance from a centerline point to its Bézier curve, px (> 0) [default: 0.5]
+    #[arg(
+        long,
+        value_name = "PX",
+        requires = "curves",
+        help_heading = "Features"
+    )]
+    curve_tolerance: Option<f64>,
+
+    /// Where the centerline turns by more than this, the curve keeps a corner, degrees (0-180)
+    /// [default: 60]
+    #[arg(
+        long,
+        value_name = "DEG",
+        requires = "curves",
+        help_heading = "Features"
+    )]
+    corner_angle: Option<f64>,
 
     /// Read every named file as a point list, whatever its extension (files ending in .txt, .csv,
     /// .xy or .pts always are)
@@ -414,6 +455,12 @@ struct Settings {
     svg: SvgOptions,
     embed_image: bool,
     pretty: bool,
+    /// `--strokes`.
+    strokes: bool,
+    /// `--minutiae`.
+    minutiae: bool,
+    /// `--curves` with its tolerance and corner angle.
+    curves: Option<CurveOptions>,
 }
 
 /// An input that could not be traced, with the reason.
@@ -441,6 +488,29 @@ fn run_with(cli: &Cli) -> Result<ExitCode> {
     if let Some(width) = cli.line_width.filter(|w| !(w.is_finite() && *w > 0.0)) {
         return Err(UsageError(format!("--line-width must be > 0 px, got {width}")).into());
     }
+    let curves = cli.curves.then(|| {
+        let defaults = CurveOptions::default();
+        CurveOptions {
+            tolerance: cli.curve_tolerance.unwrap_or(defaults.tolerance),
+            corner_angle_deg: cli.corner_angle.unwrap_or(defaults.corner_angle_deg),
+        }
+    });
+    if let Some(options) = &curves {
+        if !(options.tolerance.is_finite() && options.tolerance > 0.0) {
+            return Err(UsageError(format!(
+                "--curve-tolerance must be > 0 px, got {}",
+                options.tolerance
+            ))
+            .into());
+        }
+        if !(options.corner_angle_deg >= 0.0 && options.corner_angle_deg <= 180.0) {
+            return Err(UsageError(format!(
+                "--corner-angle must be in [0, 180] degrees, got {}",
+                options.corner_angle_deg
+            ))
+            .into());
+        }
+    }
     let to_stdout = cli.output.as_deref() == Some(Path::new("-"));
     let format = cli.format.unwrap_or_else(|| match &cli.output {
         Some(path) if !to_stdout && extension_is(path, &["json"]) => Format::Json,
@@ -449,11 +519,15 @@ fn run_with(cli: &Cli) -> Result<ExitCode> {
     let settings = Settings {
         svg: SvgOptions::default()
             .with_show_vertices(!cli.no_vertices)
-            .with_stroke_width(cli.line_width),
+            .with_stroke_width(cli.line_width)
+            .with_show_widths(cli.width),
         params,
         format,
         embed_image: !cli.no_image,
         pretty: cli.pretty,
+        strokes: cli.strokes,
+        minutiae: cli.minutiae,
+        curves,
     };
 
     let mut warnings = Vec::new();
@@ -815,7 +889,7 @@ fn run_job(job: &Job, settings: &Settings) -> Result<Vec<String>, String> {
 fn trace_and_write(job: &Job, settings: &Settings) -> Result<Vec<String>> {
     let params = &settings.params;
     let mut warnings = Vec::new();
-    let (graph, gray, ink) = match job.kind {
+    let (graph, gray, ink, binary) = match job.kind {
         Kind::Image => {
             let bytes = fs::read(&job.input).context("cannot read the file")?;
             let gray = ridgeline::decode(&bytes, &params.limits)?;
@@ -824,7 +898,7 @@ fn trace_and_write(job: &Job, settings: &Settings) -> Result<Vec<String>> {
                 None => ridgeline::trace_image(&gray, params)?,
             };
             let ink = trace.binary.as_ref().map(|binary| binary.count());
-            (trace.graph, Some(gray), ink)
+            (trace.graph, Some(gray), ink, trace.binary)
         }
         Kind::PointList => {
             let text = fs::read_to_string(&job.input).context("cannot read the file")?;
@@ -834,7 +908,7 @@ fn trace_and_write(job: &Job, settings: &Settings) -> Result<Vec<String>> {
                 warnings
                     .push("--debug draws pictures of images only; none for a point list".into());
             }
-            (trace.graph, None, Some(list.len()))
+            (trace.graph, None, Some(list.len()), None)
         }
     };
     if graph.vertices.is_empty() {
@@ -843,16 +917,39 @@ fn trace_and_write(job: &Job, settings: &Settings) -> Result<Vec<String>> {
             _ => "no strokes found; wrote an empty drawing".to_string(),
         });
     }
+    // Strokes are cheap (one pass over the edge ends), so the JSON always lists them; the SVG
+    // draws them on request.
+    let chained = (settings.format == Format::Json || settings.strokes)
+        .then(|| strokes(&graph, &StrokeOptions::default()));
+    // The foreground mask tells where the print ends; point lists have only the extent.
+    let marks = settings
+        .minutiae
+        .then(|| minutiae(&graph, binary.as_ref(), &MinutiaeOptions::default()));
     let text = match settings.format {
         Format::Svg => {
+            // Curves follow what is drawn: one list per stroke with --strokes, else per edge.
+            let curves = settings.curves.map(|options| match &chained {
+                Some(strokes) => strokes
+                    .iter()
+                    .map(|s| fit_beziers(&s.points, options.tolerance, options.corner_angle_deg))
+                    .collect(),
+                None => fit_edges(&graph, &options),
+            });
+            let features = Features::default()
+                .with_strokes(chained.as_deref())
+                .with_minutiae(marks.as_deref())
+                .with_curves(curves.as_deref());
             let image = gray.as_ref().filter(|_| settings.embed_image);
-            svg::to_string(&graph, image, &settings.svg)
+            svg::to_string_with(&graph, image, &settings.svg, &features)
         }
         Format::Json => {
             let meta = JsonMeta::new(params.clone())
                 .with_source_path(job.input.to_string_lossy())
                 .with_pretty(settings.pretty);
-            json::to_string(&graph, &meta)
+            let features = Features::default()
+                .with_strokes(chained.as_deref())
+                .with_minutiae(marks.as_deref());
+            json::to_string_with(&graph, &meta, &features)
         }
     };
     match &job.destination {
@@ -1011,6 +1108,8 @@ mod tests {
             format!("default: {}]", d.limits.max_points),
             format!("default: {SAUVOLA_WINDOW}]"),
             format!("default: {SAUVOLA_K}]"),
+            format!("default: {}]", CurveOptions::default().tolerance),
+            format!("default: {}]", CurveOptions::default().corner_angle_deg),
         ] {
             let flat = help.split_whitespace().collect::<Vec<_>>().join(" ");
             assert!(flat.contains(&expected), "help lacks {expected:?}");

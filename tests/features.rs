@@ -4,9 +4,13 @@
 use ridgeline::curves::{fit_beziers, fit_edges, CurveOptions};
 use ridgeline::minutiae::{minutiae, MinutiaKind, MinutiaeOptions};
 use ridgeline::strokes::{coverage_iou, strokes, StrokeOptions};
-use ridgeline::synth::{render, Stroke as TrueStroke};
-use ridgeline::{trace_binary, Edge, Params, StrokeGraph, Vertex};
+use ridgeline::synth::{print_cases, render, Stroke as TrueStroke};
+use ridgeline::{trace_binary, Binary, Edge, GrayImage, Params, StrokeGraph, Vertex};
+use serde_json::Value;
 use std::f64::consts::{PI, TAU};
+use std::fs;
+use std::path::Path;
+use std::process::Command;
 
 fn polar(c: [f64; 2], r: f64, degrees: f64) -> [f64; 2] {
     let a = degrees.to_radians();
@@ -294,4 +298,493 @@ fn traced_edges_fit_with_curves_within_tolerance() {
         fit_beziers(&trace.graph.edges[0].points, 0.5, 60.0).len(),
         fit_edges(&trace.graph, &options)[0].len()
     );
+}
+
+// ---------------------------------------------------------------------------------------------
+// The features through the `ridgeline` binary
+
+/// Writes the rendering of `truth` as a PNG of dark ink on light paper; returns the mask.
+fn write_png(truth: &[TrueStroke], width: u32, height: u32, path: &Path) -> Binary {
+    let binary = render(truth, width, height);
+    write_binary_png(&binary, path);
+    binary
+}
+
+fn write_binary_png(binary: &Binary, path: &Path) {
+    let image = GrayImage::from_fn(binary.width, binary.height, |x, y| {
+        image::Luma([if binary.get(x as i64, y as i64) {
+            20
+        } else {
+            235
+        }])
+    });
+    image.save(path).expect("write PNG");
+}
+
+/// Runs the binary in `dir`; panics with its stderr when it fails.
+fn run_cli(args: &[&str], dir: &Path) {
+    let output = Command::new(env!("CARGO_BIN_EXE_ridgeline"))
+        .args(args)
+        .current_dir(dir)
+        .output()
+        .expect("run ridgeline");
+    assert!(
+        output.status.success(),
+        "ridgeline {args:?} failed: {}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+}
+
+fn read_json(path: &Path) -> Value {
+    serde_json::from_str(&fs::read_to_string(path).expect("read JSON")).expect("valid JSON")
+}
+
+fn pair(value: &Value) -> [f64; 2] {
+    [value[0].as_f64().expect("x"), value[1].as_f64().expect("y")]
+}
+
+fn pairs(value: &Value) -> Vec<[f64; 2]> {
+    value.as_array().expect("list").iter().map(pair).collect()
+}
+
+/// A '+' on the left and a 'T' on the right: 4 strokes (2 through the crossing, bar and stem).
+fn plus_and_t() -> Vec<TrueStroke> {
+    vec![
+        line([20.0, 70.0], [120.0, 70.0], 7.0),
+        line([70.0, 20.0], [70.0, 120.0], 7.0),
+        line([150.0, 30.0], [250.0, 30.0], 7.0),
+        line([200.0, 30.0], [200.0, 120.0], 7.0),
+    ]
+}
+
+#[test]
+fn cli_json_lists_strokes_that_partition_the_edges() {
+    let dir = tempfile::TempDir::new().expect("temp dir");
+    write_png(&plus_and_t(), 270, 140, &dir.path().join("pt.png"));
+    run_cli(&["pt.png", "-o", "pt.json"], dir.path());
+    let doc = read_json(&dir.path().join("pt.json"));
+    let edges = doc["edges"].as_array().expect("edges");
+    let strokes = doc["strokes"].as_array().expect("strokes always listed");
+    assert_eq!(strokes.len(), 4, "{strokes:?}");
+    assert!(doc.get("minutiae").is_none(), "minutiae only on request");
+    let mut seen = vec![0; edges.len()];
+    for (id, stroke) in strokes.iter().enumerate() {
+        assert_eq!(stroke["id"].as_u64(), Some(id as u64));
+        let ids: Vec<usize> = stroke["edges"]
+            .as_array()
+            .expect("edge ids")
+            .iter()
+            .map(|e| e.as_u64().expect("id") as usize)
+            .collect();
+        let reversed = stroke["reversed"].as_array().expect("reversed");
+        assert_eq!(reversed.len(), ids.len());
+        let points = pairs(&stroke["points"]);
+        assert_eq!(
+            stroke["widths"].as_array().expect("widths").len(),
+            points.len()
+        );
+        assert_eq!(stroke["closed"].as_bool(), Some(false));
+        // The joined polyline starts where its first edge starts (or ends, when reversed).
+        let first = &edges[ids[0]]["points"];
+        let start = if reversed[0].as_bool() == Some(true) {
+            pair(&first[first.as_array().expect("points").len() - 1])
+        } else {
+            pair(&first[0])
+        };
+        assert!((start[0] - points[0][0]).abs() < 1e-9 && (start[1] - points[0][1]).abs() < 1e-9);
+        for e in ids {
+            seen[e] += 1;
+        }
+        // Every stroke here is straight: from end to end at least 80 px.
+        let (a, b) = (points[0], points[points.len() - 1]);
+        assert!((a[0] - b[0]).hypot(a[1] - b[1]) > 80.0, "{a:?} {b:?}");
+    }
+    assert!(seen.iter().all(|&n| n == 1), "{seen:?}");
+}
+
+#[test]
+fn cli_strokes_svg_has_one_polyline_per_stroke_in_distinct_colors() {
+    let dir = tempfile::TempDir::new().expect("temp dir");
+    write_png(&plus_and_t(), 270, 140, &dir.path().join("pt.png"));
+    run_cli(&["pt.png", "--strokes", "-o", "pt.svg"], dir.path());
+    run_cli(&["pt.png", "-o", "pt.json"], dir.path());
+    let text = fs::read_to_string(dir.path().join("pt.svg")).expect("SVG");
+    let doc = roxmltree::Document::parse(&text).expect("well-formed SVG");
+    let group = doc
+        .descendants()
+        .find(|n| n.has_tag_name("g") && n.attribute("id") == Some("strokes"))
+        .expect("strokes group");
+    assert!(
+        doc.descendants()
+            .all(|n| !(n.has_tag_name("g") && n.attribute("id") == Some("edges"))),
+        "strokes replace the edges"
+    );
+    let polylines: Vec<_> = group
+        .children()
+        .filter(|n| n.has_tag_name("polyline"))
+        .collect();
+    let json = read_json(&dir.path().join("pt.json"));
+    let strokes = json["strokes"].as_array().expect("strokes");
+    assert_eq!(polylines.len(), 4);
+    assert_eq!(polylines.len(), strokes.len());
+    let mut colors: Vec<&str> = polylines
+        .iter()
+        .map(|p| p.attribute("stroke").expect("own color"))
+        .collect();
+    colors.sort();
+    colors.dedup();
+    assert_eq!(colors.len(), polylines.len(), "distinct colors");
+    for (polyline, stroke) in polylines.iter().zip(strokes) {
+        let count = polyline
+            .attribute("points")
+            .expect("points")
+            .split_whitespace()
+            .count();
+        assert_eq!(count, stroke["points"].as_array().expect("points").len());
+    }
+}
+
+#[test]
+fn cli_minutiae_json_finds_the_endings_and_bifurcations_of_a_synthetic_print() {
+    let case = print_cases()
+        .into_iter()
+        .find(|c| c.name.ends_with("_arch_minutiae"))
+        .expect("print case");
+    let dir = tempfile::TempDir::new().expect("temp dir");
+    write_binary_png(&case.binary, &dir.path().join("print.png"));
+    run_cli(
+        &[
+            "print.png",
+            "--polarity",
+            "dark",
+            "--minutiae",
+            "-o",
+            "print.json",
+        ],
+        dir.path(),
+    );
+    let doc = read_json(&dir.path().join("print.json"));
+    let found = doc["minutiae"].as_array().expect("minutiae");
+    let kinds: Vec<&str> = found
+        .iter()
+        .map(|m| m["kind"].as_str().expect("kind"))
+        .collect();
+    // The case has one ridge ending at (0.35, 0.4) and one bifurcation at (0.66, 0.62) of its
+    // 200 px side; the ridges cut by the print's outline give no minutia.
+    let near = |kind: &str, at: [f64; 2]| {
+        found.iter().any(|m| {
+            m["kind"].as_str() == Some(kind)
+                && (m["x"].as_f64().expect("x") - at[0]).hypot(m["y"].as_f64().expect("y") - at[1])
+                    < 8.0
+        })
+    };
+    assert!(near("ending", [70.0, 80.0]), "{found:?}");
+    assert!(near("bifurcation", [132.0, 124.0]), "{found:?}");
+    assert!(found.len() <= 4, "few spurious minutiae: {kinds:?}");
+    for m in found {
+        let d = m["direction"].as_f64().expect("direction");
+        assert!(d.abs() <= PI + 1e-3, "{d}");
+        let vertex = m["vertex"].as_u64().expect("vertex") as usize;
+        let degree = doc["vertices"][vertex]["degree"].as_u64();
+        match m["kind"].as_str() {
+            Some("ending") => assert_eq!(degree, Some(1)),
+            Some("bifurcation") => assert_eq!(degree, Some(3)),
+            other => panic!("unknown kind {other:?}"),
+        }
+    }
+    // The SVG marks them.
+    run_cli(
+        &[
+            "print.png",
+            "--polarity",
+            "dark",
+            "--minutiae",
+            "-o",
+            "print.svg",
+        ],
+        dir.path(),
+    );
+    let text = fs::read_to_string(dir.path().join("print.svg")).expect("SVG");
+    let doc = roxmltree::Document::parse(&text).expect("well-formed SVG");
+    let marks = doc
+        .descendants()
+        .find(|n| n.has_tag_name("g") && n.attribute("id") == Some("minutiae"))
+        .expect("minutiae group");
+    let lines = marks.children().filter(|n| n.has_tag_name("line")).count();
+    assert_eq!(lines, found.len(), "one direction line per minutia");
+}
+
+/// Distance from `p` to the polyline.
+fn distance_to_polyline(p: [f64; 2], line: &[[f64; 2]]) -> f64 {
+    line.windows(2)
+        .map(|w| {
+            let (a, b) = (w[0], w[1]);
+            let d = [b[0] - a[0], b[1] - a[1]];
+            let length2 = d[0] * d[0] + d[1] * d[1];
+            let t = if length2 > 0.0 {
+                (((p[0] - a[0]) * d[0] + (p[1] - a[1]) * d[1]) / length2).clamp(0.0, 1.0)
+            } else {
+                0.0
+            };
+            (p[0] - a[0] - t * d[0]).hypot(p[1] - a[1] - t * d[1])
+        })
+        .fold(f64::INFINITY, f64::min)
+}
+
+/// The cubic segments of SVG path data `M x y C x1 y1 x2 y2 x y …`.
+fn path_segments(data: &str) -> Vec<[[f64; 2]; 4]> {
+    let tokens: Vec<&str> = data.split_whitespace().collect();
+    let mut segments = Vec::new();
+    let mut at = [0.0, 0.0];
+    let mut i = 0;
+    let number = |k: usize| -> f64 { tokens[k].parse().expect("number") };
+    while i < tokens.len() {
+        match tokens[i] {
+            "M" => {
+                at = [number(i + 1), number(i + 2)];
+                i += 3;
+            }
+            "C" => {
+                let p1 = [number(i + 1), number(i + 2)];
+                let p2 = [number(i + 3), number(i + 4)];
+                let p3 = [number(i + 5), number(i + 6)];
+                segments.push([at, p1, p2, p3]);
+                at = p3;
+                i += 7;
+            }
+            other => panic!("unexpected path command {other}"),
+        }
+    }
+    segments
+}
+
+#[test]
+fn cli_curves_svg_paths_stay_within_tolerance_of_the_polylines() {
+    let truth = [
+        TrueStroke::new(
+            (0..=90)
+                .map(|k| polar([90.0, 90.0], 55.0, k as f64 * 4.0))
+                .collect(),
+            6.0,
+        ),
+        TrueStroke::new(
+            (0..=60)
+                .map(|k| {
+                    let x = 20.0 + 2.5 * k as f64;
+                    [x, 175.0 + 12.0 * (x / 15.0).sin()]
+                })
+                .collect(),
+            5.0,
+        ),
+        line([30.0, 30.0], [60.0, 140.0], 5.0),
+    ];
+    let dir = tempfile::TempDir::new().expect("temp dir");
+    write_png(&truth, 200, 200, &dir.path().join("c.png"));
+    let tolerance = 0.5;
+    run_cli(&["c.png", "--curves", "-o", "c.svg"], dir.path());
+    run_cli(&["c.png", "-o", "c.json"], dir.path());
+    let text = fs::read_to_string(dir.path().join("c.svg")).expect("SVG");
+    let doc = roxmltree::Document::parse(&text).expect("well-formed SVG");
+    let json = read_json(&dir.path().join("c.json"));
+    let edges = json["edges"].as_array().expect("edges");
+    let paths: Vec<_> = doc
+        .descendants()
+        .filter(|n| n.has_tag_name("path"))
+        .collect();
+    assert_eq!(paths.len(), edges.len(), "one path per edge");
+    assert!(doc.descendants().all(|n| !n.has_tag_name("polyline")));
+    for (path, edge) in paths.iter().zip(edges) {
+        let polyline = pairs(&edge["points"]);
+        let segments = path_segments(path.attribute("d").expect("d"));
+        assert!(!segments.is_empty());
+        assert!(segments.len() < polyline.len(), "curves are shorter");
+        for [p0, p1, p2, p3] in segments {
+            for k in 0..=20 {
+                let t = k as f64 / 20.0;
+                let s = 1.0 - t;
+                let (b0, b1, b2, b3) = (s * s * s, 3.0 * s * s * t, 3.0 * s * t * t, t * t * t);
+                let q = [
+                    b0 * p0[0] + b1 * p1[0] + b2 * p2[0] + b3 * p3[0],
+                    b0 * p0[1] + b1 * p1[1] + b2 * p2[1] + b3 * p3[1],
+                ];
+                let d = distance_to_polyline(q, &polyline);
+                assert!(d <= tolerance + 1.0, "curve point {q:?} is {d} px off");
+            }
+        }
+    }
+    // A tighter tolerance needs more segments; a bad one is a usage error.
+    run_cli(
+        &[
+            "c.png",
+            "--curves",
+            "--curve-tolerance",
+            "0.1",
+            "-o",
+            "fine.svg",
+        ],
+        dir.path(),
+    );
+    let fine = fs::read_to_string(dir.path().join("fine.svg")).expect("SVG");
+    assert!(fine.matches(" C ").count() > text.matches(" C ").count());
+    let bad = Command::new(env!("CARGO_BIN_EXE_ridgeline"))
+        .args(["c.png", "--curves", "--curve-tolerance", "0", "-o", "x.svg"])
+        .current_dir(dir.path())
+        .output()
+        .expect("run");
+    assert_eq!(bad.status.code(), Some(2));
+}
+
+/// `--width` draws the edges as wide as the ink: rendered by resvg without the image, the drawing
+/// covers the ink.
+#[test]
+fn cli_width_svg_covers_the_ink() {
+    let truth = [
+        line([30.0, 50.0], [170.0, 60.0], 7.0),
+        line([60.0, 20.0], [90.0, 180.0], 5.0),
+        TrueStroke::new(
+            (0..=60)
+                .map(|k| polar([125.0, 130.0], 35.0, k as f64 * 6.0))
+                .collect(),
+            6.0,
+        ),
+    ];
+    let dir = tempfile::TempDir::new().expect("temp dir");
+    let binary = write_png(&truth, 200, 200, &dir.path().join("w.png"));
+    run_cli(
+        &[
+            "w.png",
+            "--width",
+            "--no-image",
+            "--no-vertices",
+            "-o",
+            "w.svg",
+        ],
+        dir.path(),
+    );
+    let text = fs::read_to_string(dir.path().join("w.svg")).expect("SVG");
+    let tree = resvg::usvg::Tree::from_str(&text, &resvg::usvg::Options::default()).expect("SVG");
+    let mut pixmap = resvg::tiny_skia::Pixmap::new(200, 200).expect("pixmap");
+    resvg::render(
+        &tree,
+        resvg::tiny_skia::Transform::default(),
+        &mut pixmap.as_mut(),
+    );
+    let (mut both, mut either) = (0usize, 0usize);
+    for (pixel, &ink) in pixmap.pixels().iter().zip(&binary.ink) {
+        // Anti-aliased edges count as drawn when at least half covered.
+        let drawn = f64::from(pixel.alpha()) >= 0.5 * 255.0 * 0.45;
+        both += usize::from(drawn && ink);
+        either += usize::from(drawn || ink);
+    }
+    let iou = both as f64 / either as f64;
+    assert!(iou > 0.8, "the width drawing covers the ink: IoU {iou}");
+    assert_eq!(text.matches("<g id=\"widths\"").count(), 1);
+}
+
+/// The writers on a hand-built '+': what each feature adds, and that missing curves fall back to
+/// polylines rather than failing.
+#[test]
+fn writers_draw_and_list_the_features_given() {
+    use ridgeline::curves::CubicBezier;
+    use ridgeline::export::json::{self, JsonMeta};
+    use ridgeline::export::svg::{self, SvgOptions};
+    use ridgeline::export::Features;
+    let c = [50.0, 50.0];
+    let mut graph = StrokeGraph {
+        width: 100,
+        height: 100,
+        vertices: vec![Vertex {
+            pos: c,
+            degree: 4,
+            width: 6.0,
+        }],
+        edges: Vec::new(),
+    };
+    for (k, a) in [0.0, 90.0, 180.0, 270.0].iter().enumerate() {
+        let tip = polar(c, 40.0, *a);
+        graph.vertices.push(Vertex {
+            pos: tip,
+            degree: 1,
+            width: 4.0,
+        });
+        let mid = polar(c, 20.0, *a);
+        graph.edges.push(Edge {
+            from: 0,
+            to: k + 1,
+            points: vec![c, mid, tip],
+            widths: vec![6.0, 5.0, 4.0],
+            directions: vec![[1.0, 0.0]; 3],
+        });
+    }
+    graph.validate().expect("valid");
+    let chained = strokes(&graph, &StrokeOptions::default());
+    assert_eq!(chained.len(), 2);
+    let found = minutiae(
+        &graph,
+        None,
+        &MinutiaeOptions {
+            border_margin: 0.0,
+            ..Default::default()
+        },
+    );
+    assert_eq!(found.len(), 4, "four endings");
+
+    // Curves for the first stroke only: it becomes a path, the second stays a polyline.
+    let curves = vec![
+        vec![CubicBezier {
+            p0: chained[0].points[0],
+            p1: chained[0].points[1],
+            p2: chained[0].points[3],
+            p3: chained[0].points[4],
+        }],
+        Vec::new(),
+    ];
+    let features = Features::default()
+        .with_strokes(Some(&chained))
+        .with_minutiae(Some(&found))
+        .with_curves(Some(&curves));
+    let options = SvgOptions::default().with_show_widths(true);
+    let text = svg::to_string_with(&graph, None, &options, &features);
+    let doc = roxmltree::Document::parse(&text).expect("well-formed SVG");
+    let group = |id: &str| {
+        doc.descendants()
+            .find(|n| n.has_tag_name("g") && n.attribute("id") == Some(id))
+            .unwrap_or_else(|| panic!("no group {id}"))
+    };
+    let in_strokes: Vec<&str> = group("strokes")
+        .children()
+        .filter(|n| n.is_element())
+        .map(|n| n.tag_name().name())
+        .collect();
+    assert_eq!(in_strokes, ["path", "polyline"]);
+    let widths: Vec<f64> = group("widths")
+        .children()
+        .filter(|n| n.has_tag_name("polyline"))
+        .map(|n| {
+            n.attribute("stroke-width")
+                .expect("width")
+                .parse()
+                .expect("number")
+        })
+        .collect();
+    assert_eq!(widths, [5.0; 4], "each edge drawn with its mean width");
+    let marks = group("minutiae");
+    assert_eq!(
+        marks.children().filter(|n| n.has_tag_name("line")).count(),
+        4
+    );
+    // Plain `to_string` draws edges, no feature.
+    let plain = svg::to_string(&graph, None, &SvgOptions::default());
+    assert!(plain.contains("<g id=\"edges\""));
+    assert!(!plain.contains("strokes") && !plain.contains("minutiae") && !plain.contains("<path"));
+
+    let meta = JsonMeta::new(Params::default());
+    let listed: Value =
+        serde_json::from_str(&json::to_string_with(&graph, &meta, &features)).expect("JSON");
+    assert_eq!(listed["strokes"].as_array().map(Vec::len), Some(2));
+    assert_eq!(listed["strokes"][0]["length"].as_f64(), Some(80.0));
+    assert_eq!(listed["minutiae"].as_array().map(Vec::len), Some(4));
+    assert_eq!(listed["minutiae"][0]["kind"].as_str(), Some("ending"));
+    let plain: Value = serde_json::from_str(&json::to_string(&graph, &meta)).expect("JSON");
+    assert!(plain.get("strokes").is_none() && plain.get("minutiae").is_none());
 }

@@ -9,6 +9,11 @@
 //!
 //! When `../shared/data` (beside the crate root) holds real fingerprints and text, ridgeline also
 //! runs on them (no truth): time, counts, and endpoint / junction / short-branch rates.
+//!
+//! Issue 6 columns: `IoU` is the intersection over union of the strokes re-rendered with their
+//! widths and the input foreground (`ridgeline::strokes::coverage_iou`; goal >= 0.9 on text), and
+//! the real fingerprints get their minutiae counts (`ridgeline::minutiae`, endings and
+//! bifurcations away from the print's border).
 
 mod thinning;
 
@@ -17,7 +22,9 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use anyhow::{bail, Context};
+use ridgeline::minutiae::{minutiae, MinutiaKind, MinutiaeOptions};
 use ridgeline::score::{aggregate, score, truth_graph, GroupScores, Scores};
+use ridgeline::strokes::coverage_iou;
 use ridgeline::synth::Case;
 use ridgeline::{Limits, Params, StrokeGraph};
 use serde::Serialize;
@@ -78,6 +85,8 @@ struct Outcome {
     /// The failure (an error or a panic), if the method did not produce a graph.
     failure: Option<String>,
     scores: Option<Scores>,
+    /// Re-rendered widths against the input foreground (issue 6).
+    iou: Option<f64>,
 }
 
 /// One method on one group.
@@ -88,6 +97,8 @@ struct GroupRow {
     failures: usize,
     mean_time_ms: f64,
     scores: GroupScores,
+    /// Mean of the cases' IoU (issue 6); `None` when no case was traced.
+    mean_iou: Option<f64>,
 }
 
 /// ridgeline on one real image (no truth).
@@ -105,6 +116,11 @@ struct RealImage {
     junctions_per_1000px: f64,
     /// Share of edges ending in an endpoint that are shorter than their mean stroke width.
     spur_share: f64,
+    /// Re-rendered widths against the binarized foreground (issue 6).
+    iou: f64,
+    /// Ridge endings and bifurcations (fingerprints only).
+    endings: Option<usize>,
+    bifurcations: Option<usize>,
 }
 
 #[derive(Serialize)]
@@ -151,6 +167,7 @@ fn main() -> anyhow::Result<()> {
             let start = Instant::now();
             let result = guarded(|| run_method(method, case));
             let time_ms = start.elapsed().as_secs_f64() * 1e3;
+            let iou = result.as_ref().ok().map(|graph| coverage_iou(graph, &case.binary));
             let (failure, scores) = match (&truth, result) {
                 (Ok(truth), Ok(graph)) => match guarded(|| Ok(score(case, truth, &graph))) {
                     Ok(s) => (None, Some(s)),
@@ -166,6 +183,7 @@ fn main() -> anyhow::Result<()> {
                 time_ms,
                 failure,
                 scores,
+                iou,
             });
         }
     }
@@ -189,6 +207,10 @@ fn main() -> anyhow::Result<()> {
                 mean_time_ms: mine.iter().map(|o| o.time_ms).sum::<f64>()
                     / mine.len().max(1) as f64,
                 scores: aggregate(&scores),
+                mean_iou: {
+                    let ious: Vec<f64> = mine.iter().filter_map(|o| o.iou).collect();
+                    (!ious.is_empty()).then(|| ious.iter().sum::<f64>() / ious.len() as f64)
+                },
             });
         }
     }
@@ -227,20 +249,23 @@ fn opt(x: Option<f64>) -> String {
 
 fn print_table<'a>(rows: impl Iterator<Item = &'a GroupRow>) {
     println!(
-        "| method | F1@1 | F1@2 | chamfer | Hausdorff | junction P | junction R | X >=30° | X 15° | spurs/stroke | endpoint R | components exact | cycles exact | ms | failed |"
+        "| method | F1@1 | F1@2 | chamfer | Hausdorff | junction P | junction R | X >=30° | X 15° | spurs/stroke | endpoint R | components exact | cycles exact | IoU | ms | failed |"
     );
-    println!("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|");
+    println!("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|");
     for r in rows {
         let s = &r.scores;
         if s.cases == 0 {
             println!(
-                "| {} | - | - | - | - | - | - | - | - | - | - | - | - | {:.1} | {} |",
-                r.method, r.mean_time_ms, r.failures
+                "| {} | - | - | - | - | - | - | - | - | - | - | - | - | {} | {:.1} | {} |",
+                r.method,
+                opt(r.mean_iou),
+                r.mean_time_ms,
+                r.failures
             );
             continue;
         }
         println!(
-            "| {} | {:.3} | {:.3} | {:.2} | {:.1} | {:.2} | {:.2} | {} | {} | {:.3} | {:.2} | {:.0}% | {:.0}% | {:.1} | {} |",
+            "| {} | {:.3} | {:.3} | {:.2} | {:.1} | {:.2} | {:.2} | {} | {} | {:.3} | {:.2} | {:.0}% | {:.0}% | {} | {:.1} | {} |",
             r.method,
             s.f1[0],
             s.f1[1],
@@ -254,6 +279,7 @@ fn print_table<'a>(rows: impl Iterator<Item = &'a GroupRow>) {
             s.endpoint_recall,
             100.0 * s.components_exact,
             100.0 * s.cycles_exact,
+            opt(r.mean_iou),
             r.mean_time_ms,
             r.failures,
         );
@@ -261,8 +287,8 @@ fn print_table<'a>(rows: impl Iterator<Item = &'a GroupRow>) {
 }
 
 fn print_cases<'a>(outcomes: impl Iterator<Item = &'a Outcome>) {
-    println!("\n| case | method | F1@1 | F1@2 | Hausdorff | junctions P/R | crossings | spurs | endpoints | comp | cyc | ms |");
-    println!("|---|---|---|---|---|---|---|---|---|---|---|---|");
+    println!("\n| case | method | F1@1 | F1@2 | Hausdorff | junctions P/R | crossings | spurs | endpoints | comp | cyc | IoU | ms |");
+    println!("|---|---|---|---|---|---|---|---|---|---|---|---|---|");
     for o in outcomes {
         let Some(s) = &o.scores else {
             println!(
@@ -275,7 +301,7 @@ fn print_cases<'a>(outcomes: impl Iterator<Item = &'a Outcome>) {
         };
         let found = s.crossings.iter().filter(|c| c.correct).count();
         println!(
-            "| {} | {} | {:.3} | {:.3} | {:.1} | {}/{}/{} | {}/{} | {} | {}/{} | {}/{} | {}/{} | {:.1} |",
+            "| {} | {} | {:.3} | {:.3} | {:.1} | {}/{}/{} | {}/{} | {} | {}/{} | {}/{} | {}/{} | {} | {:.1} |",
             o.case,
             o.method,
             s.f1[0],
@@ -293,6 +319,7 @@ fn print_cases<'a>(outcomes: impl Iterator<Item = &'a Outcome>) {
             s.true_components,
             s.predicted_cycles,
             s.true_cycles,
+            opt(o.iou),
             o.time_ms,
         );
     }
@@ -333,6 +360,9 @@ fn real_images(verbose: bool) -> Vec<RealImage> {
             endpoints_per_1000px: 0.0,
             junctions_per_1000px: 0.0,
             spur_share: 0.0,
+            iou: 0.0,
+            endings: None,
+            bifurcations: None,
         };
         let decoded = guarded(|| {
             let bytes = std::fs::read(path)?;
@@ -342,11 +372,24 @@ fn real_images(verbose: bool) -> Vec<RealImage> {
         let traced = decoded.and_then(|gray| {
             image.width = gray.width();
             image.height = gray.height();
-            guarded(|| Ok(ridgeline::trace_image(&gray, &Params::default())?.graph))
+            guarded(|| {
+                let trace = ridgeline::trace_image(&gray, &Params::default())?;
+                Ok((trace.graph, trace.binary))
+            })
         });
         image.time_ms = start.elapsed().as_secs_f64() * 1e3;
+        let fingerprint = path.parent().and_then(|d| d.file_name()).is_some_and(|d| d == "fingerprints");
         match traced {
-            Ok(g) => {
+            Ok((g, binary)) => {
+                if let Some(binary) = &binary {
+                    image.iou = coverage_iou(&g, binary);
+                }
+                if fingerprint {
+                    let found = minutiae(&g, binary.as_ref(), &MinutiaeOptions::default());
+                    let count = |kind| found.iter().filter(|m| m.kind == kind).count();
+                    image.endings = Some(count(MinutiaKind::Ending));
+                    image.bifurcations = Some(count(MinutiaKind::Bifurcation));
+                }
                 let length: f64 = g.edges.iter().map(|e| e.length()).sum();
                 let per_1000 =
                     |n: usize| if length > 0.0 { 1000.0 * n as f64 / length } else { 0.0 };
@@ -373,8 +416,8 @@ fn real_images(verbose: bool) -> Vec<RealImage> {
     }
 
     println!("\n## real images (ridgeline, no truth)\n");
-    println!("| image | size | ms | vertices | edges | centerline px | endpoints /1000px | junctions /1000px | spur share |");
-    println!("|---|---|---|---|---|---|---|---|---|");
+    println!("| image | size | ms | vertices | edges | centerline px | endpoints /1000px | junctions /1000px | spur share | IoU | endings | bifurcations |");
+    println!("|---|---|---|---|---|---|---|---|---|---|---|---|");
     for r in &out {
         match &r.failure {
             Some(f) => {
@@ -382,7 +425,7 @@ fn real_images(verbose: bool) -> Vec<RealImage> {
                 println!("| {} | {}x{} | failed: {} |", r.file, r.width, r.height, reason)
             }
             None => println!(
-                "| {} | {}x{} | {:.0} | {} | {} | {:.0} | {:.2} | {:.2} | {:.3} |",
+                "| {} | {}x{} | {:.0} | {} | {} | {:.0} | {:.2} | {:.2} | {:.3} | {:.3} | {} | {} |",
                 r.file,
                 r.width,
                 r.height,
@@ -392,7 +435,10 @@ fn real_images(verbose: bool) -> Vec<RealImage> {
                 r.centerline_px,
                 r.endpoints_per_1000px,
                 r.junctions_per_1000px,
-                r.spur_share
+                r.spur_share,
+                r.iou,
+                r.endings.map_or("-".into(), |n| n.to_string()),
+                r.bifurcations.map_or("-".into(), |n| n.to_string()),
             ),
         }
     }

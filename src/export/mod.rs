@@ -4,11 +4,56 @@
 //! backdrop): it never runs a stage. Both writers are deterministic, so the same graph always gives
 //! the same bytes, and both round coordinates (2 decimals in SVG, 3 in JSON) because the fit's
 //! sub-pixel precision beyond that is noise that only makes files larger.
+//!
+//! What goes beyond the graph (strokes through crossings, minutiae, Bézier curves) is computed by
+//! the caller and handed over as [`Features`].
 
 pub mod json;
 pub mod svg;
 
 use std::fmt::Write;
+
+use crate::curves::CubicBezier;
+use crate::minutiae::Minutia;
+use crate::strokes::Stroke;
+
+/// Results computed from the graph beyond the graph itself (issue 6), handed to the writers as
+/// plain data so that export never runs a computation of its own. Build it from
+/// [`Features::default`] (nothing) and the `with_*` setters: more may be added.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[non_exhaustive]
+pub struct Features<'a> {
+    /// Strokes through crossings ([`crate::strokes::strokes`]). JSON: a `strokes` list. SVG: one
+    /// line per stroke, each in its own color, instead of one per edge. Default value: `None`.
+    pub strokes: Option<&'a [Stroke]>,
+    /// Ridge endings and bifurcations ([`crate::minutiae::minutiae`]). JSON: a `minutiae` list.
+    /// SVG: a mark at each, with a short line along its direction. Default value: `None`.
+    pub minutiae: Option<&'a [Minutia]>,
+    /// SVG only: cubic Béziers ([`crate::curves::fit_beziers`]) drawn as `<path>`s instead of
+    /// polylines, one list per drawn line: per stroke when [`Features::strokes`] is given, else per
+    /// edge. A line whose list is missing or empty is drawn as its polyline. Default value: `None`.
+    pub curves: Option<&'a [Vec<CubicBezier>]>,
+}
+
+impl<'a> Features<'a> {
+    /// Sets [`Features::strokes`].
+    pub const fn with_strokes(mut self, strokes: Option<&'a [Stroke]>) -> Self {
+        self.strokes = strokes;
+        self
+    }
+
+    /// Sets [`Features::minutiae`].
+    pub const fn with_minutiae(mut self, minutiae: Option<&'a [Minutia]>) -> Self {
+        self.minutiae = minutiae;
+        self
+    }
+
+    /// Sets [`Features::curves`].
+    pub const fn with_curves(mut self, curves: Option<&'a [Vec<CubicBezier>]>) -> Self {
+        self.curves = curves;
+        self
+    }
+}
 
 /// Appends `value` with at most `decimals` decimals, trailing zeros trimmed (`12.50` → `12.5`,
 /// `3.00` → `3`) and negative zero written as `0`. Non-finite values are written as `0` so that

@@ -5,6 +5,11 @@
 //! is written by hand rather than through the `svg` crate: nothing in it comes from the user but
 //! numbers, it streams into one `String` without a node per polyline, and the attribute order stays
 //! fixed, which keeps the output byte-for-byte deterministic.
+//!
+//! Layers, bottom to top: the image; with [`SvgOptions::show_widths`], every edge as wide as the ink
+//! (its mean width), semi-transparent; the centerlines, one polyline per edge, or per stroke in its
+//! own color when [`Features::strokes`] is given, or Bézier `<path>`s when [`Features::curves`] is;
+//! dots and vertex markers; minutiae marks when [`Features::minutiae`] is given.
 
 use std::fmt::Write;
 use std::io::Cursor;
@@ -12,7 +17,9 @@ use std::io::Cursor;
 use base64::Engine;
 use image::{GrayImage, ImageFormat};
 
-use super::push_number;
+use super::{push_number, Features};
+use crate::curves::{svg_path_data, CubicBezier};
+use crate::strokes::stroke_color;
 use crate::StrokeGraph;
 
 /// Color of the centerlines (and of isolated dots).
@@ -21,6 +28,9 @@ pub const EDGE_COLOR: &str = "#e6194b";
 pub const ENDPOINT_COLOR: &str = "#3cb44b";
 /// Color of the markers at junctions and crossings (degree 3 or more).
 pub const JUNCTION_COLOR: &str = "#4363d8";
+
+/// Opacity of the width layer: the ink (and the lack of it) shows through.
+pub const WIDTH_OPACITY: f64 = 0.45;
 
 /// Decimals of the coordinates: a hundredth of a pixel is below anything the fit resolves.
 const DECIMALS: usize = 2;
@@ -36,6 +46,10 @@ pub struct SvgOptions {
     /// Line width of the centerlines in px; `None` picks `max(0.6, 0.12 x median vertex width)`,
     /// thin enough to see the ink around it. Default value: `None`.
     pub stroke_width: Option<f64>,
+    /// Draw each edge, under its centerline, with a line as wide as its mean stroke width (and
+    /// each dot as a disk of its width), in a group of opacity [`WIDTH_OPACITY`], so that the
+    /// drawing covers the ink where the widths are right. Default value: `false`.
+    pub show_widths: bool,
 }
 
 impl Default for SvgOptions {
@@ -43,6 +57,7 @@ impl Default for SvgOptions {
         SvgOptions {
             show_vertices: true,
             stroke_width: None,
+            show_widths: false,
         }
     }
 }
@@ -59,6 +74,12 @@ impl SvgOptions {
         self.stroke_width = stroke_width;
         self
     }
+
+    /// Sets [`SvgOptions::show_widths`].
+    pub const fn with_show_widths(mut self, show_widths: bool) -> Self {
+        self.show_widths = show_widths;
+        self
+    }
 }
 
 /// The line width used for `graph`: the explicit one when it is a positive number, otherwise
@@ -67,25 +88,26 @@ pub fn stroke_width(graph: &StrokeGraph, options: &SvgOptions) -> f64 {
     if let Some(width) = options.stroke_width.filter(|w| w.is_finite() && *w > 0.0) {
         return width;
     }
-    let mut widths: Vec<f64> = graph
-        .vertices
-        .iter()
-        .map(|v| v.width)
-        .filter(|w| w.is_finite())
-        .collect();
-    if widths.is_empty() {
-        return 0.6;
-    }
-    widths.sort_by(f64::total_cmp);
-    let median = widths[widths.len() / 2];
-    (0.12 * median).max(0.6)
+    median_vertex_width(graph).map_or(0.6, |median| (0.12 * median).max(0.6))
 }
 
 /// Writes `graph` as an SVG document of the image's size, over `image` (embedded as a base64 PNG)
 /// when one is given.
 pub fn to_string(graph: &StrokeGraph, image: Option<&GrayImage>, options: &SvgOptions) -> String {
+    to_string_with(graph, image, options, &Features::default())
+}
+
+/// Like [`to_string`], drawing the `features` given: strokes in their own colors instead of edges,
+/// Bézier paths instead of polylines, minutiae marks (see the module doc for the layers).
+pub fn to_string_with(
+    graph: &StrokeGraph,
+    image: Option<&GrayImage>,
+    options: &SvgOptions,
+    features: &Features,
+) -> String {
     let points: usize = graph.edges.iter().map(|e| e.points.len()).sum();
-    let mut out = String::with_capacity(512 + 14 * points + 64 * graph.vertices.len());
+    let layers = if options.show_widths { 2 } else { 1 };
+    let mut out = String::with_capacity(512 + layers * 14 * points + 64 * graph.vertices.len());
     let (w, h) = (graph.width, graph.height);
     let _ = writeln!(
         out,
@@ -103,23 +125,48 @@ pub fn to_string(graph: &StrokeGraph, image: Option<&GrayImage>, options: &SvgOp
         out.push_str("\"/>\n");
     }
 
-    let line = stroke_width(graph, options);
-    out.push_str(r#"<g id="edges" fill="none" stroke=""#);
-    out.push_str(EDGE_COLOR);
-    out.push_str(r#"" stroke-width=""#);
-    push_number(&mut out, line, DECIMALS);
-    out.push_str("\" stroke-linejoin=\"round\" stroke-linecap=\"round\">\n");
-    for edge in &graph.edges {
-        out.push_str(r#"<polyline points=""#);
-        for (i, p) in edge.points.iter().enumerate() {
-            if i > 0 {
-                out.push(' ');
+    // The stroke each edge belongs to, for coloring the width layer like the centerlines.
+    let mut stroke_of = vec![None; graph.edges.len()];
+    if let Some(strokes) = features.strokes {
+        for (s, stroke) in strokes.iter().enumerate() {
+            for &e in &stroke.edges {
+                if let Some(slot) = stroke_of.get_mut(e) {
+                    *slot = Some(s);
+                }
             }
-            push_number(&mut out, p[0], DECIMALS);
-            out.push(',');
-            push_number(&mut out, p[1], DECIMALS);
         }
-        out.push_str("\"/>\n");
+    }
+    if options.show_widths {
+        write_widths(&mut out, graph, &stroke_of);
+    }
+
+    let line = stroke_width(graph, options);
+    match features.strokes {
+        Some(strokes) => {
+            // Each stroke carries its own color; the group holds what they share.
+            out.push_str(r#"<g id="strokes" fill="none" stroke-width=""#);
+            push_number(&mut out, line, DECIMALS);
+            out.push_str("\" stroke-linejoin=\"round\" stroke-linecap=\"round\">\n");
+            for (s, stroke) in strokes.iter().enumerate() {
+                let color = stroke_color(s);
+                write_line(
+                    &mut out,
+                    &stroke.points,
+                    curves_of(features, s),
+                    Some(&color),
+                );
+            }
+        }
+        None => {
+            out.push_str(r#"<g id="edges" fill="none" stroke=""#);
+            out.push_str(EDGE_COLOR);
+            out.push_str(r#"" stroke-width=""#);
+            push_number(&mut out, line, DECIMALS);
+            out.push_str("\" stroke-linejoin=\"round\" stroke-linecap=\"round\">\n");
+            for (e, edge) in graph.edges.iter().enumerate() {
+                write_line(&mut out, &edge.points, curves_of(features, e), None);
+            }
+        }
     }
     out.push_str("</g>\n");
 
@@ -147,8 +194,130 @@ pub fn to_string(graph: &StrokeGraph, image: Option<&GrayImage>, options: &SvgOp
             |degree| degree >= 3,
         );
     }
+    if let Some(minutiae) = features.minutiae.filter(|m| !m.is_empty()) {
+        // Marks about two ridge widths across: big enough to see, small enough not to hide the
+        // neighbouring ridges.
+        let size = (2.0 * median_vertex_width(graph).unwrap_or(2.0)).max(4.0);
+        out.push_str("<g id=\"minutiae\">\n");
+        out.push_str(&crate::minutiae::svg_marks(minutiae, size));
+        out.push_str("</g>\n");
+    }
     out.push_str("</svg>\n");
     out
+}
+
+/// The curves to draw for line `index`, when there are any.
+fn curves_of<'a>(features: &Features<'a>, index: usize) -> Option<&'a [CubicBezier]> {
+    features
+        .curves
+        .and_then(|curves| curves.get(index))
+        .map(Vec::as_slice)
+        .filter(|segments| !segments.is_empty())
+}
+
+/// One centerline: a `<path>` of `curves` when given, else a `<polyline>` of `points`, in `color`
+/// when given (else the group's).
+fn write_line(
+    out: &mut String,
+    points: &[[f64; 2]],
+    curves: Option<&[CubicBezier]>,
+    color: Option<&str>,
+) {
+    match curves {
+        Some(segments) => {
+            out.push_str(r#"<path d=""#);
+            out.push_str(&svg_path_data(segments));
+        }
+        None => {
+            out.push_str(r#"<polyline points=""#);
+            push_points(out, points);
+        }
+    }
+    out.push('"');
+    if let Some(color) = color {
+        out.push_str(r#" stroke=""#);
+        out.push_str(color);
+        out.push('"');
+    }
+    out.push_str("/>\n");
+}
+
+/// `x,y x,y …` with [`DECIMALS`] decimals.
+fn push_points(out: &mut String, points: &[[f64; 2]]) {
+    for (i, p) in points.iter().enumerate() {
+        if i > 0 {
+            out.push(' ');
+        }
+        push_number(out, p[0], DECIMALS);
+        out.push(',');
+        push_number(out, p[1], DECIMALS);
+    }
+}
+
+/// The width layer: each edge as a polyline as wide as its mean width, each dot as a disk of its
+/// width, in its stroke's color (or the edge color), under one group opacity so that overlaps at
+/// joints do not darken.
+fn write_widths(out: &mut String, graph: &StrokeGraph, stroke_of: &[Option<usize>]) {
+    out.push_str(
+        r#"<g id="widths" fill="none" stroke-linejoin="round" stroke-linecap="round" opacity=""#,
+    );
+    push_number(out, WIDTH_OPACITY, DECIMALS);
+    out.push_str("\">\n");
+    for (e, edge) in graph.edges.iter().enumerate() {
+        let Some(width) = mean_width(&edge.widths) else {
+            continue;
+        };
+        let color = match stroke_of.get(e).copied().flatten() {
+            Some(s) => stroke_color(s),
+            None => EDGE_COLOR.to_string(),
+        };
+        out.push_str(r#"<polyline points=""#);
+        push_points(out, &edge.points);
+        out.push_str(r#"" stroke=""#);
+        out.push_str(&color);
+        out.push_str(r#"" stroke-width=""#);
+        push_number(out, width, DECIMALS);
+        out.push_str("\"/>\n");
+    }
+    for vertex in graph.vertices.iter().filter(|v| v.degree == 0) {
+        if !(vertex.width.is_finite() && vertex.width > 0.0) {
+            continue;
+        }
+        out.push_str(r#"<circle cx=""#);
+        push_number(out, vertex.pos[0], DECIMALS);
+        out.push_str(r#"" cy=""#);
+        push_number(out, vertex.pos[1], DECIMALS);
+        out.push_str(r#"" r=""#);
+        push_number(out, vertex.width / 2.0, DECIMALS);
+        out.push_str(r#"" fill=""#);
+        out.push_str(EDGE_COLOR);
+        out.push_str("\"/>\n");
+    }
+    out.push_str("</g>\n");
+}
+
+/// Mean of the finite positive widths; `None` when there is none.
+fn mean_width(widths: &[f64]) -> Option<f64> {
+    let (sum, count) = widths
+        .iter()
+        .filter(|w| w.is_finite() && **w > 0.0)
+        .fold((0.0, 0usize), |(sum, count), w| (sum + w, count + 1));
+    (count > 0).then(|| sum / count as f64)
+}
+
+/// Median of the finite vertex widths; `None` when there is none.
+fn median_vertex_width(graph: &StrokeGraph) -> Option<f64> {
+    let mut widths: Vec<f64> = graph
+        .vertices
+        .iter()
+        .map(|v| v.width)
+        .filter(|w| w.is_finite())
+        .collect();
+    if widths.is_empty() {
+        return None;
+    }
+    widths.sort_by(f64::total_cmp);
+    Some(widths[widths.len() / 2])
 }
 
 /// One group of filled circles at the vertices whose degree passes `select`; nothing when none

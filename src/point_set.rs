@@ -33,6 +33,29 @@ impl Grid {
     }
 }
 
+/// Chunks of whole components of a point set (see [`PointSet::split_components`]).
+pub(crate) struct ComponentChunks {
+    /// CSR offsets into `members`, one chunk after the other.
+    offsets: Vec<u32>,
+    /// Point indices of each chunk, ascending.
+    members: Vec<u32>,
+    /// Each point's position in its chunk.
+    local: Vec<u32>,
+}
+
+impl ComponentChunks {
+    /// Number of chunks.
+    pub(crate) fn len(&self) -> usize {
+        self.offsets.len() - 1
+    }
+
+    /// Chunk `c` of `points` (the set these chunks were made from) as a point set of its own.
+    pub(crate) fn part(&self, points: &PointSet, c: usize) -> PointSet {
+        let members = &self.members[self.offsets[c] as usize..self.offsets[c + 1] as usize];
+        points.subset(members, &self.local)
+    }
+}
+
 /// The input points with everything the stages need to know about them.
 ///
 /// Invariants (checked by [`PointSet::validate`]): all coordinates finite; `half_width` has one
@@ -117,6 +140,14 @@ impl PointSet {
     /// point. Every stage treats components independently, so tracing the chunks one by one gives
     /// the same result as tracing the whole set; the chunking does not depend on the thread count.
     pub fn split_components(&self, target: usize) -> Vec<PointSet> {
+        let chunks = self.component_chunks(target);
+        (0..chunks.len()).map(|c| chunks.part(self, c)).collect()
+    }
+
+    /// The chunks of [`PointSet::split_components`] as lists of point indices, so that each chunk's
+    /// point set can be built where it is traced (in parallel, and only while it is traced: the
+    /// copies of all chunks never exist at once).
+    pub(crate) fn component_chunks(&self, target: usize) -> ComponentChunks {
         let n = self.len();
         // Component label of each point, numbered in order of first point.
         let mut label = vec![u32::MAX; n];
@@ -145,34 +176,41 @@ impl PointSet {
         let mut chunk_of = Vec::with_capacity(sizes.len());
         let mut chunks = 0u32;
         let mut filled = 0usize;
+        let mut chunk_sizes = Vec::new();
         for &size in &sizes {
             if filled > 0 && filled + size > target {
+                chunk_sizes.push(filled as u32);
                 chunks += 1;
                 filled = 0;
             }
             chunk_of.push(chunks);
             filled += size;
         }
-        let count = if sizes.is_empty() {
-            0
-        } else {
-            chunks as usize + 1
-        };
-        let mut members: Vec<Vec<u32>> = vec![Vec::new(); count];
-        for p in 0..n {
-            members[chunk_of[label[p] as usize] as usize].push(p as u32);
+        if filled > 0 {
+            chunk_sizes.push(filled as u32);
         }
-        drop(label);
-        let mut local = vec![0u32; n];
-        for list in &members {
-            for (i, &p) in list.iter().enumerate() {
-                local[p as usize] = i as u32;
-            }
+        // Members of every chunk in CSR form, ascending within a chunk, and each point's position
+        // in its chunk (the chunks partition the points, so one array serves them all).
+        let mut offsets = Vec::with_capacity(chunk_sizes.len() + 1);
+        offsets.push(0u32);
+        for &size in &chunk_sizes {
+            offsets.push(offsets[offsets.len() - 1] + size);
         }
-        members
-            .iter()
-            .map(|list| self.subset(list, &local))
-            .collect()
+        let mut fill: Vec<u32> = offsets[..offsets.len() - 1].to_vec();
+        let mut members = vec![0u32; n];
+        // `label` becomes each point's local index in place.
+        for (p, slot) in label.iter_mut().enumerate() {
+            let chunk = chunk_of[*slot as usize] as usize;
+            let at = fill[chunk];
+            members[at as usize] = p as u32;
+            *slot = at - offsets[chunk];
+            fill[chunk] += 1;
+        }
+        ComponentChunks {
+            offsets,
+            members,
+            local: label,
+        }
     }
 
     /// The points `members` (ascending) as a point set of their own; `local` maps every member to
@@ -185,7 +223,12 @@ impl PointSet {
                 .map(|&p| self.half_width[p as usize])
                 .collect(),
             offsets: Vec::with_capacity(members.len() + 1),
-            neighbors: Vec::new(),
+            neighbors: Vec::with_capacity(
+                members
+                    .iter()
+                    .map(|&p| self.neighbors_of(p).len())
+                    .sum(),
+            ),
             spacing: self.spacing,
             dropout: self.dropout,
             grid: None,

@@ -207,14 +207,18 @@ fn run(points: PointSet, width: u32, height: u32, params: &Params, keep: bool) -
     // Components never interact, so chunks of whole components are traced in parallel and their
     // graphs concatenated in chunk order: the output does not depend on the thread count.
     use rayon::prelude::*;
-    let parts: Vec<(StrokeGraph, Timings)> = points
-        .split_components(CHUNK_POINTS)
-        .par_iter()
-        .map(|part| {
-            let (graph, _, timings) = run_stages(part, params, false);
+    // Each chunk's point set is built by the thread that traces it and dropped right after, so
+    // the copies run in parallel and never all exist at once.
+    let chunks = points.component_chunks(CHUNK_POINTS);
+    let parts: Vec<(StrokeGraph, Timings)> = (0..chunks.len())
+        .into_par_iter()
+        .map(|c| {
+            let part = chunks.part(&points, c);
+            let (graph, _, timings) = run_stages(&part, params, false);
             (graph, timings)
         })
         .collect();
+    drop(chunks);
     let mut graph = StrokeGraph {
         width,
         height,

@@ -33,6 +33,29 @@ impl Grid {
     }
 }
 
+/// Chunks of whole components of a point set (see [`PointSet::split_components`]).
+pub(crate) struct ComponentChunks {
+    /// CSR offsets into `members`, one chunk after the other.
+    offsets: Vec<u32>,
+    /// Point indices of each chunk, ascending.
+    members: Vec<u32>,
+    /// Each point's position in its chunk.
+    local: Vec<u32>,
+}
+
+impl ComponentChunks {
+    /// Number of chunks.
+    pub(crate) fn len(&self) -> usize {
+        self.offsets.len() - 1
+    }
+
+    /// Chunk `c` of `points` (the set these chunks were made from) as a point set of its own.
+    pub(crate) fn part(&self, points: &PointSet, c: usize) -> PointSet {
+        let members = &self.members[self.offsets[c] as usize..self.offsets[c + 1] as usize];
+        points.subset(members, &self.local)
+    }
+}
+
 /// The input points with everything the stages need to know about them.
 ///
 /// Invariants (checked by [`PointSet::validate`]): all coordinates finite; `half_width` has one
@@ -117,62 +140,89 @@ impl PointSet {
     /// point. Every stage treats components independently, so tracing the chunks one by one gives
     /// the same result as tracing the whole set; the chunking does not depend on the thread count.
     pub fn split_components(&self, target: usize) -> Vec<PointSet> {
+        let chunks = self.component_chunks(target);
+        (0..chunks.len()).map(|c| chunks.part(self, c)).collect()
+    }
+
+    /// The chunks of [`PointSet::split_components`] as lists of point indices, so that each chunk's
+    /// point set can be built where it is traced (in parallel, and only while it is traced: the
+    /// copies of all chunks never exist at once).
+    pub(crate) fn component_chunks(&self, target: usize) -> ComponentChunks {
         let n = self.len();
-        // Component label of each point, numbered in order of first point.
-        let mut label = vec![u32::MAX; n];
-        let mut sizes: Vec<usize> = Vec::new();
-        let mut stack = Vec::new();
-        for start in 0..n {
-            if label[start] != u32::MAX {
-                continue;
+        // Component label of each point, numbered in order of first point, by union-find over
+        // the neighbour lists in index order: the lists are read as they lie in memory (a depth-
+        // first walk jumps around them), and each set's root is its smallest point.
+        let mut parent: Vec<u32> = (0..n as u32).collect();
+        let find = |parent: &mut [u32], mut p: u32| {
+            while parent[p as usize] != p {
+                let up = parent[parent[p as usize] as usize];
+                parent[p as usize] = up; // path halving
+                p = up;
             }
-            let id = sizes.len() as u32;
-            label[start] = id;
-            stack.push(start as u32);
-            let mut size = 0;
-            while let Some(p) = stack.pop() {
-                size += 1;
-                for &q in self.neighbors_of(p) {
-                    if label[q as usize] == u32::MAX {
-                        label[q as usize] = id;
-                        stack.push(q);
+            p
+        };
+        for p in 0..n as u32 {
+            for &q in self.neighbors_of(p) {
+                if q < p {
+                    let (a, b) = (find(&mut parent, p), find(&mut parent, q));
+                    if a != b {
+                        parent[a.max(b) as usize] = a.min(b);
                     }
                 }
             }
-            sizes.push(size);
+        }
+        // In index order a point's parent (smaller, same component) is already labelled.
+        let mut label = parent;
+        let mut sizes: Vec<usize> = Vec::new();
+        for p in 0..n {
+            let up = label[p] as usize;
+            if up == p {
+                label[p] = sizes.len() as u32;
+                sizes.push(1);
+            } else {
+                label[p] = label[up];
+                sizes[label[p] as usize] += 1;
+            }
         }
         // Consecutive components fill a chunk up to `target` points.
         let mut chunk_of = Vec::with_capacity(sizes.len());
         let mut chunks = 0u32;
         let mut filled = 0usize;
+        let mut chunk_sizes = Vec::new();
         for &size in &sizes {
             if filled > 0 && filled + size > target {
+                chunk_sizes.push(filled as u32);
                 chunks += 1;
                 filled = 0;
             }
             chunk_of.push(chunks);
             filled += size;
         }
-        let count = if sizes.is_empty() {
-            0
-        } else {
-            chunks as usize + 1
-        };
-        let mut members: Vec<Vec<u32>> = vec![Vec::new(); count];
-        for p in 0..n {
-            members[chunk_of[label[p] as usize] as usize].push(p as u32);
+        if filled > 0 {
+            chunk_sizes.push(filled as u32);
         }
-        drop(label);
-        let mut local = vec![0u32; n];
-        for list in &members {
-            for (i, &p) in list.iter().enumerate() {
-                local[p as usize] = i as u32;
-            }
+        // Members of every chunk in CSR form, ascending within a chunk, and each point's position
+        // in its chunk (the chunks partition the points, so one array serves them all).
+        let mut offsets = Vec::with_capacity(chunk_sizes.len() + 1);
+        offsets.push(0u32);
+        for &size in &chunk_sizes {
+            offsets.push(offsets[offsets.len() - 1] + size);
         }
-        members
-            .iter()
-            .map(|list| self.subset(list, &local))
-            .collect()
+        let mut fill: Vec<u32> = offsets[..offsets.len() - 1].to_vec();
+        let mut members = vec![0u32; n];
+        // `label` becomes each point's local index in place.
+        for (p, slot) in label.iter_mut().enumerate() {
+            let chunk = chunk_of[*slot as usize] as usize;
+            let at = fill[chunk];
+            members[at as usize] = p as u32;
+            *slot = at - offsets[chunk];
+            fill[chunk] += 1;
+        }
+        ComponentChunks {
+            offsets,
+            members,
+            local: label,
+        }
     }
 
     /// The points `members` (ascending) as a point set of their own; `local` maps every member to
@@ -185,7 +235,12 @@ impl PointSet {
                 .map(|&p| self.half_width[p as usize])
                 .collect(),
             offsets: Vec::with_capacity(members.len() + 1),
-            neighbors: Vec::new(),
+            neighbors: Vec::with_capacity(
+                members
+                    .iter()
+                    .map(|&p| self.neighbors_of(p).len())
+                    .sum(),
+            ),
             spacing: self.spacing,
             dropout: self.dropout,
             grid: None,
@@ -252,5 +307,58 @@ impl PointSet {
             }
         }
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Points on a line (x = index) with the given undirected links.
+    fn linked(n: usize, links: &[(u32, u32)]) -> PointSet {
+        let mut points = PointSet {
+            points: (0..n).map(|i| [i as f64, 0.0]).collect(),
+            half_width: vec![1.0; n],
+            spacing: 1.0,
+            ..PointSet::default()
+        };
+        let mut lists = vec![Vec::new(); n];
+        for &(a, b) in links {
+            lists[a as usize].push(b);
+        }
+        points.set_neighbors_symmetric(&lists);
+        points
+    }
+
+    #[test]
+    fn chunks_hold_whole_components_in_order_of_first_point() {
+        // Components {0, 5, 9} (joined late: 9 links 0 and 5 only at the end), {1, 2}, {3},
+        // {4, 6, 7, 8} (a chain whose smallest point is reached from above).
+        let points = linked(10, &[(9, 5), (9, 0), (1, 2), (8, 4), (8, 7), (6, 7)]);
+        assert!(points.validate().is_ok());
+        let expected: [&[f64]; 4] = [&[0.0, 5.0, 9.0], &[1.0, 2.0], &[3.0], &[4.0, 6.0, 7.0, 8.0]];
+        // One component per chunk.
+        let parts = points.split_components(1);
+        assert_eq!(parts.len(), 4);
+        for (part, xs) in parts.iter().zip(expected) {
+            assert!(part.validate().is_ok());
+            let got: Vec<f64> = part.points.iter().map(|p| p[0]).collect();
+            assert_eq!(got, xs);
+            // Neighbours stay inside the chunk and point at the same points as before.
+            for i in 0..part.len() as u32 {
+                for &j in part.neighbors_of(i) {
+                    let (a, b) = (part.points[i as usize][0], part.points[j as usize][0]);
+                    assert!(points.neighbors_of(a as u32).contains(&(b as u32)));
+                }
+            }
+        }
+        // Consecutive components share a chunk up to the target size.
+        let sizes = |target| -> Vec<usize> {
+            points.split_components(target).iter().map(|p| p.len()).collect()
+        };
+        assert_eq!(sizes(5), [5, 5]);
+        assert_eq!(sizes(4), [3, 3, 4]);
+        assert_eq!(points.split_components(100).len(), 1);
+        assert!(PointSet::default().split_components(4).is_empty());
     }
 }

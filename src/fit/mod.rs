@@ -63,7 +63,9 @@ pub fn fit(graph: &NodeGraph, points: &PointSet, params: &Params) -> StrokeGraph
     // Per-node medians are independent: parallel, and the same whatever the thread count.
     let medians: Vec<Option<[f64; 2]>> = (0..count)
         .into_par_iter()
-        .map(|i| math::l1_median(&points.points, cells.of(i), iterations))
+        .map_init(Vec::new, |sample, i| {
+            math::l1_median(&points.points, cells.of(i), iterations, sample)
+        })
         .collect();
 
     let degrees = layout.degrees();

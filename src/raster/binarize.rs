@@ -21,7 +21,14 @@ pub fn binarize(gray: &GrayImage, params: &Params) -> Result<Binary> {
     let (width, height) = gray.dimensions();
     let mut binary = Binary::new(width, height);
     let pixels = gray.as_raw();
-    let (Some(&min), Some(&max)) = (pixels.iter().min(), pixels.iter().max()) else {
+    // One pass gives the range, Otsu's level and the polarity share (a page is tens of MB of
+    // pixels; the histogram is built per block in parallel and summed: integer counts, so the sum
+    // does not depend on the thread count).
+    let histogram = histogram(pixels);
+    let (Some(min), Some(max)) = (
+        histogram.iter().position(|&c| c > 0),
+        histogram.iter().rposition(|&c| c > 0),
+    ) else {
         return Ok(binary);
     };
     if min == max {
@@ -31,19 +38,21 @@ pub fn binarize(gray: &GrayImage, params: &Params) -> Result<Binary> {
         Threshold::Otsu | Threshold::Fixed { .. } => {
             let level = match params.threshold {
                 Threshold::Fixed { level } => level,
-                _ => otsu_level(pixels),
+                _ => otsu_level_of(&histogram, pixels.len()),
             };
             let dark_ink = match params.polarity {
                 Polarity::DarkInk => true,
                 Polarity::LightInk => false,
-                Polarity::Auto => dark_is_ink(gray, level),
+                Polarity::Auto => dark_is_ink(gray, &histogram, level),
             };
             binary
                 .ink
-                .par_iter_mut()
-                .zip(pixels.par_iter())
-                .for_each(|(ink, &v)| {
-                    *ink = (v <= level) == dark_ink;
+                .par_chunks_mut(BLOCK)
+                .zip(pixels.par_chunks(BLOCK))
+                .for_each(|(ink, values)| {
+                    for (ink, &v) in ink.iter_mut().zip(values) {
+                        *ink = (v <= level) == dark_ink;
+                    }
                 });
         }
         Threshold::Sauvola { window, k } => {
@@ -58,15 +67,41 @@ pub fn binarize(gray: &GrayImage, params: &Params) -> Result<Binary> {
     Ok(binary)
 }
 
+/// Pixels per parallel block of the whole-image passes.
+const BLOCK: usize = 1 << 16;
+
+/// The 256-bin histogram of `pixels`.
+fn histogram(pixels: &[u8]) -> [u64; 256] {
+    pixels
+        .par_chunks(BLOCK)
+        .map(|block| {
+            let mut counts = [0u64; 256];
+            for &v in block {
+                counts[v as usize] += 1;
+            }
+            counts
+        })
+        .reduce(
+            || [0u64; 256],
+            |mut a, b| {
+                for (a, b) in a.iter_mut().zip(b) {
+                    *a += b;
+                }
+                a
+            },
+        )
+}
+
 /// Otsu's level over a 256-bin histogram: pixels `<= level` form the dark class. Same rule as
 /// `imageproc::contrast::otsu_level` (first level of maximal between-class variance), with 64-bit
 /// counts so images above 16 megapixels cannot overflow.
 pub fn otsu_level(pixels: &[u8]) -> u8 {
-    let mut histogram = [0u64; 256];
-    for &v in pixels {
-        histogram[v as usize] += 1;
-    }
-    let total = pixels.len() as f64;
+    otsu_level_of(&histogram(pixels), pixels.len())
+}
+
+/// [`otsu_level`] from the histogram of `total` pixels.
+fn otsu_level_of(histogram: &[u64; 256], total: usize) -> u8 {
+    let total = total as f64;
     let total_sum: f64 = histogram
         .iter()
         .enumerate()
@@ -96,8 +131,8 @@ pub fn otsu_level(pixels: &[u8]) -> u8 {
 
 /// Whether the dark side of `level` is ink: the minority side of the whole image is ink; when the
 /// split is close to even (40-60%), the side holding most of the border pixels is paper.
-fn dark_is_ink(gray: &GrayImage, level: u8) -> bool {
-    let dark_all = gray.as_raw().par_iter().filter(|&&v| v <= level).count();
+fn dark_is_ink(gray: &GrayImage, histogram: &[u64; 256], level: u8) -> bool {
+    let dark_all: u64 = histogram[..=level as usize].iter().sum();
     let share_all = dark_all as f64 / gray.as_raw().len().max(1) as f64;
     if share_all < AMBIGUOUS_BORDER.0 {
         return true;

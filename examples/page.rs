@@ -1,0 +1,452 @@
+//! Page benchmark (issue 4): time per stage, wall time and peak memory of tracing a whole page,
+//! from the PNG file to the SVG written, as the command line does it (default parameters, the
+//! scan embedded under the centerlines).
+//!
+//! ```text
+//! cargo run --release --example page [-- --repeat 3] [--peer] [--no-scans] [--keep DIR] [IMAGE...]
+//! ```
+//!
+//! `--batch N` instead measures the command line's batch speed-up: N generated pages traced with
+//! `ridgeline --jobs 1` and `--jobs 2` (needs `cargo build --release` for the binary), outputs
+//! compared byte for byte.
+//!
+//! `--keep DIR` writes the generated pages into DIR (kept) instead of a temporary directory.
+//!
+//! Inputs: a generated A4 page at 300 dpi of dense text ([`ridgeline::synth::page`], 2480 x 3508,
+//! 40 px x-height, 4 px strokes) and the same page at half the size per side (1240 x 1754: the
+//! generator keeps the glyph size and stroke width and fills a quarter of the area with the same
+//! kind of lines), both written as PNG into a temporary directory; then the three largest real
+//! scans of `../shared/data/text/` when present, and any IMAGE given.
+//!
+//! Each input is traced in a fresh child process of this same binary (`--child FILE`), so that
+//! each peak memory (`VmHWM` of `/proc/self/status`) is that input's own. The child repeats the
+//! trace `--repeat` times and reports the median of each figure. Stage times come from
+//! [`ridgeline::Timings`]: when a page is traced as parallel chunks they are summed over the
+//! chunks (CPU time), so they can add up to more than the wall time.
+//!
+//! `--peer` also runs `../shared/bench/peer_page.py` (scikit-image skeletonize + sknw) on the same
+//! files in the same session, and prints ours/peer.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+use std::time::{Duration, Instant};
+
+use ridgeline::export::svg::{self, SvgOptions};
+use ridgeline::{GrayImage, Params};
+
+/// Stage names in report order; the child prints one value per name, in this order.
+const STAGES: [&str; 8] = [
+    "decode", "binarize", "points", "sampling", "graph", "refine", "fit", "export",
+];
+
+/// One child's medians: stage seconds, wall seconds, process CPU seconds, peak resident memory in MB, and counts.
+#[derive(Clone, Debug, Default)]
+struct Figures {
+    stages: [f64; 8],
+    wall: f64,
+    cpu: f64,
+    peak_mb: f64,
+    ink: usize,
+    vertices: usize,
+    edges: usize,
+}
+
+fn main() {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let mut repeat = 3usize;
+    let mut peer = false;
+    let mut scans = true;
+    let mut child = None;
+    let mut keep = None;
+    let mut batch = 0usize;
+    let mut extra = Vec::new();
+    let mut i = 0;
+    while i < args.len() {
+        match args[i].as_str() {
+            "--repeat" => {
+                i += 1;
+                repeat = args.get(i).and_then(|v| v.parse().ok()).unwrap_or(3).max(1);
+            }
+            "--peer" => peer = true,
+            "--no-scans" => scans = false,
+            "--batch" => {
+                i += 1;
+                batch = args.get(i).and_then(|v| v.parse().ok()).unwrap_or(16);
+            }
+            "--keep" => {
+                i += 1;
+                keep = args.get(i).map(PathBuf::from);
+            }
+            "--child" => {
+                i += 1;
+                child = args.get(i).cloned();
+            }
+            other => extra.push(PathBuf::from(other)),
+        }
+        i += 1;
+    }
+    if let Some(file) = child {
+        run_child(Path::new(&file), repeat);
+        return;
+    }
+
+    if batch > 0 {
+        run_batch(batch, repeat);
+        return;
+    }
+    let temp = tempfile::tempdir().expect("temporary directory");
+    let dir = keep.unwrap_or_else(|| temp.path().to_path_buf());
+    std::fs::create_dir_all(&dir).expect("page directory");
+    let mut inputs: Vec<(String, PathBuf)> = Vec::new();
+    for (name, w, h) in [("A4 half", 1240, 1754), ("A4 300dpi", 2480, 3508)] {
+        let clock = Instant::now();
+        let case = ridgeline::synth::page(w, h, 1);
+        let path = dir.join(format!("page_{w}x{h}.png"));
+        to_gray(&case.binary).save(&path).expect("write page PNG");
+        eprintln!(
+            "generated {name} {w}x{h}, {} ink px, in {:.2} s: {}",
+            case.binary.count(),
+            clock.elapsed().as_secs_f64(),
+            path.display()
+        );
+        inputs.push((name.to_string(), path));
+    }
+    if scans {
+        let data = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/data/text");
+        for path in largest_images(&data, 3) {
+            let name = path
+                .file_name()
+                .map(|n| n.to_string_lossy().chars().take(4).collect())
+                .unwrap_or_default();
+            inputs.push((name, path));
+        }
+    }
+    for path in extra {
+        inputs.push((path.display().to_string(), path));
+    }
+
+    let exe = std::env::current_exe().expect("own path");
+    let peer_script = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/bench/peer_page.py");
+    println!(
+        "ridgeline page benchmark: {} threads, median of {repeat} runs; stage times summed over \
+         parallel chunks, TOTAL = wall time (read PNG -> SVG written), CPU = process user+system \
+         time; load average {}",
+        rayon::current_num_threads(),
+        load_average()
+    );
+    println!(
+        "{:<10} {:>9} {:>7} {:>6} {:>6} {:>6} {:>6} {:>6} {:>6} {:>6} {:>6} {:>6} {:>6} {:>7} {:>7} {:>7}",
+        "input",
+        "size",
+        "ink px",
+        "decode",
+        "binar",
+        "points",
+        "sample",
+        "graph",
+        "refine",
+        "fit",
+        "export",
+        "TOTAL",
+        "CPU",
+        "peak MB",
+        "peer s",
+        "ours/pr"
+    );
+    let mut results = Vec::new();
+    for (name, path) in &inputs {
+        let Some(figures) = spawn_child(&exe, path, repeat) else {
+            println!("{name:<10} failed");
+            continue;
+        };
+        let peer_time = if peer {
+            run_peer(&peer_script, path, repeat)
+        } else {
+            None
+        };
+        let (w, h) = image::image_dimensions(path).unwrap_or((0, 0));
+        let mut row = format!(
+            "{name:<10} {:>9} {:>7}",
+            format!("{w}x{h}"),
+            figures.ink
+        );
+        for s in figures.stages {
+            row.push_str(&format!(" {s:>6.3}"));
+        }
+        row.push_str(&format!(
+            " {:>6.3} {:>6.2} {:>7.0}",
+            figures.wall, figures.cpu, figures.peak_mb
+        ));
+        match peer_time {
+            Some(p) => row.push_str(&format!(" {p:>7.3} {:>7.2}", figures.wall / p)),
+            None => row.push_str(&format!(" {:>7} {:>7}", "-", "-")),
+        }
+        println!("{row}");
+        results.push((name.clone(), figures, peer_time));
+    }
+    println!("load average at the end: {}", load_average());
+    if let [(_, small, _), (_, large, _), ..] = results.as_slice() {
+        println!(
+            "growth half -> full page (4x the area): wall {:.2}x, CPU {:.2}x; ink {:.2}x",
+            large.wall / small.wall,
+            large.stages.iter().sum::<f64>() / small.stages.iter().sum::<f64>(),
+            large.ink as f64 / small.ink.max(1) as f64
+        );
+        println!(
+            "full page: {} vertices, {} edges; targets: total < 1.0 s {}, peak < 300 MB {}, \
+             growth <= 4.5x {}",
+            large.vertices,
+            large.edges,
+            verdict(large.wall < 1.0),
+            verdict(large.peak_mb < 300.0),
+            verdict(large.wall / small.wall <= 4.5)
+        );
+    }
+}
+
+/// Batch speed-up of the command line: `count` generated pages (seeds 1, 2, ...; full A4 and half
+/// size in turn) traced by `ridgeline --jobs 1` and `--jobs 2`, `repeat` times each in turn;
+/// median wall times, and the outputs compared byte for byte.
+fn run_batch(count: usize, repeat: usize) {
+    let exe = std::env::current_exe().expect("own path");
+    let Some(cli) = exe
+        .parent()
+        .and_then(Path::parent)
+        .map(|dir| dir.join("ridgeline"))
+        .filter(|p| p.exists())
+    else {
+        eprintln!("no ridgeline binary next to the examples: run `cargo build --release` first");
+        std::process::exit(1);
+    };
+    let dir = tempfile::tempdir().expect("temporary directory");
+    let pages = dir.path().join("pages");
+    std::fs::create_dir_all(&pages).expect("page directory");
+    let mut ink = 0;
+    for k in 0..count {
+        let (w, h) = if k % 2 == 0 { (2480, 3508) } else { (1240, 1754) };
+        let case = ridgeline::synth::page(w, h, k as u64 + 1);
+        ink += case.binary.count();
+        to_gray(&case.binary)
+            .save(pages.join(format!("page{k:03}.png")))
+            .expect("write page PNG");
+    }
+    println!(
+        "batch: {count} generated pages ({} full A4, {} half size, {ink} ink px in all), {}; \
+         load average {}",
+        count.div_ceil(2),
+        count / 2,
+        cli.display(),
+        load_average()
+    );
+    let mut times: [Vec<f64>; 2] = [Vec::new(), Vec::new()];
+    for _ in 0..repeat {
+        for (slot, jobs) in [1, 2].into_iter().enumerate() {
+            let out = dir.path().join(format!("out{jobs}"));
+            let clock = Instant::now();
+            let status = Command::new(&cli)
+                .arg(&pages)
+                .arg("-o")
+                .arg(&out)
+                .arg("--jobs")
+                .arg(jobs.to_string())
+                .arg("--quiet")
+                .status()
+                .expect("run ridgeline");
+            let seconds = clock.elapsed().as_secs_f64();
+            assert!(status.success(), "ridgeline --jobs {jobs} failed");
+            println!("  --jobs {jobs}: {seconds:.3} s");
+            times[slot].push(seconds);
+        }
+    }
+    let median = |v: &mut Vec<f64>| {
+        v.sort_by(f64::total_cmp);
+        v[v.len() / 2]
+    };
+    let (one, two) = (median(&mut times[0]), median(&mut times[1]));
+    let mut identical = true;
+    for k in 0..count {
+        let name = format!("page{k:03}.svg");
+        let a = std::fs::read(dir.path().join("out1").join(&name)).expect("output of --jobs 1");
+        let b = std::fs::read(dir.path().join("out2").join(&name)).expect("output of --jobs 2");
+        identical &= a == b;
+    }
+    println!(
+        "batch median: --jobs 1 {one:.3} s, --jobs 2 {two:.3} s, speed-up {:.2}x (target >= 1.6x: \
+         {}); outputs byte-identical: {identical}; load average {}",
+        one / two,
+        verdict(one / two >= 1.6),
+        load_average()
+    );
+}
+
+/// The 1-minute load average: the machine is shared, and wall times mean little without it.
+fn load_average() -> String {
+    std::fs::read_to_string("/proc/loadavg")
+        .ok()
+        .and_then(|s| s.split_whitespace().next().map(str::to_string))
+        .unwrap_or_else(|| "unknown".into())
+}
+
+fn verdict(ok: bool) -> &'static str {
+    if ok {
+        "met"
+    } else {
+        "NOT met"
+    }
+}
+
+/// Ink black on white paper.
+fn to_gray(binary: &ridgeline::Binary) -> GrayImage {
+    let pixels = binary.ink.iter().map(|&b| if b { 0 } else { 255 }).collect();
+    GrayImage::from_raw(binary.width, binary.height, pixels).expect("size matches")
+}
+
+/// The `count` images of `dir` with the most pixels, largest first.
+fn largest_images(dir: &Path, count: usize) -> Vec<PathBuf> {
+    let Ok(entries) = std::fs::read_dir(dir) else {
+        return Vec::new();
+    };
+    let mut sized: Vec<(u64, PathBuf)> = entries
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter_map(|p| {
+            let (w, h) = image::image_dimensions(&p).ok()?;
+            Some((w as u64 * h as u64, p))
+        })
+        .collect();
+    sized.sort_by(|a, b| b.0.cmp(&a.0).then_with(|| a.1.cmp(&b.1)));
+    sized.into_iter().take(count).map(|(_, p)| p).collect()
+}
+
+fn spawn_child(exe: &Path, path: &Path, repeat: usize) -> Option<Figures> {
+    let output = Command::new(exe)
+        .arg("--child")
+        .arg(path)
+        .arg("--repeat")
+        .arg(repeat.to_string())
+        .output()
+        .ok()?;
+    if !output.status.success() {
+        eprintln!(
+            "child failed on {}: {}",
+            path.display(),
+            String::from_utf8_lossy(&output.stderr)
+        );
+        return None;
+    }
+    let text = String::from_utf8_lossy(&output.stdout);
+    let line = text.lines().find(|l| l.starts_with("RESULT "))?;
+    let values: Vec<f64> = line[7..]
+        .split_whitespace()
+        .filter_map(|v| v.parse().ok())
+        .collect();
+    if values.len() != STAGES.len() + 6 {
+        return None;
+    }
+    let mut stages = [0.0; 8];
+    stages.copy_from_slice(&values[..8]);
+    Some(Figures {
+        stages,
+        wall: values[8],
+        cpu: values[9],
+        peak_mb: values[10],
+        ink: values[11] as usize,
+        vertices: values[12] as usize,
+        edges: values[13] as usize,
+    })
+}
+
+/// Median wall time of the peer on `path`, from the script's last line.
+fn run_peer(script: &Path, path: &Path, repeat: usize) -> Option<f64> {
+    let output = Command::new("python3")
+        .arg(script)
+        .arg(path)
+        .arg("--repeat")
+        .arg(repeat.to_string())
+        .output()
+        .ok()?;
+    let text = String::from_utf8_lossy(&output.stdout);
+    if !output.status.success() {
+        eprintln!(
+            "peer failed on {}: {}",
+            path.display(),
+            String::from_utf8_lossy(&output.stderr).trim()
+        );
+        return None;
+    }
+    let line = text.lines().find(|l| l.contains("median"))?;
+    let after = line.split("median").nth(1)?;
+    after.split_whitespace().next()?.parse().ok()
+}
+
+/// Traces `path` `repeat` times in this process and prints the medians on one `RESULT` line.
+fn run_child(path: &Path, repeat: usize) {
+    let params = Params::default();
+    let out_dir = tempfile::tempdir().expect("temporary directory");
+    let out_path = out_dir.path().join("out.svg");
+    let mut runs: Vec<([f64; 8], f64, f64)> = Vec::new();
+    let (mut ink, mut vertices, mut edges) = (0, 0, 0);
+    for _ in 0..repeat {
+        let cpu_start = cpu_seconds();
+        let start = Instant::now();
+        let bytes = std::fs::read(path).expect("read input");
+        let gray = ridgeline::decode(&bytes, &params.limits).expect("decode");
+        let decode = start.elapsed();
+        let trace = ridgeline::trace_image(&gray, &params).expect("trace");
+        let clock = Instant::now();
+        let text = svg::to_string(&trace.graph, Some(&gray), &SvgOptions::default());
+        std::fs::write(&out_path, text.as_bytes()).expect("write SVG");
+        let export = clock.elapsed();
+        let wall = start.elapsed();
+        let t = trace.timings;
+        let stages: [Duration; 8] = [
+            decode, t.binarize, t.points, t.sampling, t.graph, t.refine, t.fit, export,
+        ];
+        let cpu = cpu_seconds() - cpu_start;
+        runs.push((stages.map(|d| d.as_secs_f64()), wall.as_secs_f64(), cpu));
+        ink = trace.points.len();
+        vertices = trace.graph.vertices.len();
+        edges = trace.graph.edges.len();
+    }
+    let median = |mut v: Vec<f64>| {
+        v.sort_by(f64::total_cmp);
+        v[v.len() / 2]
+    };
+    let mut line = String::from("RESULT");
+    for k in 0..STAGES.len() {
+        line.push_str(&format!(" {}", median(runs.iter().map(|r| r.0[k]).collect())));
+    }
+    line.push_str(&format!(" {}", median(runs.iter().map(|r| r.1).collect())));
+    line.push_str(&format!(" {}", median(runs.iter().map(|r| r.2).collect())));
+    line.push_str(&format!(" {} {ink} {vertices} {edges}", peak_mb()));
+    println!("{line}");
+}
+
+/// CPU time (user + system, all threads) of this process so far, in seconds (10 ms ticks).
+fn cpu_seconds() -> f64 {
+    let Ok(stat) = std::fs::read_to_string("/proc/self/stat") else {
+        return 0.0;
+    };
+    // Fields after the parenthesized command name: state is field 3, utime 14, stime 15.
+    let Some(rest) = stat.rfind(')').map(|i| &stat[i + 1..]) else {
+        return 0.0;
+    };
+    let fields: Vec<&str> = rest.split_whitespace().collect();
+    let ticks = |k: usize| fields.get(k - 3).and_then(|v| v.parse::<f64>().ok());
+    match (ticks(14), ticks(15)) {
+        (Some(user), Some(system)) => (user + system) / 100.0,
+        _ => 0.0,
+    }
+}
+
+/// Peak resident memory of this process in MB (`VmHWM`), 0 when /proc is not there.
+fn peak_mb() -> f64 {
+    std::fs::read_to_string("/proc/self/status")
+        .ok()
+        .and_then(|s| {
+            s.lines()
+                .find(|l| l.starts_with("VmHWM:"))
+                .and_then(|l| l.split_whitespace().nth(1))
+                .and_then(|kb| kb.parse::<f64>().ok())
+        })
+        .map_or(0.0, |kb| kb / 1024.0)
+}

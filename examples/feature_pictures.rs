@@ -6,8 +6,8 @@
 //! cargo run --example feature_pictures [-- OUTPUT_DIR]     # default: docs/features
 //! ```
 //!
-//! Writes `strokes.png` (a Hershey text line, one color per stroke: crossings run straight
-//! through), `width.png` (the same line drawn with each edge's mean width over the ink),
+//! Writes `strokes.png` (a Hershey text line of the benchmark, one color per stroke: crossings
+//! run straight through), `width.png` (the same line drawn with each edge's mean width over the ink),
 //! `minutiae.png` (a synthetic print with its ridge endings and bifurcations) and `curves.png`
 //! (each stroke as cubic Bézier paths instead of a polyline).
 
@@ -19,7 +19,7 @@ use ridgeline::export::svg::{self, SvgOptions};
 use ridgeline::export::Features;
 use ridgeline::minutiae::{minutiae, MinutiaeOptions};
 use ridgeline::strokes::{strokes, StrokeOptions};
-use ridgeline::synth::{print_cases, text_line, Case};
+use ridgeline::synth::{print_cases, text_cases, text_line, Case};
 use ridgeline::{Binary, GrayImage, Params, StrokeGraph};
 
 fn main() -> Result<()> {
@@ -30,8 +30,11 @@ fn main() -> Result<()> {
     std::fs::create_dir_all(&out).with_context(|| format!("creating {}", out.display()))?;
     let params = Params::default();
 
-    // Strokes through crossings: letters with crossings and T's (t, x, f, k, 4, &, #).
-    let text = text_line("strokes", "fix 4 kt & #", 56.0, 5.0);
+    // Strokes through crossings: a benchmark text line with a crossing (x) and T's (f, j).
+    let text = text_cases()
+        .into_iter()
+        .find(|c| c.name == "text1_h56_w7")
+        .ok_or_else(|| anyhow!("no text1_h56_w7 text case"))?;
     let graph = trace(&text, &params)?;
     let chained = strokes(&graph, &StrokeOptions::default());
     let options = SvgOptions::default()

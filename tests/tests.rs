@@ -2,5 +2,7 @@
 
 mod cli;
 mod features;
+mod hostile;
 mod pipeline;
+mod properties;
 mod score;

@@ -173,10 +173,14 @@ pub fn trace_binary(binary: &Binary, params: &Params) -> Result<Trace> {
 pub fn trace_points(list: &[[f64; 2]], params: &Params) -> Result<Trace> {
     params.validate()?;
     let start = Instant::now();
-    let points = point_list::point_set(list, params)?;
+    // The stages run in pixel-like units and the result is mapped back (hostile, issue 5; see
+    // `point_list::Units`).
+    let (points, units) = point_list::point_set_in_units(list, params)?;
     let points_time = start.elapsed();
     let (w, h) = point_list::extent(list);
     let mut trace = run(points, w, h, params, false)?;
+    units.restore_graph(&mut trace.graph);
+    units.restore_points(&mut trace.points);
     trace.timings.points = points_time;
     Ok(trace)
 }

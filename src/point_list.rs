@@ -9,7 +9,7 @@ use kiddo::{ImmutableKdTree, SquaredEuclidean};
 use rayon::prelude::*;
 
 use crate::mask::{close3, ink_row_starts, squared_distance_rows, tiny_hole_pixels};
-use crate::{Error, Params, PointSet, Result};
+use crate::{Error, Params, PointSet, Result, StrokeGraph};
 
 /// Coordinates are translated so the smallest is 0; an extent beyond this would overflow squared
 /// distances.
@@ -73,8 +73,78 @@ pub fn parse(text: &str) -> Result<Vec<[f64; 2]>> {
 
 /// Builds the point set for a list of points: exact duplicates removed (the first occurrence kept,
 /// input order otherwise), symmetric `k`-nearest-neighbour lists, `Dis_ave`, and half-widths.
-/// Output coordinates are the input's.
+/// Output coordinates are the input's (half-widths beyond `f32` range, for lists spanning more
+/// than about 1e38 units, read as infinite); the pipeline itself runs on [`point_set_in_units`].
 pub fn point_set(list: &[[f64; 2]], params: &Params) -> Result<PointSet> {
+    let (mut set, units) = point_set_in_units(list, params)?;
+    units.restore_points(&mut set);
+    Ok(set)
+}
+
+/// A list's coordinates in pixel-like units, and back (hostile, issue 5).
+///
+/// The stages work in pixel-like units: `sample` quantizes squared distances in quarter units and
+/// sizes its queue by them, the fit spaces nodes at least 3 units apart, widths are `f32`. A list
+/// in other units (metres, 1e87, subnormals: the fuzzer's finds) asked for 51 GB or gave infinite
+/// widths. The pipeline therefore runs on the list translated to its bounding box's corner and
+/// divided by the power of two nearest `Dis_ave` (exact in binary floating point), and the
+/// graph is mapped back. Pixel centers listed as points have `Dis_ave = 1`: only the translation
+/// applies.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Units {
+    /// The bounding box's lower corner, in list units (subtracted first).
+    pub origin: [f64; 2],
+    /// List units per pipeline unit: a power of two.
+    pub scale: f64,
+}
+
+impl Units {
+    fn to_list(self, p: [f64; 2]) -> [f64; 2] {
+        [
+            p[0] * self.scale + self.origin[0],
+            p[1] * self.scale + self.origin[1],
+        ]
+    }
+
+    /// Maps a point set in pipeline units back to list units.
+    pub fn restore_points(&self, set: &mut PointSet) {
+        for p in &mut set.points {
+            *p = self.to_list(*p);
+        }
+        for h in &mut set.half_width {
+            *h = (f64::from(*h) * self.scale) as f32;
+        }
+        set.spacing *= self.scale;
+    }
+
+    /// Maps a stroke graph in pipeline units back to list units. Edge ends are set to their
+    /// vertices' positions exactly, so the graph stays valid whatever the scale.
+    pub fn restore_graph(&self, graph: &mut StrokeGraph) {
+        for v in &mut graph.vertices {
+            v.pos = self.to_list(v.pos);
+            v.width *= self.scale;
+        }
+        for e in &mut graph.edges {
+            for p in &mut e.points {
+                *p = self.to_list(*p);
+            }
+            for w in &mut e.widths {
+                *w *= self.scale;
+            }
+            if let (Some(from), Some(to)) = (graph.vertices.get(e.from), graph.vertices.get(e.to)) {
+                if let Some(first) = e.points.first_mut() {
+                    *first = from.pos;
+                }
+                if let Some(last) = e.points.last_mut() {
+                    *last = to.pos;
+                }
+            }
+        }
+    }
+}
+
+/// Like [`point_set`], in the pipeline's pixel-like [`Units`], which are returned with it.
+pub fn point_set_in_units(list: &[[f64; 2]], params: &Params) -> Result<(PointSet, Units)> {
     if list.len() as u64 > params.limits.max_points {
         return Err(Error::Limit {
             what: "points",
@@ -100,11 +170,16 @@ pub fn point_set(list: &[[f64; 2]], params: &Params) -> Result<PointSet> {
     let points = without_duplicates(list);
     let n = points.len();
     if n == 0 {
-        return Ok(PointSet {
+        let set = PointSet {
             offsets: vec![0],
             spacing: 1.0,
             ..PointSet::default()
-        });
+        };
+        let units = Units {
+            origin: [0.0; 2],
+            scale: 1.0,
+        };
+        return Ok((set, units));
     }
 
     // Work in coordinates translated to the origin: the tree and the raster then see numbers of
@@ -123,22 +198,47 @@ pub fn point_set(list: &[[f64; 2]], params: &Params) -> Result<PointSet> {
         )));
     }
 
+    // Powers of two only, so every rescaling below is exact (short of underflow). First the
+    // extent to about 1, so that squared distances neither overflow nor underflow in the search.
+    let power_near = |x: f64| -> f64 {
+        if x.is_finite() && x > 0.0 {
+            2f64.powi(x.log2().round().clamp(-1000.0, 1000.0) as i32)
+        } else {
+            1.0
+        }
+    };
+    let coarse = power_near(extent);
+    let mut local: Vec<[f64; 2]> = local
+        .iter()
+        .map(|p| [p[0] / coarse, p[1] / coarse])
+        .collect();
     let k = params.k.min(n - 1);
     let (offsets, neighbors, spacing) = if k == 0 {
         (vec![0; n + 1], Vec::new(), 1.0)
     } else {
         nearest_neighbours(&local, k)?
     };
+    // Then `Dis_ave` to about 1 (see `Units`).
+    let fine = if k == 0 { 1.0 } else { power_near(spacing) };
+    for p in &mut local {
+        *p = [p[0] / fine, p[1] / fine];
+    }
+    let spacing = if k == 0 { 1.0 } else { spacing / fine };
     let half_width = half_widths(&local, spacing, params);
-    Ok(PointSet {
-        points,
+    let units = Units {
+        origin: min,
+        scale: coarse * fine,
+    };
+    let set = PointSet {
+        points: local,
         half_width,
         offsets,
         neighbors,
         spacing,
         dropout: false,
         grid: None,
-    })
+    };
+    Ok((set, units))
 }
 
 /// Drops exact repeats, keeping the first occurrence; `-0.0` equals `0.0`. The set only answers

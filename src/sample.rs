@@ -21,6 +21,13 @@ use crate::{Node, Params, PointSet, Samples};
 /// Marks a point that no node owns yet.
 const UNOWNED: u32 = u32::MAX;
 
+/// hostile (issue 5): keys at or above this go to a binary heap instead of the bucket array. The
+/// array has one bucket per quarter unit² of squared radius, so radii of thousands of units
+/// (blobs thousands of pixels wide, `--r-min-factor 1e9`, point lists in large units) asked for
+/// up to 2^31 buckets (51 GB) for a handful of points. Below this (radii < 512 px) nothing
+/// changes; above it the order is the same up to ties.
+const BUCKET_KEYS: u32 = 1 << 20;
+
 /// Samples nodes over `points` (Algorithm 1 of the paper, with the adaptations above).
 pub fn sample(points: &PointSet, params: &Params) -> Samples {
     let n = points.len();
@@ -29,6 +36,12 @@ pub fn sample(points: &PointSet, params: &Params) -> Samples {
     // Max-heap of (anisotropic distance D, point): candidates for the next center.
     let mut frontier: BinaryHeap<(OrdF64, Reverse<u32>)> = BinaryHeap::new();
     let mut seed_cursor = 0usize;
+    // hostile (issue 5): a point is a center at most once. With k-nearest-neighbour graphs
+    // (point lists) a neighbour can lie beyond `r_min`, so a center's disk may take no new point
+    // while the center still borders uncovered ink: it came back off the heap with the same key
+    // forever (10 collinear points hung). On pixel images a center's neighbours are all inside
+    // its disk (r >= 3 > 2√2), so this never fires there.
+    let mut was_center = vec![false; n];
     loop {
         // The farthest covered point that still borders uncovered ink is the next center; when the
         // frontier is exhausted, a new part starts at the first uncovered point (raster order, so
@@ -36,7 +49,10 @@ pub fn sample(points: &PointSet, params: &Params) -> Samples {
         let center = loop {
             match frontier.pop() {
                 Some((OrdF64(d), Reverse(p))) => {
-                    if d == sampler.distance[p as usize] && sampler.borders_uncovered(p) {
+                    if d == sampler.distance[p as usize]
+                        && !was_center[p as usize]
+                        && sampler.borders_uncovered(p)
+                    {
                         break Some(p);
                     }
                 }
@@ -49,9 +65,15 @@ pub fn sample(points: &PointSet, params: &Params) -> Samples {
             }
         };
         let Some(center) = center else { break };
+        was_center[center as usize] = true;
         let id = nodes.len() as u32;
-        let node = sampler.node_at(center, id, &mut frontier);
-        nodes.push(node);
+        let (node, taken) = sampler.node_at(center, id, &mut frontier);
+        // hostile (issue 5): a node that took no point would own an empty `P_i`, which the later
+        // stages do not expect; its `D` updates are kept, the node is not (nothing refers to
+        // `id`). Never happens on pixel images (see `was_center`).
+        if taken > 0 {
+            nodes.push(node);
+        }
     }
     Samples {
         nodes,
@@ -102,6 +124,8 @@ struct Sampler<'a> {
     limit: u32,
     /// Points reached with keys beyond the current bound, admitted when the bound grows.
     overflow: Vec<(u32, u32)>,
+    /// hostile (issue 5): queued points with keys of [`BUCKET_KEYS`] or more, smallest first.
+    far: BinaryHeap<Reverse<(u32, u32)>>,
     rim: Vec<u32>,
     stack: Vec<u32>,
 }
@@ -125,6 +149,7 @@ impl<'a> Sampler<'a> {
             queued: 0,
             limit: 0,
             overflow: Vec::new(),
+            far: BinaryHeap::new(),
             rim: Vec::new(),
             stack: Vec::new(),
         }
@@ -158,13 +183,24 @@ impl<'a> Sampler<'a> {
                 }
             }
         }
-        while self.cursor as u32 <= limit && self.queued > 0 {
-            let Some(p) = self.buckets.get_mut(self.cursor).and_then(Vec::pop) else {
-                self.cursor += 1;
-                continue;
+        while self.queued > 0 {
+            // Buckets first, then (hostile, issue 5) the far heap, whose keys are all larger.
+            let (key, p) = if self.cursor < self.used && self.cursor as u32 <= limit {
+                let Some(p) = self.buckets[self.cursor].pop() else {
+                    self.cursor += 1;
+                    continue;
+                };
+                (self.cursor as u32, p)
+            } else {
+                match self.far.peek() {
+                    Some(&Reverse((key, p))) if key <= limit && self.cursor >= self.used => {
+                        self.far.pop();
+                        (key, p)
+                    }
+                    _ => break,
+                }
             };
             self.queued -= 1;
-            let key = self.cursor as u32;
             let q = self.points.points[p as usize];
             let (dx, dy) = (q[0] - center[0], q[1] - center[1]);
             let last = self.moments.last().copied().unwrap_or([0.0; 6]);
@@ -193,6 +229,11 @@ impl<'a> Sampler<'a> {
             self.overflow.push((key, p));
             return;
         }
+        if key >= BUCKET_KEYS {
+            self.far.push(Reverse((key, p)));
+            self.queued += 1;
+            return;
+        }
         let k = key as usize;
         if self.buckets.len() <= k {
             self.buckets.resize_with(k + 1, Vec::new);
@@ -212,6 +253,7 @@ impl<'a> Sampler<'a> {
         self.queued = 0;
         self.limit = 0;
         self.overflow.clear();
+        self.far.clear();
     }
 
     /// Number of points of the disk of radius `r` (a prefix of `order`).
@@ -287,13 +329,14 @@ impl<'a> Sampler<'a> {
     }
 
     /// Grows the disk around `center` (Algorithm 1, line 2), makes the node, assigns its points and
-    /// updates `D` (lines 3-4), pushing frontier points onto the sampling heap.
+    /// updates `D` (lines 3-4), pushing frontier points onto the sampling heap. Also returns how
+    /// many points the node took (hostile, issue 5).
     fn node_at(
         &mut self,
         center: u32,
         id: u32,
         frontier: &mut BinaryHeap<(OrdF64, Reverse<u32>)>,
-    ) -> Node {
+    ) -> (Node, usize) {
         // Two epochs per node: `epoch` marks search/rim membership, `epoch - 1` marks rim points
         // already visited by the component search.
         self.epoch = self.epoch.wrapping_add(2);
@@ -371,6 +414,7 @@ impl<'a> Sampler<'a> {
 
         // Eq. (1) in 2-D: d = |u·(p - q)| + 0.1 / (1 + |v·(p - q)|), u the principal direction.
         let (u, v) = (direction, [-direction[1], direction[0]]);
+        let mut taken = 0;
         for i in 0..count {
             let p = self.order[i].1 as usize;
             let s = self.points.points[p];
@@ -379,6 +423,7 @@ impl<'a> Sampler<'a> {
             if self.owner[p] == UNOWNED {
                 self.owner[p] = id;
                 self.distance[p] = d;
+                taken += 1;
             } else if d < self.distance[p] {
                 self.distance[p] = d;
             } else {
@@ -393,7 +438,7 @@ impl<'a> Sampler<'a> {
                 frontier.push((OrdF64(self.distance[p as usize]), Reverse(p)));
             }
         }
-        Node {
+        let node = Node {
             pos,
             center,
             radius: r,
@@ -403,7 +448,8 @@ impl<'a> Sampler<'a> {
             linear,
             width,
             tip,
-        }
+        };
+        (node, taken)
     }
 }
 

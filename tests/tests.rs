@@ -3,5 +3,7 @@
 mod cli;
 mod debug;
 mod features;
+mod hostile;
 mod pipeline;
+mod properties;
 mod score;

@@ -57,13 +57,27 @@ fn decode_unguarded(bytes: &[u8], limits: &Limits) -> Result<GrayImage> {
     Ok(to_gray(image))
 }
 
+/// The formats ridgeline decodes, for messages.
+const SUPPORTED: &str = "PNG, JPEG, TIFF, BMP, PNM, GIF or WebP";
+
 fn guess_format(bytes: &[u8]) -> Result<ImageFormat> {
-    image::guess_format(bytes).map_err(|_| {
-        Error::Decode(
-            "not a recognized image format (expected PNG, JPEG, TIFF, BMP, PNM, GIF or WebP)"
-                .into(),
-        )
-    })
+    let format = image::guess_format(bytes).map_err(|_| {
+        Error::Decode(format!(
+            "not a recognized image format (expected {SUPPORTED})"
+        ))
+    })?;
+    // The image crate recognizes more formats (ICO, QOI, AVIF, ...) than this build decodes: name
+    // the format instead of reporting an "unsupported variant".
+    if !format.reading_enabled() {
+        let name = format
+            .extensions_str()
+            .first()
+            .map_or_else(|| format!("{format:?}"), |e| e.to_uppercase());
+        return Err(Error::Decode(format!(
+            "{name} images are not supported (expected {SUPPORTED}); convert the file first"
+        )));
+    }
+    Ok(format)
 }
 
 fn reader(bytes: &[u8], format: ImageFormat, limits: image::Limits) -> ImageReader<Cursor<&[u8]>> {

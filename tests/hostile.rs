@@ -1,0 +1,726 @@
+//! Hostile and broken input (issue 5): every kind of bad file gets a clear message and a non-zero
+//! exit, never a panic; degenerate but valid input traces or warns; outputs are never clobbered;
+//! and the output does not depend on the run or the thread count.
+//!
+//! CLI-level cases run the real binary; the rest call the library. Every input is built here, in
+//! the test, byte by byte where it matters (the decompression bomb, the palette PNG).
+
+use std::fs;
+use std::io::Cursor;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+use image::{DynamicImage, ImageFormat, Luma};
+use ridgeline::synth::{render, Stroke};
+use ridgeline::{
+    trace_binary, trace_image, trace_points, Binary, Error, GrayImage, Limits, Params, StrokeGraph,
+};
+
+// ---------------------------------------------------------------------------------------------
+// Helpers
+
+fn ridgeline(args: &[&str], dir: &Path) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_ridgeline"))
+        .args(args)
+        .current_dir(dir)
+        .output()
+        .expect("run ridgeline")
+}
+
+fn stderr(output: &Output) -> String {
+    String::from_utf8_lossy(&output.stderr).into_owned()
+}
+
+fn temp_dir() -> tempfile::TempDir {
+    tempfile::TempDir::new().expect("temp dir")
+}
+
+fn entries(dir: &Path) -> Vec<PathBuf> {
+    let mut paths: Vec<PathBuf> = fs::read_dir(dir)
+        .expect("list")
+        .map(|e| e.expect("entry").path())
+        .collect();
+    paths.sort();
+    paths
+}
+
+/// A cross and a bar of dark ink on white paper.
+fn strokes_gray(width: u32, height: u32) -> GrayImage {
+    let (w, h) = (width as f64, height as f64);
+    let strokes = [
+        Stroke::new(vec![[0.12 * w, 0.12 * h], [0.88 * w, 0.6 * h]], 5.0),
+        Stroke::new(vec![[0.12 * w, 0.6 * h], [0.88 * w, 0.12 * h]], 5.0),
+        Stroke::new(vec![[0.2 * w, 0.85 * h], [0.8 * w, 0.85 * h]], 4.0),
+    ];
+    to_gray(&render(&strokes, width, height))
+}
+
+fn to_gray(binary: &Binary) -> GrayImage {
+    GrayImage::from_fn(binary.width, binary.height, |x, y| {
+        Luma([if binary.get(x as i64, y as i64) {
+            20
+        } else {
+            235
+        }])
+    })
+}
+
+fn encode(gray: &GrayImage, format: ImageFormat) -> Vec<u8> {
+    let mut bytes = Vec::new();
+    DynamicImage::ImageLuma8(gray.clone())
+        .write_to(&mut Cursor::new(&mut bytes), format)
+        .expect("encode fixture");
+    bytes
+}
+
+/// The PNG CRC-32 (polynomial 0xEDB88320), so the hand-made chunks are valid.
+fn crc32(data: &[u8]) -> u32 {
+    let mut crc = 0xFFFF_FFFFu32;
+    for &byte in data {
+        crc ^= u32::from(byte);
+        for _ in 0..8 {
+            crc = if crc & 1 != 0 {
+                (crc >> 1) ^ 0xEDB8_8320
+            } else {
+                crc >> 1
+            };
+        }
+    }
+    !crc
+}
+
+fn chunk(out: &mut Vec<u8>, kind: &[u8; 4], body: &[u8]) {
+    out.extend_from_slice(&(body.len() as u32).to_be_bytes());
+    let mut crc_input = kind.to_vec();
+    crc_input.extend_from_slice(body);
+    out.extend_from_slice(&crc_input);
+    out.extend_from_slice(&crc32(&crc_input).to_be_bytes());
+}
+
+/// zlib stream of `data` in stored (uncompressed) deflate blocks.
+fn zlib_stored(data: &[u8]) -> Vec<u8> {
+    let mut out = vec![0x78, 0x01];
+    let blocks: Vec<&[u8]> = if data.is_empty() {
+        vec![&[][..]]
+    } else {
+        data.chunks(65_535).collect()
+    };
+    for (i, block) in blocks.iter().enumerate() {
+        out.push(u8::from(i + 1 == blocks.len()));
+        let len = block.len() as u16;
+        out.extend_from_slice(&len.to_le_bytes());
+        out.extend_from_slice(&(!len).to_le_bytes());
+        out.extend_from_slice(block);
+    }
+    let (mut a, mut b) = (1u32, 0u32);
+    for &v in data {
+        a = (a + u32::from(v)) % 65_521;
+        b = (b + a) % 65_521;
+    }
+    out.extend_from_slice(&((b << 16) | a).to_be_bytes());
+    out
+}
+
+/// A PNG built by hand: `ihdr_tail` = bit depth, color type, 0, 0, 0; `chunks` go before IDAT;
+/// `scanlines` are the filtered rows (filter byte first).
+fn hand_png(
+    width: u32,
+    height: u32,
+    ihdr_tail: [u8; 5],
+    chunks: &[(&[u8; 4], &[u8])],
+    scanlines: &[u8],
+) -> Vec<u8> {
+    let mut out = b"\x89PNG\r\n\x1a\n".to_vec();
+    let mut ihdr = Vec::new();
+    ihdr.extend_from_slice(&width.to_be_bytes());
+    ihdr.extend_from_slice(&height.to_be_bytes());
+    ihdr.extend_from_slice(&ihdr_tail);
+    chunk(&mut out, b"IHDR", &ihdr);
+    for (kind, body) in chunks {
+        chunk(&mut out, kind, body);
+    }
+    chunk(&mut out, b"IDAT", &zlib_stored(scanlines));
+    chunk(&mut out, b"IEND", &[]);
+    out
+}
+
+/// The decompression bomb: 100 000 x 100 000 8-bit gray pixels declared in a PNG of a few dozen
+/// bytes (the IDAT holds a few zero bytes; inflating the whole image would need 10 GB).
+fn bomb_png() -> Vec<u8> {
+    hand_png(100_000, 100_000, [8, 0, 0, 0, 0], &[], &[0; 64])
+}
+
+/// A palette PNG of `gray`: entry 0 is the ink (dark), entry 1 the paper.
+fn palette_png(gray: &GrayImage) -> Vec<u8> {
+    let mut scanlines = Vec::new();
+    for row in gray.rows() {
+        scanlines.push(0);
+        scanlines.extend(row.map(|p| u8::from(p.0[0] >= 128)));
+    }
+    let palette = [20, 20, 20, 235, 235, 235];
+    hand_png(
+        gray.width(),
+        gray.height(),
+        [8, 3, 0, 0, 0],
+        &[(b"PLTE", &palette)],
+        &scanlines,
+    )
+}
+
+/// The same picture with 16 bits per sample (v * 257, so it decodes to the same 8-bit levels).
+fn png16(gray: &GrayImage) -> Vec<u8> {
+    let wide = image::ImageBuffer::<Luma<u16>, Vec<u16>>::from_fn(gray.width(), gray.height(), |x, y| {
+        Luma([u16::from(gray.get_pixel(x, y).0[0]) * 257])
+    });
+    let mut bytes = Vec::new();
+    DynamicImage::ImageLuma16(wide)
+        .write_to(&mut Cursor::new(&mut bytes), ImageFormat::Png)
+        .expect("encode fixture");
+    bytes
+}
+
+/// A JPEG whose Huffman table segment is overwritten with an impossible one (code lengths adding
+/// up to more codes than exist): the header is intact, the decoder must refuse the file.
+fn corrupt_jpeg() -> Vec<u8> {
+    let mut bytes = encode(&strokes_gray(64, 48), ImageFormat::Jpeg);
+    let dht = bytes
+        .windows(2)
+        .position(|w| w == [0xFF, 0xC4])
+        .expect("a DHT marker");
+    // Segment length, then the table class/id, then 16 counts of code lengths: all 255.
+    for b in &mut bytes[dht + 5..dht + 5 + 16] {
+        *b = 0xFF;
+    }
+    bytes
+}
+
+/// Forbidden words in a message: a panic or an internal error must never reach the user.
+fn assert_no_panic(err: &str) {
+    for bad in ["panicked", "internal error", "RUST_BACKTRACE", "unwrap"] {
+        assert!(!err.contains(bad), "{bad:?} in {err}");
+    }
+}
+
+fn trace_ok(binary: &Binary) -> StrokeGraph {
+    let trace = trace_binary(binary, &Params::default()).expect("trace succeeds");
+    trace.graph.validate().expect("valid stroke graph");
+    trace.graph
+}
+
+// ---------------------------------------------------------------------------------------------
+// Broken files: a clear message, status 1, nothing written
+
+/// Each broken input, its file name, and words its message must contain.
+fn broken_inputs() -> Vec<(&'static str, Vec<u8>, &'static [&'static str])> {
+    let png = encode(&strokes_gray(64, 48), ImageFormat::Png);
+    let truncated = png[..png.len() / 2].to_vec();
+    let mut ico = vec![0, 0, 1, 0, 1, 0, 16, 16, 0, 0, 1, 0, 32, 0];
+    ico.extend_from_slice(&[0; 32]);
+    vec![
+        ("zero.png", Vec::new(), &["empty", "0 bytes"][..]),
+        ("truncated.png", truncated, &["truncated", "PNG"]),
+        ("corrupt.jpg", corrupt_jpeg(), &["corrupt", "JPEG"]),
+        (
+            "notes.png",
+            b"These are my notes, not a picture.\n".to_vec(),
+            &["not a recognized image format"],
+        ),
+        ("icon.ico", ico, &["ICO", "not supported"]),
+        (
+            "paper.pdf",
+            b"%PDF-1.4\n1 0 obj\n<< >>\nendobj\n".to_vec(),
+            &["not a recognized image format"],
+        ),
+        ("bomb.png", bomb_png(), &["10000000000", "--max-pixels"]),
+        ("nan.txt", b"x y\n1 2\nNaN 3\n".to_vec(), &["line 3", "not finite"]),
+        ("inf.xy", b"1 2\n3 inf\n".to_vec(), &["line 2", "not finite"]),
+        (
+            "three.csv",
+            b"1,2\n3,4,5\n".to_vec(),
+            &["line 2", "expected 2 numbers"],
+        ),
+        (
+            "words.pts",
+            b"1 2\nthree four\n".to_vec(),
+            &["line 2", "not a number"],
+        ),
+    ]
+}
+
+#[test]
+fn each_broken_file_gets_a_clear_message_and_status_1() {
+    let dir = temp_dir();
+    for (name, bytes, words) in broken_inputs() {
+        fs::write(dir.path().join(name), &bytes).expect("write");
+        let output = ridgeline(&[name, "-o", "out.svg"], dir.path());
+        let err = stderr(&output);
+        assert_eq!(output.status.code(), Some(1), "{name}: {err}");
+        assert!(err.starts_with("error: "), "{name}: {err}");
+        assert!(err.contains(name), "{name} is not named: {err}");
+        for word in words {
+            assert!(err.contains(word), "{name}: {word:?} missing from {err}");
+        }
+        assert_no_panic(&err);
+        assert!(output.stdout.is_empty(), "{name}: something on stdout");
+        assert!(!dir.path().join("out.svg").exists(), "{name}: output written");
+    }
+}
+
+#[test]
+fn missing_files_and_empty_directories_fail_by_name() {
+    let dir = temp_dir();
+    fs::create_dir(dir.path().join("nothing")).expect("mkdir");
+    fs::create_dir(dir.path().join("nothing/deeper")).expect("mkdir");
+    fs::write(dir.path().join("nothing/deeper/notes.md"), b"text").expect("write");
+    let output = ridgeline(&["no-such-scan.png"], dir.path());
+    assert_eq!(output.status.code(), Some(1));
+    let err = stderr(&output);
+    assert!(err.contains("no-such-scan.png") && err.contains("No such file"), "{err}");
+    assert_no_panic(&err);
+
+    let output = ridgeline(&["nothing"], dir.path());
+    assert_eq!(output.status.code(), Some(1));
+    let err = stderr(&output);
+    assert!(err.contains("nothing") && err.contains("no image"), "{err}");
+    assert_no_panic(&err);
+    // Nothing was created next to the inputs.
+    assert_eq!(entries(dir.path()).len(), 1, "{:?}", entries(dir.path()));
+}
+
+#[test]
+fn a_batch_of_broken_files_names_each_and_traces_the_good_one() {
+    let dir = temp_dir();
+    let scans = dir.path().join("scans");
+    fs::create_dir(&scans).expect("mkdir");
+    let cases = broken_inputs();
+    let mut args = Vec::new();
+    for (name, bytes, _) in &cases {
+        fs::write(scans.join(name), bytes).expect("write");
+        args.push(format!("scans/{name}"));
+    }
+    strokes_gray(64, 48).save(scans.join("good.png")).expect("png");
+    args.push("scans/good.png".into());
+    args.extend(["-o", "out/", "--jobs", "2"].map(String::from));
+    let args: Vec<&str> = args.iter().map(String::as_str).collect();
+    let output = ridgeline(&args, dir.path());
+    let err = stderr(&output);
+    assert_eq!(output.status.code(), Some(1), "{err}");
+    assert!(
+        err.contains(&format!("{} of {} inputs failed", cases.len(), cases.len() + 1)),
+        "{err}"
+    );
+    for (name, _, words) in &cases {
+        let line = err
+            .lines()
+            .find(|l| l.contains(name))
+            .unwrap_or_else(|| panic!("{name} not named: {err}"));
+        for word in *words {
+            assert!(line.contains(word), "{name}: {word:?} missing from {line}");
+        }
+    }
+    assert_no_panic(&err);
+    let written: Vec<_> = entries(&dir.path().join("out"))
+        .into_iter()
+        .filter_map(|p| p.file_name().map(|n| n.to_string_lossy().into_owned()))
+        .collect();
+    assert_eq!(written, ["good.svg"]);
+}
+
+#[test]
+fn broken_bytes_give_errors_from_the_library() {
+    let limits = Limits::default();
+    for (name, bytes, _) in broken_inputs() {
+        if name.ends_with(".txt") || name.ends_with(".xy") || name.ends_with(".csv") {
+            assert!(
+                matches!(ridgeline::point_list::parse(&String::from_utf8_lossy(&bytes)), Err(Error::PointParse { .. })),
+                "{name}"
+            );
+        } else if name.ends_with(".pts") {
+            assert!(ridgeline::point_list::parse(&String::from_utf8_lossy(&bytes)).is_err());
+        } else {
+            match ridgeline::decode(&bytes, &limits) {
+                Err(Error::Decode(_)) | Err(Error::Limit { .. }) => {}
+                other => panic!("{name}: expected a decode or limit error, got {other:?}"),
+            }
+        }
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Limits
+
+#[test]
+fn the_bomb_is_refused_before_allocating_and_a_raised_limit_still_refuses_bad_data() {
+    let limits = Limits::default();
+    match ridgeline::decode(&bomb_png(), &limits) {
+        Err(Error::Limit { flag, actual, .. }) => {
+            assert_eq!(flag, "--max-pixels");
+            assert_eq!(actual, 100_000u64 * 100_000);
+        }
+        other => panic!("expected a limit error, got {other:?}"),
+    }
+    // Trusting the input (limits raised) must not make the 64 bytes of IDAT a 10 GB image: the
+    // side limit still refuses it, and within it the missing data is a decode error.
+    let raised = Limits {
+        max_pixels: u64::MAX,
+        ..Limits::default()
+    };
+    match ridgeline::decode(&bomb_png(), &raised) {
+        Err(Error::Limit { flag, .. }) => assert_eq!(flag, "--max-side"),
+        other => panic!("expected the side limit, got {other:?}"),
+    }
+}
+
+#[test]
+fn limit_flags_are_obeyed_with_a_clear_message() {
+    let dir = temp_dir();
+    strokes_gray(80, 60).save(dir.path().join("page.png")).expect("png");
+    for (flag, value, words) in [
+        ("--max-pixels", "1000", &["image pixels", "4800 > 1000", "--max-pixels"][..]),
+        ("--max-side", "64", &["image side", "80 > 64", "--max-side"]),
+        ("--max-points", "50", &["foreground points", "> 50", "--max-points"]),
+    ] {
+        let output = ridgeline(&["page.png", flag, value], dir.path());
+        let err = stderr(&output);
+        assert_eq!(output.status.code(), Some(1), "{flag}: {err}");
+        for word in words {
+            assert!(err.contains(word), "{flag}: {word:?} missing from {err}");
+        }
+        assert!(!dir.path().join("page.svg").exists());
+    }
+    fs::write(dir.path().join("many.xy"), "0 0\n1 0\n2 0\n3 0\n").expect("write");
+    let output = ridgeline(&["many.xy", "--max-points", "3"], dir.path());
+    assert_eq!(output.status.code(), Some(1));
+    assert!(stderr(&output).contains("--max-points"), "{}", stderr(&output));
+}
+
+// ---------------------------------------------------------------------------------------------
+// Degenerate but valid images: traced or warned about, status 0
+
+#[test]
+fn uniform_and_one_pixel_images_are_blank_pages() {
+    let dir = temp_dir();
+    let cases = [
+        ("black.png", GrayImage::from_pixel(50, 40, Luma([0]))),
+        ("white.png", GrayImage::from_pixel(50, 40, Luma([255]))),
+        ("dot.png", GrayImage::from_pixel(1, 1, Luma([0]))),
+    ];
+    for (name, image) in &cases {
+        image.save(dir.path().join(name)).expect("png");
+        let output = ridgeline(&[name, "-f", "json", "-o", "-"], dir.path());
+        let err = stderr(&output);
+        assert!(output.status.success(), "{name}: {err}");
+        assert!(err.contains("warning") && err.contains("blank page"), "{name}: {err}");
+        let value: serde_json::Value = serde_json::from_slice(&output.stdout).expect("JSON");
+        assert_eq!(value["stats"]["edges"], 0, "{name}");
+        assert_eq!(value["stats"]["vertices"], 0, "{name}");
+    }
+}
+
+#[test]
+fn an_all_foreground_image_with_forced_polarity_is_traced() {
+    let dir = temp_dir();
+    // A uniform image has no threshold: even with the polarity forced it is a blank page.
+    GrayImage::from_pixel(60, 40, Luma([0]))
+        .save(dir.path().join("black.png"))
+        .expect("png");
+    let output = ridgeline(&["black.png", "--polarity", "dark", "-o", "-"], dir.path());
+    assert!(output.status.success(), "{}", stderr(&output));
+    assert!(stderr(&output).contains("blank page"), "{}", stderr(&output));
+    // Ink everywhere but a 1-px paper frame: the block is traced.
+    let framed = GrayImage::from_fn(60, 40, |x, y| {
+        Luma([if x == 0 || y == 0 || x == 59 || y == 39 { 255 } else { 0 }])
+    });
+    framed.save(dir.path().join("ink.png")).expect("png");
+    let output = ridgeline(&["ink.png", "--polarity", "dark", "-f", "json", "-o", "-"], dir.path());
+    assert!(output.status.success(), "{}", stderr(&output));
+    let value: serde_json::Value = serde_json::from_slice(&output.stdout).expect("JSON");
+    let vertices = value["vertices"].as_array().expect("vertices");
+    assert!(!vertices.is_empty(), "a solid block is not nothing");
+    for v in vertices {
+        let (x, y) = (v["x"].as_f64().expect("x"), v["y"].as_f64().expect("y"));
+        assert!((0.0..=60.0).contains(&x) && (0.0..=40.0).contains(&y), "{v}");
+    }
+
+    // The library on a whole-image mask, and on a 1x1 one.
+    let mut full = Binary::new(60, 40);
+    full.ink.fill(true);
+    let graph = trace_ok(&full);
+    assert!(!graph.vertices.is_empty());
+    let mut one = Binary::new(1, 1);
+    one.ink[0] = true;
+    let graph = trace_ok(&one);
+    assert!(graph.edges.is_empty());
+    assert!(graph.vertices.len() <= 1);
+}
+
+#[test]
+fn a_one_pixel_wide_strip_of_100000_pixels() {
+    // The library on the mask: one straight stroke, one edge end to end.
+    for (w, h) in [(1u32, 100_000u32), (100_000, 1)] {
+        let mut strip = Binary::new(w, h);
+        strip.ink.fill(true);
+        let graph = trace_ok(&strip);
+        let longest = graph.edges.iter().map(|e| e.length()).fold(0.0, f64::max);
+        let total: f64 = graph.edges.iter().map(|e| e.length()).sum();
+        assert!(longest > 90_000.0, "{w}x{h}: longest edge {longest}");
+        assert!(total < 100_500.0, "{w}x{h}: total length {total}");
+        for v in &graph.vertices {
+            let across = if w == 1 { v.pos[0] } else { v.pos[1] };
+            assert!((0.0..=1.0).contains(&across), "{w}x{h}: {:?}", v.pos);
+        }
+    }
+    // The binary: over the default side limit (65 535) the file is refused by name; raising the
+    // limit traces it.
+    let dir = temp_dir();
+    let mut gray = GrayImage::from_pixel(1, 100_000, Luma([235]));
+    for y in 1_000..99_000 {
+        gray.put_pixel(0, y, Luma([10]));
+    }
+    gray.save(dir.path().join("strip.png")).expect("png");
+    let output = ridgeline(&["strip.png"], dir.path());
+    assert_eq!(output.status.code(), Some(1));
+    assert!(stderr(&output).contains("--max-side"), "{}", stderr(&output));
+    let output = ridgeline(
+        &["strip.png", "--max-side", "100000", "-f", "json", "-o", "-"],
+        dir.path(),
+    );
+    assert!(output.status.success(), "{}", stderr(&output));
+    let value: serde_json::Value = serde_json::from_slice(&output.stdout).expect("JSON");
+    assert!(value["stats"]["edges"].as_u64().unwrap_or(0) >= 1, "{}", value["stats"]);
+}
+
+#[test]
+fn sixteen_bit_and_palette_images_trace_like_the_8_bit_one() {
+    let dir = temp_dir();
+    let gray = strokes_gray(80, 60);
+    gray.save(dir.path().join("eight.png")).expect("png");
+    fs::write(dir.path().join("sixteen.png"), png16(&gray)).expect("write");
+    fs::write(dir.path().join("palette.png"), palette_png(&gray)).expect("write");
+    let graph_of = |name: &str| {
+        let output = ridgeline(&[name, "-f", "json", "-o", "-"], dir.path());
+        assert!(output.status.success(), "{name}: {}", stderr(&output));
+        let value: serde_json::Value = serde_json::from_slice(&output.stdout).expect("JSON");
+        (value["vertices"].clone(), value["edges"].clone())
+    };
+    let eight = graph_of("eight.png");
+    assert!(eight.1.as_array().is_some_and(|e| e.len() >= 3), "{:?}", eight.1);
+    assert_eq!(graph_of("sixteen.png"), eight);
+    assert_eq!(graph_of("palette.png"), eight);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Point lists
+
+fn trace_list(list: &[[f64; 2]]) -> StrokeGraph {
+    let trace = trace_points(list, &Params::default()).expect("trace succeeds");
+    trace.graph.validate().expect("valid stroke graph");
+    trace.graph
+}
+
+#[test]
+fn non_finite_points_are_refused_by_the_library_too() {
+    for bad in [
+        [f64::NAN, 1.0],
+        [1.0, f64::INFINITY],
+        [f64::NEG_INFINITY, 0.0],
+    ] {
+        let list = [[0.0, 0.0], [1.0, 0.0], bad, [3.0, 0.0]];
+        match trace_points(&list, &Params::default()) {
+            Err(Error::PointParse { line, .. }) => assert_eq!(line, 3),
+            other => panic!("{bad:?}: expected a point error, got {other:?}"),
+        }
+    }
+    // Finite but absurd: coordinates whose extent overflows squared distances.
+    let far = [[-1e300, 0.0], [1e300, 0.0], [0.0, 0.0]];
+    assert!(matches!(
+        trace_points(&far, &Params::default()),
+        Err(Error::InvalidParams(_))
+    ));
+}
+
+#[test]
+fn empty_and_tiny_point_lists() {
+    let empty = trace_list(&[]);
+    assert!(empty.vertices.is_empty() && empty.edges.is_empty());
+    let one = trace_list(&[[3.0, 4.0]]);
+    assert_eq!(one.vertices.len(), 1);
+    assert!(one.edges.is_empty());
+    assert!(ridgeline::dist(one.vertices[0].pos, [3.0, 4.0]) < 1e-9);
+    let two = trace_list(&[[0.0, 0.0], [4.0, 0.0]]);
+    assert_eq!(two.components(), 1, "{two:?}");
+    for v in &two.vertices {
+        assert!((-0.01..=4.01).contains(&v.pos[0]) && v.pos[1].abs() < 1e-6, "{v:?}");
+    }
+
+    // The binary: an empty list is a warning, like a blank page; 1 and 2 points trace.
+    let dir = temp_dir();
+    for (name, text) in [
+        ("empty.xy", ""),
+        ("header.csv", "x,y\n"),
+        ("one.xy", "3 4\n"),
+        ("two.xy", "0 0\n4 0\n"),
+    ] {
+        fs::write(dir.path().join(name), text).expect("write");
+        let output = ridgeline(&[name, "-f", "json", "-o", "-"], dir.path());
+        let err = stderr(&output);
+        assert!(output.status.success(), "{name}: {err}");
+        let value: serde_json::Value = serde_json::from_slice(&output.stdout).expect("JSON");
+        if text.contains(|c: char| c.is_ascii_digit()) {
+            assert_eq!(value["stats"]["components"], 1, "{name}");
+        } else {
+            assert!(err.contains("warning") && err.contains("no points"), "{name}: {err}");
+            assert_eq!(value["stats"]["vertices"], 0, "{name}");
+        }
+    }
+}
+
+#[test]
+fn duplicate_points_change_nothing() {
+    let line: Vec<[f64; 2]> = (0..80).map(|i| [i as f64, 10.0 + 0.3 * i as f64]).collect();
+    let mut repeated = Vec::new();
+    for (i, p) in line.iter().enumerate() {
+        repeated.push(*p);
+        for _ in 0..(i % 4) {
+            repeated.push(*p);
+        }
+    }
+    repeated.extend_from_slice(&line);
+    assert_eq!(trace_list(&repeated), trace_list(&line));
+    // All points the same: one lone vertex, not a crash.
+    let same = vec![[5.0, 5.0]; 50];
+    let graph = trace_list(&same);
+    assert_eq!(graph.vertices.len(), 1);
+    assert!(graph.edges.is_empty());
+}
+
+#[test]
+fn collinear_points_give_one_stroke_on_the_line() {
+    for (name, list) in [
+        (
+            "diagonal",
+            (0..200)
+                .map(|i| [i as f64 * 0.5, 3.0 + i as f64 * 0.25])
+                .collect::<Vec<_>>(),
+        ),
+        ("vertical", (0..200).map(|i| [7.0, i as f64]).collect()),
+        ("horizontal", (0..200).map(|i| [i as f64, 7.0]).collect()),
+    ] {
+        let graph = trace_list(&list);
+        assert_eq!(graph.components(), 1, "{name}: {graph:?}");
+        assert!(graph.junctions().next().is_none(), "{name}: a junction on a line");
+        let total: f64 = graph.edges.iter().map(|e| e.length()).sum();
+        let span = ridgeline::dist(list[0], list[list.len() - 1]);
+        assert!(total > 0.8 * span && total < 1.1 * span, "{name}: {total} vs {span}");
+        // Every output point lies on the line through the input.
+        let (a, b) = (list[0], list[list.len() - 1]);
+        let d = [b[0] - a[0], b[1] - a[1]];
+        let len = d[0].hypot(d[1]);
+        for e in &graph.edges {
+            for p in &e.points {
+                let off = ((p[0] - a[0]) * d[1] - (p[1] - a[1]) * d[0]).abs() / len;
+                assert!(off < 0.5, "{name}: {p:?} is {off} off the line");
+            }
+        }
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Output safety
+
+#[test]
+fn failed_runs_never_touch_existing_outputs() {
+    let dir = temp_dir();
+    let scans = dir.path().join("scans");
+    let out = dir.path().join("out");
+    fs::create_dir(&scans).expect("mkdir");
+    fs::create_dir(&out).expect("mkdir");
+    strokes_gray(64, 48).save(scans.join("a.png")).expect("png");
+    let png = encode(&strokes_gray(64, 48), ImageFormat::Png);
+    fs::write(scans.join("b.png"), &png[..png.len() - 40]).expect("write");
+    fs::write(out.join("a.svg"), b"old a").expect("write");
+    fs::write(out.join("b.svg"), b"old b").expect("write");
+    let output = ridgeline(&["scans", "-o", "out"], dir.path());
+    assert_eq!(output.status.code(), Some(1), "{}", stderr(&output));
+    // The good input replaced its output; the bad one left its old output exactly as it was.
+    assert!(fs::read_to_string(out.join("a.svg")).expect("a").starts_with("<svg"));
+    assert_eq!(fs::read(out.join("b.svg")).expect("b"), b"old b");
+    assert_eq!(entries(&out).len(), 2, "no temporary file left: {:?}", entries(&out));
+
+    // A failed run to stdout writes nothing there.
+    let output = ridgeline(&["scans/b.png", "-o", "-"], dir.path());
+    assert_eq!(output.status.code(), Some(1));
+    assert!(output.stdout.is_empty());
+
+    // An output that cannot be created (its folder is a file): a message, the input untouched.
+    fs::write(dir.path().join("blocker"), b"a file").expect("write");
+    let output = ridgeline(&["scans/a.png", "-o", "blocker/a.svg"], dir.path());
+    let err = stderr(&output);
+    assert_eq!(output.status.code(), Some(1), "{err}");
+    assert!(err.contains("blocker"), "{err}");
+    assert_no_panic(&err);
+    assert_eq!(fs::read(dir.path().join("blocker")).expect("read"), b"a file");
+}
+
+#[test]
+fn dash_writes_the_same_bytes_as_a_file() {
+    let dir = temp_dir();
+    strokes_gray(64, 48).save(dir.path().join("page.png")).expect("png");
+    for format in ["svg", "json"] {
+        let output = ridgeline(&["page.png", "-f", format, "-o", "-"], dir.path());
+        assert!(output.status.success(), "{}", stderr(&output));
+        let file = format!("page.{format}");
+        let written = ridgeline(&["page.png", "-f", format, "-o", &file], dir.path());
+        assert!(written.status.success(), "{}", stderr(&written));
+        assert!(written.stdout.is_empty());
+        assert_eq!(output.stdout, fs::read(dir.path().join(&file)).expect("read"), "{format}");
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Determinism
+
+/// A page with more ink than one parallel chunk (65 536 points), so the library's own
+/// parallel path runs: strokes of many widths and crossings.
+fn busy_page() -> GrayImage {
+    let mut strokes = Vec::new();
+    for i in 0..14 {
+        let y = 20.0 + i as f64 * 33.0;
+        let width = 3.0 + (i % 5) as f64 * 2.0;
+        strokes.push(Stroke::new(
+            vec![[15.0, y], [250.0, y + 9.0], [470.0, y - 6.0]],
+            width,
+        ));
+        let x = 25.0 + i as f64 * 32.0;
+        strokes.push(Stroke::new(vec![[x, 10.0], [x + 12.0, 470.0]], width + 1.0));
+    }
+    to_gray(&render(&strokes, 490, 490))
+}
+
+#[test]
+fn output_is_byte_identical_across_runs_and_thread_counts() {
+    let dir = temp_dir();
+    let page = busy_page();
+    let ink = page.pixels().filter(|p| p.0[0] < 128).count();
+    assert!(ink > 65_536, "the page must exercise the parallel path: {ink} ink pixels");
+    page.save(dir.path().join("page.png")).expect("png");
+    for format in ["svg", "json"] {
+        let run = |jobs: &str| {
+            let output = ridgeline(
+                &["page.png", "-f", format, "-o", "-", "--jobs", jobs],
+                dir.path(),
+            );
+            assert!(output.status.success(), "{}", stderr(&output));
+            output.stdout
+        };
+        let first = run("1");
+        assert_eq!(run("2"), first, "{format}: --jobs 1 vs 2");
+        assert_eq!(run("2"), first, "{format}: a second run");
+    }
+    // And the library, called twice in one process.
+    let params = Params::default();
+    let a = trace_image(&page, &params).expect("trace");
+    let b = trace_image(&page, &params).expect("trace");
+    assert_eq!(a.graph, b.graph);
+    a.graph.validate().expect("valid");
+}

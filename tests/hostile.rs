@@ -724,3 +724,118 @@ fn output_is_byte_identical_across_runs_and_thread_counts() {
     assert_eq!(a.graph, b.graph);
     a.graph.validate().expect("valid");
 }
+
+// ---------------------------------------------------------------------------------------------
+// Fuzzing regressions: every input the fuzzers (fuzz/) found a crash, hang or memory blow-up
+// with, replayed through the same code as the fuzz targets. Each must finish quickly with an
+// error or a valid graph.
+
+fn regressions(target: &str) -> Vec<(PathBuf, Vec<u8>)> {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/fuzz_regressions")
+        .join(target);
+    let mut files: Vec<(PathBuf, Vec<u8>)> = entries(&dir)
+        .into_iter()
+        .map(|p| {
+            let bytes = fs::read(&p).expect("read regression input");
+            (p, bytes)
+        })
+        .collect();
+    files.sort();
+    assert!(!files.is_empty(), "no regression inputs in {}", dir.display());
+    files
+}
+
+#[test]
+fn fuzz_regressions_decode_and_trace() {
+    // fuzz/fuzz_targets/decode_trace.rs
+    let limits = Limits {
+        max_pixels: 256 * 256,
+        max_side: 256,
+        max_points: 256 * 256,
+    };
+    for (path, bytes) in regressions("decode_trace") {
+        let Ok(gray) = ridgeline::decode(&bytes, &limits) else {
+            continue;
+        };
+        for params in [Params::default(), Params::paper()] {
+            let params = Params { limits, ..params };
+            if let Ok(trace) = trace_image(&gray, &params) {
+                trace.graph.validate().unwrap_or_else(|e| panic!("{path:?}: {e}"));
+            }
+        }
+    }
+}
+
+#[test]
+fn fuzz_regressions_point_sets() {
+    // fuzz/fuzz_targets/trace_points.rs
+    for (path, bytes) in regressions("trace_points") {
+        let Some((&selector, rest)) = bytes.split_first() else {
+            continue;
+        };
+        let list: Vec<[f64; 2]> = match selector & 3 {
+            0 => match ridgeline::point_list::parse(&String::from_utf8_lossy(rest)) {
+                Ok(list) => list,
+                Err(_) => continue,
+            },
+            1 => rest
+                .chunks_exact(16)
+                .map(|c| {
+                    let x = f64::from_le_bytes(c[..8].try_into().unwrap_or_default());
+                    let y = f64::from_le_bytes(c[8..].try_into().unwrap_or_default());
+                    [x, y]
+                })
+                .collect(),
+            _ => {
+                let Some((&scale, pairs)) = rest.split_first() else {
+                    continue;
+                };
+                let scale = 2f64.powi(i32::from(scale % 9) - 4);
+                pairs
+                    .chunks_exact(2)
+                    .map(|c| [f64::from(c[0]) * scale, f64::from(c[1]) * scale])
+                    .collect()
+            }
+        };
+        let params = if selector & 4 != 0 {
+            Params::paper()
+        } else {
+            Params::default()
+        };
+        let start = std::time::Instant::now();
+        if let Ok(trace) = trace_points(&list, &params) {
+            trace.graph.validate().unwrap_or_else(|e| panic!("{path:?}: {e}"));
+        }
+        // The blow-ups took 18 s and gigabytes; a generous bound for slow debug builds.
+        assert!(start.elapsed().as_secs() < 10, "{path:?} took {:?}", start.elapsed());
+    }
+}
+
+#[test]
+fn point_lists_trace_the_same_in_any_unit() {
+    // Found by fuzzing: lists in units far from pixels (1e87, 1e-150) asked for 51 GB or gave
+    // infinite widths. They run in pixel-like units now, so scaling by a power of two scales the
+    // graph exactly.
+    let list: Vec<[f64; 2]> = (0..60)
+        .map(|i| [i as f64 * 0.5, 10.0 + 0.2 * i as f64])
+        .chain((0..40).map(|i| [10.0 + 0.1 * i as f64, 25.0 - 0.5 * i as f64]))
+        .collect();
+    let base = trace_list(&list);
+    assert!(!base.edges.is_empty());
+    for power in [-500, -40, 40, 280] {
+        let scale = 2f64.powi(power);
+        let scaled: Vec<[f64; 2]> = list.iter().map(|p| [p[0] * scale, p[1] * scale]).collect();
+        let graph = trace_points(&scaled, &Params::default())
+            .expect("trace")
+            .graph;
+        graph.validate().expect("valid");
+        assert_eq!(graph.vertices.len(), base.vertices.len(), "2^{power}");
+        assert_eq!(graph.edges.len(), base.edges.len(), "2^{power}");
+        for (v, w) in graph.vertices.iter().zip(&base.vertices) {
+            let back = [v.pos[0] / scale, v.pos[1] / scale];
+            assert!(ridgeline::dist(back, w.pos) < 1e-6, "2^{power}: {back:?} vs {:?}", w.pos);
+            assert!((v.width / scale - w.width).abs() < 1e-4, "2^{power}");
+        }
+    }
+}

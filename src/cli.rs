@@ -912,12 +912,16 @@ fn trace_and_write(job: &Job, settings: &Settings) -> Result<Vec<String>> {
         }
     };
     if graph.vertices.is_empty() {
-        warnings.push(match (ink, job.kind) {
-            (Some(0), Kind::Image) => "no ink found (blank page?); wrote an empty drawing",
-            (Some(0), Kind::PointList) => "the point list has no points; wrote an empty drawing",
-            _ => "no strokes found; wrote an empty drawing",
-        }
-        .to_string());
+        warnings.push(
+            match (ink, job.kind) {
+                (Some(0), Kind::Image) => "no ink found (blank page?); wrote an empty drawing",
+                (Some(0), Kind::PointList) => {
+                    "the point list has no points; wrote an empty drawing"
+                }
+                _ => "no strokes found; wrote an empty drawing",
+            }
+            .to_string(),
+        );
     }
     // Strokes are cheap (one pass over the edge ends), so the JSON always lists them; the SVG
     // draws them on request.

@@ -273,6 +273,14 @@ impl Work {
                 self.len(a, b) <= limit
                     && !holes.near_segment(self.nodes[a as usize].pos, self.nodes[b as usize].pos)
             }) {
+                // hostile (issue 5, found by fuzzing): `absorb_dangling` after an earlier group
+                // of this cluster may already have merged members of this one (they dropped to
+                // degree 1 or 2); merging a dead node again tripped `merge`'s assertion (and in
+                // release counted its mass twice). Only the live members are merged.
+                let group: Vec<u32> = group
+                    .into_iter()
+                    .filter(|&i| self.alive[i as usize])
+                    .collect();
                 if group.len() < 2 || self.merge_loses_hole(&group, holes) {
                     continue;
                 }

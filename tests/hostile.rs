@@ -169,9 +169,10 @@ fn palette_png(gray: &GrayImage) -> Vec<u8> {
 
 /// The same picture with 16 bits per sample (v * 257, so it decodes to the same 8-bit levels).
 fn png16(gray: &GrayImage) -> Vec<u8> {
-    let wide = image::ImageBuffer::<Luma<u16>, Vec<u16>>::from_fn(gray.width(), gray.height(), |x, y| {
-        Luma([u16::from(gray.get_pixel(x, y).0[0]) * 257])
-    });
+    let wide =
+        image::ImageBuffer::<Luma<u16>, Vec<u16>>::from_fn(gray.width(), gray.height(), |x, y| {
+            Luma([u16::from(gray.get_pixel(x, y).0[0]) * 257])
+        });
     let mut bytes = Vec::new();
     DynamicImage::ImageLuma16(wide)
         .write_to(&mut Cursor::new(&mut bytes), ImageFormat::Png)
@@ -232,8 +233,16 @@ fn broken_inputs() -> Vec<(&'static str, Vec<u8>, &'static [&'static str])> {
             &["not a recognized image format"],
         ),
         ("bomb.png", bomb_png(), &["10000000000", "--max-pixels"]),
-        ("nan.txt", b"x y\n1 2\nNaN 3\n".to_vec(), &["line 3", "not finite"]),
-        ("inf.xy", b"1 2\n3 inf\n".to_vec(), &["line 2", "not finite"]),
+        (
+            "nan.txt",
+            b"x y\n1 2\nNaN 3\n".to_vec(),
+            &["line 3", "not finite"],
+        ),
+        (
+            "inf.xy",
+            b"1 2\n3 inf\n".to_vec(),
+            &["line 2", "not finite"],
+        ),
         (
             "three.csv",
             b"1,2\n3,4,5\n".to_vec(),
@@ -262,7 +271,10 @@ fn each_broken_file_gets_a_clear_message_and_status_1() {
         }
         assert_no_panic(&err);
         assert!(output.stdout.is_empty(), "{name}: something on stdout");
-        assert!(!dir.path().join("out.svg").exists(), "{name}: output written");
+        assert!(
+            !dir.path().join("out.svg").exists(),
+            "{name}: output written"
+        );
     }
 }
 
@@ -275,7 +287,10 @@ fn missing_files_and_empty_directories_fail_by_name() {
     let output = ridgeline(&["no-such-scan.png"], dir.path());
     assert_eq!(output.status.code(), Some(1));
     let err = stderr(&output);
-    assert!(err.contains("no-such-scan.png") && err.contains("No such file"), "{err}");
+    assert!(
+        err.contains("no-such-scan.png") && err.contains("No such file"),
+        "{err}"
+    );
     assert_no_panic(&err);
 
     let output = ridgeline(&["nothing"], dir.path());
@@ -298,7 +313,9 @@ fn a_batch_of_broken_files_names_each_and_traces_the_good_one() {
         fs::write(scans.join(name), bytes).expect("write");
         args.push(format!("scans/{name}"));
     }
-    strokes_gray(64, 48).save(scans.join("good.png")).expect("png");
+    strokes_gray(64, 48)
+        .save(scans.join("good.png"))
+        .expect("png");
     args.push("scans/good.png".into());
     args.extend(["-o", "out/", "--jobs", "2"].map(String::from));
     let args: Vec<&str> = args.iter().map(String::as_str).collect();
@@ -306,7 +323,11 @@ fn a_batch_of_broken_files_names_each_and_traces_the_good_one() {
     let err = stderr(&output);
     assert_eq!(output.status.code(), Some(1), "{err}");
     assert!(
-        err.contains(&format!("{} of {} inputs failed", cases.len(), cases.len() + 1)),
+        err.contains(&format!(
+            "{} of {} inputs failed",
+            cases.len(),
+            cases.len() + 1
+        )),
         "{err}"
     );
     for (name, _, words) in &cases {
@@ -332,7 +353,10 @@ fn broken_bytes_give_errors_from_the_library() {
     for (name, bytes, _) in broken_inputs() {
         if name.ends_with(".txt") || name.ends_with(".xy") || name.ends_with(".csv") {
             assert!(
-                matches!(ridgeline::point_list::parse(&String::from_utf8_lossy(&bytes)), Err(Error::PointParse { .. })),
+                matches!(
+                    ridgeline::point_list::parse(&String::from_utf8_lossy(&bytes)),
+                    Err(Error::PointParse { .. })
+                ),
                 "{name}"
             );
         } else if name.ends_with(".pts") {
@@ -374,11 +398,21 @@ fn the_bomb_is_refused_before_allocating_and_a_raised_limit_still_refuses_bad_da
 #[test]
 fn limit_flags_are_obeyed_with_a_clear_message() {
     let dir = temp_dir();
-    strokes_gray(80, 60).save(dir.path().join("page.png")).expect("png");
+    strokes_gray(80, 60)
+        .save(dir.path().join("page.png"))
+        .expect("png");
     for (flag, value, words) in [
-        ("--max-pixels", "1000", &["image pixels", "4800 > 1000", "--max-pixels"][..]),
+        (
+            "--max-pixels",
+            "1000",
+            &["image pixels", "4800 > 1000", "--max-pixels"][..],
+        ),
         ("--max-side", "64", &["image side", "80 > 64", "--max-side"]),
-        ("--max-points", "50", &["foreground points", "> 50", "--max-points"]),
+        (
+            "--max-points",
+            "50",
+            &["foreground points", "> 50", "--max-points"],
+        ),
     ] {
         let output = ridgeline(&["page.png", flag, value], dir.path());
         let err = stderr(&output);
@@ -391,7 +425,11 @@ fn limit_flags_are_obeyed_with_a_clear_message() {
     fs::write(dir.path().join("many.xy"), "0 0\n1 0\n2 0\n3 0\n").expect("write");
     let output = ridgeline(&["many.xy", "--max-points", "3"], dir.path());
     assert_eq!(output.status.code(), Some(1));
-    assert!(stderr(&output).contains("--max-points"), "{}", stderr(&output));
+    assert!(
+        stderr(&output).contains("--max-points"),
+        "{}",
+        stderr(&output)
+    );
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -410,7 +448,10 @@ fn uniform_and_one_pixel_images_are_blank_pages() {
         let output = ridgeline(&[name, "-f", "json", "-o", "-"], dir.path());
         let err = stderr(&output);
         assert!(output.status.success(), "{name}: {err}");
-        assert!(err.contains("warning") && err.contains("blank page"), "{name}: {err}");
+        assert!(
+            err.contains("warning") && err.contains("blank page"),
+            "{name}: {err}"
+        );
         let value: serde_json::Value = serde_json::from_slice(&output.stdout).expect("JSON");
         assert_eq!(value["stats"]["edges"], 0, "{name}");
         assert_eq!(value["stats"]["vertices"], 0, "{name}");
@@ -426,20 +467,34 @@ fn an_all_foreground_image_with_forced_polarity_is_traced() {
         .expect("png");
     let output = ridgeline(&["black.png", "--polarity", "dark", "-o", "-"], dir.path());
     assert!(output.status.success(), "{}", stderr(&output));
-    assert!(stderr(&output).contains("blank page"), "{}", stderr(&output));
+    assert!(
+        stderr(&output).contains("blank page"),
+        "{}",
+        stderr(&output)
+    );
     // Ink everywhere but a 1-px paper frame: the block is traced.
     let framed = GrayImage::from_fn(60, 40, |x, y| {
-        Luma([if x == 0 || y == 0 || x == 59 || y == 39 { 255 } else { 0 }])
+        Luma([if x == 0 || y == 0 || x == 59 || y == 39 {
+            255
+        } else {
+            0
+        }])
     });
     framed.save(dir.path().join("ink.png")).expect("png");
-    let output = ridgeline(&["ink.png", "--polarity", "dark", "-f", "json", "-o", "-"], dir.path());
+    let output = ridgeline(
+        &["ink.png", "--polarity", "dark", "-f", "json", "-o", "-"],
+        dir.path(),
+    );
     assert!(output.status.success(), "{}", stderr(&output));
     let value: serde_json::Value = serde_json::from_slice(&output.stdout).expect("JSON");
     let vertices = value["vertices"].as_array().expect("vertices");
     assert!(!vertices.is_empty(), "a solid block is not nothing");
     for v in vertices {
         let (x, y) = (v["x"].as_f64().expect("x"), v["y"].as_f64().expect("y"));
-        assert!((0.0..=60.0).contains(&x) && (0.0..=40.0).contains(&y), "{v}");
+        assert!(
+            (0.0..=60.0).contains(&x) && (0.0..=40.0).contains(&y),
+            "{v}"
+        );
     }
 
     // The library on a whole-image mask, and on a 1x1 one.
@@ -480,14 +535,22 @@ fn a_one_pixel_wide_strip_of_100000_pixels() {
     gray.save(dir.path().join("strip.png")).expect("png");
     let output = ridgeline(&["strip.png"], dir.path());
     assert_eq!(output.status.code(), Some(1));
-    assert!(stderr(&output).contains("--max-side"), "{}", stderr(&output));
+    assert!(
+        stderr(&output).contains("--max-side"),
+        "{}",
+        stderr(&output)
+    );
     let output = ridgeline(
         &["strip.png", "--max-side", "100000", "-f", "json", "-o", "-"],
         dir.path(),
     );
     assert!(output.status.success(), "{}", stderr(&output));
     let value: serde_json::Value = serde_json::from_slice(&output.stdout).expect("JSON");
-    assert!(value["stats"]["edges"].as_u64().unwrap_or(0) >= 1, "{}", value["stats"]);
+    assert!(
+        value["stats"]["edges"].as_u64().unwrap_or(0) >= 1,
+        "{}",
+        value["stats"]
+    );
 }
 
 #[test]
@@ -504,7 +567,11 @@ fn sixteen_bit_and_palette_images_trace_like_the_8_bit_one() {
         (value["vertices"].clone(), value["edges"].clone())
     };
     let eight = graph_of("eight.png");
-    assert!(eight.1.as_array().is_some_and(|e| e.len() >= 3), "{:?}", eight.1);
+    assert!(
+        eight.1.as_array().is_some_and(|e| e.len() >= 3),
+        "{:?}",
+        eight.1
+    );
     assert_eq!(graph_of("sixteen.png"), eight);
     assert_eq!(graph_of("palette.png"), eight);
 }
@@ -550,7 +617,10 @@ fn empty_and_tiny_point_lists() {
     let two = trace_list(&[[0.0, 0.0], [4.0, 0.0]]);
     assert_eq!(two.components(), 1, "{two:?}");
     for v in &two.vertices {
-        assert!((-0.01..=4.01).contains(&v.pos[0]) && v.pos[1].abs() < 1e-6, "{v:?}");
+        assert!(
+            (-0.01..=4.01).contains(&v.pos[0]) && v.pos[1].abs() < 1e-6,
+            "{v:?}"
+        );
     }
 
     // The binary: an empty list is a warning, like a blank page; 1 and 2 points trace.
@@ -569,7 +639,10 @@ fn empty_and_tiny_point_lists() {
         if text.contains(|c: char| c.is_ascii_digit()) {
             assert_eq!(value["stats"]["components"], 1, "{name}");
         } else {
-            assert!(err.contains("warning") && err.contains("no points"), "{name}: {err}");
+            assert!(
+                err.contains("warning") && err.contains("no points"),
+                "{name}: {err}"
+            );
             assert_eq!(value["stats"]["vertices"], 0, "{name}");
         }
     }
@@ -608,10 +681,16 @@ fn collinear_points_give_one_stroke_on_the_line() {
     ] {
         let graph = trace_list(&list);
         assert_eq!(graph.components(), 1, "{name}: {graph:?}");
-        assert!(graph.junctions().next().is_none(), "{name}: a junction on a line");
+        assert!(
+            graph.junctions().next().is_none(),
+            "{name}: a junction on a line"
+        );
         let total: f64 = graph.edges.iter().map(|e| e.length()).sum();
         let span = ridgeline::dist(list[0], list[list.len() - 1]);
-        assert!(total > 0.8 * span && total < 1.1 * span, "{name}: {total} vs {span}");
+        assert!(
+            total > 0.8 * span && total < 1.1 * span,
+            "{name}: {total} vs {span}"
+        );
         // Every output point lies on the line through the input.
         let (a, b) = (list[0], list[list.len() - 1]);
         let d = [b[0] - a[0], b[1] - a[1]];
@@ -643,9 +722,16 @@ fn failed_runs_never_touch_existing_outputs() {
     let output = ridgeline(&["scans", "-o", "out"], dir.path());
     assert_eq!(output.status.code(), Some(1), "{}", stderr(&output));
     // The good input replaced its output; the bad one left its old output exactly as it was.
-    assert!(fs::read_to_string(out.join("a.svg")).expect("a").starts_with("<svg"));
+    assert!(fs::read_to_string(out.join("a.svg"))
+        .expect("a")
+        .starts_with("<svg"));
     assert_eq!(fs::read(out.join("b.svg")).expect("b"), b"old b");
-    assert_eq!(entries(&out).len(), 2, "no temporary file left: {:?}", entries(&out));
+    assert_eq!(
+        entries(&out).len(),
+        2,
+        "no temporary file left: {:?}",
+        entries(&out)
+    );
 
     // A failed run to stdout writes nothing there.
     let output = ridgeline(&["scans/b.png", "-o", "-"], dir.path());
@@ -659,13 +745,18 @@ fn failed_runs_never_touch_existing_outputs() {
     assert_eq!(output.status.code(), Some(1), "{err}");
     assert!(err.contains("blocker"), "{err}");
     assert_no_panic(&err);
-    assert_eq!(fs::read(dir.path().join("blocker")).expect("read"), b"a file");
+    assert_eq!(
+        fs::read(dir.path().join("blocker")).expect("read"),
+        b"a file"
+    );
 }
 
 #[test]
 fn dash_writes_the_same_bytes_as_a_file() {
     let dir = temp_dir();
-    strokes_gray(64, 48).save(dir.path().join("page.png")).expect("png");
+    strokes_gray(64, 48)
+        .save(dir.path().join("page.png"))
+        .expect("png");
     for format in ["svg", "json"] {
         let output = ridgeline(&["page.png", "-f", format, "-o", "-"], dir.path());
         assert!(output.status.success(), "{}", stderr(&output));
@@ -673,7 +764,11 @@ fn dash_writes_the_same_bytes_as_a_file() {
         let written = ridgeline(&["page.png", "-f", format, "-o", &file], dir.path());
         assert!(written.status.success(), "{}", stderr(&written));
         assert!(written.stdout.is_empty());
-        assert_eq!(output.stdout, fs::read(dir.path().join(&file)).expect("read"), "{format}");
+        assert_eq!(
+            output.stdout,
+            fs::read(dir.path().join(&file)).expect("read"),
+            "{format}"
+        );
     }
 }
 
@@ -702,7 +797,10 @@ fn output_is_byte_identical_across_runs_and_thread_counts() {
     let dir = temp_dir();
     let page = busy_page();
     let ink = page.pixels().filter(|p| p.0[0] < 128).count();
-    assert!(ink > 65_536, "the page must exercise the parallel path: {ink} ink pixels");
+    assert!(
+        ink > 65_536,
+        "the page must exercise the parallel path: {ink} ink pixels"
+    );
     page.save(dir.path().join("page.png")).expect("png");
     for format in ["svg", "json"] {
         let run = |jobs: &str| {
@@ -723,4 +821,137 @@ fn output_is_byte_identical_across_runs_and_thread_counts() {
     let b = trace_image(&page, &params).expect("trace");
     assert_eq!(a.graph, b.graph);
     a.graph.validate().expect("valid");
+}
+
+// ---------------------------------------------------------------------------------------------
+// Fuzzing regressions: every input the fuzzers (fuzz/) found a crash, hang or memory blow-up
+// with, replayed through the same code as the fuzz targets. Each must finish quickly with an
+// error or a valid graph.
+
+fn regressions(target: &str) -> Vec<(PathBuf, Vec<u8>)> {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/fuzz_regressions")
+        .join(target);
+    let mut files: Vec<(PathBuf, Vec<u8>)> = entries(&dir)
+        .into_iter()
+        .map(|p| {
+            let bytes = fs::read(&p).expect("read regression input");
+            (p, bytes)
+        })
+        .collect();
+    files.sort();
+    assert!(
+        !files.is_empty(),
+        "no regression inputs in {}",
+        dir.display()
+    );
+    files
+}
+
+#[test]
+fn fuzz_regressions_decode_and_trace() {
+    // fuzz/fuzz_targets/decode_trace.rs
+    let limits = Limits {
+        max_pixels: 256 * 256,
+        max_side: 256,
+        max_points: 256 * 256,
+    };
+    for (path, bytes) in regressions("decode_trace") {
+        let Ok(gray) = ridgeline::decode(&bytes, &limits) else {
+            continue;
+        };
+        for params in [Params::default(), Params::paper()] {
+            let params = Params { limits, ..params };
+            if let Ok(trace) = trace_image(&gray, &params) {
+                trace
+                    .graph
+                    .validate()
+                    .unwrap_or_else(|e| panic!("{path:?}: {e}"));
+            }
+        }
+    }
+}
+
+#[test]
+fn fuzz_regressions_point_sets() {
+    // fuzz/fuzz_targets/trace_points.rs
+    for (path, bytes) in regressions("trace_points") {
+        let Some((&selector, rest)) = bytes.split_first() else {
+            continue;
+        };
+        let list: Vec<[f64; 2]> = match selector & 3 {
+            0 => match ridgeline::point_list::parse(&String::from_utf8_lossy(rest)) {
+                Ok(list) => list,
+                Err(_) => continue,
+            },
+            1 => rest
+                .chunks_exact(16)
+                .map(|c| {
+                    let x = f64::from_le_bytes(c[..8].try_into().unwrap_or_default());
+                    let y = f64::from_le_bytes(c[8..].try_into().unwrap_or_default());
+                    [x, y]
+                })
+                .collect(),
+            _ => {
+                let Some((&scale, pairs)) = rest.split_first() else {
+                    continue;
+                };
+                let scale = 2f64.powi(i32::from(scale % 9) - 4);
+                pairs
+                    .chunks_exact(2)
+                    .map(|c| [f64::from(c[0]) * scale, f64::from(c[1]) * scale])
+                    .collect()
+            }
+        };
+        let params = if selector & 4 != 0 {
+            Params::paper()
+        } else {
+            Params::default()
+        };
+        let start = std::time::Instant::now();
+        if let Ok(trace) = trace_points(&list, &params) {
+            trace
+                .graph
+                .validate()
+                .unwrap_or_else(|e| panic!("{path:?}: {e}"));
+        }
+        // The blow-ups took 18 s and gigabytes; a generous bound for slow debug builds.
+        assert!(
+            start.elapsed().as_secs() < 10,
+            "{path:?} took {:?}",
+            start.elapsed()
+        );
+    }
+}
+
+#[test]
+fn point_lists_trace_the_same_in_any_unit() {
+    // Found by fuzzing: lists in units far from pixels (1e87, 1e-150) asked for 51 GB or gave
+    // infinite widths. They run in pixel-like units now, so scaling by a power of two scales the
+    // graph exactly.
+    let list: Vec<[f64; 2]> = (0..60)
+        .map(|i| [i as f64 * 0.5, 10.0 + 0.2 * i as f64])
+        .chain((0..40).map(|i| [10.0 + 0.1 * i as f64, 25.0 - 0.5 * i as f64]))
+        .collect();
+    let base = trace_list(&list);
+    assert!(!base.edges.is_empty());
+    for power in [-500, -40, 40, 280] {
+        let scale = 2f64.powi(power);
+        let scaled: Vec<[f64; 2]> = list.iter().map(|p| [p[0] * scale, p[1] * scale]).collect();
+        let graph = trace_points(&scaled, &Params::default())
+            .expect("trace")
+            .graph;
+        graph.validate().expect("valid");
+        assert_eq!(graph.vertices.len(), base.vertices.len(), "2^{power}");
+        assert_eq!(graph.edges.len(), base.edges.len(), "2^{power}");
+        for (v, w) in graph.vertices.iter().zip(&base.vertices) {
+            let back = [v.pos[0] / scale, v.pos[1] / scale];
+            assert!(
+                ridgeline::dist(back, w.pos) < 1e-6,
+                "2^{power}: {back:?} vs {:?}",
+                w.pos
+            );
+            assert!((v.width / scale - w.width).abs() < 1e-4, "2^{power}");
+        }
+    }
 }

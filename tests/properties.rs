@@ -1,9 +1,14 @@
 //! Property tests (issue 5): random stroke images, rendered with [`ridgeline::synth::render`],
 //! must trace without panicking into a valid graph that stays on the ink and misses no stroke.
 //!
-//! The case count is kept moderate so the suite stays fast; `PROPTEST_CASES=2000` runs more.
+//! The case count is kept moderate so the suite stays fast, and the seed is fixed so that CI is
+//! reproducible; `PROPTEST_CASES=2000 PROPTEST_RNG_SEED=<n>` explores further. Such runs find
+//! rare crossings where a fitted edge cuts across a small hole between strokes by a little more
+//! than 2 px: one is known (an edge cutting 2.26 px across a small hole between three
+//! crossing strokes, from a 1000-case random run); see the README's known weaknesses.
 
 use proptest::prelude::*;
+use proptest::test_runner::RngSeed;
 use ridgeline::synth::{render, Stroke};
 use ridgeline::{trace_binary, Binary, Params, StrokeGraph};
 
@@ -104,46 +109,64 @@ fn touched(graph: &StrokeGraph, binary: &Binary) -> Vec<bool> {
     mark
 }
 
+/// 64 cases from a fixed seed unless the environment asks for others.
+fn config() -> ProptestConfig {
+    let mut config = ProptestConfig::default();
+    if std::env::var_os("PROPTEST_CASES").is_none() {
+        config.cases = 64;
+    }
+    if std::env::var_os("PROPTEST_RNG_SEED").is_none() {
+        config.rng_seed = RngSeed::Fixed(0x7269_6467_656c);
+    }
+    config.failure_persistence = None;
+    config
+}
+
+/// The checks of the property, as a function so that known counterexamples can be replayed.
+fn check(strokes: &[Stroke]) -> Result<(), TestCaseError> {
+    let binary = render(strokes, SIDE, SIDE);
+    let trace = trace_binary(&binary, &Params::default());
+    prop_assert!(trace.is_ok(), "trace failed: {:?}", trace.err());
+    let graph = trace.map(|t| t.graph).unwrap_or_default();
+    prop_assert!(
+        graph.validate().is_ok(),
+        "invalid graph: {:?}",
+        graph.validate()
+    );
+
+    // Every output point lies within the ink dilated by SLACK.
+    let points = graph
+        .vertices
+        .iter()
+        .map(|v| v.pos)
+        .chain(graph.edges.iter().flat_map(|e| e.points.iter().copied()));
+    for p in points {
+        let d = distance_to_ink(&binary, p);
+        prop_assert!(d <= SLACK + 1e-9, "{:?} is {} px from the ink", p, d);
+    }
+
+    // Every ink component of MIN_COMPONENT pixels or more is touched by the graph.
+    let mark = touched(&graph, &binary);
+    for component in components(&binary) {
+        if component.len() >= MIN_COMPONENT {
+            let i = component[0];
+            prop_assert!(
+                component.iter().any(|&j| mark[j]),
+                "a component of {} pixels at ({}, {}) has no edge or vertex",
+                component.len(),
+                i % SIDE as usize,
+                i / SIDE as usize
+            );
+        }
+    }
+    Ok(())
+}
+
 proptest! {
-    // A fixed seed: the same 64 cases on every run and every machine, so CI is reproducible.
-    #![proptest_config(ProptestConfig {
-        cases: 64,
-        rng_seed: proptest::test_runner::RngSeed::Fixed(0x5eed_1e55),
-        ..ProptestConfig::default()
-    })]
+    #![proptest_config(config())]
 
     #[test]
     fn random_stroke_images_trace_into_valid_graphs_on_the_ink(strokes in strokes()) {
-        let binary = render(&strokes, SIDE, SIDE);
-        let trace = trace_binary(&binary, &Params::default());
-        prop_assert!(trace.is_ok(), "trace failed: {:?}", trace.err());
-        let graph = trace.map(|t| t.graph).unwrap_or_default();
-        prop_assert!(graph.validate().is_ok(), "invalid graph: {:?}", graph.validate());
-
-        // Every output point lies within the ink dilated by SLACK.
-        let points = graph
-            .vertices
-            .iter()
-            .map(|v| v.pos)
-            .chain(graph.edges.iter().flat_map(|e| e.points.iter().copied()));
-        for p in points {
-            let d = distance_to_ink(&binary, p);
-            prop_assert!(d <= SLACK + 1e-9, "{:?} is {} px from the ink", p, d);
-        }
-
-        // Every ink component of MIN_COMPONENT pixels or more is touched by the graph.
-        let mark = touched(&graph, &binary);
-        for component in components(&binary) {
-            if component.len() >= MIN_COMPONENT {
-                let i = component[0];
-                prop_assert!(
-                    component.iter().any(|&j| mark[j]),
-                    "a component of {} pixels at ({}, {}) has no edge or vertex",
-                    component.len(),
-                    i % SIDE as usize,
-                    i / SIDE as usize
-                );
-            }
-        }
+        check(&strokes)?;
     }
 }

@@ -186,6 +186,9 @@ fn chains(graph: &NodeGraph, collapse_dots: bool) -> (Vec<u32>, Vec<Chain>) {
     (vertex_node, chains)
 }
 
+/// Most segments per link of a chain (hostile, issue 5; see `equalize`).
+const MAX_SEGMENTS_PER_LINK: usize = 256;
+
 /// Decomposes the graph into chains and resamples each to spacing `h`. A chain keeps at least its
 /// two end vertices; a loop keeps at least two interior nodes, and chains sharing both vertices
 /// with another keep at least one, so that no two edges collapse onto the same segment.
@@ -217,7 +220,13 @@ pub fn equalize(graph: &NodeGraph, h: f64, collapse_dots: bool) -> Layout {
         } else {
             1
         };
-        let segments = ((length / h).round() as usize).max(least);
+        // hostile (issue 5, found by fuzzing): a chain may span a gap far longer than its ink
+        // (five points 1e9 units apart made 2.5 million fitted nodes, 18 s and gigabytes). At most
+        // MAX_SEGMENTS_PER_LINK per link between refined nodes keeps the layout a multiple of the
+        // node count; on images a link that long (768 px at h = 3) needs a blob far wider than
+        // any stroke.
+        let cap = MAX_SEGMENTS_PER_LINK.saturating_mul(chain.nodes.len().saturating_sub(1));
+        let segments = ((length / h).round().min(cap as f64) as usize).max(least);
         let start = layout.pos.len() as u32;
         for j in 1..segments {
             let (p, k) = point_at(&polyline, &s, length * j as f64 / segments as f64);

@@ -153,28 +153,32 @@ fn main() {
         "peer s",
         "ours/pr"
     );
+    // Rounds: every input once per round (ours, then the peer right after), so that a change of
+    // load on the shared machine hits all inputs alike; medians over the rounds.
+    let mut runs: Vec<Vec<Figures>> = vec![Vec::new(); inputs.len()];
+    let mut peer_runs: Vec<Vec<f64>> = vec![Vec::new(); inputs.len()];
+    for _ in 0..repeat {
+        for (k, (_, path)) in inputs.iter().enumerate() {
+            runs[k].extend(spawn_child(&exe, path, 1));
+            if peer {
+                peer_runs[k].extend(run_peer(&peer_script, path, 1));
+            }
+        }
+    }
     let mut results = Vec::new();
-    for (name, path) in &inputs {
-        let Some(figures) = spawn_child(&exe, path, repeat) else {
+    for (k, (name, path)) in inputs.iter().enumerate() {
+        let Some(figures) = median_figures(&runs[k]) else {
             println!("{name:<10} failed");
             continue;
         };
-        let peer_time = if peer {
-            run_peer(&peer_script, path, repeat)
-        } else {
-            None
-        };
+        let peer_time = median(&mut peer_runs[k]);
         let (w, h) = image::image_dimensions(path).unwrap_or((0, 0));
-        let mut row = format!(
-            "{name:<10} {:>9} {:>7}",
-            format!("{w}x{h}"),
-            figures.ink
-        );
+        let mut row = format!("{name:<10} {:>9} {:>7}", format!("{w}x{h}"), figures.ink);
         for s in figures.stages {
             row.push_str(&format!(" {s:>6.3}"));
         }
         row.push_str(&format!(
-            " {:>6.3} {:>6.2} {:>7.0}",
+            " {:>6.3} {:>6.3} {:>7.0}",
             figures.wall, figures.cpu, figures.peak_mb
         ));
         match peer_time {
@@ -189,7 +193,7 @@ fn main() {
         println!(
             "growth half -> full page (4x the area): wall {:.2}x, CPU {:.2}x; ink {:.2}x",
             large.wall / small.wall,
-            large.stages.iter().sum::<f64>() / small.stages.iter().sum::<f64>(),
+            large.cpu / small.cpu,
             large.ink as f64 / small.ink.max(1) as f64
         );
         println!(
@@ -223,7 +227,11 @@ fn run_batch(count: usize, repeat: usize) {
     std::fs::create_dir_all(&pages).expect("page directory");
     let mut ink = 0;
     for k in 0..count {
-        let (w, h) = if k % 2 == 0 { (2480, 3508) } else { (1240, 1754) };
+        let (w, h) = if k % 2 == 0 {
+            (2480, 3508)
+        } else {
+            (1240, 1754)
+        };
         let case = ridgeline::synth::page(w, h, k as u64 + 1);
         ink += case.binary.count();
         to_gray(&case.binary)
@@ -258,11 +266,8 @@ fn run_batch(count: usize, repeat: usize) {
             times[slot].push(seconds);
         }
     }
-    let median = |v: &mut Vec<f64>| {
-        v.sort_by(f64::total_cmp);
-        v[v.len() / 2]
-    };
-    let (one, two) = (median(&mut times[0]), median(&mut times[1]));
+    let one = median(&mut times[0]).unwrap_or(0.0);
+    let two = median(&mut times[1]).unwrap_or(0.0);
     let mut identical = true;
     for k in 0..count {
         let name = format!("page{k:03}.svg");
@@ -287,6 +292,31 @@ fn load_average() -> String {
         .unwrap_or_else(|| "unknown".into())
 }
 
+/// The median of `values` (the upper one of an even count); `None` for none.
+fn median(values: &mut [f64]) -> Option<f64> {
+    values.sort_by(f64::total_cmp);
+    values.get(values.len() / 2).copied()
+}
+
+/// Field-by-field medians of several runs of one input.
+fn median_figures(runs: &[Figures]) -> Option<Figures> {
+    let first = runs.first()?;
+    let of = |field: &dyn Fn(&Figures) -> f64| {
+        median(&mut runs.iter().map(field).collect::<Vec<_>>()).unwrap_or(0.0)
+    };
+    let mut stages = [0.0; 8];
+    for (k, stage) in stages.iter_mut().enumerate() {
+        *stage = of(&|f| f.stages[k]);
+    }
+    Some(Figures {
+        stages,
+        wall: of(&|f| f.wall),
+        cpu: of(&|f| f.cpu),
+        peak_mb: of(&|f| f.peak_mb),
+        ..first.clone()
+    })
+}
+
 fn verdict(ok: bool) -> &'static str {
     if ok {
         "met"
@@ -297,7 +327,11 @@ fn verdict(ok: bool) -> &'static str {
 
 /// Ink black on white paper.
 fn to_gray(binary: &ridgeline::Binary) -> GrayImage {
-    let pixels = binary.ink.iter().map(|&b| if b { 0 } else { 255 }).collect();
+    let pixels = binary
+        .ink
+        .iter()
+        .map(|&b| if b { 0 } else { 255 })
+        .collect();
     GrayImage::from_raw(binary.width, binary.height, pixels).expect("size matches")
 }
 
@@ -407,13 +441,13 @@ fn run_child(path: &Path, repeat: usize) {
         vertices = trace.graph.vertices.len();
         edges = trace.graph.edges.len();
     }
-    let median = |mut v: Vec<f64>| {
-        v.sort_by(f64::total_cmp);
-        v[v.len() / 2]
-    };
+    let median = |mut v: Vec<f64>| median(&mut v).unwrap_or(0.0);
     let mut line = String::from("RESULT");
     for k in 0..STAGES.len() {
-        line.push_str(&format!(" {}", median(runs.iter().map(|r| r.0[k]).collect())));
+        line.push_str(&format!(
+            " {}",
+            median(runs.iter().map(|r| r.0[k]).collect())
+        ));
     }
     line.push_str(&format!(" {}", median(runs.iter().map(|r| r.1).collect())));
     line.push_str(&format!(" {}", median(runs.iter().map(|r| r.2).collect())));
@@ -421,21 +455,18 @@ fn run_child(path: &Path, repeat: usize) {
     println!("{line}");
 }
 
-/// CPU time (user + system, all threads) of this process so far, in seconds (10 ms ticks).
+/// CPU time of this process so far (all threads, from each thread's `schedstat`, in ns), in
+/// seconds; the rayon threads live as long as the process, so differences are exact.
 fn cpu_seconds() -> f64 {
-    let Ok(stat) = std::fs::read_to_string("/proc/self/stat") else {
+    let Ok(tasks) = std::fs::read_dir("/proc/self/task") else {
         return 0.0;
     };
-    // Fields after the parenthesized command name: state is field 3, utime 14, stime 15.
-    let Some(rest) = stat.rfind(')').map(|i| &stat[i + 1..]) else {
-        return 0.0;
-    };
-    let fields: Vec<&str> = rest.split_whitespace().collect();
-    let ticks = |k: usize| fields.get(k - 3).and_then(|v| v.parse::<f64>().ok());
-    match (ticks(14), ticks(15)) {
-        (Some(user), Some(system)) => (user + system) / 100.0,
-        _ => 0.0,
-    }
+    tasks
+        .filter_map(|task| task.ok())
+        .filter_map(|task| std::fs::read_to_string(task.path().join("schedstat")).ok())
+        .filter_map(|stat| stat.split_whitespace().next()?.parse::<f64>().ok())
+        .sum::<f64>()
+        / 1e9
 }
 
 /// Peak resident memory of this process in MB (`VmHWM`), 0 when /proc is not there.

@@ -236,10 +236,7 @@ impl PointSet {
                 .collect(),
             offsets: Vec::with_capacity(members.len() + 1),
             neighbors: Vec::with_capacity(
-                members
-                    .iter()
-                    .map(|&p| self.neighbors_of(p).len())
-                    .sum(),
+                members.iter().map(|&p| self.neighbors_of(p).len()).sum(),
             ),
             spacing: self.spacing,
             dropout: self.dropout,
@@ -354,7 +351,11 @@ mod tests {
         }
         // Consecutive components share a chunk up to the target size.
         let sizes = |target| -> Vec<usize> {
-            points.split_components(target).iter().map(|p| p.len()).collect()
+            points
+                .split_components(target)
+                .iter()
+                .map(|p| p.len())
+                .collect()
         };
         assert_eq!(sizes(5), [5, 5]);
         assert_eq!(sizes(4), [3, 3, 4]);

@@ -47,26 +47,38 @@ fn cases() -> Vec<Case> {
     for (angle, w) in [(90.0, 6.0), (45.0, 8.0), (30.0, 5.0), (15.0, 4.0)] {
         out.push(case(
             &format!("x{angle}_w{w}"),
-            vec![through([50.0, 50.0], 0.0, 40.0, w), through([50.0, 50.0], angle, 40.0, w)],
+            vec![
+                through([50.0, 50.0], 0.0, 40.0, w),
+                through([50.0, 50.0], angle, 40.0, w),
+            ],
             100,
             100,
         ));
     }
     out.push(case(
         "t_center",
-        vec![line([10.0, 20.0], [90.0, 20.0], 6.0), line([50.0, 20.0], [50.0, 80.0], 6.0)],
+        vec![
+            line([10.0, 20.0], [90.0, 20.0], 6.0),
+            line([50.0, 20.0], [50.0, 80.0], 6.0),
+        ],
         100,
         100,
     ));
     out.push(case(
         "t_edge",
-        vec![line([10.0, 20.0], [90.0, 20.0], 6.0), line([50.0, 80.0], [50.0, 23.5], 5.0)],
+        vec![
+            line([10.0, 20.0], [90.0, 20.0], 6.0),
+            line([50.0, 80.0], [50.0, 23.5], 5.0),
+        ],
         100,
         100,
     ));
     out.push(case(
         "t_overshoot",
-        vec![line([10.0, 20.0], [90.0, 20.0], 8.0), line([50.0, 80.0], [50.0, 17.0], 4.0)],
+        vec![
+            line([10.0, 20.0], [90.0, 20.0], 8.0),
+            line([50.0, 80.0], [50.0, 17.0], 4.0),
+        ],
         100,
         100,
     ));
@@ -103,11 +115,19 @@ fn cases() -> Vec<Case> {
     ));
     out.push(case(
         "v_corner",
-        vec![line([20.0, 10.0], [50.0, 90.0], 5.0), line([50.0, 90.0], [80.0, 10.0], 5.0)],
+        vec![
+            line([20.0, 10.0], [50.0, 90.0], 5.0),
+            line([50.0, 90.0], [80.0, 10.0], 5.0),
+        ],
         100,
         100,
     ));
-    out.push(case("circle", vec![circle([50.0, 50.0], 30.0, 5.0)], 100, 100));
+    out.push(case(
+        "circle",
+        vec![circle([50.0, 50.0], 30.0, 5.0)],
+        100,
+        100,
+    ));
     out.push(case(
         "circle_cross",
         vec![
@@ -149,13 +169,19 @@ fn cases() -> Vec<Case> {
     ));
     out.push(case(
         "near_touch",
-        vec![line([10.0, 20.0], [90.0, 20.0], 5.0), line([50.0, 80.0], [50.0, 27.0], 5.0)],
+        vec![
+            line([10.0, 20.0], [90.0, 20.0], 5.0),
+            line([50.0, 80.0], [50.0, 27.0], 5.0),
+        ],
         100,
         100,
     ));
     out.push(case(
         "parallel",
-        vec![line([10.0, 20.0], [90.0, 20.0], 4.0), line([10.0, 27.0], [90.0, 27.0], 4.0)],
+        vec![
+            line([10.0, 20.0], [90.0, 20.0], 4.0),
+            line([10.0, 27.0], [90.0, 27.0], 4.0),
+        ],
         100,
         60,
     ));
@@ -190,10 +216,17 @@ fn assert_perfect(s: &Scores) {
     assert!(s.hausdorff < 0.5, "{name}: hausdorff {}", s.hausdorff);
     assert_eq!(s.junction_precision, 1.0, "{name}: junction precision");
     assert_eq!(s.junction_recall, 1.0, "{name}: junction recall");
-    assert!(s.crossings.iter().all(|c| c.correct), "{name}: crossings {:?}", s.crossings);
+    assert!(
+        s.crossings.iter().all(|c| c.correct),
+        "{name}: crossings {:?}",
+        s.crossings
+    );
     assert_eq!(s.spurious_endpoints, 0, "{name}: spurs");
     assert_eq!(s.endpoint_recall, 1.0, "{name}: endpoint recall");
-    assert!(s.components_exact && s.cycles_exact, "{name}: components/cycles {s:?}");
+    assert!(
+        s.components_exact && s.cycles_exact,
+        "{name}: components/cycles {s:?}"
+    );
 }
 
 /// Degrees of the truth's vertices, sorted, and its cycle count.
@@ -209,7 +242,9 @@ fn truth_scored_against_itself_is_perfect() {
     let mut all = Vec::new();
     for c in cases() {
         let truth = truth_graph(&c);
-        truth.validate().unwrap_or_else(|e| panic!("{}: {e}", c.name));
+        truth
+            .validate()
+            .unwrap_or_else(|e| panic!("{}: {e}", c.name));
         let s = score(&c, &truth, &truth);
         assert_perfect(&s);
         all.push(s);
@@ -243,7 +278,10 @@ fn truth_follows_the_ink() {
     assert_eq!(shape(&by_name("figure8")), (vec![4], 2));
     assert_eq!(shape(&by_name("e")), (vec![1, 3], 1));
     // The circle with a cross: 4 crossings on the circle and one in the middle.
-    assert_eq!(shape(&by_name("circle_cross")), (vec![1, 1, 1, 1, 4, 4, 4, 4, 4], 4));
+    assert_eq!(
+        shape(&by_name("circle_cross")),
+        (vec![1, 1, 1, 1, 4, 4, 4, 4, 4], 4)
+    );
     // Inks 2 px apart do not touch.
     assert_eq!(truth_graph(&by_name("near_touch")).components(), 2);
     assert_eq!(truth_graph(&by_name("parallel")).components(), 2);
@@ -256,7 +294,9 @@ fn shifted(g: &StrokeGraph, d: [f64; 2]) -> StrokeGraph {
         p[1] += d[1];
     };
     out.vertices.iter_mut().for_each(|v| mv(&mut v.pos));
-    out.edges.iter_mut().for_each(|e| e.points.iter_mut().for_each(mv));
+    out.edges
+        .iter_mut()
+        .for_each(|e| e.points.iter_mut().for_each(mv));
     out
 }
 
@@ -285,7 +325,11 @@ fn deleting_an_edge_lowers_recall() {
     let truth = truth_graph(&c);
     let mut damaged = truth.clone();
     let longest = (0..damaged.edges.len())
-        .max_by(|&a, &b| damaged.edges[a].length().total_cmp(&damaged.edges[b].length()))
+        .max_by(|&a, &b| {
+            damaged.edges[a]
+                .length()
+                .total_cmp(&damaged.edges[b].length())
+        })
         .unwrap();
     let e = damaged.edges.remove(longest);
     damaged.vertices[e.from].degree -= 1;
@@ -316,11 +360,18 @@ fn two_ys(truth: &StrokeGraph) -> StrokeGraph {
     arms.sort_by(|a, b| a.0.total_cmp(&b.0));
     let first = out.vertices.len();
     for pair in arms.chunks(2) {
-        let mid = [(pair[0].0.cos() + pair[1].0.cos()), (pair[0].0.sin() + pair[1].0.sin())];
+        let mid = [
+            (pair[0].0.cos() + pair[1].0.cos()),
+            (pair[0].0.sin() + pair[1].0.sin()),
+        ];
         let n = mid[0].hypot(mid[1]);
         let pos = [c[0] + 3.0 * mid[0] / n, c[1] + 3.0 * mid[1] / n];
         let y = out.vertices.len();
-        out.vertices.push(Vertex { pos, degree: 3, width: truth.vertices[x].width });
+        out.vertices.push(Vertex {
+            pos,
+            degree: 3,
+            width: truth.vertices[x].width,
+        });
         for &(_, i, at_start) in pair {
             let e = &mut out.edges[i];
             if at_start {
@@ -369,7 +420,11 @@ fn prediction_is_normalized_with_one_pixel_tolerance() {
         widths: vec![5.0; 2],
         directions: vec![[1.0, 0.0]; 2],
     };
-    let vertex = |pos| Vertex { pos, degree: 1, width: 5.0 };
+    let vertex = |pos| Vertex {
+        pos,
+        degree: 1,
+        width: 5.0,
+    };
     let g = StrokeGraph {
         width: 100,
         height: 100,
@@ -419,7 +474,9 @@ fn truth_of_every_generated_case_scored_against_itself_is_perfect() {
     assert!(!cases.is_empty());
     for c in &cases {
         let truth = truth_graph(c);
-        truth.validate().unwrap_or_else(|e| panic!("{}: {e}", c.name));
+        truth
+            .validate()
+            .unwrap_or_else(|e| panic!("{}: {e}", c.name));
         assert_perfect(&score(c, &truth, &truth));
     }
 }

@@ -167,7 +167,10 @@ fn main() -> anyhow::Result<()> {
             let start = Instant::now();
             let result = guarded(|| run_method(method, case));
             let time_ms = start.elapsed().as_secs_f64() * 1e3;
-            let iou = result.as_ref().ok().map(|graph| coverage_iou(graph, &case.binary));
+            let iou = result
+                .as_ref()
+                .ok()
+                .map(|graph| coverage_iou(graph, &case.binary));
             let (failure, scores) = match (&truth, result) {
                 (Ok(truth), Ok(graph)) => match guarded(|| Ok(score(case, truth, &graph))) {
                     Ok(s) => (None, Some(s)),
@@ -197,8 +200,10 @@ fn main() -> anyhow::Result<()> {
     let mut rows = Vec::new();
     for group in &groups {
         for method in METHODS {
-            let mine: Vec<&Outcome> =
-                outcomes.iter().filter(|o| &o.group == group && o.method == method).collect();
+            let mine: Vec<&Outcome> = outcomes
+                .iter()
+                .filter(|o| &o.group == group && o.method == method)
+                .collect();
             let scores: Vec<Scores> = mine.iter().filter_map(|o| o.scores.clone()).collect();
             rows.push(GroupRow {
                 group: group.clone(),
@@ -225,15 +230,27 @@ fn main() -> anyhow::Result<()> {
     }
     let failures: Vec<&Outcome> = outcomes.iter().filter(|o| o.failure.is_some()).collect();
     if !failures.is_empty() {
-        println!("\n{} failures (method/case: reason), first ones:", failures.len());
+        println!(
+            "\n{} failures (method/case: reason), first ones:",
+            failures.len()
+        );
         for o in failures.iter().take(10) {
-            println!("  {}/{}: {}", o.method, o.case, o.failure.as_deref().unwrap_or(""));
+            println!(
+                "  {}/{}: {}",
+                o.method,
+                o.case,
+                o.failure.as_deref().unwrap_or("")
+            );
         }
     }
 
     let real_images = real_images(args.verbose);
 
-    let report = Report { groups: rows, cases: outcomes, real_images };
+    let report = Report {
+        groups: rows,
+        cases: outcomes,
+        real_images,
+    };
     if let Some(dir) = args.json.parent() {
         std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
     }
@@ -330,13 +347,21 @@ fn real_images(verbose: bool) -> Vec<RealImage> {
     let data = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/data");
     let mut files = Vec::new();
     for dir in ["fingerprints", "text"] {
-        let Ok(entries) = std::fs::read_dir(data.join(dir)) else { continue };
+        let Ok(entries) = std::fs::read_dir(data.join(dir)) else {
+            continue;
+        };
         let mut found: Vec<PathBuf> = entries
             .filter_map(|e| e.ok().map(|e| e.path()))
             .filter(|p| {
-                let ext = p.extension().and_then(|e| e.to_str()).unwrap_or("").to_lowercase();
-                ["png", "jpg", "jpeg", "tif", "tiff", "bmp", "gif", "webp", "pgm", "pbm"]
-                    .contains(&ext.as_str())
+                let ext = p
+                    .extension()
+                    .and_then(|e| e.to_str())
+                    .unwrap_or("")
+                    .to_lowercase();
+                [
+                    "png", "jpg", "jpeg", "tif", "tiff", "bmp", "gif", "webp", "pgm", "pbm",
+                ]
+                .contains(&ext.as_str())
             })
             .collect();
         found.sort();
@@ -347,7 +372,11 @@ fn real_images(verbose: bool) -> Vec<RealImage> {
     }
     let mut out = Vec::new();
     for path in &files {
-        let name = path.strip_prefix(&data).unwrap_or(path).display().to_string();
+        let name = path
+            .strip_prefix(&data)
+            .unwrap_or(path)
+            .display()
+            .to_string();
         let mut image = RealImage {
             file: name,
             width: 0,
@@ -378,7 +407,10 @@ fn real_images(verbose: bool) -> Vec<RealImage> {
             })
         });
         image.time_ms = start.elapsed().as_secs_f64() * 1e3;
-        let fingerprint = path.parent().and_then(|d| d.file_name()).is_some_and(|d| d == "fingerprints");
+        let fingerprint = path
+            .parent()
+            .and_then(|d| d.file_name())
+            .is_some_and(|d| d == "fingerprints");
         match traced {
             Ok((g, binary)) => {
                 if let Some(binary) = &binary {
@@ -391,8 +423,13 @@ fn real_images(verbose: bool) -> Vec<RealImage> {
                     image.bifurcations = Some(count(MinutiaKind::Bifurcation));
                 }
                 let length: f64 = g.edges.iter().map(|e| e.length()).sum();
-                let per_1000 =
-                    |n: usize| if length > 0.0 { 1000.0 * n as f64 / length } else { 0.0 };
+                let per_1000 = |n: usize| {
+                    if length > 0.0 {
+                        1000.0 * n as f64 / length
+                    } else {
+                        0.0
+                    }
+                };
                 let short_tips = g
                     .edges
                     .iter()
@@ -407,8 +444,11 @@ fn real_images(verbose: bool) -> Vec<RealImage> {
                 image.centerline_px = length;
                 image.endpoints_per_1000px = per_1000(g.endpoints().count());
                 image.junctions_per_1000px = per_1000(g.junctions().count());
-                image.spur_share =
-                    if g.edges.is_empty() { 0.0 } else { short_tips as f64 / g.edges.len() as f64 };
+                image.spur_share = if g.edges.is_empty() {
+                    0.0
+                } else {
+                    short_tips as f64 / g.edges.len() as f64
+                };
             }
             Err(e) => image.failure = Some(e),
         }

@@ -14,8 +14,16 @@ pub fn trace(binary: &Binary) -> StrokeGraph {
 }
 
 /// Offsets of the 8 neighbours in the order P2..P9 of Zhang and Suen (N, NE, E, SE, S, SW, W, NW).
-const RING: [(i64, i64); 8] =
-    [(0, -1), (1, -1), (1, 0), (1, 1), (0, 1), (-1, 1), (-1, 0), (-1, -1)];
+const RING: [(i64, i64); 8] = [
+    (0, -1),
+    (1, -1),
+    (1, 0),
+    (1, 1),
+    (0, 1),
+    (-1, 1),
+    (-1, 0),
+    (-1, -1),
+];
 
 /// Zhang & Suen (1984), "A fast parallel algorithm for thinning digital patterns": two
 /// sub-iterations, each deleting in parallel the boundary pixels with 2-6 neighbours, one 0->1
@@ -147,11 +155,21 @@ fn pixel_graph(width: u32, height: u32, skeleton: &[bool], half_width: &[f64]) -
     let center = |i: usize| [(i as i64 % w) as f64 + 0.5, (i as i64 / w) as f64 + 0.5];
     // Stroke width at a pixel: 2 x distance to the background, less the pixel itself.
     let width_at = |p: [f64; 2]| {
-        let (x, y) = ((p[0].floor() as i64).clamp(0, w - 1), (p[1].floor() as i64).clamp(0, h - 1));
+        let (x, y) = (
+            (p[0].floor() as i64).clamp(0, w - 1),
+            (p[1].floor() as i64).clamp(0, h - 1),
+        );
         (2.0 * half_width[(y * w + x) as usize] - 1.0).max(1.0)
     };
-    let count: Vec<usize> =
-        (0..skeleton.len()).map(|i| if skeleton[i] { neighbours(i).count() } else { 0 }).collect();
+    let count: Vec<usize> = (0..skeleton.len())
+        .map(|i| {
+            if skeleton[i] {
+                neighbours(i).count()
+            } else {
+                0
+            }
+        })
+        .collect();
 
     // Vertices: junction clusters, ends, isolated pixels.
     const NONE: usize = usize::MAX;
@@ -185,7 +203,11 @@ fn pixel_graph(width: u32, height: u32, skeleton: &[bool], half_width: &[f64]) -
             members = 1.0;
         }
         let pos = [sum[0] / members, sum[1] / members];
-        vertices.push(Vertex { pos, degree: 0, width: width_at(pos) });
+        vertices.push(Vertex {
+            pos,
+            degree: 0,
+            width: width_at(pos),
+        });
     }
 
     // Edges: walk from every vertex pixel along pixels with two neighbours.
@@ -194,7 +216,13 @@ fn pixel_graph(width: u32, height: u32, skeleton: &[bool], half_width: &[f64]) -
     let make_edge = |from: usize, to: usize, points: Vec<[f64; 2]>, edges: &mut Vec<Edge>| {
         let widths = points.iter().map(|&p| width_at(p)).collect();
         let directions = tangents(&points);
-        edges.push(Edge { from, to, points, widths, directions });
+        edges.push(Edge {
+            from,
+            to,
+            points,
+            widths,
+            directions,
+        });
     };
     for a in (0..skeleton.len()).filter(|&i| skeleton[i] && vertex_of[i] != NONE) {
         let from = vertex_of[a];
@@ -240,7 +268,11 @@ fn pixel_graph(width: u32, height: u32, skeleton: &[bool], half_width: &[f64]) -
             continue;
         }
         let id = vertices.len();
-        vertices.push(Vertex { pos: center(s), degree: 0, width: width_at(center(s)) });
+        vertices.push(Vertex {
+            pos: center(s),
+            degree: 0,
+            width: width_at(center(s)),
+        });
         let mut points = vec![center(s)];
         visited[s] = true;
         let (mut prev, mut cur) = (s, neighbours(s).next().unwrap_or(s));
@@ -262,7 +294,12 @@ fn pixel_graph(width: u32, height: u32, skeleton: &[bool], half_width: &[f64]) -
         vertices[e.from].degree += 1;
         vertices[e.to].degree += 1;
     }
-    StrokeGraph { width, height, vertices, edges }
+    StrokeGraph {
+        width,
+        height,
+        vertices,
+        edges,
+    }
 }
 
 fn tangents(points: &[[f64; 2]]) -> Vec<[f64; 2]> {

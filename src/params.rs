@@ -38,6 +38,11 @@ pub enum Polarity {
 }
 
 /// Bounds on what one input may make the library allocate.
+///
+/// Decoding is refused from the image header beyond `max_pixels` or `max_side`. Tracing needs at
+/// most about 450 bytes per foreground point plus 6 bytes per image pixel (peak RSS measured on
+/// 12-megapixel pages, see `docs/bad-input.md`), and `max_points` is checked before any per-point
+/// array is allocated, so the three limits bound the memory of a run.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Limits {
     /// Largest image, in pixels (width x height), that will be decoded. Default 100 megapixels.

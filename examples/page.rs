@@ -250,6 +250,7 @@ fn run_batch(count: usize, repeat: usize) {
     for _ in 0..repeat {
         for (slot, jobs) in [1, 2].into_iter().enumerate() {
             let out = dir.path().join(format!("out{jobs}"));
+            let cpu_before = children_cpu_seconds();
             let clock = Instant::now();
             let status = Command::new(&cli)
                 .arg(&pages)
@@ -261,8 +262,12 @@ fn run_batch(count: usize, repeat: usize) {
                 .status()
                 .expect("run ridgeline");
             let seconds = clock.elapsed().as_secs_f64();
+            let cpu = children_cpu_seconds() - cpu_before;
             assert!(status.success(), "ridgeline --jobs {jobs} failed");
-            println!("  --jobs {jobs}: {seconds:.3} s");
+            println!(
+                "  --jobs {jobs}: {seconds:.3} s wall, {cpu:.2} s CPU (load average {})",
+                load_average()
+            );
             times[slot].push(seconds);
         }
     }
@@ -467,6 +472,24 @@ fn cpu_seconds() -> f64 {
         .filter_map(|stat| stat.split_whitespace().next()?.parse::<f64>().ok())
         .sum::<f64>()
         / 1e9
+}
+
+/// CPU time (user + system) of the waited-for child processes so far, in seconds (10 ms ticks):
+/// fields 16 and 17 of `/proc/self/stat`.
+fn children_cpu_seconds() -> f64 {
+    let Ok(stat) = std::fs::read_to_string("/proc/self/stat") else {
+        return 0.0;
+    };
+    // Fields after the parenthesized command name start at field 3.
+    let Some(rest) = stat.rfind(')').map(|i| &stat[i + 1..]) else {
+        return 0.0;
+    };
+    let fields: Vec<&str> = rest.split_whitespace().collect();
+    let ticks = |k: usize| fields.get(k - 3).and_then(|v| v.parse::<f64>().ok());
+    match (ticks(16), ticks(17)) {
+        (Some(user), Some(system)) => (user + system) / 100.0,
+        _ => 0.0,
+    }
 }
 
 /// Peak resident memory of this process in MB (`VmHWM`), 0 when /proc is not there.

@@ -8,12 +8,17 @@
 /// in Vardi and Zhang (2000): the step moves only as far as the pull of the other points exceeds
 /// the number of coincident points, and stops when it does not. Returns `None` for no members.
 ///
+/// The iteration stops after `iterations` steps or when a step moves less than `tolerance`
+/// (Weiszfeld converges linearly, so the estimate is then within a few `tolerance` of the
+/// median).
+///
 /// The members are copied into `sample` first: the iteration reads them `iterations` times, and
 /// a node's points lie on several image rows, far apart in the point array.
 pub fn l1_median(
     points: &[[f64; 2]],
     members: &[u32],
     iterations: usize,
+    tolerance: f64,
     sample: &mut Vec<[f64; 2]>,
 ) -> Option<[f64; 2]> {
     if members.is_empty() {
@@ -64,7 +69,7 @@ pub fn l1_median(
         };
         let step = distance(next, x);
         x = next;
-        if step < 1e-9 {
+        if step < tolerance {
             break;
         }
     }
@@ -178,7 +183,7 @@ mod tests {
     fn weiszfeld_finds_the_diagonal_crossing_of_a_quadrilateral() {
         // The geometric median of four points in convex position is where the diagonals cross.
         let points = [[0.0, 0.0], [4.0, 0.0], [5.0, 6.0], [0.0, 2.0]];
-        let m = l1_median(&points, &all(&points), 200, &mut Vec::new()).unwrap();
+        let m = l1_median(&points, &all(&points), 200, 1e-9, &mut Vec::new()).unwrap();
         // Diagonals (0,0)-(5,6) and (4,0)-(0,2) meet at t = 4/17 along the first.
         let t = 4.0 / 17.0;
         assert!(
@@ -197,16 +202,16 @@ mod tests {
             [3.0, 0.0],
             [1000.0, 0.0],
         ];
-        let m = l1_median(&points, &all(&points), 100, &mut Vec::new()).unwrap();
+        let m = l1_median(&points, &all(&points), 100, 1e-9, &mut Vec::new()).unwrap();
         assert!((m[0] - 2.0).abs() < 1e-2 && m[1].abs() < 1e-9, "{m:?}");
         // The mean (1, 1) is itself a member: the iteration must not divide by zero.
         let points = [[1.0, 1.0], [0.0, 0.0], [2.0, 2.0], [0.0, 2.0], [2.0, 0.0]];
-        let m = l1_median(&points, &all(&points), 20, &mut Vec::new()).unwrap();
+        let m = l1_median(&points, &all(&points), 20, 1e-9, &mut Vec::new()).unwrap();
         assert!(
             (m[0] - 1.0).abs() < 1e-9 && (m[1] - 1.0).abs() < 1e-9,
             "{m:?}"
         );
-        assert_eq!(l1_median(&points, &[], 20, &mut Vec::new()), None);
+        assert_eq!(l1_median(&points, &[], 20, 1e-9, &mut Vec::new()), None);
     }
 
     #[test]

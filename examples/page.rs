@@ -18,9 +18,12 @@
 //! kind of lines), both written as PNG into a temporary directory; then the three largest real
 //! scans of `../shared/data/text/` when present, and any IMAGE given.
 //!
-//! Each input is traced in a fresh child process of this same binary (`--child FILE`), so that
-//! each peak memory (`VmHWM` of `/proc/self/status`) is that input's own. The child repeats the
-//! trace `--repeat` times and reports the median of each figure. Stage times come from
+//! Each trace runs in a fresh child process of this same binary (`--child FILE`), so that each
+//! peak memory (`VmHWM` of `/proc/self/status`) is that input's own. `--repeat` rounds trace every
+//! input once each (the peer right after ours), so a change of load on a shared machine hits all
+//! inputs alike; the table shows the median of each figure over the rounds, with the process CPU
+//! time beside the wall time (the load average is printed: on a busy shared machine wall times
+//! grow while CPU times do not). Stage times come from
 //! [`ridgeline::Timings`]: when a page is traced as parallel chunks they are summed over the
 //! chunks (CPU time), so they can add up to more than the wall time.
 //!

@@ -153,7 +153,7 @@ fn show(input: &Path, out_dir: &Path, params: &Params, stage_dir: Option<&Path>)
             .stages
             .as_ref()
             .ok_or_else(|| anyhow!("stages not kept"))?;
-        ridgeline::debug::write_stage_pictures(dir, binary, &staged.points, stages, &staged.graph)?;
+        ridgeline::debug::write_stage_pictures(dir, binary, stages, &staged.graph)?;
     }
     Ok(())
 }

@@ -445,7 +445,7 @@ fn run_child(path: &Path, repeat: usize) {
         ];
         let cpu = cpu_seconds() - cpu_start;
         runs.push((stages.map(|d| d.as_secs_f64()), wall.as_secs_f64(), cpu));
-        ink = trace.points.len();
+        ink = trace.point_count;
         vertices = trace.graph.vertices.len();
         edges = trace.graph.edges.len();
     }

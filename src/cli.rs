@@ -980,7 +980,7 @@ fn trace_with_pictures(
     let binary = ridgeline::raster::binarize(gray, params)?;
     let mut trace = ridgeline::trace_binary_with_stages(&binary, params)?;
     if let Some(stages) = &trace.stages {
-        ridgeline::debug::write_stage_pictures(dir, &binary, &trace.points, stages, &trace.graph)
+        ridgeline::debug::write_stage_pictures(dir, &binary, stages, &trace.graph)
             .context("cannot write the --debug pictures")?;
     }
     trace.binary = Some(binary);

@@ -28,7 +28,7 @@ use imageproc::drawing::{
 use imageproc::point::Point;
 
 use crate::export::svg::{EDGE_COLOR, ENDPOINT_COLOR, JUNCTION_COLOR};
-use crate::{Binary, Error, PointSet, Result, Stages, StrokeGraph};
+use crate::{Binary, Error, Result, Stages, StrokeGraph};
 
 /// Pictures are upscaled until their longer side reaches this many pixels (within the limits
 /// below).
@@ -96,17 +96,14 @@ pub fn picture_scale(width: u32, height: u32) -> f64 {
 }
 
 /// Draws every stage; returns `(file name, picture)` pairs in pipeline order (the names of
-/// [`PICTURE_NAMES`]). `points` and `stages` are the ones of the trace of `binary` that produced
-/// `graph` (see [`crate::trace_binary_with_stages`]).
+/// [`PICTURE_NAMES`]). `stages` are the ones of the trace of `binary` that produced `graph` (see [`crate::trace_binary_with_stages`]).
 pub fn stage_pictures(
     binary: &Binary,
-    points: &PointSet,
     stages: &Stages,
     graph: &StrokeGraph,
 ) -> Vec<(String, RgbImage)> {
     let scene = Scene {
         binary,
-        points,
         stages,
         graph,
     };
@@ -121,7 +118,6 @@ pub fn stage_pictures(
 pub fn write_stage_pictures(
     dir: &Path,
     binary: &Binary,
-    points: &PointSet,
     stages: &Stages,
     graph: &StrokeGraph,
 ) -> Result<()> {
@@ -132,7 +128,6 @@ pub fn write_stage_pictures(
     std::fs::create_dir_all(dir).map_err(|err| io_error(dir, err))?;
     let scene = Scene {
         binary,
-        points,
         stages,
         graph,
     };
@@ -162,7 +157,6 @@ pub fn write_stage_pictures(
 /// What the pictures are drawn from.
 struct Scene<'a> {
     binary: &'a Binary,
-    points: &'a PointSet,
     stages: &'a Stages,
     graph: &'a StrokeGraph,
 }
@@ -186,7 +180,13 @@ impl Scene<'_> {
         canvas.foreground(self.binary, BACKDROP);
         let nodes = &self.stages.samples.nodes;
         let tints = cell_colors(nodes.len(), &self.stages.node_graph.edges);
-        for (point, &owner) in self.points.points.iter().zip(&self.stages.samples.owner) {
+        for (point, &owner) in self
+            .stages
+            .points
+            .points
+            .iter()
+            .zip(&self.stages.samples.owner)
+        {
             if let Some(&tint) = tints.get(owner as usize) {
                 canvas.cell(*point, pale(PALETTE[tint]));
             }

@@ -117,6 +117,8 @@ pub struct Timings {
 /// Intermediate results kept for `--debug` pictures.
 #[derive(Clone, Debug, Default)]
 pub struct Stages {
+    /// The points the pipeline ran on.
+    pub points: PointSet,
     /// The sampled nodes.
     pub samples: Samples,
     /// Graph `H` with clusters (§3.2).
@@ -132,8 +134,8 @@ pub struct Trace {
     pub graph: StrokeGraph,
     /// The foreground mask (images only).
     pub binary: Option<Binary>,
-    /// The points the pipeline ran on.
-    pub points: PointSet,
+    /// Number of points the pipeline ran on (ink pixels, or lines of a point list).
+    pub point_count: usize,
     /// Intermediate results, when asked for.
     pub stages: Option<Stages>,
     /// Time per stage.
@@ -162,10 +164,20 @@ pub fn trace_image(gray: &GrayImage, params: &Params) -> Result<Trace> {
 pub fn trace_binary(binary: &Binary, params: &Params) -> Result<Trace> {
     params.validate()?;
     let start = Instant::now();
+    // A large mask goes straight to chunks of components, each chunk's points built where it is
+    // traced; a small one (or one in dropout mode) becomes one point set first.
+    if let Some(chunks) = raster::pixel_chunks(binary, params, CHUNK_POINTS)? {
+        let scan_time = start.elapsed();
+        let mut trace = run_chunks(chunks.len(), |c| chunks.part(c), params);
+        trace.graph.width = binary.width;
+        trace.graph.height = binary.height;
+        trace.timings.points += scan_time;
+        return Ok(trace);
+    }
     let points = raster::points(binary, params)?;
     let points_time = start.elapsed();
     let mut trace = run(points, binary.width, binary.height, params, false)?;
-    trace.timings.points = points_time;
+    trace.timings.points += points_time;
     Ok(trace)
 }
 
@@ -180,8 +192,7 @@ pub fn trace_points(list: &[[f64; 2]], params: &Params) -> Result<Trace> {
     let (w, h) = point_list::extent(list);
     let mut trace = run(points, w, h, params, false)?;
     units.restore_graph(&mut trace.graph);
-    units.restore_points(&mut trace.points);
-    trace.timings.points = points_time;
+    trace.timings.points += points_time;
     Ok(trace)
 }
 
@@ -196,40 +207,47 @@ pub fn trace_binary_with_stages(binary: &Binary, params: &Params) -> Result<Trac
 const CHUNK_POINTS: usize = 65_536;
 
 fn run(points: PointSet, width: u32, height: u32, params: &Params, keep: bool) -> Result<Trace> {
-    if keep || points.len() <= CHUNK_POINTS {
-        let (mut graph, stages, timings) = run_stages(&points, params, keep);
-        graph.width = width;
-        graph.height = height;
-        return Ok(Trace {
+    let mut trace = if keep || points.len() <= CHUNK_POINTS {
+        let point_count = points.len();
+        let (graph, stages, timings) = run_stages(points, params, keep);
+        Trace {
             graph,
             binary: None,
-            points,
+            point_count,
             stages,
             timings,
-        });
-    }
-    // Components never interact, so chunks of whole components are traced in parallel and their
-    // graphs concatenated in chunk order: the output does not depend on the thread count.
+        }
+    } else {
+        let chunks = points.component_chunks(CHUNK_POINTS);
+        run_chunks(chunks.len(), |c| chunks.part(&points, c), params)
+    };
+    trace.graph.width = width;
+    trace.graph.height = height;
+    Ok(trace)
+}
+
+/// Traces chunks `0..count` of whole components in parallel, each point set made by `part` on the
+/// thread that traces it and dropped after it (so the copies never all exist at once), and joins
+/// the graphs in chunk order: the result does not depend on the thread count, and equals the trace
+/// of all chunks as one point set, as every stage treats components independently.
+fn run_chunks(count: usize, part: impl Fn(usize) -> PointSet + Sync, params: &Params) -> Trace {
     use rayon::prelude::*;
-    // Each chunk's point set is built by the thread that traces it and dropped right after, so
-    // the copies run in parallel and never all exist at once.
-    let chunks = points.component_chunks(CHUNK_POINTS);
-    let parts: Vec<(StrokeGraph, Timings)> = (0..chunks.len())
+    let parts: Vec<(StrokeGraph, usize, Timings)> = (0..count)
         .into_par_iter()
         .map(|c| {
-            let part = chunks.part(&points, c);
-            let (graph, _, timings) = run_stages(&part, params, false);
-            (graph, timings)
+            let clock = Instant::now();
+            let points = part(c);
+            let points_time = clock.elapsed();
+            let n = points.len();
+            let (graph, _, mut timings) = run_stages(points, params, false);
+            timings.points = points_time;
+            (graph, n, timings)
         })
         .collect();
-    drop(chunks);
-    let mut graph = StrokeGraph {
-        width,
-        height,
-        ..StrokeGraph::default()
-    };
+    let mut graph = StrokeGraph::default();
     let mut timings = Timings::default();
-    for (part, t) in parts {
+    let mut point_count = 0;
+    for (part, n, t) in parts {
         let offset = graph.vertices.len();
         graph.vertices.extend(part.vertices);
         graph.edges.extend(part.edges.into_iter().map(|mut e| {
@@ -237,45 +255,46 @@ fn run(points: PointSet, width: u32, height: u32, params: &Params, keep: bool) -
             e.to += offset;
             e
         }));
-        // Stage times add up over chunks (CPU time, not wall-clock time).
+        point_count += n;
+        timings.points += t.points;
         timings.sampling += t.sampling;
         timings.graph += t.graph;
         timings.refine += t.refine;
         timings.fit += t.fit;
     }
-    Ok(Trace {
+    Trace {
         graph,
         binary: None,
-        points,
+        point_count,
         stages: None,
         timings,
-    })
+    }
 }
 
-/// Sampling → node graph → refinement → fitting on one point set.
 fn run_stages(
-    points: &PointSet,
+    points: PointSet,
     params: &Params,
     keep: bool,
 ) -> (StrokeGraph, Option<Stages>, Timings) {
     let mut timings = Timings::default();
     let clock = Instant::now();
-    let samples = sample::sample(points, params);
+    let samples = sample::sample(&points, params);
     timings.sampling = clock.elapsed();
 
     let clock = Instant::now();
-    let node_graph = graph::build(points, &samples, params);
+    let node_graph = graph::build(&points, &samples, params);
     timings.graph = clock.elapsed();
 
     let clock = Instant::now();
-    let refined = refine::refine(&node_graph, points, params);
+    let refined = refine::refine(&node_graph, &points, params);
     timings.refine = clock.elapsed();
 
     let clock = Instant::now();
-    let graph = fit::fit(&refined, points, params);
+    let graph = fit::fit(&refined, &points, params);
     timings.fit = clock.elapsed();
 
     let stages = keep.then_some(Stages {
+        points,
         samples,
         node_graph,
         refined,

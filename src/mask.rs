@@ -315,11 +315,9 @@ pub(crate) fn tiny_hole_pixels(ink: &[bool], width: usize, height: usize) -> usi
             let mut total = 0;
             for x in 1..width - 1 {
                 let i = y * width + x;
-                if ink[i] {
-                    continue;
-                }
-                // A pixel with four background neighbours is in a component of 5 or more.
-                if !ink[i - 1] && !ink[i + 1] && !ink[i - width] && !ink[i + width] {
+                // A hole is counted from its first pixel in raster order, whose left neighbour
+                // is ink: a background one would be in the same hole, and earlier.
+                if ink[i] || !ink[i - 1] {
                     continue;
                 }
                 if let Some(size) = tiny_component(ink, width, height, i) {

@@ -141,6 +141,7 @@ fn hand_stages(points: &PointSet) -> Stages {
     let node_graph = ridgeline::graph::build(points, &samples, &params);
     let refined = ridgeline::refine::refine(&node_graph, points, &params);
     Stages {
+        points: points.clone(),
         samples,
         node_graph,
         refined,
@@ -237,7 +238,7 @@ fn pictures_of_hand_built_stages() {
     points.validate().expect("valid point set");
     let stages = hand_stages(&points);
     let graph = plus_graph();
-    let pictures = stage_pictures(&binary, &points, &stages, &graph);
+    let pictures = stage_pictures(&binary, &stages, &graph);
     if let Some(dir) = std::env::var_os("RIDGELINE_KEEP_PICTURES") {
         for (name, picture) in &pictures {
             picture.save(Path::new(&dir).join(name)).expect("save");
@@ -256,14 +257,14 @@ fn pictures_are_written_atomically_into_a_new_directory() {
     let graph = plus_graph();
     let dir = tempfile::TempDir::new().expect("temp dir");
     let target = dir.path().join("a").join("b");
-    write_stage_pictures(&target, &binary, &points, &stages, &graph).expect("written");
+    write_stage_pictures(&target, &binary, &stages, &graph).expect("written");
     let mut names: Vec<String> = fs::read_dir(&target)
         .expect("list")
         .map(|e| e.expect("entry").file_name().to_string_lossy().into_owned())
         .collect();
     names.sort();
     assert_eq!(names, PICTURE_NAMES, "the pictures and no temporary files");
-    let expected = stage_pictures(&binary, &points, &stages, &graph);
+    let expected = stage_pictures(&binary, &stages, &graph);
     for (name, picture) in expected {
         let read = image::open(target.join(&name)).expect("PNG").to_rgb8();
         assert!(read == picture, "{name} round-trips");
@@ -273,20 +274,10 @@ fn pictures_are_written_atomically_into_a_new_directory() {
 #[test]
 fn pictures_of_empty_and_mismatched_stages_do_not_panic() {
     let binary = plus();
-    let pictures = stage_pictures(
-        &binary,
-        &PointSet::default(),
-        &Stages::default(),
-        &StrokeGraph::default(),
-    );
+    let pictures = stage_pictures(&binary, &Stages::default(), &StrokeGraph::default());
     assert_eq!(pictures.len(), PICTURE_NAMES.len());
     let tiny = Binary::new(1, 1);
-    for (_, picture) in stage_pictures(
-        &tiny,
-        &point_set(&binary),
-        &hand_stages(&point_set(&binary)),
-        &plus_graph(),
-    ) {
+    for (_, picture) in stage_pictures(&tiny, &hand_stages(&point_set(&binary)), &plus_graph()) {
         assert_eq!(picture.dimensions(), (4, 4));
     }
 }
@@ -302,7 +293,7 @@ fn pictures_of_the_traced_plus() {
         1,
         "{degrees:?}"
     );
-    let pictures = stage_pictures(&binary, &trace.points, stages, &trace.graph);
+    let pictures = stage_pictures(&binary, stages, &trace.graph);
     check_pictures(&pictures, &trace.graph);
 }
 

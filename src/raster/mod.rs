@@ -7,10 +7,12 @@
 //! Design item 1 (points, dropout mode) and item 11 (the dropout test) live in [`points`].
 
 mod binarize;
+mod chunks;
 mod decode;
 mod points;
 
 pub use binarize::otsu_level;
+pub(crate) use chunks::pixel_chunks;
 pub use decode::decode_file;
 
 use crate::{Binary, GrayImage, Limits, Params, PointSet, Result};

@@ -36,15 +36,7 @@ pub fn points(binary: &Binary, params: &Params) -> Result<PointSet> {
     let ink = &binary.ink[..];
     let row_starts = ink_row_starts(ink, width, height);
     let count = row_starts[height];
-    // Point indices are u32 (`Grid::NONE` reserved) whatever the configured limit.
-    if count as u64 > params.limits.max_points || count as u64 >= u32::MAX as u64 {
-        return Err(Error::Limit {
-            what: "foreground points",
-            actual: count as u64,
-            limit: params.limits.max_points,
-            flag: "--max-points",
-        });
-    }
+    check_point_count(count, params)?;
 
     // Points, the pixel -> point index, the 8-neighbour degrees (at `degrees[i + 1]`, the layout
     // of the CSR offsets) and the nearest-neighbour distances, row by row.
@@ -100,21 +92,10 @@ pub fn points(binary: &Binary, params: &Params) -> Result<PointSet> {
         spacing_sum.0 / spacing_sum.1 as f64
     };
 
-    let dropout = match params.dropout {
-        Some(forced) => forced,
-        None => {
-            // Design item 11: tiny holes above a share of the ink (1.5% by default; 0.5% misfired
-            // on script, whose loops leave tiny holes), or item 1: sparse points.
-            let holes = tiny_hole_pixels(ink, width, height) as f64;
-            // Heavy dropout (over half the pixels of a stroke gone) opens the holes to the
-            // outside, so they are no longer tiny; what remains is pixels hanging on by a single
-            // neighbour, which solid strokes of any width have only at 1-px line ends.
-            let loose = degrees[1..].iter().filter(|&&d| d == 1).count() as f64;
-            holes > params.dropout_fraction * count as f64
-                || (loose > LOOSE_FRACTION * count as f64 && loose >= 16.0)
-                || spacing > DROPOUT_SPACING
-        }
-    };
+    let loose = degrees[1..].iter().filter(|&&d| d == 1).count();
+    let dropout = dropout_mode(params, count, loose, spacing, || {
+        tiny_hole_pixels(ink, width, height)
+    });
 
     // Half-width = distance to the nearest background pixel center. In dropout mode the gaps
     // punched into a stroke would make it look thin, so the transform runs on the 3x3 closing.
@@ -159,6 +140,44 @@ pub fn points(binary: &Binary, params: &Params) -> Result<PointSet> {
         dropout,
         grid: Some(grid),
     })
+}
+
+/// Refuses more ink pixels than `params.limits.max_points` (or than `u32` point indices can
+/// number, `Grid::NONE` reserved) before anything is allocated per point.
+pub(super) fn check_point_count(count: usize, params: &Params) -> Result<()> {
+    if count as u64 > params.limits.max_points || count as u64 >= u32::MAX as u64 {
+        return Err(Error::Limit {
+            what: "foreground points",
+            actual: count as u64,
+            limit: params.limits.max_points,
+            flag: "--max-points",
+        });
+    }
+    Ok(())
+}
+
+/// Whether dropout mode is on for `count` ink pixels of which `loose` have exactly one ink
+/// 8-neighbour, with `Dis_ave` = `spacing`; `holes` counts the tiny-hole pixels and is only called
+/// when the other tests do not already decide.
+pub(super) fn dropout_mode(
+    params: &Params,
+    count: usize,
+    loose: usize,
+    spacing: f64,
+    holes: impl FnOnce() -> usize,
+) -> bool {
+    if let Some(forced) = params.dropout {
+        return forced;
+    }
+    // Heavy dropout (over half the pixels of a stroke gone) opens the holes to the outside, so
+    // they are no longer tiny; what remains is pixels hanging on by a single neighbour, which
+    // solid strokes of any width have only at 1-px line ends. Item 1: sparse points.
+    let loose = loose as f64;
+    (loose > LOOSE_FRACTION * count as f64 && loose >= 16.0)
+        || spacing > DROPOUT_SPACING
+        // Design item 11: tiny holes above a share of the ink (1.5% by default; 0.5% misfired
+        // on script, whose loops leave tiny holes).
+        || holes() as f64 > params.dropout_fraction * count as f64
 }
 
 /// The neighbour graph in CSR form: the ink pixels within Chebyshev distance `reach` (1: the
@@ -237,7 +256,7 @@ fn neighbour_csr(
 /// Calls `visit` with the cells within Chebyshev distance `reach` of `(x, y)`, the center
 /// excluded, in raster order.
 #[inline(always)]
-fn for_each_in_window<T: Copy>(
+pub(super) fn for_each_in_window<T: Copy>(
     cells: &[T],
     width: usize,
     height: usize,
@@ -263,7 +282,7 @@ fn for_each_in_window<T: Copy>(
 /// diagonal line sparse. Other pixels count their true Euclidean nearest distance, searched up to
 /// [`SPACING_SEARCH`]; with nothing that close they are left out (`None`). `degree_8` is the
 /// number of ink pixels touching `(x, y)`.
-fn nearest_distance(
+pub(super) fn nearest_distance(
     ink: &[bool],
     width: usize,
     height: usize,

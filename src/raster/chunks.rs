@@ -1,0 +1,401 @@
+//! Whole pages (issue 4): the ink pixels of a large image as chunks of whole components, each
+//! chunk's point set built by the thread that traces it.
+//!
+//! Building the page's point set first and cutting it into chunks afterwards made one pass over a
+//! `u32` index of every pixel, neighbour lists and a distance transform of the whole page, all on
+//! one thread, and then copied every chunk out of it. Here one parallel pass over the mask finds the
+//! runs of ink in each row and the page-wide figures (`Dis_ave`, the dropout test), a union-find
+//! over the runs finds the 8-connected components, and each chunk's points, pixel index, neighbour
+//! lists and half-widths come from its own window of the mask. The point sets are the ones
+//! [`crate::PointSet::split_components`] cuts from the whole page's, bit for bit (tested below), so
+//! the traces are identical too.
+
+use rayon::prelude::*;
+
+use super::points::{check_point_count, dropout_mode, for_each_in_window, nearest_distance};
+use crate::mask::{ink_row_starts, squared_distance_at, tiny_hole_pixels, Mask};
+use crate::{Binary, Grid, Params, PointSet, Result};
+
+/// A run of ink pixels `x0..x1` (end excluded) in row `y`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Run {
+    y: u32,
+    x0: u32,
+    x1: u32,
+}
+
+impl Run {
+    fn len(&self) -> usize {
+        (self.x1 - self.x0) as usize
+    }
+}
+
+/// The ink of an image as chunks of whole 8-connected components, in the order of each
+/// component's first pixel, each chunk about `target` points or one component.
+pub(crate) struct PixelChunks<'a> {
+    binary: &'a Binary,
+    /// `Dis_ave` of the whole image.
+    spacing: f64,
+    /// The runs of every chunk, one chunk after the other, in raster order within a chunk.
+    runs: Vec<Run>,
+    /// Chunk `c` holds `runs[offsets[c]..offsets[c + 1]]`.
+    offsets: Vec<usize>,
+}
+
+/// Splits the ink of `binary` into chunks of whole components of about `target` points, or returns
+/// `None` when the image is better traced as one point set: at most `target` ink pixels, or
+/// dropout mode (whose 5x5 neighbourhoods and closed distance transform reach across component
+/// gaps).
+pub(crate) fn pixel_chunks<'a>(
+    binary: &'a Binary,
+    params: &Params,
+    target: usize,
+) -> Result<Option<PixelChunks<'a>>> {
+    let (width, height) = (binary.width as usize, binary.height as usize);
+    let ink = &binary.ink[..];
+    if width == 0 || height == 0 || ink.len() != width * height {
+        return Ok(None);
+    }
+    let row_starts = ink_row_starts(ink, width, height);
+    let count = row_starts[height];
+    check_point_count(count, params)?;
+    if count <= target {
+        return Ok(None);
+    }
+
+    // One pass over the rows: the runs, the `Dis_ave` terms and the loose pixels, exactly as
+    // `points` finds them (the spacing sums in the same order, so `Dis_ave` is the same number).
+    let rows: Vec<(Vec<Run>, (f64, u64), usize)> = (0..height)
+        .into_par_iter()
+        .map(|y| {
+            let row = &ink[y * width..(y + 1) * width];
+            let mut runs = Vec::new();
+            let mut spacing = (0.0f64, 0u64);
+            let mut loose = 0;
+            let mut x = 0;
+            while x < width {
+                if !row[x] {
+                    x += 1;
+                    continue;
+                }
+                let start = x;
+                while x < width && row[x] {
+                    let mut degree = 0;
+                    for_each_in_window(ink, width, height, 1, x, y, |other| {
+                        degree += u32::from(other)
+                    });
+                    loose += usize::from(degree == 1);
+                    if let Some(d) = nearest_distance(ink, width, height, x, y, degree) {
+                        spacing.0 += d;
+                        spacing.1 += 1;
+                    }
+                    x += 1;
+                }
+                runs.push(Run {
+                    y: y as u32,
+                    x0: start as u32,
+                    x1: x as u32,
+                });
+            }
+            (runs, spacing, loose)
+        })
+        .collect();
+    let mut spacing_sum = (0.0f64, 0u64);
+    let mut loose = 0;
+    let mut row_runs = Vec::with_capacity(height + 1);
+    row_runs.push(0);
+    for (runs, spacing, row_loose) in &rows {
+        spacing_sum = (spacing_sum.0 + spacing.0, spacing_sum.1 + spacing.1);
+        loose += row_loose;
+        row_runs.push(row_runs[row_runs.len() - 1] + runs.len());
+    }
+    let spacing = if spacing_sum.1 == 0 {
+        1.0
+    } else {
+        spacing_sum.0 / spacing_sum.1 as f64
+    };
+    if dropout_mode(params, count, loose, spacing, || {
+        tiny_hole_pixels(ink, width, height)
+    }) {
+        return Ok(None);
+    }
+    let runs: Vec<Run> = rows.into_iter().flat_map(|(runs, _, _)| runs).collect();
+
+    // 8-connected components of the runs: a run touches the runs of the row above that overlap
+    // it or meet it at a corner. Each set's root is its first run, so components come numbered in
+    // order of their first pixel, as `PointSet::component_chunks` numbers them.
+    let mut parent: Vec<u32> = (0..runs.len() as u32).collect();
+    let find = |parent: &mut [u32], mut r: u32| {
+        while parent[r as usize] != r {
+            let up = parent[parent[r as usize] as usize];
+            parent[r as usize] = up; // path halving
+            r = up;
+        }
+        r
+    };
+    for y in 1..height {
+        let (above, here) = (row_runs[y - 1]..row_runs[y], row_runs[y]..row_runs[y + 1]);
+        let (mut i, mut j) = (above.start, here.start);
+        while i < above.end && j < here.end {
+            let (a, b) = (runs[i], runs[j]);
+            if a.x0 <= b.x1 && a.x1 >= b.x0 {
+                let (ra, rb) = (find(&mut parent, i as u32), find(&mut parent, j as u32));
+                if ra != rb {
+                    parent[ra.max(rb) as usize] = ra.min(rb);
+                }
+            }
+            // The run that ends first cannot touch anything further along the other row.
+            if a.x1 < b.x1 {
+                i += 1;
+            } else {
+                j += 1;
+            }
+        }
+    }
+    // In run order a run's parent (earlier, same component) is already labelled.
+    let mut label = parent;
+    let mut sizes: Vec<usize> = Vec::new();
+    for r in 0..runs.len() {
+        let up = label[r] as usize;
+        if up == r {
+            label[r] = sizes.len() as u32;
+            sizes.push(runs[r].len());
+        } else {
+            label[r] = label[up];
+            sizes[label[r] as usize] += runs[r].len();
+        }
+    }
+
+    // Consecutive components fill a chunk up to `target` points (as `component_chunks` does).
+    let mut chunk_of = Vec::with_capacity(sizes.len());
+    let mut chunk_runs: Vec<usize> = Vec::new();
+    let mut filled = 0usize;
+    for &size in &sizes {
+        if filled > 0 && filled + size > target {
+            filled = 0;
+        }
+        if filled == 0 {
+            chunk_runs.push(0);
+        }
+        chunk_of.push(chunk_runs.len() as u32 - 1);
+        filled += size;
+    }
+    // The runs grouped by chunk, keeping raster order within each (a stable counting sort).
+    for &l in &label {
+        chunk_runs[chunk_of[l as usize] as usize] += 1;
+    }
+    let mut offsets = Vec::with_capacity(chunk_runs.len() + 1);
+    offsets.push(0);
+    for &n in &chunk_runs {
+        offsets.push(offsets[offsets.len() - 1] + n);
+    }
+    let mut fill = offsets[..offsets.len() - 1].to_vec();
+    let mut grouped = vec![Run { y: 0, x0: 0, x1: 0 }; runs.len()];
+    for (run, &l) in runs.iter().zip(&label) {
+        let chunk = chunk_of[l as usize] as usize;
+        grouped[fill[chunk]] = *run;
+        fill[chunk] += 1;
+    }
+    Ok(Some(PixelChunks {
+        binary,
+        spacing,
+        runs: grouped,
+        offsets,
+    }))
+}
+
+impl PixelChunks<'_> {
+    /// Number of chunks.
+    pub(crate) fn len(&self) -> usize {
+        self.offsets.len() - 1
+    }
+
+    /// The point set of chunk `c`: its pixels in raster order, the 8-neighbour lists, the
+    /// half-widths and the pixel index of its bounding box.
+    pub(crate) fn part(&self, c: usize) -> PointSet {
+        let runs = &self.runs[self.offsets[c]..self.offsets[c + 1]];
+        let (width, height) = (self.binary.width as usize, self.binary.height as usize);
+        let (y0, y1) = (runs[0].y as usize, runs[runs.len() - 1].y as usize + 1);
+        let x0 = runs.iter().map(|r| r.x0).min().unwrap_or(0) as usize;
+        let x1 = runs.iter().map(|r| r.x1).max().unwrap_or(0) as usize;
+        let (w, h) = (x1 - x0, y1 - y0);
+        let n: usize = runs.iter().map(Run::len).sum();
+
+        let mut points = Vec::with_capacity(n);
+        let mut index = vec![Grid::NONE; w * h];
+        for run in runs {
+            let row = (run.y as usize - y0) * w;
+            for x in run.x0 as usize..run.x1 as usize {
+                index[row + x - x0] = points.len() as u32;
+                points.push([x as f64 + 0.5, run.y as f64 + 0.5]);
+            }
+        }
+        // Neighbours in raster order of the window, so sorted by point index.
+        let mut offsets = Vec::with_capacity(n + 1);
+        let mut neighbors = Vec::with_capacity(8 * n);
+        offsets.push(0);
+        for run in runs {
+            for x in run.x0 as usize..run.x1 as usize {
+                for_each_in_window(&index, w, h, 1, x - x0, run.y as usize - y0, |j| {
+                    if j != Grid::NONE {
+                        neighbors.push(j);
+                    }
+                });
+                offsets.push(neighbors.len() as u32);
+            }
+        }
+
+        // Half-widths from the distance transform of the bounding box grown by one pixel, on the
+        // whole image's ink (other components' pixels in it are ink too). That equals the
+        // page-wide transform at this chunk's pixels: along each axis, the first pixel past the
+        // component is background (an ink pixel there would join the component) and lies in
+        // the grown box, so the nearest background pixel is never farther out.
+        let (ww, wh) = (w + 2, h + 2);
+        let mut window = vec![false; ww * wh];
+        let mut own = vec![false; ww * wh];
+        for v in 0..wh {
+            let Some(y) = (y0 + v).checked_sub(1).filter(|&y| y < height) else {
+                continue;
+            };
+            let (from, to) = (x0.saturating_sub(1), (x1 + 1).min(width));
+            let at = v * ww + from + 1 - x0;
+            window[at..at + to - from]
+                .copy_from_slice(&self.binary.ink[y * width + from..][..to - from]);
+        }
+        for run in runs {
+            let at = (run.y as usize - y0 + 1) * ww + run.x0 as usize - x0 + 1;
+            own[at..at + run.len()].fill(true);
+        }
+        let window_starts = ink_row_starts(&window, ww, wh);
+        let own_starts = ink_row_starts(&own, ww, wh);
+        let mut half_width = vec![0f32; n];
+        squared_distance_at(
+            &Mask {
+                ink: &window,
+                width: ww,
+                height: wh,
+                row_starts: &window_starts,
+            },
+            &Mask {
+                ink: &own,
+                width: ww,
+                height: wh,
+                row_starts: &own_starts,
+            },
+            &mut half_width,
+            |d2| (d2 as f64).sqrt() as f32,
+        );
+
+        PointSet {
+            points,
+            half_width,
+            offsets,
+            neighbors,
+            spacing: self.spacing,
+            dropout: false,
+            grid: Some(Grid {
+                width: w as u32,
+                height: h as u32,
+                index,
+                x0: x0 as i64,
+                y0: y0 as i64,
+            }),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::raster::points;
+
+    /// A page of blobs, rings, touching and nearly touching strokes and a frame, with pixels on
+    /// every image edge.
+    fn page() -> Binary {
+        let (w, h) = (97u32, 83u32);
+        let mut binary = Binary::new(w, h);
+        let mut seed = 12345u64;
+        let mut rand = || {
+            seed = seed
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (seed >> 33) as u32
+        };
+        for _ in 0..40 {
+            let (cx, cy, r) = (rand() % w, rand() % h, 1 + rand() % 6);
+            let hollow = rand() % 3 == 0;
+            for y in cy.saturating_sub(r)..(cy + r + 1).min(h) {
+                for x in cx.saturating_sub(r)..(cx + r + 1).min(w) {
+                    let d2 = (x as i64 - cx as i64).pow(2) + (y as i64 - cy as i64).pow(2);
+                    let r2 = (r * r) as i64;
+                    if d2 <= r2 && !(hollow && d2 < r2 / 3) {
+                        binary.set(x as i64, y as i64, true);
+                    }
+                }
+            }
+        }
+        for x in 0..w {
+            binary.set(x as i64, 0, true);
+        }
+        for y in 0..h {
+            binary.set(w as i64 - 1, y as i64, true);
+        }
+        // Diagonal neighbours only: one component.
+        for k in 0..6 {
+            binary.set(10 + k, 70 + k, true);
+        }
+        binary
+    }
+
+    #[test]
+    fn chunks_are_the_point_sets_cut_from_the_whole_page() {
+        let binary = page();
+        let params = Params {
+            dropout: Some(false),
+            ..Params::default()
+        };
+        let whole = points(&binary, &params).expect("points");
+        for target in [1, 50, 300, 1000] {
+            let chunks = pixel_chunks(&binary, &params, target)
+                .expect("chunks")
+                .expect("more ink than the target");
+            let expected = whole.split_components(target);
+            assert_eq!(chunks.len(), expected.len(), "target {target}");
+            for (c, want) in expected.iter().enumerate() {
+                let got = chunks.part(c);
+                assert_eq!(got.points, want.points, "target {target} chunk {c}");
+                assert_eq!(got.offsets, want.offsets);
+                assert_eq!(got.neighbors, want.neighbors);
+                assert_eq!(got.half_width, want.half_width);
+                assert_eq!(got.spacing.to_bits(), want.spacing.to_bits());
+                let (g, e) = (got.grid.expect("grid"), want.grid.as_ref().expect("grid"));
+                assert_eq!(
+                    (g.x0, g.y0, g.width, g.height),
+                    (e.x0, e.y0, e.width, e.height)
+                );
+                assert_eq!(&g.index, &e.index);
+            }
+        }
+    }
+
+    #[test]
+    fn small_images_and_dropout_stay_whole() {
+        let binary = page();
+        let params = Params::default();
+        let ink = binary.ink.iter().filter(|&&b| b).count();
+        assert!(pixel_chunks(&binary, &params, ink).expect("ok").is_none());
+        let forced = Params {
+            dropout: Some(true),
+            ..Params::default()
+        };
+        assert!(pixel_chunks(&binary, &forced, 10).expect("ok").is_none());
+    }
+
+    #[test]
+    fn too_many_points_are_refused() {
+        let binary = page();
+        let mut params = Params::default();
+        params.limits.max_points = 10;
+        assert!(pixel_chunks(&binary, &params, 5).is_err());
+    }
+}

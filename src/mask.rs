@@ -142,8 +142,8 @@ where
     // and a run's `g` values are contiguous.
     let pieces = split_by(out, keep.row_starts);
     pieces.into_par_iter().enumerate().for_each_init(
-        || (vec![0usize; width], vec![0i64; width], vec![0u64; width]),
-        |(s, t, run_d2), (y, piece)| {
+        || RunEnvelope::with_capacity(width),
+        |envelope, (y, piece)| {
             let row_g = &g[row_starts[y]..row_starts[y + 1]];
             let ink_row = &ink[y * width..(y + 1) * width];
             let keep_row = &keep.ink[y * width..(y + 1) * width];
@@ -161,14 +161,10 @@ where
                     x += 1;
                 }
                 let len = x - start;
-                let run = &row_g[k..k + len];
-                envelope_row(run, &mut s[..len], &mut t[..len], &mut run_d2[..len]);
-                for (i, &d2) in run_d2[..len].iter().enumerate() {
+                let run_d2 = envelope.squared_distances(&row_g[k..k + len]);
+                for (i, &d2) in run_d2.iter().enumerate() {
                     if keep_row[start + i] {
-                        // The background pixels (or virtual columns) just before and after the
-                        // run.
-                        let side = ((i + 1).min(len - i) as u64).pow(2);
-                        piece[kept] = value(d2.min(side));
+                        piece[kept] = value(d2);
                         kept += 1;
                     }
                 }
@@ -176,6 +172,45 @@ where
             }
         },
     );
+}
+
+/// The row pass of the distance transform for one run of ink between two background pixels (or
+/// the image edges), with reusable buffers. A run is independent of the rest of its row: every
+/// background pixel beyond its ends is farther than the end pixel itself.
+pub(crate) struct RunEnvelope {
+    s: Vec<usize>,
+    t: Vec<i64>,
+    d2: Vec<u64>,
+}
+
+impl RunEnvelope {
+    /// Buffers for runs of up to `width` pixels (they grow when a run is longer).
+    pub(crate) fn with_capacity(width: usize) -> Self {
+        RunEnvelope {
+            s: vec![0; width],
+            t: vec![0; width],
+            d2: vec![0; width],
+        }
+    }
+
+    /// Squared distances to the background of the run's pixels, given `g`, each pixel's vertical
+    /// distance to the background of its column.
+    pub(crate) fn squared_distances(&mut self, g: &[u32]) -> &[u64] {
+        let len = g.len();
+        if self.d2.len() < len {
+            self.s.resize(len, 0);
+            self.t.resize(len, 0);
+            self.d2.resize(len, 0);
+        }
+        let d2 = &mut self.d2[..len];
+        envelope_row(g, &mut self.s[..len], &mut self.t[..len], d2);
+        for (i, d2) in d2.iter_mut().enumerate() {
+            // The background pixels (or virtual columns) just before and after the run.
+            let side = ((i + 1).min(len - i) as u64).pow(2);
+            *d2 = (*d2).min(side);
+        }
+        d2
+    }
 }
 
 /// One row of Meijster's second phase: `d2[x] = min_i (x - i)² + g(i)²`.

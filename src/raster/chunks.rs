@@ -13,7 +13,7 @@
 use rayon::prelude::*;
 
 use super::points::{check_point_count, dropout_mode, for_each_in_window, nearest_distance};
-use crate::mask::{ink_row_starts, squared_distance_at, tiny_hole_pixels, Mask};
+use crate::mask::{ink_row_starts, tiny_hole_pixels, RunEnvelope};
 use crate::{Binary, Grid, Params, PointSet, Result};
 
 /// A run of ink pixels `x0..x1` (end excluded) in row `y`.
@@ -32,8 +32,7 @@ impl Run {
 
 /// The ink of an image as chunks of whole 8-connected components, in the order of each
 /// component's first pixel, each chunk about `target` points or one component.
-pub(crate) struct PixelChunks<'a> {
-    binary: &'a Binary,
+pub(crate) struct PixelChunks {
     /// `Dis_ave` of the whole image.
     spacing: f64,
     /// The runs of every chunk, one chunk after the other, in raster order within a chunk.
@@ -46,11 +45,11 @@ pub(crate) struct PixelChunks<'a> {
 /// `None` when the image is better traced as one point set: at most `target` ink pixels, or
 /// dropout mode (whose 5x5 neighbourhoods and closed distance transform reach across component
 /// gaps).
-pub(crate) fn pixel_chunks<'a>(
-    binary: &'a Binary,
+pub(crate) fn pixel_chunks(
+    binary: &Binary,
     params: &Params,
     target: usize,
-) -> Result<Option<PixelChunks<'a>>> {
+) -> Result<Option<PixelChunks>> {
     let (width, height) = (binary.width as usize, binary.height as usize);
     let ink = &binary.ink[..];
     if width == 0 || height == 0 || ink.len() != width * height {
@@ -197,14 +196,13 @@ pub(crate) fn pixel_chunks<'a>(
         fill[chunk] += 1;
     }
     Ok(Some(PixelChunks {
-        binary,
         spacing,
         runs: grouped,
         offsets,
     }))
 }
 
-impl PixelChunks<'_> {
+impl PixelChunks {
     /// Number of chunks.
     pub(crate) fn len(&self) -> usize {
         self.offsets.len() - 1
@@ -214,7 +212,6 @@ impl PixelChunks<'_> {
     /// half-widths and the pixel index of its bounding box.
     pub(crate) fn part(&self, c: usize) -> PointSet {
         let runs = &self.runs[self.offsets[c]..self.offsets[c + 1]];
-        let (width, height) = (self.binary.width as usize, self.binary.height as usize);
         let (y0, y1) = (runs[0].y as usize, runs[runs.len() - 1].y as usize + 1);
         let x0 = runs.iter().map(|r| r.x0).min().unwrap_or(0) as usize;
         let x1 = runs.iter().map(|r| r.x1).max().unwrap_or(0) as usize;
@@ -245,46 +242,47 @@ impl PixelChunks<'_> {
             }
         }
 
-        // Half-widths from the distance transform of the bounding box grown by one pixel, on the
-        // whole image's ink (other components' pixels in it are ink too). That equals the
-        // page-wide transform at this chunk's pixels: along each axis, the first pixel past the
-        // component is background (an ink pixel there would join the component) and lies in
-        // the grown box, so the nearest background pixel is never farther out.
-        let (ww, wh) = (w + 2, h + 2);
-        let mut window = vec![false; ww * wh];
-        let mut own = vec![false; ww * wh];
-        for v in 0..wh {
-            let Some(y) = (y0 + v).checked_sub(1).filter(|&y| y < height) else {
-                continue;
-            };
-            let (from, to) = (x0.saturating_sub(1), (x1 + 1).min(width));
-            let at = v * ww + from + 1 - x0;
-            window[at..at + to - from]
-                .copy_from_slice(&self.binary.ink[y * width + from..][..to - from]);
-        }
+        // Half-widths: the exact distance transform of the whole image, evaluated at this
+        // chunk's pixels from its own runs. The ink right above, below, left or right of one of
+        // its pixels touches it, so it belongs to the same component: the vertical distances to
+        // the background (the column pass) come from the chunk's own index, and each run is a
+        // whole run of the image's row, independent of the rest of the row (the row pass).
+        let mut up = vec![0u32; n];
         for run in runs {
-            let at = (run.y as usize - y0 + 1) * ww + run.x0 as usize - x0 + 1;
-            own[at..at + run.len()].fill(true);
+            let row = (run.y as usize - y0) * w;
+            for x in run.x0 as usize - x0..run.x1 as usize - x0 {
+                let p = index[row + x] as usize;
+                up[p] = match row.checked_sub(w).map(|above| index[above + x]) {
+                    Some(q) if q != Grid::NONE => up[q as usize] + 1,
+                    _ => 1,
+                };
+            }
         }
-        let window_starts = ink_row_starts(&window, ww, wh);
-        let own_starts = ink_row_starts(&own, ww, wh);
+        let mut g = up;
+        let mut down = vec![0u32; n];
+        for run in runs.iter().rev() {
+            let row = (run.y as usize - y0) * w;
+            for x in (run.x0 as usize - x0..run.x1 as usize - x0).rev() {
+                let p = index[row + x] as usize;
+                let below = row + w + x;
+                down[p] = match index.get(below) {
+                    Some(&q) if q != Grid::NONE => down[q as usize] + 1,
+                    _ => 1,
+                };
+                g[p] = g[p].min(down[p]);
+            }
+        }
         let mut half_width = vec![0f32; n];
-        squared_distance_at(
-            &Mask {
-                ink: &window,
-                width: ww,
-                height: wh,
-                row_starts: &window_starts,
-            },
-            &Mask {
-                ink: &own,
-                width: ww,
-                height: wh,
-                row_starts: &own_starts,
-            },
-            &mut half_width,
-            |d2| (d2 as f64).sqrt() as f32,
-        );
+        let mut envelope = RunEnvelope::with_capacity(w);
+        let mut first = 0;
+        for run in runs {
+            let span = first..first + run.len();
+            let d2 = envelope.squared_distances(&g[span.clone()]);
+            for (out, &d2) in half_width[span].iter_mut().zip(d2) {
+                *out = (d2 as f64).sqrt() as f32;
+            }
+            first += run.len();
+        }
 
         PointSet {
             points,

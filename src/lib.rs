@@ -204,7 +204,7 @@ pub fn trace_binary_with_stages(binary: &Binary, params: &Params) -> Result<Trac
 }
 
 /// Points per chunk when a large input is traced in parallel (whole components per chunk).
-const CHUNK_POINTS: usize = 65_536;
+const CHUNK_POINTS: usize = 16_384;
 
 fn run(points: PointSet, width: u32, height: u32, params: &Params, keep: bool) -> Result<Trace> {
     let mut trace = if keep || points.len() <= CHUNK_POINTS {
@@ -227,21 +227,43 @@ fn run(points: PointSet, width: u32, height: u32, params: &Params, keep: bool) -
 }
 
 /// Traces chunks `0..count` of whole components in parallel, each point set made by `part` on the
-/// thread that traces it and dropped after it (so the copies never all exist at once), and joins
-/// the graphs in chunk order: the result does not depend on the thread count, and equals the trace
-/// of all chunks as one point set, as every stage treats components independently.
+/// thread that traces it, and joins the graphs in chunk order. The result does not depend on the
+/// thread count, nor on where the chunks were cut: every stage treats components independently,
+/// and the one figure taken over the whole input, the fit's node spacing `h` (the median stroke
+/// width), is taken between the refinement of all chunks and their fits.
 fn run_chunks(count: usize, part: impl Fn(usize) -> PointSet + Sync, params: &Params) -> Trace {
     use rayon::prelude::*;
-    let parts: Vec<(StrokeGraph, usize, Timings)> = (0..count)
+    let refined: Vec<(PointSet, NodeGraph, Timings)> = (0..count)
         .into_par_iter()
         .map(|c| {
             let clock = Instant::now();
             let points = part(c);
-            let points_time = clock.elapsed();
-            let n = points.len();
-            let (graph, _, mut timings) = run_stages(points, params, false);
-            timings.points = points_time;
-            (graph, n, timings)
+            let mut timings = Timings {
+                points: clock.elapsed(),
+                ..Timings::default()
+            };
+            let refined = refine_stages(&points, params, &mut timings, None);
+            (points, refined, timings)
+        })
+        .collect();
+    let Some((first, _, _)) = refined.first() else {
+        return Trace {
+            graph: StrokeGraph::default(),
+            binary: None,
+            point_count: 0,
+            stages: None,
+            timings: Timings::default(),
+        };
+    };
+    let graphs: Vec<&NodeGraph> = refined.iter().map(|(_, graph, _)| graph).collect();
+    let h = fit::node_spacing(&graphs, first, params);
+    let parts: Vec<(StrokeGraph, usize, Timings)> = refined
+        .into_par_iter()
+        .map(|(points, refined, mut timings)| {
+            let clock = Instant::now();
+            let graph = fit::fit_with_spacing(&refined, &points, params, h);
+            timings.fit = clock.elapsed();
+            (graph, points.len(), timings)
         })
         .collect();
     let mut graph = StrokeGraph::default();
@@ -271,29 +293,44 @@ fn run_chunks(count: usize, part: impl Fn(usize) -> PointSet + Sync, params: &Pa
     }
 }
 
+/// §3.1-§3.3 on one point set, timed into `timings`; the sampling and `H` go to `keep` when given.
+fn refine_stages(
+    points: &PointSet,
+    params: &Params,
+    timings: &mut Timings,
+    keep: Option<&mut Option<(Samples, NodeGraph)>>,
+) -> NodeGraph {
+    let clock = Instant::now();
+    let samples = sample::sample(points, params);
+    timings.sampling = clock.elapsed();
+
+    let clock = Instant::now();
+    let node_graph = graph::build(points, &samples, params);
+    timings.graph = clock.elapsed();
+
+    let clock = Instant::now();
+    let refined = refine::refine(&node_graph, points, params);
+    timings.refine = clock.elapsed();
+    if let Some(keep) = keep {
+        *keep = Some((samples, node_graph));
+    }
+    refined
+}
+
 fn run_stages(
     points: PointSet,
     params: &Params,
     keep: bool,
 ) -> (StrokeGraph, Option<Stages>, Timings) {
     let mut timings = Timings::default();
-    let clock = Instant::now();
-    let samples = sample::sample(&points, params);
-    timings.sampling = clock.elapsed();
-
-    let clock = Instant::now();
-    let node_graph = graph::build(&points, &samples, params);
-    timings.graph = clock.elapsed();
-
-    let clock = Instant::now();
-    let refined = refine::refine(&node_graph, &points, params);
-    timings.refine = clock.elapsed();
+    let mut kept = None;
+    let refined = refine_stages(&points, params, &mut timings, keep.then_some(&mut kept));
 
     let clock = Instant::now();
     let graph = fit::fit(&refined, &points, params);
     timings.fit = clock.elapsed();
 
-    let stages = keep.then_some(Stages {
+    let stages = kept.map(|(samples, node_graph)| Stages {
         points,
         samples,
         node_graph,

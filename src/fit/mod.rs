@@ -42,16 +42,27 @@ const MEDIAN_TOLERANCE: f64 = 1e-4;
 /// Fits the refined graph to the points and builds the stroke graph (image size left at zero for
 /// the caller to set).
 pub fn fit(graph: &NodeGraph, points: &PointSet, params: &Params) -> StrokeGraph {
+    fit_with_spacing(
+        graph,
+        points,
+        params,
+        node_spacing(&[graph], points, params),
+    )
+}
+
+/// [`fit`] with the node spacing `h` given: parts of one image traced apart (chunks of its
+/// components) share the `h` of the whole image (see [`node_spacing`]), so the result does not
+/// depend on how the image was cut.
+pub fn fit_with_spacing(
+    graph: &NodeGraph,
+    points: &PointSet,
+    params: &Params,
+    h: f64,
+) -> StrokeGraph {
     if graph.nodes.is_empty() {
         return StrokeGraph::default();
     }
-    // Lengths in pixels for images; in units of the point spacing `Dis_ave` for point lists.
-    let unit = if points.grid.is_some() || !(points.spacing.is_finite() && points.spacing > 0.0) {
-        1.0
-    } else {
-        points.spacing
-    };
-    let h = node_spacing(graph, params, unit);
+    let unit = length_unit(points);
     let layout = layout::equalize(graph, h, params.cleanup);
     let count = layout.pos.len();
 
@@ -130,11 +141,23 @@ pub fn fit(graph: &NodeGraph, points: &PointSet, params: &Params) -> StrokeGraph
     )
 }
 
-/// Design 9: `h = max(3, spacing_factor x median stroke width)` (lengths in `unit`).
-fn node_spacing(graph: &NodeGraph, params: &Params, unit: f64) -> f64 {
-    let mut widths: Vec<f64> = graph
-        .nodes
+/// Lengths in pixels for images; in units of the point spacing `Dis_ave` for point lists.
+fn length_unit(points: &PointSet) -> f64 {
+    if points.grid.is_some() || !(points.spacing.is_finite() && points.spacing > 0.0) {
+        1.0
+    } else {
+        points.spacing
+    }
+}
+
+/// Design 9: the node spacing `h = max(3, spacing_factor x median stroke width)` over the nodes
+/// of `graphs` (the refined graphs of all parts of one input; lengths in the unit of `points`,
+/// any one of the parts' point sets).
+pub fn node_spacing(graphs: &[&NodeGraph], points: &PointSet, params: &Params) -> f64 {
+    let unit = length_unit(points);
+    let mut widths: Vec<f64> = graphs
         .iter()
+        .flat_map(|graph| &graph.nodes)
         .map(|n| n.width)
         .filter(|w| w.is_finite() && *w > 0.0)
         .collect();

@@ -306,7 +306,7 @@ impl Work {
                     }
                     let mut polygon = vec![self.nodes[a as usize].pos, self.nodes[x as usize].pos];
                     let reach = 20.0 * self.nodes[a as usize].width.max(3.0);
-                    if let Some(path) = self.shortest_path_avoiding(b, a, x, reach) {
+                    if let Some(path) = self.shortest_path(b, a, reach, |_, y| y == x) {
                         polygon.extend(path.iter().map(|&k| self.nodes[k as usize].pos));
                     } else {
                         polygon.push(self.nodes[b as usize].pos);
@@ -320,13 +320,14 @@ impl Work {
         false
     }
 
-    /// Shortest path from `from` to `to` (both included) not passing through `avoid`.
-    fn shortest_path_avoiding(
+    /// Shortest path from `from` to `to` (both included, in that order) no longer than `limit`,
+    /// over the edges `x -> y` for which `skip(x, y)` is false (Dijkstra on edge lengths).
+    fn shortest_path(
         &self,
         from: u32,
         to: u32,
-        avoid: u32,
         limit: f64,
+        skip: impl Fn(u32, u32) -> bool,
     ) -> Option<Vec<u32>> {
         let mut best: std::collections::HashMap<u32, (f64, u32)> = std::collections::HashMap::new();
         let mut heap = BinaryHeap::new();
@@ -347,7 +348,7 @@ impl Work {
                 return Some(path);
             }
             for &y in &self.adj[x as usize] {
-                if y == avoid {
+                if skip(x, y) {
                     continue;
                 }
                 let nd = d + self.len(x, y);
@@ -391,42 +392,6 @@ impl Work {
             .collect()
     }
 
-    /// Shortest path from `a` to `b` not using the edge `a-b` (Dijkstra on edge lengths).
-    fn shortest_detour(&self, a: u32, b: u32, limit: f64) -> Option<Vec<u32>> {
-        let mut best: std::collections::HashMap<u32, (f64, u32)> = std::collections::HashMap::new();
-        let mut heap = BinaryHeap::new();
-        best.insert(a, (0.0, a));
-        heap.push(Reverse((Key(0.0), a)));
-        while let Some(Reverse((Key(d), x))) = heap.pop() {
-            if best.get(&x).is_some_and(|&(bd, _)| bd < d) {
-                continue;
-            }
-            if x == b {
-                let mut path = vec![b];
-                let mut cur = b;
-                while cur != a {
-                    cur = best[&cur].1;
-                    path.push(cur);
-                }
-                return Some(path);
-            }
-            for &y in &self.adj[x as usize] {
-                if x == a && y == b {
-                    continue;
-                }
-                let nd = d + self.len(x, y);
-                if nd > limit {
-                    continue;
-                }
-                if best.get(&y).is_none_or(|&(bd, _)| nd < bd) {
-                    best.insert(y, (nd, x));
-                    heap.push(Reverse((Key(nd), y)));
-                }
-            }
-        }
-        None
-    }
-
     /// Clean-up 1: a cycle that encloses no background hole is an artifact of sampling a thick
     /// region; small ones collapse to a point, long ones lose their longest edge.
     fn contract_hole_free_cycles(&mut self, holes: &Holes) -> bool {
@@ -440,9 +405,11 @@ impl Work {
                     .width
                     .max(self.nodes[b as usize].width)
                     .max(3.0);
-            let Some(cycle) = self.shortest_detour(a, b, reach) else {
+            let Some(mut cycle) = self.shortest_path(a, b, reach, |x, y| x == a && y == b) else {
                 continue;
             };
+            // Walked from `b` back to `a` (the order the perimeter has always been summed in).
+            cycle.reverse();
             let polygon: Vec<[f64; 2]> =
                 cycle.iter().map(|&i| self.nodes[i as usize].pos).collect();
             let perimeter: f64 = (0..polygon.len())

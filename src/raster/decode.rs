@@ -7,7 +7,9 @@
 use std::io::{Cursor, ErrorKind};
 use std::path::Path;
 
-use image::{DynamicImage, ImageDecoder, ImageError, ImageFormat, ImageReader};
+use image::{
+    DynamicImage, ImageBuffer, ImageDecoder, ImageError, ImageFormat, ImageReader, Pixel, Primitive,
+};
 
 use crate::{Error, GrayImage, Limits, Result};
 
@@ -178,80 +180,39 @@ fn decode_error(error: ImageError, format: ImageFormat) -> Error {
 /// white paper: a transparent background reads as paper, not as black ink.
 fn to_gray(image: DynamicImage) -> GrayImage {
     let (width, height) = (image.width(), image.height());
-    let gray_of = |rgba: [f32; 4]| -> u8 {
-        let luma = 0.2126 * rgba[0] + 0.7152 * rgba[1] + 0.0722 * rgba[2];
-        let over_white = luma * rgba[3] + (1.0 - rgba[3]);
-        (over_white.clamp(0.0, 1.0) * 255.0).round() as u8
+    let values = match image {
+        DynamicImage::ImageLuma8(gray) => return gray,
+        DynamicImage::ImageLumaA8(img) => over_white(&img),
+        DynamicImage::ImageRgb8(img) => over_white(&img),
+        DynamicImage::ImageRgba8(img) => over_white(&img),
+        DynamicImage::ImageLuma16(img) => over_white(&img),
+        DynamicImage::ImageLumaA16(img) => over_white(&img),
+        DynamicImage::ImageRgb16(img) => over_white(&img),
+        DynamicImage::ImageRgba16(img) => over_white(&img),
+        DynamicImage::ImageRgb32F(img) => over_white(&img),
+        DynamicImage::ImageRgba32F(img) => over_white(&img),
+        other => return other.to_luma8(),
     };
-    let collect = |values: Vec<u8>| {
-        GrayImage::from_raw(width, height, values).unwrap_or_else(|| GrayImage::new(width, height))
-    };
-    const S8: f32 = 1.0 / 255.0;
-    const S16: f32 = 1.0 / 65535.0;
-    match image {
-        DynamicImage::ImageLuma8(gray) => gray,
-        DynamicImage::ImageLumaA8(img) => collect(
-            img.pixels()
-                .map(|p| {
-                    let v = p.0[0] as f32 * S8;
-                    gray_of([v, v, v, p.0[1] as f32 * S8])
-                })
-                .collect(),
-        ),
-        DynamicImage::ImageRgb8(img) => collect(
-            img.pixels()
-                .map(|p| {
-                    let c = p.0.map(|v| v as f32 * S8);
-                    gray_of([c[0], c[1], c[2], 1.0])
-                })
-                .collect(),
-        ),
-        DynamicImage::ImageRgba8(img) => collect(
-            img.pixels()
-                .map(|p| gray_of(p.0.map(|v| v as f32 * S8)))
-                .collect(),
-        ),
-        DynamicImage::ImageLuma16(img) => collect(
-            img.pixels()
-                .map(|p| {
-                    let v = p.0[0] as f32 * S16;
-                    gray_of([v, v, v, 1.0])
-                })
-                .collect(),
-        ),
-        DynamicImage::ImageLumaA16(img) => collect(
-            img.pixels()
-                .map(|p| {
-                    let v = p.0[0] as f32 * S16;
-                    gray_of([v, v, v, p.0[1] as f32 * S16])
-                })
-                .collect(),
-        ),
-        DynamicImage::ImageRgb16(img) => collect(
-            img.pixels()
-                .map(|p| {
-                    let c = p.0.map(|v| v as f32 * S16);
-                    gray_of([c[0], c[1], c[2], 1.0])
-                })
-                .collect(),
-        ),
-        DynamicImage::ImageRgba16(img) => collect(
-            img.pixels()
-                .map(|p| gray_of(p.0.map(|v| v as f32 * S16)))
-                .collect(),
-        ),
-        DynamicImage::ImageRgb32F(img) => collect(
-            img.pixels()
-                .map(|p| gray_of([p.0[0], p.0[1], p.0[2], 1.0]))
-                .collect(),
-        ),
-        DynamicImage::ImageRgba32F(img) => collect(
-            img.pixels()
-                .map(|p| gray_of(p.0.map(|v| v.clamp(0.0, 1.0))))
-                .collect(),
-        ),
-        other => other.to_luma8(),
-    }
+    GrayImage::from_raw(width, height, values).unwrap_or_else(|| GrayImage::new(width, height))
+}
+
+/// The gray values of [`to_gray`] for any pixel layout: channels scaled to `[0, 1]` (no alpha
+/// channel reads as opaque), luminance, then the composite over white.
+fn over_white<P>(image: &ImageBuffer<P, Vec<P::Subpixel>>) -> Vec<u8>
+where
+    P: Pixel,
+    P::Subpixel: Into<f32>,
+{
+    let scale = 1.0 / P::Subpixel::DEFAULT_MAX_VALUE.into();
+    image
+        .pixels()
+        .map(|p| {
+            let [r, g, b, a] = p.to_rgba().0.map(|v| (v.into() * scale).clamp(0.0, 1.0));
+            let luma = 0.2126 * r + 0.7152 * g + 0.0722 * b;
+            let over_white = luma * a + (1.0 - a);
+            (over_white.clamp(0.0, 1.0) * 255.0).round() as u8
+        })
+        .collect()
 }
 
 #[cfg(test)]

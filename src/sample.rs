@@ -21,6 +21,9 @@ use crate::{Node, Params, PointSet, Samples};
 /// Marks a point that no node owns yet.
 const UNOWNED: u32 = u32::MAX;
 
+/// End of a bucket's stack in the disk search queue.
+const NIL: u32 = u32::MAX;
+
 /// hostile (issue 5): keys at or above this go to a binary heap instead of the bucket array. The
 /// array has one bucket per quarter unit² of squared radius, so radii of thousands of units
 /// (blobs thousands of pixels wide, `--r-min-factor 1e9`, point lists in large units) asked for
@@ -115,8 +118,12 @@ struct Sampler<'a> {
     order: Vec<(u32, u32)>,
     /// Cumulative moments over `order`: (n, Σx, Σy, Σxx, Σxy, Σyy) relative to the center.
     moments: Vec<[f64; 6]>,
-    /// Bucket queue of the disk search: `buckets[k]` holds points whose key is `k`.
-    buckets: Vec<Vec<u32>>,
+    /// Bucket queue of the disk search: `heads[k]` is the last point queued with key `k` (or
+    /// [`NIL`]), `next[p]` the point queued before `p` with the same key. Each bucket is a stack
+    /// threaded through one array (a point is queued at most once per search), so a push or pop
+    /// is two stores and no bucket owns an allocation.
+    heads: Vec<u32>,
+    next: Vec<u32>,
     /// Buckets in use (to clear), next bucket to pop, points queued, largest key admitted.
     used: usize,
     cursor: usize,
@@ -143,7 +150,8 @@ impl<'a> Sampler<'a> {
             epoch: 0,
             order: Vec::new(),
             moments: Vec::new(),
-            buckets: Vec::new(),
+            heads: Vec::new(),
+            next: vec![NIL; n],
             used: 0,
             cursor: 0,
             queued: 0,
@@ -186,10 +194,12 @@ impl<'a> Sampler<'a> {
         while self.queued > 0 {
             // Buckets first, then (hostile, issue 5) the far heap, whose keys are all larger.
             let (key, p) = if self.cursor < self.used && self.cursor as u32 <= limit {
-                let Some(p) = self.buckets[self.cursor].pop() else {
+                let p = self.heads[self.cursor];
+                if p == NIL {
                     self.cursor += 1;
                     continue;
-                };
+                }
+                self.heads[self.cursor] = self.next[p as usize];
                 (self.cursor as u32, p)
             } else {
                 match self.far.peek() {
@@ -235,19 +245,18 @@ impl<'a> Sampler<'a> {
             return;
         }
         let k = key as usize;
-        if self.buckets.len() <= k {
-            self.buckets.resize_with(k + 1, Vec::new);
+        if self.heads.len() <= k {
+            self.heads.resize(k + 1, NIL);
         }
-        self.buckets[k].push(p);
+        self.next[p as usize] = self.heads[k];
+        self.heads[k] = p;
         self.queued += 1;
         self.used = self.used.max(k + 1);
     }
 
     /// Empties the queue for the next search, keeping the bucket allocations.
     fn reset_queue(&mut self) {
-        for bucket in &mut self.buckets[..self.used] {
-            bucket.clear();
-        }
+        self.heads[..self.used].fill(NIL);
         self.used = 0;
         self.cursor = 0;
         self.queued = 0;

@@ -285,13 +285,10 @@ impl<'a> Sampler<'a> {
         (linearity, direction, [mx, my])
     }
 
-    /// The arms test (design 4): the rim `(r - 2, r]` of the disk must cut the ink in 1 or 2
-    /// places. A crossing gives 4 cuts, a T 3, a disk that holds a whole small part 0.
-    fn arms_ok(&mut self, center: [f64; 2], count: usize, r: f64) -> bool {
-        (1..=2).contains(&self.rim_cuts(center, count, r))
-    }
-
     /// Number of places (up to 3) where the rim `(r - 2, r]` of the disk cuts the ink.
+    ///
+    /// A count of 3 stops the search early and leaves rim points marked, which a later call for
+    /// the same node sees as rim points too (see `node_at`).
     fn rim_cuts(&mut self, center: [f64; 2], count: usize, r: f64) -> usize {
         let inner = (r - 2.0 * self.points.spacing).max(0.0);
         let inner2 = inner * inner;
@@ -391,11 +388,24 @@ impl<'a> Sampler<'a> {
         // Grow r from r_min by r_growth until the disk is linear (l > threshold) with 1-2 arms.
         let mut r = r_min;
         let mut linear = false;
+        // Rim cuts of the first and the last radius tried, and how many radii were tried: the tip
+        // test below asks for one of them again.
+        let (mut first_cuts, mut last_cuts, mut tries) = (0, 0, 0);
         loop {
             self.grow_disk(c, r);
             let count = self.prefix(r);
-            if self.params.arms_test && !self.arms_ok(c, count, r) {
-                break;
+            if self.params.arms_test {
+                // The arms test (design 4): the rim `(r - 2, r]` of the disk must cut the ink in
+                // 1 or 2 places. A crossing gives 4 cuts, a T 3, a disk that holds a whole small
+                // part 0.
+                last_cuts = self.rim_cuts(c, count, r);
+                if tries == 0 {
+                    first_cuts = last_cuts;
+                }
+                tries += 1;
+                if !(1..=2).contains(&last_cuts) {
+                    break;
+                }
             }
             let (l, _, _) = self.pca(count);
             if l > self.params.linearity {
@@ -419,7 +429,18 @@ impl<'a> Sampler<'a> {
         let pos = [c[0] + mean[0], c[1] + mean[1]];
         // A disk whose rim cuts the ink once holds the end of a stroke: refinement keeps such
         // tips (short arms of thin strokes would otherwise be contracted away).
-        let tip = self.rim_cuts(c, count, r) == 1;
+        //
+        // The disk is one the arms test already cut when it ran: the last radius when linear, else
+        // `r_min`, the first. Only a count of 3 (which leaves marks, see `rim_cuts`) at a larger
+        // radius makes the count at `r_min` differ from the first one, so only then is it redone.
+        let cuts = if tries == 0 || (!linear && last_cuts > 2 && tries > 1) {
+            self.rim_cuts(c, count, r)
+        } else if linear {
+            last_cuts
+        } else {
+            first_cuts
+        };
+        let tip = cuts == 1;
 
         // Eq. (1) in 2-D: d = |u·(p - q)| + 0.1 / (1 + |v·(p - q)|), u the principal direction.
         let (u, v) = (direction, [-direction[1], direction[0]]);

@@ -107,6 +107,8 @@ struct Sampler<'a> {
     points: &'a PointSet,
     params: &'a Params,
     owner: Vec<u32>,
+    /// Points all of whose neighbours are owned (see [`Sampler::borders_uncovered`]).
+    closed: Vec<bool>,
     /// `D` of Algorithm 1: the smallest Eq. (1) distance from any node so far.
     distance: Vec<f64>,
     /// Epoch stamps marking points reached by the current bottleneck search.
@@ -144,6 +146,7 @@ impl<'a> Sampler<'a> {
             points,
             params,
             owner: vec![UNOWNED; n],
+            closed: vec![false; n],
             distance: vec![0.0; n],
             seen: vec![0; n],
             rim_seen: vec![0; n],
@@ -163,11 +166,19 @@ impl<'a> Sampler<'a> {
         }
     }
 
-    fn borders_uncovered(&self, p: u32) -> bool {
-        self.points
+    /// Whether `p` has a neighbour no node owns yet. Ownership only grows, so a `false` is final
+    /// and is remembered: interior points are asked once per disk that holds them.
+    fn borders_uncovered(&mut self, p: u32) -> bool {
+        if self.closed[p as usize] {
+            return false;
+        }
+        let borders = self
+            .points
             .neighbors_of(p)
             .iter()
-            .any(|&q| self.owner[q as usize] == UNOWNED)
+            .any(|&q| self.owner[q as usize] == UNOWNED);
+        self.closed[p as usize] = !borders;
+        borders
     }
 
     /// Bottleneck search from `center`: extends `order` with every point whose best path from the
@@ -365,13 +376,16 @@ impl<'a> Sampler<'a> {
         // that disk: widen the probe until it reaches past the deepest point found (at most 3x).
         let mut probe = (3.0 * spacing).max(3.0 * dt_center);
         let mut max_dt = dt_center;
+        // The probes are nested prefixes of `order`: each scans only what the last did not.
+        let mut scanned = 0;
         for _ in 0..3 {
             self.grow_disk(c, probe);
-            let count = self.prefix(probe);
-            max_dt = self.order[..count]
+            let count = self.prefix(probe).max(scanned);
+            max_dt = self.order[scanned..count]
                 .iter()
                 .map(|&(_, p)| self.points.half_width[p as usize] as f64)
                 .fold(max_dt, f64::max);
+            scanned = count;
             if 2.0 * max_dt + spacing <= probe {
                 break;
             }

@@ -237,12 +237,17 @@ fn run_chunks(count: usize, part: impl Fn(usize) -> PointSet + Sync, params: &Pa
         .into_par_iter()
         .map(|c| {
             let clock = Instant::now();
-            let points = part(c);
+            let mut points = part(c);
             let mut timings = Timings {
                 points: clock.elapsed(),
                 ..Timings::default()
             };
             let refined = refine_stages(&points, params, &mut timings, None);
+            // The pixel index is the bulk of a chunk's memory; the chunks wait for the others
+            // without it, so the next chunk's index reuses the same memory.
+            if let Some(grid) = &mut points.grid {
+                grid.release();
+            }
             (points, refined, timings)
         })
         .collect();
@@ -259,8 +264,11 @@ fn run_chunks(count: usize, part: impl Fn(usize) -> PointSet + Sync, params: &Pa
     let h = fit::node_spacing(&graphs, first, params);
     let parts: Vec<(StrokeGraph, usize, Timings)> = refined
         .into_par_iter()
-        .map(|(points, refined, mut timings)| {
+        .map(|(mut points, refined, mut timings)| {
             let clock = Instant::now();
+            if let Some(grid) = &mut points.grid {
+                grid.rebuild(&points.points);
+            }
             let graph = fit::fit_with_spacing(&refined, &points, params, h);
             timings.fit = clock.elapsed();
             (graph, points.len(), timings)

@@ -21,6 +21,22 @@ impl Grid {
     /// Marks a background pixel in [`Grid::index`].
     pub const NONE: u32 = u32::MAX;
 
+    /// Frees the pixel index, keeping the window: a chunk waiting between stages holds no
+    /// per-pixel memory (see [`Grid::rebuild`]).
+    pub(crate) fn release(&mut self) {
+        self.index = Vec::new();
+    }
+
+    /// Fills the pixel index of the window from `points`, the pixel centers of the window's ink.
+    pub(crate) fn rebuild(&mut self, points: &[[f64; 2]]) {
+        let width = self.width as usize;
+        self.index = vec![Self::NONE; width * self.height as usize];
+        for (i, p) in points.iter().enumerate() {
+            let (x, y) = (p[0].floor() as i64 - self.x0, p[1].floor() as i64 - self.y0);
+            self.index[y as usize * width + x as usize] = i as u32;
+        }
+    }
+
     /// The point at pixel `(x, y)`, if it is ink.
     #[inline]
     pub fn point_at(&self, x: i64, y: i64) -> Option<u32> {
@@ -258,19 +274,15 @@ impl PointSet {
                 y1 = y1.max(y);
             }
             if x0 <= x1 {
-                let (width, height) = ((x1 - x0 + 1) as u32, (y1 - y0 + 1) as u32);
-                let mut index = vec![Grid::NONE; width as usize * height as usize];
-                for (i, p) in part.points.iter().enumerate() {
-                    let (x, y) = (p[0].floor() as i64 - x0, p[1].floor() as i64 - y0);
-                    index[y as usize * width as usize + x as usize] = i as u32;
-                }
-                part.grid = Some(Grid {
-                    width,
-                    height,
-                    index,
+                let mut grid = Grid {
+                    width: (x1 - x0 + 1) as u32,
+                    height: (y1 - y0 + 1) as u32,
+                    index: Vec::new(),
                     x0,
                     y0,
-                });
+                };
+                grid.rebuild(&part.points);
+                part.grid = Some(grid);
             }
         }
         part

@@ -355,7 +355,7 @@ pub(crate) fn tiny_hole_pixels(ink: &[bool], width: usize, height: usize) -> usi
                 if ink[i] || !ink[i - 1] {
                     continue;
                 }
-                if let Some(size) = tiny_component(ink, width, height, i) {
+                if let Some(size) = tiny_hole(ink, width, height, i) {
                     total += size;
                 }
             }
@@ -366,7 +366,7 @@ pub(crate) fn tiny_hole_pixels(ink: &[bool], width: usize, height: usize) -> usi
 
 /// The size of the background component of pixel `start` when it has at most 3 pixels, does not
 /// touch the border, and `start` is its first pixel in raster order (so each is counted once).
-fn tiny_component(ink: &[bool], width: usize, height: usize, start: usize) -> Option<usize> {
+pub(crate) fn tiny_hole(ink: &[bool], width: usize, height: usize, start: usize) -> Option<usize> {
     let mut component = [start; 3];
     let mut len = 1;
     let mut next = 0;

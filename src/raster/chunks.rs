@@ -13,7 +13,7 @@
 use rayon::prelude::*;
 
 use super::points::{check_point_count, dropout_mode, for_each_in_window, nearest_distance};
-use crate::mask::{ink_row_starts, tiny_hole_pixels, RunEnvelope};
+use crate::mask::{ink_row_starts, tiny_hole, RunEnvelope};
 use crate::{Binary, Grid, Params, PointSet, Result};
 
 /// A run of ink pixels `x0..x1` (end excluded) in row `y`.
@@ -66,38 +66,51 @@ pub(crate) fn pixel_chunks(
     // `points` finds them (the spacing sums in the same order, so `Dis_ave` is the same number).
     let rows: Vec<(Vec<Run>, (f64, u64), usize)> = (0..height)
         .into_par_iter()
-        .map(|y| {
-            let row = &ink[y * width..(y + 1) * width];
-            let mut runs = Vec::new();
-            let mut spacing = (0.0f64, 0u64);
-            let mut loose = 0;
-            let mut x = 0;
-            while x < width {
-                if !row[x] {
-                    x += 1;
-                    continue;
+        .map_init(
+            || vec![0u8; width + 2],
+            |column, y| {
+                let row = &ink[y * width..(y + 1) * width];
+                // Ink in each column of rows y - 1..=y + 1, at `column[x + 1]`: a pixel's degree
+                // is the sum over its three columns, less itself.
+                let column = &mut column[..];
+                for (c, &on) in column[1..=width].iter_mut().zip(row) {
+                    *c = u8::from(on);
                 }
-                let start = x;
-                while x < width && row[x] {
-                    let mut degree = 0;
-                    for_each_in_window(ink, width, height, 1, x, y, |other| {
-                        degree += u32::from(other)
-                    });
-                    loose += usize::from(degree == 1);
-                    if let Some(d) = nearest_distance(ink, width, height, x, y, degree) {
-                        spacing.0 += d;
-                        spacing.1 += 1;
+                let neighbour_rows = [y.checked_sub(1), Some(y + 1).filter(|&v| v < height)];
+                for v in neighbour_rows.into_iter().flatten() {
+                    let other = &ink[v * width..(v + 1) * width];
+                    for (c, &on) in column[1..=width].iter_mut().zip(other) {
+                        *c += u8::from(on);
                     }
-                    x += 1;
                 }
-                runs.push(Run {
-                    y: y as u32,
-                    x0: start as u32,
-                    x1: x as u32,
-                });
-            }
-            (runs, spacing, loose)
-        })
+                let mut runs = Vec::new();
+                let mut spacing = (0.0f64, 0u64);
+                let mut loose = 0;
+                let mut x = 0;
+                while x < width {
+                    if !row[x] {
+                        x += 1;
+                        continue;
+                    }
+                    let start = x;
+                    while x < width && row[x] {
+                        let degree = u32::from(column[x] + column[x + 1] + column[x + 2]) - 1;
+                        loose += usize::from(degree == 1);
+                        if let Some(d) = nearest_distance(ink, width, height, x, y, degree) {
+                            spacing.0 += d;
+                            spacing.1 += 1;
+                        }
+                        x += 1;
+                    }
+                    runs.push(Run {
+                        y: y as u32,
+                        x0: start as u32,
+                        x1: x as u32,
+                    });
+                }
+                (runs, spacing, loose)
+            },
+        )
         .collect();
     let mut spacing_sum = (0.0f64, 0u64);
     let mut loose = 0;
@@ -113,12 +126,18 @@ pub(crate) fn pixel_chunks(
     } else {
         spacing_sum.0 / spacing_sum.1 as f64
     };
-    if dropout_mode(params, count, loose, spacing, || {
-        tiny_hole_pixels(ink, width, height)
-    }) {
+    let runs: Vec<Run> = rows.into_iter().flat_map(|(runs, _, _)| runs).collect();
+    // Tiny holes (as `mask::tiny_hole_pixels` counts them): each is counted from its first pixel
+    // in raster order, which ends a run of ink.
+    let holes = || {
+        runs.par_iter()
+            .filter(|r| r.y > 0 && (r.y as usize) + 1 < height && (r.x1 as usize) + 1 < width)
+            .filter_map(|r| tiny_hole(ink, width, height, r.y as usize * width + r.x1 as usize))
+            .sum()
+    };
+    if dropout_mode(params, count, loose, spacing, holes) {
         return Ok(None);
     }
-    let runs: Vec<Run> = rows.into_iter().flat_map(|(runs, _, _)| runs).collect();
 
     // 8-connected components of the runs: a run touches the runs of the row above that overlap
     // it or meet it at a corner. Each set's root is its first run, so components come numbered in
@@ -387,6 +406,30 @@ mod tests {
             ..Params::default()
         };
         assert!(pixel_chunks(&binary, &forced, 10).expect("ok").is_none());
+    }
+
+    #[test]
+    fn pinholes_switch_dropout_on_as_for_the_whole_page() {
+        // Bars punched with single-pixel holes (3% of the ink) in every other row.
+        let mut binary = Binary::new(60, 40);
+        for y in 2..38 {
+            for x in 2..58 {
+                let hole = y % 2 == 0 && x % 16 == (y / 2) % 16 && x > 2 && x < 57;
+                binary.set(x, y, !hole);
+            }
+        }
+        let params = Params::default();
+        assert!(points(&binary, &params).expect("points").dropout);
+        assert!(pixel_chunks(&binary, &params, 10).expect("ok").is_none());
+        // Without the holes the bars are traced in chunks.
+        let mut solid = Binary::new(60, 40);
+        for y in 2..38 {
+            for x in 2..58 {
+                solid.set(x, y, true);
+            }
+        }
+        assert!(!points(&solid, &params).expect("points").dropout);
+        assert!(pixel_chunks(&solid, &params, 10).expect("ok").is_some());
     }
 
     #[test]

@@ -59,9 +59,11 @@ const BUCKETS: usize = 2048;
 /// the old nodes `near[i]` it was resampled between. Points no search reaches (a component without
 /// any site) are left out.
 ///
-/// The search runs one ink component at a time: a global distance order would visit the image in
-/// rings around every site at once, a cache miss per point on a page; per component the working
-/// set is one glyph or ridge.
+/// One search runs over all sites at once. Ink components never exchange points, and each
+/// component's pushes keep their order in the shared buckets, so every component gets the same
+/// partition (ties included) as a search of its own would give; a large input reaches here cut
+/// into chunks of whole components (`PointSet::component_chunks`), so the working set stays a
+/// chunk's.
 pub fn assign(
     points: &PointSet,
     owned: &Groups,
@@ -73,40 +75,6 @@ pub fn assign(
     // A point set without its neighbour arrays still gets its sources labelled.
     let linked = points.offsets.len() == n + 1;
     let neighbors_of = |p: u32| if linked { points.neighbors_of(p) } else { &[] };
-    let sources: Vec<Option<u32>> = sites
-        .iter()
-        .zip(near)
-        .map(|(&site, pair)| source(points, owned, site, pair))
-        .collect();
-
-    // Ink components that hold a source, numbered in site order, by breadth-first search.
-    let mut component = vec![u32::MAX; n];
-    let mut queue: Vec<u32> = Vec::new();
-    let mut site_component = vec![u32::MAX; sites.len()];
-    let mut components = 0u32;
-    for (i, &p) in sources.iter().enumerate() {
-        let Some(p) = p else { continue };
-        if component[p as usize] == u32::MAX {
-            queue.clear();
-            queue.push(p);
-            component[p as usize] = components;
-            let mut head = 0;
-            while head < queue.len() {
-                let here = queue[head];
-                head += 1;
-                for &q in neighbors_of(here) {
-                    if component[q as usize] == u32::MAX {
-                        component[q as usize] = components;
-                        queue.push(q);
-                    }
-                }
-            }
-            components += 1;
-        }
-        site_component[i] = component[p as usize];
-    }
-    drop(component);
-    let by_component = Groups::new(&site_component, components as usize);
 
     let per_unit = STEPS_PER_SPACING / unit;
     // Rounds by truncation after adding one half (d >= 0): `f64::round` is a library call.
@@ -114,48 +82,49 @@ pub fn assign(
     // (distance in quanta, site) per point, side by side: one cache line per visit.
     let mut state = vec![(u32::MAX, u32::MAX); n];
     let mut buckets: Vec<Vec<u32>> = vec![Vec::new(); BUCKETS];
-    for c in 0..components as usize {
-        let mut pending = 0usize;
-        for &i in by_component.of(c) {
-            let Some(p) = sources[i as usize] else {
-                continue;
-            };
-            let d = quantize(distance(sites[i as usize], points.points[p as usize]));
-            if d < state[p as usize].0 {
-                state[p as usize] = (d, i);
-                buckets[d as usize % BUCKETS].push(p);
-                pending += 1;
+    let mut pending = 0usize;
+    for (i, (&site, pair)) in sites.iter().zip(near).enumerate() {
+        let Some(p) = source(points, owned, site, pair) else {
+            continue;
+        };
+        let d = quantize(distance(site, points.points[p as usize]));
+        if d < state[p as usize].0 {
+            state[p as usize] = (d, i as u32);
+            buckets[d as usize % BUCKETS].push(p);
+            pending += 1;
+        }
+    }
+    let mut current = 0usize;
+    while pending > 0 {
+        let slot = current % BUCKETS;
+        let mut bucket = std::mem::take(&mut buckets[slot]);
+        pending -= bucket.len();
+        for (j, &p) in bucket.iter().enumerate() {
+            if linked {
+                ahead(points, &state, &bucket, j);
+            }
+            let (reached, owner) = state[p as usize];
+            if reached as usize != current {
+                continue; // superseded by a shorter path
+            }
+            let here = points.points[p as usize];
+            for &q in neighbors_of(p) {
+                if state[q as usize].0 as usize <= current {
+                    continue; // settled: spare the distance
+                }
+                let step = quantize(distance(here, points.points[q as usize])).max(1);
+                let d = current as u32 + step;
+                if d < state[q as usize].0 {
+                    state[q as usize] = (d, owner);
+                    // step <= MAX_STEP < BUCKETS: never the slot being drained.
+                    buckets[d as usize % BUCKETS].push(q);
+                    pending += 1;
+                }
             }
         }
-        let mut current = 0usize;
-        while pending > 0 {
-            let slot = current % BUCKETS;
-            let mut bucket = std::mem::take(&mut buckets[slot]);
-            pending -= bucket.len();
-            for &p in &bucket {
-                let (reached, owner) = state[p as usize];
-                if reached as usize != current {
-                    continue; // superseded by a shorter path
-                }
-                let here = points.points[p as usize];
-                for &q in neighbors_of(p) {
-                    if state[q as usize].0 as usize <= current {
-                        continue; // settled: spare the distance
-                    }
-                    let step = quantize(distance(here, points.points[q as usize])).max(1);
-                    let d = current as u32 + step;
-                    if d < state[q as usize].0 {
-                        state[q as usize] = (d, owner);
-                        // step <= MAX_STEP < BUCKETS: never the slot being drained.
-                        buckets[d as usize % BUCKETS].push(q);
-                        pending += 1;
-                    }
-                }
-            }
-            bucket.clear();
-            buckets[slot] = bucket;
-            current += 1;
-        }
+        bucket.clear();
+        buckets[slot] = bucket;
+        current += 1;
     }
     let label: Vec<u32> = state.into_iter().map(|(_, site)| site).collect();
     Groups::new(&label, sites.len())
@@ -194,4 +163,44 @@ fn source(points: &PointSet, owned: &Groups, site: [f64; 2], near: &[u32; 2]) ->
         }
     }
     best.map(|(_, p)| p)
+}
+
+/// Prefetch distances (bucket entries ahead of the one being settled) for a point's own data,
+/// its neighbour list and its neighbours' data: each level needs the one before it in cache.
+const AHEAD_POINT: usize = 16;
+const AHEAD_LIST: usize = 8;
+const AHEAD_NEIGHBORS: usize = 4;
+
+/// Asks for the memory that settling `bucket[j + ...]` will read.
+#[inline(always)]
+fn ahead(points: &PointSet, state: &[(u32, u32)], bucket: &[u32], j: usize) {
+    if let Some(&a) = bucket.get(j + AHEAD_POINT) {
+        prefetch(&points.offsets[a as usize]);
+        prefetch(&points.points[a as usize]);
+        prefetch(&state[a as usize]);
+    }
+    if let Some(&a) = bucket.get(j + AHEAD_LIST) {
+        prefetch(&points.neighbors[points.offsets[a as usize] as usize..]);
+    }
+    if let Some(&a) = bucket.get(j + AHEAD_NEIGHBORS) {
+        let list = points.neighbors_of(a);
+        // Neighbour lists are sorted by index: the first and last are the rows above and below.
+        if let (Some(&first), Some(&last)) = (list.first(), list.last()) {
+            prefetch(&state[first as usize]);
+            prefetch(&state[last as usize]);
+            prefetch(&points.points[first as usize]);
+            prefetch(&points.points[last as usize]);
+        }
+    }
+}
+
+#[inline(always)]
+fn prefetch<T: ?Sized>(x: &T) {
+    #[cfg(target_arch = "x86_64")]
+    // SAFETY: a prefetch is a hint; it never faults and reads nothing into the program.
+    unsafe {
+        std::arch::x86_64::_mm_prefetch::<{ std::arch::x86_64::_MM_HINT_T0 }>(
+            x as *const T as *const i8,
+        )
+    }
 }

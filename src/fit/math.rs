@@ -1,6 +1,19 @@
 //! Small geometry for the fit: L1 medians (Weiszfeld), principal directions, least-squares line
 //! intersections and arc-length walks along polylines.
 
+/// Working arrays of [`l1_median`], kept between calls so that nothing is allocated per node.
+#[derive(Clone, Debug, Default)]
+pub struct MedianScratch {
+    /// Member coordinates, one array per axis (structure of arrays: the per-member pass below
+    /// runs on two members per instruction).
+    xs: Vec<f64>,
+    ys: Vec<f64>,
+    /// Per member: the weight `1 / d` (0 for a coincident member) and the weighted coordinates.
+    w: Vec<f64>,
+    wx: Vec<f64>,
+    wy: Vec<f64>,
+}
+
 /// Geometric (L1) median of `points[members]` by Weiszfeld's iteration from the mean (§3.4: the
 /// paper's `q'_i`, robust to outliers where the mean is not).
 ///
@@ -12,41 +25,61 @@
 /// (Weiszfeld converges linearly, so the estimate is then within a few `tolerance` of the
 /// median).
 ///
-/// The members are copied into `sample` first: the iteration reads them `iterations` times, and
+/// The members are copied into `scratch` first: the iteration reads them `iterations` times, and
 /// a node's points lie on several image rows, far apart in the point array.
 pub fn l1_median(
     points: &[[f64; 2]],
     members: &[u32],
     iterations: usize,
     tolerance: f64,
-    sample: &mut Vec<[f64; 2]>,
+    scratch: &mut MedianScratch,
 ) -> Option<[f64; 2]> {
     if members.is_empty() {
         return None;
     }
-    sample.clear();
-    sample.extend(members.iter().map(|&m| points[m as usize]));
+    let MedianScratch { xs, ys, w, wx, wy } = scratch;
+    xs.clear();
+    ys.clear();
     let n = members.len() as f64;
     let mut x = [0.0, 0.0];
-    for &p in sample.iter() {
+    for &m in members {
+        let p = points[m as usize];
+        xs.push(p[0]);
+        ys.push(p[1]);
         x[0] += p[0];
         x[1] += p[1];
     }
     x = [x[0] / n, x[1] / n];
+    w.resize(members.len(), 0.0);
+    wx.resize(members.len(), 0.0);
+    wy.resize(members.len(), 0.0);
     for _ in 0..iterations {
+        // The square roots and divisions, independent per member, in one vectorizable pass; a
+        // coincident member gets weight 0, and adding its zero terms below leaves the sums as
+        // skipping it would (a sum that starts at +0.0 never becomes -0.0).
+        let mut coincident = 0usize;
+        for ((((&px, &py), wi), wxi), wyi) in xs
+            .iter()
+            .zip(ys.iter())
+            .zip(w.iter_mut())
+            .zip(wx.iter_mut())
+            .zip(wy.iter_mut())
+        {
+            let d = distance([px, py], x);
+            let near = d < 1e-9;
+            coincident += usize::from(near);
+            let weight = if near { 0.0 } else { 1.0 / d };
+            *wi = weight;
+            *wxi = weight * px;
+            *wyi = weight * py;
+        }
+        // The sums in member order, as the sequential iteration adds them.
         let mut weighted = [0.0, 0.0];
         let mut total = 0.0;
-        let mut coincident = 0usize;
-        for &p in sample.iter() {
-            let d = distance(p, x);
-            if d < 1e-9 {
-                coincident += 1;
-                continue;
-            }
-            let w = 1.0 / d;
-            weighted[0] += w * p[0];
-            weighted[1] += w * p[1];
-            total += w;
+        for ((&wi, &wxi), &wyi) in w.iter().zip(wx.iter()).zip(wy.iter()) {
+            weighted[0] += wxi;
+            weighted[1] += wyi;
+            total += wi;
         }
         if total == 0.0 {
             break; // every member sits on x
@@ -183,7 +216,14 @@ mod tests {
     fn weiszfeld_finds_the_diagonal_crossing_of_a_quadrilateral() {
         // The geometric median of four points in convex position is where the diagonals cross.
         let points = [[0.0, 0.0], [4.0, 0.0], [5.0, 6.0], [0.0, 2.0]];
-        let m = l1_median(&points, &all(&points), 200, 1e-9, &mut Vec::new()).unwrap();
+        let m = l1_median(
+            &points,
+            &all(&points),
+            200,
+            1e-9,
+            &mut MedianScratch::default(),
+        )
+        .unwrap();
         // Diagonals (0,0)-(5,6) and (4,0)-(0,2) meet at t = 4/17 along the first.
         let t = 4.0 / 17.0;
         assert!(
@@ -202,16 +242,33 @@ mod tests {
             [3.0, 0.0],
             [1000.0, 0.0],
         ];
-        let m = l1_median(&points, &all(&points), 100, 1e-9, &mut Vec::new()).unwrap();
+        let m = l1_median(
+            &points,
+            &all(&points),
+            100,
+            1e-9,
+            &mut MedianScratch::default(),
+        )
+        .unwrap();
         assert!((m[0] - 2.0).abs() < 1e-2 && m[1].abs() < 1e-9, "{m:?}");
         // The mean (1, 1) is itself a member: the iteration must not divide by zero.
         let points = [[1.0, 1.0], [0.0, 0.0], [2.0, 2.0], [0.0, 2.0], [2.0, 0.0]];
-        let m = l1_median(&points, &all(&points), 20, 1e-9, &mut Vec::new()).unwrap();
+        let m = l1_median(
+            &points,
+            &all(&points),
+            20,
+            1e-9,
+            &mut MedianScratch::default(),
+        )
+        .unwrap();
         assert!(
             (m[0] - 1.0).abs() < 1e-9 && (m[1] - 1.0).abs() < 1e-9,
             "{m:?}"
         );
-        assert_eq!(l1_median(&points, &[], 20, 1e-9, &mut Vec::new()), None);
+        assert_eq!(
+            l1_median(&points, &[], 20, 1e-9, &mut MedianScratch::default()),
+            None
+        );
     }
 
     #[test]

@@ -79,8 +79,8 @@ pub fn fit_with_spacing(
     // Per-node medians are independent: parallel, and the same whatever the thread count.
     let medians: Vec<Option<[f64; 2]>> = (0..count)
         .into_par_iter()
-        .map_init(Vec::new, |sample, i| {
-            math::l1_median(&points.points, cells.of(i), iterations, tolerance, sample)
+        .map_init(math::MedianScratch::default, |scratch, i| {
+            math::l1_median(&points.points, cells.of(i), iterations, tolerance, scratch)
         })
         .collect();
 

@@ -84,6 +84,14 @@ pub fn assign(
     let mut buckets: Vec<Vec<u32>> = vec![Vec::new(); BUCKETS];
     let mut pending = 0usize;
     for (i, (&site, pair)) in sites.iter().zip(near).enumerate() {
+        if let (Some(grid), Some(&later)) = (&points.grid, sites.get(i + AHEAD_SITE)) {
+            // Truncation, not `floor`: a hint needs no exact cell.
+            let x = (later[0] as i64).saturating_sub(grid.x0);
+            let y = (later[1] as i64).saturating_sub(grid.y0);
+            if (0..grid.width as i64).contains(&x) && (0..grid.height as i64).contains(&y) {
+                prefetch(&grid.index[y as usize * grid.width as usize + x as usize]);
+            }
+        }
         let Some(p) = source(points, owned, site, pair) else {
             continue;
         };
@@ -150,7 +158,10 @@ fn source(points: &PointSet, owned: &Groups, site: [f64; 2], near: &[u32; 2]) ->
         // bounded (the search from the source corrects a slightly farther start).
         let members = owned.of(old as usize);
         let stride = members.len().div_ceil(2048).max(1);
-        for &p in members.iter().step_by(stride) {
+        for (k, &p) in members.iter().enumerate().step_by(stride) {
+            if let Some(&later) = members.get(k + AHEAD_MEMBER * stride) {
+                prefetch(&points.points[later as usize]);
+            }
             let q = points.points[p as usize];
             let d = (q[0] - site[0]).powi(2) + (q[1] - site[1]).powi(2);
             let closer = match best {
@@ -170,6 +181,10 @@ fn source(points: &PointSet, owned: &Groups, site: [f64; 2], near: &[u32; 2]) ->
 const AHEAD_POINT: usize = 16;
 const AHEAD_LIST: usize = 8;
 const AHEAD_NEIGHBORS: usize = 4;
+/// Prefetch distances of the sources: sites ahead for the grid cell under them, members ahead in
+/// the scan of an off-ink site's old nodes.
+const AHEAD_SITE: usize = 8;
+const AHEAD_MEMBER: usize = 8;
 
 /// Asks for the memory that settling `bucket[j + ...]` will read.
 #[inline(always)]

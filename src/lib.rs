@@ -168,7 +168,8 @@ pub fn trace_binary(binary: &Binary, params: &Params) -> Result<Trace> {
     // traced; a small one (or one in dropout mode) becomes one point set first.
     if let Some(chunks) = raster::pixel_chunks(binary, params, CHUNK_POINTS)? {
         let scan_time = start.elapsed();
-        let mut trace = run_chunks(chunks.len(), |c| chunks.part(c), params);
+        let sizes: Vec<usize> = (0..chunks.len()).map(|c| chunks.size(c)).collect();
+        let mut trace = run_chunks(&sizes, |c| chunks.part(c), params);
         trace.graph.width = binary.width;
         trace.graph.height = binary.height;
         trace.timings.points += scan_time;
@@ -219,7 +220,8 @@ fn run(points: PointSet, width: u32, height: u32, params: &Params, keep: bool) -
         }
     } else {
         let chunks = points.component_chunks(CHUNK_POINTS);
-        run_chunks(chunks.len(), |c| chunks.part(&points, c), params)
+        let sizes: Vec<usize> = (0..chunks.len()).map(|c| chunks.size(c)).collect();
+        run_chunks(&sizes, |c| chunks.part(&points, c), params)
     };
     trace.graph.width = width;
     trace.graph.height = height;
@@ -231,9 +233,13 @@ fn run(points: PointSet, width: u32, height: u32, params: &Params, keep: bool) -
 /// thread count, nor on where the chunks were cut: every stage treats components independently,
 /// and the one figure taken over the whole input, the fit's node spacing `h` (the median stroke
 /// width), is taken between the refinement of all chunks and their fits.
-fn run_chunks(count: usize, part: impl Fn(usize) -> PointSet + Sync, params: &Params) -> Trace {
+/// Chunks are started largest first (a page's one giant component would otherwise be picked up
+/// late and run alone at the end); `sizes` are their point counts.
+fn run_chunks(sizes: &[usize], part: impl Fn(usize) -> PointSet + Sync, params: &Params) -> Trace {
     use rayon::prelude::*;
-    let refined: Vec<(PointSet, NodeGraph, Timings)> = (0..count)
+    let mut order: Vec<usize> = (0..sizes.len()).collect();
+    order.sort_by_key(|&c| std::cmp::Reverse(sizes[c]));
+    let refined: Vec<(usize, PointSet, NodeGraph, Timings)> = order
         .into_par_iter()
         .map(|c| {
             let clock = Instant::now();
@@ -248,10 +254,10 @@ fn run_chunks(count: usize, part: impl Fn(usize) -> PointSet + Sync, params: &Pa
             if let Some(grid) = &mut points.grid {
                 grid.release();
             }
-            (points, refined, timings)
+            (c, points, refined, timings)
         })
         .collect();
-    let Some((first, _, _)) = refined.first() else {
+    let Some((_, first, _, _)) = refined.first() else {
         return Trace {
             graph: StrokeGraph::default(),
             binary: None,
@@ -260,24 +266,25 @@ fn run_chunks(count: usize, part: impl Fn(usize) -> PointSet + Sync, params: &Pa
             timings: Timings::default(),
         };
     };
-    let graphs: Vec<&NodeGraph> = refined.iter().map(|(_, graph, _)| graph).collect();
+    let graphs: Vec<&NodeGraph> = refined.iter().map(|(_, _, graph, _)| graph).collect();
     let h = fit::node_spacing(&graphs, first, params);
-    let parts: Vec<(StrokeGraph, usize, Timings)> = refined
+    let mut parts: Vec<(usize, StrokeGraph, usize, Timings)> = refined
         .into_par_iter()
-        .map(|(mut points, refined, mut timings)| {
+        .map(|(c, mut points, refined, mut timings)| {
             let clock = Instant::now();
             if let Some(grid) = &mut points.grid {
                 grid.rebuild(&points.points);
             }
             let graph = fit::fit_with_spacing(&refined, &points, params, h);
             timings.fit = clock.elapsed();
-            (graph, points.len(), timings)
+            (c, graph, points.len(), timings)
         })
         .collect();
+    parts.sort_by_key(|&(c, ..)| c);
     let mut graph = StrokeGraph::default();
     let mut timings = Timings::default();
     let mut point_count = 0;
-    for (part, n, t) in parts {
+    for (_, part, n, t) in parts {
         let offset = graph.vertices.len();
         graph.vertices.extend(part.vertices);
         graph.edges.extend(part.edges.into_iter().map(|mut e| {

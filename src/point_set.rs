@@ -65,6 +65,11 @@ impl ComponentChunks {
         self.offsets.len() - 1
     }
 
+    /// Number of points in chunk `c`.
+    pub(crate) fn size(&self, c: usize) -> usize {
+        (self.offsets[c + 1] - self.offsets[c]) as usize
+    }
+
     /// Chunk `c` of `points` (the set these chunks were made from) as a point set of its own.
     pub(crate) fn part(&self, points: &PointSet, c: usize) -> PointSet {
         let members = &self.members[self.offsets[c] as usize..self.offsets[c + 1] as usize];

@@ -227,6 +227,14 @@ impl PixelChunks {
         self.offsets.len() - 1
     }
 
+    /// Number of points in chunk `c`.
+    pub(crate) fn size(&self, c: usize) -> usize {
+        self.runs[self.offsets[c]..self.offsets[c + 1]]
+            .iter()
+            .map(Run::len)
+            .sum()
+    }
+
     /// The point set of chunk `c`: its pixels in raster order, the 8-neighbour lists, the
     /// half-widths and the pixel index of its bounding box.
     pub(crate) fn part(&self, c: usize) -> PointSet {

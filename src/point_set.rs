@@ -165,14 +165,16 @@ impl PointSet {
         (0..chunks.len()).map(|c| chunks.part(self, c)).collect()
     }
 
-    /// The chunks of [`PointSet::split_components`] as lists of point indices, so that each chunk's
-    /// point set can be built where it is traced (in parallel, and only while it is traced: the
-    /// copies of all chunks never exist at once).
-    pub(crate) fn component_chunks(&self, target: usize) -> ComponentChunks {
+    /// Each point's connected component (of the neighbour graph), numbered in order of the
+    /// components' first points, and the components' sizes.
+    pub fn component_labels(&self) -> (Vec<u32>, Vec<usize>) {
         let n = self.len();
-        // Component label of each point, numbered in order of first point, by union-find over
-        // the neighbour lists in index order: the lists are read as they lie in memory (a depth-
-        // first walk jumps around them), and each set's root is its smallest point.
+        if self.offsets.len() != n + 1 {
+            return ((0..n as u32).collect(), vec![1; n]);
+        }
+        // Union-find over the neighbour lists in index order: the lists are read as they lie in
+        // memory (a depth-first walk jumps around them), and each set's root is its smallest
+        // point.
         let mut parent: Vec<u32> = (0..n as u32).collect();
         let find = |parent: &mut [u32], mut p: u32| {
             while parent[p as usize] != p {
@@ -205,6 +207,15 @@ impl PointSet {
                 sizes[label[p] as usize] += 1;
             }
         }
+        (label, sizes)
+    }
+
+    /// The chunks of [`PointSet::split_components`] as lists of point indices, so that each chunk's
+    /// point set can be built where it is traced (in parallel, and only while it is traced: the
+    /// copies of all chunks never exist at once).
+    pub(crate) fn component_chunks(&self, target: usize) -> ComponentChunks {
+        let (mut label, sizes) = self.component_labels();
+        let n = self.len();
         // Consecutive components fill a chunk up to `target` points.
         let mut chunk_of = Vec::with_capacity(sizes.len());
         let mut chunks = 0u32;

@@ -66,6 +66,7 @@ const BUCKETS: usize = 2048;
 /// chunk's.
 pub fn assign(
     points: &PointSet,
+    components: &[u32],
     owned: &Groups,
     sites: &[[f64; 2]],
     near: &[[u32; 2]],
@@ -92,7 +93,7 @@ pub fn assign(
                 prefetch(&grid.index[y as usize * grid.width as usize + x as usize]);
             }
         }
-        let Some(p) = source(points, owned, site, pair) else {
+        let Some(p) = source(points, components, owned, site, pair) else {
             continue;
         };
         let d = quantize(distance(site, points.points[p as usize]));
@@ -139,10 +140,21 @@ pub fn assign(
 }
 
 /// The point a site's search starts from.
-fn source(points: &PointSet, owned: &Groups, site: [f64; 2], near: &[u32; 2]) -> Option<u32> {
+fn source(
+    points: &PointSet,
+    components: &[u32],
+    owned: &Groups,
+    site: [f64; 2],
+    near: &[u32; 2],
+) -> Option<u32> {
     if let Some(grid) = &points.grid {
         if let Some(p) = grid.point_at(site[0].floor() as i64, site[1].floor() as i64) {
-            if (p as usize) < points.len() {
+            // The pixel under a site between two strokes may belong to the neighbouring
+            // component; the search from it would claim that component's points.
+            let own = near.iter().find_map(|&old| owned.of(old as usize).first());
+            let same =
+                own.is_none_or(|&q| components.get(p as usize) == components.get(q as usize));
+            if (p as usize) < points.len() && same {
                 return Some(p);
             }
         }

@@ -71,7 +71,10 @@ pub fn fit_with_spacing(
     } else {
         Groups::default()
     };
-    let cells = assign::assign(points, &owned, &layout.pos, &layout.near, unit);
+    // Lookups by pixel (a site's first point, the width under a point) must not land on a
+    // neighbouring component's pixel: a whole page holds its neighbours, a chunk may not.
+    let (components, _) = points.component_labels();
+    let cells = assign::assign(points, &components, &owned, &layout.pos, &layout.near, unit);
     let iterations = params.weiszfeld_iterations;
     // A ten-thousandth of a pixel (of `Dis_ave` for point lists): far below what the output keeps
     // (0.01 px), and it halves the Weiszfeld work on a page (most cells settle in a few steps).
@@ -136,9 +139,13 @@ pub fn fit_with_spacing(
             }
         }
     }
-    build(
-        graph, points, &layout, &cells, &polylines, &positions, &degrees,
-    )
+    let width = |p: [f64; 2], v: u32| width_at(graph, points, &components, &layout, &cells, p, v);
+    build(&layout, &polylines, &positions, &degrees, width)
+}
+
+/// Whether point `p` is in the component of point `of` (`None`: nothing to compare with).
+fn same_component(components: &[u32], p: u32, of: Option<u32>) -> bool {
+    of.is_none_or(|of| components.get(p as usize) == components.get(of as usize))
 }
 
 /// Lengths in pixels for images; in units of the point spacing `Dis_ave` for point lists.
@@ -252,21 +259,24 @@ fn uniform_laplacian(polylines: &[Vec<u32>], count: usize) -> Smoothness {
 fn width_at(
     graph: &NodeGraph,
     points: &PointSet,
+    components: &[u32],
     layout: &Layout,
     cells: &Groups,
     p: [f64; 2],
     unknown: u32,
 ) -> f64 {
     let half = |i: u32| points.half_width.get(i as usize).map(|&h| 2.0 * h as f64);
+    let cell = cells.of(unknown as usize);
     if let Some(grid) = &points.grid {
-        if let Some(w) = grid
-            .point_at(p[0].floor() as i64, p[1].floor() as i64)
+        let under = grid.point_at(p[0].floor() as i64, p[1].floor() as i64);
+        if let Some(w) = under
+            .filter(|&q| same_component(components, q, cell.first().copied()))
             .and_then(half)
         {
             return w;
         }
     }
-    let nearest = cells.of(unknown as usize).iter().copied().min_by(|&a, &b| {
+    let nearest = cell.iter().copied().min_by(|&a, &b| {
         let (da, db) = (
             math::distance(points.points[a as usize], p),
             math::distance(points.points[b as usize], p),
@@ -314,13 +324,11 @@ fn directions(line: &[[f64; 2]], closed: bool) -> Vec<[f64; 2]> {
 }
 
 fn build(
-    graph: &NodeGraph,
-    points: &PointSet,
     layout: &Layout,
-    cells: &Groups,
     polylines: &[Vec<u32>],
     positions: &[[f64; 2]],
     degrees: &[usize],
+    width_at: impl Fn([f64; 2], u32) -> f64,
 ) -> StrokeGraph {
     let vertices = (0..layout.vertex_node.len())
         .map(|k| {
@@ -329,7 +337,7 @@ fn build(
             Vertex {
                 pos,
                 degree: degrees[k],
-                width: width_at(graph, points, layout, cells, pos, v),
+                width: width_at(pos, v),
             }
         })
         .collect();
@@ -342,7 +350,7 @@ fn build(
             let widths = ids
                 .iter()
                 .zip(&line)
-                .map(|(&i, &p)| width_at(graph, points, layout, cells, p, i))
+                .map(|(&i, &p)| width_at(p, i))
                 .collect();
             let directions = directions(&line, e.from == e.to);
             Edge {

@@ -501,3 +501,25 @@ fn timing_one_million_points_one_hundred_thousand_nodes() {
         assert_eq!(result.junctions().count(), 40);
     }
 }
+
+#[test]
+fn a_site_over_a_neighbouring_stroke_takes_the_points_of_its_own() {
+    // Two bars 2 px apart: separate components.
+    let mut binary = Binary::new(32, 12);
+    for x in 2..30 {
+        for y in (2..5).chain(7..10) {
+            binary.set(x, y, true);
+        }
+    }
+    let points = point_set(&binary);
+    let (components, sizes) = points.component_labels();
+    assert_eq!(sizes.len(), 2);
+    // One old node owns the upper bar; its site has drifted onto a pixel of the lower bar.
+    let label: Vec<u32> = components.clone();
+    let owned = super::assign::Groups::new(&label, 2);
+    let site = [15.5, 7.5];
+    assert!(points.grid.as_ref().unwrap().point_at(15, 7).is_some());
+    let cells = super::assign::assign(&points, &components, &owned, &[site], &[[0, 0]], 1.0);
+    assert_eq!(cells.of(0).len(), sizes[0], "the whole upper bar");
+    assert!(cells.of(0).iter().all(|&p| components[p as usize] == 0));
+}

@@ -20,7 +20,7 @@ use crate::{dist, GraphNode, NodeGraph, Params, PointSet};
 pub fn refine(graph: &NodeGraph, points: &PointSet, params: &Params) -> NodeGraph {
     // Holes guide contraction, merging and clean-up; the paper's rules (paper mode) ignore them.
     let holes = if params.cleanup {
-        Holes::find(points)
+        Holes::find(points, graph)
     } else {
         Holes::Unknown
     };
@@ -114,7 +114,7 @@ impl Work {
                         self.nodes[b as usize].pos,
                         self.nodes[c as usize].pos,
                     ];
-                    if !self.holes.encloses_known(&triangle) {
+                    if !self.holes.encloses_known(&triangle, a) {
                         return true;
                     }
                     i += 1;
@@ -271,7 +271,11 @@ impl Work {
                 // Two junctions on either side of a background hole are two junctions (the
                 // crossings of a small '#'), however close: merging them would erase the hole.
                 self.len(a, b) <= limit
-                    && !holes.near_segment(self.nodes[a as usize].pos, self.nodes[b as usize].pos)
+                    && !holes.near_segment(
+                        self.nodes[a as usize].pos,
+                        self.nodes[b as usize].pos,
+                        a,
+                    )
             }) {
                 // hostile (issue 5, found by fuzzing): `absorb_dangling` after an earlier group
                 // of this cluster may already have merged members of this one (they dropped to
@@ -295,7 +299,7 @@ impl Work {
     /// common neighbour `x` lose the cycle `a - x - b - (path back to a)`, which is a real loop
     /// when it encloses a hole (two crossings of a small '#' on either side of its hole).
     fn merge_loses_hole(&self, group: &[u32], holes: &Holes) -> bool {
-        if !matches!(holes, Holes::Known(_)) {
+        if !matches!(holes, Holes::Known { .. }) {
             return false;
         }
         for (i, &a) in group.iter().enumerate() {
@@ -311,7 +315,7 @@ impl Work {
                     } else {
                         polygon.push(self.nodes[b as usize].pos);
                     }
-                    if holes.encloses(&polygon) {
+                    if holes.encloses(&polygon, a) {
                         return true;
                     }
                 }
@@ -420,7 +424,7 @@ impl Work {
                 .map(|&i| self.nodes[i as usize].width)
                 .fold(0.0, f64::max);
             let hole_free = match holes {
-                Holes::Known(_) => !holes.encloses(&polygon),
+                Holes::Known { .. } => !holes.encloses(&polygon, a),
                 // Without a pixel grid there is no hole map: only a cycle too small to go around
                 // any background is taken as an artifact.
                 Holes::Unknown => perimeter < std::f64::consts::PI * width,
@@ -771,120 +775,168 @@ fn complete_linkage(items: &[u32], close: impl Fn(u32, u32) -> bool) -> Vec<Vec<
 /// Background holes (bounded background components) of the ink, each by a representative pixel.
 #[derive(Clone)]
 enum Holes {
-    /// Representative pixel centers of the holes, sorted by x.
-    Known(Vec<[f64; 2]>),
+    /// The holes of each component of the ink.
+    Known {
+        /// The holes, sorted by the x of their representatives.
+        holes: Vec<Hole>,
+        /// The component of each node's points.
+        node_component: Vec<u32>,
+    },
     /// Point-list input: no pixel grid.
     Unknown,
 }
 
+/// One background hole of a component.
+#[derive(Clone, Copy, Debug)]
+struct Hole {
+    /// A pixel center inside the hole, near its centroid.
+    rep: [f64; 2],
+    /// The component of the ink around it.
+    component: u32,
+}
+
 impl Holes {
-    /// Labels the background by runs: each row's background runs are joined to the overlapping
-    /// runs of the row above (4-connectivity) with a union-find, so the cost follows the number of
-    /// runs (ink boundaries), not the page area.
-    fn find(points: &PointSet) -> Holes {
-        let Some(grid) = &points.grid else {
+    /// The holes of each connected component of the ink: the background regions (4-connected)
+    /// that the component alone encloses, other components' pixels counting as background. So a
+    /// component's holes do not depend on which other components are traced with it (a chunk of
+    /// a page or the whole page), and a blob inside a ring does not see the ring's hole.
+    ///
+    /// Per component, its bounding box is cut into background runs between its ink runs; each
+    /// row's runs are joined to the overlapping runs of the row above with a union-find, so the
+    /// cost follows the number of runs and the boxes' heights, not their areas.
+    fn find(points: &PointSet, graph: &NodeGraph) -> Holes {
+        if points.grid.is_none() {
             return Holes::Unknown;
-        };
-        let (w, h) = (grid.width as usize, grid.height as usize);
+        }
         // Specks of background inside dropout ink are not holes (the closing of design 1).
         let min_size = if points.dropout { 4 } else { 2 };
-        // Runs: (row, x0, x1 exclusive); `row_start[y]` indexes the first run of row y.
-        let mut runs: Vec<(u32, u32, u32)> = Vec::new();
-        let mut row_start = Vec::with_capacity(h + 1);
-        for y in 0..h {
-            row_start.push(runs.len());
-            let row = &grid.index[y * w..(y + 1) * w];
-            let mut x = 0;
-            while x < w {
-                if row[x] != crate::Grid::NONE {
-                    x += 1;
-                    continue;
-                }
-                let x0 = x;
-                while x < w && row[x] == crate::Grid::NONE {
-                    x += 1;
-                }
-                runs.push((y as u32, x0 as u32, x as u32));
+        let (labels, _) = points.component_labels();
+        // Ink runs (component, row, x0, x1 exclusive) from the pixel centers.
+        let mut ink: Vec<(u32, i64, i64, i64)> = Vec::new();
+        for (p, &label) in points.points.iter().zip(&labels) {
+            let (x, y) = (p[0].floor() as i64, p[1].floor() as i64);
+            match ink.last_mut() {
+                Some(run) if run.0 == label && run.1 == y && run.3 == x => run.3 += 1,
+                _ => ink.push((label, y, x, x + 1)),
             }
         }
-        row_start.push(runs.len());
-        let mut union = petgraph::unionfind::UnionFind::<u32>::new(runs.len());
-        for y in 1..h {
-            let (above, here) = (
-                row_start[y - 1]..row_start[y],
-                row_start[y]..row_start[y + 1],
-            );
-            let mut i = above.start;
-            for j in here {
-                let (_, x0, x1) = runs[j];
-                while i < above.end && runs[i].2 <= x0 {
-                    i += 1;
-                }
-                let mut k = i;
-                while k < above.end && runs[k].1 < x1 {
-                    union.union(k as u32, j as u32);
+        ink.sort_unstable();
+        let mut holes: Vec<Hole> = Vec::new();
+        let mut background: Vec<(i64, i64, i64)> = Vec::new();
+        let mut row_start: Vec<usize> = Vec::new();
+        for component in ink.chunk_by(|a, b| a.0 == b.0) {
+            let (y0, y1) = (component[0].1, component[component.len() - 1].1);
+            let x0 = component.iter().map(|r| r.2).min().unwrap_or(0);
+            let x1 = component.iter().map(|r| r.3).max().unwrap_or(0);
+            // Background runs of the box, row by row.
+            background.clear();
+            row_start.clear();
+            let mut k = 0;
+            for y in y0..=y1 {
+                row_start.push(background.len());
+                let mut x = x0;
+                while k < component.len() && component[k].1 == y {
+                    let (_, _, a, b) = component[k];
+                    if a > x {
+                        background.push((y, x, a));
+                    }
+                    x = x.max(b);
                     k += 1;
                 }
+                if x < x1 {
+                    background.push((y, x, x1));
+                }
+            }
+            row_start.push(background.len());
+            let regions = background_regions(&background, &row_start);
+            // Per region: touches the box's edge?, size, sums for the centroid.
+            let mut stats: std::collections::BTreeMap<u32, (bool, i64, f64, f64)> =
+                std::collections::BTreeMap::new();
+            for (r, &(y, a, b)) in background.iter().enumerate() {
+                let entry = stats.entry(regions[r]).or_insert((false, 0, 0.0, 0.0));
+                let n = b - a;
+                entry.0 |= y == y0 || y == y1 || a == x0 || b == x1;
+                entry.1 += n;
+                entry.2 += (a + b) as f64 / 2.0 * n as f64;
+                entry.3 += (y as f64 + 0.5) * n as f64;
+            }
+            // The representative: the hole pixel nearest the centroid (inside for convex holes).
+            let mut best: std::collections::BTreeMap<u32, ([f64; 2], f64)> =
+                std::collections::BTreeMap::new();
+            for (r, &(y, a, b)) in background.iter().enumerate() {
+                let (edge, size, sx, sy) = stats[&regions[r]];
+                if edge || size < min_size {
+                    continue;
+                }
+                let c = [sx / size as f64, sy / size as f64];
+                let px = (c[0] - 0.5).round().clamp(a as f64, b as f64 - 1.0) + 0.5;
+                let p = [px, y as f64 + 0.5];
+                let d = dist(p, c);
+                let slot = best.entry(regions[r]).or_insert((p, f64::INFINITY));
+                if d < slot.1 {
+                    *slot = (p, d);
+                }
+            }
+            holes.extend(best.values().map(|&(rep, _)| Hole {
+                rep,
+                component: component[0].0,
+            }));
+        }
+        holes.sort_by(|a, b| (a.rep[0].total_cmp(&b.rep[0])).then(a.component.cmp(&b.component)));
+        let mut node_component = vec![u32::MAX; graph.nodes.len()];
+        for (&node, &label) in graph.owner.iter().zip(&labels) {
+            if let Some(slot) = node_component.get_mut(node as usize) {
+                *slot = label;
             }
         }
-        // Per component: touches the border?, size, sums for the centroid.
-        let labels = union.into_labeling();
-        let mut stats: std::collections::BTreeMap<u32, (bool, usize, f64, f64)> =
-            std::collections::BTreeMap::new();
-        for (r, &(y, x0, x1)) in runs.iter().enumerate() {
-            let entry = stats.entry(labels[r]).or_insert((false, 0, 0.0, 0.0));
-            let border = y == 0 || y as usize + 1 == h || x0 == 0 || x1 as usize == w;
-            let n = (x1 - x0) as usize;
-            entry.0 |= border;
-            entry.1 += n;
-            entry.2 += (x0 + x1) as f64 / 2.0 * n as f64;
-            entry.3 += (y as f64 + 0.5) * n as f64;
+        Holes::Known {
+            holes,
+            node_component,
         }
-        // The representative: the hole pixel nearest the centroid (inside for convex holes).
-        let mut best: std::collections::BTreeMap<u32, ([f64; 2], f64)> =
-            std::collections::BTreeMap::new();
-        for (r, &(y, x0, x1)) in runs.iter().enumerate() {
-            let (border, size, sx, sy) = stats[&labels[r]];
-            if border || size < min_size {
-                continue;
-            }
-            let c = [sx / size as f64, sy / size as f64];
-            let px = (c[0] - 0.5).round().clamp(x0 as f64, x1 as f64 - 1.0) + 0.5;
-            let p = [px, y as f64 + 0.5];
-            let d = dist(p, c);
-            let p = [p[0] + grid.x0 as f64, p[1] + grid.y0 as f64];
-            let slot = best.entry(labels[r]).or_insert((p, f64::INFINITY));
-            if d < slot.1 {
-                *slot = (p, d);
-            }
-        }
-        let mut reps: Vec<[f64; 2]> = best.values().map(|&(p, _)| p).collect();
-        reps.sort_by(|a, b| a[0].total_cmp(&b[0]));
-        Holes::Known(reps)
     }
 
-    /// Whether a known hole lies inside the polygon (false without hole knowledge).
-    fn encloses_known(&self, polygon: &[[f64; 2]]) -> bool {
-        matches!(self, Holes::Known(_)) && self.encloses(polygon)
+    /// All holes and the component of node `node` (`None` without hole knowledge).
+    fn of_node(&self, node: u32) -> Option<(&[Hole], u32)> {
+        match self {
+            Holes::Known {
+                holes,
+                node_component,
+            } => Some((
+                holes,
+                node_component
+                    .get(node as usize)
+                    .copied()
+                    .unwrap_or(u32::MAX),
+            )),
+            Holes::Unknown => None,
+        }
     }
 
-    /// Whether a hole's representative pixel lies in the disk whose diameter is `a`-`b`.
-    fn near_segment(&self, a: [f64; 2], b: [f64; 2]) -> bool {
-        let Holes::Known(reps) = self else {
+    /// Whether a known hole of `node`'s component lies inside the polygon (false without hole
+    /// knowledge).
+    fn encloses_known(&self, polygon: &[[f64; 2]], node: u32) -> bool {
+        matches!(self, Holes::Known { .. }) && self.encloses(polygon, node)
+    }
+
+    /// Whether a representative pixel of a hole of `node`'s component lies in the disk whose
+    /// diameter is `a`-`b`.
+    fn near_segment(&self, a: [f64; 2], b: [f64; 2], node: u32) -> bool {
+        let Some((holes, component)) = self.of_node(node) else {
             return false;
         };
         let center = [(a[0] + b[0]) / 2.0, (a[1] + b[1]) / 2.0];
         let radius = dist(a, b) / 2.0 + 0.5;
-        let start = reps.partition_point(|r| r[0] < center[0] - radius);
-        reps[start..]
+        let start = holes.partition_point(|h| h.rep[0] < center[0] - radius);
+        holes[start..]
             .iter()
-            .take_while(|r| r[0] <= center[0] + radius)
-            .any(|&r| dist(r, center) <= radius)
+            .take_while(|h| h.rep[0] <= center[0] + radius)
+            .any(|h| h.component == component && dist(h.rep, center) <= radius)
     }
 
-    /// Whether a hole's representative pixel lies inside the polygon (even-odd rule).
-    fn encloses(&self, polygon: &[[f64; 2]]) -> bool {
-        let Holes::Known(reps) = self else {
+    /// Whether a representative pixel of a hole of `node`'s component lies inside the polygon
+    /// (even-odd rule); true without hole knowledge.
+    fn encloses(&self, polygon: &[[f64; 2]], node: u32) -> bool {
+        let Some((holes, component)) = self.of_node(node) else {
             return true;
         };
         let (mut x0, mut x1) = (f64::INFINITY, f64::NEG_INFINITY);
@@ -892,12 +944,35 @@ impl Holes {
             x0 = x0.min(p[0]);
             x1 = x1.max(p[0]);
         }
-        let start = reps.partition_point(|r| r[0] < x0);
-        reps[start..]
+        let start = holes.partition_point(|h| h.rep[0] < x0);
+        holes[start..]
             .iter()
-            .take_while(|r| r[0] <= x1)
-            .any(|&r| point_in_polygon(r, polygon))
+            .take_while(|h| h.rep[0] <= x1)
+            .any(|h| h.component == component && point_in_polygon(h.rep, polygon))
     }
+}
+
+/// Labels the 4-connected regions of background runs `(row, x0, x1 exclusive)` listed row by row
+/// (`row_start[i]` is the first run of the `i`-th row, rows consecutive): each run is joined to
+/// the overlapping runs of the row above with a union-find.
+fn background_regions(runs: &[(i64, i64, i64)], row_start: &[usize]) -> Vec<u32> {
+    let mut union = petgraph::unionfind::UnionFind::<u32>::new(runs.len());
+    for rows in row_start.windows(3) {
+        let (above, here) = (rows[0]..rows[1], rows[1]..rows[2]);
+        let mut i = above.start;
+        for j in here {
+            let (_, x0, x1) = runs[j];
+            while i < above.end && runs[i].2 <= x0 {
+                i += 1;
+            }
+            let mut k = i;
+            while k < above.end && runs[k].1 < x1 {
+                union.union(k as u32, j as u32);
+                k += 1;
+            }
+        }
+    }
+    union.into_labeling()
 }
 
 fn point_in_polygon(p: [f64; 2], polygon: &[[f64; 2]]) -> bool {

@@ -308,3 +308,59 @@ fn same_input_gives_identical_output() {
     let binary = render(&strokes, 120, 120);
     assert_eq!(trace(&binary), trace(&binary));
 }
+
+/// The graph as sorted vertex and edge descriptions: equal for equal graphs whatever the order.
+fn canonical(graph: &StrokeGraph) -> (Vec<String>, Vec<String>) {
+    let mut vertices: Vec<String> = graph
+        .vertices
+        .iter()
+        .map(|v| format!("{:?} {} {}", v.pos, v.degree, v.width))
+        .collect();
+    let mut edges: Vec<String> = graph
+        .edges
+        .iter()
+        .map(|e| format!("{:?} {:?}", e.points, e.widths))
+        .collect();
+    vertices.sort();
+    edges.sort();
+    (vertices, edges)
+}
+
+#[test]
+fn a_large_page_traced_in_chunks_equals_the_page_traced_whole() {
+    // Over 16k ink points, so `trace_binary` cuts the page into chunks of components; the traced
+    // stages keep one point set. Rings with blobs and rings inside (holes that hold another
+    // component), strokes 2 px apart, crossings.
+    let mut strokes = Vec::new();
+    for row in 0..4 {
+        for col in 0..6 {
+            let c = [40.0 + 70.0 * col as f64, 40.0 + 70.0 * row as f64];
+            strokes.push(circle(c, 26.0, 4.0));
+            match (row + col) % 3 {
+                0 => strokes.push(circle(c, 12.0, 4.0)),
+                1 => strokes.push(Stroke::new(vec![c, [c[0] + 3.0, c[1] + 2.0]], 9.0)),
+                _ => {
+                    strokes.push(through(c, 30.0, 12.0, 3.0));
+                    strokes.push(through(c, 120.0, 12.0, 3.0));
+                }
+            }
+        }
+    }
+    for k in 0..6 {
+        let y = 300.0 + 6.0 * k as f64;
+        strokes.push(line([20.0, y], [400.0, y], 3.0));
+    }
+    let binary = render(&strokes, 440, 350);
+    assert!(binary.count() > 16_384, "{} ink pixels", binary.count());
+    let params = Params::default();
+    let chunked = trace_binary(&binary, &params).expect("trace");
+    let whole = ridgeline::trace_binary_with_stages(&binary, &params).expect("trace");
+    assert_eq!(chunked.point_count, whole.point_count);
+    assert_eq!(canonical(&chunked.graph), canonical(&whole.graph));
+    // And the rings inside rings kept their loops.
+    assert!(
+        chunked.graph.cycles() >= 24 + 8,
+        "{} cycles",
+        chunked.graph.cycles()
+    );
+}

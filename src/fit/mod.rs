@@ -74,6 +74,13 @@ pub fn fit_with_spacing(
     // Lookups by pixel (a site's first point, the width under a point) must not land on a
     // neighbouring component's pixel: a whole page holds its neighbours, a chunk may not.
     let (components, _) = points.component_labels();
+    // The component of each fitted node: that of the points its old graph nodes owned.
+    let component_of = |i: usize| {
+        layout.near[i]
+            .iter()
+            .find_map(|&old| owned.of(old as usize).first())
+            .and_then(|&p| components.get(p as usize).copied())
+    };
     let cells = assign::assign(points, &components, &owned, &layout.pos, &layout.near, unit);
     let iterations = params.weiszfeld_iterations;
     // A ten-thousandth of a pixel (of `Dis_ave` for point lists): far below what the output keeps
@@ -117,7 +124,8 @@ pub fn fit_with_spacing(
         .unwrap_or_else(|| targets.clone());
 
     if params.cleanup {
-        let ink = Ink::new(points, unit);
+        let ink = Ink::new(points, unit, &components);
+
         let placement = Placement {
             ink: &ink,
             spacing: h,
@@ -128,24 +136,33 @@ pub fn fit_with_spacing(
             let width = vertex_width(graph, &layout, k, h);
             let v = layout.vertex_unknown(k);
             if degree >= 3 {
-                placement.place_junction(v, &ends[k], width, &mut polylines, &mut positions);
+                let component = component_of(v as usize);
+                placement.place_junction(
+                    v,
+                    component,
+                    &ends[k],
+                    width,
+                    &mut polylines,
+                    &mut positions,
+                );
             }
         }
         for (k, &degree) in degrees.iter().enumerate() {
             let width = vertex_width(graph, &layout, k, h);
             let v = layout.vertex_unknown(k);
             if degree == 1 {
-                placement.place_end(v, &ends[k], width, &polylines, &mut positions);
+                let component = component_of(v as usize);
+                placement.place_end(v, component, &ends[k], width, &polylines, &mut positions);
             }
         }
     }
-    let width = |p: [f64; 2], v: u32| width_at(graph, points, &components, &layout, &cells, p, v);
+    let site_components: Vec<Option<u32>> = (0..count).map(component_of).collect();
+    let width = |p: [f64; 2], v: u32| {
+        let own = site_components.get(v as usize).copied().flatten();
+        let on_own = |q: u32| own.is_none_or(|c| components.get(q as usize) == Some(&c));
+        width_at(graph, points, &layout, &cells, p, v, on_own)
+    };
     build(&layout, &polylines, &positions, &degrees, width)
-}
-
-/// Whether point `p` is in the component of point `of` (`None`: nothing to compare with).
-fn same_component(components: &[u32], p: u32, of: Option<u32>) -> bool {
-    of.is_none_or(|of| components.get(p as usize) == components.get(of as usize))
 }
 
 /// Lengths in pixels for images; in units of the point spacing `Dis_ave` for point lists.
@@ -254,25 +271,23 @@ fn uniform_laplacian(polylines: &[Vec<u32>], count: usize) -> Smoothness {
     rows
 }
 
-/// Stroke width at a fitted position: `2 x half_width` of the pixel under it, else of the nearest
-/// of the node's points, else the old node's width.
+/// Stroke width at a fitted position: `2 x half_width` of the pixel under it if `on_own` (it is
+/// on the node's own component), else of the nearest of the node's points, else the old node's
+/// width.
 fn width_at(
     graph: &NodeGraph,
     points: &PointSet,
-    components: &[u32],
     layout: &Layout,
     cells: &Groups,
     p: [f64; 2],
     unknown: u32,
+    on_own: impl Fn(u32) -> bool,
 ) -> f64 {
     let half = |i: u32| points.half_width.get(i as usize).map(|&h| 2.0 * h as f64);
     let cell = cells.of(unknown as usize);
     if let Some(grid) = &points.grid {
         let under = grid.point_at(p[0].floor() as i64, p[1].floor() as i64);
-        if let Some(w) = under
-            .filter(|&q| same_component(components, q, cell.first().copied()))
-            .and_then(half)
-        {
+        if let Some(w) = under.filter(|&q| on_own(q)).and_then(half) {
             return w;
         }
     }

@@ -17,6 +17,8 @@ pub enum Ink<'a> {
         grid: &'a Grid,
         /// How far the test reaches beyond the ink, px.
         margin: i64,
+        /// Each point's component (see [`Ink::contains`]).
+        components: &'a [u32],
     },
     /// A point list, bucketed in square cells of side `radius`.
     Points {
@@ -32,11 +34,12 @@ pub enum Ink<'a> {
 impl<'a> Ink<'a> {
     /// The test for `points`: its pixel grid, or buckets of radius `0.75 Dis_ave` (the reach of a
     /// pixel's square around its center, for a point list).
-    pub fn new(points: &'a PointSet, unit: f64) -> Self {
+    pub fn new(points: &'a PointSet, unit: f64, components: &'a [u32]) -> Self {
         if let Some(grid) = &points.grid {
             return Ink::Pixels {
                 grid,
                 margin: i64::from(points.dropout),
+                components,
             };
         }
         let radius = 0.75 * unit;
@@ -68,13 +71,20 @@ impl<'a> Ink<'a> {
         }
     }
 
-    /// Whether `p` is on the ink.
-    pub fn contains(&self, p: [f64; 2]) -> bool {
+    /// Whether `p` is on the ink; on an image, on the ink of `component` when one is given (a ray
+    /// walking out of a stroke must not go on across a neighbouring one).
+    pub fn contains(&self, p: [f64; 2], component: Option<u32>) -> bool {
         match self {
-            Ink::Pixels { grid, margin } => {
+            Ink::Pixels {
+                grid,
+                margin,
+                components,
+            } => {
                 let (x, y) = (p[0].floor() as i64, p[1].floor() as i64);
-                (-margin..=*margin)
-                    .any(|dy| (-margin..=*margin).any(|dx| grid.point_at(x + dx, y + dy).is_some()))
+                let ink = |q: u32| component.is_none_or(|c| components.get(q as usize) == Some(&c));
+                (-margin..=*margin).any(|dy| {
+                    (-margin..=*margin).any(|dx| grid.point_at(x + dx, y + dy).is_some_and(ink))
+                })
             }
             Ink::Points {
                 radius,
@@ -142,6 +152,7 @@ impl Placement<'_> {
     pub fn place_end(
         &self,
         vertex: u32,
+        component: Option<u32>,
         ends: &[End],
         width: f64,
         polylines: &[Vec<u32>],
@@ -155,16 +166,19 @@ impl Placement<'_> {
         let Some(t) = unit([p0[0] - inner[0], p0[1] - inner[1]]) else {
             return;
         };
-        if !self.ink.contains(p0) {
+        if !self.ink.contains(p0, component) {
             return;
         }
         let reach = 2.0 * width + 2.0 * self.spacing;
         let mut far = 0.0;
         while far + self.step <= reach
-            && self.ink.contains([
-                p0[0] + (far + self.step) * t[0],
-                p0[1] + (far + self.step) * t[1],
-            ])
+            && self.ink.contains(
+                [
+                    p0[0] + (far + self.step) * t[0],
+                    p0[1] + (far + self.step) * t[1],
+                ],
+                component,
+            )
         {
             far += self.step;
         }
@@ -182,6 +196,7 @@ impl Placement<'_> {
     pub fn place_junction(
         &self,
         vertex: u32,
+        component: Option<u32>,
         ends: &[End],
         width: f64,
         polylines: &mut [Vec<u32>],
@@ -225,7 +240,7 @@ impl Placement<'_> {
         let Some(x) = line_intersection(&lines, 0.01) else {
             return;
         };
-        if crate::dist(x, here) > 1.5 * width || !self.ink.contains(x) {
+        if crate::dist(x, here) > 1.5 * width || !self.ink.contains(x, component) {
             return;
         }
         positions[vertex as usize] = x;

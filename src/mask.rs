@@ -19,6 +19,76 @@ pub(crate) fn ink_distances(ink: &[bool], width: usize, height: usize) -> Vec<f3
     half_width
 }
 
+/// A run of ink pixels `x0..x1` (end excluded) in row `y`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct Run {
+    pub y: u32,
+    pub x0: u32,
+    pub x1: u32,
+}
+
+impl Run {
+    pub(crate) fn len(&self) -> usize {
+        (self.x1 - self.x0) as usize
+    }
+}
+
+/// The 8-connected components of `runs` (in raster order, none touching the next in its row):
+/// each run's component, numbered in order of the components' first runs, and each component's
+/// pixel count. A run touches the runs of the row above that overlap it or meet it at a corner;
+/// a union-find whose roots are first runs.
+pub(crate) fn run_components(runs: &[Run]) -> (Vec<u32>, Vec<usize>) {
+    let mut parent: Vec<u32> = (0..runs.len() as u32).collect();
+    let find = |parent: &mut [u32], mut r: u32| {
+        while parent[r as usize] != r {
+            let up = parent[parent[r as usize] as usize];
+            parent[r as usize] = up; // path halving
+            r = up;
+        }
+        r
+    };
+    let mut above = 0..0;
+    let mut start = 0;
+    while start < runs.len() {
+        let y = runs[start].y;
+        let end = start + runs[start..].partition_point(|r| r.y == y);
+        if above.end > above.start && runs[above.start].y + 1 == y {
+            let (mut i, mut j) = (above.start, start);
+            while i < above.end && j < end {
+                let (a, b) = (runs[i], runs[j]);
+                if a.x0 <= b.x1 && a.x1 >= b.x0 {
+                    let (ra, rb) = (find(&mut parent, i as u32), find(&mut parent, j as u32));
+                    if ra != rb {
+                        parent[ra.max(rb) as usize] = ra.min(rb);
+                    }
+                }
+                // The run that ends first cannot touch anything further along the other row.
+                if a.x1 < b.x1 {
+                    i += 1;
+                } else {
+                    j += 1;
+                }
+            }
+        }
+        above = start..end;
+        start = end;
+    }
+    // In run order a run's parent (earlier, same component) is already labelled.
+    let mut label = parent;
+    let mut sizes: Vec<usize> = Vec::new();
+    for r in 0..runs.len() {
+        let up = label[r] as usize;
+        if up == r {
+            label[r] = sizes.len() as u32;
+            sizes.push(runs[r].len());
+        } else {
+            label[r] = label[up];
+            sizes[label[r] as usize] += runs[r].len();
+        }
+    }
+    (label, sizes)
+}
+
 /// Prefix counts of ink per row: the ink pixels of row `y` are numbers
 /// `row_starts[y]..row_starts[y + 1]` in raster order. Has `height + 1` entries.
 pub(crate) fn ink_row_starts(ink: &[bool], width: usize, height: usize) -> Vec<usize> {

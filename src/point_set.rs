@@ -1,6 +1,8 @@
 //! The strip point set `P` of the paper: one point per foreground pixel center (or one per line of
 //! a point list), with the neighbour graph every later stage walks and the local half-width.
 
+use crate::mask::{run_components, Run};
+
 /// A pixel grid the points came from: lets stages use pixel adjacency instead of tree queries.
 #[derive(Clone, Debug, Default)]
 pub struct Grid {
@@ -172,6 +174,9 @@ impl PointSet {
         if self.offsets.len() != n + 1 {
             return ((0..n as u32).collect(), vec![1; n]);
         }
+        if let Some(labels) = self.pixel_component_labels() {
+            return labels;
+        }
         // Union-find over the neighbour lists in index order: the lists are read as they lie in
         // memory (a depth-first walk jumps around them), and each set's root is its smallest
         // point.
@@ -208,6 +213,37 @@ impl PointSet {
             }
         }
         (label, sizes)
+    }
+
+    /// [`PointSet::component_labels`] from the runs of pixels, for pixel centers in raster order
+    /// with 8-neighbour lists (images outside dropout mode): a union-find over runs instead of
+    /// neighbour lists, several times faster. `None` for other point sets.
+    fn pixel_component_labels(&self) -> Option<(Vec<u32>, Vec<usize>)> {
+        if self.grid.is_none() || self.dropout {
+            return None;
+        }
+        let mut runs: Vec<Run> = Vec::new();
+        let mut run_of = Vec::with_capacity(self.len());
+        for p in &self.points {
+            let (x, y) = (p[0].floor(), p[1].floor());
+            if !(x >= 0.0 && y >= 0.0 && x < u32::MAX as f64 && y < u32::MAX as f64) {
+                return None;
+            }
+            let (x, y) = (x as u32, y as u32);
+            match runs.last_mut() {
+                Some(run) if run.y == y && run.x1 == x => run.x1 += 1,
+                // Raster order, or the neighbour lists are the only truth.
+                Some(run) if (run.y, run.x1) > (y, x) => return None,
+                _ => runs.push(Run {
+                    y,
+                    x0: x,
+                    x1: x + 1,
+                }),
+            }
+            run_of.push(runs.len() as u32 - 1);
+        }
+        let (label, sizes) = run_components(&runs);
+        Some((run_of.iter().map(|&r| label[r as usize]).collect(), sizes))
     }
 
     /// The chunks of [`PointSet::split_components`] as lists of point indices, so that each chunk's
@@ -389,5 +425,40 @@ mod tests {
         assert_eq!(sizes(4), [3, 3, 4]);
         assert_eq!(points.split_components(100).len(), 1);
         assert!(PointSet::default().split_components(4).is_empty());
+    }
+
+    #[test]
+    fn component_labels_from_runs_equal_those_from_neighbour_lists() {
+        let (w, h) = (61u32, 47u32);
+        let mut binary = crate::Binary::new(w, h);
+        let mut seed = 7u64;
+        for y in 0..h as i64 {
+            for x in 0..w as i64 {
+                seed = seed
+                    .wrapping_mul(6364136223846793005)
+                    .wrapping_add(1442695040888963407);
+                binary.set(x, y, (seed >> 60) < 7);
+            }
+        }
+        let params = crate::Params {
+            dropout: Some(false),
+            ..crate::Params::default()
+        };
+        let pixels = crate::raster::points(&binary, &params).expect("points");
+        let listed = PointSet {
+            grid: None,
+            ..pixels.clone()
+        };
+        let (labels, sizes) = pixels.component_labels();
+        assert!(sizes.len() > 20, "{} components", sizes.len());
+        assert_eq!((labels, sizes), listed.component_labels());
+        // Both chunkings agree too.
+        for (a, b) in pixels
+            .split_components(100)
+            .iter()
+            .zip(listed.split_components(100))
+        {
+            assert_eq!(a.points, b.points);
+        }
     }
 }

@@ -13,22 +13,8 @@
 use rayon::prelude::*;
 
 use super::points::{check_point_count, dropout_mode, for_each_in_window, nearest_distance};
-use crate::mask::{ink_row_starts, tiny_hole, RunEnvelope};
+use crate::mask::{ink_row_starts, run_components, tiny_hole, Run, RunEnvelope};
 use crate::{Binary, Grid, Params, PointSet, Result};
-
-/// A run of ink pixels `x0..x1` (end excluded) in row `y`.
-#[derive(Clone, Copy, Debug, PartialEq)]
-struct Run {
-    y: u32,
-    x0: u32,
-    x1: u32,
-}
-
-impl Run {
-    fn len(&self) -> usize {
-        (self.x1 - self.x0) as usize
-    }
-}
 
 /// The ink of an image as chunks of whole 8-connected components, in the order of each
 /// component's first pixel, each chunk about `target` points or one component.
@@ -114,12 +100,9 @@ pub(crate) fn pixel_chunks(
         .collect();
     let mut spacing_sum = (0.0f64, 0u64);
     let mut loose = 0;
-    let mut row_runs = Vec::with_capacity(height + 1);
-    row_runs.push(0);
-    for (runs, spacing, row_loose) in &rows {
+    for (_, spacing, row_loose) in &rows {
         spacing_sum = (spacing_sum.0 + spacing.0, spacing_sum.1 + spacing.1);
         loose += row_loose;
-        row_runs.push(row_runs[row_runs.len() - 1] + runs.len());
     }
     let spacing = if spacing_sum.1 == 0 {
         1.0
@@ -139,50 +122,9 @@ pub(crate) fn pixel_chunks(
         return Ok(None);
     }
 
-    // 8-connected components of the runs: a run touches the runs of the row above that overlap
-    // it or meet it at a corner. Each set's root is its first run, so components come numbered in
-    // order of their first pixel, as `PointSet::component_chunks` numbers them.
-    let mut parent: Vec<u32> = (0..runs.len() as u32).collect();
-    let find = |parent: &mut [u32], mut r: u32| {
-        while parent[r as usize] != r {
-            let up = parent[parent[r as usize] as usize];
-            parent[r as usize] = up; // path halving
-            r = up;
-        }
-        r
-    };
-    for y in 1..height {
-        let (above, here) = (row_runs[y - 1]..row_runs[y], row_runs[y]..row_runs[y + 1]);
-        let (mut i, mut j) = (above.start, here.start);
-        while i < above.end && j < here.end {
-            let (a, b) = (runs[i], runs[j]);
-            if a.x0 <= b.x1 && a.x1 >= b.x0 {
-                let (ra, rb) = (find(&mut parent, i as u32), find(&mut parent, j as u32));
-                if ra != rb {
-                    parent[ra.max(rb) as usize] = ra.min(rb);
-                }
-            }
-            // The run that ends first cannot touch anything further along the other row.
-            if a.x1 < b.x1 {
-                i += 1;
-            } else {
-                j += 1;
-            }
-        }
-    }
-    // In run order a run's parent (earlier, same component) is already labelled.
-    let mut label = parent;
-    let mut sizes: Vec<usize> = Vec::new();
-    for r in 0..runs.len() {
-        let up = label[r] as usize;
-        if up == r {
-            label[r] = sizes.len() as u32;
-            sizes.push(runs[r].len());
-        } else {
-            label[r] = label[up];
-            sizes[label[r] as usize] += runs[r].len();
-        }
-    }
+    // 8-connected components, numbered in order of their first pixel, as
+    // `PointSet::component_chunks` numbers them.
+    let (label, sizes) = run_components(&runs);
 
     // Consecutive components fill a chunk up to `target` points (as `component_chunks` does).
     let mut chunk_of = Vec::with_capacity(sizes.len());

@@ -393,6 +393,50 @@ fn the_bomb_is_refused_before_allocating_and_a_raised_limit_still_refuses_bad_da
         Err(Error::Limit { flag, .. }) => assert_eq!(flag, "--max-side"),
         other => panic!("expected the side limit, got {other:?}"),
     }
+    // Within the side limit but over the pixel limit.
+    let tight = Limits {
+        max_pixels: 1000,
+        ..Limits::default()
+    };
+    let mid = hand_png(40_000, 40_000, [8, 0, 0, 0, 0], &[], &[0; 64]);
+    assert!(matches!(
+        ridgeline::decode(&mid, &tight),
+        Err(Error::Limit { .. })
+    ));
+    // Within every limit: the tiny IDAT is simply not enough data.
+    let small = hand_png(100, 100, [8, 0, 0, 0, 0], &[], &[0; 64]);
+    assert!(matches!(
+        ridgeline::decode(&small, &limits),
+        Err(Error::Decode(_))
+    ));
+}
+
+#[test]
+fn palette_transparency_and_one_bit_pngs_decode_to_paper_and_ink() {
+    // 2x1 palette image: entry 0 opaque black, entry 1 fully transparent red.
+    let palette = hand_png(
+        2,
+        1,
+        [8, 3, 0, 0, 0],
+        &[(b"PLTE", &[0, 0, 0, 255, 0, 0]), (b"tRNS", &[255, 0])],
+        &[0, 0, 1],
+    );
+    let gray = ridgeline::decode(&palette, &Limits::default()).expect("decodes");
+    assert_eq!(
+        gray.as_raw(),
+        &vec![0, 255],
+        "a transparent pixel reads as white paper"
+    );
+    // 8x1 pixels 10110000, bit depth 1, color type 0.
+    let one_bit = hand_png(8, 1, [1, 0, 0, 0, 0], &[], &[0, 0b1011_0000]);
+    let gray = ridgeline::decode(&one_bit, &Limits::default()).expect("decodes");
+    assert_eq!(gray.as_raw(), &vec![255, 0, 255, 255, 0, 0, 0, 0]);
+}
+
+#[test]
+fn hand_made_chunks_carry_the_png_crc() {
+    // The PNG spec's CRC of "IEND" is AE 42 60 82.
+    assert_eq!(crc32(b"IEND"), 0xAE42_6082);
 }
 
 #[test]

@@ -5,6 +5,9 @@
 //! CLI-level cases run the real binary; the rest call the library. Every input is built here, in
 //! the test, byte by byte where it matters (the decompression bomb, the palette PNG).
 
+#[path = "../fuzz/fuzz_targets/point_bytes.rs"]
+mod point_bytes;
+
 use std::fs;
 use std::io::Cursor;
 use std::path::{Path, PathBuf};
@@ -920,37 +923,8 @@ fn fuzz_regressions_decode_and_trace() {
 fn fuzz_regressions_point_sets() {
     // fuzz/fuzz_targets/trace_points.rs
     for (path, bytes) in regressions("trace_points") {
-        let Some((&selector, rest)) = bytes.split_first() else {
+        let Some((list, params)) = point_bytes::points_and_params(&bytes) else {
             continue;
-        };
-        let list: Vec<[f64; 2]> = match selector & 3 {
-            0 => match ridgeline::point_list::parse(&String::from_utf8_lossy(rest)) {
-                Ok(list) => list,
-                Err(_) => continue,
-            },
-            1 => rest
-                .chunks_exact(16)
-                .map(|c| {
-                    let x = f64::from_le_bytes(c[..8].try_into().unwrap_or_default());
-                    let y = f64::from_le_bytes(c[8..].try_into().unwrap_or_default());
-                    [x, y]
-                })
-                .collect(),
-            _ => {
-                let Some((&scale, pairs)) = rest.split_first() else {
-                    continue;
-                };
-                let scale = 2f64.powi(i32::from(scale % 9) - 4);
-                pairs
-                    .chunks_exact(2)
-                    .map(|c| [f64::from(c[0]) * scale, f64::from(c[1]) * scale])
-                    .collect()
-            }
-        };
-        let params = if selector & 4 != 0 {
-            Params::paper()
-        } else {
-            Params::default()
         };
         let start = std::time::Instant::now();
         if let Ok(trace) = trace_points(&list, &params) {

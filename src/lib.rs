@@ -91,7 +91,7 @@ pub use node_graph::{GraphNode, NodeGraph};
 pub use params::{Limits, Params, Polarity, Threshold};
 pub use point_set::{Grid, PointSet};
 pub use samples::{Node, Samples};
-pub use stroke_graph::{dist, Edge, StrokeGraph, Vertex};
+pub use stroke_graph::{dist, segment_dist, Edge, StrokeGraph, Vertex};
 
 use std::time::{Duration, Instant};
 

@@ -55,6 +55,18 @@ pub fn dist(a: [f64; 2], b: [f64; 2]) -> f64 {
     (a[0] - b[0]).hypot(a[1] - b[1])
 }
 
+/// Euclidean distance from `p` to the segment `a`-`b`.
+pub fn segment_dist(p: [f64; 2], a: [f64; 2], b: [f64; 2]) -> f64 {
+    let d = [b[0] - a[0], b[1] - a[1]];
+    let len2 = d[0] * d[0] + d[1] * d[1];
+    let t = if len2 > 0.0 {
+        (((p[0] - a[0]) * d[0] + (p[1] - a[1]) * d[1]) / len2).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    dist(p, [a[0] + t * d[0], a[1] + t * d[1]])
+}
+
 impl StrokeGraph {
     /// Vertices of degree 1 (stroke ends).
     pub fn endpoints(&self) -> impl Iterator<Item = usize> + '_ {

@@ -2,7 +2,7 @@
 //! truth. Nothing here is special-cased in the pipeline: the shapes are only drawn here.
 
 use ridgeline::synth::{render, Stroke};
-use ridgeline::{trace_binary, Binary, Params, StrokeGraph};
+use ridgeline::{segment_dist, trace_binary, Binary, Params, StrokeGraph};
 
 fn line(a: [f64; 2], b: [f64; 2], width: f64) -> Stroke {
     Stroke::new(vec![a, b], width)
@@ -46,7 +46,7 @@ fn distance_to_truth(p: [f64; 2], strokes: &[Stroke]) -> f64 {
     let mut best = f64::INFINITY;
     for s in strokes {
         for w in s.points.windows(2) {
-            best = best.min(segment_distance(p, w[0], w[1]));
+            best = best.min(segment_dist(p, w[0], w[1]));
         }
         if s.points.len() == 1 {
             best = best.min(ridgeline::dist(p, s.points[0]));
@@ -55,22 +55,11 @@ fn distance_to_truth(p: [f64; 2], strokes: &[Stroke]) -> f64 {
     best
 }
 
-fn segment_distance(p: [f64; 2], a: [f64; 2], b: [f64; 2]) -> f64 {
-    let d = [b[0] - a[0], b[1] - a[1]];
-    let len2 = d[0] * d[0] + d[1] * d[1];
-    let t = if len2 > 0.0 {
-        (((p[0] - a[0]) * d[0] + (p[1] - a[1]) * d[1]) / len2).clamp(0.0, 1.0)
-    } else {
-        0.0
-    };
-    ridgeline::dist(p, [a[0] + t * d[0], a[1] + t * d[1]])
-}
-
 fn distance_to_graph(p: [f64; 2], graph: &StrokeGraph) -> f64 {
     let mut best = f64::INFINITY;
     for e in &graph.edges {
         for w in e.points.windows(2) {
-            best = best.min(segment_distance(p, w[0], w[1]));
+            best = best.min(segment_dist(p, w[0], w[1]));
         }
     }
     for v in &graph.vertices {

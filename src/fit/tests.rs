@@ -4,7 +4,7 @@
 
 use super::fit;
 use crate::synth::{render, Stroke};
-use crate::{Binary, GraphNode, Grid, NodeGraph, Params, PointSet, StrokeGraph};
+use crate::{segment_dist, Binary, GraphNode, Grid, NodeGraph, Params, PointSet, StrokeGraph};
 
 /// Points, 8-neighbours, half-widths (distance to the nearest background pixel center) and the
 /// pixel grid of a mask.
@@ -127,20 +127,9 @@ fn path(from: u32, to: u32) -> Vec<[u32; 2]> {
     (from..to - 1).map(|i| [i, i + 1]).collect()
 }
 
-fn segment_distance(p: [f64; 2], a: [f64; 2], b: [f64; 2]) -> f64 {
-    let d = [b[0] - a[0], b[1] - a[1]];
-    let len2 = d[0] * d[0] + d[1] * d[1];
-    let t = if len2 > 0.0 {
-        (((p[0] - a[0]) * d[0] + (p[1] - a[1]) * d[1]) / len2).clamp(0.0, 1.0)
-    } else {
-        0.0
-    };
-    crate::dist(p, [a[0] + t * d[0], a[1] + t * d[1]])
-}
-
 fn polyline_distance(p: [f64; 2], line: &[[f64; 2]]) -> f64 {
     line.windows(2)
-        .map(|w| segment_distance(p, w[0], w[1]))
+        .map(|w| segment_dist(p, w[0], w[1]))
         .fold(f64::INFINITY, f64::min)
 }
 

@@ -209,6 +209,19 @@ fn main() {
             verdict(large.wall / small.wall <= 4.5)
         );
     }
+    // Issue 4's peer goal, per input traced side by side.
+    let ratios: Vec<String> = results
+        .iter()
+        .filter_map(|(name, figures, peer)| {
+            peer.map(|p| {
+                let ratio = figures.wall / p;
+                format!("{name} {ratio:.2} {}", verdict(ratio < 0.5))
+            })
+        })
+        .collect();
+    if !ratios.is_empty() {
+        println!("ours/peer < 0.5: {}", ratios.join(", "));
+    }
 }
 
 /// Batch speed-up of the command line: `count` generated pages (seeds 1, 2, ...; full A4 and half

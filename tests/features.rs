@@ -517,17 +517,7 @@ fn cli_minutiae_json_finds_the_endings_and_bifurcations_of_a_synthetic_print() {
 /// Distance from `p` to the polyline.
 fn distance_to_polyline(p: [f64; 2], line: &[[f64; 2]]) -> f64 {
     line.windows(2)
-        .map(|w| {
-            let (a, b) = (w[0], w[1]);
-            let d = [b[0] - a[0], b[1] - a[1]];
-            let length2 = d[0] * d[0] + d[1] * d[1];
-            let t = if length2 > 0.0 {
-                (((p[0] - a[0]) * d[0] + (p[1] - a[1]) * d[1]) / length2).clamp(0.0, 1.0)
-            } else {
-                0.0
-            };
-            (p[0] - a[0] - t * d[0]).hypot(p[1] - a[1] - t * d[1])
-        })
+        .map(|w| ridgeline::segment_dist(p, w[0], w[1]))
         .fold(f64::INFINITY, f64::min)
 }
 

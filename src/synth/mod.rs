@@ -217,18 +217,6 @@ pub(crate) fn sample_curve(
 mod tests {
     use super::*;
 
-    /// Distance from `p` to segment `ab` and the parameter of the closest point.
-    fn segment_distance(p: [f64; 2], a: [f64; 2], b: [f64; 2]) -> (f64, f64) {
-        let d = [b[0] - a[0], b[1] - a[1]];
-        let len2 = d[0] * d[0] + d[1] * d[1];
-        let t = if len2 > 0.0 {
-            (((p[0] - a[0]) * d[0] + (p[1] - a[1]) * d[1]) / len2).clamp(0.0, 1.0)
-        } else {
-            0.0
-        };
-        ((p[0] - a[0] - t * d[0]).hypot(p[1] - a[1] - t * d[1]), t)
-    }
-
     /// Nearest ink pixel center to `p` is within `tol` px.
     fn near_ink(binary: &Binary, p: [f64; 2], tol: f64) -> bool {
         let r = tol.ceil() as i64 + 1;
@@ -249,7 +237,7 @@ mod tests {
             let n = s.points.len();
             (0..n.saturating_sub(1).max(1)).any(|i| {
                 let j = (i + 1).min(n - 1);
-                let (d, t) = segment_distance(p, s.points[i], s.points[j]);
+                let (d, t) = crate::stroke_graph::segment_closest(p, s.points[i], s.points[j]);
                 d <= (s.widths[i] + t * (s.widths[j] - s.widths[i])) / 2.0 + slack
             })
         })

@@ -1,8 +1,9 @@
 //! The SVG and JSON writers on hand-built graphs, and the `ridgeline` binary as a user runs it.
 
 use std::fs;
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::path::Path;
+
+use crate::support::{entries, ridgeline, stderr, temp_dir};
 
 use base64::Engine;
 use ridgeline::export::json::{self, JsonMeta};
@@ -295,18 +296,6 @@ fn json_of_an_empty_graph_and_a_pretty_one() {
 // ---------------------------------------------------------------------------------------------
 // The binary
 
-fn ridgeline(args: &[&str], dir: &Path) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_ridgeline"))
-        .args(args)
-        .current_dir(dir)
-        .output()
-        .expect("run ridgeline")
-}
-
-fn stderr(output: &Output) -> String {
-    String::from_utf8_lossy(&output.stderr).into_owned()
-}
-
 /// Writes a PNG of dark strokes (a cross and a bar) on white paper.
 fn write_strokes_png(path: &Path) {
     let strokes = [
@@ -323,19 +312,6 @@ fn write_strokes_png(path: &Path) {
         }])
     });
     image.save(path).expect("write PNG");
-}
-
-fn temp_dir() -> tempfile::TempDir {
-    tempfile::TempDir::new().expect("temp dir")
-}
-
-fn entries(dir: &Path) -> Vec<PathBuf> {
-    let mut paths: Vec<PathBuf> = fs::read_dir(dir)
-        .expect("list")
-        .map(|e| e.expect("entry").path())
-        .collect();
-    paths.sort();
-    paths
 }
 
 #[test]

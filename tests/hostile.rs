@@ -11,7 +11,8 @@ mod point_bytes;
 use std::fs;
 use std::io::Cursor;
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+
+use crate::support::{entries, ridgeline, stderr, temp_dir};
 
 use image::{DynamicImage, ImageFormat, Luma};
 use ridgeline::synth::{render, Stroke};
@@ -21,31 +22,6 @@ use ridgeline::{
 
 // ---------------------------------------------------------------------------------------------
 // Helpers
-
-fn ridgeline(args: &[&str], dir: &Path) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_ridgeline"))
-        .args(args)
-        .current_dir(dir)
-        .output()
-        .expect("run ridgeline")
-}
-
-fn stderr(output: &Output) -> String {
-    String::from_utf8_lossy(&output.stderr).into_owned()
-}
-
-fn temp_dir() -> tempfile::TempDir {
-    tempfile::TempDir::new().expect("temp dir")
-}
-
-fn entries(dir: &Path) -> Vec<PathBuf> {
-    let mut paths: Vec<PathBuf> = fs::read_dir(dir)
-        .expect("list")
-        .map(|e| e.expect("entry").path())
-        .collect();
-    paths.sort();
-    paths
-}
 
 /// A cross and a bar of dark ink on white paper.
 fn strokes_gray(width: u32, height: u32) -> GrayImage {

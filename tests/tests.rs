@@ -7,3 +7,4 @@ mod hostile;
 mod pipeline;
 mod properties;
 mod score;
+mod support;

@@ -3,7 +3,7 @@
 use std::fs;
 use std::path::Path;
 
-use crate::support::{entries, ridgeline, stderr, temp_dir};
+use crate::support::{entries, ridgeline, stderr, temp_dir, write_mask_png};
 
 use base64::Engine;
 use ridgeline::export::json::{self, JsonMeta};
@@ -303,15 +303,7 @@ fn write_strokes_png(path: &Path) {
         Stroke::new(vec![[10.0, 50.0], [70.0, 10.0]], 5.0),
         Stroke::new(vec![[15.0, 70.0], [65.0, 70.0]], 4.0),
     ];
-    let binary = render(&strokes, 80, 80);
-    let image = GrayImage::from_fn(80, 80, |x, y| {
-        image::Luma([if binary.get(x as i64, y as i64) {
-            20
-        } else {
-            235
-        }])
-    });
-    image.save(path).expect("write PNG");
+    write_mask_png(&render(&strokes, 80, 80), path);
 }
 
 #[test]

@@ -1,15 +1,14 @@
 //! The `--debug` pictures: one per stage, of the expected size, showing what they claim to show.
 
+use crate::support::{run_ok, write_mask_png};
 use std::fs;
 use std::path::Path;
-use std::process::Command;
 
 use image::{Rgb, RgbImage};
 use ridgeline::debug::{picture_scale, stage_pictures, write_stage_pictures, PICTURE_NAMES};
 use ridgeline::synth::{render, Stroke};
 use ridgeline::{
-    trace_binary_with_stages, Binary, Edge, GrayImage, Grid, Params, PointSet, Stages, StrokeGraph,
-    Vertex,
+    trace_binary_with_stages, Binary, Edge, Grid, Params, PointSet, Stages, StrokeGraph, Vertex,
 };
 
 const SIDE: u32 = 80;
@@ -297,32 +296,12 @@ fn pictures_of_the_traced_plus() {
     check_pictures(&pictures, &trace.graph);
 }
 
-fn write_png(binary: &Binary, path: &Path) {
-    let image = GrayImage::from_fn(binary.width, binary.height, |x, y| {
-        image::Luma([if binary.get(x as i64, y as i64) {
-            20
-        } else {
-            235
-        }])
-    });
-    image.save(path).expect("write PNG");
-}
-
 #[test]
 fn cli_debug_writes_the_pictures() {
     let dir = tempfile::TempDir::new().expect("temp dir");
-    write_png(&plus(), &dir.path().join("plus.png"));
+    write_mask_png(&plus(), &dir.path().join("plus.png"));
     let run = |args: &[&str]| {
-        let output = Command::new(env!("CARGO_BIN_EXE_ridgeline"))
-            .args(args)
-            .current_dir(dir.path())
-            .output()
-            .expect("run ridgeline");
-        assert!(
-            output.status.success(),
-            "{}",
-            String::from_utf8_lossy(&output.stderr)
-        );
+        run_ok(args, dir.path());
     };
 
     // One input: the pictures go into DIR itself.
@@ -335,8 +314,8 @@ fn cli_debug_writes_the_pictures() {
 
     // Several inputs: one subdirectory per output name.
     fs::create_dir(dir.path().join("in")).expect("mkdir");
-    write_png(&plus(), &dir.path().join("in").join("one.png"));
-    write_png(&plus(), &dir.path().join("in").join("two.png"));
+    write_mask_png(&plus(), &dir.path().join("in").join("one.png"));
+    write_mask_png(&plus(), &dir.path().join("in").join("two.png"));
     run(&["in", "-o", "out/", "--debug", "batch"]);
     for stem in ["one", "two"] {
         for name in PICTURE_NAMES {
@@ -350,10 +329,7 @@ fn cli_debug_writes_the_pictures() {
 
 #[test]
 fn help_explains_debug() {
-    let output = Command::new(env!("CARGO_BIN_EXE_ridgeline"))
-        .arg("--help")
-        .output()
-        .expect("run ridgeline");
+    let output = run_ok(&["--help"], Path::new("."));
     let help = String::from_utf8_lossy(&output.stdout);
     for expected in ["--debug <DIR>", "6-final", "ridgeline --debug"] {
         assert!(help.contains(expected), "help lacks {expected:?}");

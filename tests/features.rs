@@ -1,16 +1,16 @@
 //! Features beyond thinning (issue 6): strokes through crossings, width coverage, minutiae and
 //! Bézier curves, end to end from rendered centerlines.
 
+use crate::support::{ridgeline, run_ok, write_mask_png};
 use ridgeline::curves::{fit_beziers, fit_edges, CurveOptions};
 use ridgeline::minutiae::{minutiae, MinutiaKind, MinutiaeOptions};
 use ridgeline::strokes::{coverage_iou, strokes, StrokeOptions};
 use ridgeline::synth::{print_cases, render, Stroke as TrueStroke};
-use ridgeline::{trace_binary, Binary, Edge, GrayImage, Params, StrokeGraph, Vertex};
+use ridgeline::{trace_binary, Binary, Edge, Params, StrokeGraph, Vertex};
 use serde_json::Value;
 use std::f64::consts::{PI, TAU};
 use std::fs;
 use std::path::Path;
-use std::process::Command;
 
 fn polar(c: [f64; 2], r: f64, degrees: f64) -> [f64; 2] {
     let a = degrees.to_radians();
@@ -306,33 +306,8 @@ fn traced_edges_fit_with_curves_within_tolerance() {
 /// Writes the rendering of `truth` as a PNG of dark ink on light paper; returns the mask.
 fn write_png(truth: &[TrueStroke], width: u32, height: u32, path: &Path) -> Binary {
     let binary = render(truth, width, height);
-    write_binary_png(&binary, path);
+    write_mask_png(&binary, path);
     binary
-}
-
-fn write_binary_png(binary: &Binary, path: &Path) {
-    let image = GrayImage::from_fn(binary.width, binary.height, |x, y| {
-        image::Luma([if binary.get(x as i64, y as i64) {
-            20
-        } else {
-            235
-        }])
-    });
-    image.save(path).expect("write PNG");
-}
-
-/// Runs the binary in `dir`; panics with its stderr when it fails.
-fn run_cli(args: &[&str], dir: &Path) {
-    let output = Command::new(env!("CARGO_BIN_EXE_ridgeline"))
-        .args(args)
-        .current_dir(dir)
-        .output()
-        .expect("run ridgeline");
-    assert!(
-        output.status.success(),
-        "ridgeline {args:?} failed: {}",
-        String::from_utf8_lossy(&output.stderr)
-    );
 }
 
 fn read_json(path: &Path) -> Value {
@@ -361,7 +336,7 @@ fn plus_and_t() -> Vec<TrueStroke> {
 fn cli_json_lists_strokes_that_partition_the_edges() {
     let dir = tempfile::TempDir::new().expect("temp dir");
     write_png(&plus_and_t(), 270, 140, &dir.path().join("pt.png"));
-    run_cli(&["pt.png", "-o", "pt.json"], dir.path());
+    run_ok(&["pt.png", "-o", "pt.json"], dir.path());
     let doc = read_json(&dir.path().join("pt.json"));
     let edges = doc["edges"].as_array().expect("edges");
     let strokes = doc["strokes"].as_array().expect("strokes always listed");
@@ -406,8 +381,8 @@ fn cli_json_lists_strokes_that_partition_the_edges() {
 fn cli_strokes_svg_has_one_polyline_per_stroke_in_distinct_colors() {
     let dir = tempfile::TempDir::new().expect("temp dir");
     write_png(&plus_and_t(), 270, 140, &dir.path().join("pt.png"));
-    run_cli(&["pt.png", "--strokes", "-o", "pt.svg"], dir.path());
-    run_cli(&["pt.png", "-o", "pt.json"], dir.path());
+    run_ok(&["pt.png", "--strokes", "-o", "pt.svg"], dir.path());
+    run_ok(&["pt.png", "-o", "pt.json"], dir.path());
     let text = fs::read_to_string(dir.path().join("pt.svg")).expect("SVG");
     let doc = roxmltree::Document::parse(&text).expect("well-formed SVG");
     let group = doc
@@ -451,8 +426,8 @@ fn cli_minutiae_json_finds_the_endings_and_bifurcations_of_a_synthetic_print() {
         .find(|c| c.name.ends_with("_arch_minutiae"))
         .expect("print case");
     let dir = tempfile::TempDir::new().expect("temp dir");
-    write_binary_png(&case.binary, &dir.path().join("print.png"));
-    run_cli(
+    write_mask_png(&case.binary, &dir.path().join("print.png"));
+    run_ok(
         &[
             "print.png",
             "--polarity",
@@ -493,7 +468,7 @@ fn cli_minutiae_json_finds_the_endings_and_bifurcations_of_a_synthetic_print() {
         }
     }
     // The SVG marks them.
-    run_cli(
+    run_ok(
         &[
             "print.png",
             "--polarity",
@@ -571,8 +546,8 @@ fn cli_curves_svg_paths_stay_within_tolerance_of_the_polylines() {
     let dir = tempfile::TempDir::new().expect("temp dir");
     write_png(&truth, 200, 200, &dir.path().join("c.png"));
     let tolerance = 0.5;
-    run_cli(&["c.png", "--curves", "-o", "c.svg"], dir.path());
-    run_cli(&["c.png", "-o", "c.json"], dir.path());
+    run_ok(&["c.png", "--curves", "-o", "c.svg"], dir.path());
+    run_ok(&["c.png", "-o", "c.json"], dir.path());
     let text = fs::read_to_string(dir.path().join("c.svg")).expect("SVG");
     let doc = roxmltree::Document::parse(&text).expect("well-formed SVG");
     let json = read_json(&dir.path().join("c.json"));
@@ -603,7 +578,7 @@ fn cli_curves_svg_paths_stay_within_tolerance_of_the_polylines() {
         }
     }
     // A tighter tolerance needs more segments; a bad one is a usage error.
-    run_cli(
+    run_ok(
         &[
             "c.png",
             "--curves",
@@ -616,11 +591,10 @@ fn cli_curves_svg_paths_stay_within_tolerance_of_the_polylines() {
     );
     let fine = fs::read_to_string(dir.path().join("fine.svg")).expect("SVG");
     assert!(fine.matches(" C ").count() > text.matches(" C ").count());
-    let bad = Command::new(env!("CARGO_BIN_EXE_ridgeline"))
-        .args(["c.png", "--curves", "--curve-tolerance", "0", "-o", "x.svg"])
-        .current_dir(dir.path())
-        .output()
-        .expect("run");
+    let bad = ridgeline(
+        &["c.png", "--curves", "--curve-tolerance", "0", "-o", "x.svg"],
+        dir.path(),
+    );
     assert_eq!(bad.status.code(), Some(2));
 }
 
@@ -640,7 +614,7 @@ fn cli_width_svg_covers_the_ink() {
     ];
     let dir = tempfile::TempDir::new().expect("temp dir");
     let binary = write_png(&truth, 200, 200, &dir.path().join("w.png"));
-    run_cli(
+    run_ok(
         &[
             "w.png",
             "--width",

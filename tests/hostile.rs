@@ -12,7 +12,7 @@ use std::fs;
 use std::io::Cursor;
 use std::path::{Path, PathBuf};
 
-use crate::support::{entries, ridgeline, stderr, temp_dir};
+use crate::support::{entries, mask_image, ridgeline, stderr, temp_dir};
 
 use image::{DynamicImage, ImageFormat, Luma};
 use ridgeline::synth::{render, Stroke};
@@ -31,17 +31,7 @@ fn strokes_gray(width: u32, height: u32) -> GrayImage {
         Stroke::new(vec![[0.12 * w, 0.6 * h], [0.88 * w, 0.12 * h]], 5.0),
         Stroke::new(vec![[0.2 * w, 0.85 * h], [0.8 * w, 0.85 * h]], 4.0),
     ];
-    to_gray(&render(&strokes, width, height))
-}
-
-fn to_gray(binary: &Binary) -> GrayImage {
-    GrayImage::from_fn(binary.width, binary.height, |x, y| {
-        Luma([if binary.get(x as i64, y as i64) {
-            20
-        } else {
-            235
-        }])
-    })
+    mask_image(&render(&strokes, width, height))
 }
 
 fn encode(gray: &GrayImage, format: ImageFormat) -> Vec<u8> {
@@ -812,7 +802,7 @@ fn busy_page() -> GrayImage {
         let x = 25.0 + i as f64 * 32.0;
         strokes.push(Stroke::new(vec![[x, 10.0], [x + 12.0, 470.0]], width + 1.0));
     }
-    to_gray(&render(&strokes, 490, 490))
+    mask_image(&render(&strokes, 490, 490))
 }
 
 #[test]

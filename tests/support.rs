@@ -4,6 +4,9 @@ use std::fs;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
+use image::Luma;
+use ridgeline::{Binary, GrayImage};
+
 /// Runs the built `ridgeline` binary with `args` in `dir`.
 pub fn ridgeline(args: &[&str], dir: &Path) -> Output {
     Command::new(env!("CARGO_BIN_EXE_ridgeline"))
@@ -30,4 +33,31 @@ pub fn entries(dir: &Path) -> Vec<PathBuf> {
         .collect();
     paths.sort();
     paths
+}
+
+/// Runs the binary like [`ridgeline`]; panics with its stderr when it fails.
+pub fn run_ok(args: &[&str], dir: &Path) -> Output {
+    let output = ridgeline(args, dir);
+    assert!(
+        output.status.success(),
+        "ridgeline {args:?} failed: {}",
+        stderr(&output)
+    );
+    output
+}
+
+/// The mask as a scan: dark ink (20) on light paper (235).
+pub fn mask_image(binary: &Binary) -> GrayImage {
+    GrayImage::from_fn(binary.width, binary.height, |x, y| {
+        Luma([if binary.get(x as i64, y as i64) {
+            20
+        } else {
+            235
+        }])
+    })
+}
+
+/// Writes [`mask_image`] of `binary` as a PNG.
+pub fn write_mask_png(binary: &Binary, path: &Path) {
+    mask_image(binary).save(path).expect("write PNG");
 }

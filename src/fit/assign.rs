@@ -55,8 +55,9 @@ const BUCKETS: usize = 2048;
 
 /// Labels every point with the fitted node (`sites`) nearest to it along the neighbour graph.
 ///
-/// Each site starts from one point: the ink pixel under it, or else the nearest point owned by
-/// the old nodes `near[i]` it was resampled between. Points no search reaches (a component without
+/// Each site starts from one point: the ink pixel under it when that pixel is in the site's own
+/// component (`site_components[i]`, labels from `components`), or else the nearest point owned
+/// by the old nodes `near[i]` it was resampled between. Points no search reaches (a component without
 /// any site) are left out.
 ///
 /// One search runs over all sites at once. Ink components never exchange points, and each
@@ -67,6 +68,7 @@ const BUCKETS: usize = 2048;
 pub fn assign(
     points: &PointSet,
     components: &[u32],
+    site_components: &[Option<u32>],
     owned: &Groups,
     sites: &[[f64; 2]],
     near: &[[u32; 2]],
@@ -93,7 +95,8 @@ pub fn assign(
                 prefetch(&grid.index[y as usize * grid.width as usize + x as usize]);
             }
         }
-        let Some(p) = source(points, components, owned, site, pair) else {
+        let own = site_components.get(i).copied().flatten();
+        let Some(p) = source(points, components, own, owned, site, pair) else {
             continue;
         };
         let d = quantize(distance(site, points.points[p as usize]));
@@ -143,6 +146,7 @@ pub fn assign(
 fn source(
     points: &PointSet,
     components: &[u32],
+    own: Option<u32>,
     owned: &Groups,
     site: [f64; 2],
     near: &[u32; 2],
@@ -151,9 +155,7 @@ fn source(
         if let Some(p) = grid.point_at(site[0].floor() as i64, site[1].floor() as i64) {
             // The pixel under a site between two strokes may belong to the neighbouring
             // component; the search from it would claim that component's points.
-            let own = near.iter().find_map(|&old| owned.of(old as usize).first());
-            let same =
-                own.is_none_or(|&q| components.get(p as usize) == components.get(q as usize));
+            let same = own.is_none_or(|c| components.get(p as usize) == Some(&c));
             if (p as usize) < points.len() && same {
                 return Some(p);
             }

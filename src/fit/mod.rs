@@ -75,13 +75,22 @@ pub fn fit_with_spacing(
     // neighbouring component's pixel: a whole page holds its neighbours, a chunk may not.
     let (components, _) = points.component_labels();
     // The component of each fitted node: that of the points its old graph nodes owned.
-    let component_of = |i: usize| {
+    let component_of = |i: usize| -> Option<u32> {
         layout.near[i]
             .iter()
             .find_map(|&old| owned.of(old as usize).first())
             .and_then(|&p| components.get(p as usize).copied())
     };
-    let cells = assign::assign(points, &components, &owned, &layout.pos, &layout.near, unit);
+    let site_components: Vec<Option<u32>> = (0..layout.pos.len()).map(component_of).collect();
+    let cells = assign::assign(
+        points,
+        &components,
+        &site_components,
+        &owned,
+        &layout.pos,
+        &layout.near,
+        unit,
+    );
     let iterations = params.weiszfeld_iterations;
     // A ten-thousandth of a pixel (of `Dis_ave` for point lists): far below what the output keeps
     // (0.01 px), and it halves the Weiszfeld work on a page (most cells settle in a few steps).
@@ -136,7 +145,7 @@ pub fn fit_with_spacing(
             let width = vertex_width(graph, &layout, k, h);
             let v = layout.vertex_unknown(k);
             if degree >= 3 {
-                let component = component_of(v as usize);
+                let component = site_components[v as usize];
                 placement.place_junction(
                     v,
                     component,
@@ -151,12 +160,11 @@ pub fn fit_with_spacing(
             let width = vertex_width(graph, &layout, k, h);
             let v = layout.vertex_unknown(k);
             if degree == 1 {
-                let component = component_of(v as usize);
+                let component = site_components[v as usize];
                 placement.place_end(v, component, &ends[k], width, &polylines, &mut positions);
             }
         }
     }
-    let site_components: Vec<Option<u32>> = (0..count).map(component_of).collect();
     let width = |p: [f64; 2], v: u32| {
         let own = site_components.get(v as usize).copied().flatten();
         let on_own = |q: u32| own.is_none_or(|c| components.get(q as usize) == Some(&c));

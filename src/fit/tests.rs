@@ -508,7 +508,15 @@ fn a_site_over_a_neighbouring_stroke_takes_the_points_of_its_own() {
     let owned = super::assign::Groups::new(&label, 2);
     let site = [15.5, 7.5];
     assert!(points.grid.as_ref().unwrap().point_at(15, 7).is_some());
-    let cells = super::assign::assign(&points, &components, &owned, &[site], &[[0, 0]], 1.0);
+    let cells = super::assign::assign(
+        &points,
+        &components,
+        &[Some(0)],
+        &owned,
+        &[site],
+        &[[0, 0]],
+        1.0,
+    );
     assert_eq!(cells.of(0).len(), sizes[0], "the whole upper bar");
     assert!(cells.of(0).iter().all(|&p| components[p as usize] == 0));
 }

@@ -3,6 +3,7 @@
 mod cli;
 mod debug;
 mod features;
+mod golden;
 mod hostile;
 mod pipeline;
 mod properties;

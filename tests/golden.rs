@@ -61,7 +61,11 @@ fn cases() -> Vec<(String, String)> {
         .collect();
     samples.sort();
     for path in samples {
-        let stem = path.file_stem().expect("stem").to_string_lossy().into_owned();
+        let stem = path
+            .file_stem()
+            .expect("stem")
+            .to_string_lossy()
+            .into_owned();
         let bytes = fs::read(&path).expect("read sample");
         let gray = ridgeline::decode(&bytes, &Default::default()).expect("decode sample");
         for (preset, params) in &presets {
@@ -76,7 +80,10 @@ fn cases() -> Vec<(String, String)> {
     for (name, list) in point_lists() {
         for (preset, params) in &presets {
             let trace = ridgeline::trace_points(&list, params).expect("trace points");
-            out.push((format!("{name}.{preset}"), document(&trace.graph, params, name)));
+            out.push((
+                format!("{name}.{preset}"),
+                document(&trace.graph, params, name),
+            ));
         }
     }
     out
@@ -95,7 +102,7 @@ fn outputs_equal_the_golden_files() {
         let path = golden_path(name);
         if bless {
             fs::create_dir_all(path.parent().expect("parent")).expect("create tests/golden");
-            fs::write(&path, &text).expect("write golden file");
+            fs::write(&path, text).expect("write golden file");
             continue;
         }
         match fs::read_to_string(&path) {

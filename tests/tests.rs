@@ -9,3 +9,4 @@ mod pipeline;
 mod properties;
 mod score;
 mod support;
+mod trust;

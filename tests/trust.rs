@@ -383,3 +383,33 @@ fn a_point_list_canvas_fits_the_points() {
         .expect("x");
     assert!((999.0..1010.0).contains(&first), "{first}");
 }
+
+// ---------------------------------------------------------------------------------------------
+// README
+
+#[test]
+fn the_readme_says_how_to_get_the_command_and_what_the_svg_shows() {
+    let readme = fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("README.md"))
+        .expect("README.md");
+    let start = &readme[..readme.find("## ").unwrap_or(readme.len())];
+    for words in [
+        "cargo install --path .",
+        "target/release/ridgeline",
+        "first build compiles",
+    ] {
+        assert!(start.contains(words), "the README's start lacks {words:?}");
+    }
+    use ridgeline::export::svg::{EDGE_COLOR, ENDPOINT_COLOR, JUNCTION_COLOR};
+    for (color, meaning) in [
+        (EDGE_COLOR, "centerlines"),
+        (ENDPOINT_COLOR, "stroke ends"),
+        (JUNCTION_COLOR, "junctions"),
+    ] {
+        let at = start
+            .find(color)
+            .unwrap_or_else(|| panic!("the README's start does not name {color} ({meaning})"));
+        let before = &start[at.saturating_sub(60)..at];
+        assert!(before.contains(meaning), "{color} is not said to be {meaning}");
+    }
+    assert!(start.contains("red disc on its own is a dot"));
+}

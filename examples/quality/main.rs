@@ -65,12 +65,19 @@ fn parse_args() -> anyhow::Result<Args> {
 }
 
 /// The methods compared in every table.
-const METHODS: [&str; 3] = ["ridgeline", "paper", "thinning"];
+const METHODS: [&str; 4] = ["ridgeline", "skeleton", "paper", "thinning"];
 
 fn run_method(method: &str, case: &Case) -> anyhow::Result<StrokeGraph> {
     Ok(match method {
         "ridgeline" => ridgeline::trace_binary(&case.binary, &Params::default())?.graph,
         "paper" => ridgeline::trace_binary(&case.binary, &Params::paper())?.graph,
+        "skeleton" => {
+            let params = Params {
+                skeleton: true,
+                ..Params::default()
+            };
+            ridgeline::trace_binary(&case.binary, &params)?.graph
+        }
         _ => thinning::trace(&case.binary),
     })
 }

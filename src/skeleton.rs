@@ -9,8 +9,12 @@
 //! - **spurs**: a terminal skeleton branch is kept when its ink reaches beyond the junction's own
 //!   disk by more than a boundary bump ([`spur_reach`]), or when the method has a stroke end there.
 //!
+//! - **corners**: where the method sees no junction, the Y that thinning makes of a sharp bend
+//!   (two legs and a stub into the corner) is a bend.
+//!
 //! In: the method's [`StrokeGraph`] and the [`PointSet`] with its pixel grid. Out: a
-//! [`StrokeGraph`] whose polylines are skeleton pixel paths, lightly smoothed. Point lists and
+//! [`StrokeGraph`] whose polylines are the skeleton's pixel paths (smoothing them, even over 3
+//! pixels, measured worse at 1 px tolerance). Point lists and
 //! dropout mode (broken strokes, whose skeleton is not the stroke's) keep the method's graph.
 
 use crate::point_set::{Grid, PointSet};
@@ -262,22 +266,25 @@ fn set_directions(graph: &mut StrokeGraph) {
     }
 }
 
-/// How far the ink of a terminal branch reaches beyond the disk of its junction: the largest
-/// `|p - J| + r(p)` over the branch's points `p` (with `r` the half-width there), less `r(J)`.
-/// A spur, a bump of the boundary, reaches about a pixel; an arm's ink sticks out.
-pub fn spur_reach(
-    junction: [f64; 2],
-    junction_width: f64,
-    points: &[[f64; 2]],
-    widths: &[f64],
-) -> f64 {
-    let r_junction = (junction_width + 1.0) / 2.0;
+/// How far the ink of a terminal branch reaches beyond the envelope of the strokes it leaves:
+/// for each of its points `p` (with `r(p)` the half-width there), how far its disk sticks out of
+/// the nearest-fitting disk `(q, r(q))` among `envelope` (the junction and the points of its
+/// other edges), `min_q |p - q| + r(p) - r(q)`; the largest over the branch. A spur, a bump of
+/// the boundary or the branch into a rounded corner, reaches about a pixel; an arm's ink sticks
+/// out by its length. Widths are full widths (`r = (w + 1) / 2`, the pixel itself counted).
+pub fn spur_reach(points: &[[f64; 2]], widths: &[f64], envelope: &[([f64; 2], f64)]) -> f64 {
     points
         .iter()
         .zip(widths)
-        .map(|(&p, &w)| dist(p, junction) + (w + 1.0) / 2.0)
+        .map(|(&p, &w)| {
+            let r = (w + 1.0) / 2.0;
+            envelope
+                .iter()
+                .map(|&(q, wq)| dist(p, q) + r - (wq + 1.0) / 2.0)
+                .fold(f64::INFINITY, f64::min)
+        })
+        .filter(|e| e.is_finite())
         .fold(0.0f64, f64::max)
-        - r_junction
 }
 
 /// The skeleton-carried graph of `points`' ink with the topology decisions of `method` (see the
@@ -299,7 +306,8 @@ pub fn carry(method: &StrokeGraph, points: &PointSet) -> StrokeGraph {
             i => f64::from(points.half_width[i as usize]),
         })
         .collect();
-    let skeleton = zhang_suen(&ink, w, h);
+    let mut skeleton = zhang_suen(&ink, w, h);
+    keep_every_component(&ink, &half, w, h, &mut skeleton);
     let mut s = pixel_graph(w, h, &skeleton, &half);
     let (x0, y0) = (grid.x0 as f64, grid.y0 as f64);
     for v in &mut s.vertices {
@@ -313,12 +321,53 @@ pub fn carry(method: &StrokeGraph, points: &PointSet) -> StrokeGraph {
     let mut work = Work::new(s);
     work.merge_crossings(method);
     work.prune_spurs(method);
+    work.dissolve_corners(method);
     work.join_degree_two();
     work.straighten_junctions();
     let mut graph = work.finish(method.width, method.height);
-    smooth(&mut graph);
     set_directions(&mut graph);
     graph
+}
+
+/// Zhang-Suen thinning erases some small blobs whole (a 2 x 2 block, a short 2-pixel-thick
+/// diagonal): every component of the ink that lost all its pixels gets back its deepest one, a
+/// dot.
+fn keep_every_component(ink: &[bool], half: &[f64], w: usize, h: usize, skeleton: &mut [bool]) {
+    let mut seen = vec![false; ink.len()];
+    let mut stack = Vec::new();
+    let mut members = Vec::new();
+    for start in 0..ink.len() {
+        if !ink[start] || seen[start] {
+            continue;
+        }
+        seen[start] = true;
+        stack.push(start);
+        members.clear();
+        while let Some(i) = stack.pop() {
+            members.push(i);
+            let (x, y) = ((i % w) as i64, (i / w) as i64);
+            for (dx, dy) in RING {
+                let (nx, ny) = (x + dx, y + dy);
+                if nx < 0 || ny < 0 || nx >= w as i64 || ny >= h as i64 {
+                    continue;
+                }
+                let j = ny as usize * w + nx as usize;
+                if ink[j] && !seen[j] {
+                    seen[j] = true;
+                    stack.push(j);
+                }
+            }
+        }
+        if members.iter().any(|&i| skeleton[i]) {
+            continue;
+        }
+        if let Some(&deepest) = members
+            .iter()
+            .max_by(|&&a, &&b| half[a].total_cmp(&half[b]).then(b.cmp(&a)))
+        {
+            skeleton[deepest] = true;
+        }
+    }
 }
 
 /// The skeleton graph being edited: removed edges are `None`, removed vertices `alive == false`.
@@ -352,18 +401,35 @@ impl Work {
     }
 
     /// Crossings: around each of the method's vertices of degree >= 4, the skeleton junctions
-    /// within 1.5 of its widths, joined by skeleton edges among themselves that form a tree (no
+    /// nearer to it than to any other of the method's junctions (and within 4 of its widths), joined by skeleton edges among themselves that form a tree (no
     /// hole inside) and leaving by exactly as many arms as the crossing has, become one vertex at
     /// the crossing; each arm is cut where it leaves the merged junctions' reach and joined
     /// straight to it.
     fn merge_crossings(&mut self, method: &StrokeGraph) {
         let mut claimed = vec![false; self.vertices.len()];
+        let junctions: Vec<[f64; 2]> = method
+            .vertices
+            .iter()
+            .filter(|v| v.degree >= 3)
+            .map(|v| v.pos)
+            .collect();
+        // The method's junction nearest to a point: every skeleton junction belongs to one.
+        let nearest_junction = |p: [f64; 2]| {
+            junctions
+                .iter()
+                .copied()
+                .min_by(|a, b| dist(*a, p).total_cmp(&dist(*b, p)))
+        };
         for v in method.vertices.iter().filter(|v| v.degree >= 4) {
             let degree = self.degrees();
-            let radius = 1.5 * v.width.max(2.0);
+            // The Y's of an acute crossing lie about (w / 2) / sin(theta / 2) from it, 3.8 w at
+            // 15 degrees: search within 4 widths, among the skeleton junctions whose nearest
+            // method junction is this one.
+            let radius = 4.0 * v.width.max(2.0);
             let near: Vec<usize> = (0..self.vertices.len())
                 .filter(|&i| self.alive[i] && !claimed[i] && degree[i] >= 3)
                 .filter(|&i| dist(self.vertices[i].pos, v.pos) <= radius)
+                .filter(|&i| nearest_junction(self.vertices[i].pos) == Some(v.pos))
                 .collect();
             if near.len() < 2 {
                 continue;
@@ -440,35 +506,170 @@ impl Work {
     }
 
     /// Spurs: terminal branches whose ink does not reach beyond their junction's disk by more
-    /// than `max(1.5 px, 0.4 x` the junction's width`)` are removed, unless the method has a
-    /// stroke end near their tip.
+    /// than `max(1.5 px, 0.4 x` the stroke width`)` are removed, unless the method has a stroke
+    /// end near their tip. (A sharp corner's branch reaches about `0.2 w`, a boundary bump about a
+    /// pixel; an arm half a width long or more is kept.)
     fn prune_spurs(&mut self, method: &StrokeGraph) {
         let degree = self.degrees();
         let ends: Vec<[f64; 2]> = method.endpoints().map(|v| method.vertices[v].pos).collect();
-        for slot in &mut self.edges {
-            let Some(edge) = slot else { continue };
+        // The stroke width an arm leaves: the narrowest median width of the junction's other
+        // edges (the width at the junction itself is inflated where strokes meet).
+        let median = |widths: &[f64]| {
+            let mut sorted = widths.to_vec();
+            sorted.sort_by(f64::total_cmp);
+            sorted.get(sorted.len() / 2).copied().unwrap_or(1.0)
+        };
+        let mut spurs = Vec::new();
+        for (e, edge) in self.edges.iter().enumerate() {
+            let Some(edge) = edge else { continue };
             let (junction, tip, forward) = match (degree[edge.from], degree[edge.to]) {
                 (1, d) if d >= 3 => (edge.to, edge.from, false),
                 (d, 1) if d >= 3 => (edge.from, edge.to, true),
                 _ => continue,
             };
+            let stroke = self
+                .edges
+                .iter()
+                .enumerate()
+                .filter_map(|(o, other)| other.as_ref().filter(|_| o != e))
+                .filter(|other| other.from == junction || other.to == junction)
+                .map(|other| median(&other.widths))
+                .fold(f64::INFINITY, f64::min);
             let j = &self.vertices[junction];
+            let stroke = if stroke.is_finite() { stroke } else { j.width };
             let mut points = edge.points.clone();
             let mut widths = edge.widths.clone();
             if !forward {
                 points.reverse();
                 widths.reverse();
             }
-            let reach = spur_reach(j.pos, j.width, &points, &widths);
-            if reach > (0.5 * j.width).max(2.0) {
+            // The envelope: the junction and its other edges' points within 3 stroke widths.
+            let mut envelope = vec![(j.pos, j.width)];
+            for (o, other) in self.edges.iter().enumerate() {
+                let Some(other) = other.as_ref().filter(|_| o != e) else {
+                    continue;
+                };
+                if other.from != junction && other.to != junction {
+                    continue;
+                }
+                envelope.extend(
+                    other
+                        .points
+                        .iter()
+                        .copied()
+                        .zip(other.widths.iter().copied())
+                        .filter(|&(q, _)| dist(q, j.pos) <= 3.0 * stroke),
+                );
+            }
+            let reach = spur_reach(&points, &widths, &envelope);
+            if reach > (0.4 * stroke).max(1.5) {
                 continue;
             }
             let tip_pos = self.vertices[tip].pos;
-            let near_end = (j.width).max(3.0);
-            if ends.iter().any(|&p| dist(p, tip_pos) <= near_end) {
+            if ends.iter().any(|&p| dist(p, tip_pos) <= stroke.max(3.0)) {
                 continue;
             }
-            *slot = None;
+            spurs.push((e, tip));
+        }
+        for (e, tip) in spurs {
+            self.edges[e] = None;
+            self.alive[tip] = false;
+        }
+    }
+
+    /// Corners: thinning turns a sharp bend into a Y, the two legs meeting above the corner and
+    /// a stub running on into the corner's tip. Where the method sees no junction, a degree-3
+    /// skeleton junction whose other two edges leave at less than 120 degrees to each other and
+    /// whose terminal stub, shorter than 3 stroke widths, points away from both is that corner:
+    /// the stub is dropped and the junction becomes the bend.
+    fn dissolve_corners(&mut self, method: &StrokeGraph) {
+        let junctions: Vec<&Vertex> = method.vertices.iter().filter(|v| v.degree >= 3).collect();
+        let chord = |edge: &Edge, from_vertex: usize, length: f64| -> [f64; 2] {
+            let forward = edge.from == from_vertex;
+            let start = if forward {
+                edge.points[0]
+            } else {
+                edge.points[edge.points.len() - 1]
+            };
+            let along: Box<dyn Iterator<Item = &[f64; 2]>> = if forward {
+                Box::new(edge.points.iter())
+            } else {
+                Box::new(edge.points.iter().rev())
+            };
+            let mut end = start;
+            for &p in along {
+                end = p;
+                if dist(p, start) >= length {
+                    break;
+                }
+            }
+            let d = [end[0] - start[0], end[1] - start[1]];
+            let n = d[0].hypot(d[1]).max(1e-9);
+            [d[0] / n, d[1] / n]
+        };
+        loop {
+            let degree = self.degrees();
+            let mut found = None;
+            for v in (0..self.vertices.len()).filter(|&v| self.alive[v] && degree[v] == 3) {
+                let incident: Vec<usize> = (0..self.edges.len())
+                    .filter(|&e| {
+                        self.edges[e]
+                            .as_ref()
+                            .is_some_and(|x| (x.from == v) != (x.to == v))
+                    })
+                    .collect();
+                if incident.len() != 3 {
+                    continue;
+                }
+                let far_end = |e: usize| {
+                    let edge = self.edges[e]
+                        .as_ref()
+                        .map(|x| if x.from == v { x.to } else { x.from });
+                    edge.unwrap_or(v)
+                };
+                let stubs: Vec<usize> = incident
+                    .iter()
+                    .copied()
+                    .filter(|&e| degree[far_end(e)] == 1)
+                    .collect();
+                let [stub] = stubs[..] else { continue };
+                let legs: Vec<usize> = incident.iter().copied().filter(|&e| e != stub).collect();
+                let (Some(stub_edge), Some(a), Some(b)) = (
+                    self.edges[stub].as_ref(),
+                    self.edges[legs[0]].as_ref(),
+                    self.edges[legs[1]].as_ref(),
+                ) else {
+                    continue;
+                };
+                let mut widths: Vec<f64> = a.widths.iter().chain(&b.widths).copied().collect();
+                widths.sort_by(f64::total_cmp);
+                let stroke = widths[widths.len() / 2];
+                let pos = self.vertices[v].pos;
+                if junctions
+                    .iter()
+                    .any(|j| dist(j.pos, pos) <= 2.0 * stroke.max(2.0))
+                {
+                    continue;
+                }
+                let tip = self.vertices[far_end(stub)].pos;
+                if dist(tip, pos) >= 3.0 * stroke {
+                    continue;
+                }
+                let (da, db) = (chord(a, v, 2.0 * stroke), chord(b, v, 2.0 * stroke));
+                let ds = chord(stub_edge, v, 2.0 * stroke);
+                let dot = |p: [f64; 2], q: [f64; 2]| p[0] * q[0] + p[1] * q[1];
+                let legs_angle_small = dot(da, db) > (120f64).to_radians().cos();
+                if legs_angle_small && dot(ds, da) < 0.0 && dot(ds, db) < 0.0 {
+                    found = Some((stub, far_end(stub)));
+                    break;
+                }
+            }
+            let Some((stub, tip)) = found else {
+                return;
+            };
+            // The stub is dropped and the junction becomes the bend: giving both legs the stub
+            // would draw it twice.
+            self.edges[stub] = None;
             self.alive[tip] = false;
         }
     }
@@ -599,41 +800,6 @@ fn cut_arm(edge: &mut Edge, at_start: bool, hub: [f64; 2], reach: f64) {
     }
 }
 
-/// A light moving average (3 points each side) over the interior of each polyline: pixel paths
-/// step by whole pixels; their ends stay on their vertices.
-fn smooth(graph: &mut StrokeGraph) {
-    const RADIUS: usize = 1;
-    for edge in &mut graph.edges {
-        let n = edge.points.len();
-        if n < 3 {
-            continue;
-        }
-        let closed = edge.from == edge.to && n > 2 * RADIUS + 2;
-        let original = edge.points.clone();
-        for i in 1..n - 1 {
-            let (lo, hi) = if closed {
-                (i as i64 - RADIUS as i64, i as i64 + RADIUS as i64)
-            } else {
-                let r = RADIUS.min(i).min(n - 1 - i) as i64;
-                (i as i64 - r, i as i64 + r)
-            };
-            let mut sum = [0.0, 0.0];
-            for k in lo..=hi {
-                // Closed loops wrap around (the first and last points are the same vertex).
-                let idx = if closed {
-                    k.rem_euclid((n - 1) as i64) as usize
-                } else {
-                    k as usize
-                };
-                let p = original[idx];
-                sum = [sum[0] + p[0], sum[1] + p[1]];
-            }
-            let count = (hi - lo + 1) as f64;
-            edge.points[i] = [sum[0] / count, sum[1] / count];
-        }
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -687,8 +853,9 @@ mod tests {
         // A junction of width 8 (radius 4.5 with the pixel); a bump ends 3 px out, where the
         // stroke's edge is; an arm of 1.5 widths ends 12 px out with its full width.
         let junction = [0.0, 0.0];
-        let bump = spur_reach(junction, 8.0, &[[0.0, 1.0], [0.0, 3.0]], &[7.0, 1.0]);
-        let arm = spur_reach(junction, 8.0, &[[0.0, 4.0], [0.0, 12.0]], &[8.0, 6.0]);
+        let envelope = [(junction, 8.0), ([4.0, 0.0], 8.0), ([-4.0, 0.0], 8.0)];
+        let bump = spur_reach(&[[0.0, 1.0], [0.0, 3.0]], &[7.0, 1.0], &envelope);
+        let arm = spur_reach(&[[0.0, 4.0], [0.0, 12.0]], &[8.0, 6.0], &envelope);
         assert!(bump < 1.0, "{bump}");
         assert!(arm > 0.5 * 8.0, "{arm}");
     }

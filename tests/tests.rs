@@ -4,6 +4,7 @@ mod cli;
 mod debug;
 mod features;
 mod hostile;
+mod inputs;
 mod pipeline;
 mod properties;
 mod score;

@@ -9,10 +9,11 @@
 use std::collections::{BTreeMap, BTreeSet};
 use std::fmt;
 use std::fs;
-use std::io::{IsTerminal, Write};
+use std::io::{IsTerminal, Read, Write};
 use std::panic::{catch_unwind, AssertUnwindSafe};
-use std::path::{Path, PathBuf};
+use std::path::{Component, Path, PathBuf};
 use std::process::ExitCode;
+use std::time::Instant;
 
 use anyhow::{Context, Result};
 use clap::{Parser, ValueEnum};
@@ -37,6 +38,11 @@ const SAUVOLA_K: f64 = 0.2;
 const IMAGE_EXTENSIONS: &[&str] = &[
     "png", "jpg", "jpeg", "tif", "tiff", "bmp", "gif", "webp", "pnm", "pbm", "pgm", "ppm",
 ];
+/// The formats written, for messages.
+const OUTPUT_FORMATS: &str = "SVG (.svg) and JSON (.json)";
+/// Most bytes read from standard input (`-`).
+const MAX_STDIN_BYTES: u64 = 4 << 30;
+
 /// Extensions read as point lists.
 const POINT_LIST_EXTENSIONS: &[&str] = &["txt", "csv", "xy", "pts"];
 
@@ -53,7 +59,8 @@ Examples:
   Why does a result look wrong? Pictures of every stage into stages/
     ridgeline --debug stages/ page.png
 
-Outputs are written atomically: a failed run never leaves an output half-written or emptied.
+Outputs are written atomically: a failed run never leaves an output half-written or emptied,
+and never writes over an input. Each run ends with one line on stderr (--quiet: none).
 Exit status: 0 on success (a blank page is a warning), 1 if any input failed, 2 on usage errors.";
 
 /// Turns raster images of strokes (scans, handwriting, fingerprints) and point lists into stroke
@@ -61,18 +68,22 @@ Exit status: 0 on success (a blank page is a warning), 1 if any input failed, 2 
 #[derive(Debug, Parser)]
 #[command(name = "ridgeline", version, after_help = EXAMPLES, max_term_width = 100)]
 pub struct Cli {
-    /// Image files, point lists, or directories (walked recursively, files sorted by name); every
+    /// Image files, point lists, or directories (walked recursively, files sorted by name); '-'
+    /// reads standard input (an image when its bytes start like one, else a point list); every
     /// page of a multi-page TIFF is traced (see --max-pages)
     #[arg(required = true, value_name = "INPUT")]
     inputs: Vec<PathBuf>,
 
-    /// Output file, directory, or '-' for stdout [default: each input's path with its extension
-    /// replaced by .svg or .json]
+    /// Output file (.svg or .json), directory, or '-' for stdout [default: each input's path
+    /// with its extension replaced by .svg or .json; stdout for standard input]
     ///
     /// PATH is a directory when there are several inputs or a directory input, when it ends in
-    /// '/', or when it is an existing directory; it is created if missing. Files in it are named
-    /// <input stem>.<svg|json>, with the parent directory's name added when two inputs share a
-    /// stem.
+    /// '/', or when it is an existing directory; it is created if missing (the folder of an
+    /// output file must exist). Outputs keep the inputs' layout in it: a file found at a/x.png
+    /// in a walked directory is written to PATH/a/x.svg, and named files keep their paths below
+    /// the deepest folder holding them all (a/x.png b/x.png: PATH/a/x.svg PATH/b/x.svg); names
+    /// that still clash get the parent directory's name added. An output is never written over
+    /// an input.
     #[arg(short, long, value_name = "PATH", help_heading = "Output")]
     output: Option<PathBuf>,
 
@@ -276,7 +287,7 @@ pub struct Cli {
     #[arg(long, value_name = "WEIGHT", help_heading = "Fitting (paper §3.4)")]
     anchor_weight: Option<f64>,
 
-    /// Weiszfeld iterations for the L1 medians [default: 20]
+    /// Weiszfeld iterations for the L1 medians, 0-1000 [default: 20]
     #[arg(long, value_name = "N", help_heading = "Fitting (paper §3.4)")]
     weiszfeld_iterations: Option<usize>,
 
@@ -309,7 +320,7 @@ pub struct Cli {
     #[arg(short, long, value_name = "N", value_parser = clap::value_parser!(u16).range(1..), help_heading = "Running")]
     jobs: Option<u16>,
 
-    /// Print errors only: no progress bar, no warnings
+    /// Print errors only: no summary line, no progress bar, no warnings
     #[arg(short, long, help_heading = "Running")]
     quiet: bool,
 }
@@ -428,16 +439,25 @@ impl TryFrom<&Cli> for Params {
         if cli.no_cleanup {
             params.cleanup = false;
         }
-        if !(params.dropout_fraction > 0.0 && params.dropout_fraction < 1.0) {
-            return Err(UsageError(format!(
-                "--dropout-fraction must be in (0, 1), got {}",
-                params.dropout_fraction
-            )));
-        }
-        params
-            .validate()
-            .map_err(|err| UsageError(err.to_string()))?;
+        params.validate().map_err(|err| match err {
+            ridgeline::Error::InvalidParam { field, reason } => {
+                UsageError(format!("{} {reason}", flag_of(field)))
+            }
+            other => UsageError(other.to_string()),
+        })?;
         Ok(params)
+    }
+}
+
+/// The flag that sets a [`Params`] field, as named by [`Params::validate`]'s errors.
+fn flag_of(field: &str) -> String {
+    match field {
+        "threshold.window" => "--window".into(),
+        "threshold.k" => "--sauvola-k".into(),
+        other => format!(
+            "--{}",
+            other.trim_start_matches("limits.").replace('_', "-")
+        ),
     }
 }
 
@@ -446,6 +466,20 @@ impl TryFrom<&Cli> for Params {
 enum Kind {
     Image,
     PointList,
+    /// Standard input (`-`): an image when the bytes start like one, else a point list.
+    Stdin,
+}
+
+/// One input file, as found on the command line or in a walked directory.
+#[derive(Clone, Debug)]
+struct InputFile {
+    path: PathBuf,
+    kind: Kind,
+    /// Its place under an output directory: the path below the walked directory it was found in,
+    /// or, for a named file, below the deepest folder holding all named files
+    /// ([`lay_out_named_files`]). `a/x.png` and `b/x.png` thus keep apart as `out/a/x.svg` and
+    /// `out/b/x.svg`.
+    layout: PathBuf,
 }
 
 /// Where one output goes.
@@ -461,6 +495,8 @@ struct Job {
     input: PathBuf,
     kind: Kind,
     destination: Destination,
+    /// The destination lies in a subfolder of the output directory, created when writing.
+    create_folder: bool,
     /// Where `--debug` pictures go.
     debug: Option<PathBuf>,
 }
@@ -478,6 +514,16 @@ struct Settings {
     minutiae: bool,
     /// `--curves` with its tolerance and corner angle.
     curves: Option<CurveOptions>,
+}
+
+/// What one traced input gave, for the line printed after a run.
+struct Traced {
+    warnings: Vec<String>,
+    /// Where the output went, as the user should read it.
+    output: String,
+    vertices: usize,
+    edges: usize,
+    junctions: usize,
 }
 
 /// An input that could not be traced, with the reason.
@@ -501,6 +547,7 @@ pub fn run() -> Result<ExitCode> {
 }
 
 fn run_with(cli: &Cli) -> Result<ExitCode> {
+    let started = Instant::now();
     let params = Params::try_from(cli)?;
     if let Some(width) = cli.line_width.filter(|w| !(w.is_finite() && *w > 0.0)) {
         return Err(UsageError(format!("--line-width must be > 0 px, got {width}")).into());
@@ -528,11 +575,7 @@ fn run_with(cli: &Cli) -> Result<ExitCode> {
             .into());
         }
     }
-    let to_stdout = cli.output.as_deref() == Some(Path::new("-"));
-    let format = cli.format.unwrap_or_else(|| match &cli.output {
-        Some(path) if !to_stdout && extension_is(path, &["json"]) => Format::Json,
-        _ => Format::Svg,
-    });
+    let format = output_format(cli)?;
     let settings = Settings {
         svg: SvgOptions::default()
             .with_show_vertices(!cli.no_vertices)
@@ -547,7 +590,7 @@ fn run_with(cli: &Cli) -> Result<ExitCode> {
         curves,
     };
 
-    let mut warnings = Vec::new();
+    let mut warnings = ignored_flags(cli, format);
     let mut failures = Vec::new();
     let (files, batch) = collect_inputs(cli, &mut warnings, &mut failures);
     let unreadable_inputs = failures.len();
@@ -556,23 +599,23 @@ fn run_with(cli: &Cli) -> Result<ExitCode> {
     let jobs: Vec<Job> = files
         .into_iter()
         .zip(destinations)
-        .map(|((input, kind), destination)| {
-            // One input draws into DIR itself; several into DIR/<output stem>, unique because
-            // output names are.
+        .map(|(file, (destination, create_folder))| {
+            // One input draws into DIR itself; several into DIR/<output path without its
+            // extension>, unique because output paths are.
             let debug = cli.debug.as_ref().map(|dir| match &destination {
-                Destination::File(path) if several => {
-                    dir.join(path.file_stem().unwrap_or(path.as_os_str()))
-                }
+                Destination::File(path) if several => dir.join(debug_folder(cli, path)),
                 _ => dir.clone(),
             });
             Job {
-                input,
-                kind,
+                input: file.path,
+                kind: file.kind,
                 destination,
+                create_folder,
                 debug,
             }
         })
         .collect();
+    refuse_overwriting_inputs(&jobs)?;
 
     let progress = (jobs.len() > 1 && !cli.quiet && std::io::stderr().is_terminal()).then(|| {
         let bar = ProgressBar::new(jobs.len() as u64);
@@ -588,7 +631,7 @@ fn run_with(cli: &Cli) -> Result<ExitCode> {
         pool = pool.num_threads(usize::from(threads));
     }
     let pool = pool.build().context("cannot start the worker threads")?;
-    let outcomes: Vec<Result<Vec<String>, String>> = pool.install(|| {
+    let outcomes: Vec<Result<Traced, String>> = pool.install(|| {
         jobs.par_iter()
             .map(|job| {
                 let outcome = run_job(job, &settings);
@@ -605,13 +648,18 @@ fn run_with(cli: &Cli) -> Result<ExitCode> {
 
     // Reported in input order after the run, so that the messages are as deterministic as the
     // outputs, whatever the thread count.
+    let mut traced = Vec::new();
     for (job, outcome) in jobs.iter().zip(outcomes) {
         match outcome {
-            Ok(job_warnings) => warnings.extend(
-                job_warnings
-                    .into_iter()
-                    .map(|w| format!("{}: {w}", job.input.display())),
-            ),
+            Ok(result) => {
+                warnings.extend(
+                    result
+                        .warnings
+                        .iter()
+                        .map(|w| format!("{}: {w}", job.input.display())),
+                );
+                traced.push((job, result));
+            }
             Err(message) => failures.push(Failure {
                 input: job.input.clone(),
                 message,
@@ -623,38 +671,178 @@ fn run_with(cli: &Cli) -> Result<ExitCode> {
             eprintln!("warning: {warning}");
         }
     }
-    if failures.is_empty() {
-        return Ok(ExitCode::SUCCESS);
-    }
     let total = jobs.len() + unreadable_inputs;
     if total <= 1 {
-        eprintln!(
-            "error: {}: {}",
-            failures[0].input.display(),
-            failures[0].message
-        );
-    } else {
+        if let Some(failure) = failures.first() {
+            eprintln!("error: {}: {}", failure.input.display(), failure.message);
+            return Ok(ExitCode::FAILURE);
+        }
+        if let (false, Some((job, result))) = (cli.quiet, traced.first()) {
+            eprintln!(
+                "{} -> {}: {} in {:.2} s",
+                job.input.display(),
+                result.output,
+                counts(result),
+                started.elapsed().as_secs_f64()
+            );
+        }
+        return Ok(ExitCode::SUCCESS);
+    }
+    if !failures.is_empty() {
         eprintln!("error: {} of {total} inputs failed:", failures.len());
         for failure in &failures {
             eprintln!("  {}: {}", failure.input.display(), failure.message);
         }
     }
-    Ok(ExitCode::FAILURE)
+    if !cli.quiet {
+        let (vertices, edges, junctions) = traced.iter().fold((0, 0, 0), |sum, (_, r)| {
+            (sum.0 + r.vertices, sum.1 + r.edges, sum.2 + r.junctions)
+        });
+        let failed = match failures.len() {
+            0 => String::new(),
+            n => format!(", {n} failed"),
+        };
+        eprintln!(
+            "traced {} of {total} inputs{failed} in {:.2} s ({vertices} vertices, {edges} edges, \
+             {junctions} junctions)",
+            traced.len(),
+            started.elapsed().as_secs_f64()
+        );
+    }
+    Ok(if failures.is_empty() {
+        ExitCode::SUCCESS
+    } else {
+        ExitCode::FAILURE
+    })
+}
+
+/// "12 vertices, 14 edges, 3 junctions".
+fn counts(result: &Traced) -> String {
+    format!(
+        "{} vertices, {} edges, {} junctions",
+        result.vertices, result.edges, result.junctions
+    )
+}
+
+/// The output format: `--format`, else the `-o` file's extension, else SVG. An `-o` file whose
+/// extension is not one ridgeline writes, or that contradicts `--format`, is a usage error: it
+/// would otherwise get SVG text under a name that promises something else.
+fn output_format(cli: &Cli) -> Result<Format, UsageError> {
+    let file = cli
+        .output
+        .as_deref()
+        .filter(|path| path.as_os_str() != "-" && !names_directory(path));
+    let from_extension = match file.and_then(Path::extension) {
+        None => None,
+        Some(extension) => {
+            let lower = extension.to_string_lossy().to_ascii_lowercase();
+            match lower.as_str() {
+                "svg" => Some(Format::Svg),
+                "json" => Some(Format::Json),
+                _ => {
+                    return Err(UsageError(format!(
+                        "-o {}: ridgeline writes {OUTPUT_FORMATS}, not .{lower} (an output \
+                         without an extension gets --format, or svg)",
+                        cli.output.as_deref().unwrap_or(Path::new("")).display()
+                    )))
+                }
+            }
+        }
+    };
+    match (cli.format, from_extension) {
+        (Some(flag), Some(extension)) if flag != extension => Err(UsageError(format!(
+            "--format {} contradicts -o {}",
+            flag.extension(),
+            cli.output.as_deref().unwrap_or(Path::new("")).display()
+        ))),
+        (Some(flag), _) => Ok(flag),
+        (None, Some(extension)) => Ok(extension),
+        (None, None) => Ok(Format::Svg),
+    }
+}
+
+/// Whether `-o path` names a directory whatever the number of inputs: it ends in a separator or
+/// is an existing directory.
+fn names_directory(path: &Path) -> bool {
+    path.as_os_str()
+        .to_string_lossy()
+        .ends_with(std::path::is_separator)
+        || path.is_dir()
+}
+
+/// Warnings for the flags given that change nothing in the chosen format.
+fn ignored_flags(cli: &Cli, format: Format) -> Vec<String> {
+    let (given, changes): (Vec<&str>, &str) = match format {
+        Format::Json => (
+            [
+                (cli.no_image, "--no-image"),
+                (cli.no_vertices, "--no-vertices"),
+                (cli.line_width.is_some(), "--line-width"),
+                (cli.width, "--width"),
+                (cli.strokes, "--strokes"),
+            ]
+            .into_iter()
+            .filter_map(|(on, flag)| on.then_some(flag))
+            .collect(),
+            "change only the SVG (the JSON always holds every width and the strokes)",
+        ),
+        Format::Svg => (
+            cli.pretty.then_some("--pretty").into_iter().collect(),
+            "changes only the JSON",
+        ),
+    };
+    if given.is_empty() {
+        return Vec::new();
+    }
+    let changes = if given.len() == 1 {
+        changes.replacen("change ", "changes ", 1)
+    } else {
+        changes.replacen("changes ", "change ", 1)
+    };
+    vec![format!(
+        "{} {changes}; writing {}",
+        given.join(", "),
+        format.extension().to_uppercase()
+    )]
 }
 
 /// Expands the command line's inputs into the files to trace, in a fixed order: named files as
 /// given, directories walked with their entries sorted by name. Inputs that do not exist and
 /// directories with nothing to trace become failures; other files in directories are skipped
-/// with a warning. Returns the files and whether this is a batch (several inputs or a directory).
+/// with a warning, except the formats ridgeline writes (its own earlier outputs) and the output
+/// and `--debug` folders when they lie inside a walked directory. Returns the files and whether
+/// this is a batch (several inputs or a directory).
 fn collect_inputs(
     cli: &Cli,
     warnings: &mut Vec<String>,
     failures: &mut Vec<Failure>,
-) -> (Vec<(PathBuf, Kind)>, bool) {
+) -> (Vec<InputFile>, bool) {
     let mut files = Vec::new();
+    let mut named = Vec::new();
     let mut seen = BTreeSet::new();
     let mut batch = cli.inputs.len() > 1;
+    // Folders ridgeline writes into are never walked as inputs.
+    let own_folders: Vec<PathBuf> = [cli.output.as_deref(), cli.debug.as_deref()]
+        .into_iter()
+        .flatten()
+        .filter_map(|path| fs::canonicalize(path).ok())
+        .filter(|path| path.is_dir())
+        .collect();
     for input in &cli.inputs {
+        if input.as_os_str() == "-" {
+            if seen.insert(input.clone()) {
+                files.push(InputFile {
+                    path: input.clone(),
+                    kind: if cli.points {
+                        Kind::PointList
+                    } else {
+                        Kind::Stdin
+                    },
+                    layout: PathBuf::from("stdin"),
+                });
+            }
+            continue;
+        }
         let metadata = match fs::metadata(input) {
             Ok(metadata) => metadata,
             Err(err) => {
@@ -672,14 +860,19 @@ fn collect_inputs(
                 Kind::Image
             };
             if seen.insert(input.clone()) {
-                files.push((input.clone(), kind));
+                named.push(files.len());
+                files.push(InputFile {
+                    path: input.clone(),
+                    kind,
+                    layout: PathBuf::new(),
+                });
             }
             continue;
         }
         batch = true;
         let mut found = Vec::new();
         let mut skipped = Vec::new();
-        if let Err(err) = walk(input, &mut found, &mut skipped) {
+        if let Err(err) = walk(input, &own_folders, &mut found, &mut skipped) {
             failures.push(Failure {
                 input: input.clone(),
                 message: format!("{err:#}"),
@@ -712,18 +905,66 @@ fn collect_inputs(
             } else {
                 Kind::Image
             };
+            let layout = path.strip_prefix(input).unwrap_or(&path).to_path_buf();
             if seen.insert(path.clone()) {
-                files.push((path, kind));
+                files.push(InputFile { path, kind, layout });
             }
         }
     }
+    lay_out_named_files(&mut files, &named);
     (files, batch)
+}
+
+/// Gives the files named on the command line their place under an output directory (see
+/// [`InputFile::layout`]): their paths below the deepest folder that holds them all, so that
+/// `scans/a.png scans/b.png` become `a.svg b.svg` and `a/x.png b/x.png` become `a/x.svg b/x.svg`.
+/// Paths that climb out with `..` keep only their file name.
+fn lay_out_named_files(files: &mut [InputFile], named: &[usize]) {
+    fn parts(path: &Path) -> Option<Vec<Component<'_>>> {
+        let kept: Vec<Component> = path
+            .components()
+            .filter(|c| *c != Component::CurDir)
+            .collect();
+        (!kept.contains(&Component::ParentDir)).then_some(kept)
+    }
+    let mut common: Option<Vec<Component>> = None;
+    for &i in named {
+        let Some(mut folder) = parts(&files[i].path) else {
+            continue;
+        };
+        folder.pop();
+        common = Some(match common {
+            None => folder,
+            Some(prefix) => prefix
+                .into_iter()
+                .zip(folder)
+                .take_while(|(a, b)| a == b)
+                .map(|(a, _)| a)
+                .collect(),
+        });
+    }
+    let depth = common.map_or(0, |prefix| prefix.len());
+    for &i in named {
+        let path = &files[i].path;
+        files[i].layout = match parts(path) {
+            Some(kept) => kept[depth.min(kept.len().saturating_sub(1))..]
+                .iter()
+                .collect(),
+            None => PathBuf::from(path.file_name().unwrap_or(path.as_os_str())),
+        };
+    }
 }
 
 /// Walks `dir` recursively, entries sorted by name, collecting files with an image or point-list
 /// extension into `found` and the others into `skipped`. Hidden entries (names starting with
-/// '.') are ignored, and symbolic links to directories are not followed (no cycles).
-fn walk(dir: &Path, found: &mut Vec<PathBuf>, skipped: &mut Vec<PathBuf>) -> Result<()> {
+/// '.'), the formats ridgeline writes and the folders in `own_folders` (canonical paths) are
+/// passed over; symbolic links to directories are not followed (no cycles).
+fn walk(
+    dir: &Path,
+    own_folders: &[PathBuf],
+    found: &mut Vec<PathBuf>,
+    skipped: &mut Vec<PathBuf>,
+) -> Result<()> {
     let mut entries = fs::read_dir(dir)
         .with_context(|| format!("cannot list {}", dir.display()))?
         .collect::<Result<Vec<_>, _>>()
@@ -738,14 +979,17 @@ fn walk(dir: &Path, found: &mut Vec<PathBuf>, skipped: &mut Vec<PathBuf>) -> Res
             .file_type()
             .with_context(|| format!("cannot read {}", path.display()))?;
         if file_type.is_dir() {
-            walk(&path, found, skipped)?;
+            let own = fs::canonicalize(&path).is_ok_and(|real| own_folders.contains(&real));
+            if !own {
+                walk(&path, own_folders, found, skipped)?;
+            }
         } else if file_type.is_symlink() && path.is_dir() {
             continue;
         } else if extension_is(&path, IMAGE_EXTENSIONS)
             || extension_is(&path, POINT_LIST_EXTENSIONS)
         {
             found.push(path);
-        } else {
+        } else if !extension_is(&path, &["svg", "json"]) {
             skipped.push(path);
         }
     }
@@ -759,20 +1003,31 @@ fn extension_is(path: &Path, extensions: &[&str]) -> bool {
         .is_some_and(|e| extensions.iter().any(|x| x.eq_ignore_ascii_case(e)))
 }
 
-/// Decides where each file's output goes (see `--output`), creating the output directory.
+/// Decides where each file's output goes (see `--output`), creating the output directory, and
+/// whether its subfolder there must be created when it is written.
 fn plan_outputs(
     cli: &Cli,
-    files: &[(PathBuf, Kind)],
+    files: &[InputFile],
     batch: bool,
     format: Format,
-) -> Result<Vec<Destination>> {
-    let inputs: Vec<&Path> = files.iter().map(|(path, _)| path.as_path()).collect();
+) -> Result<Vec<(Destination, bool)>> {
+    let inputs: Vec<&Path> = files.iter().map(|file| file.path.as_path()).collect();
     let extension = format.extension();
     let Some(output) = &cli.output else {
-        let next_to_input = |input: &Path| input.parent().unwrap_or(Path::new("")).to_path_buf();
-        return Ok(unique_paths(&inputs, next_to_input, extension)
-            .into_iter()
-            .map(Destination::File)
+        let folders: Vec<PathBuf> = inputs
+            .iter()
+            .map(|input| input.parent().unwrap_or(Path::new("")).to_path_buf())
+            .collect();
+        let paths = unique_paths(&inputs, &folders, extension);
+        // Standard input has no path of its own to write beside: like a filter, it goes to
+        // standard output.
+        return Ok(files
+            .iter()
+            .zip(paths)
+            .map(|(file, path)| match file.path.as_os_str() == "-" {
+                true if files.len() == 1 => (Destination::Stdout, false),
+                _ => (Destination::File(path), false),
+            })
             .collect());
     };
     if output.as_os_str() == "-" {
@@ -783,15 +1038,25 @@ fn plan_outputs(
             )
             .into());
         }
-        return Ok(vec![Destination::Stdout; files.len()]);
+        return Ok(vec![(Destination::Stdout, false); files.len()]);
     }
-    let names_directory = output
-        .as_os_str()
-        .to_string_lossy()
-        .ends_with(std::path::is_separator)
-        || output.is_dir();
-    if !(batch || names_directory) {
-        return Ok(vec![Destination::File(output.clone()); files.len()]);
+    if !(batch || names_directory(output)) {
+        // One output file: its folder must exist (only an output directory is created).
+        let folder = match output.parent() {
+            Some(parent) if !parent.as_os_str().is_empty() => parent,
+            _ => Path::new("."),
+        };
+        if !folder.is_dir() {
+            return Err(anyhow::anyhow!(
+                "cannot write {}: {}",
+                output.display(),
+                missing_folder(folder)
+            ));
+        }
+        return Ok(vec![
+            (Destination::File(output.clone()), false);
+            files.len()
+        ]);
     }
     if output.exists() && !output.is_dir() {
         return Err(UsageError(format!(
@@ -809,26 +1074,110 @@ fn plan_outputs(
     }
     fs::create_dir_all(output)
         .with_context(|| format!("cannot create the output directory {}", output.display()))?;
-    Ok(unique_paths(&inputs, |_| output.clone(), extension)
+    let folders: Vec<PathBuf> = files
+        .iter()
+        .map(|file| output.join(file.layout.parent().unwrap_or(Path::new(""))))
+        .collect();
+    Ok(unique_paths(&inputs, &folders, extension)
         .into_iter()
-        .map(Destination::File)
+        .zip(&folders)
+        .map(|(path, folder)| (Destination::File(path), folder != output))
         .collect())
 }
 
-/// Output paths `<dir>/<stem>.<extension>`, one per input, all different and none equal to an
-/// input. Clashes are resolved deterministically (the result depends only on the list): inputs
-/// that share a name get their parent directory's name appended (`page-scans.svg`), then their
-/// own extension (`page-scans-png.svg`), then a counter in input order (`page-2.svg`).
-fn unique_paths(
-    inputs: &[&Path],
-    directory_of: impl Fn(&Path) -> PathBuf,
-    extension: &str,
-) -> Vec<PathBuf> {
-    let candidate = |input: &Path, level: usize| -> (PathBuf, String) {
-        let stem = input
-            .file_stem()
-            .unwrap_or(input.as_os_str())
-            .to_string_lossy();
+/// Why `folder` cannot take a file: an ancestor that is a file, or the folder is missing.
+fn missing_folder(folder: &Path) -> String {
+    let blocking = folder
+        .ancestors()
+        .find(|a| !a.as_os_str().is_empty() && a.exists() && !a.is_dir());
+    match blocking {
+        Some(file) => format!("{} is a file, not a folder", file.display()),
+        None => format!("folder {} does not exist", folder.display()),
+    }
+}
+
+/// The `--debug` folder of one input in a batch: its output path below the output directory (or
+/// its file name), without the extension.
+fn debug_folder(cli: &Cli, output: &Path) -> PathBuf {
+    let below = cli
+        .output
+        .as_deref()
+        .and_then(|dir| output.strip_prefix(dir).ok())
+        .unwrap_or_else(|| Path::new(output.file_name().unwrap_or(output.as_os_str())));
+    below.with_extension("")
+}
+
+/// A file's identity: device and inode where the platform has them (a hard link, a symbolic link
+/// or `./x` is the same file), else its canonical path.
+#[derive(Debug, PartialEq, Eq, PartialOrd, Ord)]
+enum FileId {
+    #[cfg(unix)]
+    Inode(u64, u64),
+    #[cfg(not(unix))]
+    Path(PathBuf),
+}
+
+fn file_id(path: &Path) -> Option<FileId> {
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::MetadataExt;
+        let metadata = fs::metadata(path).ok()?;
+        Some(FileId::Inode(metadata.dev(), metadata.ino()))
+    }
+    #[cfg(not(unix))]
+    {
+        fs::canonicalize(path).ok().map(FileId::Path)
+    }
+}
+
+/// A run never writes over one of its own inputs: every output file and `--debug` picture that
+/// already exists is compared with the inputs by identity, before anything is traced. (One
+/// metadata read per path, so that a batch of thousands stays linear; the `same-file` crate would
+/// hold every input open.)
+fn refuse_overwriting_inputs(jobs: &[Job]) -> Result<(), UsageError> {
+    let inputs: BTreeMap<FileId, &Path> = jobs
+        .iter()
+        .filter(|job| job.input.as_os_str() != "-")
+        .filter_map(|job| Some((file_id(&job.input)?, job.input.as_path())))
+        .collect();
+    for job in jobs {
+        let pictures = job
+            .debug
+            .iter()
+            .flat_map(|dir| ridgeline::debug::PICTURE_NAMES.map(|name| dir.join(name)));
+        let outputs = match &job.destination {
+            Destination::File(path) => Some(path.clone()),
+            Destination::Stdout => None,
+        };
+        for path in outputs.into_iter().chain(pictures) {
+            if let Some(input) = file_id(&path).and_then(|id| inputs.get(&id)) {
+                return Err(UsageError(format!(
+                    "{} is the input {}: ridgeline never writes over its inputs; choose another \
+                     output with -o",
+                    path.display(),
+                    input.display()
+                )));
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Output paths `<folder>/<stem>.<extension>`, one per input in its folder, all different and
+/// none equal to an input. Clashes are resolved deterministically (the result depends only on
+/// the lists): inputs that share a name get their parent directory's name appended
+/// (`page-scans.svg`), then their own extension (`page-scans-png.svg`), then a counter in input
+/// order (`page-2.svg`).
+fn unique_paths(inputs: &[&Path], folders: &[PathBuf], extension: &str) -> Vec<PathBuf> {
+    let candidate = |i: usize, level: usize| -> PathBuf {
+        let input = inputs[i];
+        let stem = match input.as_os_str() == "-" {
+            true => "stdin".into(),
+            false => input
+                .file_stem()
+                .unwrap_or(input.as_os_str())
+                .to_string_lossy(),
+        };
         let mut base = stem.into_owned();
         if level >= 1 {
             if let Some(parent) = input.parent().and_then(Path::file_name) {
@@ -840,17 +1189,12 @@ fn unique_paths(
                 base = format!("{base}-{}", own.to_string_lossy());
             }
         }
-        (directory_of(input), base)
+        folders[i].join(base)
     };
     let mut levels = vec![0usize; inputs.len()];
     for _ in 0..2 {
-        let paths: Vec<PathBuf> = inputs
-            .iter()
-            .zip(&levels)
-            .map(|(input, &level)| {
-                let (dir, base) = candidate(input, level);
-                dir.join(format!("{base}.{extension}"))
-            })
+        let paths: Vec<PathBuf> = (0..inputs.len())
+            .map(|i| with_extension_added(candidate(i, levels[i]), extension))
             .collect();
         let mut count = BTreeMap::new();
         for path in &paths {
@@ -869,15 +1213,15 @@ fn unique_paths(
     }
     // Never overwrite an input, and never give two inputs the same output.
     let mut taken: BTreeSet<PathBuf> = inputs.iter().map(|p| p.to_path_buf()).collect();
-    inputs
-        .iter()
-        .zip(&levels)
-        .map(|(input, &level)| {
-            let (dir, base) = candidate(input, level);
-            let mut path = dir.join(format!("{base}.{extension}"));
+    (0..inputs.len())
+        .map(|i| {
+            let base = candidate(i, levels[i]);
+            let mut path = with_extension_added(base.clone(), extension);
             let mut counter = 2;
             while taken.contains(&path) {
-                path = dir.join(format!("{base}-{counter}.{extension}"));
+                let mut numbered = base.clone().into_os_string();
+                numbered.push(format!("-{counter}"));
+                path = with_extension_added(numbered.into(), extension);
                 counter += 1;
             }
             taken.insert(path.clone());
@@ -886,11 +1230,20 @@ fn unique_paths(
         .collect()
 }
 
+/// `base` with `.extension` appended (`Path::with_extension` would replace a dotted part of the
+/// name, as in `page.v2`).
+fn with_extension_added(base: PathBuf, extension: &str) -> PathBuf {
+    let mut name = base.into_os_string();
+    name.push(".");
+    name.push(extension);
+    name.into()
+}
+
 /// Runs one job; a panic inside the library becomes this file's failure instead of ending the
-/// batch. Returns the job's warnings, or the message of its failure.
-fn run_job(job: &Job, settings: &Settings) -> Result<Vec<String>, String> {
+/// batch. Returns what the job gave, or the message of its failure.
+fn run_job(job: &Job, settings: &Settings) -> Result<Traced, String> {
     match catch_unwind(AssertUnwindSafe(|| trace_and_write(job, settings))) {
-        Ok(Ok(warnings)) => Ok(warnings),
+        Ok(Ok(traced)) => Ok(traced),
         Ok(Err(err)) => Err(format!("{err:#}")),
         Err(panic) => {
             let message = panic
@@ -903,10 +1256,48 @@ fn run_job(job: &Job, settings: &Settings) -> Result<Vec<String>, String> {
     }
 }
 
-fn trace_and_write(job: &Job, settings: &Settings) -> Result<Vec<String>> {
+/// Reads all of standard input, refusing more than [`MAX_STDIN_BYTES`].
+fn read_stdin() -> Result<Vec<u8>> {
+    let mut bytes = Vec::new();
+    std::io::stdin()
+        .lock()
+        .take(MAX_STDIN_BYTES + 1)
+        .read_to_end(&mut bytes)
+        .context("cannot read standard input")?;
+    if bytes.len() as u64 > MAX_STDIN_BYTES {
+        anyhow::bail!(
+            "standard input holds more than {} GiB; save it to a file first",
+            MAX_STDIN_BYTES >> 30
+        );
+    }
+    Ok(bytes)
+}
+
+/// How bytes from standard input are read: as an image when they start like one (the decoder
+/// sniffs the format the same way for files), else as a point list when they are text.
+fn sniff(bytes: &[u8]) -> Kind {
+    if image::guess_format(bytes).is_err() && std::str::from_utf8(bytes).is_ok() {
+        Kind::PointList
+    } else {
+        Kind::Image
+    }
+}
+
+fn trace_and_write(job: &Job, settings: &Settings) -> Result<Traced> {
     let params = &settings.params;
-    if job.kind == Kind::PointList {
-        let text = fs::read_to_string(&job.input).context("cannot read the file")?;
+    let stdin = match job.kind {
+        Kind::Stdin => Some(read_stdin()?),
+        Kind::Image | Kind::PointList => None,
+    };
+    let kind = match &stdin {
+        Some(bytes) => sniff(bytes),
+        None => job.kind,
+    };
+    if kind == Kind::PointList {
+        let text = match stdin {
+            Some(bytes) => String::from_utf8(bytes).context("standard input is not text")?,
+            None => fs::read_to_string(&job.input).context("cannot read the file")?,
+        };
         let list = ridgeline::point_list::parse(&text)?;
         let trace = ridgeline::trace_points(&list, params)?;
         let mut warnings = Vec::new();
@@ -923,11 +1314,14 @@ fn trace_and_write(job: &Job, settings: &Settings) -> Result<Vec<String>> {
             );
         }
         let meta = JsonMeta::new(params.clone());
-        let text = render(job, settings, &trace.graph, None, None, meta);
-        write_output(&job.destination, &text)?;
-        return Ok(warnings);
+        let text = render(job, settings, kind, &trace.graph, None, None, meta);
+        let output = write_output(job, &job.destination, &text)?;
+        return Ok(Traced::of(&trace.graph, warnings, output));
     }
-    let bytes = fs::read(&job.input).context("cannot read the file")?;
+    let bytes = match stdin {
+        Some(bytes) => bytes,
+        None => fs::read(&job.input).context("cannot read the file")?,
+    };
     // Only an SVG with its backdrop shows the picture; without one no colour copy is kept.
     let pictures = settings.format == Format::Svg && settings.embed_image;
     let mut pages = ridgeline::raster::pages(&bytes, &params.limits)?.with_pictures(pictures);
@@ -953,21 +1347,32 @@ fn trace_and_write(job: &Job, settings: &Settings) -> Result<Vec<String>> {
             Picture::Original { .. } => bytes,
             _ => Vec::new(),
         };
-        warnings.extend(trace_page(job, settings, &bytes, &page, count)?);
-        return Ok(warnings);
+        let mut traced = trace_page(job, settings, &bytes, &page, count)?;
+        warnings.append(&mut traced.warnings);
+        traced.warnings = warnings;
+        return Ok(traced);
     }
     let mut failed = Vec::new();
+    let mut all = Traced::of(&StrokeGraph::default(), warnings, String::new());
+    let mut outputs = Vec::new();
     for (index, page) in pages.enumerate() {
         let number = index + 1;
         let traced = page
             .map_err(anyhow::Error::from)
             .and_then(|page| trace_page(job, settings, &bytes, &page, count));
         match traced {
-            Ok(page_warnings) => warnings.extend(
-                page_warnings
-                    .into_iter()
-                    .map(|w| format!("page {number}: {w}")),
-            ),
+            Ok(traced) => {
+                all.warnings.extend(
+                    traced
+                        .warnings
+                        .into_iter()
+                        .map(|w| format!("page {number}: {w}")),
+                );
+                all.vertices += traced.vertices;
+                all.edges += traced.edges;
+                all.junctions += traced.junctions;
+                outputs.push(traced.output);
+            }
             Err(err) => failed.push(format!("page {number}: {err:#}")),
         }
     }
@@ -982,7 +1387,23 @@ fn trace_and_write(job: &Job, settings: &Settings) -> Result<Vec<String>> {
             failed.join("; ")
         );
     }
-    Ok(warnings)
+    all.output = match (outputs.first(), outputs.last()) {
+        (Some(first), Some(last)) => format!("{first} ... {last} ({count} pages)"),
+        _ => String::new(),
+    };
+    Ok(all)
+}
+
+impl Traced {
+    fn of(graph: &StrokeGraph, warnings: Vec<String>, output: String) -> Traced {
+        Traced {
+            warnings,
+            output,
+            vertices: graph.vertices.len(),
+            edges: graph.edges.len(),
+            junctions: graph.vertices.iter().filter(|v| v.degree >= 3).count(),
+        }
+    }
 }
 
 /// Traces one page of an image file (`bytes`, of `count` pages) and writes its output: page 1 to
@@ -993,7 +1414,7 @@ fn trace_page(
     bytes: &[u8],
     page: &Page,
     count: usize,
-) -> Result<Vec<String>> {
+) -> Result<Traced> {
     let params = &settings.params;
     let debug = job.debug.as_ref().map(|dir| match page.number {
         1 => dir.clone(),
@@ -1030,13 +1451,14 @@ fn trace_page(
     let text = render(
         job,
         settings,
+        Kind::Image,
         &trace.graph,
         trace.binary.as_ref(),
         backdrop,
         meta,
     );
-    write_output(&page_destination(&job.destination, page.number), &text)?;
-    Ok(warnings)
+    let output = write_output(job, &page_destination(&job.destination, page.number), &text)?;
+    Ok(Traced::of(&trace.graph, warnings, output))
 }
 
 /// Where page `number` of an input goes: page 1 to `destination`, page N to
@@ -1056,10 +1478,12 @@ fn page_destination(destination: &Destination, number: usize) -> Destination {
     }
 }
 
-/// The output document of one traced graph: SVG over `backdrop`, or JSON with `meta`.
+/// The output document of one traced graph (of an input read as `kind`): SVG over `backdrop`,
+/// or JSON with `meta`.
 fn render(
     job: &Job,
     settings: &Settings,
+    kind: Kind,
     graph: &StrokeGraph,
     binary: Option<&ridgeline::Binary>,
     backdrop: Option<Backdrop>,
@@ -1087,33 +1511,52 @@ fn render(
                 .with_strokes(chained.as_deref())
                 .with_minutiae(marks.as_deref())
                 .with_curves(curves.as_deref());
-            svg::to_string_with(graph, backdrop, &settings.svg, &features)
+            // A point list has no image to cover: the canvas fits the points.
+            let svg_options = settings
+                .svg
+                .clone()
+                .with_fit_canvas(kind == Kind::PointList);
+            svg::to_string_with(graph, backdrop, &svg_options, &features)
         }
         Format::Json => {
             let meta = meta
                 .with_source_path(job.input.to_string_lossy())
                 .with_pretty(settings.pretty);
+            // In the JSON, curves are per edge.
+            let curves = settings.curves.map(|options| fit_edges(graph, &options));
             let features = Features::default()
                 .with_strokes(chained.as_deref())
-                .with_minutiae(marks.as_deref());
+                .with_minutiae(marks.as_deref())
+                .with_curves(curves.as_deref());
             json::to_string_with(graph, &meta, &features)
         }
     }
 }
 
-/// Writes one output document to stdout or (atomically) to its file.
-fn write_output(destination: &Destination, text: &str) -> Result<()> {
-    match destination {
+/// Writes one output document of `job` to stdout or (atomically) to its file; returns where it
+/// went, as the user should read it.
+fn write_output(job: &Job, destination: &Destination, text: &str) -> Result<String> {
+    Ok(match destination {
         Destination::Stdout => {
             let mut stdout = std::io::stdout().lock();
             stdout
                 .write_all(text.as_bytes())
                 .context("cannot write to stdout")?;
             stdout.flush().context("cannot write to stdout")?;
+            "stdout".to_string()
         }
-        Destination::File(path) => write_atomically(path, text.as_bytes())?,
-    }
-    Ok(())
+        Destination::File(path) => {
+            if job.create_folder {
+                if let Some(folder) = path.parent() {
+                    fs::create_dir_all(folder).with_context(|| {
+                        format!("cannot create the output folder {}", folder.display())
+                    })?;
+                }
+            }
+            write_atomically(path, text.as_bytes())?;
+            path.display().to_string()
+        }
+    })
 }
 
 /// Traces `gray` keeping the intermediate stages, and writes their pictures into `dir`.
@@ -1132,13 +1575,35 @@ fn trace_with_pictures(
     Ok(trace)
 }
 
+/// The operating system's reason inside an I/O error, without the paths that wrappers (such as
+/// the temporary file's) add.
+fn os_reason(err: &std::io::Error) -> String {
+    let mut source: Option<&(dyn std::error::Error + 'static)> = Some(err);
+    while let Some(current) = source {
+        if let Some(code) = current
+            .downcast_ref::<std::io::Error>()
+            .and_then(std::io::Error::raw_os_error)
+        {
+            return std::io::Error::from_raw_os_error(code).to_string();
+        }
+        source = current.source();
+    }
+    err.kind().to_string()
+}
+
 /// Writes `bytes` to a temporary file beside `path`, then renames it over `path`: readers see
 /// the old file or the new one, never a truncated one, and a failure leaves the old file as it
-/// was.
+/// was. Errors name `path` and the reason, never the temporary file.
 fn write_atomically(path: &Path, bytes: &[u8]) -> Result<()> {
     let dir = match path.parent() {
         Some(parent) if !parent.as_os_str().is_empty() => parent,
         _ => Path::new("."),
+    };
+    if !dir.is_dir() {
+        anyhow::bail!("cannot write {}: {}", path.display(), missing_folder(dir));
+    }
+    let fail = |err: std::io::Error| {
+        anyhow::anyhow!("cannot write {}: {}", path.display(), os_reason(&err))
     };
     let mut builder = tempfile::Builder::new();
     builder.prefix(".ridgeline-").suffix(".tmp");
@@ -1149,14 +1614,9 @@ fn write_atomically(path: &Path, bytes: &[u8]) -> Result<()> {
         use std::os::unix::fs::PermissionsExt;
         builder.permissions(fs::Permissions::from_mode(0o644));
     }
-    let mut file = builder
-        .tempfile_in(dir)
-        .with_context(|| format!("cannot create a file in {}", dir.display()))?;
-    file.write_all(bytes)
-        .with_context(|| format!("cannot write {}", path.display()))?;
-    file.persist(path)
-        .map_err(|err| err.error)
-        .with_context(|| format!("cannot write {}", path.display()))?;
+    let mut file = builder.tempfile_in(dir).map_err(fail)?;
+    file.write_all(bytes).map_err(fail)?;
+    file.persist(path).map_err(|err| fail(err.error))?;
     Ok(())
 }
 
@@ -1276,8 +1736,8 @@ mod tests {
             Path::new("b/page.jpg"),
             Path::new("c/x.png"),
         ];
-        let out = Path::new("out");
-        let paths = unique_paths(&inputs, |_| out.to_path_buf(), "svg");
+        let out = vec![PathBuf::from("out"); inputs.len()];
+        let paths = unique_paths(&inputs, &out, "svg");
         let names: Vec<String> = paths
             .iter()
             .map(|p| p.file_name().unwrap().to_string_lossy().into_owned())
@@ -1286,16 +1746,16 @@ mod tests {
             names,
             ["page-a.svg", "page-b-png.svg", "page-b-jpg.svg", "x.svg"]
         );
-        let next_to_input = unique_paths(&inputs, |p| p.parent().unwrap().to_path_buf(), "svg");
+        let parents: Vec<PathBuf> = inputs
+            .iter()
+            .map(|p| p.parent().unwrap().to_path_buf())
+            .collect();
+        let next_to_input = unique_paths(&inputs, &parents, "svg");
         assert_eq!(next_to_input[0], Path::new("a/page.svg"));
         assert_eq!(next_to_input[1], Path::new("b/page-b-png.svg"));
         assert_eq!(next_to_input[3], Path::new("c/x.svg"));
         // An output never replaces an input.
-        let own = unique_paths(
-            &[Path::new("d/x.svg")],
-            |p| p.parent().unwrap().to_path_buf(),
-            "svg",
-        );
+        let own = unique_paths(&[Path::new("d/x.svg")], &[PathBuf::from("d")], "svg");
         assert_eq!(own[0], Path::new("d/x-2.svg"));
     }
 }

@@ -42,6 +42,14 @@ pub enum Error {
     /// The parameters contradict each other or are out of range.
     #[error("invalid parameter: {0}")]
     InvalidParams(String),
+    /// One field of [`Params`](crate::Params) is outside its documented range.
+    #[error("invalid parameter {field}: {reason}")]
+    InvalidParam {
+        /// The field, as a path from `Params` (`threshold.window`, `limits.max_side`, ...).
+        field: &'static str,
+        /// What is wrong with its value ("must be odd and >= 3, got 4").
+        reason: String,
+    },
 }
 
 /// Shorthand for results of this crate.

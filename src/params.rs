@@ -25,15 +25,18 @@ pub enum Threshold {
     },
 }
 
-/// Which side of the threshold is ink.
+/// Which side of the threshold is ink. Written `auto`, `dark` and `light`, as the command line
+/// spells them (`darkink` and `lightink` are still read).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase")]
 pub enum Polarity {
     /// Decide from the image: the minority side (after thresholding) is ink. The default.
     Auto,
     /// Dark strokes on light paper.
+    #[serde(rename = "dark", alias = "darkink")]
     DarkInk,
     /// Light strokes (ridges) on a dark background.
+    #[serde(rename = "light", alias = "lightink")]
     LightInk,
 }
 
@@ -72,6 +75,10 @@ impl Default for Limits {
         }
     }
 }
+
+/// Largest [`Params::weiszfeld_iterations`]: more would only cost time (the medians converge in
+/// far fewer).
+pub const MAX_WEISZFELD_ITERATIONS: usize = 1000;
 
 /// Parameters of the whole pipeline.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -113,7 +120,8 @@ pub struct Params {
     pub smoothness: f64,
     /// Data weight on junctions and endpoints in the fit (design 9). Default 10 (paper: 1).
     pub anchor_weight: f64,
-    /// Weiszfeld iterations for the L1 medians of §3.4. Default 20.
+    /// Weiszfeld iterations for the L1 medians of §3.4, at most [`MAX_WEISZFELD_ITERATIONS`].
+    /// Default 20.
     pub weiszfeld_iterations: usize,
     /// Node spacing after equalization, in units of the median stroke width, at least 3 px
     /// (design 9). Default 1.0.
@@ -165,56 +173,90 @@ impl Params {
         }
     }
 
-    /// Checks ranges; the one place where parameters are validated.
+    /// Checks every range the fields document; the one place where parameters are validated.
+    /// The error names the field (`threshold.window`, `limits.max_side`, ...), so the command
+    /// line can name its flag.
     pub fn validate(&self) -> crate::Result<()> {
+        fn fail(field: &'static str, reason: String) -> crate::Result<()> {
+            Err(crate::Error::InvalidParam { field, reason })
+        }
         let positive = [
             ("r_min_factor", self.r_min_factor),
-            ("r_max_factor", self.r_max_factor),
-            ("cluster_link", self.cluster_link),
-            ("merge_span", self.merge_span),
             ("spacing_factor", self.spacing_factor),
             ("anchor_weight", self.anchor_weight),
+            ("cluster_link", self.cluster_link),
         ];
-        for (name, value) in positive {
-            if value.is_nan() || value <= 0.0 {
-                return Err(crate::Error::InvalidParams(format!(
-                    "{name} must be > 0, got {value}"
-                )));
+        for (field, value) in positive {
+            if !(value.is_finite() && value > 0.0) {
+                return fail(field, format!("must be > 0, got {value}"));
             }
         }
-        if !(self.r_growth > 1.0 && self.r_growth.is_finite()) {
-            return Err(crate::Error::InvalidParams(format!(
-                "r_growth must be > 1, got {}",
-                self.r_growth
-            )));
+        // Infinity is the paper's whole-cluster merging.
+        if self.merge_span.is_nan() || self.merge_span <= 0.0 {
+            return fail(
+                "merge_span",
+                format!("must be > 0, got {}", self.merge_span),
+            );
+        }
+        if !(self.r_max_factor.is_finite() && self.r_max_factor >= 1.0) {
+            return fail(
+                "r_max_factor",
+                format!("must be >= 1, got {}", self.r_max_factor),
+            );
+        }
+        if !(self.r_growth.is_finite() && self.r_growth > 1.0) {
+            return fail("r_growth", format!("must be > 1, got {}", self.r_growth));
         }
         if !(self.linearity > 0.5 && self.linearity < 1.0) {
-            return Err(crate::Error::InvalidParams(format!(
-                "linearity must be in (0.5, 1), got {}",
-                self.linearity
-            )));
+            return fail(
+                "linearity",
+                format!("must be in (0.5, 1), got {}", self.linearity),
+            );
         }
-        if self.r_max_factor < 1.0 {
-            return Err(crate::Error::InvalidParams(
-                "r_max_factor must be >= 1".into(),
-            ));
+        if !(self.smoothness.is_finite() && self.smoothness >= 0.0) {
+            return fail(
+                "smoothness",
+                format!("must be >= 0, got {}", self.smoothness),
+            );
         }
-        if !(self.smoothness >= 0.0 && self.smoothness.is_finite()) {
-            return Err(crate::Error::InvalidParams(
-                "smoothness must be >= 0".into(),
-            ));
+        if !(2..=64).contains(&self.k) {
+            return fail("k", format!("must be in 2-64, got {}", self.k));
         }
-        if self.k < 2 || self.k > 64 {
-            return Err(crate::Error::InvalidParams(format!(
-                "k must be in 2..=64, got {}",
-                self.k
-            )));
+        if self.weiszfeld_iterations > MAX_WEISZFELD_ITERATIONS {
+            return fail(
+                "weiszfeld_iterations",
+                format!(
+                    "must be at most {MAX_WEISZFELD_ITERATIONS}, got {}",
+                    self.weiszfeld_iterations
+                ),
+            );
+        }
+        if !(self.dropout_fraction > 0.0 && self.dropout_fraction < 1.0) {
+            return fail(
+                "dropout_fraction",
+                format!("must be in (0, 1), got {}", self.dropout_fraction),
+            );
         }
         if let Threshold::Sauvola { window, k } = self.threshold {
-            if window < 3 || !(0.0..=1.0).contains(&k) {
-                return Err(crate::Error::InvalidParams(
-                    "sauvola window must be >= 3 and k in [0, 1]".into(),
-                ));
+            if window < 3 || window % 2 == 0 {
+                return fail(
+                    "threshold.window",
+                    format!("must be odd and >= 3, got {window}"),
+                );
+            }
+            if !(0.0..=1.0).contains(&k) {
+                return fail("threshold.k", format!("must be in [0, 1], got {k}"));
+            }
+        }
+        let limits = [
+            ("limits.max_pixels", self.limits.max_pixels),
+            ("limits.max_side", u64::from(self.limits.max_side)),
+            ("limits.max_points", self.limits.max_points),
+            ("limits.max_pages", self.limits.max_pages),
+        ];
+        for (field, value) in limits {
+            if value == 0 {
+                return fail(field, "must be at least 1".into());
             }
         }
         Ok(())

@@ -1,14 +1,12 @@
 //! The SVG and JSON writers on hand-built graphs, and the `ridgeline` binary as a user runs it.
 
 use std::fs;
-use std::path::Path;
 
-use crate::support::{entries, ridgeline, stderr, temp_dir, write_mask_png};
+use crate::support::{entries, ridgeline, stderr, temp_dir, write_strokes_png};
 
 use base64::Engine;
 use ridgeline::export::json::{self, JsonMeta};
 use ridgeline::export::svg::{self, SvgOptions};
-use ridgeline::synth::{render, Stroke};
 use ridgeline::{Edge, GrayImage, Params, StrokeGraph, Vertex};
 
 // ---------------------------------------------------------------------------------------------
@@ -296,16 +294,6 @@ fn json_of_an_empty_graph_and_a_pretty_one() {
 // ---------------------------------------------------------------------------------------------
 // The binary
 
-/// Writes a PNG of dark strokes (a cross and a bar) on white paper.
-fn write_strokes_png(path: &Path) {
-    let strokes = [
-        Stroke::new(vec![[10.0, 10.0], [70.0, 50.0]], 5.0),
-        Stroke::new(vec![[10.0, 50.0], [70.0, 10.0]], 5.0),
-        Stroke::new(vec![[15.0, 70.0], [65.0, 70.0]], 4.0),
-    ];
-    write_mask_png(&render(&strokes, 80, 80), path);
-}
-
 #[test]
 fn a_missing_file_fails_and_is_named() {
     let dir = temp_dir();
@@ -498,8 +486,9 @@ fn a_batch_goes_on_past_a_bad_file_and_names_it() {
     assert!(fs::read_to_string(out.join("a.svg"))
         .expect("a.svg")
         .starts_with("<svg"));
-    assert!(fs::read_to_string(out.join("c.svg"))
-        .expect("c.svg")
+    // The walked folder's layout is kept.
+    assert!(fs::read_to_string(out.join("more/c.svg"))
+        .expect("more/c.svg")
         .starts_with("<svg"));
     assert!(!out.join("b.svg").exists());
     assert_eq!(entries(&out).len(), 2, "{:?}", entries(&out));
@@ -519,11 +508,14 @@ fn batch_output_does_not_depend_on_the_thread_count() {
         );
         assert!(output.status.success(), "{}", stderr(&output));
     }
-    let one = entries(&dir.path().join("one"));
-    let names: Vec<_> = one.iter().filter_map(|p| p.file_name()).collect();
-    assert_eq!(names, ["page-scans.json", "page-x.json"]);
-    for path in one {
-        let name = path.file_name().expect("name");
+    let one = dir.path().join("one");
+    assert_eq!(
+        entries(&one),
+        [one.join("page.json"), one.join("x")],
+        "the walked folder's layout is kept"
+    );
+    for name in ["page.json", "x/page.json"] {
+        let path = one.join(name);
         let other = dir.path().join("two").join(name);
         assert_eq!(
             fs::read(&path).expect("read"),

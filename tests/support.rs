@@ -5,6 +5,7 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
 use image::Luma;
+use ridgeline::synth::{render, Stroke};
 use ridgeline::{Binary, GrayImage};
 
 /// Runs the built `ridgeline` binary with `args` in `dir`.
@@ -60,4 +61,14 @@ pub fn mask_image(binary: &Binary) -> GrayImage {
 /// Writes [`mask_image`] of `binary` as a PNG.
 pub fn write_mask_png(binary: &Binary, path: &Path) {
     mask_image(binary).save(path).expect("write PNG");
+}
+
+/// Writes a PNG of dark strokes (a cross and a bar) on white paper, 80 x 80.
+pub fn write_strokes_png(path: &Path) {
+    let strokes = [
+        Stroke::new(vec![[10.0, 10.0], [70.0, 50.0]], 5.0),
+        Stroke::new(vec![[10.0, 50.0], [70.0, 10.0]], 5.0),
+        Stroke::new(vec![[15.0, 70.0], [65.0, 70.0]], 4.0),
+    ];
+    write_mask_png(&render(&strokes, 80, 80), path);
 }

@@ -3,9 +3,11 @@
 mod cli;
 mod debug;
 mod features;
+mod golden;
 mod hostile;
 mod inputs;
 mod pipeline;
 mod properties;
 mod score;
 mod support;
+mod trust;

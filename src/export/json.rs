@@ -27,6 +27,7 @@ use serde::ser::{Serialize, SerializeSeq, Serializer};
 use serde::Serialize as DeriveSerialize;
 
 use super::Features;
+use crate::curves::CubicBezier;
 use crate::minutiae::Minutia;
 use crate::strokes::Stroke;
 use crate::{Edge, Params, StrokeGraph, Vertex};
@@ -80,8 +81,9 @@ pub fn to_string(graph: &StrokeGraph, meta: &JsonMeta) -> String {
     to_string_with(graph, meta, &Features::default())
 }
 
-/// Writes `graph`, `meta` and the `features` given as a JSON document: `strokes` and `minutiae`
-/// lists appear when the features hold them (curves are not written to JSON).
+/// Writes `graph`, `meta` and the `features` given as a JSON document: `strokes`, `minutiae` and
+/// `curves` lists appear when the features hold them. Curves are read as one list of cubic
+/// Béziers per edge, in edge order (`"curves":[[[p0,p1,p2,p3],…],…]`).
 pub fn to_string_with(graph: &StrokeGraph, meta: &JsonMeta, features: &Features) -> String {
     let document = Document {
         ridgeline: env!("CARGO_PKG_VERSION"),
@@ -97,6 +99,7 @@ pub fn to_string_with(graph: &StrokeGraph, meta: &JsonMeta, features: &Features)
         edges: Edges(&graph.edges),
         strokes: features.strokes.map(Strokes),
         minutiae: features.minutiae.map(Minutiae),
+        curves: features.curves.map(Curves),
         stats: Stats::of(graph),
     };
     // Serializing plain structs, numbers and strings into memory cannot fail; the fallback only
@@ -122,7 +125,27 @@ struct Document<'a> {
     strokes: Option<Strokes<'a>>,
     #[serde(skip_serializing_if = "Option::is_none")]
     minutiae: Option<Minutiae<'a>>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    curves: Option<Curves<'a>>,
     stats: Stats,
+}
+
+/// Cubic Béziers per edge: each segment as its four points `[p0, p1, p2, p3]`.
+struct Curves<'a>(&'a [Vec<CubicBezier>]);
+
+impl Serialize for Curves<'_> {
+    fn serialize<S: Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+        let rounded = |p: [f64; 2]| [Rounded(p[0]), Rounded(p[1])];
+        let mut seq = serializer.serialize_seq(Some(self.0.len()))?;
+        for segments in self.0 {
+            let out: Vec<[[Rounded; 2]; 4]> = segments
+                .iter()
+                .map(|c| [rounded(c.p0), rounded(c.p1), rounded(c.p2), rounded(c.p3)])
+                .collect();
+            seq.serialize_element(&out)?;
+        }
+        seq.end()
+    }
 }
 
 #[derive(DeriveSerialize)]

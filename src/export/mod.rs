@@ -29,9 +29,10 @@ pub struct Features<'a> {
     /// Ridge endings and bifurcations ([`crate::minutiae::minutiae`]). JSON: a `minutiae` list.
     /// SVG: a mark at each, with a short line along its direction. Default value: `None`.
     pub minutiae: Option<&'a [Minutia]>,
-    /// SVG only: cubic Béziers ([`crate::curves::fit_beziers`]) drawn as `<path>`s instead of
+    /// Cubic Béziers ([`crate::curves::fit_beziers`]). SVG: drawn as `<path>`s instead of
     /// polylines, one list per drawn line: per stroke when [`Features::strokes`] is given, else per
-    /// edge. A line whose list is missing or empty is drawn as its polyline. Default value: `None`.
+    /// edge; a line whose list is missing or empty is drawn as its polyline. JSON: a `curves`
+    /// list, one entry per edge. Default value: `None`.
     pub curves: Option<&'a [Vec<CubicBezier>]>,
 }
 

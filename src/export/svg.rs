@@ -54,6 +54,10 @@ pub struct SvgOptions {
     /// each dot as a disk of its width), in a group of opacity [`WIDTH_OPACITY`], so that the
     /// drawing covers the ink where the widths are right. Default value: `false`.
     pub show_widths: bool,
+    /// Size the canvas (`viewBox`) to the drawing, with a margin, instead of `[0, W] x [0, H]`:
+    /// for point lists, whose coordinates need not start near the origin. The coordinates are
+    /// written as they are either way. Default value: `false`.
+    pub fit_canvas: bool,
 }
 
 impl Default for SvgOptions {
@@ -62,6 +66,7 @@ impl Default for SvgOptions {
             show_vertices: true,
             stroke_width: None,
             show_widths: false,
+            fit_canvas: false,
         }
     }
 }
@@ -84,6 +89,43 @@ impl SvgOptions {
         self.show_widths = show_widths;
         self
     }
+
+    /// Sets [`SvgOptions::fit_canvas`].
+    pub const fn with_fit_canvas(mut self, fit_canvas: bool) -> Self {
+        self.fit_canvas = fit_canvas;
+        self
+    }
+}
+
+/// The canvas `[x, y, width, height]` of a drawing fitted to `graph`: the bounding box of its
+/// polylines and vertices, grown on every side by 5 % of its longer side and at least the marker
+/// radius and the widths drawn; `None` for an empty graph.
+pub fn fitted_canvas(graph: &StrokeGraph, options: &SvgOptions) -> Option<[f64; 4]> {
+    let points = graph
+        .edges
+        .iter()
+        .flat_map(|e| e.points.iter().copied())
+        .chain(graph.vertices.iter().map(|v| v.pos));
+    let mut bounds: Option<[f64; 4]> = None;
+    for [x, y] in points.filter(|p| p[0].is_finite() && p[1].is_finite()) {
+        let b = bounds.get_or_insert([x, y, x, y]);
+        *b = [b[0].min(x), b[1].min(y), b[2].max(x), b[3].max(y)];
+    }
+    let [x0, y0, x1, y1] = bounds?;
+    let widest = graph
+        .vertices
+        .iter()
+        .map(|v| v.width)
+        .filter(|w| w.is_finite())
+        .fold(0.0f64, f64::max);
+    let line = stroke_width(graph, options);
+    let margin = (0.05 * (x1 - x0).max(y1 - y0)).max(4.0 * line).max(widest);
+    Some([
+        x0 - margin,
+        y0 - margin,
+        x1 - x0 + 2.0 * margin,
+        y1 - y0 + 2.0 * margin,
+    ])
 }
 
 /// The line width used for `graph`: the explicit one when it is a positive number, otherwise
@@ -145,10 +187,28 @@ pub fn to_string_with(
     let layers = if options.show_widths { 2 } else { 1 };
     let mut out = String::with_capacity(512 + layers * 14 * points + 64 * graph.vertices.len());
     let (w, h) = (graph.width, graph.height);
-    let _ = writeln!(
-        out,
-        r#"<svg xmlns="http://www.w3.org/2000/svg" width="{w}" height="{h}" viewBox="0 0 {w} {h}">"#
-    );
+    match fitted_canvas(graph, options).filter(|_| options.fit_canvas) {
+        Some(canvas) => {
+            out.push_str(r#"<svg xmlns="http://www.w3.org/2000/svg" width=""#);
+            push_number(&mut out, canvas[2], DECIMALS);
+            out.push_str(r#"" height=""#);
+            push_number(&mut out, canvas[3], DECIMALS);
+            out.push_str(r#"" viewBox=""#);
+            for (i, value) in canvas.iter().enumerate() {
+                if i > 0 {
+                    out.push(' ');
+                }
+                push_number(&mut out, *value, DECIMALS);
+            }
+            out.push_str("\">\n");
+        }
+        None => {
+            let _ = writeln!(
+                out,
+                r#"<svg xmlns="http://www.w3.org/2000/svg" width="{w}" height="{h}" viewBox="0 0 {w} {h}">"#
+            );
+        }
+    }
     let encoded = backdrop.and_then(|backdrop| match backdrop {
         Backdrop::Gray(image) => encode_png(image.dimensions(), |out| {
             image.write_to(out, ImageFormat::Png)

@@ -15,7 +15,7 @@ use std::path::{Path, PathBuf};
 
 use anyhow::{anyhow, Context, Result};
 use ridgeline::curves::{fit_beziers, CurveOptions};
-use ridgeline::export::svg::{self, SvgOptions};
+use ridgeline::export::svg::{self, Backdrop, SvgOptions};
 use ridgeline::export::Features;
 use ridgeline::minutiae::{minutiae, MinutiaeOptions};
 use ridgeline::strokes::{strokes, StrokeOptions};
@@ -41,7 +41,12 @@ fn main() -> Result<()> {
         .with_show_vertices(false)
         .with_stroke_width(Some(2.0));
     let features = Features::default().with_strokes(Some(&chained));
-    let picture = svg::to_string_with(&graph, Some(&gray(&text.binary)), &options, &features);
+    let picture = svg::to_string_with(
+        &graph,
+        Some(Backdrop::Gray(&gray(&text.binary))),
+        &options,
+        &features,
+    );
     save(&picture, 2.0, &out.join("strokes.png"))?;
     println!(
         "strokes.png: {} edges chained into {} strokes",
@@ -55,7 +60,7 @@ fn main() -> Result<()> {
         .with_show_widths(true);
     let picture = svg::to_string_with(
         &graph,
-        Some(&gray(&text.binary)),
+        Some(Backdrop::Gray(&gray(&text.binary))),
         &options,
         &Features::default(),
     );
@@ -74,7 +79,12 @@ fn main() -> Result<()> {
     let found = minutiae(&graph, Some(&print.binary), &MinutiaeOptions::default());
     let features = Features::default().with_minutiae(Some(&found));
     let options = SvgOptions::default().with_show_vertices(false);
-    let picture = svg::to_string_with(&graph, Some(&gray(&print.binary)), &options, &features);
+    let picture = svg::to_string_with(
+        &graph,
+        Some(Backdrop::Gray(&gray(&print.binary))),
+        &options,
+        &features,
+    );
     save(&picture, 3.0, &out.join("minutiae.png"))?;
     println!("minutiae.png: {} minutiae", found.len());
 
@@ -93,7 +103,12 @@ fn main() -> Result<()> {
     let options = SvgOptions::default()
         .with_show_vertices(false)
         .with_stroke_width(Some(2.0));
-    let picture = svg::to_string_with(&graph, Some(&gray(&word.binary)), &options, &features);
+    let picture = svg::to_string_with(
+        &graph,
+        Some(Backdrop::Gray(&gray(&word.binary))),
+        &options,
+        &features,
+    );
     save(&picture, 2.0, &out.join("curves.png"))?;
     let points: usize = chained.iter().map(|s| s.points.len()).sum();
     let segments: usize = curves.iter().map(Vec::len).sum();

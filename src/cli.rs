@@ -22,11 +22,12 @@ use rayon::prelude::*;
 
 use ridgeline::curves::{fit_beziers, fit_edges, CurveOptions};
 use ridgeline::export::json::{self, JsonMeta};
-use ridgeline::export::svg::{self, SvgOptions};
+use ridgeline::export::svg::{self, Backdrop, SvgOptions};
 use ridgeline::export::Features;
 use ridgeline::minutiae::{minutiae, MinutiaeOptions};
+use ridgeline::raster::{Page, Picture};
 use ridgeline::strokes::{strokes, StrokeOptions};
-use ridgeline::{Params, Polarity, Threshold};
+use ridgeline::{Params, Polarity, StrokeGraph, Threshold};
 
 /// Sauvola window when `--sauvola` is given without `--window` (the value `Threshold` documents).
 const SAUVOLA_WINDOW: u32 = 31;
@@ -68,7 +69,8 @@ Exit status: 0 on success (a blank page is a warning), 1 if any input failed, 2 
 #[command(name = "ridgeline", version, after_help = EXAMPLES, max_term_width = 100)]
 pub struct Cli {
     /// Image files, point lists, or directories (walked recursively, files sorted by name); '-'
-    /// reads standard input (an image when its bytes start like one, else a point list)
+    /// reads standard input (an image when its bytes start like one, else a point list); every
+    /// page of a multi-page TIFF is traced (see --max-pages)
     #[arg(required = true, value_name = "INPUT")]
     inputs: Vec<PathBuf>,
 
@@ -89,7 +91,12 @@ pub struct Cli {
     #[arg(short, long, value_enum, help_heading = "Output")]
     format: Option<Format>,
 
-    /// SVG: do not embed the source image under the centerlines
+    /// SVG: do not embed the source image under the centerlines [default: embedded as given]
+    ///
+    /// PNG, JPEG, GIF and WebP files are embedded as they are (their own bytes); TIFF, BMP and
+    /// PNM as a PNG of their pixels, in colour and with transparency when they have them, each
+    /// page of a multi-page TIFF under its own output. (JPEG, PNG and WebP files with an
+    /// orientation tag are embedded as their pixels too, unrotated, as they are traced.)
     #[arg(long, help_heading = "Output")]
     no_image: bool,
 
@@ -305,6 +312,15 @@ pub struct Cli {
     #[arg(long, value_name = "POINTS", help_heading = "Limits")]
     max_points: Option<u64>,
 
+    /// Largest number of pages of a multi-page TIFF [default: 1000]
+    ///
+    /// Every page is traced, one at a time: page 1 to the input's output (<name>.svg), page N to
+    /// <name>.pN.svg beside it (likewise .json, whose "source" then records "page" and "pages").
+    /// A file with more pages is refused before any is decoded. '-o -' takes single-page inputs
+    /// only.
+    #[arg(long, value_name = "PAGES", help_heading = "Limits")]
+    max_pages: Option<u64>,
+
     /// Files traced at once [default: number of CPU cores]
     #[arg(short, long, value_name = "N", value_parser = clap::value_parser!(u16).range(1..), help_heading = "Running")]
     jobs: Option<u16>,
@@ -421,6 +437,7 @@ impl TryFrom<&Cli> for Params {
         set(&mut params.limits.max_pixels, cli.max_pixels);
         set(&mut params.limits.max_side, cli.max_side);
         set(&mut params.limits.max_points, cli.max_points);
+        set(&mut params.limits.max_pages, cli.max_pages);
         if cli.no_arms_test {
             params.arms_test = false;
         }
@@ -1276,7 +1293,6 @@ fn sniff(bytes: &[u8]) -> Kind {
 
 fn trace_and_write(job: &Job, settings: &Settings) -> Result<Traced> {
     let params = &settings.params;
-    let mut warnings = Vec::new();
     let stdin = match job.kind {
         Kind::Stdin => Some(read_stdin()?),
         Kind::Image | Kind::PointList => None,
@@ -1285,55 +1301,211 @@ fn trace_and_write(job: &Job, settings: &Settings) -> Result<Traced> {
         Some(bytes) => sniff(bytes),
         None => job.kind,
     };
-    let (graph, gray, ink, binary) = match kind {
-        Kind::Image | Kind::Stdin => {
-            let bytes = match stdin {
-                Some(bytes) => bytes,
-                None => fs::read(&job.input).context("cannot read the file")?,
-            };
-            let gray = ridgeline::decode(&bytes, &params.limits)?;
-            let trace = match &job.debug {
-                Some(dir) => trace_with_pictures(&gray, params, dir)?,
-                None => ridgeline::trace_image(&gray, params)?,
-            };
-            let ink = trace.binary.as_ref().map(|binary| binary.count());
-            (trace.graph, Some(gray), ink, trace.binary)
+    if kind == Kind::PointList {
+        let text = match stdin {
+            Some(bytes) => String::from_utf8(bytes).context("standard input is not text")?,
+            None => fs::read_to_string(&job.input).context("cannot read the file")?,
+        };
+        let list = ridgeline::point_list::parse(&text)?;
+        let trace = ridgeline::trace_points(&list, params)?;
+        let mut warnings = Vec::new();
+        if job.debug.is_some() {
+            warnings.push("--debug draws pictures of images only; none for a point list".into());
         }
-        Kind::PointList => {
-            let text = match stdin {
-                Some(bytes) => String::from_utf8(bytes).context("standard input is not text")?,
-                None => fs::read_to_string(&job.input).context("cannot read the file")?,
-            };
-            let list = ridgeline::point_list::parse(&text)?;
-            let trace = ridgeline::trace_points(&list, params)?;
-            if job.debug.is_some() {
-                warnings
-                    .push("--debug draws pictures of images only; none for a point list".into());
-            }
-            (trace.graph, None, Some(list.len()), None)
-        }
-    };
-    if graph.vertices.is_empty() {
-        warnings.push(
-            match (ink, kind) {
-                (Some(0), Kind::PointList) => {
-                    "the point list has no points; wrote an empty drawing"
+        if trace.graph.vertices.is_empty() {
+            warnings.push(
+                match list.len() {
+                    0 => "the point list has no points; wrote an empty drawing",
+                    _ => "no strokes found; wrote an empty drawing",
                 }
-                (Some(0), _) => "no ink found (blank page?); wrote an empty drawing",
-                _ => "no strokes found; wrote an empty drawing",
-            }
-            .to_string(),
+                .to_string(),
+            );
+        }
+        let meta = JsonMeta::new(params.clone());
+        let text = render(job, settings, kind, &trace.graph, None, None, meta);
+        let output = write_output(job, &job.destination, &text)?;
+        return Ok(Traced::of(&trace.graph, warnings, output));
+    }
+    let bytes = match stdin {
+        Some(bytes) => bytes,
+        None => fs::read(&job.input).context("cannot read the file")?,
+    };
+    // Only an SVG with its backdrop shows the picture; without one no colour copy is kept.
+    let pictures = settings.format == Format::Svg && settings.embed_image;
+    let mut pages = ridgeline::raster::pages(&bytes, &params.limits)?.with_pictures(pictures);
+    let count = pages.page_count();
+    if count > 1 && job.destination == Destination::Stdout {
+        anyhow::bail!(
+            "the file has {count} pages and -o - writes one document; give an output file \
+             (page 1 goes to it, page N to <name>.pN.svg beside it) or a directory"
         );
     }
+    let mut warnings = Vec::new();
+    if pages.chain_damaged() {
+        warnings.push(format!(
+            "the TIFF's list of pages is damaged after page {count}; traced the {count} page(s) \
+             before the break"
+        ));
+    }
+    if count == 1 {
+        let page = pages.next().context("the file holds no image")??;
+        // While the page is traced, the file's bytes are kept only if they are its picture.
+        drop(pages);
+        let bytes = match page.picture {
+            Picture::Original { .. } => bytes,
+            _ => Vec::new(),
+        };
+        let mut traced = trace_page(job, settings, &bytes, &page, count)?;
+        warnings.append(&mut traced.warnings);
+        traced.warnings = warnings;
+        return Ok(traced);
+    }
+    let mut failed = Vec::new();
+    let mut all = Traced::of(&StrokeGraph::default(), warnings, String::new());
+    let mut outputs = Vec::new();
+    for (index, page) in pages.enumerate() {
+        let number = index + 1;
+        let traced = page
+            .map_err(anyhow::Error::from)
+            .and_then(|page| trace_page(job, settings, &bytes, &page, count));
+        match traced {
+            Ok(traced) => {
+                all.warnings.extend(
+                    traced
+                        .warnings
+                        .into_iter()
+                        .map(|w| format!("page {number}: {w}")),
+                );
+                all.vertices += traced.vertices;
+                all.edges += traced.edges;
+                all.junctions += traced.junctions;
+                outputs.push(traced.output);
+            }
+            Err(err) => failed.push(format!("page {number}: {err:#}")),
+        }
+    }
+    if !failed.is_empty() {
+        let written = match count - failed.len() {
+            0 => "",
+            _ => " (the others were written)",
+        };
+        anyhow::bail!(
+            "{} of {count} pages failed{written}: {}",
+            failed.len(),
+            failed.join("; ")
+        );
+    }
+    all.output = match (outputs.first(), outputs.last()) {
+        (Some(first), Some(last)) => format!("{first} ... {last} ({count} pages)"),
+        _ => String::new(),
+    };
+    Ok(all)
+}
+
+impl Traced {
+    fn of(graph: &StrokeGraph, warnings: Vec<String>, output: String) -> Traced {
+        Traced {
+            warnings,
+            output,
+            vertices: graph.vertices.len(),
+            edges: graph.edges.len(),
+            junctions: graph.vertices.iter().filter(|v| v.degree >= 3).count(),
+        }
+    }
+}
+
+/// Traces one page of an image file (`bytes`, of `count` pages) and writes its output: page 1 to
+/// the job's destination, page N to `<stem>.pN.<extension>` beside it.
+fn trace_page(
+    job: &Job,
+    settings: &Settings,
+    bytes: &[u8],
+    page: &Page,
+    count: usize,
+) -> Result<Traced> {
+    let params = &settings.params;
+    let debug = job.debug.as_ref().map(|dir| match page.number {
+        1 => dir.clone(),
+        n => dir.join(format!("p{n}")),
+    });
+    let trace = match &debug {
+        Some(dir) => trace_with_pictures(&page.gray, params, dir)?,
+        None => ridgeline::trace_image(&page.gray, params)?,
+    };
+    let mut warnings = Vec::new();
+    if trace.graph.vertices.is_empty() {
+        let ink = trace.binary.as_ref().map_or(0, |binary| binary.count());
+        warnings.push(match (ink, page.transparency) {
+            (0, Some(t)) if t.opaque_pixels == 0 => "no ink found (blank page?): every pixel is \
+                 transparent, and transparent pixels are read as paper; wrote an empty drawing"
+                .to_string(),
+            (0, Some(t)) => format!(
+                "no ink found (blank page?): the image has transparency, read as paper, and its \
+                 opaque pixels as {} ink on {} paper; wrote an empty drawing",
+                if t.light_ink { "light" } else { "dark" },
+                if t.light_ink { "black" } else { "white" },
+            ),
+            (0, None) => "no ink found (blank page?); wrote an empty drawing".to_string(),
+            _ => "no strokes found; wrote an empty drawing".to_string(),
+        });
+    }
+    let backdrop = match &page.picture {
+        Picture::Original { mime } => Backdrop::Encoded { bytes, mime },
+        Picture::Color(image) => Backdrop::Color(image),
+        Picture::Gray => Backdrop::Gray(&page.gray),
+    };
+    let meta = JsonMeta::new(params.clone()).with_page(page.number, count);
+    let backdrop = settings.embed_image.then_some(backdrop);
+    let text = render(
+        job,
+        settings,
+        Kind::Image,
+        &trace.graph,
+        trace.binary.as_ref(),
+        backdrop,
+        meta,
+    );
+    let output = write_output(job, &page_destination(&job.destination, page.number), &text)?;
+    Ok(Traced::of(&trace.graph, warnings, output))
+}
+
+/// Where page `number` of an input goes: page 1 to `destination`, page N to
+/// `<stem>.pN.<extension>` beside it.
+fn page_destination(destination: &Destination, number: usize) -> Destination {
+    match destination {
+        Destination::File(path) if number > 1 => {
+            let mut name = path.file_stem().unwrap_or(path.as_os_str()).to_os_string();
+            name.push(format!(".p{number}"));
+            if let Some(extension) = path.extension() {
+                name.push(".");
+                name.push(extension);
+            }
+            Destination::File(path.with_file_name(name))
+        }
+        other => other.clone(),
+    }
+}
+
+/// The output document of one traced graph (of an input read as `kind`): SVG over `backdrop`,
+/// or JSON with `meta`.
+fn render(
+    job: &Job,
+    settings: &Settings,
+    kind: Kind,
+    graph: &StrokeGraph,
+    binary: Option<&ridgeline::Binary>,
+    backdrop: Option<Backdrop>,
+    meta: JsonMeta,
+) -> String {
     // Strokes are cheap (one pass over the edge ends), so the JSON always lists them; the SVG
     // draws them on request.
     let chained = (settings.format == Format::Json || settings.strokes)
-        .then(|| strokes(&graph, &StrokeOptions::default()));
+        .then(|| strokes(graph, &StrokeOptions::default()));
     // The foreground mask tells where the print ends; point lists have only the extent.
     let marks = settings
         .minutiae
-        .then(|| minutiae(&graph, binary.as_ref(), &MinutiaeOptions::default()));
-    let text = match settings.format {
+        .then(|| minutiae(graph, binary, &MinutiaeOptions::default()));
+    match settings.format {
         Format::Svg => {
             // Curves follow what is drawn: one list per stroke with --strokes, else per edge.
             let curves = settings.curves.map(|options| match &chained {
@@ -1341,34 +1513,38 @@ fn trace_and_write(job: &Job, settings: &Settings) -> Result<Traced> {
                     .iter()
                     .map(|s| fit_beziers(&s.points, options.tolerance, options.corner_angle_deg))
                     .collect(),
-                None => fit_edges(&graph, &options),
+                None => fit_edges(graph, &options),
             });
             let features = Features::default()
                 .with_strokes(chained.as_deref())
                 .with_minutiae(marks.as_deref())
                 .with_curves(curves.as_deref());
-            let image = gray.as_ref().filter(|_| settings.embed_image);
             // A point list has no image to cover: the canvas fits the points.
             let svg_options = settings
                 .svg
                 .clone()
                 .with_fit_canvas(kind == Kind::PointList);
-            svg::to_string_with(&graph, image, &svg_options, &features)
+            svg::to_string_with(graph, backdrop, &svg_options, &features)
         }
         Format::Json => {
-            let meta = JsonMeta::new(params.clone())
+            let meta = meta
                 .with_source_path(job.input.to_string_lossy())
                 .with_pretty(settings.pretty);
             // In the JSON, curves are per edge.
-            let curves = settings.curves.map(|options| fit_edges(&graph, &options));
+            let curves = settings.curves.map(|options| fit_edges(graph, &options));
             let features = Features::default()
                 .with_strokes(chained.as_deref())
                 .with_minutiae(marks.as_deref())
                 .with_curves(curves.as_deref());
-            json::to_string_with(&graph, &meta, &features)
+            json::to_string_with(graph, &meta, &features)
         }
-    };
-    let output = match &job.destination {
+    }
+}
+
+/// Writes one output document of `job` to stdout or (atomically) to its file; returns where it
+/// went, as the user should read it.
+fn write_output(job: &Job, destination: &Destination, text: &str) -> Result<String> {
+    Ok(match destination {
         Destination::Stdout => {
             let mut stdout = std::io::stdout().lock();
             stdout
@@ -1388,13 +1564,6 @@ fn trace_and_write(job: &Job, settings: &Settings) -> Result<Traced> {
             write_atomically(path, text.as_bytes())?;
             path.display().to_string()
         }
-    };
-    Ok(Traced {
-        warnings,
-        output,
-        vertices: graph.vertices.len(),
-        edges: graph.edges.len(),
-        junctions: graph.vertices.iter().filter(|v| v.degree >= 3).count(),
     })
 }
 
@@ -1556,6 +1725,7 @@ mod tests {
             format!("default: {}]", d.limits.max_pixels),
             format!("default: {}]", d.limits.max_side),
             format!("default: {}]", d.limits.max_points),
+            format!("default: {}]", d.limits.max_pages),
             format!("default: {SAUVOLA_WINDOW}]"),
             format!("default: {SAUVOLA_K}]"),
             format!("default: {}]", CurveOptions::default().tolerance),

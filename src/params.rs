@@ -54,6 +54,15 @@ pub struct Limits {
     pub max_side: u32,
     /// Largest number of foreground points traced. Default 50 million.
     pub max_points: u64,
+    /// Largest number of pages (image file directories) of a multi-page TIFF; a file with more is
+    /// refused before any page is decoded. Pages are decoded one at a time, each within the other
+    /// limits. Default 1000.
+    #[serde(default = "default_max_pages")]
+    pub max_pages: u64,
+}
+
+fn default_max_pages() -> u64 {
+    Limits::default().max_pages
 }
 
 impl Default for Limits {
@@ -62,6 +71,7 @@ impl Default for Limits {
             max_pixels: 100_000_000,
             max_side: 65_535,
             max_points: 50_000_000,
+            max_pages: 1000,
         }
     }
 }
@@ -247,6 +257,7 @@ impl Params {
             ("limits.max_pixels", self.limits.max_pixels),
             ("limits.max_side", u64::from(self.limits.max_side)),
             ("limits.max_points", self.limits.max_points),
+            ("limits.max_pages", self.limits.max_pages),
         ];
         for (field, value) in limits {
             if value == 0 {

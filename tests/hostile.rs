@@ -868,18 +868,24 @@ fn fuzz_regressions_decode_and_trace() {
         max_pixels: 256 * 256,
         max_side: 256,
         max_points: 256 * 256,
+        max_pages: 4,
     };
     for (path, bytes) in regressions("decode_trace") {
-        let Ok(gray) = ridgeline::decode(&bytes, &limits) else {
+        let Ok(pages) = ridgeline::raster::pages(&bytes, &limits) else {
             continue;
         };
-        for params in [Params::default(), Params::paper()] {
-            let params = Params { limits, ..params };
-            if let Ok(trace) = trace_image(&gray, &params) {
-                trace
-                    .graph
-                    .validate()
-                    .unwrap_or_else(|e| panic!("{path:?}: {e}"));
+        for page in pages.with_pictures(true) {
+            let Ok(page) = page else {
+                continue;
+            };
+            for params in [Params::default(), Params::paper()] {
+                let params = Params { limits, ..params };
+                if let Ok(trace) = trace_image(&page.gray, &params) {
+                    trace
+                        .graph
+                        .validate()
+                        .unwrap_or_else(|e| panic!("{path:?}: {e}"));
+                }
             }
         }
     }

@@ -43,6 +43,9 @@ pub struct JsonMeta {
     pub params: Params,
     /// Indent the document for people instead of writing it on one line. Default value: `false`.
     pub pretty: bool,
+    /// For one page of a multi-page input: its 1-based number and the input's page count, written
+    /// as `source.page` and `source.pages` (absent for single images). Default value: `None`.
+    pub page: Option<(usize, usize)>,
 }
 
 impl JsonMeta {
@@ -65,6 +68,12 @@ impl JsonMeta {
         self.pretty = pretty;
         self
     }
+
+    /// Sets [`JsonMeta::page`]: page `number` of `count`, recorded when `count` is more than 1.
+    pub fn with_page(mut self, number: usize, count: usize) -> Self {
+        self.page = (count > 1).then_some((number, count));
+        self
+    }
 }
 
 /// Writes `graph` and `meta` as a JSON document.
@@ -80,6 +89,8 @@ pub fn to_string_with(graph: &StrokeGraph, meta: &JsonMeta, features: &Features)
         ridgeline: env!("CARGO_PKG_VERSION"),
         source: Source {
             path: meta.source_path.as_deref(),
+            page: meta.page.map(|(number, _)| number),
+            pages: meta.page.map(|(_, count)| count),
             width: graph.width,
             height: graph.height,
         },
@@ -140,6 +151,10 @@ impl Serialize for Curves<'_> {
 #[derive(DeriveSerialize)]
 struct Source<'a> {
     path: Option<&'a str>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    page: Option<usize>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pages: Option<usize>,
     width: u32,
     height: u32,
 }

@@ -6,16 +6,20 @@
 //! numbers, it streams into one `String` without a node per polyline, and the attribute order stays
 //! fixed, which keeps the output byte-for-byte deterministic.
 //!
+//! The image under the centerlines is a [`Backdrop`]: gray or colour pixels, written as a PNG, or
+//! an already encoded file (a PNG, JPEG, GIF or WebP as the user gave it) written as it is.
+//!
 //! Layers, bottom to top: the image; with [`SvgOptions::show_widths`], every edge as wide as the ink
 //! (its mean width), semi-transparent; the centerlines, one polyline per edge, or per stroke in its
 //! own color when [`Features::strokes`] is given, or Bézier `<path>`s when [`Features::curves`] is;
 //! dots and vertex markers; minutiae marks when [`Features::minutiae`] is given.
 
+use std::borrow::Cow;
 use std::fmt::Write;
 use std::io::Cursor;
 
 use base64::Engine;
-use image::{GrayImage, ImageFormat};
+use image::{DynamicImage, GrayImage, ImageFormat};
 
 use super::{push_number, Features};
 use crate::curves::{svg_path_data, CubicBezier};
@@ -133,17 +137,49 @@ pub fn stroke_width(graph: &StrokeGraph, options: &SvgOptions) -> f64 {
     median_vertex_width(graph).map_or(0.6, |median| (0.12 * median).max(0.6))
 }
 
+/// The picture under the centerlines, embedded in the SVG as a base64 `data:` URL stretched over
+/// `[0, W] x [0, H]`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Backdrop<'a> {
+    /// Gray pixels, written as a PNG.
+    Gray(&'a GrayImage),
+    /// Pixels in colour (any layout the PNG encoder takes: gray, gray with alpha, RGB, RGBA at 8
+    /// or 16 bits), written as a PNG.
+    Color(&'a DynamicImage),
+    /// An encoded image written as it is, e.g. the user's own PNG or JPEG file.
+    Encoded {
+        /// The file's bytes.
+        bytes: &'a [u8],
+        /// Its MIME type (`image/png`, `image/jpeg`, `image/gif`, `image/webp`, ...); a value
+        /// that is not of the form `type/subtype` in lowercase letters, digits and `+.-` is
+        /// refused and the SVG written without its backdrop.
+        mime: &'a str,
+    },
+}
+
+impl<'a> From<&'a GrayImage> for Backdrop<'a> {
+    fn from(image: &'a GrayImage) -> Self {
+        Backdrop::Gray(image)
+    }
+}
+
 /// Writes `graph` as an SVG document of the image's size, over `image` (embedded as a base64 PNG)
 /// when one is given.
 pub fn to_string(graph: &StrokeGraph, image: Option<&GrayImage>, options: &SvgOptions) -> String {
-    to_string_with(graph, image, options, &Features::default())
+    to_string_with(
+        graph,
+        image.map(Backdrop::Gray),
+        options,
+        &Features::default(),
+    )
 }
 
-/// Like [`to_string`], drawing the `features` given: strokes in their own colors instead of edges,
-/// Bézier paths instead of polylines, minutiae marks (see the module doc for the layers).
+/// Like [`to_string`], over any [`Backdrop`] and drawing the `features` given: strokes in their own
+/// colors instead of edges, Bézier paths instead of polylines, minutiae marks (see the module doc
+/// for the layers).
 pub fn to_string_with(
     graph: &StrokeGraph,
-    image: Option<&GrayImage>,
+    backdrop: Option<Backdrop>,
     options: &SvgOptions,
     features: &Features,
 ) -> String {
@@ -173,15 +209,28 @@ pub fn to_string_with(
             );
         }
     }
-    if let Some(png) = image.and_then(encode_png) {
+    let encoded = backdrop.and_then(|backdrop| match backdrop {
+        Backdrop::Gray(image) => encode_png(image.dimensions(), |out| {
+            image.write_to(out, ImageFormat::Png)
+        })
+        .map(|png| (Cow::Owned(png), "image/png")),
+        Backdrop::Color(image) => encode_png((image.width(), image.height()), |out| {
+            image.write_to(out, ImageFormat::Png)
+        })
+        .map(|png| (Cow::Owned(png), "image/png")),
+        Backdrop::Encoded { bytes, mime } => {
+            (!bytes.is_empty() && is_mime(mime)).then_some((Cow::Borrowed(bytes), mime))
+        }
+    });
+    if let Some((data, mime)) = encoded {
         // preserveAspectRatio="none": the picture must cover [0, W] x [0, H] exactly, or the
         // centerlines would drift off their pixels; pixelated so that zooming in shows the pixels
         // the centerline was traced from.
         let _ = write!(
             out,
-            r#"<image x="0" y="0" width="{w}" height="{h}" preserveAspectRatio="none" style="image-rendering:pixelated" href="data:image/png;base64,"#
+            r#"<image x="0" y="0" width="{w}" height="{h}" preserveAspectRatio="none" style="image-rendering:pixelated" href="data:{mime};base64,"#
         );
-        base64::engine::general_purpose::STANDARD.encode_string(&png, &mut out);
+        base64::engine::general_purpose::STANDARD.encode_string(&data, &mut out);
         out.push_str("\"/>\n");
     }
 
@@ -411,13 +460,28 @@ fn write_circles(
     out.push_str("</g>\n");
 }
 
-/// PNG bytes of `image`; `None` for an empty image or if encoding fails, in which case the SVG is
-/// written without its backdrop rather than not at all.
-fn encode_png(image: &GrayImage) -> Option<Vec<u8>> {
-    if image.width() == 0 || image.height() == 0 {
+/// PNG bytes of an image of `size` written by `write`; `None` for an empty image or if encoding
+/// fails, in which case the SVG is written without its backdrop rather than not at all.
+fn encode_png(
+    size: (u32, u32),
+    write: impl FnOnce(&mut Cursor<Vec<u8>>) -> image::ImageResult<()>,
+) -> Option<Vec<u8>> {
+    if size.0 == 0 || size.1 == 0 {
         return None;
     }
     let mut png = Cursor::new(Vec::new());
-    image.write_to(&mut png, ImageFormat::Png).ok()?;
+    write(&mut png).ok()?;
     Some(png.into_inner())
+}
+
+/// Whether `mime` can go into the `data:` URL as it is: `type/subtype` in lowercase ASCII letters,
+/// digits and `+.-`.
+fn is_mime(mime: &str) -> bool {
+    let allowed = |part: &str| {
+        !part.is_empty()
+            && part
+                .bytes()
+                .all(|b| b.is_ascii_lowercase() || b.is_ascii_digit() || b"+.-".contains(&b))
+    };
+    matches!(mime.split_once('/'), Some((kind, subtype)) if allowed(kind) && allowed(subtype))
 }

@@ -1,16 +1,25 @@
-//! Decoding: image bytes to 8-bit grayscale within the configured limits.
+//! Decoding: image bytes to 8-bit grayscale within the configured limits, page by page.
 //!
 //! Untrusted files are the norm (batches of scans from anywhere), so the size is checked from the
 //! header before any pixel buffer exists, the decoder gets strict side limits and an allocation
-//! bound, and whatever a codec reports is turned into an [`Error`] a user can act on.
+//! bound, and whatever a codec reports is turned into an [`Error`] a user can act on. A multi-page
+//! TIFF is read one page at a time ([`Pages`]), its page count bounded by
+//! [`Limits::max_pages`] before any page is decoded.
+//!
+//! Transparency is read as a user means it: transparent pixels are paper and opaque ones the ink
+//! candidates. The paper is white, unless nearly all opaque pixels are light (white ink on a
+//! transparent background), when it is black: either way the ink keeps its contrast, and
+//! `--polarity` still describes the ink's own colour.
 
-use std::io::{Cursor, ErrorKind};
+use std::io::{BufRead, ErrorKind, Seek};
 use std::path::Path;
 
+use image::metadata::Orientation;
 use image::{
     DynamicImage, ImageBuffer, ImageDecoder, ImageError, ImageFormat, ImageReader, Pixel, Primitive,
 };
 
+use super::tiff_pages::{self, PatchedReader};
 use crate::{Error, GrayImage, Limits, Result};
 
 /// Decoder allocation bound per image pixel: an RGBA image with 16 bits per channel, the widest
@@ -18,20 +27,30 @@ use crate::{Error, GrayImage, Limits, Result};
 const BYTES_PER_PIXEL_BOUND: u64 = 8 + 4;
 /// Fixed allowance on top of the per-pixel bound (palettes, metadata, line buffers).
 const ALLOC_SLACK: u64 = 64 << 20;
+/// Light ink on transparent: fewer than one opaque pixel in this many is dark.
+const LIGHT_INK_DARK_SHARE: u64 = 50;
 
 /// Decodes image bytes (PNG, JPEG, TIFF, BMP, PNM, GIF, WebP; format guessed from the content) to
-/// grayscale. Transparent pixels are composited over white paper. Images with more than
-/// `limits.max_pixels` pixels or a side longer than `limits.max_side` are refused from their header,
-/// before their pixels are allocated.
+/// grayscale; of a multi-page TIFF, the first page. Transparent pixels are paper (see the module
+/// doc). Images with more than `limits.max_pixels` pixels or a side longer than `limits.max_side`
+/// are refused from their header, before their pixels are allocated.
 pub fn decode(bytes: &[u8], limits: &Limits) -> Result<GrayImage> {
-    // A codec that panics on malformed data must not take the caller down: the input is
-    // untrusted and a panic is a decoding failure like any other.
-    match std::panic::catch_unwind(|| decode_unguarded(bytes, limits)) {
-        Ok(result) => result,
-        Err(_) => Err(Error::Decode(
-            "the image decoder failed on malformed data".into(),
-        )),
-    }
+    guarded(|| decode_unguarded(bytes, limits))
+}
+
+fn decode_unguarded(bytes: &[u8], limits: &Limits) -> Result<GrayImage> {
+    let format = check_format(bytes)?;
+    let header = match format {
+        ImageFormat::Tiff => tiff_pages::Header::read(bytes),
+        _ => None,
+    };
+    let target = Target {
+        bytes,
+        format,
+        tiff: header.as_ref().map(|header| (header, header.first)),
+        single: true,
+    };
+    decode_page(&target, limits, false).map(|page| page.gray)
 }
 
 /// Reads and decodes an image file; see [`decode`](crate::raster::decode).
@@ -43,20 +62,264 @@ pub fn decode_file(path: &Path, limits: &Limits) -> Result<GrayImage> {
     decode(&bytes, limits)
 }
 
-fn decode_unguarded(bytes: &[u8], limits: &Limits) -> Result<GrayImage> {
+/// The pages of an image file, decoded one at a time as the iterator is advanced: one page for
+/// every format but TIFF, every page (image file directory) of a TIFF file.
+///
+/// Build it with [`pages`](crate::raster::pages). The page count is known before any page is
+/// decoded ([`Pages::page_count`]; `len()` counts the pages not yet decoded).
+#[derive(Debug)]
+pub struct Pages<'a> {
+    bytes: &'a [u8],
+    format: ImageFormat,
+    limits: Limits,
+    /// The TIFF chain, when the file is a TIFF with a readable first directory.
+    chain: Option<tiff_pages::Chain>,
+    /// Index of the next page to decode.
+    next: usize,
+    pictures: bool,
+}
+
+/// One decoded page.
+#[derive(Clone, Debug)]
+pub struct Page {
+    /// 1-based page number.
+    pub number: usize,
+    /// The 8-bit gray image the pipeline traces.
+    pub gray: GrayImage,
+    /// How transparency was read, when the page has some (not every pixel opaque).
+    pub transparency: Option<Transparency>,
+    /// What to show under the centerlines; [`Picture::Gray`] unless asked for with
+    /// [`Pages::with_pictures`].
+    pub picture: Picture,
+}
+
+/// What to show under the centerlines of a page, closest to what the user gave.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Picture {
+    /// The page's gray image: the source was gray (or no picture was asked for).
+    Gray,
+    /// The input bytes themselves, in a format browsers show (PNG, JPEG, GIF, WebP): a
+    /// single-image file whose pixels are shown as decoded (no orientation tag to apply).
+    Original {
+        /// The format's MIME type, e.g. `image/png`.
+        mime: &'static str,
+    },
+    /// The page's pixels in colour, 8 bits per channel: RGB, RGBA (transparency) or gray with
+    /// alpha. For formats browsers do not show (TIFF, BMP, PNM) or pixels that are not shown as
+    /// decoded.
+    Color(DynamicImage),
+}
+
+/// How a page's transparency was read: transparent pixels are paper, opaque ones the ink
+/// candidates.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Transparency {
+    /// Pixels at least half opaque.
+    pub opaque_pixels: u64,
+    /// Nearly all opaque pixels are light (fewer than 1 in 50 darker than mid-gray): white ink on
+    /// a transparent background, composited over black paper instead of white so that it keeps
+    /// its contrast.
+    pub light_ink: bool,
+}
+
+/// The pages of image `bytes`, not yet decoded; see [`Pages`]. Fails when the bytes are empty or
+/// not a supported format, or when a TIFF has more than `limits.max_pages` pages.
+pub fn pages<'a>(bytes: &'a [u8], limits: &Limits) -> Result<Pages<'a>> {
+    let format = check_format(bytes)?;
+    let chain = match format {
+        ImageFormat::Tiff => tiff_pages::chain(bytes, limits.max_pages),
+        _ => None,
+    };
+    if let Some(chain) = &chain {
+        if chain.count > limits.max_pages {
+            return Err(Error::Limit {
+                what: "TIFF pages",
+                actual: chain.count,
+                limit: limits.max_pages,
+                flag: "--max-pages",
+            });
+        }
+    }
+    Ok(Pages {
+        bytes,
+        format,
+        limits: *limits,
+        chain,
+        next: 0,
+        pictures: false,
+    })
+}
+
+impl Pages<'_> {
+    /// Number of pages, decoded or not (at least 1: a TIFF whose first directory cannot be read
+    /// counts as one page, whose decoding says what is wrong).
+    pub fn page_count(&self) -> usize {
+        self.chain
+            .as_ref()
+            .map_or(1, |chain| chain.pages.len().max(1))
+    }
+
+    /// The file's format.
+    pub fn format(&self) -> ImageFormat {
+        self.format
+    }
+
+    /// The TIFF's chain of pages does not end properly (it points outside the file, at a
+    /// truncated directory, or back at an earlier page): the pages before the break are all there
+    /// is.
+    pub fn chain_damaged(&self) -> bool {
+        self.chain.as_ref().is_some_and(|chain| chain.damaged)
+    }
+
+    /// Also give each page its [`Picture`] (the original bytes, or the colour pixels, when they
+    /// differ from the gray). Without it every picture is [`Picture::Gray`] and no colour copy is
+    /// kept.
+    pub fn with_pictures(mut self, pictures: bool) -> Self {
+        self.pictures = pictures;
+        self
+    }
+}
+
+impl Iterator for Pages<'_> {
+    type Item = Result<Page>;
+
+    fn next(&mut self) -> Option<Result<Page>> {
+        let index = self.next;
+        if index >= self.page_count() {
+            return None;
+        }
+        self.next += 1;
+        let tiff = self
+            .chain
+            .as_ref()
+            .and_then(|chain| chain.pages.get(index).map(|&ifd| (&chain.header, ifd)));
+        let target = Target {
+            bytes: self.bytes,
+            format: self.format,
+            tiff,
+            single: self.page_count() == 1,
+        };
+        let result = guarded(|| decode_page(&target, &self.limits, self.pictures));
+        Some(result.map(|page| Page {
+            number: index + 1,
+            ..page
+        }))
+    }
+
+    fn size_hint(&self) -> (usize, Option<usize>) {
+        let left = self.page_count() - self.next.min(self.page_count());
+        (left, Some(left))
+    }
+}
+
+impl ExactSizeIterator for Pages<'_> {}
+
+/// What one page decode reads: the file, and for a TIFF the page's directory.
+struct Target<'a, 'h> {
+    bytes: &'a [u8],
+    format: ImageFormat,
+    tiff: Option<(&'h tiff_pages::Header, u64)>,
+    /// The file holds this one image (its bytes can stand for the page).
+    single: bool,
+}
+
+/// A codec that panics on malformed data must not take the caller down: the input is untrusted
+/// and a panic is a decoding failure like any other.
+fn guarded<T>(decode: impl FnOnce() -> Result<T>) -> Result<T> {
+    match std::panic::catch_unwind(std::panic::AssertUnwindSafe(decode)) {
+        Ok(result) => result,
+        Err(_) => Err(Error::Decode(
+            "the image decoder failed on malformed data".into(),
+        )),
+    }
+}
+
+fn check_format(bytes: &[u8]) -> Result<ImageFormat> {
     if bytes.is_empty() {
         return Err(Error::Decode("the input is empty (0 bytes)".into()));
     }
-    let format = guess_format(bytes)?;
-    let decoder = match reader(bytes, format, image_limits(limits, true)).into_decoder() {
-        Ok(decoder) => decoder,
-        Err(ImageError::Limits(_)) => return Err(side_limit_error(bytes, format, limits)),
-        Err(e) => return Err(decode_error(e, format)),
+    // The image crate's guess knows classic TIFF only; its TIFF codec reads BigTIFF too.
+    if tiff_pages::Header::read(bytes).is_some() {
+        return Ok(ImageFormat::Tiff);
+    }
+    guess_format(bytes)
+}
+
+fn decode_page(target: &Target, limits: &Limits, pictures: bool) -> Result<Page> {
+    let format = target.format;
+    let fix = match target.tiff {
+        Some((header, ifd)) => tiff_pages::page_fix(target.bytes, header, ifd)
+            .map_err(|reason| Error::Decode(format!("unsupported TIFF variant: {reason}")))?,
+        None => tiff_pages::PageFix::default(),
     };
+    let reader = || PatchedReader::new(target.bytes, fix.patches.clone());
+    let mut decoder =
+        match image_reader(reader(), format, image_limits(limits, true)).into_decoder() {
+            Ok(decoder) => decoder,
+            Err(ImageError::Limits(_)) => {
+                return Err(side_limit_error(
+                    image_reader(reader(), format, image_limits(limits, false)),
+                    format,
+                    limits,
+                ))
+            }
+            Err(e) => return Err(decode_error(e, format)),
+        };
     let (width, height) = decoder.dimensions();
     check_size(width, height, limits)?;
-    let image = DynamicImage::from_decoder(decoder).map_err(|e| decode_error(e, format))?;
-    Ok(to_gray(image))
+    let mime = browser_mime(format).filter(|_| pictures && target.single);
+    // A viewer applies an orientation tag to the file's pixels; the trace follows the pixels as
+    // stored, so such a file is shown by its decoded pixels instead.
+    let original = mime.filter(|_| {
+        matches!(
+            decoder.orientation(),
+            Ok(Orientation::NoTransforms) | Err(_)
+        )
+    });
+    let mut image = DynamicImage::from_decoder(decoder).map_err(|e| decode_error(e, format))?;
+    if fix.ycbcr {
+        if let DynamicImage::ImageRgb8(pixels) = &mut image {
+            ycbcr_to_rgb(pixels);
+        }
+    }
+    let (gray, transparency, color) = to_gray(image, pictures && original.is_none());
+    let picture = match (original, color) {
+        (Some(mime), _) => Picture::Original { mime },
+        (None, Some(color)) => Picture::Color(color),
+        (None, None) => Picture::Gray,
+    };
+    Ok(Page {
+        number: 1,
+        gray,
+        transparency,
+        picture,
+    })
+}
+
+/// JPEG's YCbCr (full range, the JFIF equations as TIFF Technical Note 2 adopts them) to RGB, in
+/// place.
+fn ycbcr_to_rgb(pixels: &mut image::RgbImage) {
+    for pixel in pixels.pixels_mut() {
+        let [y, cb, cr] = pixel.0.map(f32::from);
+        let (cb, cr) = (cb - 128.0, cr - 128.0);
+        let rgb = [
+            y + 1.402 * cr,
+            y - 0.344_136 * cb - 0.714_136 * cr,
+            y + 1.772 * cb,
+        ];
+        pixel.0 = rgb.map(|v| v.round().clamp(0.0, 255.0) as u8);
+    }
+}
+
+/// The MIME type of the formats browsers show in an SVG `<image>`.
+fn browser_mime(format: ImageFormat) -> Option<&'static str> {
+    match format {
+        ImageFormat::Png => Some("image/png"),
+        ImageFormat::Jpeg => Some("image/jpeg"),
+        ImageFormat::Gif => Some("image/gif"),
+        ImageFormat::WebP => Some("image/webp"),
+        _ => None,
+    }
 }
 
 /// The formats ridgeline decodes, for messages.
@@ -82,8 +345,12 @@ fn guess_format(bytes: &[u8]) -> Result<ImageFormat> {
     Ok(format)
 }
 
-fn reader(bytes: &[u8], format: ImageFormat, limits: image::Limits) -> ImageReader<Cursor<&[u8]>> {
-    let mut reader = ImageReader::with_format(Cursor::new(bytes), format);
+fn image_reader<R: BufRead + Seek>(
+    source: R,
+    format: ImageFormat,
+    limits: image::Limits,
+) -> ImageReader<R> {
+    let mut reader = ImageReader::with_format(source, format);
     reader.limits(limits);
     reader
 }
@@ -134,8 +401,12 @@ fn check_size(width: u32, height: u32, limits: &Limits) -> Result<()> {
 
 /// The decoder refused the header against the side limits: read the header again without them to
 /// say which limit and by how much.
-fn side_limit_error(bytes: &[u8], format: ImageFormat, limits: &Limits) -> Error {
-    match reader(bytes, format, image_limits(limits, false)).into_dimensions() {
+fn side_limit_error<R: BufRead + Seek>(
+    reader: ImageReader<R>,
+    format: ImageFormat,
+    limits: &Limits,
+) -> Error {
+    match reader.into_dimensions() {
         Ok((width, height)) => match check_size(width, height, limits) {
             Err(e) => e,
             Ok(()) => Error::Decode(format!(
@@ -177,48 +448,104 @@ fn decode_error(error: ImageError, format: ImageFormat) -> Error {
 }
 
 /// Luminance (Rec. 709 weights, as the image crate uses) of straight-alpha pixels composited over
-/// white paper: a transparent background reads as paper, not as black ink.
-fn to_gray(image: DynamicImage) -> GrayImage {
+/// the paper (white, or black for light ink: see [`Transparency`]); with `keep_color`, also the
+/// pixels in 8-bit colour when they are not gray and opaque.
+fn to_gray(
+    image: DynamicImage,
+    keep_color: bool,
+) -> (GrayImage, Option<Transparency>, Option<DynamicImage>) {
     let (width, height) = (image.width(), image.height());
-    let values = match image {
-        DynamicImage::ImageLuma8(gray) => return gray,
-        DynamicImage::ImageLumaA8(img) => over_white(&img),
-        DynamicImage::ImageRgb8(img) => over_white(&img),
-        DynamicImage::ImageRgba8(img) => over_white(&img),
-        DynamicImage::ImageLuma16(img) => over_white(&img),
-        DynamicImage::ImageLumaA16(img) => over_white(&img),
-        DynamicImage::ImageRgb16(img) => over_white(&img),
-        DynamicImage::ImageRgba16(img) => over_white(&img),
-        DynamicImage::ImageRgb32F(img) => over_white(&img),
-        DynamicImage::ImageRgba32F(img) => over_white(&img),
-        other => return other.to_luma8(),
+    let (values, look) = match &image {
+        DynamicImage::ImageLuma8(_) => {
+            let gray = image.into_luma8();
+            return (gray, None, None);
+        }
+        DynamicImage::ImageLumaA8(img) => composite(img),
+        DynamicImage::ImageRgb8(img) => composite(img),
+        DynamicImage::ImageRgba8(img) => composite(img),
+        DynamicImage::ImageLuma16(img) => composite(img),
+        DynamicImage::ImageLumaA16(img) => composite(img),
+        DynamicImage::ImageRgb16(img) => composite(img),
+        DynamicImage::ImageRgba16(img) => composite(img),
+        DynamicImage::ImageRgb32F(img) => composite(img),
+        DynamicImage::ImageRgba32F(img) => composite(img),
+        other => (other.to_luma8().into_raw(), Look::default()),
     };
-    GrayImage::from_raw(width, height, values).unwrap_or_else(|| GrayImage::new(width, height))
+    let gray =
+        GrayImage::from_raw(width, height, values).unwrap_or_else(|| GrayImage::new(width, height));
+    let color = (keep_color && !(look.gray && look.transparency.is_none())).then(|| {
+        match (look.gray, look.transparency.is_some()) {
+            (true, _) => DynamicImage::ImageLumaA8(image.into_luma_alpha8()),
+            (false, true) => DynamicImage::ImageRgba8(image.into_rgba8()),
+            (false, false) => DynamicImage::ImageRgb8(image.into_rgb8()),
+        }
+    });
+    (gray, look.transparency, color)
+}
+
+/// What a pass over the pixels found besides their gray values.
+#[derive(Clone, Copy, Debug, Default)]
+struct Look {
+    /// Every pixel has equal red, green and blue.
+    gray: bool,
+    /// Some pixel is not fully opaque.
+    transparency: Option<Transparency>,
 }
 
 /// The gray values of [`to_gray`] for any pixel layout: channels scaled to `[0, 1]` (no alpha
-/// channel reads as opaque), luminance, then the composite over white.
-fn over_white<P>(image: &ImageBuffer<P, Vec<P::Subpixel>>) -> Vec<u8>
+/// channel reads as opaque), luminance, then the composite over the paper. A first pass over the
+/// alpha decides the paper; images without alpha take one pass.
+fn composite<P>(image: &ImageBuffer<P, Vec<P::Subpixel>>) -> (Vec<u8>, Look)
 where
     P: Pixel,
     P::Subpixel: Into<f32>,
 {
     let scale = 1.0 / P::Subpixel::DEFAULT_MAX_VALUE.into();
-    image
+    let unit = |p: &P| p.to_rgba().0.map(|v| (v.into() * scale).clamp(0.0, 1.0));
+    let luma = |[r, g, b, _]: [f32; 4]| 0.2126 * r + 0.7152 * g + 0.0722 * b;
+    let mut look = Look {
+        gray: true,
+        transparency: None,
+    };
+    let has_alpha = P::CHANNEL_COUNT == 2 || P::CHANNEL_COUNT == 4;
+    if has_alpha {
+        let (mut transparent, mut opaque, mut dark) = (false, 0u64, 0u64);
+        for p in image.pixels() {
+            let rgba = unit(p);
+            transparent |= rgba[3] < 1.0;
+            if rgba[3] >= 0.5 {
+                opaque += 1;
+                dark += u64::from(luma(rgba) < 0.5);
+            }
+        }
+        look.transparency = transparent.then_some(Transparency {
+            opaque_pixels: opaque,
+            light_ink: opaque > 0 && dark * LIGHT_INK_DARK_SHARE < opaque,
+        });
+    }
+    let paper = match look.transparency {
+        Some(t) if t.light_ink => 0.0,
+        _ => 1.0,
+    };
+    let mut gray = true;
+    let values = image
         .pixels()
         .map(|p| {
-            let [r, g, b, a] = p.to_rgba().0.map(|v| (v.into() * scale).clamp(0.0, 1.0));
-            let luma = 0.2126 * r + 0.7152 * g + 0.0722 * b;
-            let over_white = luma * a + (1.0 - a);
-            (over_white.clamp(0.0, 1.0) * 255.0).round() as u8
+            let rgba = unit(p);
+            gray &= rgba[0] == rgba[1] && rgba[1] == rgba[2];
+            let over_paper = luma(rgba) * rgba[3] + paper * (1.0 - rgba[3]);
+            (over_paper.clamp(0.0, 1.0) * 255.0).round() as u8
         })
-        .collect()
+        .collect();
+    look.gray = gray;
+    (values, look)
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
     use image::{ImageEncoder, Luma, Rgba};
+    use std::io::Cursor;
 
     fn png(encode: impl FnOnce(&mut Vec<u8>)) -> Vec<u8> {
         let mut bytes = Vec::new();

@@ -1,6 +1,7 @@
 //! Raster front end: decode, grayscale, binarize, and turn ink pixels into the point set.
 //!
 //! ```text
+//! bytes ─pages─> Page (GrayImage, transparency, picture) per page
 //! bytes ─decode─> GrayImage ─binarize─> Binary ─points─> PointSet (pixel centers, 8- or 5x5
 //!                                                         neighbours, half-width, Dis_ave)
 //! ```
@@ -10,20 +11,48 @@ mod binarize;
 mod chunks;
 mod decode;
 mod points;
+mod tiff_pages;
 
 pub use binarize::otsu_level;
 pub(crate) use chunks::pixel_chunks;
-pub use decode::decode_file;
+pub use decode::{decode_file, Page, Pages, Picture, Transparency};
 
 use crate::{Binary, GrayImage, Limits, Params, PointSet, Result};
 
 /// Decodes image bytes to grayscale within `limits`.
 ///
 /// PNG, JPEG, TIFF, BMP, PNM, GIF and WebP, guessed from the content; any bit depth, gray, RGB,
-/// palette or alpha (composited over white paper). The size is checked from the header before the
-/// pixels are allocated: more than `limits.max_pixels` gives [`crate::Error::Limit`].
+/// palette or alpha (transparent pixels are paper: white, or black behind white ink; see
+/// [`Transparency`]). Of a multi-page TIFF, the first page (all of them: [`pages`]). The size is
+/// checked from the header before the pixels are allocated: more than `limits.max_pixels` gives
+/// [`crate::Error::Limit`].
 pub fn decode(bytes: &[u8], limits: &Limits) -> Result<GrayImage> {
     decode::decode(bytes, limits)
+}
+
+/// The pages of image `bytes`, decoded one at a time by the returned iterator: every page of a
+/// multi-page TIFF, the one image of other formats.
+///
+/// A TIFF with more than `limits.max_pages` pages gives [`crate::Error::Limit`] before any page is
+/// decoded; each page is decoded like [`decode`], within the same limits. With
+/// [`Pages::with_pictures`], each [`Page`] also says what to show under the centerlines.
+///
+/// ```
+/// use ridgeline::{raster, Limits};
+///
+/// let mut png = Vec::new();
+/// image::GrayImage::from_pixel(4, 3, image::Luma([200]))
+///     .write_to(&mut std::io::Cursor::new(&mut png), image::ImageFormat::Png)
+///     .expect("encode");
+/// let mut pages = raster::pages(&png, &Limits::default())?.with_pictures(true);
+/// assert_eq!(pages.page_count(), 1);
+/// let page = pages.next().expect("one page")?;
+/// assert_eq!((page.number, page.gray.dimensions()), (1, (4, 3)));
+/// assert_eq!(page.picture, raster::Picture::Original { mime: "image/png" });
+/// # Ok::<(), ridgeline::Error>(())
+/// ```
+pub fn pages<'a>(bytes: &'a [u8], limits: &Limits) -> Result<Pages<'a>> {
+    decode::pages(bytes, limits)
 }
 
 /// Binarizes a grayscale image (threshold and polarity from `params`).

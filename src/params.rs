@@ -119,7 +119,33 @@ pub struct Params {
     /// Clean-up after §3.3 (contract hole-free cycles, prune spurs, collapse short bars) and the
     /// placement of ends and junctions (design 8, 10, 14, 15). Default true; paper mode false.
     pub cleanup: bool,
+    /// Disks that respect the ink (§3.1 on pixel images): a sampling disk never holds ink hidden
+    /// from its center (ink reached around a hole or across a gap from another stroke), so it
+    /// never wraps around a cell or counter nor spans two strokes. The radius is cut below the
+    /// first hidden point, down to at most `width / 2 + Dis_ave`. Needs a pixel grid; off in
+    /// dropout mode (its ink has holes by nature). Default false; paper mode false.
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub ink_disks: bool,
+    /// Clusters that never span two junction sites (§3.2): two non-linear nodes are linked only
+    /// when the straight segment between them stays on the ink, so nodes on either side of a
+    /// cell, a counter or a gap between strokes are never one region. Default false; paper mode
+    /// false.
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub site_clusters: bool,
+    /// Dense re-fit (§3.4): the fitted nodes are spaced [`DENSE_SPACING`] `Dis_ave` apart instead
+    /// of `h`, so each node's Voronoi cell is a thin slice of its stroke and its L1 median lies
+    /// on the stroke's middle. Default false; paper mode false.
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub dense_fit: bool,
+    /// Junctions on the ink (§3.4, design 14): a junction whose fitted position is off its
+    /// component's ink moves to the nearest ink point of its own cell. Default false; paper
+    /// mode false.
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub junctions_on_ink: bool,
 }
+
+/// Node spacing of [`Params::dense_fit`], in `Dis_ave` (px on images).
+pub const DENSE_SPACING: f64 = 2.0;
 
 impl Default for Params {
     fn default() -> Self {
@@ -143,6 +169,10 @@ impl Default for Params {
             weiszfeld_iterations: 20,
             spacing_factor: 1.0,
             cleanup: true,
+            ink_disks: false,
+            site_clusters: false,
+            dense_fit: false,
+            junctions_on_ink: false,
         }
     }
 }
@@ -159,6 +189,10 @@ impl Params {
             merge_span: f64::INFINITY,
             anchor_weight: 1.0,
             cleanup: false,
+            ink_disks: false,
+            site_clusters: false,
+            dense_fit: false,
+            junctions_on_ink: false,
             ..Params::default()
         }
     }

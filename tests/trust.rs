@@ -409,7 +409,10 @@ fn the_readme_says_how_to_get_the_command_and_what_the_svg_shows() {
             .find(color)
             .unwrap_or_else(|| panic!("the README's start does not name {color} ({meaning})"));
         let before = &start[at.saturating_sub(60)..at];
-        assert!(before.contains(meaning), "{color} is not said to be {meaning}");
+        assert!(
+            before.contains(meaning),
+            "{color} is not said to be {meaning}"
+        );
     }
     assert!(start.contains("red disc on its own is a dot"));
 }

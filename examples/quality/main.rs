@@ -67,9 +67,48 @@ fn parse_args() -> anyhow::Result<Args> {
 /// The methods compared in every table.
 const METHODS: [&str; 3] = ["ridgeline", "paper", "thinning"];
 
+/// The "ridgeline" method's parameters: the defaults, with the fields of the JSON object in
+/// `RIDGELINE_PARAMS` (if set) laid over them, so variants are measured on one build
+/// (`RIDGELINE_PARAMS='{"dense_fit": true}'`).
+fn variant_params() -> anyhow::Result<Params> {
+    let Ok(overrides) = std::env::var("RIDGELINE_PARAMS") else {
+        return Ok(Params::default());
+    };
+    let mut value = serde_json::to_value(Params::default())?;
+    let overrides: serde_json::Value =
+        serde_json::from_str(&overrides).context("RIDGELINE_PARAMS is not JSON")?;
+    let (Some(fields), Some(over)) = (value.as_object_mut(), overrides.as_object()) else {
+        bail!("RIDGELINE_PARAMS must be a JSON object");
+    };
+    for (key, v) in over {
+        fields.insert(key.clone(), v.clone());
+    }
+    let params: Params = serde_json::from_value(value)?;
+    // A misspelt name would be dropped silently: each one must come back out as it went in.
+    let back = serde_json::to_value(&params)?;
+    for (key, v) in over {
+        let default_false = v == &serde_json::Value::Bool(false);
+        if back.get(key) != Some(v) && !default_false {
+            bail!("RIDGELINE_PARAMS: no parameter {key:?}");
+        }
+    }
+    Ok(params)
+}
+
+/// The methods to run: all of [`METHODS`], or those named in `QUALITY_METHODS` (comma-separated).
+fn methods() -> Vec<&'static str> {
+    match std::env::var("QUALITY_METHODS") {
+        Ok(list) => METHODS
+            .into_iter()
+            .filter(|m| list.split(',').any(|x| x.trim() == *m))
+            .collect(),
+        Err(_) => METHODS.to_vec(),
+    }
+}
+
 fn run_method(method: &str, case: &Case) -> anyhow::Result<StrokeGraph> {
     Ok(match method {
-        "ridgeline" => ridgeline::trace_binary(&case.binary, &Params::default())?.graph,
+        "ridgeline" => ridgeline::trace_binary(&case.binary, &variant_params()?)?.graph,
         "paper" => ridgeline::trace_binary(&case.binary, &Params::paper())?.graph,
         _ => thinning::trace(&case.binary),
     })
@@ -163,7 +202,7 @@ fn main() -> anyhow::Result<()> {
     let mut outcomes = Vec::new();
     for case in &cases {
         let truth = guarded(|| Ok(truth_graph(case)));
-        for method in METHODS {
+        for method in methods() {
             let start = Instant::now();
             let result = guarded(|| run_method(method, case));
             let time_ms = start.elapsed().as_secs_f64() * 1e3;
@@ -199,7 +238,7 @@ fn main() -> anyhow::Result<()> {
     }
     let mut rows = Vec::new();
     for group in &groups {
-        for method in METHODS {
+        for method in methods() {
             let mine: Vec<&Outcome> = outcomes
                 .iter()
                 .filter(|o| &o.group == group && o.method == method)
@@ -244,7 +283,11 @@ fn main() -> anyhow::Result<()> {
         }
     }
 
-    let real_images = real_images(args.verbose);
+    let real_images = if std::env::var_os("QUALITY_NO_REAL").is_some() {
+        Vec::new()
+    } else {
+        real_images(args.verbose)
+    };
 
     let report = Report {
         groups: rows,

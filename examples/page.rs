@@ -435,7 +435,21 @@ fn run_peer(script: &Path, path: &Path, repeat: usize) -> Option<f64> {
 
 /// Traces `path` `repeat` times in this process and prints the medians on one `RESULT` line.
 fn run_child(path: &Path, repeat: usize) {
-    let params = Params::default();
+    // Variants on one build: the fields of the JSON object in `RIDGELINE_PARAMS` laid over the
+    // defaults (as in the quality benchmark).
+    let params = match std::env::var("RIDGELINE_PARAMS") {
+        Ok(json) => {
+            let mut value = serde_json::to_value(Params::default()).expect("params serialize");
+            let over: serde_json::Value = serde_json::from_str(&json).expect("RIDGELINE_PARAMS");
+            if let (Some(fields), Some(over)) = (value.as_object_mut(), over.as_object()) {
+                for (key, v) in over {
+                    fields.insert(key.clone(), v.clone());
+                }
+            }
+            serde_json::from_value(value).expect("RIDGELINE_PARAMS fields")
+        }
+        Err(_) => Params::default(),
+    };
     let out_dir = tempfile::tempdir().expect("temporary directory");
     let out_path = out_dir.path().join("out.svg");
     let mut runs: Vec<([f64; 8], f64, f64)> = Vec::new();

@@ -59,14 +59,15 @@ pub fn build(points: &PointSet, samples: &Samples, params: &Params) -> NodeGraph
     if params.paper {
         color_clusters_as_written(&mut graph, params);
     } else {
-        color_clusters(&mut graph, params);
+        color_clusters(&mut graph, points, params);
     }
     graph
 }
 
-/// Union of non-linear nodes joined by edges shorter than `cluster_link · r_min`; every non-linear
-/// node gets a cluster id (numbered in node order), linear nodes none.
-fn color_clusters(graph: &mut NodeGraph, params: &Params) {
+/// Union of non-linear nodes joined by edges shorter than `cluster_link · r_min` (with
+/// [`Params::site_clusters`], only where the segment between them stays on the ink); every
+/// non-linear node gets a cluster id (numbered in node order), linear nodes none.
+fn color_clusters(graph: &mut NodeGraph, points: &PointSet, params: &Params) {
     let n = graph.nodes.len();
     let mut union = UnionFind::<u32>::new(n);
     for &[a, b] in &graph.edges {
@@ -75,7 +76,9 @@ fn color_clusters(graph: &mut NodeGraph, params: &Params) {
             continue;
         }
         let link = params.cluster_link * 0.5 * (na.r_min + nb.r_min);
-        if crate::dist(na.pos, nb.pos) < link {
+        if crate::dist(na.pos, nb.pos) < link
+            && (!params.site_clusters || segment_on_ink(points, na.pos, nb.pos))
+        {
             union.union(a, b);
         }
     }
@@ -148,4 +151,24 @@ fn color_clusters_as_written(graph: &mut NodeGraph, params: &Params) {
         }
         start = end;
     }
+}
+
+/// Whether the segment `a`-`b` lies on ink pixels (sampled every half pixel); true without a
+/// pixel grid or in dropout mode. Two junction sites on either side of a cell, a counter or a gap between strokes
+/// fail it: the segment between them crosses the paper.
+fn segment_on_ink(points: &PointSet, a: [f64; 2], b: [f64; 2]) -> bool {
+    let Some(grid) = &points.grid else {
+        return true;
+    };
+    // Dropout ink is full of specks of paper: no test there.
+    if points.dropout {
+        return true;
+    }
+    let steps = (2.0 * crate::dist(a, b)).ceil().max(1.0) as usize;
+    (0..=steps).all(|i| {
+        let t = i as f64 / steps as f64;
+        let p = [a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1])];
+        grid.point_at(p[0].floor() as i64, p[1].floor() as i64)
+            .is_some()
+    })
 }

@@ -133,7 +133,33 @@ pub struct Params {
     /// topology-preserving pixel skeleton, and the method's graph decides crossings and spurs.
     /// Images only, not in dropout mode. Default false; paper mode false.
     pub skeleton: bool,
+    /// Disks that respect the ink (§3.1 on pixel images): a sampling disk never holds ink hidden
+    /// from its center (ink reached around a hole or across a gap from another stroke), so it
+    /// never wraps around a cell or counter nor spans two strokes. The radius is cut below the
+    /// first hidden point, down to at most `width / 2 + Dis_ave`. Needs a pixel grid; off in
+    /// dropout mode (its ink has holes by nature). Default false; paper mode false.
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub ink_disks: bool,
+    /// Clusters that never span two junction sites (§3.2): two non-linear nodes are linked only
+    /// when the straight segment between them stays on the ink, so nodes on either side of a
+    /// cell, a counter or a gap between strokes are never one region. Default false; paper mode
+    /// false.
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub site_clusters: bool,
+    /// Dense re-fit (§3.4): the fitted nodes are spaced [`DENSE_SPACING`] `Dis_ave` apart instead
+    /// of `h`, so each node's Voronoi cell is a thin slice of its stroke and its L1 median lies
+    /// on the stroke's middle. Default false; paper mode false.
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub dense_fit: bool,
+    /// Junctions on the ink (§3.4, design 14): a junction whose fitted position is off its
+    /// component's ink moves to the nearest ink point of its own cell. Default false; paper
+    /// mode false.
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub junctions_on_ink: bool,
 }
+
+/// Node spacing of [`Params::dense_fit`], in `Dis_ave` (px on images).
+pub const DENSE_SPACING: f64 = 2.0;
 
 impl Default for Params {
     fn default() -> Self {
@@ -158,6 +184,10 @@ impl Default for Params {
             spacing_factor: 1.0,
             cleanup: true,
             skeleton: false,
+            ink_disks: false,
+            site_clusters: false,
+            dense_fit: false,
+            junctions_on_ink: false,
         }
     }
 }
@@ -174,6 +204,10 @@ impl Params {
             merge_span: f64::INFINITY,
             anchor_weight: 1.0,
             cleanup: false,
+            ink_disks: false,
+            site_clusters: false,
+            dense_fit: false,
+            junctions_on_ink: false,
             ..Params::default()
         }
     }

@@ -137,6 +137,13 @@ struct Sampler<'a> {
     far: BinaryHeap<Reverse<(u32, u32)>>,
     rim: Vec<u32>,
     stack: Vec<u32>,
+    /// [`Params::ink_disks`] is in force (a pixel grid, not dropout mode).
+    ink_bound: bool,
+    /// Epoch stamps of the points of the current disk seen from its center (see
+    /// [`Sampler::sees`]).
+    visible: Vec<u32>,
+    /// Smallest key of a disk point hidden from the center (`u32::MAX` when none yet).
+    first_hidden: u32,
 }
 
 impl<'a> Sampler<'a> {
@@ -163,6 +170,13 @@ impl<'a> Sampler<'a> {
             far: BinaryHeap::new(),
             rim: Vec::new(),
             stack: Vec::new(),
+            ink_bound: params.ink_disks && points.grid.is_some() && !points.dropout,
+            visible: if params.ink_disks {
+                vec![0; n]
+            } else {
+                Vec::new()
+            },
+            first_hidden: u32::MAX,
         }
     }
 
@@ -234,6 +248,13 @@ impl<'a> Sampler<'a> {
                 last[5] + dy * dy,
             ]);
             self.order.push((key, p));
+            if self.ink_bound {
+                if self.sees(center, q) {
+                    self.visible[p as usize] = self.epoch;
+                } else if key < self.first_hidden {
+                    self.first_hidden = key;
+                }
+            }
             for &r in self.points.neighbors_of(p) {
                 if self.seen[r as usize] != self.epoch {
                     self.seen[r as usize] = self.epoch;
@@ -243,6 +264,35 @@ impl<'a> Sampler<'a> {
                 }
             }
         }
+    }
+
+    /// [`Params::ink_disks`]: whether the disk point at `q` is seen from the center `c`, i.e. the
+    /// pixel one step from `q` toward `c` (one of the two bracketing the straight line) is a
+    /// point of this disk seen from `c`. Points nearer the center join the disk first (their
+    /// keys are smaller), so one look per point decides along the whole line; the two-pixel
+    /// bracket forgives the staircase of a digitized edge.
+    fn sees(&self, c: [f64; 2], q: [f64; 2]) -> bool {
+        let Some(grid) = &self.points.grid else {
+            return true;
+        };
+        let (dx, dy) = (c[0] - q[0], c[1] - q[1]);
+        let m = dx.abs().max(dy.abs());
+        // The center and its neighbours see each other.
+        if m <= 1.0 + 1e-9 {
+            return true;
+        }
+        let step = [q[0] + dx / m, q[1] + dy / m];
+        let pixels = if dx.abs() >= dy.abs() {
+            let (x, y) = (step[0].floor() as i64, (step[1] - 0.5).floor() as i64);
+            [(x, y), (x, y + 1)]
+        } else {
+            let (x, y) = ((step[0] - 0.5).floor() as i64, step[1].floor() as i64);
+            [(x, y), (x + 1, y)]
+        };
+        pixels.iter().any(|&(x, y)| {
+            grid.point_at(x, y)
+                .is_some_and(|p| self.visible[p as usize] == self.epoch)
+        })
     }
 
     fn enqueue(&mut self, key: u32, p: u32) {
@@ -360,11 +410,13 @@ impl<'a> Sampler<'a> {
         if self.epoch < 2 {
             self.seen.fill(0);
             self.rim_seen.fill(0);
+            self.visible.fill(0);
             self.epoch = 2;
         }
         self.order.clear();
         self.moments.clear();
         self.reset_queue();
+        self.first_hidden = u32::MAX;
         let c = self.points.points[center as usize];
         self.seen[center as usize] = self.epoch;
         self.enqueue(0, center);
@@ -438,6 +490,20 @@ impl<'a> Sampler<'a> {
         if !linear {
             r = r_min;
         }
+        // Ink disks: the disk stops short of the first point hidden from its center (ink behind
+        // a hole or across a gap), but keeps at least the stroke's own half-width. Its `r_min`
+        // shrinks with it, so the clusters and merge groups of §3.2-3.3 take its scale.
+        let mut r_min = r_min;
+        let mut bounded = false;
+        if self.ink_bound && self.first_hidden <= quantize_bound(r) {
+            let cut = ((self.first_hidden as f64 - 1.0).max(0.0) / 4.0).sqrt();
+            let cut = cut.max(0.5 * width + spacing);
+            if cut < r {
+                r = cut;
+                r_min = r_min.min(r);
+                bounded = true;
+            }
+        }
         let count = self.prefix(r);
         let (linearity, direction, mean) = self.pca(count);
         let pos = [c[0] + mean[0], c[1] + mean[1]];
@@ -447,7 +513,18 @@ impl<'a> Sampler<'a> {
         // The disk is one the arms test already cut when it ran: the last radius when linear, else
         // `r_min`, the first. Only a count of 3 (which leaves marks, see `rim_cuts`) at a larger
         // radius makes the count at `r_min` differ from the first one, so only then is it redone.
-        let cuts = if tries == 0 || (!linear && last_cuts > 2 && tries > 1) {
+        let cuts = if bounded {
+            // A fresh epoch: earlier counts may have left rim marks (see `rim_cuts`). No search
+            // of this node runs after this, so `seen` may go stale.
+            self.epoch = self.epoch.wrapping_add(2);
+            if self.epoch < 2 {
+                self.seen.fill(0);
+                self.rim_seen.fill(0);
+                self.visible.fill(0);
+                self.epoch = 2;
+            }
+            self.rim_cuts(c, count, r)
+        } else if tries == 0 || (!linear && last_cuts > 2 && tries > 1) {
             self.rim_cuts(c, count, r)
         } else if linear {
             last_cuts

@@ -353,3 +353,117 @@ fn a_large_page_traced_in_chunks_equals_the_page_traced_whole() {
         chunked.graph.cycles()
     );
 }
+
+/// Mean and largest distance from the graph's polylines (every point) to the truth.
+fn deviation(graph: &StrokeGraph, strokes: &[Stroke]) -> (f64, f64) {
+    let (mut sum, mut most, mut count) = (0.0, 0.0f64, 0usize);
+    for e in &graph.edges {
+        for &p in &e.points {
+            let d = distance_to_truth(p, strokes);
+            sum += d;
+            most = most.max(d);
+            count += 1;
+        }
+    }
+    (sum / count.max(1) as f64, most)
+}
+
+#[test]
+fn dense_fit_follows_a_tight_loop_closer_than_the_coarse_fit() {
+    // A loop only a few stroke widths around: the coarse fit's nodes, one width apart, cut it
+    // by chords; the dense re-fit (one point per 2 px from each edge's own pixels) follows it.
+    let strokes = vec![circle([40.0, 40.0], 9.0, 6.0)];
+    let binary = render(&strokes, 80, 80);
+    let coarse = trace(&binary);
+    let dense_params = Params {
+        dense_fit: true,
+        ..Params::default()
+    };
+    let dense = trace_binary(&binary, &dense_params)
+        .expect("trace succeeds")
+        .graph;
+    dense.validate().expect("stroke graph is valid");
+    assert_eq!(degrees(&dense), degrees(&coarse), "same topology");
+    let count = |g: &StrokeGraph| g.edges.iter().map(|e| e.points.len()).sum::<usize>();
+    // A point every 2 px of the slices, the one vertex and the smoothing's joins: about 2.5 px.
+    let around = 2.0 * std::f64::consts::PI * 9.0;
+    assert!(
+        count(&dense) > count(&coarse) && count(&dense) as f64 >= around / 2.5,
+        "a point every 2-2.5 px around the loop: {} against {} coarse",
+        count(&dense),
+        count(&coarse)
+    );
+    let (coarse_mean, _) = deviation(&coarse, &strokes);
+    let (dense_mean, dense_max) = deviation(&dense, &strokes);
+    assert!(
+        dense_mean < coarse_mean && dense_max < 1.0,
+        "dense mean {dense_mean:.2} max {dense_max:.2}, coarse mean {coarse_mean:.2}"
+    );
+}
+
+#[test]
+fn dense_fit_keeps_crossings_and_t_junctions() {
+    let strokes = vec![
+        through([80.0, 80.0], 30.0, 60.0, 8.0),
+        through([80.0, 80.0], 150.0, 60.0, 8.0),
+        line([20.0, 140.0], [140.0, 140.0], 6.0),
+        line([80.0, 140.0], [80.0, 190.0], 6.0),
+    ];
+    let binary = render(&strokes, 160, 200);
+    let params = Params {
+        dense_fit: true,
+        ..Params::default()
+    };
+    let graph = trace_binary(&binary, &params)
+        .expect("trace succeeds")
+        .graph;
+    graph.validate().expect("stroke graph is valid");
+    assert_eq!(degrees(&graph), vec![1, 1, 1, 1, 1, 1, 1, 3, 4]);
+    assert_geometry(&graph, &strokes);
+}
+
+/// A 3 x 3 grid of `width` px lines whose cells are `cell` px across.
+fn grid(width: f64, cell: f64) -> (Vec<Stroke>, u32) {
+    let (pitch, margin) = (cell + width, 10.0 + width);
+    let far = margin + 3.0 * pitch;
+    let mut strokes = Vec::new();
+    for i in 0..=3 {
+        let t = margin + i as f64 * pitch;
+        strokes.push(line([margin, t], [far, t], width));
+        strokes.push(line([t, margin], [t, far], width));
+    }
+    (strokes, (far + margin) as u32 + 1)
+}
+
+fn cycles(graph: &StrokeGraph) -> i64 {
+    // One component: cycles = E - V + 1.
+    graph.edges.len() as i64 - graph.vertices.len() as i64 + 1
+}
+
+#[test]
+fn ink_disks_keep_every_cell_of_a_grid_whose_cells_are_half_a_width() {
+    // 6 px lines, 3 px cells: a disk one width across wraps around a cell, so the default loses
+    // some of the nine cells; disks cut short of ink hidden behind a cell keep them all.
+    let (strokes, size) = grid(6.0, 3.0);
+    let binary = render(&strokes, size, size);
+    for params in [
+        Params {
+            ink_disks: true,
+            ..Params::default()
+        },
+        Params {
+            ink_disks: true,
+            site_clusters: true,
+            dense_fit: true,
+            junctions_on_ink: true,
+            ..Params::default()
+        },
+    ] {
+        let graph = trace_binary(&binary, &params)
+            .expect("trace succeeds")
+            .graph;
+        graph.validate().expect("stroke graph is valid");
+        assert_eq!(cycles(&graph), 9, "{params:?}");
+        assert!(graph.vertices.iter().all(|v| v.degree != 1), "no ends");
+    }
+}

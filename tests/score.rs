@@ -562,7 +562,12 @@ fn a_graph_shifted_off_the_ink_is_off_ink_and_not_exactly_right() {
     let moved = score(&c, &truth, &shifted(&truth, [0.0, 4.0]));
     assert!(moved.off_ink > 0.3, "off-ink {}", moved.off_ink);
     let far = score(&c, &truth, &shifted(&truth, [4.0, 4.0]));
-    assert!(far.off_ink > moved.off_ink, "{} {}", far.off_ink, moved.off_ink);
+    assert!(
+        far.off_ink > moved.off_ink,
+        "{} {}",
+        far.off_ink,
+        moved.off_ink
+    );
 }
 
 #[test]

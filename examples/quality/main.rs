@@ -119,9 +119,48 @@ const METHODS: [&str; 5] = [
 /// The baselines whose best per column gets a row of its own.
 const BASELINES: [&str; 2] = ["thinning", "thinning+pruning"];
 
+/// The "ridgeline" method's parameters: the defaults, with the fields of the JSON object in
+/// `RIDGELINE_PARAMS` (if set) laid over them, so variants are measured on one build
+/// (`RIDGELINE_PARAMS='{"dense_fit": true}'`).
+fn variant_params() -> anyhow::Result<Params> {
+    let Ok(overrides) = std::env::var("RIDGELINE_PARAMS") else {
+        return Ok(Params::default());
+    };
+    let mut value = serde_json::to_value(Params::default())?;
+    let overrides: serde_json::Value =
+        serde_json::from_str(&overrides).context("RIDGELINE_PARAMS is not JSON")?;
+    let (Some(fields), Some(over)) = (value.as_object_mut(), overrides.as_object()) else {
+        bail!("RIDGELINE_PARAMS must be a JSON object");
+    };
+    for (key, v) in over {
+        fields.insert(key.clone(), v.clone());
+    }
+    let params: Params = serde_json::from_value(value)?;
+    // A misspelt name would be dropped silently: each one must come back out as it went in.
+    let back = serde_json::to_value(&params)?;
+    for (key, v) in over {
+        let default_false = v == &serde_json::Value::Bool(false);
+        if back.get(key) != Some(v) && !default_false {
+            bail!("RIDGELINE_PARAMS: no parameter {key:?}");
+        }
+    }
+    Ok(params)
+}
+
+/// The methods to run: all of [`METHODS`], or those named in `QUALITY_METHODS` (comma-separated).
+fn methods() -> Vec<&'static str> {
+    match std::env::var("QUALITY_METHODS") {
+        Ok(list) => METHODS
+            .into_iter()
+            .filter(|m| list.split(',').any(|x| x.trim() == *m))
+            .collect(),
+        Err(_) => METHODS.to_vec(),
+    }
+}
+
 fn run_method(method: &str, case: &Case) -> anyhow::Result<StrokeGraph> {
     Ok(match method {
-        "ridgeline" => ridgeline::trace_binary(&case.binary, &Params::default())?.graph,
+        "ridgeline" => ridgeline::trace_binary(&case.binary, &variant_params()?)?.graph,
         "paper" => ridgeline::trace_binary(&case.binary, &Params::paper())?.graph,
         "skeleton" => {
             let params = Params {
@@ -437,7 +476,7 @@ fn main() -> anyhow::Result<()> {
                 truth_off += own.off_ink_length;
             }
             let mut traced = Vec::new();
-            for method in METHODS {
+            for method in methods() {
                 let start = Instant::now();
                 let result = guarded(|| run_method(method, case));
                 let time_ms = start.elapsed().as_secs_f64() * 1e3;
@@ -467,7 +506,7 @@ fn main() -> anyhow::Result<()> {
                 });
             }
             if let (Some(dir), Ok(truth)) = (&args.pictures, &truth) {
-                pictures::write(dir, case, truth, &METHODS, &traced)?;
+                pictures::write(dir, case, truth, &methods(), &traced)?;
             }
         }
         let methods_s = methods_start.elapsed().as_secs_f64() - truth_s;

@@ -15,10 +15,16 @@
 //!    junctions are not pulled inward) with data weight `anchor_weight` on ends and junctions; in
 //!    paper mode it is the uniform graph Laplacian with unit weights, as the paper writes it;
 //! 4. `place` (clean-up only): ends out to where the ink ends, junctions where their arms' lines
-//!    meet (design 10, 14);
-//! 5. widths (`2 x half_width` of the nearest point) and unit tangents along every polyline.
+//!    meet (design 10, 14), and with [`Params::junctions_on_ink`] a junction left off the ink
+//!    moved onto the nearest point of its cell;
+//! 5. `dense` ([`Params::dense_fit`], off by default): after the junctions are placed, every edge
+//!    re-fitted from its own points, one point per slice of `2 Dis_ave` at the median offset of
+//!    the slice's points across the edge, leaving out the stretch next to each junction where
+//!    the arms share ink; ends are then placed on the dense edges;
+//! 6. widths (`2 x half_width` of the nearest point) and unit tangents along every polyline.
 
 mod assign;
+mod dense;
 mod layout;
 mod math;
 mod place;
@@ -132,6 +138,11 @@ pub fn fit_with_spacing(
     let mut positions = solve::solve(&targets, &weights, &smoothness, params.smoothness)
         .unwrap_or_else(|| targets.clone());
 
+    // The coarse unknown each position stands for (the dense re-fit appends positions).
+    let mut parent: Vec<u32> = (0..positions.len() as u32).collect();
+    // Dense re-fit needs the clean-up's junction placement first (its slices stop one width
+    // short of the junctions), and steady slices: off in dropout mode, whose ink is broken.
+    let dense = params.dense_fit && params.cleanup && !points.dropout;
     if params.cleanup {
         let ink = Ink::new(points, unit, &components);
 
@@ -156,6 +167,34 @@ pub fn fit_with_spacing(
                 );
             }
         }
+        if params.junctions_on_ink {
+            for (k, &degree) in degrees.iter().enumerate() {
+                let v = layout.vertex_unknown(k);
+                if degree >= 3 {
+                    let component = site_components[v as usize];
+                    place::onto_ink(
+                        &ink,
+                        points,
+                        cells.of(v as usize),
+                        component,
+                        &mut positions[v as usize],
+                    );
+                }
+            }
+        }
+        if dense {
+            refit_densely(
+                &layout,
+                graph,
+                &degrees,
+                h,
+                &cells,
+                points,
+                &mut polylines,
+                &mut positions,
+                &mut parent,
+            );
+        }
         for (k, &degree) in degrees.iter().enumerate() {
             let width = vertex_width(graph, &layout, k, h);
             let v = layout.vertex_unknown(k);
@@ -170,7 +209,80 @@ pub fn fit_with_spacing(
         let on_own = |q: u32| own.is_none_or(|c| components.get(q as usize) == Some(&c));
         width_at(graph, points, &layout, &cells, p, v, on_own)
     };
-    build(&layout, &polylines, &positions, &degrees, width)
+    build(&layout, &polylines, &positions, &degrees, |p, i| {
+        width(p, parent[i as usize])
+    })
+}
+
+/// [`Params::dense_fit`]: every edge re-fitted from its own points (see `dense`), leaving out one
+/// stroke width at each junction end.
+#[allow(clippy::too_many_arguments)]
+fn refit_densely(
+    layout: &Layout,
+    graph: &NodeGraph,
+    degrees: &[usize],
+    h: f64,
+    cells: &Groups,
+    points: &PointSet,
+    polylines: &mut [Vec<u32>],
+    positions: &mut Vec<[f64; 2]>,
+    parent: &mut Vec<u32>,
+) {
+    // Arm directions at each junction end, from the fitted polylines two widths out.
+    let direction = |edge: usize, at_start: bool, reach: f64| -> Option<[f64; 2]> {
+        let mut arm: Vec<[f64; 2]> = polylines[edge]
+            .iter()
+            .map(|&i| positions[i as usize])
+            .collect();
+        if !at_start {
+            arm.reverse();
+        }
+        let s = math::arc_lengths(&arm);
+        let (far, _) = math::point_at(&arm, &s, reach.min(s[s.len() - 1]));
+        math::unit([far[0] - arm[0][0], far[1] - arm[0][1]])
+    };
+    let mut skips: Vec<[f64; 2]> = vec![[0.0, 0.0]; layout.edges.len()];
+    for (k, ends) in vertex_ends(layout, polylines).iter().enumerate() {
+        if degrees[k] < 3 {
+            continue;
+        }
+        let w = vertex_width(graph, layout, k, h);
+        let arms: Vec<Option<[f64; 2]>> = ends
+            .iter()
+            .map(|end| direction(end.edge, end.at_start, 2.0 * w))
+            .collect();
+        for (i, end) in ends.iter().enumerate() {
+            // Two strokes of width w leaving at angle θ share ink out to about w / sin θ along
+            // each: the slices start there (θ at most 90°; one width at least, four at most,
+            // where the junction's arm lines end).
+            let sine = arms[i].map_or(1.0, |u| {
+                arms.iter()
+                    .enumerate()
+                    .filter(|&(j, _)| j != i)
+                    .filter_map(|(_, v)| *v)
+                    .map(|v| {
+                        let cos = (u[0] * v[0] + u[1] * v[1]).max(0.0);
+                        (1.0 - cos * cos).sqrt()
+                    })
+                    .fold(1.0, f64::min)
+            });
+            let skip = (w / sine.max(0.25)).clamp(w, 4.0 * w);
+            skips[end.edge][usize::from(!end.at_start)] = skip;
+        }
+    }
+    let edges = layout
+        .edges
+        .iter()
+        .zip(polylines.iter_mut())
+        .zip(&skips)
+        .map(|((e, ids), &skip)| dense::EdgeSpan {
+            ids,
+            owners: layout.polyline(e),
+            skip,
+        })
+        .collect();
+    let spacing = crate::DENSE_SPACING * points.spacing.max(length_unit(points));
+    dense::refit(edges, positions, parent, cells, points, spacing);
 }
 
 /// Lengths in pixels for images; in units of the point spacing `Dis_ave` for point lists.

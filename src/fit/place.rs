@@ -260,3 +260,28 @@ impl Placement<'_> {
         }
     }
 }
+
+/// Junctions on the ink: a position off the ink of `component` moves to the nearest of `cell`'s
+/// points (the junction's own Voronoi cell, so never onto a neighbouring stroke's ink).
+pub fn onto_ink(
+    ink: &Ink<'_>,
+    points: &PointSet,
+    cell: &[u32],
+    component: Option<u32>,
+    position: &mut [f64; 2],
+) {
+    if ink.contains(*position, component) {
+        return;
+    }
+    let here = *position;
+    let nearest = cell.iter().copied().min_by(|&a, &b| {
+        let (da, db) = (
+            crate::dist(points.points[a as usize], here),
+            crate::dist(points.points[b as usize], here),
+        );
+        da.total_cmp(&db).then(a.cmp(&b))
+    });
+    if let Some(p) = nearest {
+        *position = points.points[p as usize];
+    }
+}

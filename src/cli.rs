@@ -225,6 +225,11 @@ pub struct Cli {
     #[arg(long, help_heading = "Method")]
     paper: bool,
 
+    /// Experimental: centerlines carried by a pixel skeleton of the ink, with crossings and spurs
+    /// decided by the method's graph (images only; not in dropout mode) [default: off]
+    #[arg(long, help_heading = "Method")]
+    skeleton: bool,
+
     /// r_min factor: r_min = max(3 Dis_ave, factor x local stroke width), px; with --paper
     /// r_min = factor x Dis_ave [default: 1, paper: 10]
     #[arg(long, value_name = "FACTOR", help_heading = "Sampling (paper §3.1)")]
@@ -438,6 +443,9 @@ impl TryFrom<&Cli> for Params {
         }
         if cli.no_cleanup {
             params.cleanup = false;
+        }
+        if cli.skeleton {
+            params.skeleton = true;
         }
         params.validate().map_err(|err| match err {
             ridgeline::Error::InvalidParam { field, reason } => {

@@ -82,6 +82,7 @@ pub mod raster;
 pub mod refine;
 pub mod sample;
 pub mod score;
+pub mod skeleton;
 pub mod strokes;
 pub mod synth;
 
@@ -276,7 +277,10 @@ fn run_chunks(sizes: &[usize], part: impl Fn(usize) -> PointSet + Sync, params: 
             if let Some(grid) = &mut points.grid {
                 grid.rebuild(&points.points);
             }
-            let graph = fit::fit_with_spacing(&refined, &points, params, h);
+            let mut graph = fit::fit_with_spacing(&refined, &points, params, h);
+            if params.skeleton {
+                graph = skeleton::carry(&graph, &points);
+            }
             timings.fit = clock.elapsed();
             (c, graph, points.len(), timings)
         })
@@ -343,7 +347,10 @@ fn run_stages(
     let refined = refine_stages(&points, params, &mut timings, keep.then_some(&mut kept));
 
     let clock = Instant::now();
-    let graph = fit::fit(&refined, &points, params);
+    let mut graph = fit::fit(&refined, &points, params);
+    if params.skeleton {
+        graph = skeleton::carry(&graph, &points);
+    }
     timings.fit = clock.elapsed();
 
     let stages = kept.map(|(samples, node_graph)| Stages {

@@ -129,6 +129,10 @@ pub struct Params {
     /// Clean-up after §3.3 (contract hole-free cycles, prune spurs, collapse short bars) and the
     /// placement of ends and junctions (design 8, 10, 14, 15). Default true; paper mode false.
     pub cleanup: bool,
+    /// Skeleton-carried geometry (an experiment, [`crate::skeleton`]): the polylines follow a
+    /// topology-preserving pixel skeleton, and the method's graph decides crossings and spurs.
+    /// Images only, not in dropout mode. Default false; paper mode false.
+    pub skeleton: bool,
 }
 
 impl Default for Params {
@@ -153,6 +157,7 @@ impl Default for Params {
             weiszfeld_iterations: 20,
             spacing_factor: 1.0,
             cleanup: true,
+            skeleton: false,
         }
     }
 }

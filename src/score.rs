@@ -9,6 +9,9 @@
 //!   [`TAUS`], chamfer and Hausdorff distances on samples every 0.5 px; junction, crossing and
 //!   endpoint scores on the prediction normalized with a 1 px tolerance; components and cycles.
 //! - [`aggregate`] pools the scores of a group of cases.
+//! - [`ScoreOptions`] changes the tolerances and where the ink's holes come from, for cases whose
+//!   ink is not drawn from their strokes (font outlines with approximate medians); [`score`],
+//!   [`truth_graph`] and [`normalize`] use the defaults.
 //!
 //! Scoring never panics on a broken prediction: edges with bad indices, fewer than two points or
 //! non-finite coordinates are left out.
@@ -38,7 +41,36 @@ const PREDICTION_TOLERANCE: f64 = 1.0;
 
 /// The smallest matching radius for junctions and endpoints, px (the radius is
 /// `max(MIN_MATCH_RADIUS, local stroke width)`).
-const MIN_MATCH_RADIUS: f64 = 3.0;
+pub const MIN_MATCH_RADIUS: f64 = 3.0;
+
+/// How a case is scored.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct ScoreOptions {
+    /// Distance tolerances (px) at which centerline precision, recall and F1 are reported.
+    /// Default value: [`TAUS`] (1, 2, 3 px); truths only known approximately (font medians a few
+    /// px off the center) need wider ones.
+    pub taus: [f64; 3],
+    /// Whether the holes that decide which cycles the ink shows are those of the case's binary
+    /// rather than those of its strokes drawn as [`crate::synth::render`] draws them (before any
+    /// dropout). Default value: `false`, right wherever the binary is drawn from the strokes; set
+    /// it when the ink comes from elsewhere (filled font outlines).
+    pub holes_from_binary: bool,
+    /// The smallest radius (px) within which a predicted junction or endpoint matches a true
+    /// one (the radius is this or the local stroke width, whichever is larger). Default value:
+    /// [`MIN_MATCH_RADIUS`] (3 px); truths whose vertices are only known to a few px (brush tips
+    /// a few px wide at the end of approximate medians) need more.
+    pub min_match_radius: f64,
+}
+
+impl Default for ScoreOptions {
+    fn default() -> Self {
+        ScoreOptions {
+            taus: TAUS,
+            holes_from_binary: false,
+            min_match_radius: MIN_MATCH_RADIUS,
+        }
+    }
+}
 
 /// Scores of one prediction against one case's truth.
 #[derive(Clone, Debug, Default, PartialEq, Serialize)]
@@ -99,6 +131,19 @@ pub struct Scores {
     pub predicted_cycles: usize,
     /// Whether the cycle counts agree.
     pub cycles_exact: bool,
+    /// Whether the graph is exactly right: every true junction matched one to one by a predicted
+    /// junction of the same degree and no predicted junction left over, every true endpoint
+    /// matched one to one and no predicted endpoint left over (so no spurious end), and the
+    /// component and cycle counts exact.
+    pub exactly_right: bool,
+    /// Length of the predicted centerlines, px.
+    pub centerline_length: f64,
+    /// Length of the predicted centerlines over background pixels, px ([`off_ink`]).
+    pub off_ink_length: f64,
+    /// `off_ink_length / centerline_length` (0 for an empty prediction).
+    pub off_ink: f64,
+    /// The distance tolerances of `precision`, `recall` and `f1`, px.
+    pub taus: [f64; 3],
 }
 
 /// One true crossing and how the prediction did there.
@@ -166,6 +211,17 @@ pub struct GroupScores {
     pub components_exact: f64,
     /// Share of cases whose cycle count is exact.
     pub cycles_exact: f64,
+    /// Share of cases whose graph is exactly right ([`Scores::exactly_right`]).
+    pub exactly_right: f64,
+    /// Pooled length of the predicted centerlines, px.
+    pub centerline_length: f64,
+    /// Pooled length of the predicted centerlines over background pixels, px.
+    pub off_ink_length: f64,
+    /// `off_ink_length / centerline_length`, pooled over the cases (0 when nothing was
+    /// predicted).
+    pub off_ink: f64,
+    /// The distance tolerances of `precision`, `recall` and `f1` (those of the first case).
+    pub taus: [f64; 3],
 }
 
 /// Pools the scores of a group: means of the geometric scores, pooled counts for junctions,
@@ -225,6 +281,15 @@ pub fn aggregate(scores: &[Scores]) -> GroupScores {
     };
     g.components_exact = mean(&|s| s.components_exact as usize as f64);
     g.cycles_exact = mean(&|s| s.cycles_exact as usize as f64);
+    g.exactly_right = mean(&|s| s.exactly_right as usize as f64);
+    g.centerline_length = scores.iter().map(|s| s.centerline_length).sum();
+    g.off_ink_length = scores.iter().map(|s| s.off_ink_length).sum();
+    g.off_ink = if g.centerline_length > 0.0 {
+        g.off_ink_length / g.centerline_length
+    } else {
+        0.0
+    };
+    g.taus = scores[0].taus;
     g
 }
 
@@ -241,19 +306,43 @@ pub fn aggregate(scores: &[Scores]) -> GroupScores {
 /// parallel edges around no hole of the ink (a closed stroke too small to leave one, a lens between
 /// two strokes that cross twice closely) is not a cycle: the loop becomes a dot, the longer of the
 /// parallel edges stays.
+///
+/// A compact cycle of three or more edges around no hole (three crossings closer together than
+/// the ink's width leaves room for, the cells of a grid too small to show) is one vertex: its
+/// vertices are merged and its edges dropped.
 pub fn truth_graph(case: &Case) -> StrokeGraph {
-    let holes = case_holes(case);
+    truth_graph_with(case, &ScoreOptions::default())
+}
+
+/// [`truth_graph`], with the holes taken as `options` says.
+pub fn truth_graph_with(case: &Case, options: &ScoreOptions) -> StrokeGraph {
+    let holes = case_holes(case, options);
     let mut net = Net::from_strokes(case);
     let r_max = net.max_half_width();
-    net.split_crossings();
+    net.split_crossings(None);
     net.drop_tails(r_max);
     net.join_ends(Join::Ink {
         r_max,
         holes: &holes,
     });
-    net.merge_junctions(&|a, b| a.max(b));
-    net.dissolve();
-    net.drop_filled_cycles(&holes);
+    net.join_kisses(r_max, &holes);
+    // Merging moves wire ends, so wires that met apart may cross near the merged vertex: split
+    // them there and merge again, until no crossing is left farther than the prediction's
+    // tolerance from a vertex (those the normalization merges into the vertex, so the truth
+    // still normalizes to itself), a few rounds at most.
+    for _ in 0..8 {
+        net.merge_junctions(&|a, b| a.max(b));
+        net.dissolve();
+        net.drop_filled_cycles(&holes);
+        let mut changed = false;
+        while net.collapse_filled_cycles(&holes) {
+            net.drop_filled_cycles(&holes);
+            changed = true;
+        }
+        if !net.split_crossings(Some(PREDICTION_TOLERANCE)) && !changed {
+            break;
+        }
+    }
     net.into_stroke_graph(case.binary.width, case.binary.height)
 }
 
@@ -262,9 +351,14 @@ pub fn truth_graph(case: &Case) -> StrokeGraph {
 /// truth, a join that would close a cycle around no hole of the case's ink is not made (so the
 /// truth normalizes to itself).
 pub fn normalize(case: &Case, predicted: &StrokeGraph) -> StrokeGraph {
-    let holes = case_holes(case);
+    normalize_with(case, predicted, &ScoreOptions::default())
+}
+
+/// [`normalize`], with the holes taken as `options` says.
+pub fn normalize_with(case: &Case, predicted: &StrokeGraph, options: &ScoreOptions) -> StrokeGraph {
+    let holes = case_holes(case, options);
     let mut net = Net::from_graph(predicted);
-    net.split_crossings();
+    net.split_crossings(None);
     net.join_ends(Join::Distance {
         tol: PREDICTION_TOLERANCE,
         holes: &holes,
@@ -279,16 +373,32 @@ pub fn normalize(case: &Case, predicted: &StrokeGraph) -> StrokeGraph {
 
 /// Scores `predicted` against `truth` (normally [`truth_graph`] of `case`).
 pub fn score(case: &Case, truth: &StrokeGraph, predicted: &StrokeGraph) -> Scores {
+    score_with(case, truth, predicted, &ScoreOptions::default())
+}
+
+/// [`score`] with the tolerances and holes of `options` (`truth` normally [`truth_graph_with`]
+/// of `case` and the same options).
+pub fn score_with(
+    case: &Case,
+    truth: &StrokeGraph,
+    predicted: &StrokeGraph,
+    options: &ScoreOptions,
+) -> Scores {
     let mut s = Scores {
         case: case.name.clone(),
         group: case.group.clone(),
         true_strokes: case.strokes.len(),
+        taus: options.taus,
         ..Scores::default()
     };
     geometry(case, truth, predicted, &mut s);
+    let ink = off_ink(predicted, &case.binary);
+    s.centerline_length = ink.length;
+    s.off_ink_length = ink.off;
+    s.off_ink = ink.share();
 
-    let norm = normalize(case, predicted);
-    let radius = |w: f64| w.max(MIN_MATCH_RADIUS);
+    let norm = normalize_with(case, predicted, options);
+    let radius = |w: f64| w.max(options.min_match_radius);
 
     // Junctions: one-to-one matching, nearest pairs first.
     let true_j: Vec<usize> = truth.junctions().collect();
@@ -299,6 +409,10 @@ pub fn score(case: &Case, truth: &StrokeGraph, predicted: &StrokeGraph) -> Score
     s.junctions_matched = matches.iter().filter(|m| m.is_some()).count();
     s.junction_precision = ratio(s.junctions_matched, s.predicted_junctions);
     s.junction_recall = ratio(s.junctions_matched, s.true_junctions);
+    let junction_degrees_agree = true_j
+        .iter()
+        .zip(&matches)
+        .all(|(&t, m)| m.is_some_and(|p| norm.vertices[p].degree == truth.vertices[t].degree));
 
     // Crossings: the matched vertex must carry all four arms, alone.
     for (k, &t) in true_j.iter().enumerate() {
@@ -363,7 +477,57 @@ pub fn score(case: &Case, truth: &StrokeGraph, predicted: &StrokeGraph) -> Score
     s.true_cycles = truth.cycles();
     s.predicted_cycles = norm.cycles();
     s.cycles_exact = s.true_cycles == s.predicted_cycles;
+    s.exactly_right = junction_degrees_agree
+        && s.predicted_junctions == s.true_junctions
+        && s.endpoints_found == s.true_endpoints
+        && s.predicted_endpoints == s.true_endpoints
+        && s.components_exact
+        && s.cycles_exact;
     s
+}
+
+/// How much of a graph's centerline lies over background pixels.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize)]
+pub struct OffInk {
+    /// Length of the usable edges' polylines, px.
+    pub length: f64,
+    /// Of that, the length over background pixels (or outside the image), px.
+    pub off: f64,
+}
+
+impl OffInk {
+    /// `off / length`, 0 when there is no centerline.
+    pub fn share(&self) -> f64 {
+        if self.length > 0.0 {
+            self.off / self.length
+        } else {
+            0.0
+        }
+    }
+}
+
+/// The length of `graph`'s centerlines lying over background pixels of `binary`: every polyline
+/// is cut into pieces at most [`SPACING`] (0.5 px) long, and a piece is off the ink when the
+/// pixel under its midpoint is background or outside the image (pixel `(c, r)` covers
+/// `[c, c + 1) x [r, r + 1)`). Edges with bad indices or non-finite points are left out, as in
+/// [`score`].
+pub fn off_ink(graph: &StrokeGraph, binary: &Binary) -> OffInk {
+    let mut out = OffInk::default();
+    for e in graph.edges.iter().filter(|e| usable_edge(graph, e)) {
+        for w in e.points.windows(2) {
+            let len = dist(w[0], w[1]);
+            let n = (len / SPACING).ceil().max(1.0) as usize;
+            let piece = len / n as f64;
+            for k in 0..n {
+                let p = lerp(w[0], w[1], (k as f64 + 0.5) / n as f64);
+                out.length += piece;
+                if !binary.get(p[0].floor() as i64, p[1].floor() as i64) {
+                    out.off += piece;
+                }
+            }
+        }
+    }
+    out
 }
 
 fn ratio(num: usize, den: usize) -> f64 {
@@ -390,7 +554,8 @@ fn geometry(case: &Case, truth: &StrokeGraph, predicted: &StrokeGraph, s: &mut S
     };
     let d_pred = nearest_all(&pred_samples, &true_samples);
     let d_true = nearest_all(&true_samples, &pred_samples);
-    for (k, &tau) in TAUS.iter().enumerate() {
+    let taus = s.taus;
+    for (k, &tau) in taus.iter().enumerate() {
         let within = |d: &[f64]| {
             if d.is_empty() {
                 None
@@ -754,13 +919,17 @@ struct Net {
 }
 
 /// The holes of a case's ink as drawn, before any dropout: the truth is what the strokes show.
-fn case_holes(case: &Case) -> Holes {
+/// With [`ScoreOptions::holes_from_binary`], the holes of the binary itself.
+fn case_holes(case: &Case, options: &ScoreOptions) -> Holes {
     let max_width = case
         .strokes
         .iter()
         .flat_map(|s| s.widths.iter().copied())
         .filter(|w| w.is_finite())
         .fold(0.0, f64::max);
+    if options.holes_from_binary {
+        return Holes::new(&case.binary, max_width);
+    }
     Holes::new(
         &render(&case.strokes, case.binary.width, case.binary.height),
         max_width,
@@ -906,17 +1075,39 @@ impl Net {
     }
 
     /// Splits wires where they cross one another or themselves (proper crossings away from wire
-    /// ends; a wire end on another wire is a touch, left to [`Net::join_ends`]).
-    fn split_crossings(&mut self) {
-        // Every segment is at most SPACING long, so two that cross have midpoints within SPACING.
+    /// ends; a wire end on another wire is a touch, left to [`Net::join_ends`]). With
+    /// `away_from`, crossings that close to a live vertex are left alone. Returns whether any
+    /// crossing was split.
+    fn split_crossings(&mut self, away_from: Option<f64>) -> bool {
+        let live: Vec<[f64; 2]> = self
+            .nodes
+            .iter()
+            .map(|n| if n.alive { n.pos } else { [f64::NAN; 2] })
+            .collect();
+        let node_grid = PointGrid::new(&live, 2.0);
+        // Wires are densified to segments at most SPACING long, so two that cross have midpoints
+        // within SPACING. Ends moved by merges and joins can leave longer end segments: a long
+        // segment is also tested against every segment whose midpoint lies within half its
+        // length plus half the longest one.
         let mut segments = Vec::new();
         let mut mids = Vec::new();
+        let mut lengths = Vec::new();
         for (w, wire) in self.wires.iter().enumerate().filter(|(_, w)| w.alive) {
             for i in 0..wire.points.len() - 1 {
                 segments.push((w, i));
                 mids.push(lerp(wire.points[i], wire.points[i + 1], 0.5));
+                lengths.push(dist(wire.points[i], wire.points[i + 1]));
             }
         }
+        let short_reach = SPACING + 1e-6;
+        let longest = lengths.iter().copied().fold(0.0, f64::max);
+        let reach = |a: usize| {
+            if lengths[a] <= SPACING + 1e-9 {
+                short_reach
+            } else {
+                (lengths[a] + longest) / 2.0 + 1e-6
+            }
+        };
         let grid = PointGrid::new(&mids, 2.0);
         // Per wire: (segment, t, node) breakpoints.
         let mut hits: BTreeMap<usize, Vec<(usize, f64, usize)>> = BTreeMap::new();
@@ -926,12 +1117,23 @@ impl Net {
         // found on up to four pairs of segments and must make one vertex.
         let mut found: BTreeMap<(usize, usize), Vec<[f64; 2]>> = BTreeMap::new();
         let mut near = Vec::new();
+        let mut pairs = Vec::new();
         for a in 0..segments.len() {
             near.clear();
-            grid.within(&mids, mids[a], SPACING + 1e-6, &mut near);
+            grid.within(&mids, mids[a], reach(a), &mut near);
             near.sort_unstable();
-            for &b in near.iter().filter(|&&b| b as usize > a) {
-                let ((wa, i), (wb, j)) = (segments[a], segments[b as usize]);
+            pairs.clear();
+            for &b in &near {
+                let b = b as usize;
+                if b > a {
+                    pairs.push((a, b));
+                } else if b < a && dist(mids[a], mids[b]) > reach(b) {
+                    // A short segment the long one reaches but that does not reach back.
+                    pairs.push((b, a));
+                }
+            }
+            for &(a, b) in &pairs {
+                let ((wa, i), (wb, j)) = (segments[a], segments[b]);
                 let (pa, pb) = (&self.wires[wa].points, &self.wires[wb].points);
                 let is_loop = |w: usize| self.wires[w].from == self.wires[w].to;
                 // Neighbouring segments of one wire share a point; so do a loop's first and last.
@@ -954,6 +1156,14 @@ impl Net {
                 if (end_a && !is_loop(wa)) || (end_b && !is_loop(wb)) {
                     continue;
                 }
+                if let Some(tol) = away_from {
+                    let near_vertex = node_grid
+                        .nearest(&live, point)
+                        .is_some_and(|(_, d)| d <= tol);
+                    if near_vertex {
+                        continue;
+                    }
+                }
                 let seen = found.entry((wa, wb)).or_default();
                 if seen.iter().any(|&q| dist(q, point) <= 1e-7) {
                     continue;
@@ -973,6 +1183,7 @@ impl Net {
                 }
             }
         }
+        let found_any = !hits.is_empty() || !anchors.is_empty();
         for (w, mut breaks) in hits {
             breaks.sort_by(|a, b| a.0.cmp(&b.0).then(a.1.total_cmp(&b.1)));
             let wire = self.wires[w].clone();
@@ -1001,9 +1212,10 @@ impl Net {
             }
             self.merge(&mut sets, &anchored, Follow::Snap, None);
         }
+        found_any
     }
 
-    /// Drops the tail of a stroke that runs a little past a crossing and ends inside the other
+    /// Drops the tail of a stroke that runs a little past a crossing and ends inside the crossed
     /// stroke's ink: the ink shows a T there, not a crossing and an end.
     fn drop_tails(&mut self, r_max: f64) {
         let degree = self.degrees();
@@ -1040,7 +1252,11 @@ impl Net {
                     let other_wire = &self.wires[sw];
                     let d = dist(samples.pos[s], p);
                     let r_s = samples.width[s] / 2.0;
-                    d <= r_s + 0.5
+                    // The ink is that of the stroke crossed (a wire at the crossing): an end
+                    // inside a third stroke's ink is a T on that stroke, left to `join_ends`.
+                    let crossed = other_wire.from == other || other_wire.to == other;
+                    crossed
+                        && d <= r_s + 0.5
                         && self.distinct_parts(
                             (wire.source, arc_p, r_p),
                             (other_wire.source, other_wire.arcs[si], r_s),
@@ -1163,6 +1379,111 @@ impl Net {
             sets.union(end, target_node);
         }
         self.merge(&mut sets, &anchored, Follow::Extend, None);
+    }
+
+    /// Joins strokes whose inks touch where neither of them ends or crosses the other (a script
+    /// loop closing on the next letter, a stroke grazing another): the ink shows one junction
+    /// there. A pair of wire points on distinct parts whose round ink disks touch as
+    /// [`crate::synth::render`] draws them is a candidate when the graph does not join them, or
+    /// joins them only the long way round around a hole of the ink (so a shallow crossing's or a
+    /// sharp corner's arms, which share ink up to the vertex, are not). Nearest first, a
+    /// candidate farther than 1.5 widths from every one taken is taken; both wires are split
+    /// there and the two points merged into one vertex.
+    fn join_kisses(&mut self, r_max: f64, holes: &Holes) {
+        let samples = Samples::new(self);
+        // Which samples the graph connects at all (a pair in two components touches across).
+        let mut parts = UnionFind::new(samples.pos.len());
+        for v in 0..samples.pos.len() {
+            for &u in
+                &samples.neighbors[samples.offsets[v] as usize..samples.offsets[v + 1] as usize]
+            {
+                parts.union(v, u as usize);
+            }
+        }
+        let mut search = Dijkstra::new(samples.pos.len());
+        let mut near = Vec::new();
+        let mut candidates: Vec<(f64, usize, usize)> = Vec::new();
+        for s in self.nodes.len()..samples.pos.len() {
+            let Some((ws, is)) = samples.wire_of(s) else {
+                continue;
+            };
+            let (p, r_p) = (samples.pos[s], samples.width[s] / 2.0);
+            let arc_p = self.wires[ws].arcs[is];
+            near.clear();
+            samples
+                .grid
+                .within(&samples.pos, p, r_p + r_max + 1.5, &mut near);
+            let mut touching: Vec<(f64, usize)> = near
+                .iter()
+                .map(|&q| q as usize)
+                .filter(|&q| q > s)
+                .filter_map(|q| {
+                    let (wq, iq) = samples.wire_of(q)?;
+                    let d = dist(samples.pos[q], p);
+                    let r_q = samples.width[q] / 2.0;
+                    let wire_q = &self.wires[wq];
+                    (d <= r_p + r_q + 1.5
+                        && self.distinct_parts(
+                            (self.wires[ws].source, arc_p, r_p),
+                            (wire_q.source, wire_q.arcs[iq], r_q),
+                            d,
+                        ))
+                    .then_some((d, q))
+                })
+                .collect();
+            if touching.is_empty() {
+                continue;
+            }
+            search.run(&samples, s, (2.0 * r_max + 4.0).max(holes.cycle_reach));
+            // A pair connected beyond the search's reach (the arms of a shallow crossing share
+            // ink far out) needs the whole way round to tell whether it encloses a hole.
+            let beyond = touching
+                .iter()
+                .any(|&(_, q)| !search.distance(q).is_finite() && parts.find(q) == parts.find(s));
+            if beyond {
+                search.run(&samples, s, f64::INFINITY);
+            }
+            touching.retain(|&(d, q)| {
+                let g = search.distance(q);
+                let r_q = samples.width[q] / 2.0;
+                (!g.is_finite()
+                    || (g > d + r_p + r_q + 2.0 && holes.inside(&search.path(&samples, q))))
+                    && ink_touches(p, r_p, &[(d, q)], &samples)
+            });
+            candidates.extend(touching.into_iter().map(|(d, q)| (d, s, q)));
+        }
+        if candidates.is_empty() {
+            return;
+        }
+        candidates.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)).then(a.2.cmp(&b.2)));
+        let mut taken: Vec<(usize, usize)> = Vec::new();
+        for &(_, s, q) in &candidates {
+            let spacing = 1.5 * samples.width[s].max(samples.width[q]);
+            let clear = taken.iter().all(|&(a, b)| {
+                [a, b].iter().all(|&t| {
+                    dist(samples.pos[t], samples.pos[s]) > spacing
+                        && dist(samples.pos[t], samples.pos[q]) > spacing
+                })
+            });
+            if clear {
+                taken.push((s, q));
+            }
+        }
+        let mut requests: Vec<(usize, usize)> = taken
+            .iter()
+            .flat_map(|&(s, q)| [s, q])
+            .filter_map(|t| samples.wire_of(t))
+            .collect();
+        requests.sort_unstable();
+        requests.dedup();
+        let split_nodes = self.split_wires(&requests);
+        let mut sets = UnionFind::new(self.nodes.len());
+        for &(s, q) in &taken {
+            if let (Some(a), Some(b)) = (samples.wire_of(s), samples.wire_of(q)) {
+                sets.union(split_nodes[&a], split_nodes[&b]);
+            }
+        }
+        self.merge(&mut sets, &vec![true; self.nodes.len()], Follow::Snap, None);
     }
 
     /// Splits wires at the given (wire, point index) places; returns the vertex at each place.
@@ -1423,6 +1744,145 @@ impl Net {
         }
     }
 
+    /// Collapses compact cycles of three or more wires that enclose no hole of the ink (the ink
+    /// shows one blob there, with all the cycle's outer arms leaving it): for each wire, shortest
+    /// first, the shortest other way between its ends closes the cycle tested; the cycle's
+    /// vertices are merged into their centroid and its wires dropped. Only cycles up to twice
+    /// [`Holes::cycle_reach`] long are looked for (a filled polygon's perimeter is at most about
+    /// that: a triangle whose inradius is half the width has one of 5.2 widths). Returns whether
+    /// anything changed; shorter cycles (loops, lenses) are [`Net::drop_filled_cycles`]'s.
+    fn collapse_filled_cycles(&mut self, holes: &Holes) -> bool {
+        let limit = 2.0 * holes.cycle_reach;
+        let n = self.nodes.len();
+        let mut incident: Vec<Vec<usize>> = vec![Vec::new(); n];
+        for (w, wire) in self.wires.iter().enumerate().filter(|(_, w)| w.alive) {
+            if wire.from != wire.to {
+                incident[wire.from].push(w);
+                incident[wire.to].push(w);
+            }
+        }
+        let lengths: Vec<f64> = self.wires.iter().map(Wire::length).collect();
+        let mut order: Vec<usize> = (0..self.wires.len())
+            .filter(|&w| {
+                let wire = &self.wires[w];
+                wire.alive && wire.from != wire.to && lengths[w] < limit
+            })
+            .collect();
+        order.sort_by(|&a, &b| lengths[a].total_cmp(&lengths[b]).then(a.cmp(&b)));
+        let mut consumed = vec![false; self.wires.len()];
+        let mut sets = UnionFind::new(n);
+        let mut any = false;
+        let mut distance = vec![f64::INFINITY; n];
+        let mut via: Vec<Option<usize>> = vec![None; n];
+        let mut touched: Vec<usize> = Vec::new();
+        for &w in &order {
+            if consumed[w] {
+                continue;
+            }
+            let (source, target) = (self.wires[w].from, self.wires[w].to);
+            // Shortest path from `target` back to `source` over the other live wires.
+            for &t in &touched {
+                distance[t] = f64::INFINITY;
+                via[t] = None;
+            }
+            touched.clear();
+            let budget = limit - lengths[w];
+            let mut heap = BinaryHeap::new();
+            distance[target] = 0.0;
+            touched.push(target);
+            heap.push(Reached(0.0, target));
+            while let Some(Reached(d, v)) = heap.pop() {
+                if d > distance[v] || v == source {
+                    continue;
+                }
+                for &u in &incident[v] {
+                    if u == w || consumed[u] {
+                        continue;
+                    }
+                    let wire = &self.wires[u];
+                    let next_node = if wire.from == v { wire.to } else { wire.from };
+                    let next = d + lengths[u];
+                    if next < distance[next_node] && next <= budget {
+                        if distance[next_node].is_infinite() {
+                            touched.push(next_node);
+                        }
+                        distance[next_node] = next;
+                        via[next_node] = Some(u);
+                        heap.push(Reached(next, next_node));
+                    }
+                }
+            }
+            if distance[source].is_infinite() {
+                continue;
+            }
+            // The cycle: this wire from source to target, then the path back to the source.
+            let mut cycle = vec![w];
+            let mut ring = self.wires[w].points.clone();
+            let mut path = Vec::new();
+            let mut v = source;
+            while let Some(u) = via[v] {
+                path.push(u);
+                let wire = &self.wires[u];
+                v = if wire.from == v { wire.to } else { wire.from };
+            }
+            // `path` runs from the source back to the target; walk it from the target.
+            let mut at = target;
+            for &u in path.iter().rev() {
+                let wire = &self.wires[u];
+                if wire.from == at {
+                    ring.extend_from_slice(&wire.points[1..]);
+                    at = wire.to;
+                } else {
+                    ring.extend(wire.points.iter().rev().skip(1));
+                    at = wire.from;
+                }
+                cycle.push(u);
+            }
+            if cycle.len() < 3 || holes.inside(&ring) {
+                continue;
+            }
+            // Only a compact cycle is a blob: every point within 1.5 widths of its vertices'
+            // centroid (a long thin cycle around no hole is two passes along one stroke, which
+            // one vertex would not show either, so it is left as it is).
+            let mut members: Vec<usize> = cycle
+                .iter()
+                .flat_map(|&u| [self.wires[u].from, self.wires[u].to])
+                .collect();
+            members.sort_unstable();
+            members.dedup();
+            let corners: Vec<[f64; 2]> = members.iter().map(|&v| self.nodes[v].pos).collect();
+            let centroid = corners.iter().fold([0.0, 0.0], |a, p| {
+                [
+                    a[0] + p[0] / corners.len() as f64,
+                    a[1] + p[1] / corners.len() as f64,
+                ]
+            });
+            let width = cycle
+                .iter()
+                .flat_map(|&u| self.wires[u].widths.iter().copied())
+                .fold(0.0, f64::max);
+            if ring.iter().any(|&p| dist(p, centroid) > 1.5 * width) {
+                continue;
+            }
+            for &u in &cycle {
+                consumed[u] = true;
+                sets.union(self.wires[u].from, self.wires[u].to);
+            }
+            any = true;
+        }
+        if !any {
+            return false;
+        }
+        for (w, wire) in self.wires.iter_mut().enumerate() {
+            if consumed[w] {
+                wire.alive = false;
+            }
+        }
+        self.merge(&mut sets, &vec![true; n], Follow::Snap, None);
+        self.dissolve();
+        true
+    }
+
     fn into_stroke_graph(self, width: u32, height: u32) -> StrokeGraph {
         let degree = self.degrees();
         let mut index = vec![usize::MAX; self.nodes.len()];
@@ -1620,7 +2080,13 @@ fn ink_touches(p: [f64; 2], r_p: f64, far: &[(f64, usize)], samples: &Samples) -
     false
 }
 
-/// The holes of the ink: background components (4-connected) that do not reach the image border.
+/// Background components of at most this many pixels are specks, not holes: where two strokes
+/// meet at a sharp angle or three cross close together, the rendering can enclose a pixel or two
+/// (DESIGN.md changes 1 and 11 take holes of 3 px or less for noise too).
+pub const SPECK: usize = 3;
+
+/// The holes of the ink: background components (4-connected) larger than [`SPECK`] that do not
+/// reach the image border.
 /// A cycle of centerlines inside the ink encloses a hole entirely or not at all, so one pixel per
 /// hole decides.
 struct Holes {
@@ -1636,12 +2102,14 @@ impl Holes {
         let (w, h) = (ink.width as usize, ink.height as usize);
         let mut seen = vec![false; w * h];
         let mut stack = Vec::new();
-        let fill = |start: usize, seen: &mut Vec<bool>, stack: &mut Vec<usize>| -> bool {
-            // Returns whether the component touches the border.
+        let fill = |start: usize, seen: &mut Vec<bool>, stack: &mut Vec<usize>| -> (bool, usize) {
+            // Returns whether the component touches the border, and its size.
             let mut border = false;
+            let mut size = 0;
             seen[start] = true;
             stack.push(start);
             while let Some(i) = stack.pop() {
+                size += 1;
                 let (x, y) = (i % w, i / w);
                 border |= x == 0 || y == 0 || x + 1 == w || y + 1 == h;
                 let mut visit = |j: usize| {
@@ -1663,11 +2131,15 @@ impl Holes {
                     visit(i + w);
                 }
             }
-            border
+            (border, size)
         };
         let mut reps = Vec::new();
         for i in 0..w * h {
-            if !ink.ink[i] && !seen[i] && !fill(i, &mut seen, &mut stack) {
+            if ink.ink[i] || seen[i] {
+                continue;
+            }
+            let (border, size) = fill(i, &mut seen, &mut stack);
+            if !border && size > SPECK {
                 reps.push([(i % w) as f64 + 0.5, (i / w) as f64 + 0.5]);
             }
         }

@@ -1,7 +1,10 @@
 //! The quality scorer: the truth scored against itself is perfect, and known damage to a
 //! prediction lowers the score that measures it.
 
-use ridgeline::score::{aggregate, normalize, score, truth_graph, Scores};
+use ridgeline::score::{
+    aggregate, normalize, off_ink, score, score_with, truth_graph, truth_graph_with, ScoreOptions,
+    Scores,
+};
 use ridgeline::synth::{render, Case, Stroke};
 use ridgeline::{Edge, StrokeGraph, Vertex};
 
@@ -210,6 +213,7 @@ fn cases() -> Vec<Case> {
 
 fn assert_perfect(s: &Scores) {
     let name = &s.case;
+    assert!(s.exactly_right, "{name}: not exactly right {s:?}");
     for k in 0..3 {
         assert_eq!(s.f1[k], 1.0, "{name}: F1 at tau index {k}");
     }
@@ -247,10 +251,15 @@ fn truth_scored_against_itself_is_perfect() {
             .unwrap_or_else(|e| panic!("{}: {e}", c.name));
         let s = score(&c, &truth, &truth);
         assert_perfect(&s);
+        // The truth of a case drawn from its strokes lies on its ink.
+        assert_eq!(s.off_ink, 0.0, "{}: off-ink {}", c.name, s.off_ink);
+        assert!(s.centerline_length > 0.0, "{}", c.name);
         all.push(s);
     }
     let group = aggregate(&all);
     assert_eq!(group.cases, all.len());
+    assert_eq!(group.exactly_right, 1.0);
+    assert_eq!(group.off_ink, 0.0);
     assert_eq!(group.f1, [1.0; 3]);
     assert_eq!(group.crossing_accuracy, Some(1.0));
     assert_eq!(group.shallow_crossing_accuracy, Some(1.0));
@@ -479,4 +488,257 @@ fn truth_of_every_generated_case_scored_against_itself_is_perfect() {
             .unwrap_or_else(|e| panic!("{}: {e}", c.name));
         assert_perfect(&score(c, &truth, &truth));
     }
+}
+
+#[test]
+fn truth_of_every_crowded_case_scored_against_itself_is_perfect() {
+    for group in ridgeline::synth::CROWDED_GROUPS {
+        let cases = ridgeline::synth::group_cases(group).expect("known group");
+        assert!(!cases.is_empty(), "{group}");
+        for c in &cases {
+            let truth = truth_graph(c);
+            truth
+                .validate()
+                .unwrap_or_else(|e| panic!("{}: {e}", c.name));
+            let s = score(c, &truth, &truth);
+            assert_perfect(&s);
+            // A merged or collapsed vertex can sit on a speck of background; nothing more.
+            assert!(s.off_ink < 0.01, "{}: truth off-ink {}", c.name, s.off_ink);
+        }
+    }
+}
+
+#[test]
+fn off_ink_measures_centerline_over_background() {
+    // A 5 px bar along row 20, and a polyline from its middle out over the background.
+    let c = case("bar", vec![line([10.5, 20.5], [90.5, 20.5], 5.0)], 100, 60);
+    let edge = |points: Vec<[f64; 2]>| Edge {
+        from: 0,
+        to: 1,
+        widths: vec![5.0; points.len()],
+        directions: vec![[1.0, 0.0]; points.len()],
+        points,
+    };
+    let graph = |points: Vec<[f64; 2]>| StrokeGraph {
+        width: 100,
+        height: 60,
+        vertices: vec![
+            Vertex {
+                pos: points[0],
+                degree: 1,
+                width: 5.0,
+            },
+            Vertex {
+                pos: points[points.len() - 1],
+                degree: 1,
+                width: 5.0,
+            },
+        ],
+        edges: vec![edge(points)],
+    };
+    let on = off_ink(&graph(vec![[20.5, 20.5], [80.5, 20.5]]), &c.binary);
+    assert!((on.length - 60.0).abs() < 1e-9);
+    assert_eq!(on.off, 0.0);
+    assert_eq!(on.share(), 0.0);
+    // Up from the bar's centerline: 2.5 px of ink (rows 20..=22 reach y = 23), then 17.5 px of
+    // background.
+    let out = off_ink(&graph(vec![[50.5, 20.5], [50.5, 40.5]]), &c.binary);
+    assert!((out.length - 20.0).abs() < 1e-9);
+    assert!((out.off - 17.5).abs() < 0.5 + 1e-9, "off {}", out.off);
+    // Outside the image counts as background; an empty graph has no centerline.
+    let outside = off_ink(&graph(vec![[-10.0, -10.0], [-20.0, -10.0]]), &c.binary);
+    assert_eq!(outside.share(), 1.0);
+    assert_eq!(off_ink(&StrokeGraph::default(), &c.binary).share(), 0.0);
+}
+
+#[test]
+fn a_graph_shifted_off_the_ink_is_off_ink_and_not_exactly_right() {
+    let c = cases().into_iter().find(|c| c.name == "hash").unwrap();
+    let truth = truth_graph(&c);
+    let s = score(&c, &truth, &truth);
+    assert_eq!(s.off_ink, 0.0);
+    // The bars are 5 px wide: 4 px down moves every horizontal bar off its ink (the vertical
+    // ones stay on theirs for most of their length).
+    let moved = score(&c, &truth, &shifted(&truth, [0.0, 4.0]));
+    assert!(moved.off_ink > 0.3, "off-ink {}", moved.off_ink);
+    let far = score(&c, &truth, &shifted(&truth, [4.0, 4.0]));
+    assert!(far.off_ink > moved.off_ink, "{} {}", far.off_ink, moved.off_ink);
+}
+
+#[test]
+fn a_missing_junction_or_an_extra_end_is_not_exactly_right() {
+    // A T whose stem stops short of the bar: no junction, an extra end, two components.
+    let c = cases().into_iter().find(|c| c.name == "t_center").unwrap();
+    let truth = truth_graph(&c);
+    assert_eq!(truth.junctions().count(), 1);
+    let mut broken = truth.clone();
+    let stem = broken
+        .edges
+        .iter()
+        .position(|e| {
+            let (a, b) = (e.points[0], e.points[e.points.len() - 1]);
+            (a[0] - b[0]).abs() < 1.0
+        })
+        .expect("the vertical stem");
+    let e = &mut broken.edges[stem];
+    let (junction_at_start, k) = if broken.vertices[e.from].degree == 3 {
+        (true, 0)
+    } else {
+        (false, e.points.len() - 1)
+    };
+    e.points[k][1] += 8.0;
+    let j = if junction_at_start { e.from } else { e.to };
+    let end = broken.vertices.len();
+    broken.vertices.push(Vertex {
+        pos: e.points[k],
+        degree: 1,
+        width: 6.0,
+    });
+    if junction_at_start {
+        e.from = end;
+    } else {
+        e.to = end;
+    }
+    broken.vertices[j].degree -= 1;
+    broken.validate().unwrap();
+    let s = score(&c, &truth, &broken);
+    assert_eq!(s.junction_recall, 0.0);
+    assert!(!s.exactly_right);
+    // The X read as two Y's: every end is right, the junctions are not.
+    let x = cases().into_iter().find(|c| c.name == "x90_w6").unwrap();
+    let truth = truth_graph(&x);
+    let s = score(&x, &truth, &two_ys(&truth));
+    assert_eq!(s.endpoint_recall, 1.0);
+    assert_eq!(s.spurious_endpoints, 0);
+    assert!(!s.exactly_right);
+    // A spur off a bar: an extra junction and a spurious end, the geometry all but unchanged.
+    let mut spurred = truth.clone();
+    let e = spurred.edges[0].clone();
+    let m = e.points.len() / 2;
+    let (j, tip) = (spurred.vertices.len(), spurred.vertices.len() + 1);
+    let at = e.points[m];
+    spurred.vertices.push(Vertex {
+        pos: at,
+        degree: 3,
+        width: 6.0,
+    });
+    spurred.vertices.push(Vertex {
+        pos: [at[0] - 2.0, at[1] - 2.0],
+        degree: 1,
+        width: 6.0,
+    });
+    let piece = |from, to, points: Vec<[f64; 2]>| Edge {
+        from,
+        to,
+        widths: vec![6.0; points.len()],
+        directions: vec![[1.0, 0.0]; points.len()],
+        points,
+    };
+    spurred.edges[0] = piece(e.from, j, e.points[..=m].to_vec());
+    spurred.edges.push(piece(j, e.to, e.points[m..].to_vec()));
+    spurred
+        .edges
+        .push(piece(j, tip, vec![at, [at[0] - 2.0, at[1] - 2.0]]));
+    spurred.validate().unwrap();
+    let s = score(&x, &truth, &spurred);
+    assert_eq!(s.spurious_endpoints, 1);
+    assert!(s.f1[1] > 0.99);
+    assert!(!s.exactly_right);
+}
+
+#[test]
+fn three_crossings_closer_than_the_ink_shows_are_one_vertex() {
+    // Three lines, each 2 px (tight) or 8 px (apart) from the center, normals 120 degrees apart,
+    // so they bound a triangle around it with that inradius.
+    let triple = |name: &str, offset: f64| {
+        let strokes = [(0.0f64, 1.0), (60.0, -1.0), (120.0, 1.0)]
+            .iter()
+            .map(|&(a, side)| {
+                let (sn, cs) = (a + 10.0).to_radians().sin_cos();
+                let n = [-sn * side, cs * side];
+                let p = [60.0 + n[0] * offset, 60.0 + n[1] * offset];
+                line(
+                    [p[0] - 50.0 * cs, p[1] - 50.0 * sn],
+                    [p[0] + 50.0 * cs, p[1] + 50.0 * sn],
+                    6.0,
+                )
+            })
+            .collect();
+        case(name, strokes, 120, 120)
+    };
+    // Inradius 3 = half the width: the triangle's sides are 10.4 px, farther apart than one
+    // width, but no background is left inside; the ink shows one degree-6 blob.
+    let tight = triple("tight", 3.0);
+    assert_eq!(shape(&tight), (vec![1, 1, 1, 1, 1, 1, 6], 0));
+    // Inradius 8 leaves a hole: three crossings and the triangle between them.
+    let apart = triple("apart", 8.0);
+    assert_eq!(shape(&apart), (vec![1, 1, 1, 1, 1, 1, 4, 4, 4], 1));
+    for c in [&tight, &apart] {
+        let t = truth_graph(c);
+        assert_perfect(&score(c, &t, &t));
+    }
+}
+
+#[test]
+fn strokes_whose_inks_touch_are_joined() {
+    // Two rings whose centerlines pass 6.5 px apart: their 6 px inks touch (rows 8-adjacent)
+    // without crossing or ending there; the ink is one component around two holes.
+    let rings = case(
+        "rings",
+        vec![
+            circle([30.0, 40.0], 15.0, 6.0),
+            circle([66.5, 40.0], 15.0, 6.0),
+        ],
+        100,
+        80,
+    );
+    let t = truth_graph(&rings);
+    assert_eq!((t.components(), t.cycles()), (1, 2));
+    assert_perfect(&score(&rings, &t, &t));
+    // A bar grazing a ring's top, and one 2 px of background farther off.
+    for (gap, components) in [(6.5, 1), (9.0, 2)] {
+        let c = case(
+            "ring_and_bar",
+            vec![
+                circle([50.0, 50.0], 20.0, 6.0),
+                line([10.0, 30.0 - gap], [90.0, 30.0 - gap], 6.0),
+            ],
+            100,
+            90,
+        );
+        let t = truth_graph(&c);
+        assert_eq!((t.components(), t.cycles()), (components, 1), "gap {gap}");
+        assert_perfect(&score(&c, &t, &t));
+    }
+}
+
+#[test]
+fn holes_can_come_from_the_binary() {
+    // A ring drawn from its strokes has one hole either way; with the ring's middle filled in
+    // the binary (ink not drawn from the strokes), only the binary's holes say there is none.
+    let ring = case("ring", vec![circle([50.0, 50.0], 20.0, 5.0)], 100, 100);
+    let binary_holes = ScoreOptions {
+        holes_from_binary: true,
+        ..ScoreOptions::default()
+    };
+    assert_eq!(truth_graph_with(&ring, &binary_holes).cycles(), 1);
+    let mut filled = ring.clone();
+    for y in 25..75 {
+        for x in 25..75 {
+            if (x as f64 + 0.5 - 50.0).hypot(y as f64 + 0.5 - 50.0) < 20.0 {
+                filled.binary.set(x, y, true);
+            }
+        }
+    }
+    assert_eq!(truth_graph(&filled).cycles(), 1);
+    let t = truth_graph_with(&filled, &binary_holes);
+    assert_eq!(t.cycles(), 0);
+    // Wider tolerances are reported as such.
+    let wide = ScoreOptions {
+        taus: [2.5, 5.0, 7.5],
+        ..binary_holes
+    };
+    let s = score_with(&filled, &t, &t, &wide);
+    assert_eq!(s.taus, [2.5, 5.0, 7.5]);
+    assert!(s.exactly_right);
 }

@@ -1,20 +1,35 @@
-//! The quality benchmark (issue 3): every generated case with known centerlines is traced by
-//! ridgeline, by ridgeline with the paper's own parameters, and by a Zhang-Suen thinning baseline,
-//! then scored against the truth as the ink shows it (`ridgeline::score`). Prints a table per group
-//! and writes everything as JSON.
+//! The quality benchmark: every case with known centerlines is traced by ridgeline, by ridgeline
+//! with the paper's own parameters (`Params::paper()`), by a Zhang-Suen thinning baseline and by
+//! that baseline with the pruning a careful user adds, then scored against the truth as the ink
+//! shows it (`ridgeline::score`). Prints a table per group, with a row of the best thinning
+//! baseline per column, the time each group took, and writes everything as JSON.
 //!
 //! ```text
-//! cargo run --release --example quality [-- --json PATH] [--group hard|text|prints] [--case NAME] [--verbose]
+//! cargo run --release --example quality [-- --json PATH] [--group NAME[,NAME...]] [--case NAME]
+//!     [--all-hanzi] [--pictures DIR] [--verbose]
 //! ```
 //!
-//! When `../shared/data` (beside the crate root) holds real fingerprints and text, ridgeline also
-//! runs on them (no truth): time, counts, and endpoint / junction / short-branch rates.
+//! Groups (docs/quality.md says what each one shows): `hard`, `text`, `prints` (the first
+//! benchmark), the Hershey fonts `scriptc`, `cursive`, `gothiceng`, `timesr` and `japanese`, the
+//! generated `cells`, `letters`, `zigzags`, `triples`, `arms`, and `hanzi` (characters of a real
+//! font, read from `../shared/data/hanzi` when present; skipped with a note when not; every
+//! second character unless `--all-hanzi`), then `real` (below). Without `--group` every group
+//! runs.
 //!
-//! Issue 6 columns: `IoU` is the intersection over union of the strokes re-rendered with their
-//! widths and the input foreground (`ridgeline::strokes::coverage_iou`; goal >= 0.9 on text), and
-//! the real fingerprints get their minutiae counts (`ridgeline::minutiae`, endings and
-//! bifurcations away from the print's border).
+//! When `../shared/data` (beside the crate root) holds real fingerprints and text, ridgeline also
+//! runs on them (group `real`, no truth): time, counts, and endpoint / junction / short-branch
+//! rates.
+//!
+//! Columns: `IoU` is the intersection over union of the strokes re-rendered with their widths and
+//! the input foreground (`ridgeline::strokes::coverage_iou`); `exactly right` is the share of cases
+//! whose graph is exactly right (`Scores::exactly_right`: every junction and end matched one to
+//! one with none left over, components and cycles exact); `off-ink` is the share of the predicted
+//! centerline length over background pixels (`ridgeline::score::off_ink`). The real fingerprints
+//! get their minutiae counts (`ridgeline::minutiae`, endings and bifurcations away from the
+//! print's border).
 
+mod hanzi;
+mod pictures;
 mod thinning;
 
 use std::panic::{catch_unwind, AssertUnwindSafe};
@@ -23,25 +38,33 @@ use std::time::Instant;
 
 use anyhow::{bail, Context};
 use ridgeline::minutiae::{minutiae, MinutiaKind, MinutiaeOptions};
-use ridgeline::score::{aggregate, score, truth_graph, GroupScores, Scores};
+use ridgeline::score::{
+    aggregate, score_with, truth_graph_with, GroupScores, ScoreOptions, Scores,
+};
 use ridgeline::strokes::coverage_iou;
-use ridgeline::synth::Case;
+use ridgeline::synth::{Case, CROWDED_GROUPS};
 use ridgeline::{Limits, Params, StrokeGraph};
 use serde::Serialize;
 
 /// Command-line arguments.
 struct Args {
     json: PathBuf,
-    group: Option<String>,
+    groups: Option<Vec<String>>,
     case: Option<String>,
+    all_hanzi: bool,
+    pictures: Option<PathBuf>,
     verbose: bool,
 }
+
+const USAGE: &str = "usage: quality [--json PATH] [--group NAME[,NAME...]] [--case NAME] [--all-hanzi] [--pictures DIR] [--verbose]";
 
 fn parse_args() -> anyhow::Result<Args> {
     let mut args = Args {
         json: Path::new(env!("CARGO_MANIFEST_DIR")).join("target/quality.json"),
-        group: None,
+        groups: None,
         case: None,
+        all_hanzi: false,
+        pictures: None,
         verbose: false,
     };
     let mut it = std::env::args().skip(1);
@@ -49,13 +72,25 @@ fn parse_args() -> anyhow::Result<Args> {
         let mut value = || it.next().with_context(|| format!("{arg} needs a value"));
         match arg.as_str() {
             "--json" => args.json = PathBuf::from(value()?),
-            "--group" => args.group = Some(value()?),
+            "--group" => {
+                let names: Vec<String> =
+                    value()?.split(',').map(|g| g.trim().to_string()).collect();
+                for name in &names {
+                    if name != "real" && !all_groups().contains(&name.as_str()) {
+                        bail!(
+                            "unknown group {name:?}; groups: {}, real",
+                            all_groups().join(", ")
+                        );
+                    }
+                }
+                args.groups = Some(names);
+            }
             "--case" => args.case = Some(value()?),
+            "--all-hanzi" => args.all_hanzi = true,
+            "--pictures" => args.pictures = Some(PathBuf::from(value()?)),
             "--verbose" | "-v" => args.verbose = true,
             "--help" | "-h" => {
-                println!(
-                    "usage: quality [--json PATH] [--group hard|text|prints] [--case NAME] [--verbose]"
-                );
+                println!("{USAGE}\ngroups: {}, real", all_groups().join(", "));
                 std::process::exit(0);
             }
             other => bail!("unknown argument {other:?} (try --help)"),
@@ -64,14 +99,85 @@ fn parse_args() -> anyhow::Result<Args> {
     Ok(args)
 }
 
+/// Every group with a truth, in the order of the tables.
+fn all_groups() -> Vec<&'static str> {
+    let mut groups = vec!["hard", "text", "prints"];
+    groups.extend(CROWDED_GROUPS);
+    groups.push("hanzi");
+    groups
+}
+
 /// The methods compared in every table.
-const METHODS: [&str; 3] = ["ridgeline", "paper", "thinning"];
+const METHODS: [&str; 5] = [
+    "ridgeline",
+    "skeleton",
+    "paper",
+    "thinning",
+    "thinning+pruning",
+];
+
+/// The baselines whose best per column gets a row of its own.
+const BASELINES: [&str; 2] = ["thinning", "thinning+pruning"];
 
 fn run_method(method: &str, case: &Case) -> anyhow::Result<StrokeGraph> {
     Ok(match method {
         "ridgeline" => ridgeline::trace_binary(&case.binary, &Params::default())?.graph,
         "paper" => ridgeline::trace_binary(&case.binary, &Params::paper())?.graph,
-        _ => thinning::trace(&case.binary),
+        "skeleton" => {
+            let params = Params {
+                skeleton: true,
+                ..Params::default()
+            };
+            ridgeline::trace_binary(&case.binary, &params)?.graph
+        }
+        "thinning" => thinning::trace(&case.binary),
+        "thinning+pruning" => thinning::trace_pruned(&case.binary),
+        other => bail!("unknown method {other}"),
+    })
+}
+
+/// The cases of one group, how they are scored, and what was left out.
+struct Group {
+    cases: Vec<Case>,
+    options: ScoreOptions,
+    note: Option<String>,
+}
+
+fn load_group(name: &str, all_hanzi: bool) -> anyhow::Result<Group> {
+    if name == "hanzi" {
+        let Some(mut cases) = hanzi::cases()? else {
+            return Ok(Group {
+                cases: Vec::new(),
+                options: hanzi::OPTIONS,
+                note: Some(format!(
+                    "skipped: no data in {} (see docs/quality.md)",
+                    hanzi::data_dir().display()
+                )),
+            });
+        };
+        let total = cases.len();
+        let mut note = None;
+        if !all_hanzi {
+            // Every second character in code-point order: a deterministic half that keeps the
+            // spread of stroke counts, and the whole run within a few minutes.
+            cases = cases.into_iter().step_by(2).collect();
+            note = Some(format!(
+                "{} of {total} characters (every second in code-point order; --all-hanzi for all)",
+                cases.len()
+            ));
+        }
+        return Ok(Group {
+            cases,
+            options: hanzi::OPTIONS,
+            note,
+        });
+    }
+    let cases =
+        ridgeline::synth::group_cases(name).with_context(|| format!("unknown group {name}"))?;
+    Ok(Group {
+        cases,
+        options: ScoreOptions::default(),
+        note: None,
     })
 }
 
@@ -85,7 +191,7 @@ struct Outcome {
     /// The failure (an error or a panic), if the method did not produce a graph.
     failure: Option<String>,
     scores: Option<Scores>,
-    /// Re-rendered widths against the input foreground (issue 6).
+    /// Re-rendered widths against the input foreground.
     iou: Option<f64>,
 }
 
@@ -97,8 +203,116 @@ struct GroupRow {
     failures: usize,
     mean_time_ms: f64,
     scores: GroupScores,
-    /// Mean of the cases' IoU (issue 6); `None` when no case was traced.
+    /// Mean of the cases' IoU; `None` when no case was traced.
     mean_iou: Option<f64>,
+}
+
+/// The best of the thinning baselines on each column of one group (each value may come from a
+/// different baseline): higher is better except for chamfer, Hausdorff, spurs, off-ink, time and
+/// failures.
+#[derive(Serialize)]
+struct BestBaseline {
+    group: String,
+    methods: Vec<String>,
+    f1: [f64; 3],
+    chamfer: f64,
+    hausdorff: f64,
+    junction_precision: f64,
+    junction_recall: f64,
+    crossing_accuracy: Option<f64>,
+    shallow_crossing_accuracy: Option<f64>,
+    spurs_per_stroke: f64,
+    endpoint_recall: f64,
+    components_exact: f64,
+    cycles_exact: f64,
+    exactly_right: f64,
+    off_ink: f64,
+    mean_iou: Option<f64>,
+    mean_time_ms: f64,
+    failures: usize,
+}
+
+/// The truth's topology against the ink's: the scorer's truth of a case is built from its
+/// strokes, and where the ink is not drawn from them (hanzi) or strokes crowd, it may count other
+/// components or cycles than the binary shows (8-connected ink components; holes: 4-connected
+/// background components away from the border larger than [`SPECK`] pixels). Cases with
+/// dropout differ by design.
+#[derive(Serialize)]
+struct TruthCheck {
+    group: String,
+    /// Cases whose truth has another number of components than the ink.
+    components_differ: Vec<String>,
+    /// Cases whose truth has another number of independent cycles than the ink has holes.
+    cycles_differ: Vec<String>,
+    /// Cases whose truth scored against itself is not exactly right.
+    self_not_exact: Vec<String>,
+    /// Pooled off-ink share of the truth's own centerlines.
+    truth_off_ink: f64,
+}
+
+/// Background components of at most this many pixels are specks, not holes: where two strokes
+/// meet at a sharp angle the rendering can enclose one or two pixels (DESIGN.md changes 1 and 11
+/// take holes of 3 px or less for noise too).
+const SPECK: usize = 3;
+
+/// Ink components (8-connected) and holes (4-connected background components that do not reach
+/// the border, larger than [`SPECK`]) of a binary.
+fn ink_topology(binary: &ridgeline::Binary) -> (usize, usize) {
+    let (w, h) = (binary.width as i64, binary.height as i64);
+    let mut seen = vec![false; binary.ink.len()];
+    let (mut components, mut holes) = (0, 0);
+    let mut stack = Vec::new();
+    for start in 0..binary.ink.len() {
+        if seen[start] {
+            continue;
+        }
+        let ink = binary.ink[start];
+        let mut border = false;
+        let mut size = 0;
+        seen[start] = true;
+        stack.push(start);
+        while let Some(i) = stack.pop() {
+            size += 1;
+            let (x, y) = (i as i64 % w, i as i64 / w);
+            border |= x == 0 || y == 0 || x == w - 1 || y == h - 1;
+            for dy in -1..=1i64 {
+                for dx in -1..=1i64 {
+                    if (dx == 0 && dy == 0) || (!ink && dx != 0 && dy != 0) {
+                        continue;
+                    }
+                    let (nx, ny) = (x + dx, y + dy);
+                    if nx < 0 || ny < 0 || nx >= w || ny >= h {
+                        continue;
+                    }
+                    let j = (ny * w + nx) as usize;
+                    if !seen[j] && binary.ink[j] == ink {
+                        seen[j] = true;
+                        stack.push(j);
+                    }
+                }
+            }
+        }
+        if ink {
+            components += 1;
+        } else if !border && size > SPECK {
+            holes += 1;
+        }
+    }
+    (components, holes)
+}
+
+/// How long one group took.
+#[derive(Serialize)]
+struct GroupTiming {
+    group: String,
+    cases: usize,
+    /// Generating or reading the cases, s.
+    load_s: f64,
+    /// Building the truths, s.
+    truth_s: f64,
+    /// Tracing and scoring with every method, s.
+    methods_s: f64,
+    note: Option<String>,
 }
 
 /// ridgeline on one real image (no truth).
@@ -116,7 +330,7 @@ struct RealImage {
     junctions_per_1000px: f64,
     /// Share of edges ending in an endpoint that are shorter than their mean stroke width.
     spur_share: f64,
-    /// Re-rendered widths against the binarized foreground (issue 6).
+    /// Re-rendered widths against the binarized foreground.
     iou: f64,
     /// Ridge endings and bifurcations (fingerprints only).
     endings: Option<usize>,
@@ -126,6 +340,9 @@ struct RealImage {
 #[derive(Serialize)]
 struct Report {
     groups: Vec<GroupRow>,
+    best_baselines: Vec<BestBaseline>,
+    timings: Vec<GroupTiming>,
+    truth_checks: Vec<TruthCheck>,
     cases: Vec<Outcome>,
     real_images: Vec<RealImage>,
 }
@@ -150,85 +367,181 @@ fn main() -> anyhow::Result<()> {
     let args = parse_args()?;
     // Panics are caught per case and reported in the tables; keep stderr quiet.
     std::panic::set_hook(Box::new(|_| {}));
+    let started = Instant::now();
 
-    let cases: Vec<Case> = ridgeline::synth::all_cases()
+    let selected: Vec<&str> = all_groups()
         .into_iter()
-        .filter(|c| args.group.as_ref().is_none_or(|g| &c.group == g))
-        .filter(|c| args.case.as_ref().is_none_or(|n| &c.name == n))
+        .filter(|g| {
+            args.groups
+                .as_ref()
+                .is_none_or(|s| s.iter().any(|n| n == g))
+        })
         .collect();
-    if cases.is_empty() {
+    let mut report = Report {
+        groups: Vec::new(),
+        best_baselines: Vec::new(),
+        timings: Vec::new(),
+        truth_checks: Vec::new(),
+        cases: Vec::new(),
+        real_images: Vec::new(),
+    };
+    let mut any_case = false;
+    for &name in &selected {
+        let load_start = Instant::now();
+        let Group {
+            cases,
+            options,
+            note,
+        } = guarded(|| load_group(name, args.all_hanzi))
+            .map_err(|e| anyhow::anyhow!("group {name}: {e}"))?;
+        let cases: Vec<Case> = cases
+            .into_iter()
+            .filter(|c| args.case.as_ref().is_none_or(|n| &c.name == n))
+            .collect();
+        let load_s = load_start.elapsed().as_secs_f64();
+        if cases.is_empty() {
+            if let Some(note) = &note {
+                println!("\n## {name}: {note}");
+            }
+            continue;
+        }
+        any_case = true;
+        let mut truth_s = 0.0;
+        let methods_start = Instant::now();
+        let mut outcomes = Vec::new();
+        let mut check = TruthCheck {
+            group: name.to_string(),
+            components_differ: Vec::new(),
+            cycles_differ: Vec::new(),
+            self_not_exact: Vec::new(),
+            truth_off_ink: 0.0,
+        };
+        let (mut truth_length, mut truth_off) = (0.0, 0.0);
+        for case in &cases {
+            let truth_start = Instant::now();
+            let truth = guarded(|| Ok(truth_graph_with(case, &options)));
+            truth_s += truth_start.elapsed().as_secs_f64();
+            if let Ok(truth) = &truth {
+                let (components, holes) = ink_topology(&case.binary);
+                if truth.components() != components {
+                    check.components_differ.push(case.name.clone());
+                }
+                if truth.cycles() != holes {
+                    check.cycles_differ.push(case.name.clone());
+                }
+                let own = score_with(case, truth, truth, &options);
+                if !own.exactly_right {
+                    check.self_not_exact.push(case.name.clone());
+                }
+                truth_length += own.centerline_length;
+                truth_off += own.off_ink_length;
+            }
+            let mut traced = Vec::new();
+            for method in METHODS {
+                let start = Instant::now();
+                let result = guarded(|| run_method(method, case));
+                let time_ms = start.elapsed().as_secs_f64() * 1e3;
+                let iou = result
+                    .as_ref()
+                    .ok()
+                    .map(|graph| coverage_iou(graph, &case.binary));
+                let (failure, scores) = match (&truth, &result) {
+                    (Ok(truth), Ok(graph)) => {
+                        match guarded(|| Ok(score_with(case, truth, graph, &options))) {
+                            Ok(s) => (None, Some(s)),
+                            Err(e) => (Some(format!("scoring: {e}")), None),
+                        }
+                    }
+                    (Err(e), _) => (Some(format!("truth: {e}")), None),
+                    (_, Err(e)) => (Some(e.clone()), None),
+                };
+                traced.push(result.ok());
+                outcomes.push(Outcome {
+                    case: case.name.clone(),
+                    group: case.group.clone(),
+                    method: method.to_string(),
+                    time_ms,
+                    failure,
+                    scores,
+                    iou,
+                });
+            }
+            if let (Some(dir), Ok(truth)) = (&args.pictures, &truth) {
+                pictures::write(dir, case, truth, &METHODS, &traced)?;
+            }
+        }
+        let methods_s = methods_start.elapsed().as_secs_f64() - truth_s;
+        check.truth_off_ink = if truth_length > 0.0 {
+            truth_off / truth_length
+        } else {
+            0.0
+        };
+
+        let rows: Vec<GroupRow> = METHODS
+            .iter()
+            .map(|&method| group_row(name, method, &outcomes))
+            .collect();
+        let best = best_baseline(name, &rows);
+        println!("\n## {name} ({} cases)\n", cases.len());
+        if let Some(note) = &note {
+            println!("{note}\n");
+        }
+        print_table(&rows, &best);
+        let timing = GroupTiming {
+            group: name.to_string(),
+            cases: cases.len(),
+            load_s,
+            truth_s,
+            methods_s,
+            note,
+        };
+        println!(
+            "\n{name}: {:.1} s ({:.1} s making the cases, {:.1} s their truths, {:.1} s tracing and scoring)",
+            timing.load_s + timing.truth_s + timing.methods_s,
+            timing.load_s,
+            timing.truth_s,
+            timing.methods_s
+        );
+        let list = |names: &[String]| {
+            if names.is_empty() {
+                String::new()
+            } else {
+                let shown: Vec<&str> = names.iter().take(6).map(String::as_str).collect();
+                let more = if names.len() > 6 { ", ..." } else { "" };
+                format!(" ({}{more})", shown.join(", "))
+            }
+        };
+        println!(
+            "truth check: components differ from the ink's in {}{}, cycles from its holes in {}{}; truth against itself not exactly right in {}{}; truth off-ink {:.2}%",
+            check.components_differ.len(),
+            list(&check.components_differ),
+            check.cycles_differ.len(),
+            list(&check.cycles_differ),
+            check.self_not_exact.len(),
+            list(&check.self_not_exact),
+            100.0 * check.truth_off_ink,
+        );
+        if args.verbose {
+            print_cases(&outcomes);
+        }
+        report.truth_checks.push(check);
+        report.groups.extend(rows);
+        report.best_baselines.push(best);
+        report.timings.push(timing);
+        report.cases.extend(outcomes);
+    }
+    let run_real = args
+        .groups
+        .as_ref()
+        .is_none_or(|g| g.iter().any(|n| n == "real"));
+    if !any_case && !run_real {
         bail!("no case matches the filters");
     }
-
-    let mut outcomes = Vec::new();
-    for case in &cases {
-        let truth = guarded(|| Ok(truth_graph(case)));
-        for method in METHODS {
-            let start = Instant::now();
-            let result = guarded(|| run_method(method, case));
-            let time_ms = start.elapsed().as_secs_f64() * 1e3;
-            let iou = result
-                .as_ref()
-                .ok()
-                .map(|graph| coverage_iou(graph, &case.binary));
-            let (failure, scores) = match (&truth, result) {
-                (Ok(truth), Ok(graph)) => match guarded(|| Ok(score(case, truth, &graph))) {
-                    Ok(s) => (None, Some(s)),
-                    Err(e) => (Some(format!("scoring: {e}")), None),
-                },
-                (Err(e), _) => (Some(format!("truth: {e}")), None),
-                (_, Err(e)) => (Some(e), None),
-            };
-            outcomes.push(Outcome {
-                case: case.name.clone(),
-                group: case.group.clone(),
-                method: method.to_string(),
-                time_ms,
-                failure,
-                scores,
-                iou,
-            });
-        }
-    }
-
-    let mut groups: Vec<String> = Vec::new();
-    for case in &cases {
-        if !groups.contains(&case.group) {
-            groups.push(case.group.clone());
-        }
-    }
-    let mut rows = Vec::new();
-    for group in &groups {
-        for method in METHODS {
-            let mine: Vec<&Outcome> = outcomes
-                .iter()
-                .filter(|o| &o.group == group && o.method == method)
-                .collect();
-            let scores: Vec<Scores> = mine.iter().filter_map(|o| o.scores.clone()).collect();
-            rows.push(GroupRow {
-                group: group.clone(),
-                method: method.to_string(),
-                failures: mine.iter().filter(|o| o.failure.is_some()).count(),
-                mean_time_ms: mine.iter().map(|o| o.time_ms).sum::<f64>()
-                    / mine.len().max(1) as f64,
-                scores: aggregate(&scores),
-                mean_iou: {
-                    let ious: Vec<f64> = mine.iter().filter_map(|o| o.iou).collect();
-                    (!ious.is_empty()).then(|| ious.iter().sum::<f64>() / ious.len() as f64)
-                },
-            });
-        }
-    }
-
-    for group in &groups {
-        let count = cases.iter().filter(|c| &c.group == group).count();
-        println!("\n## {group} ({count} cases)\n");
-        print_table(rows.iter().filter(|r| &r.group == group));
-        if args.verbose {
-            print_cases(outcomes.iter().filter(|o| &o.group == group));
-        }
-    }
-    let failures: Vec<&Outcome> = outcomes.iter().filter(|o| o.failure.is_some()).collect();
+    let failures: Vec<&Outcome> = report
+        .cases
+        .iter()
+        .filter(|o| o.failure.is_some())
+        .collect();
     if !failures.is_empty() {
         println!(
             "\n{} failures (method/case: reason), first ones:",
@@ -244,36 +557,98 @@ fn main() -> anyhow::Result<()> {
         }
     }
 
-    let real_images = real_images(args.verbose);
+    if run_real && args.case.is_none() {
+        report.real_images = real_images(args.verbose);
+    }
 
-    let report = Report {
-        groups: rows,
-        cases: outcomes,
-        real_images,
-    };
     if let Some(dir) = args.json.parent() {
         std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
     }
     let json = serde_json::to_string_pretty(&report)?;
     std::fs::write(&args.json, json).with_context(|| format!("writing {}", args.json.display()))?;
-    println!("\nwrote {}", args.json.display());
+    println!(
+        "\nwrote {} ({:.1} s in all)",
+        args.json.display(),
+        started.elapsed().as_secs_f64()
+    );
     Ok(())
+}
+
+fn group_row(group: &str, method: &str, outcomes: &[Outcome]) -> GroupRow {
+    let mine: Vec<&Outcome> = outcomes.iter().filter(|o| o.method == method).collect();
+    let scores: Vec<Scores> = mine.iter().filter_map(|o| o.scores.clone()).collect();
+    let ious: Vec<f64> = mine.iter().filter_map(|o| o.iou).collect();
+    GroupRow {
+        group: group.to_string(),
+        method: method.to_string(),
+        failures: mine.iter().filter(|o| o.failure.is_some()).count(),
+        mean_time_ms: mine.iter().map(|o| o.time_ms).sum::<f64>() / mine.len().max(1) as f64,
+        scores: aggregate(&scores),
+        mean_iou: (!ious.is_empty()).then(|| ious.iter().sum::<f64>() / ious.len() as f64),
+    }
+}
+
+fn best_baseline(group: &str, rows: &[GroupRow]) -> BestBaseline {
+    let base: Vec<&GroupRow> = rows
+        .iter()
+        .filter(|r| BASELINES.contains(&r.method.as_str()) && r.scores.cases > 0)
+        .collect();
+    let max = |f: &dyn Fn(&GroupRow) -> f64| base.iter().map(|r| f(r)).fold(f64::NAN, f64::max);
+    let min = |f: &dyn Fn(&GroupRow) -> f64| base.iter().map(|r| f(r)).fold(f64::NAN, f64::min);
+    let max_opt =
+        |f: &dyn Fn(&GroupRow) -> Option<f64>| base.iter().filter_map(|r| f(r)).reduce(f64::max);
+    BestBaseline {
+        group: group.to_string(),
+        methods: base.iter().map(|r| r.method.clone()).collect(),
+        f1: std::array::from_fn(|k| max(&|r| r.scores.f1[k])),
+        chamfer: min(&|r| r.scores.chamfer),
+        hausdorff: min(&|r| r.scores.hausdorff),
+        junction_precision: max(&|r| r.scores.junction_precision),
+        junction_recall: max(&|r| r.scores.junction_recall),
+        crossing_accuracy: max_opt(&|r| r.scores.crossing_accuracy),
+        shallow_crossing_accuracy: max_opt(&|r| r.scores.shallow_crossing_accuracy),
+        spurs_per_stroke: min(&|r| r.scores.spurs_per_stroke),
+        endpoint_recall: max(&|r| r.scores.endpoint_recall),
+        components_exact: max(&|r| r.scores.components_exact),
+        cycles_exact: max(&|r| r.scores.cycles_exact),
+        exactly_right: max(&|r| r.scores.exactly_right),
+        off_ink: min(&|r| r.scores.off_ink),
+        mean_iou: max_opt(&|r| r.mean_iou),
+        mean_time_ms: min(&|r| r.mean_time_ms),
+        failures: rows
+            .iter()
+            .filter(|r| BASELINES.contains(&r.method.as_str()))
+            .map(|r| r.failures)
+            .min()
+            .unwrap_or(0),
+    }
 }
 
 fn opt(x: Option<f64>) -> String {
     x.map_or("-".into(), |v| format!("{v:.3}"))
 }
 
-fn print_table<'a>(rows: impl Iterator<Item = &'a GroupRow>) {
+/// A tolerance for a column header: `1`, `2.5`.
+fn tau(t: f64) -> String {
+    format!("{t}")
+}
+
+fn print_table(rows: &[GroupRow], best: &BestBaseline) {
+    let taus = rows
+        .iter()
+        .find(|r| r.scores.cases > 0)
+        .map_or(ridgeline::score::TAUS, |r| r.scores.taus);
     println!(
-        "| method | F1@1 | F1@2 | chamfer | Hausdorff | junction P | junction R | X >=30° | X 15° | spurs/stroke | endpoint R | components exact | cycles exact | IoU | ms | failed |"
+        "| method | F1@{} | F1@{} | chamfer | Hausdorff | junction P | junction R | X >=30° | X 15° | spurs/stroke | endpoint R | components exact | cycles exact | exactly right | off-ink | IoU | ms | failed |",
+        tau(taus[0]),
+        tau(taus[1])
     );
-    println!("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|");
+    println!("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|");
     for r in rows {
         let s = &r.scores;
         if s.cases == 0 {
             println!(
-                "| {} | - | - | - | - | - | - | - | - | - | - | - | - | {} | {:.1} | {} |",
+                "| {} | - | - | - | - | - | - | - | - | - | - | - | - | - | - | {} | {:.1} | {} |",
                 r.method,
                 opt(r.mean_iou),
                 r.mean_time_ms,
@@ -282,7 +657,7 @@ fn print_table<'a>(rows: impl Iterator<Item = &'a GroupRow>) {
             continue;
         }
         println!(
-            "| {} | {:.3} | {:.3} | {:.2} | {:.1} | {:.2} | {:.2} | {} | {} | {:.3} | {:.2} | {:.0}% | {:.0}% | {} | {:.1} | {} |",
+            "| {} | {:.3} | {:.3} | {:.2} | {:.1} | {:.2} | {:.2} | {} | {} | {:.3} | {:.2} | {:.0}% | {:.0}% | {:.0}% | {:.2}% | {} | {:.1} | {} |",
             r.method,
             s.f1[0],
             s.f1[1],
@@ -296,16 +671,42 @@ fn print_table<'a>(rows: impl Iterator<Item = &'a GroupRow>) {
             s.endpoint_recall,
             100.0 * s.components_exact,
             100.0 * s.cycles_exact,
+            100.0 * s.exactly_right,
+            100.0 * s.off_ink,
             opt(r.mean_iou),
             r.mean_time_ms,
             r.failures,
         );
     }
+    if best.methods.is_empty() {
+        return;
+    }
+    let b = best;
+    println!(
+        "| best thinning | {:.3} | {:.3} | {:.2} | {:.1} | {:.2} | {:.2} | {} | {} | {:.3} | {:.2} | {:.0}% | {:.0}% | {:.0}% | {:.2}% | {} | {:.1} | {} |",
+        b.f1[0],
+        b.f1[1],
+        b.chamfer,
+        b.hausdorff,
+        b.junction_precision,
+        b.junction_recall,
+        opt(b.crossing_accuracy),
+        opt(b.shallow_crossing_accuracy),
+        b.spurs_per_stroke,
+        b.endpoint_recall,
+        100.0 * b.components_exact,
+        100.0 * b.cycles_exact,
+        100.0 * b.exactly_right,
+        100.0 * b.off_ink,
+        opt(b.mean_iou),
+        b.mean_time_ms,
+        b.failures,
+    );
 }
 
-fn print_cases<'a>(outcomes: impl Iterator<Item = &'a Outcome>) {
-    println!("\n| case | method | F1@1 | F1@2 | Hausdorff | junctions P/R | crossings | spurs | endpoints | comp | cyc | IoU | ms |");
-    println!("|---|---|---|---|---|---|---|---|---|---|---|---|---|");
+fn print_cases(outcomes: &[Outcome]) {
+    println!("\n| case | method | F1@1 | F1@2 | Hausdorff | junctions P/R | crossings | spurs | endpoints | comp | cyc | exact | off-ink | IoU | ms |");
+    println!("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|");
     for o in outcomes {
         let Some(s) = &o.scores else {
             println!(
@@ -318,7 +719,7 @@ fn print_cases<'a>(outcomes: impl Iterator<Item = &'a Outcome>) {
         };
         let found = s.crossings.iter().filter(|c| c.correct).count();
         println!(
-            "| {} | {} | {:.3} | {:.3} | {:.1} | {}/{}/{} | {}/{} | {} | {}/{} | {}/{} | {}/{} | {} | {:.1} |",
+            "| {} | {} | {:.3} | {:.3} | {:.1} | {}/{}/{} | {}/{} | {} | {}/{} | {}/{} | {}/{} | {} | {:.2}% | {} | {:.1} |",
             o.case,
             o.method,
             s.f1[0],
@@ -336,6 +737,8 @@ fn print_cases<'a>(outcomes: impl Iterator<Item = &'a Outcome>) {
             s.true_components,
             s.predicted_cycles,
             s.true_cycles,
+            if s.exactly_right { "yes" } else { "no" },
+            100.0 * s.off_ink,
             opt(o.iou),
             o.time_ms,
         );

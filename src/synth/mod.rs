@@ -2,17 +2,28 @@
 //! and the generator of `samples/`.
 //!
 //! Every case carries the polylines it was drawn from, so quality is measured against the truth
-//! (DESIGN.md, "Measuring quality"). Three groups: `hard` (crossings, junctions, loops, near
-//! misses, dropout), `text` (Hershey single-stroke glyphs) and `prints` (fingerprint-like ridge
-//! fields traced as level sets of a phase function). Everything is deterministic: the same call
-//! gives the same pixels and the same truth.
+//! (DESIGN.md, "Measuring quality"). Three groups make [`all_cases`]: `hard` (crossings,
+//! junctions, loops, near misses, dropout), `text` (Hershey single-stroke glyphs) and `prints`
+//! (fingerprint-like ridge fields traced as level sets of a phase function). The groups where
+//! strokes crowd (docs/quality.md) come on their own: [`font_cases`] (Hershey script, cursive,
+//! Gothic and Times lines), [`japanese_cases`] (Hershey kana and kanji) and the generated
+//! [`cell_cases`], [`letter_cases`], [`zigzag_cases`], [`triple_cases`] and [`arm_cases`].
+//! Everything is deterministic: the same call gives the same pixels and the same truth.
 
+mod crowded;
 mod hershey;
 mod prints;
 mod rng;
 mod shapes;
 
-pub use hershey::{page, text_cases, text_line, Font, Glyph};
+pub use crowded::{
+    arm_cases, cell_cases, letter_cases, triple_cases, zigzag_cases, ARM_LENGTHS, CELL_SIZES,
+    LETTER_WIDTHS, TRIPLE_SPREADS, ZIGZAG_CORNERS,
+};
+pub use hershey::{
+    font_cases, japanese_cases, page, text_cases, text_line, Font, Glyph, FONTS,
+    SINGLE_PASS_TOLERANCE,
+};
 pub use prints::print_cases;
 pub use rng::SplitMix64;
 pub use shapes::hard_cases;
@@ -63,12 +74,46 @@ impl Stroke {
     }
 }
 
-/// Every fixture: [`hard_cases`], then [`text_cases`], then [`print_cases`].
+/// Every fixture of the first benchmark groups: [`hard_cases`], then [`text_cases`], then
+/// [`print_cases`].
 pub fn all_cases() -> Vec<Case> {
     let mut cases = hard_cases();
     cases.extend(text_cases());
     cases.extend(print_cases());
     cases
+}
+
+/// The generated groups where strokes crowd, by name, in the benchmark's order: the four
+/// [`FONTS`], `japanese`, `cells`, `letters`, `zigzags`, `triples`, `arms`.
+pub const CROWDED_GROUPS: [&str; 10] = [
+    "scriptc",
+    "cursive",
+    "gothiceng",
+    "timesr",
+    "japanese",
+    "cells",
+    "letters",
+    "zigzags",
+    "triples",
+    "arms",
+];
+
+/// The cases of one generated group by name: those of [`all_cases`] (`hard`, `text`, `prints`)
+/// and the [`CROWDED_GROUPS`]; `None` for any other name.
+pub fn group_cases(group: &str) -> Option<Vec<Case>> {
+    Some(match group {
+        "hard" => hard_cases(),
+        "text" => text_cases(),
+        "prints" => print_cases(),
+        "japanese" => japanese_cases(),
+        "cells" => cell_cases(),
+        "letters" => letter_cases(),
+        "zigzags" => zigzag_cases(),
+        "triples" => triple_cases(),
+        "arms" => arm_cases(),
+        font if FONTS.contains(&font) => font_cases(font),
+        _ => return None,
+    })
 }
 
 /// Frames strokes in an image just big enough to hold their ink with a margin of at least
@@ -315,8 +360,70 @@ mod tests {
     }
 
     #[test]
+    fn crowded_cases_truth_on_ink() {
+        for group in CROWDED_GROUPS {
+            let cases = group_cases(group).expect("known group");
+            assert!(cases.len() >= 15, "{group}: {}", cases.len());
+            for case in &cases {
+                assert_eq!(case.group, group);
+                check_case(case);
+            }
+        }
+        assert!(group_cases("nonsense").is_none());
+    }
+
+    #[test]
+    fn cells_are_their_size() {
+        // Half a width of background between neighbouring strokes' ink: 2 px at 4 px strokes.
+        let case = group_cases("cells")
+            .expect("cells")
+            .into_iter()
+            .find(|c| c.name == "box1x2_c0.5_w4")
+            .expect("the case");
+        let b = &case.binary;
+        let column = b.width as i64 / 2;
+        let runs: Vec<(bool, usize)> = (0..b.height as i64).fold(Vec::new(), |mut runs, y| {
+            let ink = b.get(column, y);
+            match runs.last_mut() {
+                Some((v, n)) if *v == ink => *n += 1,
+                _ => runs.push((ink, 1)),
+            }
+            runs
+        });
+        // Background, frame, cell, bar, cell, frame, background.
+        let inner: Vec<usize> = runs[1..runs.len() - 1].iter().map(|r| r.1).collect();
+        assert_eq!(inner, vec![4, 2, 4, 2, 4], "{runs:?}");
+    }
+
+    #[test]
+    fn touching_dots_touch() {
+        for case in group_cases("arms")
+            .expect("arms")
+            .iter()
+            .filter(|c| c.name.starts_with("dot"))
+        {
+            let (bar, dot) = (&case.strokes[0], &case.strokes[1]);
+            let (w, h) = (case.binary.width, case.binary.height);
+            let bar_ink = render(std::slice::from_ref(bar), w, h);
+            let dot_ink = render(std::slice::from_ref(dot), w, h);
+            let touches = (0..h as i64).any(|y| {
+                (0..w as i64).any(|x| {
+                    dot_ink.get(x, y)
+                        && [(1, 0), (-1, 0), (0, 1), (0, -1), (0, 0)]
+                            .iter()
+                            .any(|&(dx, dy)| bar_ink.get(x + dx, y + dy))
+                })
+            });
+            assert!(touches, "{}", case.name);
+        }
+    }
+
+    #[test]
     fn names_unique() {
-        let cases = all_cases();
+        let mut cases = all_cases();
+        for group in CROWDED_GROUPS {
+            cases.extend(group_cases(group).expect("known group"));
+        }
         let mut names: Vec<&str> = cases.iter().map(|c| c.name.as_str()).collect();
         names.sort_unstable();
         let n = names.len();

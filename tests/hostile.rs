@@ -878,6 +878,10 @@ fn fuzz_regressions_decode_and_trace() {
             let Ok(page) = page else {
                 continue;
             };
+            if page.number == 1 {
+                let first = ridgeline::decode(&bytes, &limits).ok();
+                assert_eq!(first.as_ref(), Some(&page.gray), "{path:?}: decode differs");
+            }
             for params in [Params::default(), Params::paper()] {
                 let params = Params { limits, ..params };
                 if let Ok(trace) = trace_image(&page.gray, &params) {

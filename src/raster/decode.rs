@@ -9,7 +9,7 @@
 //! Transparency is read as a user means it: transparent pixels are paper and opaque ones the ink
 //! candidates. The paper is white, unless nearly all opaque pixels are light (white ink on a
 //! transparent background), when it is black: either way the ink keeps its contrast, and
-//! `--polarity` still describes the ink's own colour.
+//! [`crate::Polarity`] still describes the ink's own colour (white ink is light ink).
 
 use std::io::{BufRead, ErrorKind, Seek};
 use std::path::Path;
@@ -67,7 +67,6 @@ pub fn decode_file(path: &Path, limits: &Limits) -> Result<GrayImage> {
 ///
 /// Build it with [`pages`](crate::raster::pages). The page count is known before any page is
 /// decoded ([`Pages::page_count`]; `len()` counts the pages not yet decoded).
-#[derive(Debug)]
 pub struct Pages<'a> {
     bytes: &'a [u8],
     format: ImageFormat,
@@ -148,6 +147,18 @@ pub fn pages<'a>(bytes: &'a [u8], limits: &Limits) -> Result<Pages<'a>> {
         next: 0,
         pictures: false,
     })
+}
+
+impl std::fmt::Debug for Pages<'_> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Pages")
+            .field("format", &self.format)
+            .field("bytes", &self.bytes.len())
+            .field("pages", &self.page_count())
+            .field("next", &self.next)
+            .field("pictures", &self.pictures)
+            .finish()
+    }
 }
 
 impl Pages<'_> {

@@ -120,10 +120,14 @@ impl Header {
     }
 
     /// The entry count of the IFD at `ifd` and the offset of its first entry, when the whole IFD
-    /// (entries and next pointer) lies inside the file.
+    /// (entries and next pointer) lies inside the file. A BigTIFF IFD may declare more entries
+    /// than the 65 535 a classic one can; as there are no more tags than that, such an IFD is
+    /// refused, which bounds the work of reading one page's directory.
     fn entries(&self, bytes: &[u8], ifd: u64) -> Option<(u64, u64)> {
         let (count_size, entry_size, pointer_size) = self.sizes();
-        let count = self.number_at(bytes, ifd, count_size as usize)?;
+        let count = self
+            .number_at(bytes, ifd, count_size as usize)
+            .filter(|&count| count <= u64::from(u16::MAX))?;
         let first = ifd.checked_add(count_size)?;
         let end = count
             .checked_mul(entry_size)?
@@ -438,6 +442,23 @@ mod tests {
         assert_eq!(chain_length(9, |_| Some(9)), (1, true));
         let two = |x: u64| Some(1 - x);
         assert_eq!(chain_length(0, two), (2, true));
+    }
+
+    #[test]
+    fn a_bigtiff_directory_of_more_entries_than_tags_is_refused() {
+        let entries = 70_000u64;
+        let mut bytes = b"II\x2b\x00\x08\x00\x00\x00".to_vec();
+        bytes.extend_from_slice(&16u64.to_le_bytes());
+        bytes.extend_from_slice(&entries.to_le_bytes());
+        bytes.resize(bytes.len() + 20 * entries as usize + 8, 0);
+        let header = Header::read(&bytes).expect("a BigTIFF header");
+        assert!(header.big);
+        assert_eq!(header.entries(&bytes, 16), None);
+        assert_eq!(chain(&bytes, 10), None);
+        // 65 535 entries are read.
+        bytes[16..24].copy_from_slice(&65_535u64.to_le_bytes());
+        assert_eq!(header.entries(&bytes, 16), Some((65_535, 24)));
+        assert_eq!(chain(&bytes, 10).map(|c| c.count), Some(1));
     }
 
     #[test]

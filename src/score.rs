@@ -507,7 +507,7 @@ impl OffInk {
 }
 
 /// The length of `graph`'s centerlines lying over background pixels of `binary`: every polyline
-/// is cut into pieces at most [`SPACING`] (0.5 px) long, and a piece is off the ink when the
+/// is cut into pieces at most `SPACING` (0.5 px) long, and a piece is off the ink when the
 /// pixel under its midpoint is background or outside the image (pixel `(c, r)` covers
 /// `[c, c + 1) x [r, r + 1)`). Edges with bad indices or non-finite points are left out, as in
 /// [`score`].

@@ -430,7 +430,7 @@ const JAPANESE_SCALE: f64 = 4.0;
 
 /// Every Japanese glyph of the Hershey font as a case (group `japanese`): kana and kanji drawn
 /// with the pen passes that only thicken a stroke removed ([`Font::drawn_at`]),
-/// [`JAPANESE_SCALE`] px per unit, stroke
+/// `JAPANESE_SCALE` px per unit, stroke
 /// widths 3, 4, 5, 6, 7 px in turn. Glyphs that repeat an earlier one (the file's placeholder
 /// dots) or span less than 8 units (punctuation) are left out. Named `ja<index in the file>_w<w>`.
 pub fn japanese_cases() -> Vec<Case> {

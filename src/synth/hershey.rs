@@ -625,7 +625,9 @@ mod tests {
         for name in FONTS {
             let cases = font_cases(name);
             assert_eq!(cases.len(), 24, "{name}");
-            assert!(cases.iter().all(|c| c.group == name && c.binary.count() > 0));
+            assert!(cases
+                .iter()
+                .all(|c| c.group == name && c.binary.count() > 0));
         }
         assert!(font_cases("futural").is_empty());
         let japanese = japanese_cases();

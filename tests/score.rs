@@ -552,7 +552,7 @@ fn off_ink_measures_centerline_over_background() {
 }
 
 #[test]
-fn a_graph_shifted_off_the_ink_is_off_ink_and_not_exactly_right() {
+fn a_graph_shifted_off_the_ink_is_off_ink() {
     let c = cases().into_iter().find(|c| c.name == "hash").unwrap();
     let truth = truth_graph(&c);
     let s = score(&c, &truth, &truth);

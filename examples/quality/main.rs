@@ -6,15 +6,15 @@
 //!
 //! ```text
 //! cargo run --release --example quality [-- --json PATH] [--group NAME[,NAME...]] [--case NAME]
-//!     [--all-hanzi] [--pictures DIR] [--verbose]
+//!     [--hanzi-every N] [--pictures DIR] [--verbose]
 //! ```
 //!
 //! Groups (docs/quality.md says what each one shows): `hard`, `text`, `prints` (the first
 //! benchmark), the Hershey fonts `scriptc`, `cursive`, `gothiceng`, `timesr` and `japanese`, the
 //! generated `cells`, `letters`, `zigzags`, `triples`, `arms`, and `hanzi` (characters of a real
-//! font, read from `../shared/data/hanzi` when present; skipped with a note when not; every
-//! second character unless `--all-hanzi`), then `real` (below). Without `--group` every group
-//! runs.
+//! font, read from `../shared/data/hanzi` when present; skipped with a note when not;
+//! `--hanzi-every N` keeps every N-th character for a quicker run), then `real` (below). Without
+//! `--group` every group runs (about a minute and a half on two cores).
 //!
 //! When `../shared/data` (beside the crate root) holds real fingerprints and text, ridgeline also
 //! runs on them (group `real`, no truth): time, counts, and endpoint / junction / short-branch
@@ -51,19 +51,19 @@ struct Args {
     json: PathBuf,
     groups: Option<Vec<String>>,
     case: Option<String>,
-    all_hanzi: bool,
+    hanzi_every: usize,
     pictures: Option<PathBuf>,
     verbose: bool,
 }
 
-const USAGE: &str = "usage: quality [--json PATH] [--group NAME[,NAME...]] [--case NAME] [--all-hanzi] [--pictures DIR] [--verbose]";
+const USAGE: &str = "usage: quality [--json PATH] [--group NAME[,NAME...]] [--case NAME] [--hanzi-every N] [--pictures DIR] [--verbose]";
 
 fn parse_args() -> anyhow::Result<Args> {
     let mut args = Args {
         json: Path::new(env!("CARGO_MANIFEST_DIR")).join("target/quality.json"),
         groups: None,
         case: None,
-        all_hanzi: false,
+        hanzi_every: 1,
         pictures: None,
         verbose: false,
     };
@@ -86,7 +86,13 @@ fn parse_args() -> anyhow::Result<Args> {
                 args.groups = Some(names);
             }
             "--case" => args.case = Some(value()?),
-            "--all-hanzi" => args.all_hanzi = true,
+            "--hanzi-every" => {
+                args.hanzi_every = value()?
+                    .parse()
+                    .ok()
+                    .filter(|&n: &usize| n >= 1)
+                    .context("--hanzi-every needs a whole number, at least 1")?
+            }
             "--pictures" => args.pictures = Some(PathBuf::from(value()?)),
             "--verbose" | "-v" => args.verbose = true,
             "--help" | "-h" => {
@@ -182,7 +188,7 @@ struct Group {
     note: Option<String>,
 }
 
-fn load_group(name: &str, all_hanzi: bool) -> anyhow::Result<Group> {
+fn load_group(name: &str, hanzi_every: usize) -> anyhow::Result<Group> {
     if name == "hanzi" {
         let Some(mut cases) = hanzi::cases()? else {
             return Ok(Group {
@@ -196,12 +202,12 @@ fn load_group(name: &str, all_hanzi: bool) -> anyhow::Result<Group> {
         };
         let total = cases.len();
         let mut note = None;
-        if !all_hanzi {
-            // Every second character in code-point order: a deterministic half that keeps the
-            // spread of stroke counts, and the whole run within a few minutes.
-            cases = cases.into_iter().step_by(2).collect();
+        if hanzi_every > 1 {
+            // Every N-th character in code-point order: deterministic, and it keeps the spread
+            // of stroke counts.
+            cases = cases.into_iter().step_by(hanzi_every).collect();
             note = Some(format!(
-                "{} of {total} characters (every second in code-point order; --all-hanzi for all)",
+                "{} of {total} characters (every {hanzi_every}th in code-point order, --hanzi-every)",
                 cases.len()
             ));
         }
@@ -431,7 +437,7 @@ fn main() -> anyhow::Result<()> {
             cases,
             options,
             note,
-        } = guarded(|| load_group(name, args.all_hanzi))
+        } = guarded(|| load_group(name, args.hanzi_every))
             .map_err(|e| anyhow::anyhow!("group {name}: {e}"))?;
         let cases: Vec<Case> = cases
             .into_iter()
@@ -744,7 +750,15 @@ fn print_table(rows: &[GroupRow], best: &BestBaseline) {
 }
 
 fn print_cases(outcomes: &[Outcome]) {
-    println!("\n| case | method | F1@1 | F1@2 | Hausdorff | junctions P/R | crossings | spurs | endpoints | comp | cyc | exact | off-ink | IoU | ms |");
+    let taus = outcomes
+        .iter()
+        .find_map(|o| o.scores.as_ref())
+        .map_or(ridgeline::score::TAUS, |s| s.taus);
+    println!(
+        "\n| case | method | F1@{} | F1@{} | Hausdorff | junctions matched/predicted/true | crossings right | spurs | endpoints found/true | components | cycles | exactly right | off-ink | IoU | ms |",
+        tau(taus[0]),
+        tau(taus[1])
+    );
     println!("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|");
     for o in outcomes {
         let Some(s) = &o.scores else {

@@ -522,6 +522,55 @@ struct Settings {
     minutiae: bool,
     /// `--curves` with its tolerance and corner angle.
     curves: Option<CurveOptions>,
+    /// What later pages of a multi-page input (named inside the job, `name.pN.svg`) must not
+    /// write over: the inputs, by identity, and the outputs planned for the other inputs.
+    reserved: Reserved,
+}
+
+/// Files no page output may replace (see [`Settings::reserved`]).
+#[derive(Default)]
+struct Reserved {
+    inputs: BTreeMap<FileId, PathBuf>,
+    outputs: BTreeSet<PathBuf>,
+}
+
+impl Reserved {
+    fn of(jobs: &[Job]) -> Reserved {
+        Reserved {
+            inputs: jobs
+                .iter()
+                .filter(|job| job.input.as_os_str() != "-")
+                .filter_map(|job| Some((file_id(&job.input)?, job.input.clone())))
+                .collect(),
+            outputs: jobs
+                .iter()
+                .filter_map(|job| match &job.destination {
+                    Destination::File(path) => Some(path.clone()),
+                    Destination::Stdout => None,
+                })
+                .collect(),
+        }
+    }
+
+    /// Refuses a page output that is an input or another input's planned output.
+    fn check(&self, path: &Path) -> Result<()> {
+        if let Some(input) = file_id(path).and_then(|id| self.inputs.get(&id)) {
+            anyhow::bail!(
+                "{} is the input {}: ridgeline never writes over its inputs; choose another \
+                 output with -o",
+                path.display(),
+                input.display()
+            );
+        }
+        if self.outputs.contains(path) {
+            anyhow::bail!(
+                "{} is also the output of another input; give the inputs different names or \
+                 an output directory",
+                path.display()
+            );
+        }
+        Ok(())
+    }
 }
 
 /// What one traced input gave, for the line printed after a run.
@@ -584,7 +633,7 @@ fn run_with(cli: &Cli) -> Result<ExitCode> {
         }
     }
     let format = output_format(cli)?;
-    let settings = Settings {
+    let mut settings = Settings {
         svg: SvgOptions::default()
             .with_show_vertices(!cli.no_vertices)
             .with_stroke_width(cli.line_width)
@@ -596,6 +645,7 @@ fn run_with(cli: &Cli) -> Result<ExitCode> {
         strokes: cli.strokes,
         minutiae: cli.minutiae,
         curves,
+        reserved: Reserved::default(),
     };
 
     let mut warnings = ignored_flags(cli, format);
@@ -624,6 +674,7 @@ fn run_with(cli: &Cli) -> Result<ExitCode> {
         })
         .collect();
     refuse_overwriting_inputs(&jobs)?;
+    settings.reserved = Reserved::of(&jobs);
 
     let progress = (jobs.len() > 1 && !cli.quiet && std::io::stderr().is_terminal()).then(|| {
         let bar = ProgressBar::new(jobs.len() as u64);
@@ -1465,7 +1516,11 @@ fn trace_page(
         backdrop,
         meta,
     );
-    let output = write_output(job, &page_destination(&job.destination, page.number), &text)?;
+    let destination = page_destination(&job.destination, page.number);
+    if let (Destination::File(path), true) = (&destination, page.number > 1) {
+        settings.reserved.check(path)?;
+    }
+    let output = write_output(job, &destination, &text)?;
     Ok(Traced::of(&trace.graph, warnings, output))
 }
 

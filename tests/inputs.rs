@@ -798,3 +798,23 @@ fn transparency_is_reported_with_the_ink_it_found() {
     let opaque = RgbaImage::from_pixel(4, 4, Rgba([10, 20, 30, 255]));
     assert_eq!(page_of(opaque).transparency, None);
 }
+
+#[test]
+fn a_later_page_never_replaces_another_inputs_output() {
+    let dir = temp_dir();
+    let pages: Vec<GrayImage> = vec![drawing(0, 80, 60), drawing(1, 90, 50)];
+    let tiff_pages: Vec<TiffPage> = pages.iter().map(gray_page).collect();
+    fs::write(dir.path().join("book.tif"), tiff(&tiff_pages)).expect("write");
+    // An input whose own output is the name page 2 of book.tif would take.
+    drawing(2, 70, 70)
+        .save(dir.path().join("book.p2.png"))
+        .expect("png");
+    let output = ridgeline(&["book.tif", "book.p2.png", "--jobs", "1"], dir.path());
+    let err = stderr(&output);
+    assert_eq!(output.status.code(), Some(1), "{err}");
+    assert!(err.contains("also the output of another input"), "{err}");
+    // book.p2.svg is book.p2.png's drawing, 70 px wide, not page 2's (90).
+    let text = fs::read_to_string(dir.path().join("book.p2.svg")).expect("book.p2.svg");
+    let doc = roxmltree::Document::parse(&text).expect("SVG");
+    assert_eq!(doc.root_element().attribute("width"), Some("70"));
+}

@@ -552,15 +552,21 @@ impl Reserved {
         }
     }
 
+    /// The message refusing `path` when it is one of the inputs.
+    fn overwrites_input(&self, path: &Path) -> Option<String> {
+        let input = file_id(path).and_then(|id| self.inputs.get(&id))?;
+        Some(format!(
+            "{} is the input {}: ridgeline never writes over its inputs; choose another output \
+             with -o",
+            path.display(),
+            input.display()
+        ))
+    }
+
     /// Refuses a page output that is an input or another input's planned output.
     fn check(&self, path: &Path) -> Result<()> {
-        if let Some(input) = file_id(path).and_then(|id| self.inputs.get(&id)) {
-            anyhow::bail!(
-                "{} is the input {}: ridgeline never writes over its inputs; choose another \
-                 output with -o",
-                path.display(),
-                input.display()
-            );
+        if let Some(message) = self.overwrites_input(path) {
+            anyhow::bail!(message);
         }
         if self.outputs.contains(path) {
             anyhow::bail!(
@@ -673,8 +679,8 @@ fn run_with(cli: &Cli) -> Result<ExitCode> {
             }
         })
         .collect();
-    refuse_overwriting_inputs(&jobs)?;
     settings.reserved = Reserved::of(&jobs);
+    refuse_overwriting_inputs(&jobs, &settings.reserved)?;
 
     let progress = (jobs.len() > 1 && !cli.quiet && std::io::stderr().is_terminal()).then(|| {
         let bar = ProgressBar::new(jobs.len() as u64);
@@ -1190,15 +1196,10 @@ fn file_id(path: &Path) -> Option<FileId> {
 }
 
 /// A run never writes over one of its own inputs: every output file and `--debug` picture that
-/// already exists is compared with the inputs by identity, before anything is traced. (One
-/// metadata read per path, so that a batch of thousands stays linear; the `same-file` crate would
-/// hold every input open.)
-fn refuse_overwriting_inputs(jobs: &[Job]) -> Result<(), UsageError> {
-    let inputs: BTreeMap<FileId, &Path> = jobs
-        .iter()
-        .filter(|job| job.input.as_os_str() != "-")
-        .filter_map(|job| Some((file_id(&job.input)?, job.input.as_path())))
-        .collect();
+/// already exists is compared with the inputs (`reserved`) by identity, before anything is
+/// traced. (One metadata read per path, so that a batch of thousands stays linear; the
+/// `same-file` crate would hold every input open.)
+fn refuse_overwriting_inputs(jobs: &[Job], reserved: &Reserved) -> Result<(), UsageError> {
     for job in jobs {
         let pictures = job
             .debug
@@ -1209,13 +1210,8 @@ fn refuse_overwriting_inputs(jobs: &[Job]) -> Result<(), UsageError> {
             Destination::Stdout => None,
         };
         for path in outputs.into_iter().chain(pictures) {
-            if let Some(input) = file_id(&path).and_then(|id| inputs.get(&id)) {
-                return Err(UsageError(format!(
-                    "{} is the input {}: ridgeline never writes over its inputs; choose another \
-                     output with -o",
-                    path.display(),
-                    input.display()
-                )));
+            if let Some(message) = reserved.overwrites_input(&path) {
+                return Err(UsageError(message));
             }
         }
     }

@@ -244,25 +244,26 @@ pub fn pixel_graph(
     graph
 }
 
-/// Unit tangents by central differences, as the fit writes them.
+/// Unit tangents of a polyline by central differences, as the fit writes them.
+pub fn tangents(points: &[[f64; 2]]) -> Vec<[f64; 2]> {
+    let n = points.len();
+    (0..n)
+        .map(|i| {
+            let (a, b) = (points[i.saturating_sub(1)], points[(i + 1).min(n - 1)]);
+            let d = [b[0] - a[0], b[1] - a[1]];
+            let len = d[0].hypot(d[1]);
+            if len > 0.0 {
+                [d[0] / len, d[1] / len]
+            } else {
+                [1.0, 0.0]
+            }
+        })
+        .collect()
+}
+
 fn set_directions(graph: &mut StrokeGraph) {
     for edge in &mut graph.edges {
-        let n = edge.points.len();
-        edge.directions = (0..n)
-            .map(|i| {
-                let (a, b) = (
-                    edge.points[i.saturating_sub(1)],
-                    edge.points[(i + 1).min(n - 1)],
-                );
-                let d = [b[0] - a[0], b[1] - a[1]];
-                let len = d[0].hypot(d[1]);
-                if len > 0.0 {
-                    [d[0] / len, d[1] / len]
-                } else {
-                    [1.0, 0.0]
-                }
-            })
-            .collect();
+        edge.directions = tangents(&edge.points);
     }
 }
 

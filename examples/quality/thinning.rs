@@ -8,13 +8,16 @@
 //! junction to an end) shorter than the local stroke width removed, the same rule as ridgeline's
 //! own cleanup (DESIGN.md change 8), in one pass.
 
-use ridgeline::{Binary, Edge, StrokeGraph, Vertex};
+use ridgeline::skeleton::{pixel_graph, tangents, zhang_suen};
+use ridgeline::{Binary, Edge, StrokeGraph};
 
-/// Zhang-Suen thinning followed by pixel-graph extraction.
+/// Zhang-Suen thinning followed by pixel-graph extraction (the library's, `ridgeline::skeleton`,
+/// which the `--skeleton` experiment builds on).
 pub fn trace(binary: &Binary) -> StrokeGraph {
-    let skeleton = zhang_suen(binary);
+    let (w, h) = (binary.width as usize, binary.height as usize);
+    let skeleton = zhang_suen(&binary.ink, w, h);
     let half_width = distance_to_background(binary);
-    pixel_graph(binary.width, binary.height, &skeleton, &half_width)
+    pixel_graph(w, h, &skeleton, &half_width)
 }
 
 /// [`trace`], then terminal branches shorter than the stroke width at their junction removed
@@ -112,67 +115,6 @@ fn reverse(e: &mut Edge) {
     e.directions = tangents(&e.points);
 }
 
-/// Offsets of the 8 neighbours in the order P2..P9 of Zhang and Suen (N, NE, E, SE, S, SW, W, NW).
-const RING: [(i64, i64); 8] = [
-    (0, -1),
-    (1, -1),
-    (1, 0),
-    (1, 1),
-    (0, 1),
-    (-1, 1),
-    (-1, 0),
-    (-1, -1),
-];
-
-/// Zhang & Suen (1984), "A fast parallel algorithm for thinning digital patterns": two
-/// sub-iterations, each deleting in parallel the boundary pixels with 2-6 neighbours, one 0->1
-/// transition around them, and (south-east | north-west) boundary conditions, until stable.
-fn zhang_suen(binary: &Binary) -> Vec<bool> {
-    let (w, h) = (binary.width as i64, binary.height as i64);
-    let mut ink = binary.ink.clone();
-    let mut alive: Vec<usize> = (0..ink.len()).filter(|&i| ink[i]).collect();
-    let get = |ink: &[bool], x: i64, y: i64| {
-        x >= 0 && y >= 0 && x < w && y < h && ink[(y * w + x) as usize]
-    };
-    let mut marked = Vec::new();
-    loop {
-        let mut changed = false;
-        for step in 0..2 {
-            marked.clear();
-            for &i in &alive {
-                let (x, y) = ((i as i64) % w, (i as i64) / w);
-                let p: [bool; 8] = std::array::from_fn(|k| get(&ink, x + RING[k].0, y + RING[k].1));
-                let b = p.iter().filter(|&&v| v).count();
-                if !(2..=6).contains(&b) {
-                    continue;
-                }
-                let a = (0..8).filter(|&k| !p[k] && p[(k + 1) % 8]).count();
-                if a != 1 {
-                    continue;
-                }
-                // p[0] = P2 (N), p[2] = P4 (E), p[4] = P6 (S), p[6] = P8 (W). The first pass
-                // deletes unless P2.P4.P6 or P4.P6.P8 is set, the second unless P2.P4.P8 or P2.P6.P8.
-                let keep = if step == 0 {
-                    p[2] && p[4] && (p[0] || p[6])
-                } else {
-                    p[0] && p[6] && (p[2] || p[4])
-                };
-                if !keep {
-                    marked.push(i);
-                }
-            }
-            for &i in &marked {
-                ink[i] = false;
-            }
-            changed |= !marked.is_empty();
-            alive.retain(|&i| ink[i]);
-        }
-        if !changed {
-            return ink;
-        }
-    }
-}
-
 /// Euclidean distance from each pixel center to the nearest background pixel center (outside the
 /// image counts as background): Felzenszwalb & Huttenlocher's separable squared transform.
 pub fn distance_to_background(binary: &Binary) -> Vec<f64> {
@@ -239,180 +181,4 @@ fn lower_envelope(f: &[f64], out: &mut Vec<f64>) {
         let d = q as f64 - v[k] as f64;
         *o = d * d + f[v[k]];
     }
-}
-
-/// The graph of a one-pixel skeleton.
-fn pixel_graph(width: u32, height: u32, skeleton: &[bool], half_width: &[f64]) -> StrokeGraph {
-    let (w, h) = (width as i64, height as i64);
-    let on = |x: i64, y: i64| x >= 0 && y >= 0 && x < w && y < h && skeleton[(y * w + x) as usize];
-    let neighbours = |i: usize| {
-        let (x, y) = ((i as i64) % w, (i as i64) / w);
-        RING.iter()
-            .filter(move |&&(dx, dy)| on(x + dx, y + dy))
-            .map(move |&(dx, dy)| ((y + dy) * w + x + dx) as usize)
-    };
-    let center = |i: usize| [(i as i64 % w) as f64 + 0.5, (i as i64 / w) as f64 + 0.5];
-    // Stroke width at a pixel: 2 x distance to the background, less the pixel itself.
-    let width_at = |p: [f64; 2]| {
-        let (x, y) = (
-            (p[0].floor() as i64).clamp(0, w - 1),
-            (p[1].floor() as i64).clamp(0, h - 1),
-        );
-        (2.0 * half_width[(y * w + x) as usize] - 1.0).max(1.0)
-    };
-    let count: Vec<usize> = (0..skeleton.len())
-        .map(|i| {
-            if skeleton[i] {
-                neighbours(i).count()
-            } else {
-                0
-            }
-        })
-        .collect();
-
-    // Vertices: junction clusters, ends, isolated pixels.
-    const NONE: usize = usize::MAX;
-    let mut vertex_of = vec![NONE; skeleton.len()];
-    let mut vertices: Vec<Vertex> = Vec::new();
-    let mut stack = Vec::new();
-    for i in (0..skeleton.len()).filter(|&i| skeleton[i]) {
-        if vertex_of[i] != NONE || count[i] == 2 {
-            continue;
-        }
-        let id = vertices.len();
-        let mut sum = [0.0, 0.0];
-        let mut members = 0.0;
-        if count[i] > 2 {
-            stack.push(i);
-            vertex_of[i] = id;
-            while let Some(j) = stack.pop() {
-                let c = center(j);
-                sum = [sum[0] + c[0], sum[1] + c[1]];
-                members += 1.0;
-                for k in neighbours(j) {
-                    if count[k] > 2 && vertex_of[k] == NONE {
-                        vertex_of[k] = id;
-                        stack.push(k);
-                    }
-                }
-            }
-        } else {
-            vertex_of[i] = id;
-            sum = center(i);
-            members = 1.0;
-        }
-        let pos = [sum[0] / members, sum[1] / members];
-        vertices.push(Vertex {
-            pos,
-            degree: 0,
-            width: width_at(pos),
-        });
-    }
-
-    // Edges: walk from every vertex pixel along pixels with two neighbours.
-    let mut edges: Vec<Edge> = Vec::new();
-    let mut visited = vec![false; skeleton.len()];
-    let make_edge = |from: usize, to: usize, points: Vec<[f64; 2]>, edges: &mut Vec<Edge>| {
-        let widths = points.iter().map(|&p| width_at(p)).collect();
-        let directions = tangents(&points);
-        edges.push(Edge {
-            from,
-            to,
-            points,
-            widths,
-            directions,
-        });
-    };
-    for a in (0..skeleton.len()).filter(|&i| skeleton[i] && vertex_of[i] != NONE) {
-        let from = vertex_of[a];
-        for u in neighbours(a) {
-            if vertex_of[u] != NONE {
-                // Two vertex pixels side by side (an end next to a junction, a 2-pixel stroke).
-                if vertex_of[u] != from && a < u {
-                    let points = vec![vertices[from].pos, vertices[vertex_of[u]].pos];
-                    make_edge(from, vertex_of[u], points, &mut edges);
-                }
-                continue;
-            }
-            if visited[u] {
-                continue;
-            }
-            let mut points = vec![vertices[from].pos];
-            let (mut prev, mut cur) = (a, u);
-            let to = loop {
-                visited[cur] = true;
-                points.push(center(cur));
-                let next = neighbours(cur).find(|&k| k != prev);
-                match next {
-                    Some(k) if vertex_of[k] != NONE => break Some(vertex_of[k]),
-                    Some(k) if !visited[k] => {
-                        prev = cur;
-                        cur = k;
-                    }
-                    _ => break None,
-                }
-            };
-            let Some(to) = to else { continue };
-            // A pixel tucked into a junction cluster is not a loop.
-            if to == from && points.len() <= 3 {
-                continue;
-            }
-            points.push(vertices[to].pos);
-            make_edge(from, to, points, &mut edges);
-        }
-    }
-    // Cycles with no junction: a loop anchored at their first pixel.
-    for s in (0..skeleton.len()).filter(|&i| skeleton[i] && count[i] == 2) {
-        if visited[s] {
-            continue;
-        }
-        let id = vertices.len();
-        vertices.push(Vertex {
-            pos: center(s),
-            degree: 0,
-            width: width_at(center(s)),
-        });
-        let mut points = vec![center(s)];
-        visited[s] = true;
-        let (mut prev, mut cur) = (s, neighbours(s).next().unwrap_or(s));
-        while cur != s && !visited[cur] {
-            visited[cur] = true;
-            points.push(center(cur));
-            match neighbours(cur).find(|&k| k != prev) {
-                Some(k) => {
-                    prev = cur;
-                    cur = k;
-                }
-                None => break,
-            }
-        }
-        points.push(center(s));
-        make_edge(id, id, points, &mut edges);
-    }
-    for e in &edges {
-        vertices[e.from].degree += 1;
-        vertices[e.to].degree += 1;
-    }
-    StrokeGraph {
-        width,
-        height,
-        vertices,
-        edges,
-    }
-}
-
-fn tangents(points: &[[f64; 2]]) -> Vec<[f64; 2]> {
-    let n = points.len();
-    (0..n)
-        .map(|i| {
-            let (a, b) = (points[i.saturating_sub(1)], points[(i + 1).min(n - 1)]);
-            let d = [b[0] - a[0], b[1] - a[1]];
-            let len = d[0].hypot(d[1]);
-            if len > 0.0 {
-                [d[0] / len, d[1] / len]
-            } else {
-                [1.0, 0.0]
-            }
-        })
-        .collect()
 }

@@ -307,6 +307,8 @@ pub fn carry(method: &StrokeGraph, points: &PointSet) -> StrokeGraph {
             i => f64::from(points.half_width[i as usize]),
         })
         .collect();
+    let mut ink = ink;
+    fill_specks(&mut ink, w, h);
     let mut skeleton = zhang_suen(&ink, w, h);
     keep_every_component(&ink, &half, w, h, &mut skeleton);
     let mut s = pixel_graph(w, h, &skeleton, &half);
@@ -320,14 +322,46 @@ pub fn carry(method: &StrokeGraph, points: &PointSet) -> StrokeGraph {
         }
     }
     let mut work = Work::new(s);
-    work.merge_crossings(method);
-    work.prune_spurs(method);
-    work.dissolve_corners(method);
+    work.prune_spurs();
     work.join_degree_two();
+    work.merge_crossings(method);
+    work.prune_spurs();
+    // A dissolved corner lengthens its neighbours' legs (the corners of a small `w` share them):
+    // repeated until none is left.
+    while work.dissolve_corners() {
+        work.join_degree_two();
+    }
+    work.join_degree_two();
+    work.collapse_dots();
     work.straighten_junctions();
     let mut graph = work.finish(method.width, method.height);
     set_directions(&mut graph);
     graph
+}
+
+/// Background specks of at most 3 pixels enclosed by ink (a sharp meeting of two strokes or a
+/// rendering gap; the noise the dropout test counts, `mask::tiny_hole`) are not holes: filled,
+/// so the skeleton makes no cycle around them.
+fn fill_specks(ink: &mut [bool], w: usize, h: usize) {
+    if w < 3 || h < 3 {
+        return;
+    }
+    let mut specks = Vec::new();
+    for i in w..ink.len() - w {
+        if !ink[i] && ink[i - 1] && crate::mask::tiny_hole(ink, w, h, i).is_some() {
+            specks.push(i);
+        }
+    }
+    for start in specks {
+        let mut stack = vec![start];
+        while let Some(p) = stack.pop() {
+            if ink[p] {
+                continue;
+            }
+            ink[p] = true;
+            stack.extend([p - 1, p + 1, p - w, p + w]);
+        }
+    }
 }
 
 /// Zhang-Suen thinning erases some small blobs whole (a 2 x 2 block, a short 2-pixel-thick
@@ -506,13 +540,27 @@ impl Work {
         }
     }
 
+    /// The edges at each vertex (a loop listed once).
+    fn incidence(&self) -> Vec<Vec<usize>> {
+        let mut at = vec![Vec::new(); self.vertices.len()];
+        for (e, edge) in self.edges.iter().enumerate() {
+            let Some(edge) = edge else { continue };
+            at[edge.from].push(e);
+            if edge.to != edge.from {
+                at[edge.to].push(e);
+            }
+        }
+        at
+    }
+
     /// Spurs: terminal branches whose ink does not reach beyond their junction's disk by more
-    /// than `max(1.5 px, 0.4 x` the stroke width`)` are removed, unless the method has a stroke
-    /// end near their tip. (A sharp corner's branch reaches about `0.2 w`, a boundary bump about a
-    /// pixel; an arm half a width long or more is kept.)
-    fn prune_spurs(&mut self, method: &StrokeGraph) {
-        let degree = self.degrees();
-        let ends: Vec<[f64; 2]> = method.endpoints().map(|v| method.vertices[v].pos).collect();
+    /// than `max(1.5 px, 0.4 x` the stroke width`)` are removed, least reaching first, while
+    /// their junction keeps three edges (of the two stubs of a forked stroke end, the longer
+    /// one stays as the stroke's end). A sharp corner's branch reaches about `0.2 w`, a boundary
+    /// bump about a pixel; an arm half a width long or more is kept.
+    fn prune_spurs(&mut self) {
+        let mut degree = self.degrees();
+        let at = self.incidence();
         // The stroke width an arm leaves: the narrowest median width of the junction's other
         // edges (the width at the junction itself is inflated where strokes meet).
         let median = |widths: &[f64]| {
@@ -528,12 +576,13 @@ impl Work {
                 (d, 1) if d >= 3 => (edge.from, edge.to, true),
                 _ => continue,
             };
-            let stroke = self
-                .edges
-                .iter()
-                .enumerate()
-                .filter_map(|(o, other)| other.as_ref().filter(|_| o != e))
-                .filter(|other| other.from == junction || other.to == junction)
+            let others = || {
+                at[junction]
+                    .iter()
+                    .filter(move |&&o| o != e)
+                    .filter_map(|&o| self.edges[o].as_ref())
+            };
+            let stroke = others()
                 .map(|other| median(&other.widths))
                 .fold(f64::INFINITY, f64::min);
             let j = &self.vertices[junction];
@@ -546,13 +595,7 @@ impl Work {
             }
             // The envelope: the junction and its other edges' points within 3 stroke widths.
             let mut envelope = vec![(j.pos, j.width)];
-            for (o, other) in self.edges.iter().enumerate() {
-                let Some(other) = other.as_ref().filter(|_| o != e) else {
-                    continue;
-                };
-                if other.from != junction && other.to != junction {
-                    continue;
-                }
+            for other in others() {
                 envelope.extend(
                     other
                         .points
@@ -563,115 +606,170 @@ impl Work {
                 );
             }
             let reach = spur_reach(&points, &widths, &envelope);
-            if reach > (0.4 * stroke).max(1.5) {
-                continue;
+            if reach <= (0.4 * stroke).max(1.5) {
+                spurs.push((reach, e, junction, tip));
             }
-            let tip_pos = self.vertices[tip].pos;
-            if ends.iter().any(|&p| dist(p, tip_pos) <= stroke.max(3.0)) {
-                continue;
-            }
-            spurs.push((e, tip));
         }
-        for (e, tip) in spurs {
+        spurs.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+        for (_, e, junction, tip) in spurs {
+            if degree[junction] < 3 {
+                continue;
+            }
+            degree[junction] -= 1;
+            degree[tip] -= 1;
             self.edges[e] = None;
             self.alive[tip] = false;
         }
     }
 
-    /// Corners: thinning turns a sharp bend into a Y, the two legs meeting above the corner and
-    /// a stub running on into the corner's tip. Where the method sees no junction, a degree-3
-    /// skeleton junction whose other two edges leave at less than 120 degrees to each other and
-    /// whose terminal stub, shorter than 3 stroke widths, points away from both is that corner:
-    /// the stub is dropped and the junction becomes the bend.
-    fn dissolve_corners(&mut self, method: &StrokeGraph) {
-        let junctions: Vec<&Vertex> = method.vertices.iter().filter(|v| v.degree >= 3).collect();
-        let chord = |edge: &Edge, from_vertex: usize, length: f64| -> [f64; 2] {
-            let forward = edge.from == from_vertex;
-            let start = if forward {
-                edge.points[0]
-            } else {
-                edge.points[edge.points.len() - 1]
-            };
-            let along: Box<dyn Iterator<Item = &[f64; 2]>> = if forward {
-                Box::new(edge.points.iter())
-            } else {
-                Box::new(edge.points.iter().rev())
-            };
-            let mut end = start;
-            for &p in along {
-                end = p;
-                if dist(p, start) >= length {
-                    break;
-                }
-            }
-            let d = [end[0] - start[0], end[1] - start[1]];
-            let n = d[0].hypot(d[1]).max(1e-9);
-            [d[0] / n, d[1] / n]
+    /// Corners: thinning turns a sharp bend into a Y, the two legs bending together above the
+    /// corner and a stub running on into the corner's tip. A degree-3 skeleton junction with one
+    /// terminal stub is such a corner when its two legs, followed straight beyond where they
+    /// bend, meet under less than 120 degrees at a point `v` on the stub, and the stub's ink ends
+    /// within the stroke's half-width (plus the spur margin of [`Self::prune_spurs`]) of `v`: no
+    /// ink reaches beyond the corner the two legs make by themselves. Then the stub and the
+    /// junction go, and both legs run straight to `v`, the bend.
+    fn dissolve_corners(&mut self) -> bool {
+        let mut changed = false;
+        let at = self.incidence();
+        let degree = self.degrees();
+        let median = |widths: &[f64]| {
+            let mut sorted = widths.to_vec();
+            sorted.sort_by(f64::total_cmp);
+            sorted.get(sorted.len() / 2).copied().unwrap_or(1.0)
         };
-        loop {
-            let degree = self.degrees();
-            let mut found = None;
-            for v in (0..self.vertices.len()).filter(|&v| self.alive[v] && degree[v] == 3) {
-                let incident: Vec<usize> = (0..self.edges.len())
-                    .filter(|&e| {
-                        self.edges[e]
-                            .as_ref()
-                            .is_some_and(|x| (x.from == v) != (x.to == v))
-                    })
-                    .collect();
-                if incident.len() != 3 {
-                    continue;
+        for j in 0..self.vertices.len() {
+            if !self.alive[j] || degree[j] != 3 || at[j].len() != 3 {
+                continue;
+            }
+            let far = |e: usize| {
+                self.edges[e]
+                    .as_ref()
+                    .map(|x| if x.from == j { x.to } else { x.from })
+            };
+            if at[j].iter().any(|&e| far(e).is_none_or(|f| f == j)) {
+                continue;
+            }
+            // The stub: the shortest terminal edge (a leg may end too, at the stroke's end).
+            let Some(stub) = at[j]
+                .iter()
+                .copied()
+                .filter(|&e| far(e).is_some_and(|f| degree[f] == 1))
+                .min_by_key(|&e| (self.edges[e].as_ref().map_or(0, |x| x.points.len()), e))
+            else {
+                continue;
+            };
+            let legs: Vec<usize> = at[j].iter().copied().filter(|&e| e != stub).collect();
+            // Every edge's points listed from the junction outwards.
+            let outwards = |e: usize| -> Vec<[f64; 2]> {
+                let edge = self.edges[e].as_ref().expect("live edge");
+                let mut points = edge.points.clone();
+                if edge.from != j {
+                    points.reverse();
                 }
-                let far_end = |e: usize| {
-                    let edge = self.edges[e]
-                        .as_ref()
-                        .map(|x| if x.from == v { x.to } else { x.from });
-                    edge.unwrap_or(v)
-                };
-                let stubs: Vec<usize> = incident
+                points
+            };
+            let stub_points = outwards(stub);
+            let (jp, tip) = (self.vertices[j].pos, stub_points[stub_points.len() - 1]);
+            let stroke = legs
+                .iter()
+                .filter_map(|&e| self.edges[e].as_ref())
+                .map(|e| median(&e.widths))
+                .fold(f64::INFINITY, f64::min);
+            let half = (stroke + 1.0) / 2.0;
+            let reach = dist(jp, tip);
+            // Each leg's line: through its points at `reach` and `reach + 2 w` from the junction
+            // (where it no longer bends towards the other leg), pointing towards the corner.
+            let line = |points: &[[f64; 2]]| -> Option<([f64; 2], [f64; 2], usize)> {
+                let near = points.iter().position(|&p| dist(p, jp) >= reach)?;
+                let far = points
                     .iter()
-                    .copied()
-                    .filter(|&e| degree[far_end(e)] == 1)
-                    .collect();
-                let [stub] = stubs[..] else { continue };
-                let legs: Vec<usize> = incident.iter().copied().filter(|&e| e != stub).collect();
-                let (Some(stub_edge), Some(a), Some(b)) = (
-                    self.edges[stub].as_ref(),
-                    self.edges[legs[0]].as_ref(),
-                    self.edges[legs[1]].as_ref(),
-                ) else {
-                    continue;
-                };
-                let mut widths: Vec<f64> = a.widths.iter().chain(&b.widths).copied().collect();
-                widths.sort_by(f64::total_cmp);
-                let stroke = widths[widths.len() / 2];
-                let pos = self.vertices[v].pos;
-                if junctions
-                    .iter()
-                    .any(|j| dist(j.pos, pos) <= 2.0 * stroke.max(2.0))
-                {
-                    continue;
+                    .position(|&p| dist(p, jp) >= reach + 2.0 * stroke)
+                    .unwrap_or(points.len() - 1);
+                let (a, b) = (points[near], points[far]);
+                let d = [a[0] - b[0], a[1] - b[1]];
+                let n = d[0].hypot(d[1]);
+                (n >= 1.0).then(|| (a, [d[0] / n, d[1] / n], near))
+            };
+            let (leg_a, leg_b) = (outwards(legs[0]), outwards(legs[1]));
+            let (Some((a, ua, cut_a)), Some((b, ub, cut_b))) = (line(&leg_a), line(&leg_b)) else {
+                continue;
+            };
+            // The legs leave the corner at less than 120 degrees: -ua . -ub > cos 120.
+            let cross = ua[0] * ub[1] - ua[1] * ub[0];
+            if ua[0] * ub[0] + ua[1] * ub[1] <= (120f64).to_radians().cos() || cross.abs() < 1e-6 {
+                continue;
+            }
+            // a + s ua = b + t ub.
+            let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
+            let (s, t) = (
+                (dx * ub[1] - dy * ub[0]) / cross,
+                (dx * ua[1] - dy * ua[0]) / cross,
+            );
+            if s < 0.0 || t < 0.0 {
+                continue;
+            }
+            let v = [a[0] + s * ua[0], a[1] + s * ua[1]];
+            let margin = (0.4 * stroke).max(1.5);
+            let on_stub = stub_points
+                .iter()
+                .map(|&p| dist(p, v))
+                .fold(f64::INFINITY, f64::min)
+                <= half + margin;
+            if !on_stub || dist(v, tip) > half + margin {
+                continue;
+            }
+            // Where the legs' lines meet beyond the stub's tip, the bend is the tip (on the ink).
+            let v = if dist(jp, v) > reach { tip } else { v };
+            let tip_vertex = far(stub);
+            for (e, cut) in [(legs[0], cut_a), (legs[1], cut_b)] {
+                let edge = self.edges[e].as_mut().expect("live edge");
+                let forward = edge.from == j;
+                if !forward {
+                    edge.points.reverse();
+                    edge.widths.reverse();
                 }
-                let tip = self.vertices[far_end(stub)].pos;
-                if dist(tip, pos) >= 3.0 * stroke {
-                    continue;
-                }
-                let (da, db) = (chord(a, v, 2.0 * stroke), chord(b, v, 2.0 * stroke));
-                let ds = chord(stub_edge, v, 2.0 * stroke);
-                let dot = |p: [f64; 2], q: [f64; 2]| p[0] * q[0] + p[1] * q[1];
-                let legs_angle_small = dot(da, db) > (120f64).to_radians().cos();
-                if legs_angle_small && dot(ds, da) < 0.0 && dot(ds, db) < 0.0 {
-                    found = Some((stub, far_end(stub)));
-                    break;
+                edge.points.drain(..cut);
+                edge.widths.drain(..cut);
+                edge.points.insert(0, v);
+                edge.widths.insert(0, stroke);
+                if !forward {
+                    edge.points.reverse();
+                    edge.widths.reverse();
                 }
             }
-            let Some((stub, tip)) = found else {
-                return;
-            };
-            // The stub is dropped and the junction becomes the bend: giving both legs the stub
-            // would draw it twice.
+            if let Some(tip_vertex) = tip_vertex {
+                self.alive[tip_vertex] = false;
+            }
             self.edges[stub] = None;
-            self.alive[tip] = false;
+            self.vertices[j].pos = v;
+            self.vertices[j].width = stroke;
+            changed = true;
+        }
+        changed
+    }
+
+    /// A blob of ink no longer than it is wide (the dot of an `i`, a full stop) thins to a short
+    /// segment between two ends: it is a dot, one vertex of degree 0 at the segment's middle.
+    fn collapse_dots(&mut self) {
+        let degree = self.degrees();
+        for e in 0..self.edges.len() {
+            let Some(edge) = &self.edges[e] else { continue };
+            if edge.from == edge.to || degree[edge.from] != 1 || degree[edge.to] != 1 {
+                continue;
+            }
+            let length: f64 = edge.points.windows(2).map(|p| dist(p[0], p[1])).sum();
+            let width = edge.widths.iter().copied().fold(1.0f64, f64::max);
+            if length > width {
+                continue;
+            }
+            let (a, b) = (edge.points[0], edge.points[edge.points.len() - 1]);
+            let (keep, gone) = (edge.from, edge.to);
+            self.vertices[keep].pos = [(a[0] + b[0]) / 2.0, (a[1] + b[1]) / 2.0];
+            self.vertices[keep].width = width;
+            self.dot[keep] = true;
+            self.alive[gone] = false;
+            self.edges[e] = None;
         }
     }
 

@@ -26,7 +26,12 @@ pub fn write(
 ) -> anyhow::Result<()> {
     std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
     let b = &case.binary;
-    let scale = if b.width.max(b.height) <= 500 { 2 } else { 1 };
+    // QUALITY_PICTURE_SCALE=N magnifies the panels N times (to look at single pixels).
+    let scale = std::env::var("QUALITY_PICTURE_SCALE")
+        .ok()
+        .and_then(|s| s.parse::<u32>().ok())
+        .filter(|&s| (1..=16).contains(&s))
+        .unwrap_or(if b.width.max(b.height) <= 500 { 2 } else { 1 });
     let (pw, ph) = (b.width * scale, b.height * scale);
     let panels = 1 + methods.len() as u32;
     let gap = 4;

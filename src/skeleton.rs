@@ -17,8 +17,10 @@
 //! pixels, measured worse at 1 px tolerance). Point lists and
 //! dropout mode (broken strokes, whose skeleton is not the stroke's) keep the method's graph.
 
+use kiddo::{ImmutableKdTree, SquaredEuclidean};
+
 use crate::point_set::{Grid, PointSet};
-use crate::{dist, Edge, StrokeGraph, Vertex};
+use crate::{dist, segment_dist, Edge, StrokeGraph, Vertex};
 
 /// Offsets of the 8 neighbours in the order P2..P9 of Zhang and Suen (N, NE, E, SE, S, SW, W, NW).
 const RING: [(i64, i64); 8] = [
@@ -77,6 +79,60 @@ pub fn zhang_suen(ink: &[bool], width: usize, height: usize) -> Vec<bool> {
         if !changed {
             return ink;
         }
+    }
+}
+
+/// Zhang-Suen can leave runs two pixels thick (a 45 degree staircase, an L-shaped step) whose
+/// pixels all have three or more skeleton neighbours, so the graph would make one junction of the
+/// whole run. Removes, in raster order until none is left, every skeleton pixel with at least two
+/// skeleton neighbours that is simple: its removal changes neither the skeleton's
+/// 8-connectivity nor its holes (Yokoi's 8-connectivity number is 1). Ends, the middle pixels of
+/// one-pixel lines and the centers of real junctions are not simple.
+pub fn one_pixel_thick(skeleton: &mut [bool], width: usize, height: usize) {
+    let (w, h) = (width as i64, height as i64);
+    let on =
+        |s: &[bool], x: i64, y: i64| x >= 0 && y >= 0 && x < w && y < h && s[(y * w + x) as usize];
+    // Neighbours counter-clockwise from east: E, NE, N, NW, W, SW, S, SE.
+    const AROUND: [(i64, i64); 8] = [
+        (1, 0),
+        (1, -1),
+        (0, -1),
+        (-1, -1),
+        (-1, 0),
+        (-1, 1),
+        (0, 1),
+        (1, 1),
+    ];
+    let mut candidates: Vec<usize> = (0..skeleton.len()).filter(|&i| skeleton[i]).collect();
+    loop {
+        let mut changed = false;
+        for &i in &candidates {
+            if !skeleton[i] {
+                continue;
+            }
+            let (x, y) = ((i as i64) % w, (i as i64) / w);
+            let n: [bool; 8] =
+                std::array::from_fn(|k| on(skeleton, x + AROUND[k].0, y + AROUND[k].1));
+            if n.iter().filter(|&&v| v).count() < 2 {
+                continue;
+            }
+            // Yokoi: C8 = sum over k in {0, 2, 4, 6} of x'k - x'k x'k+1 x'k+2, x' = not x.
+            let c8: i32 = (0..4)
+                .map(|j| {
+                    let k = 2 * j;
+                    let (a, b, c) = (!n[k], !n[k + 1], !n[(k + 2) % 8]);
+                    i32::from(a) - i32::from(a && b && c)
+                })
+                .sum();
+            if c8 == 1 {
+                skeleton[i] = false;
+                changed = true;
+            }
+        }
+        if !changed {
+            return;
+        }
+        candidates.retain(|&i| skeleton[i]);
     }
 }
 
@@ -310,6 +366,7 @@ pub fn carry(method: &StrokeGraph, points: &PointSet) -> StrokeGraph {
     let mut ink = ink;
     fill_specks(&mut ink, w, h);
     let mut skeleton = zhang_suen(&ink, w, h);
+    one_pixel_thick(&mut skeleton, w, h);
     keep_every_component(&ink, &half, w, h, &mut skeleton);
     let mut s = pixel_graph(w, h, &skeleton, &half);
     let (x0, y0) = (grid.x0 as f64, grid.y0 as f64);
@@ -321,9 +378,16 @@ pub fn carry(method: &StrokeGraph, points: &PointSet) -> StrokeGraph {
             *p = [p[0] + x0, p[1] + y0];
         }
     }
-    let mut work = Work::new(s);
+    let ink = Ink {
+        mask: ink,
+        width: w,
+        height: h,
+        origin: [x0, y0],
+    };
+    let mut work = Work::new(s, ink);
     work.prune_spurs();
     work.join_degree_two();
+    work.contract_short_links();
     work.merge_crossings(method);
     work.prune_spurs();
     // A dissolved corner lengthens its neighbours' legs (the corners of a small `w` share them):
@@ -334,9 +398,8 @@ pub fn carry(method: &StrokeGraph, points: &PointSet) -> StrokeGraph {
     work.join_degree_two();
     work.collapse_dots();
     work.straighten_junctions();
-    let mut graph = work.finish(method.width, method.height);
-    set_directions(&mut graph);
-    graph
+    work.adopt_method_geometry(method);
+    work.finish(method.width, method.height)
 }
 
 /// Background specks of at most 3 pixels enclosed by ink (a sharp meeting of two strokes or a
@@ -405,8 +468,42 @@ fn keep_every_component(ink: &[bool], half: &[f64], w: usize, h: usize, skeleton
     }
 }
 
+/// An ink mask over a window of the image.
+struct Ink {
+    mask: Vec<bool>,
+    width: usize,
+    height: usize,
+    /// The image coordinates of the window's corner.
+    origin: [f64; 2],
+}
+
+impl Ink {
+    fn at(&self, p: [f64; 2]) -> bool {
+        let (x, y) = (
+            (p[0] - self.origin[0]).floor(),
+            (p[1] - self.origin[1]).floor(),
+        );
+        x >= 0.0
+            && y >= 0.0
+            && (x as usize) < self.width
+            && (y as usize) < self.height
+            && self.mask[y as usize * self.width + x as usize]
+    }
+
+    /// Whether the segment `a`-`b` lies on the ink, sampled every half pixel.
+    fn holds(&self, a: [f64; 2], b: [f64; 2]) -> bool {
+        let n = (dist(a, b) * 2.0).ceil().max(1.0) as usize;
+        (0..=n).all(|i| {
+            let t = i as f64 / n as f64;
+            self.at([a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1])])
+        })
+    }
+}
+
 /// The skeleton graph being edited: removed edges are `None`, removed vertices `alive == false`.
 struct Work {
+    /// The ink the skeleton was thinned from, to keep every straightened line on it.
+    ink: Ink,
     vertices: Vec<Vertex>,
     alive: Vec<bool>,
     /// Vertices that were dots (no edge) from the start: kept with degree 0.
@@ -415,14 +512,23 @@ struct Work {
 }
 
 impl Work {
-    fn new(graph: StrokeGraph) -> Work {
+    fn new(graph: StrokeGraph, ink: Ink) -> Work {
         let n = graph.vertices.len();
         let dot = graph.vertices.iter().map(|v| v.degree == 0).collect();
         Work {
+            ink,
             vertices: graph.vertices,
             alive: vec![true; n],
             dot,
-            edges: graph.edges.into_iter().map(Some).collect(),
+            // Tangents are written by `finish`, once the polylines are final.
+            edges: graph
+                .edges
+                .into_iter()
+                .map(|mut e| {
+                    e.directions.clear();
+                    Some(e)
+                })
+                .collect(),
         }
     }
 
@@ -436,107 +542,205 @@ impl Work {
     }
 
     /// Crossings: around each of the method's vertices of degree >= 4, the skeleton junctions
-    /// nearer to it than to any other of the method's junctions (and within 4 of its widths), joined by skeleton edges among themselves that form a tree (no
-    /// hole inside) and leaving by exactly as many arms as the crossing has, become one vertex at
-    /// the crossing; each arm is cut where it leaves the merged junctions' reach and joined
-    /// straight to it.
+    /// nearer to it than to any other of the method's junctions and within 4 of its widths,
+    /// linked by short skeleton edges (at most that radius) that form a tree (no hole among
+    /// them), and leaving by exactly as many arms as the crossing has, become one vertex at the
+    /// crossing. A long edge between two of them (the loop of an `8` closing on its waist)
+    /// becomes a loop at the crossing. Each arm is cut where it leaves the merged junctions'
+    /// reach and joined straight to the crossing.
     fn merge_crossings(&mut self, method: &StrokeGraph) {
-        let mut claimed = vec![false; self.vertices.len()];
-        let junctions: Vec<[f64; 2]> = method
-            .vertices
-            .iter()
-            .filter(|v| v.degree >= 3)
-            .map(|v| v.pos)
-            .collect();
-        // The method's junction nearest to a point: every skeleton junction belongs to one.
-        let nearest_junction = |p: [f64; 2]| {
-            junctions
-                .iter()
-                .copied()
-                .min_by(|a, b| dist(*a, p).total_cmp(&dist(*b, p)))
+        let junctions: Vec<&Vertex> = method.vertices.iter().filter(|v| v.degree >= 3).collect();
+        if !junctions.iter().any(|v| v.degree >= 4) {
+            return;
+        }
+        let positions: Vec<[f64; 2]> = junctions.iter().map(|v| v.pos).collect();
+        let Ok(tree) = ImmutableKdTree::<f64, 2>::new_from_slice(&positions) else {
+            return;
         };
-        for v in method.vertices.iter().filter(|v| v.degree >= 4) {
-            let degree = self.degrees();
+        let mut degree = self.degrees();
+        let mut at = self.incidence();
+        // The skeleton junctions each crossing owns (its nearest method junction is the crossing).
+        let mut owned: Vec<Vec<usize>> = vec![Vec::new(); junctions.len()];
+        for i in (0..self.vertices.len()).filter(|&i| self.alive[i] && degree[i] >= 3) {
+            let nearest = tree
+                .query(&self.vertices[i].pos)
+                .nearest_one::<SquaredEuclidean<f64>>()
+                .execute();
+            let owner = nearest.item as usize;
+            let c = junctions[owner];
             // The Y's of an acute crossing lie about (w / 2) / sin(theta / 2) from it, 3.8 w at
-            // 15 degrees: search within 4 widths, among the skeleton junctions whose nearest
-            // method junction is this one.
-            let radius = 4.0 * v.width.max(2.0);
-            let near: Vec<usize> = (0..self.vertices.len())
-                .filter(|&i| self.alive[i] && !claimed[i] && degree[i] >= 3)
-                .filter(|&i| dist(self.vertices[i].pos, v.pos) <= radius)
-                .filter(|&i| nearest_junction(self.vertices[i].pos) == Some(v.pos))
-                .collect();
+            // 15 degrees: 4 widths.
+            if c.degree >= 4 && dist(self.vertices[i].pos, c.pos) <= 4.0 * c.width.max(2.0) {
+                owned[owner].push(i);
+            }
+        }
+        let mut mark = vec![usize::MAX; self.vertices.len()];
+        let length =
+            |edge: &Edge| -> f64 { edge.points.windows(2).map(|p| dist(p[0], p[1])).sum() };
+        for (owner, near) in owned.iter().enumerate() {
             if near.len() < 2 {
                 continue;
             }
-            // The connected group of `near` (through edges between members) nearest the crossing.
+            let c = junctions[owner];
+            let radius = 4.0 * c.width.max(2.0);
+            for &i in near {
+                mark[i] = owner;
+            }
             let Some(&seed) = near.iter().min_by(|&&a, &&b| {
-                dist(self.vertices[a].pos, v.pos).total_cmp(&dist(self.vertices[b].pos, v.pos))
+                dist(self.vertices[a].pos, c.pos)
+                    .total_cmp(&dist(self.vertices[b].pos, c.pos))
+                    .then(a.cmp(&b))
             }) else {
                 continue;
             };
+            // The skeleton junctions linked to the one nearest the crossing by edges among them
+            // (at most 2 radii long: two junctions within the radius), and the links.
             let mut group = vec![seed];
-            let mut internal = Vec::new();
-            let mut grew = true;
-            while grew {
-                grew = false;
-                for (e, edge) in self.edges.iter().enumerate() {
-                    let Some(edge) = edge else { continue };
-                    if internal.contains(&e) {
+            let mut links: Vec<usize> = Vec::new();
+            let mut next = 0;
+            while next < group.len() {
+                let g = group[next];
+                next += 1;
+                for &e in &at[g] {
+                    let Some(edge) = &self.edges[e] else { continue };
+                    let other = if edge.from == g { edge.to } else { edge.from };
+                    if other == g || mark[other] != owner || length(edge) > 2.0 * radius {
                         continue;
                     }
-                    let (a, b) = (edge.from, edge.to);
-                    let (in_a, in_b) = (group.contains(&a), group.contains(&b));
-                    if (in_a || in_b) && near.contains(&a) && near.contains(&b) {
-                        internal.push(e);
-                        if !in_a {
-                            group.push(a);
-                        }
-                        if !in_b {
-                            group.push(b);
-                        }
-                        grew = true;
+                    if !links.contains(&e) {
+                        links.push(e);
+                    }
+                    if !group.contains(&other) {
+                        group.push(other);
                     }
                 }
             }
-            // A cycle among the group would be a hole in the ink: never merged away.
-            if group.len() < 2 || internal.len() != group.len() - 1 {
+            for &i in near {
+                mark[i] = usize::MAX;
+            }
+            if group.len() < 2 {
+                continue;
+            }
+            // The shortest links that join the group (Kruskal) are merged away. A link that
+            // would close a cycle goes round a hole among the junctions (a cell of a grid): then
+            // they are not one crossing. (A longer edge between two of them, the loop of an `8`,
+            // is no link and stays, as a loop at the crossing.)
+            links.sort_by(|&a, &b| {
+                let (la, lb) = (
+                    self.edges[a].as_ref().map_or(0.0, length),
+                    self.edges[b].as_ref().map_or(0.0, length),
+                );
+                la.total_cmp(&lb).then(a.cmp(&b))
+            });
+            let mut root: Vec<usize> = (0..group.len()).collect();
+            fn find(root: &mut [usize], mut i: usize) -> usize {
+                while root[i] != i {
+                    root[i] = root[root[i]];
+                    i = root[i];
+                }
+                i
+            }
+            let slot = |v: usize| group.iter().position(|&g| g == v).unwrap_or(0);
+            let mut internal = Vec::new();
+            for &e in &links {
+                let Some(edge) = &self.edges[e] else { continue };
+                let (ra, rb) = (
+                    find(&mut root, slot(edge.from)),
+                    find(&mut root, slot(edge.to)),
+                );
+                if ra != rb {
+                    root[ra] = rb;
+                    internal.push(e);
+                }
+            }
+            if internal.len() != links.len() {
                 continue;
             }
             let arms: usize = group.iter().map(|&i| degree[i]).sum::<usize>() - 2 * internal.len();
-            if arms != v.degree {
+            if arms != c.degree {
                 continue;
             }
-            let reach = group
+            // The arms bend towards the skeleton's Y's within about half a width of them: they
+            // are cut beyond that and run straight to the crossing, or just beyond the Y's
+            // where that line would leave the ink; where both would, this is no crossing.
+            let spread = group
                 .iter()
-                .map(|&i| dist(self.vertices[i].pos, v.pos))
+                .map(|&i| dist(self.vertices[i].pos, c.pos))
                 .fold(0.0f64, f64::max);
+            let arms_hold = |reach: f64| {
+                group.iter().all(|&i| {
+                    at[i].iter().all(|&e| {
+                        let Some(edge) = self.edges[e].as_ref() else {
+                            return true;
+                        };
+                        if internal.contains(&e) {
+                            return true;
+                        }
+                        let ends = [edge.from == i, edge.to == i];
+                        ends.iter().enumerate().all(|(end, &here)| {
+                            if !here {
+                                return true;
+                            }
+                            let cut = if end == 0 {
+                                edge.points.iter().find(|&&p| dist(p, c.pos) > reach)
+                            } else {
+                                edge.points.iter().rev().find(|&&p| dist(p, c.pos) > reach)
+                            };
+                            let cut = cut.copied().unwrap_or(if end == 0 {
+                                edge.points[edge.points.len() - 1]
+                            } else {
+                                edge.points[0]
+                            });
+                            self.ink.holds(c.pos, cut)
+                        })
+                    })
+                })
+            };
+            let Some(reach) = [spread + 0.5 * c.width, spread]
+                .into_iter()
+                .find(|&r| arms_hold(r))
+            else {
+                continue;
+            };
             for &e in &internal {
                 self.edges[e] = None;
             }
             let hub = group[0];
-            self.vertices[hub].pos = v.pos;
-            self.vertices[hub].width = v.width;
+            self.vertices[hub].pos = c.pos;
+            self.vertices[hub].width = c.width;
+            let mut hub_edges = Vec::new();
             for &i in &group {
-                claimed[i] = true;
                 if i != hub {
                     self.alive[i] = false;
                 }
-            }
-            for edge in self.edges.iter_mut().flatten() {
-                for end in 0..2 {
-                    let at = if end == 0 { edge.from } else { edge.to };
-                    if !group.contains(&at) {
+                for &e in &at[i] {
+                    let Some(edge) = self.edges[e].as_mut() else {
+                        continue;
+                    };
+                    if hub_edges.contains(&e) {
                         continue;
                     }
-                    if end == 0 {
-                        edge.from = hub;
-                    } else {
-                        edge.to = hub;
+                    hub_edges.push(e);
+                    for end in 0..2 {
+                        let at_end = if end == 0 { edge.from } else { edge.to };
+                        if !group.contains(&at_end) {
+                            continue;
+                        }
+                        if end == 0 {
+                            edge.from = hub;
+                        } else {
+                            edge.to = hub;
+                        }
+                        cut_arm(edge, end == 0, c.pos, reach);
                     }
-                    cut_arm(edge, end == 0, v.pos, reach);
+                }
+                if i != hub {
+                    at[i].clear();
+                    degree[i] = 0;
                 }
             }
+            degree[hub] = arms;
+            at[hub] = hub_edges;
         }
     }
 
@@ -749,6 +953,73 @@ impl Work {
         changed
     }
 
+    /// Two skeleton junctions closer than the ink can show apart (a link of at most
+    /// `max(3 px, w / 2)`, `w` its median width): thinning splits a crossing of thin strokes
+    /// into two Y's a pixel or two apart. The link is contracted to its middle; a second edge
+    /// between the two becomes a loop, so no cycle is lost.
+    fn contract_short_links(&mut self) {
+        let mut degree = self.degrees();
+        let mut at = self.incidence();
+        let median = |widths: &[f64]| {
+            let mut sorted = widths.to_vec();
+            sorted.sort_by(f64::total_cmp);
+            sorted.get(sorted.len() / 2).copied().unwrap_or(1.0)
+        };
+        for e in 0..self.edges.len() {
+            let Some(edge) = &self.edges[e] else { continue };
+            let (a, b) = (edge.from, edge.to);
+            if a == b || degree[a] < 3 || degree[b] < 3 {
+                continue;
+            }
+            let length: f64 = edge.points.windows(2).map(|p| dist(p[0], p[1])).sum();
+            if length > (0.5 * median(&edge.widths)).max(3.0) {
+                continue;
+            }
+            let middle = {
+                let (p, q) = (self.vertices[a].pos, self.vertices[b].pos);
+                [(p[0] + q[0]) / 2.0, (p[1] + q[1]) / 2.0]
+            };
+            self.edges[e] = None;
+            let moved: Vec<usize> = at[b].clone();
+            for &o in &moved {
+                let Some(other) = self.edges[o].as_mut() else {
+                    continue;
+                };
+                if other.from == b {
+                    other.from = a;
+                }
+                if other.to == b {
+                    other.to = a;
+                }
+            }
+            for &o in at[a].iter().chain(&moved) {
+                let Some(other) = self.edges[o].as_mut() else {
+                    continue;
+                };
+                if other.from == a {
+                    other.points[0] = middle;
+                }
+                if other.to == a {
+                    let last = other.points.len() - 1;
+                    other.points[last] = middle;
+                }
+            }
+            let width = self.vertices[a].width.max(self.vertices[b].width);
+            self.vertices[a].pos = middle;
+            self.vertices[a].width = width;
+            self.alive[b] = false;
+            degree[a] = degree[a] + degree[b] - 2;
+            degree[b] = 0;
+            let mut joined = std::mem::take(&mut at[a]);
+            joined.extend(moved);
+            joined.retain(|&o| o != e);
+            joined.sort_unstable();
+            joined.dedup();
+            at[a] = joined;
+            at[b].clear();
+        }
+    }
+
     /// A blob of ink no longer than it is wide (the dot of an `i`, a full stop) thins to a short
     /// segment between two ends: it is a dot, one vertex of degree 0 at the segment's middle.
     fn collapse_dots(&mut self) {
@@ -837,6 +1108,189 @@ impl Work {
         }
     }
 
+    /// Geometry where the method is right (§3.4's fitted polylines, smooth and centred below
+    /// a pixel): a skeleton vertex is matched to the nearest of the method's vertices of the
+    /// same kind (an end to an end, a junction to a junction of the same degree) within
+    /// `max(2 px, w)`, and a skeleton edge between two matched vertices takes the polyline of
+    /// the method's edge between their partners when the two lie within `max(1.5 px, w / 2)`
+    /// of each other everywhere (so the method's line keeps to this stroke's ink). The
+    /// skeleton keeps its own paths wherever the method's graph differs: chords, fused
+    /// junctions, lost arms and loops (docs/quality.md, "Fidelity directions").
+    fn adopt_method_geometry(&mut self, method: &StrokeGraph) {
+        if method.vertices.is_empty() {
+            return;
+        }
+        let positions: Vec<[f64; 2]> = method.vertices.iter().map(|v| v.pos).collect();
+        let Ok(tree) = ImmutableKdTree::<f64, 2>::new_from_slice(&positions) else {
+            return;
+        };
+        let mut method_at = vec![Vec::new(); method.vertices.len()];
+        for (f, edge) in method.edges.iter().enumerate() {
+            method_at[edge.from].push(f);
+            if edge.to != edge.from {
+                method_at[edge.to].push(f);
+            }
+        }
+        let degree = self.degrees();
+        let at = self.incidence();
+        let median = |widths: &[f64]| {
+            let mut sorted = widths.to_vec();
+            sorted.sort_by(f64::total_cmp);
+            sorted.get(sorted.len() / 2).copied().unwrap_or(1.0)
+        };
+        // The stroke width at a vertex: the widest median of its edges.
+        let stroke_at = |v: usize| {
+            at[v]
+                .iter()
+                .filter_map(|&e| self.edges[e].as_ref())
+                .map(|e| median(&e.widths))
+                .fold(1.0f64, f64::max)
+        };
+        let mut partner = vec![usize::MAX; self.vertices.len()];
+        let mut taken = vec![false; method.vertices.len()];
+        let mut order: Vec<(f64, usize, usize)> = Vec::new();
+        for v in (0..self.vertices.len()).filter(|&v| self.alive[v] && degree[v] != 2) {
+            if degree[v] == 0 {
+                continue;
+            }
+            let reach = stroke_at(v).max(2.0);
+            let pos = self.vertices[v].pos;
+            for found in tree
+                .query(&pos)
+                .within::<SquaredEuclidean<f64>>(reach * reach)
+                .execute()
+            {
+                let m = found.item as usize;
+                let dm = method.vertices[m].degree;
+                if (degree[v] == 1 && dm == 1) || (degree[v] >= 3 && dm == degree[v]) {
+                    order.push((found.distance, v, m));
+                }
+            }
+        }
+        // Nearest pairs first, each vertex matched once.
+        order.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)).then(a.2.cmp(&b.2)));
+        for (_, v, m) in order {
+            if partner[v] == usize::MAX && !taken[m] {
+                partner[v] = m;
+                taken[m] = true;
+            }
+        }
+        let mut used = vec![false; method.edges.len()];
+        let mut moved = vec![false; self.vertices.len()];
+        let bbox = |points: &[[f64; 2]]| {
+            points.iter().fold(
+                [
+                    f64::INFINITY,
+                    f64::INFINITY,
+                    f64::NEG_INFINITY,
+                    f64::NEG_INFINITY,
+                ],
+                |b, p| {
+                    [
+                        b[0].min(p[0]),
+                        b[1].min(p[1]),
+                        b[2].max(p[0]),
+                        b[3].max(p[1]),
+                    ]
+                },
+            )
+        };
+        // The method's closed curves without a junction (a ring, a closed ridge).
+        let method_rings: Vec<(usize, [f64; 4])> = method
+            .edges
+            .iter()
+            .enumerate()
+            .filter(|(_, f)| f.from == f.to && method.vertices[f.from].degree == 2)
+            .map(|(f, edge)| (f, bbox(&edge.points)))
+            .collect();
+        for e in 0..self.edges.len() {
+            let Some(edge) = &self.edges[e] else { continue };
+            let loose = (0.5 * median(&edge.widths)).max(1.0);
+            let ring = edge.from == edge.to && degree[edge.from] == 2;
+            let candidates: Vec<(usize, bool)> = if ring {
+                let b = bbox(&edge.points);
+                method_rings
+                    .iter()
+                    .filter(|(_, r)| {
+                        r[0] <= b[2] + loose
+                            && b[0] <= r[2] + loose
+                            && r[1] <= b[3] + loose
+                            && b[1] <= r[3] + loose
+                    })
+                    .map(|&(f, _)| (f, true))
+                    .collect()
+            } else {
+                let (a, b) = (partner[edge.from], partner[edge.to]);
+                if a == usize::MAX || b == usize::MAX {
+                    continue;
+                }
+                method_at[a]
+                    .iter()
+                    .map(|&f| (f, &method.edges[f]))
+                    .filter(|(_, c)| (c.from == a && c.to == b) || (c.from == b && c.to == a))
+                    .map(|(f, c)| (f, c.from == a && c.to == b))
+                    .collect()
+            };
+            let mut best: Option<(f64, usize, bool)> = None;
+            for (f, forward) in candidates {
+                if used[f] {
+                    continue;
+                }
+                if let Some(gap) = follows(&edge.points, &method.edges[f].points, 1.0, loose) {
+                    if best.is_none_or(|(g, ..)| gap < g) {
+                        best = Some((gap, f, forward));
+                    }
+                }
+            }
+            if ring {
+                if let Some((_, f, _)) = best {
+                    partner[edge.from] = method.edges[f].from;
+                }
+            }
+            let Some((_, f, forward)) = best else {
+                continue;
+            };
+            used[f] = true;
+            let source = &method.edges[f];
+            let mut points = source.points.clone();
+            let mut widths = source.widths.clone();
+            let mut directions = source.directions.clone();
+            if !forward {
+                points.reverse();
+                widths.reverse();
+                directions.reverse();
+                for d in &mut directions {
+                    *d = [-d[0], -d[1]];
+                }
+            }
+            let edge = self.edges[e].as_mut().expect("live edge");
+            edge.points = points;
+            edge.widths = widths;
+            edge.directions = directions;
+            for v in [edge.from, edge.to] {
+                moved[v] = true;
+            }
+        }
+        // The vertices whose edges took the method's lines sit where the method put them; the
+        // skeleton edges that meet them there are joined to the new position.
+        for v in (0..self.vertices.len()).filter(|&v| moved[v]) {
+            let pos = method.vertices[partner[v]].pos;
+            self.vertices[v].pos = pos;
+            for &e in &at[v] {
+                let Some(edge) = self.edges[e].as_mut() else {
+                    continue;
+                };
+                if edge.from == v {
+                    edge.points[0] = pos;
+                }
+                if edge.to == v {
+                    let last = edge.points.len() - 1;
+                    edge.points[last] = pos;
+                }
+            }
+        }
+    }
+
     fn finish(self, width: u32, height: u32) -> StrokeGraph {
         let degree = self.degrees();
         let mut index = vec![usize::MAX; self.vertices.len()];
@@ -857,6 +1311,10 @@ impl Work {
             .map(|mut e| {
                 e.from = index[e.from];
                 e.to = index[e.to];
+                // The method's lines keep their fitted tangents; the skeleton's get theirs.
+                if e.directions.len() != e.points.len() {
+                    e.directions = tangents(&e.points);
+                }
                 e
             })
             .collect();
@@ -867,6 +1325,37 @@ impl Work {
             edges,
         }
     }
+}
+
+/// How closely two polylines follow each other: `None` when a point of either lies farther than
+/// `loose` from the other, or when more than a tenth of either's points lie farther than
+/// `tight`; else the largest distance.
+fn follows(p: &[[f64; 2]], q: &[[f64; 2]], tight: f64, loose: f64) -> Option<f64> {
+    let directed = |from: &[[f64; 2]], to: &[[f64; 2]]| -> Option<f64> {
+        let mut worst = 0.0f64;
+        let mut off = 0;
+        for &x in from {
+            let d = match to {
+                [only] => dist(x, *only),
+                _ => to
+                    .windows(2)
+                    .map(|s| segment_dist(x, s[0], s[1]))
+                    .fold(f64::INFINITY, f64::min),
+            };
+            if d > loose {
+                return None;
+            }
+            if d > tight {
+                off += 1;
+            }
+            worst = worst.max(d);
+        }
+        (off * 10 <= from.len()).then_some(worst)
+    };
+    if p.is_empty() || q.is_empty() {
+        return None;
+    }
+    Some(directed(p, q)?.max(directed(q, p)?))
 }
 
 fn reverse(edge: &mut Edge) {

@@ -20,7 +20,7 @@
 use kiddo::{ImmutableKdTree, SquaredEuclidean};
 
 use crate::point_set::{Grid, PointSet};
-use crate::{dist, segment_dist, Edge, StrokeGraph, Vertex};
+use crate::{dist, Edge, StrokeGraph, Vertex};
 
 /// Offsets of the 8 neighbours in the order P2..P9 of Zhang and Suen (N, NE, E, SE, S, SW, W, NW).
 const RING: [(i64, i64); 8] = [
@@ -39,47 +39,100 @@ const RING: [(i64, i64); 8] = [
 /// transition around them, and (south-east | north-west) boundary conditions, until stable. The
 /// skeleton keeps the ink's connectivity and holes.
 pub fn zhang_suen(ink: &[bool], width: usize, height: usize) -> Vec<bool> {
-    let (w, h) = (width as i64, height as i64);
-    let mut ink = ink.to_vec();
-    let mut alive: Vec<usize> = (0..ink.len()).filter(|&i| ink[i]).collect();
-    let get = |ink: &[bool], x: i64, y: i64| {
-        x >= 0 && y >= 0 && x < w && y < h && ink[(y * w + x) as usize]
-    };
-    let mut marked = Vec::new();
-    loop {
-        let mut changed = false;
-        for step in 0..2 {
-            marked.clear();
-            for &i in &alive {
-                let (x, y) = ((i as i64) % w, (i as i64) / w);
-                let p: [bool; 8] = std::array::from_fn(|k| get(&ink, x + RING[k].0, y + RING[k].1));
-                let b = p.iter().filter(|&&v| v).count();
-                if !(2..=6).contains(&b) {
-                    continue;
-                }
-                let a = (0..8).filter(|&k| !p[k] && p[(k + 1) % 8]).count();
-                if a != 1 {
-                    continue;
-                }
-                let keep = if step == 0 {
-                    p[2] && p[4] && (p[0] || p[6])
-                } else {
-                    p[0] && p[6] && (p[2] || p[4])
-                };
-                if !keep {
-                    marked.push(i);
-                }
-            }
-            for &i in &marked {
-                ink[i] = false;
-            }
-            changed |= !marked.is_empty();
-            alive.retain(|&i| ink[i]);
-        }
-        if !changed {
-            return ink;
-        }
+    // A copy with a one-pixel background border, so every neighbour is an index offset.
+    let pw = width + 2;
+    let mut padded = vec![false; pw * (height + 2)];
+    for y in 0..height {
+        padded[(y + 1) * pw + 1..(y + 1) * pw + 1 + width]
+            .copy_from_slice(&ink[y * width..(y + 1) * width]);
     }
+    let pw = pw as isize;
+    let offsets: [isize; 8] = RING.map(|(dx, dy)| dy as isize * pw + dx as isize);
+    // The 8 neighbours as the bits of a byte (bit k: RING[k]), and for each sub-iteration a
+    // table of the neighbourhoods whose center goes.
+    let bits = |grid: &[bool], i: usize| -> u8 {
+        (0..8).fold(0u8, |b, k| {
+            b | (u8::from(grid[(i as isize + offsets[k]) as usize]) << k)
+        })
+    };
+    let table: [[bool; 256]; 2] = std::array::from_fn(|step| {
+        std::array::from_fn(|n| {
+            let p: [bool; 8] = std::array::from_fn(|k| n & (1 << k) != 0);
+            let b = p.iter().filter(|&&v| v).count();
+            let a = (0..8).filter(|&k| !p[k] && p[(k + 1) % 8]).count();
+            let keep = if step == 0 {
+                p[2] && p[4] && (p[0] || p[6])
+            } else {
+                p[0] && p[6] && (p[2] || p[4])
+            };
+            (2..=6).contains(&b) && a == 1 && !keep
+        })
+    });
+    // Only a pixel with a background neighbour can go; after a sub-iteration only the
+    // neighbours of what went can newly have one. Checking just those gives the same result as
+    // checking every ink pixel each time, in a time that grows with the ink, not with the ink
+    // times the stroke width.
+    // A pixel whose neighbourhood has not changed since both sub-iterations checked it cannot
+    // go until a neighbour goes: `since` is the sub-iteration it was (re)queued in.
+    let mut queued = vec![false; padded.len()];
+    let mut since = vec![0u32; padded.len()];
+    let mut candidates: Vec<usize> = padded
+        .iter()
+        .enumerate()
+        .filter_map(|(i, &on)| on.then_some(i))
+        .filter(|&i| bits(&padded, i) != u8::MAX)
+        .collect();
+    for &i in &candidates {
+        queued[i] = true;
+    }
+    let mut marked = Vec::new();
+    let mut idle = 0;
+    let mut step = 0;
+    let mut t = 0u32;
+    // Stable when two sub-iterations in a row delete nothing.
+    while idle < 2 {
+        marked.clear();
+        marked.extend(
+            candidates
+                .iter()
+                .copied()
+                .filter(|&i| table[step][bits(&padded, i) as usize]),
+        );
+        for &i in &marked {
+            padded[i] = false;
+            queued[i] = false;
+        }
+        idle = if marked.is_empty() { idle + 1 } else { 0 };
+        // The next candidates: those checked once since their neighbourhood last changed (the
+        // other sub-iteration may delete them) and the ink neighbours of every deleted pixel.
+        candidates.retain(|&i| {
+            let keep = padded[i] && since[i] == t;
+            if !keep {
+                queued[i] = false;
+            }
+            keep
+        });
+        for &i in &marked {
+            for offset in offsets {
+                let j = (i as isize + offset) as usize;
+                if padded[j] {
+                    since[j] = t + 1;
+                    if !queued[j] {
+                        queued[j] = true;
+                        candidates.push(j);
+                    }
+                }
+            }
+        }
+        step = 1 - step;
+        t += 1;
+    }
+    let mut thin = vec![false; width * height];
+    for y in 0..height {
+        thin[y * width..(y + 1) * width]
+            .copy_from_slice(&padded[(y + 1) * pw as usize + 1..(y + 1) * pw as usize + 1 + width]);
+    }
+    thin
 }
 
 /// Zhang-Suen can leave runs two pixels thick (a 45 degree staircase, an L-shaped step) whose
@@ -103,7 +156,11 @@ pub fn one_pixel_thick(skeleton: &mut [bool], width: usize, height: usize) {
         (0, 1),
         (1, 1),
     ];
-    let mut candidates: Vec<usize> = (0..skeleton.len()).filter(|&i| skeleton[i]).collect();
+    let mut candidates: Vec<usize> = skeleton
+        .iter()
+        .enumerate()
+        .filter_map(|(i, &on)| on.then_some(i))
+        .collect();
     loop {
         let mut changed = false;
         for &i in &candidates {
@@ -145,7 +202,7 @@ pub fn pixel_graph(
     width: usize,
     height: usize,
     skeleton: &[bool],
-    half_width: &[f64],
+    half_width: &[f32],
 ) -> StrokeGraph {
     let (w, h) = (width as i64, height as i64);
     let on = |x: i64, y: i64| x >= 0 && y >= 0 && x < w && y < h && skeleton[(y * w + x) as usize];
@@ -161,23 +218,25 @@ pub fn pixel_graph(
             (p[0].floor() as i64).clamp(0, w - 1),
             (p[1].floor() as i64).clamp(0, h - 1),
         );
-        (2.0 * half_width[(y * w + x) as usize] - 1.0).max(1.0)
+        (2.0 * f64::from(half_width[(y * w + x) as usize]) - 1.0).max(1.0)
     };
-    let count: Vec<usize> = (0..skeleton.len())
-        .map(|i| {
-            if skeleton[i] {
-                neighbours(i).count()
-            } else {
-                0
-            }
-        })
+    // Neighbour counts (at most 8) and vertex ids, kept small: the window can be a whole page.
+    // The skeleton's pixels, in raster order: every pass below walks these, not the window.
+    let pixels: Vec<usize> = skeleton
+        .iter()
+        .enumerate()
+        .filter_map(|(i, &on)| on.then_some(i))
         .collect();
+    let mut count = vec![0u8; skeleton.len()];
+    for &i in &pixels {
+        count[i] = neighbours(i).count() as u8;
+    }
 
-    const NONE: usize = usize::MAX;
+    const NONE: u32 = u32::MAX;
     let mut vertex_of = vec![NONE; skeleton.len()];
     let mut vertices: Vec<Vertex> = Vec::new();
     let mut stack = Vec::new();
-    for i in (0..skeleton.len()).filter(|&i| skeleton[i]) {
+    for &i in &pixels {
         if vertex_of[i] != NONE || count[i] == 2 {
             continue;
         }
@@ -186,20 +245,20 @@ pub fn pixel_graph(
         let mut members = 0.0;
         if count[i] > 2 {
             stack.push(i);
-            vertex_of[i] = id;
+            vertex_of[i] = id as u32;
             while let Some(j) = stack.pop() {
                 let c = center(j);
                 sum = [sum[0] + c[0], sum[1] + c[1]];
                 members += 1.0;
                 for k in neighbours(j) {
                     if count[k] > 2 && vertex_of[k] == NONE {
-                        vertex_of[k] = id;
+                        vertex_of[k] = id as u32;
                         stack.push(k);
                     }
                 }
             }
         } else {
-            vertex_of[i] = id;
+            vertex_of[i] = id as u32;
             sum = center(i);
             members = 1.0;
         }
@@ -223,13 +282,13 @@ pub fn pixel_graph(
             directions: Vec::new(),
         });
     };
-    for a in (0..skeleton.len()).filter(|&i| skeleton[i] && vertex_of[i] != NONE) {
-        let from = vertex_of[a];
+    for &a in pixels.iter().filter(|&&i| vertex_of[i] != NONE) {
+        let from = vertex_of[a] as usize;
         for u in neighbours(a) {
             if vertex_of[u] != NONE {
-                if vertex_of[u] != from && a < u {
-                    let points = vec![vertices[from].pos, vertices[vertex_of[u]].pos];
-                    make_edge(from, vertex_of[u], points, &mut edges);
+                if vertex_of[u] as usize != from && a < u {
+                    let points = vec![vertices[from].pos, vertices[vertex_of[u] as usize].pos];
+                    make_edge(from, vertex_of[u] as usize, points, &mut edges);
                 }
                 continue;
             }
@@ -243,7 +302,7 @@ pub fn pixel_graph(
                 points.push(center(cur));
                 let next = neighbours(cur).find(|&k| k != prev);
                 match next {
-                    Some(k) if vertex_of[k] != NONE => break Some(vertex_of[k]),
+                    Some(k) if vertex_of[k] != NONE => break Some(vertex_of[k] as usize),
                     Some(k) if !visited[k] => {
                         prev = cur;
                         cur = k;
@@ -259,7 +318,7 @@ pub fn pixel_graph(
             make_edge(from, to, points, &mut edges);
         }
     }
-    for s in (0..skeleton.len()).filter(|&i| skeleton[i] && count[i] == 2) {
+    for &s in pixels.iter().filter(|&&i| count[i] == 2) {
         if visited[s] {
             continue;
         }
@@ -355,12 +414,12 @@ pub fn carry(method: &StrokeGraph, points: &PointSet) -> StrokeGraph {
     }
     let (w, h) = (grid.width as usize, grid.height as usize);
     let ink: Vec<bool> = grid.index.iter().map(|&i| i != Grid::NONE).collect();
-    let half: Vec<f64> = grid
+    let half: Vec<f32> = grid
         .index
         .iter()
         .map(|&i| match i {
             Grid::NONE => 0.0,
-            i => f64::from(points.half_width[i as usize]),
+            i => points.half_width[i as usize],
         })
         .collect();
     let mut ink = ink;
@@ -430,7 +489,7 @@ fn fill_specks(ink: &mut [bool], w: usize, h: usize) {
 /// Zhang-Suen thinning erases some small blobs whole (a 2 x 2 block, a short 2-pixel-thick
 /// diagonal): every component of the ink that lost all its pixels gets back its deepest one, a
 /// dot.
-fn keep_every_component(ink: &[bool], half: &[f64], w: usize, h: usize, skeleton: &mut [bool]) {
+fn keep_every_component(ink: &[bool], half: &[f32], w: usize, h: usize, skeleton: &mut [bool]) {
     let mut seen = vec![false; ink.len()];
     let mut stack = Vec::new();
     let mut members = Vec::new();
@@ -681,17 +740,8 @@ impl Work {
                             if !here {
                                 return true;
                             }
-                            let cut = if end == 0 {
-                                edge.points.iter().find(|&&p| dist(p, c.pos) > reach)
-                            } else {
-                                edge.points.iter().rev().find(|&&p| dist(p, c.pos) > reach)
-                            };
-                            let cut = cut.copied().unwrap_or(if end == 0 {
-                                edge.points[edge.points.len() - 1]
-                            } else {
-                                edge.points[0]
-                            });
-                            self.ink.holds(c.pos, cut)
+                            self.ink
+                                .holds(c.pos, cut_point(edge, end == 0, c.pos, reach))
                         })
                     })
                 })
@@ -791,6 +841,12 @@ impl Work {
                 .fold(f64::INFINITY, f64::min);
             let j = &self.vertices[junction];
             let stroke = if stroke.is_finite() { stroke } else { j.width };
+            // The envelope reaches at most about 4 widths from the junction: a branch whose tip
+            // lies beyond 5 reaches beyond it.
+            let tip_pos = self.vertices[tip].pos;
+            if dist(tip_pos, j.pos) > 5.0 * stroke.max(1.0) + 2.0 {
+                continue;
+            }
             let mut points = edge.points.clone();
             let mut widths = edge.widths.clone();
             if !forward {
@@ -925,6 +981,9 @@ impl Work {
             }
             // Where the legs' lines meet beyond the stub's tip, the bend is the tip (on the ink).
             let v = if dist(jp, v) > reach { tip } else { v };
+            if !self.ink.holds(v, a) || !self.ink.holds(v, b) {
+                continue;
+            }
             let tip_vertex = far(stub);
             for (e, cut) in [(legs[0], cut_a), (legs[1], cut_b)] {
                 let edge = self.edges[e].as_mut().expect("live edge");
@@ -1047,30 +1106,25 @@ impl Work {
     /// Vertices left with two edge ends (after pruning) are not junctions: their two edges
     /// become one.
     fn join_degree_two(&mut self) {
-        loop {
-            let degree = self.degrees();
-            let Some(v) = (0..self.vertices.len()).find(|&i| {
-                self.alive[i]
-                    && degree[i] == 2
-                    && self
-                        .edges
-                        .iter()
-                        .flatten()
-                        .all(|e| !(e.from == i && e.to == i))
-            }) else {
-                return;
-            };
-            let incident: Vec<usize> = (0..self.edges.len())
-                .filter(|&e| {
-                    self.edges[e]
-                        .as_ref()
-                        .is_some_and(|edge| edge.from == v || edge.to == v)
-                })
+        let degree = self.degrees();
+        let mut at = self.incidence();
+        for v in 0..self.vertices.len() {
+            if !self.alive[v] || degree[v] != 2 {
+                continue;
+            }
+            let incident: Vec<usize> = at[v]
+                .iter()
+                .copied()
+                .filter(|&e| self.edges[e].is_some())
                 .collect();
-            let [a, b] = incident[..] else { return };
+            let [a, b] = incident[..] else { continue };
+            let is_loop = |e: usize| self.edges[e].as_ref().is_some_and(|x| x.from == x.to);
+            if a == b || is_loop(a) || is_loop(b) {
+                continue;
+            }
             let (Some(mut first), Some(mut second)) = (self.edges[a].take(), self.edges[b].take())
             else {
-                return;
+                continue;
             };
             if first.to != v {
                 reverse(&mut first);
@@ -1083,8 +1137,17 @@ impl Work {
             first.points.extend(second.points);
             first.widths.extend(second.widths);
             first.to = second.to;
+            let far = first.to;
             self.alive[v] = false;
             self.edges[a] = Some(first);
+            at[v].clear();
+            for e in &mut at[far] {
+                if *e == b {
+                    *e = a;
+                }
+            }
+            at[far].sort_unstable();
+            at[far].dedup();
         }
     }
 
@@ -1101,7 +1164,9 @@ impl Work {
                 }
                 let hub = self.vertices[v].pos;
                 let reach = (self.vertices[v].width + 1.0) / 2.0;
-                if edge.from == edge.to || edge.points.len() > 2 {
+                if (edge.from == edge.to || edge.points.len() > 2)
+                    && self.ink.holds(hub, cut_point(edge, at_start, hub, reach))
+                {
                     cut_arm(edge, at_start, hub, reach);
                 }
             }
@@ -1236,7 +1301,11 @@ impl Work {
                 if used[f] {
                     continue;
                 }
-                if let Some(gap) = follows(&edge.points, &method.edges[f].points, 1.0, loose) {
+                let line = &method.edges[f].points;
+                if !line.windows(2).all(|s| self.ink.holds(s[0], s[1])) {
+                    continue;
+                }
+                if let Some(gap) = follows(&edge.points, line, 1.0, loose) {
                     if best.is_none_or(|(g, ..)| gap < g) {
                         best = Some((gap, f, forward));
                     }
@@ -1331,26 +1400,39 @@ impl Work {
 /// `loose` from the other, or when more than a tenth of either's points lie farther than
 /// `tight`; else the largest distance.
 fn follows(p: &[[f64; 2]], q: &[[f64; 2]], tight: f64, loose: f64) -> Option<f64> {
+    // Squared distances from a point to a segment, compared with squared bounds.
+    let segment_d2 = |p: [f64; 2], a: [f64; 2], b: [f64; 2]| {
+        let d = [b[0] - a[0], b[1] - a[1]];
+        let len2 = d[0] * d[0] + d[1] * d[1];
+        let t = if len2 > 0.0 {
+            (((p[0] - a[0]) * d[0] + (p[1] - a[1]) * d[1]) / len2).clamp(0.0, 1.0)
+        } else {
+            0.0
+        };
+        let (x, y) = (a[0] + t * d[0] - p[0], a[1] + t * d[1] - p[1]);
+        x * x + y * y
+    };
+    let (tight2, loose2) = (tight * tight, loose * loose);
     let directed = |from: &[[f64; 2]], to: &[[f64; 2]]| -> Option<f64> {
         let mut worst = 0.0f64;
         let mut off = 0;
         for &x in from {
-            let d = match to {
-                [only] => dist(x, *only),
+            let d2 = match to {
+                [only] => segment_d2(x, *only, *only),
                 _ => to
                     .windows(2)
-                    .map(|s| segment_dist(x, s[0], s[1]))
+                    .map(|s| segment_d2(x, s[0], s[1]))
                     .fold(f64::INFINITY, f64::min),
             };
-            if d > loose {
+            if d2 > loose2 {
                 return None;
             }
-            if d > tight {
+            if d2 > tight2 {
                 off += 1;
             }
-            worst = worst.max(d);
+            worst = worst.max(d2);
         }
-        (off * 10 <= from.len()).then_some(worst)
+        (off * 10 <= from.len()).then_some(worst.sqrt())
     };
     if p.is_empty() || q.is_empty() {
         return None;
@@ -1362,6 +1444,22 @@ fn reverse(edge: &mut Edge) {
     std::mem::swap(&mut edge.from, &mut edge.to);
     edge.points.reverse();
     edge.widths.reverse();
+}
+
+/// Where [`cut_arm`] would cut.
+fn cut_point(edge: &Edge, at_start: bool, hub: [f64; 2], reach: f64) -> [f64; 2] {
+    let beyond = |p: &&[f64; 2]| dist(**p, hub) > reach;
+    let found = if at_start {
+        edge.points.iter().find(beyond)
+    } else {
+        edge.points.iter().rev().find(beyond)
+    };
+    let last = if at_start {
+        edge.points[edge.points.len() - 1]
+    } else {
+        edge.points[0]
+    };
+    found.copied().unwrap_or(last)
 }
 
 /// Cuts an arm's polyline where it first leaves the disk of radius `reach` around `hub` (from its

@@ -16,7 +16,10 @@ use ridgeline::{Binary, Edge, StrokeGraph};
 pub fn trace(binary: &Binary) -> StrokeGraph {
     let (w, h) = (binary.width as usize, binary.height as usize);
     let skeleton = zhang_suen(&binary.ink, w, h);
-    let half_width = distance_to_background(binary);
+    let half_width: Vec<f32> = distance_to_background(binary)
+        .into_iter()
+        .map(|d| d as f32)
+        .collect();
     pixel_graph(w, h, &skeleton, &half_width)
 }
 

@@ -1,4 +1,4 @@
-//! Page benchmark (issue 4): time per stage, wall time and peak memory of tracing a whole page,
+//! Page benchmark (docs/performance.md): time per stage, wall time and peak memory of tracing a whole page,
 //! from the PNG file to the SVG written, as the command line does it (default parameters, the
 //! scan embedded under the centerlines).
 //!

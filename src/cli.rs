@@ -27,7 +27,7 @@ use ridgeline::export::Features;
 use ridgeline::minutiae::{minutiae, MinutiaeOptions};
 use ridgeline::raster::{Page, Picture};
 use ridgeline::strokes::{strokes, StrokeOptions};
-use ridgeline::{Params, Polarity, StrokeGraph, Threshold};
+use ridgeline::{ClusterRule, LaplacianRule, Params, Polarity, RMinRule, StrokeGraph, Threshold};
 
 /// Sauvola window when `--sauvola` is given without `--window` (the value `Threshold` documents).
 const SAUVOLA_WINDOW: u32 = 31;
@@ -220,8 +220,9 @@ pub struct Cli {
     #[arg(long, value_name = "SHARE", help_heading = "Input and binarization")]
     dropout_fraction: Option<f64>,
 
-    /// Start from the paper's own parameter values (r_min = 10 Dis_ave, r_max = 6 r_min, no arms
-    /// test, whole-cluster merging, uniform fit weights, no clean-up); flags below still override
+    /// Start from the paper's own rules and values (r_min = 10 Dis_ave, r_max = 6 r_min, no arms
+    /// test, equal-distance clusters, whole-cluster merging, uniform Laplacian and fit weights, no
+    /// clean-up); every other flag given still overrides them
     #[arg(long, help_heading = "Method")]
     paper: bool,
 
@@ -230,8 +231,18 @@ pub struct Cli {
     #[arg(long, help_heading = "Method")]
     skeleton: bool,
 
-    /// r_min factor: r_min = max(3 Dis_ave, factor x local stroke width), px; with --paper
-    /// r_min = factor x Dis_ave [default: 1, paper: 10]
+    /// How r_min is chosen: from the local stroke width or from the point spacing Dis_ave
+    /// [default: width, paper: spacing]
+    #[arg(
+        long,
+        value_enum,
+        value_name = "RULE",
+        help_heading = "Sampling (paper §3.1)"
+    )]
+    r_min_rule: Option<RMinRuleArg>,
+
+    /// r_min factor: r_min = max(3 Dis_ave, factor x local stroke width), px; with
+    /// --r-min-rule spacing r_min = factor x Dis_ave [default: 1, paper: 10]
     #[arg(long, value_name = "FACTOR", help_heading = "Sampling (paper §3.1)")]
     r_min_factor: Option<f64>,
 
@@ -260,6 +271,16 @@ pub struct Cli {
     )]
     k: Option<usize>,
 
+    /// Which nodes form the clusters (non-linear regions) that refinement merges
+    /// [default: non-linear, paper: equal-distance]
+    #[arg(
+        long,
+        value_enum,
+        value_name = "RULE",
+        help_heading = "Graph and refinement (paper §3.2, §3.3)"
+    )]
+    clusters: Option<ClusterArg>,
+
     /// Cluster link length, in units of r_min: shorter edges join non-linear nodes into one
     /// cluster [default: 1.5]
     #[arg(
@@ -282,6 +303,16 @@ pub struct Cli {
     /// ends and junctions [default: clean-up on, paper: off]
     #[arg(long, help_heading = "Graph and refinement (paper §3.2, §3.3)")]
     no_cleanup: bool,
+
+    /// Smoothness term of Eq. (4): held (degree-2 nodes only) or the uniform Laplacian over every
+    /// node [default: held, paper: uniform]
+    #[arg(
+        long,
+        value_enum,
+        value_name = "RULE",
+        help_heading = "Fitting (paper §3.4)"
+    )]
+    laplacian: Option<LaplacianArg>,
 
     /// Laplacian weight w of Eq. (4), >= 0: higher is smoother, lower follows the ink more
     /// closely [default: 1]
@@ -359,6 +390,33 @@ enum PolarityArg {
     Light,
 }
 
+/// `--r-min-rule` values.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+enum RMinRuleArg {
+    /// r_min = max(3 Dis_ave, factor x local stroke width).
+    Width,
+    /// r_min = factor x Dis_ave, as in the paper.
+    Spacing,
+}
+
+/// `--clusters` values.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+enum ClusterArg {
+    /// Non-linear nodes joined by short edges.
+    NonLinear,
+    /// Nodes at equal shortest distance from a root, as in the paper.
+    EqualDistance,
+}
+
+/// `--laplacian` values.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+enum LaplacianArg {
+    /// Smoothness rows for degree-2 nodes only.
+    Held,
+    /// The uniform Laplacian of every node, as in the paper.
+    Uniform,
+}
+
 /// `--dropout` values.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
 enum Dropout {
@@ -415,6 +473,24 @@ impl TryFrom<&Cli> for Params {
                 Dropout::On => Some(true),
                 Dropout::Off => Some(false),
                 Dropout::Auto => None,
+            };
+        }
+        if let Some(rule) = cli.r_min_rule {
+            params.r_min_rule = match rule {
+                RMinRuleArg::Width => RMinRule::StrokeWidth,
+                RMinRuleArg::Spacing => RMinRule::Spacing,
+            };
+        }
+        if let Some(rule) = cli.clusters {
+            params.cluster_rule = match rule {
+                ClusterArg::NonLinear => ClusterRule::NonLinear,
+                ClusterArg::EqualDistance => ClusterRule::EqualDistance,
+            };
+        }
+        if let Some(rule) = cli.laplacian {
+            params.laplacian = match rule {
+                LaplacianArg::Held => LaplacianRule::Held,
+                LaplacianArg::Uniform => LaplacianRule::Uniform,
             };
         }
         fn set<T: Copy>(field: &mut T, flag: Option<T>) {
@@ -1725,7 +1801,9 @@ mod tests {
             "a.png",
         ]);
         let params = Params::try_from(&cli).expect("valid");
-        assert!(params.paper);
+        assert_eq!(params.r_min_rule, RMinRule::Spacing);
+        assert_eq!(params.cluster_rule, ClusterRule::EqualDistance);
+        assert_eq!(params.laplacian, LaplacianRule::Uniform);
         assert_eq!(params.r_min_factor, 7.0);
         assert_eq!(params.merge_span, 3.0);
         assert_eq!(params.k, 8);

@@ -90,7 +90,10 @@ pub use binary::Binary;
 pub use error::{Error, Result};
 pub use image::GrayImage;
 pub use node_graph::{GraphNode, NodeGraph};
-pub use params::{Limits, Params, Polarity, Threshold, DENSE_SPACING, MAX_WEISZFELD_ITERATIONS};
+pub use params::{
+    ClusterRule, LaplacianRule, Limits, Params, Polarity, RMinRule, Threshold, DENSE_SPACING,
+    MAX_WEISZFELD_ITERATIONS,
+};
 pub use point_set::{Grid, PointSet};
 pub use samples::{Node, Samples};
 pub use stroke_graph::{dist, segment_dist, Edge, StrokeGraph, Vertex};

@@ -81,7 +81,7 @@ pub fn point_set(list: &[[f64; 2]], params: &Params) -> Result<PointSet> {
     Ok(set)
 }
 
-/// A list's coordinates in pixel-like units, and back (hostile, issue 5).
+/// A list's coordinates in pixel-like units, and back (docs/design.md, "Hostile input").
 ///
 /// The stages work in pixel-like units: `sample` quantizes squared distances in quarter units and
 /// sizes its queue by them, the fit spaces nodes at least 3 units apart, widths are `f32`. A list
@@ -255,8 +255,8 @@ fn without_duplicates(list: &[[f64; 2]]) -> Vec<[f64; 2]> {
 /// Needs `1 <= k < points.len()` and distinct points.
 fn nearest_neighbours(points: &[[f64; 2]], k: usize) -> Result<(Vec<u32>, Vec<u32>, f64)> {
     let n = points.len();
-    // The immutable tree: the mutable one fails on collinear or repeated coordinates (DESIGN,
-    // crates).
+    // The immutable tree: the mutable one fails on collinear or repeated coordinates (kiddo 6:
+    // unsplittable buckets on pixel-like grids).
     let tree: ImmutableKdTree<f64, 2> = ImmutableKdTree::new_from_slice(points)
         .map_err(|e| Error::InvalidParams(format!("cannot index the points: {e:?}")))?;
     let wanted = NonZero::new(k + 1).unwrap_or(NonZero::<usize>::MIN);

@@ -5,8 +5,8 @@
 //!   is left.
 //! - **Merging**: the nodes of degree > 2 of one cluster become one node. The paper merges the whole
 //!   cluster; one cluster once spanned a handwritten word and became one star vertex, so they are
-//!   merged in groups whose members are all within `merge_span · r_min` of each other (design 13).
-//! - **Clean-up** (the paper's "restructuring operators", design 8 and 15), repeated until stable:
+//!   merged in groups whose members are all within `merge_span · r_min` of each other (docs/design.md, adaptation 9).
+//! - **Clean-up** (the paper's "restructuring operators", adaptations 10 and 11), repeated until stable:
 //!   contract cycles that enclose no background hole; prune terminal branches shorter than the
 //!   stroke width; collapse junction-junction bars shorter than the stroke width; merge two Y's
 //!   joined by a short bar whose outer arms pair up anti-parallel into one crossing.
@@ -18,7 +18,7 @@ use crate::{dist, GraphNode, NodeGraph, Params, PointSet};
 
 /// Refines `H` into a 1-D graph (no triangles; one vertex per crossing).
 pub fn refine(graph: &NodeGraph, points: &PointSet, params: &Params) -> NodeGraph {
-    // Holes guide contraction, merging and clean-up; the paper's rules (paper mode) ignore them.
+    // Holes guide contraction, merging and clean-up; without clean-up (the paper's rules) they are unknown.
     let holes = if params.cleanup {
         Holes::find(points, graph)
     } else {
@@ -69,7 +69,7 @@ struct Work {
     alive: Vec<bool>,
     /// Merge forest: `parent[i] == i` for live nodes.
     parent: Vec<u32>,
-    /// Background holes of the ink (empty knowledge in paper mode).
+    /// Background holes of the ink (unknown without clean-up).
     holes: Holes,
 }
 
@@ -244,7 +244,7 @@ impl Work {
         )
     }
 
-    /// Merging operator with complete-linkage groups (design 13).
+    /// Merging operator with complete-linkage groups (adaptation 9).
     fn merge_clusters(&mut self, span: f64, holes: &Holes) {
         let mut members: Vec<Vec<u32>> = Vec::new();
         for i in 0..self.nodes.len() as u32 {
@@ -277,7 +277,7 @@ impl Work {
                         a,
                     )
             }) {
-                // hostile (issue 5, found by fuzzing): `absorb_dangling` after an earlier group
+                // hostile input (found by fuzzing): `absorb_dangling` after an earlier group
                 // of this cluster may already have merged members of this one (they dropped to
                 // degree 1 or 2); merging a dead node again tripped `merge`'s assertion (and in
                 // release counted its mass twice). Only the live members are merged.
@@ -599,7 +599,7 @@ impl Work {
         [d[0] / norm, d[1] / norm]
     }
 
-    /// Clean-up 4 (design 15): Y-bar-Y → X. Two degree-3 vertices joined by a short bar, whose
+    /// Clean-up 4 (adaptation 11): Y-bar-Y → X. Two degree-3 vertices joined by a short bar, whose
     /// outer arms open away from the bar and pair up anti-parallel (within 25°), are one crossing
     /// that thinning-like sampling split in two. The bar limit `3 w / sin(θ/2)` grows as the
     /// crossing gets more acute (θ = angle between one Y's outer arms).
@@ -808,7 +808,7 @@ impl Holes {
         if points.grid.is_none() {
             return Holes::Unknown;
         }
-        // Specks of background inside dropout ink are not holes (the closing of design 1).
+        // Specks of background inside dropout ink are not holes (the closing of adaptation 2).
         let min_size = if points.dropout { 4 } else { 2 };
         let (labels, _) = points.component_labels();
         // Ink runs (component, row, x0, x1 exclusive) from the pixel centers.

@@ -2,7 +2,7 @@
 //!
 //! Farthest-point sampling driven by the anisotropic distance of Eq. (1), with a disk whose radius
 //! adapts to the local linearity of Eq. (3). The adaptations to pixel images, each needed on the
-//! ground-truth suite (see `DESIGN.md`, items 2-5 and 12):
+//! ground-truth suite (docs/design.md, adaptations 3-6):
 //! - `r_min` follows the local stroke width instead of `10 Dis_ave`: a fixed 10 px disk is already
 //!   linear at `r_min` on thin strokes (so nothing is marked non-linear) and spans neighbouring
 //!   strokes.
@@ -16,7 +16,7 @@
 use std::cmp::Reverse;
 use std::collections::BinaryHeap;
 
-use crate::{Node, Params, PointSet, Samples};
+use crate::{Node, Params, PointSet, RMinRule, Samples};
 
 /// Marks a point that no node owns yet.
 const UNOWNED: u32 = u32::MAX;
@@ -24,7 +24,7 @@ const UNOWNED: u32 = u32::MAX;
 /// End of a bucket's stack in the disk search queue.
 const NIL: u32 = u32::MAX;
 
-/// hostile (issue 5): keys at or above this go to a binary heap instead of the bucket array. The
+/// hostile input: keys at or above this go to a binary heap instead of the bucket array. The
 /// array has one bucket per quarter unit² of squared radius, so radii of thousands of units
 /// (blobs thousands of pixels wide, `--r-min-factor 1e9`, point lists in large units) asked for
 /// up to 2^31 buckets (51 GB) for a handful of points. Below this (radii < 512 px) nothing
@@ -71,7 +71,7 @@ pub fn sample(points: &PointSet, params: &Params) -> Samples {
         was_center[center as usize] = true;
         let id = nodes.len() as u32;
         let (node, taken) = sampler.node_at(center, id, &mut frontier);
-        // hostile (issue 5): a node that took no point would own an empty `P_i`, which the later
+        // hostile input: a node that took no point would own an empty `P_i`, which the later
         // stages do not expect; its `D` updates are kept, the node is not (nothing refers to
         // `id`). Never happens on pixel images (see `was_center`).
         if taken > 0 {
@@ -133,7 +133,7 @@ struct Sampler<'a> {
     limit: u32,
     /// Points reached with keys beyond the current bound, admitted when the bound grows.
     overflow: Vec<(u32, u32)>,
-    /// hostile (issue 5): queued points with keys of [`BUCKET_KEYS`] or more, smallest first.
+    /// hostile input: queued points with keys of [`BUCKET_KEYS`] or more, smallest first.
     far: BinaryHeap<Reverse<(u32, u32)>>,
     rim: Vec<u32>,
     stack: Vec<u32>,
@@ -217,7 +217,7 @@ impl<'a> Sampler<'a> {
             }
         }
         while self.queued > 0 {
-            // Buckets first, then (hostile, issue 5) the far heap, whose keys are all larger.
+            // Buckets first, then (hostile input) the far heap, whose keys are all larger.
             let (key, p) = if self.cursor < self.used && self.cursor as u32 <= limit {
                 let p = self.heads[self.cursor];
                 if p == NIL {
@@ -397,7 +397,7 @@ impl<'a> Sampler<'a> {
 
     /// Grows the disk around `center` (Algorithm 1, line 2), makes the node, assigns its points and
     /// updates `D` (lines 3-4), pushing frontier points onto the sampling heap. Also returns how
-    /// many points the node took (hostile, issue 5).
+    /// many points the node took (hostile input).
     fn node_at(
         &mut self,
         center: u32,
@@ -422,7 +422,7 @@ impl<'a> Sampler<'a> {
         self.enqueue(0, center);
 
         let spacing = self.points.spacing.max(1e-9);
-        // Local width (design 2): w_loc = 2 max(dt) - 1 over the disk of radius max(3, 3 dt(c)).
+        // Local width (adaptation 3): w_loc = 2 max(dt) - 1 over the disk of radius max(3, 3 dt(c)).
         let dt_center = self.points.half_width[center as usize] as f64;
         // A center on the edge of a wide stroke (dt(c) small) would not see the stroke's middle in
         // that disk: widen the probe until it reaches past the deepest point found (at most 3x).
@@ -444,10 +444,9 @@ impl<'a> Sampler<'a> {
             probe = 2.0 * max_dt + spacing;
         }
         let width = (2.0 * max_dt - spacing).max(spacing);
-        let r_min = if self.params.paper {
-            self.params.r_min_factor * spacing
-        } else {
-            (3.0 * spacing).max(self.params.r_min_factor * width)
+        let r_min = match self.params.r_min_rule {
+            RMinRule::Spacing => self.params.r_min_factor * spacing,
+            RMinRule::StrokeWidth => (3.0 * spacing).max(self.params.r_min_factor * width),
         };
         let r_max = self.params.r_max_factor * r_min;
 
@@ -461,7 +460,7 @@ impl<'a> Sampler<'a> {
             self.grow_disk(c, r);
             let count = self.prefix(r);
             if self.params.arms_test {
-                // The arms test (design 4): the rim `(r - 2, r]` of the disk must cut the ink in
+                // The arms test (adaptation 5): the rim `(r - 2, r]` of the disk must cut the ink in
                 // 1 or 2 places. A crossing gives 4 cuts, a T 3, a disk that holds a whole small
                 // part 0.
                 last_cuts = self.rim_cuts(c, count, r);

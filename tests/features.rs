@@ -1,4 +1,4 @@
-//! Features beyond thinning (issue 6): strokes through crossings, width coverage, minutiae and
+//! Features beyond thinning (docs/design.md, "Beyond the paper"): strokes through crossings, width coverage, minutiae and
 //! Bézier curves, end to end from rendered centerlines.
 
 use crate::support::{ridgeline, run_ok, write_mask_png};

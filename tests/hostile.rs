@@ -1,4 +1,4 @@
-//! Hostile and broken input (issue 5): every kind of bad file gets a clear message and a non-zero
+//! Hostile and broken input (docs/bad-input.md): every kind of bad file gets a clear message and a non-zero
 //! exit, never a panic; degenerate but valid input traces or warns; outputs are never clobbered;
 //! and the output does not depend on the run or the thread count.
 //!

@@ -17,7 +17,7 @@ use crate::curves::CubicBezier;
 use crate::minutiae::Minutia;
 use crate::strokes::Stroke;
 
-/// Results computed from the graph beyond the graph itself (issue 6), handed to the writers as
+/// Results computed from the graph beyond the graph itself (docs/design.md, "Beyond the paper"), handed to the writers as
 /// plain data so that export never runs a computation of its own. Build it from
 /// [`Features::default`] (nothing) and the `with_*` setters: more may be added.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]

@@ -1,5 +1,5 @@
 //! §3.4 "every original point is associated with one of the nodes that is the nearest", made to
-//! respect ink components (design 9): a multi-source shortest-path search over the point
+//! respect ink components (docs/design.md, adaptation 12): a multi-source shortest-path search over the point
 //! neighbour graph from the point nearest to each fitted node, i.e. a geodesic Voronoi partition.
 //! Two strokes a pixel apart never trade points, which Euclidean nearest-node assignment would do.
 

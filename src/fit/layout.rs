@@ -1,6 +1,6 @@
 //! §3.4 first step: the refined 1-D graph cut into chains between vertices, each chain resampled
 //! to equal node spacing ("splitting the relatively long edges and merging the relatively short
-//! ones", design 9: spacing `h`).
+//! ones", docs/design.md, adaptation 12: spacing `h`).
 
 use super::math::{arc_lengths, point_at};
 use crate::NodeGraph;
@@ -186,7 +186,7 @@ fn chains(graph: &NodeGraph, collapse_dots: bool) -> (Vec<u32>, Vec<Chain>) {
     (vertex_node, chains)
 }
 
-/// Most segments per link of a chain (hostile, issue 5; see `equalize`).
+/// Most segments per link of a chain (hostile input, docs/bad-input.md; see `equalize`).
 const MAX_SEGMENTS_PER_LINK: usize = 256;
 
 /// Decomposes the graph into chains and resamples each to spacing `h`. A chain keeps at least its
@@ -220,7 +220,7 @@ pub fn equalize(graph: &NodeGraph, h: f64, collapse_dots: bool) -> Layout {
         } else {
             1
         };
-        // hostile (issue 5, found by fuzzing): a chain may span a gap far longer than its ink
+        // hostile input (found by fuzzing): a chain may span a gap far longer than its ink
         // (five points 1e9 units apart made 2.5 million fitted nodes, 18 s and gigabytes). At most
         // MAX_SEGMENTS_PER_LINK per link between refined nodes keeps the layout a multiple of the
         // node count; on images a link that long (768 px at h = 3) needs a blob far wider than

@@ -1,4 +1,4 @@
-//! Whole pages (issue 4): the ink pixels of a large image as chunks of whole components, each
+//! Whole pages (docs/design.md, "Whole pages"): the ink pixels of a large image as chunks of whole components, each
 //! chunk's point set built by the thread that traces it.
 //!
 //! Building the page's point set first and cutting it into chunks afterwards made one pass over a

@@ -1726,9 +1726,8 @@ fn os_reason(err: &std::io::Error) -> String {
     err.kind().to_string()
 }
 
-/// Writes `bytes` to a temporary file beside `path`, then renames it over `path`: readers see
-/// the old file or the new one, never a truncated one, and a failure leaves the old file as it
-/// was. Errors name `path` and the reason, never the temporary file.
+/// Writes `bytes` to `path` atomically ([`ridgeline::export::write_atomically`]). Errors name
+/// `path` and the reason, never the temporary file.
 fn write_atomically(path: &Path, bytes: &[u8]) -> Result<()> {
     let dir = match path.parent() {
         Some(parent) if !parent.as_os_str().is_empty() => parent,
@@ -1737,22 +1736,8 @@ fn write_atomically(path: &Path, bytes: &[u8]) -> Result<()> {
     if !dir.is_dir() {
         anyhow::bail!("cannot write {}: {}", path.display(), missing_folder(dir));
     }
-    let fail = |err: std::io::Error| {
-        anyhow::anyhow!("cannot write {}: {}", path.display(), os_reason(&err))
-    };
-    let mut builder = tempfile::Builder::new();
-    builder.prefix(".ridgeline-").suffix(".tmp");
-    // tempfile creates private (0600) files; outputs are ordinary files, readable as usual
-    // (the umask still applies).
-    #[cfg(unix)]
-    {
-        use std::os::unix::fs::PermissionsExt;
-        builder.permissions(fs::Permissions::from_mode(0o644));
-    }
-    let mut file = builder.tempfile_in(dir).map_err(fail)?;
-    file.write_all(bytes).map_err(fail)?;
-    file.persist(path).map_err(|err| fail(err.error))?;
-    Ok(())
+    ridgeline::export::write_atomically(path, bytes)
+        .map_err(|err| anyhow::anyhow!("cannot write {}: {}", path.display(), os_reason(&err)))
 }
 
 #[cfg(test)]

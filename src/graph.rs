@@ -2,12 +2,14 @@
 //!
 //! `H` joins two nodes when their point sets touch. The paper tests shared k-nearest neighbours of
 //! the associated points; on a pixel grid the same relation is "some 8-neighbour pixel pair has
-//! owners i and j" (docs/design.md, adaptation 7), which is O(N) and needs no tree. For point lists the neighbour graph
-//! of the [`PointSet`] is the k-nearest-neighbour graph, so the same rule *is* the paper's.
+//! owners i and j" (docs/design.md, adaptation 7), which is O(N) and needs no tree. For point lists
+//! the neighbour graph of the [`PointSet`] is the k-nearest-neighbour graph, so the same rule *is*
+//! the paper's.
 //!
 //! Clusters: the paper weights edges shorter than `1.5 r_min` with zero and groups nodes at equal
 //! shortest distance from a root, i.e. nodes joined by zero-weight edges. Applied to all nodes that
-//! chains whole thin strokes into one cluster, so only non-linear nodes are clustered (adaptation 8).
+//! chains whole thin strokes into one cluster, so only non-linear nodes are clustered (adaptation
+//! 8).
 
 use petgraph::algo::dijkstra;
 use petgraph::graph::{NodeIndex, UnGraph};
@@ -96,9 +98,10 @@ fn color_clusters(graph: &mut NodeGraph, points: &PointSet, params: &Params) {
     }
 }
 
-/// The paper's rule as written ([`ClusterRule::EqualDistance`]): edge weight 0 below `cluster_link · r_min`, else the
-/// edge length; shortest distances from a root per component; nodes at equal distance form one
-/// group. Groups of one node stay uncolored (a color on every node would forbid all contraction).
+/// The paper's rule as written ([`ClusterRule::EqualDistance`]): edge weight 0 below `cluster_link
+/// · r_min`, else the edge length; shortest distances from a root per component; nodes at equal
+/// distance form one group. Groups of one node stay uncolored (a color on every node would forbid
+/// all contraction).
 fn color_clusters_as_written(graph: &mut NodeGraph, params: &Params) {
     let n = graph.nodes.len();
     let mut h: UnGraph<(), f64> = UnGraph::with_capacity(n, graph.edges.len());

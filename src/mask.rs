@@ -1,6 +1,7 @@
 //! Operations on foreground masks shared by both front ends (images and point lists): the exact
 //! Euclidean distance transform that gives each point its half-width, the 3x3 closing of dropout
-//! mode, and the count of tiny background holes that switches dropout mode on (docs/design.md, adaptation 2).
+//! mode, and the count of tiny background holes that switches dropout mode on (docs/design.md,
+//! adaptation 2).
 //!
 //! Plain math on row-major `bool` masks; it knows nothing about stages.
 
@@ -20,7 +21,7 @@ pub(crate) fn ink_distances(ink: &[bool], width: usize, height: usize) -> Vec<f3
 }
 
 /// A run of ink pixels `x0..x1` (end excluded) in row `y`.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub(crate) struct Run {
     pub y: u32,
     pub x0: u32,

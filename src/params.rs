@@ -1,7 +1,8 @@
 //! Every tunable of the pipeline in one place, with the paper's symbol and unit.
 //!
 //! The defaults are the values that measure best on pixel images (docs/design.md, "Adaptations to
-//! pixel images", and the quality benchmark); [`Params::paper`] gives the paper's own values so the two can be compared.
+//! pixel images", and the quality benchmark); [`Params::paper`] gives the paper's own values so the
+//! two can be compared.
 
 use serde::{Deserialize, Serialize};
 
@@ -126,8 +127,8 @@ pub struct Params {
     pub polarity: Polarity,
     /// Size limits. Default [`Limits::default`].
     pub limits: Limits,
-    /// Dropout mode (docs/design.md, adaptation 2): `None` decides from the image (background specks of 3 px or
-    /// less exceeding `dropout_fraction` of the ink), `Some(b)` forces it.
+    /// Dropout mode (docs/design.md, adaptation 2): `None` decides from the image (background
+    /// specks of 3 px or less exceeding `dropout_fraction` of the ink), `Some(b)` forces it.
     pub dropout: Option<bool>,
     /// Share of ink pixels that tiny background holes must exceed to switch dropout mode on.
     /// Default 0.015.
@@ -145,7 +146,8 @@ pub struct Params {
     pub r_growth: f64,
     /// Linearity threshold of Eq. (3): a disk is linear when `l > linearity`. Default 0.9.
     pub linearity: f64,
-    /// Use the rim "arms" test as well as PCA to detect non-linear nodes (adaptation 5). Default true.
+    /// Use the rim "arms" test as well as PCA to detect non-linear nodes (adaptation 5). Default
+    /// true.
     pub arms_test: bool,
     /// `k` nearest neighbours for point-set input (§3.2). Default 5.
     pub k: usize,
@@ -156,7 +158,8 @@ pub struct Params {
     /// nodes into one cluster). Default 1.5.
     pub cluster_link: f64,
     /// Merge groups: degree > 2 nodes of a cluster are merged only when all are within this many
-    /// `r_min` of each other (adaptation 9). Default 2.0; the paper merges whole clusters (infinity).
+    /// `r_min` of each other (adaptation 9). Default 2.0; the paper merges whole clusters
+    /// (infinity).
     pub merge_span: f64,
     /// The smoothness term of Eq. (4). Default [`LaplacianRule::Held`]; paper
     /// [`LaplacianRule::Uniform`].

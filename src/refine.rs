@@ -3,22 +3,25 @@
 //! - **Contraction** (as in the paper): repeatedly collapse the shortest, lowest-degree edge that
 //!   lies on a triangle into its midpoint, never joining two different clusters, until no triangle
 //!   is left.
-//! - **Merging**: the nodes of degree > 2 of one cluster become one node. The paper merges the whole
-//!   cluster; one cluster once spanned a handwritten word and became one star vertex, so they are
-//!   merged in groups whose members are all within `merge_span · r_min` of each other (docs/design.md, adaptation 9).
-//! - **Clean-up** (the paper's "restructuring operators", adaptations 10 and 11), repeated until stable:
-//!   contract cycles that enclose no background hole; prune terminal branches shorter than the
-//!   stroke width; collapse junction-junction bars shorter than the stroke width; merge two Y's
+//! - **Merging**: the nodes of degree > 2 of one cluster become one node. The paper merges the
+//!   whole cluster; one cluster once spanned a handwritten word and became one star vertex, so they
+//!   are merged in groups whose members are all within `merge_span · r_min` of each other
+//!   (docs/design.md, adaptation 9).
+//! - **Clean-up** (the paper's "restructuring operators", adaptations 10 and 11), repeated until
+//!   stable: contract cycles that enclose no background hole; prune terminal branches shorter than
+//!   the stroke width; collapse junction-junction bars shorter than the stroke width; merge two Y's
 //!   joined by a short bar whose outer arms pair up anti-parallel into one crossing.
 
 use std::cmp::Reverse;
 use std::collections::BinaryHeap;
 
-use crate::{dist, GraphNode, NodeGraph, Params, PointSet};
+use crate::geometry::{dist, point_in_polygon, TotalF64};
+use crate::{GraphNode, NodeGraph, Params, PointSet};
 
 /// Refines `H` into a 1-D graph (no triangles; one vertex per crossing).
 pub fn refine(graph: &NodeGraph, points: &PointSet, params: &Params) -> NodeGraph {
-    // Holes guide contraction, merging and clean-up; without clean-up (the paper's rules) they are unknown.
+    // Holes guide contraction, merging and clean-up; without clean-up (the paper's rules) they are
+    // unknown.
     let holes = if params.cleanup {
         Holes::find(points, graph)
     } else {
@@ -40,24 +43,6 @@ pub fn refine(graph: &NodeGraph, points: &PointSet, params: &Params) -> NodeGrap
         }
     }
     work.finish(&graph.owner)
-}
-
-/// `f64` with a total order, for heap keys.
-#[derive(Clone, Copy, Debug, PartialEq)]
-struct Key(f64);
-
-impl Eq for Key {}
-
-impl PartialOrd for Key {
-    fn partial_cmp(&self, other: &Self) -> Option<std::cmp::Ordering> {
-        Some(self.cmp(other))
-    }
-}
-
-impl Ord for Key {
-    fn cmp(&self, other: &Self) -> std::cmp::Ordering {
-        self.0.total_cmp(&other.0)
-    }
 }
 
 /// The graph being rewritten: adjacency sets, merge forest for re-owning points.
@@ -190,7 +175,7 @@ impl Work {
     /// Contraction operator: collapse the shortest, lowest-degree triangle edge until no triangle
     /// is left (edges joining two different clusters are never collapsed).
     fn contract_triangles(&mut self) {
-        let mut heap: BinaryHeap<Reverse<(Key, usize, u32, u32)>> = BinaryHeap::new();
+        let mut heap: BinaryHeap<Reverse<(TotalF64, usize, u32, u32)>> = BinaryHeap::new();
         for a in 0..self.nodes.len() as u32 {
             for &b in &self.adj[a as usize] {
                 if a < b && self.in_triangle(a, b) {
@@ -198,7 +183,7 @@ impl Work {
                 }
             }
         }
-        while let Some(Reverse((Key(length), degree, a, b))) = heap.pop() {
+        while let Some(Reverse((TotalF64(length), degree, a, b))) = heap.pop() {
             if !(self.alive[a as usize] && self.alive[b as usize] && self.adjacent(a, b)) {
                 continue;
             }
@@ -235,9 +220,9 @@ impl Work {
         }
     }
 
-    fn edge_key(&self, a: u32, b: u32) -> (Key, usize, u32, u32) {
+    fn edge_key(&self, a: u32, b: u32) -> (TotalF64, usize, u32, u32) {
         (
-            Key(self.len(a, b)),
+            TotalF64(self.len(a, b)),
             self.degree(a).min(self.degree(b)),
             a,
             b,
@@ -336,8 +321,8 @@ impl Work {
         let mut best: std::collections::HashMap<u32, (f64, u32)> = std::collections::HashMap::new();
         let mut heap = BinaryHeap::new();
         best.insert(from, (0.0, from));
-        heap.push(Reverse((Key(0.0), from)));
-        while let Some(Reverse((Key(d), x))) = heap.pop() {
+        heap.push(Reverse((TotalF64(0.0), from)));
+        while let Some(Reverse((TotalF64(d), x))) = heap.pop() {
             if best.get(&x).is_some_and(|&(bd, _)| bd < d) {
                 continue;
             }
@@ -358,7 +343,7 @@ impl Work {
                 let nd = d + self.len(x, y);
                 if nd <= limit && best.get(&y).is_none_or(|&(bd, _)| nd < bd) {
                     best.insert(y, (nd, x));
-                    heap.push(Reverse((Key(nd), y)));
+                    heap.push(Reverse((TotalF64(nd), y)));
                 }
             }
         }
@@ -975,21 +960,6 @@ fn background_regions(runs: &[(i64, i64, i64)], row_start: &[usize]) -> Vec<u32>
     union.into_labeling()
 }
 
-fn point_in_polygon(p: [f64; 2], polygon: &[[f64; 2]]) -> bool {
-    let mut inside = false;
-    let n = polygon.len();
-    for i in 0..n {
-        let (a, b) = (polygon[i], polygon[(i + 1) % n]);
-        if (a[1] > p[1]) != (b[1] > p[1]) {
-            let x = a[0] + (p[1] - a[1]) * (b[0] - a[0]) / (b[1] - a[1]);
-            if p[0] < x {
-                inside = !inside;
-            }
-        }
-    }
-    inside
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -1003,12 +973,5 @@ mod tests {
         });
         assert_eq!(groups.len(), 2);
         assert!(groups.iter().all(|g| g.len() <= 2));
-    }
-
-    #[test]
-    fn point_in_square() {
-        let square = [[0.0, 0.0], [2.0, 0.0], [2.0, 2.0], [0.0, 2.0]];
-        assert!(point_in_polygon([1.0, 1.0], &square));
-        assert!(!point_in_polygon([3.0, 1.0], &square));
     }
 }

@@ -16,6 +16,7 @@
 use std::cmp::Reverse;
 use std::collections::BinaryHeap;
 
+use crate::geometry::{principal, TotalF64};
 use crate::{Node, Params, PointSet, RMinRule, Samples};
 
 /// Marks a point that no node owns yet.
@@ -37,9 +38,9 @@ pub fn sample(points: &PointSet, params: &Params) -> Samples {
     let mut sampler = Sampler::new(points, params);
     let mut nodes = Vec::new();
     // Max-heap of (anisotropic distance D, point): candidates for the next center.
-    let mut frontier: BinaryHeap<(OrdF64, Reverse<u32>)> = BinaryHeap::new();
+    let mut frontier: BinaryHeap<(TotalF64, Reverse<u32>)> = BinaryHeap::new();
     let mut seed_cursor = 0usize;
-    // hostile (issue 5): a point is a center at most once. With k-nearest-neighbour graphs
+    // hostile input: a point is a center at most once. With k-nearest-neighbour graphs
     // (point lists) a neighbour can lie beyond `r_min`, so a center's disk may take no new point
     // while the center still borders uncovered ink: it came back off the heap with the same key
     // forever (10 collinear points hung). On pixel images a center's neighbours are all inside
@@ -51,7 +52,7 @@ pub fn sample(points: &PointSet, params: &Params) -> Samples {
         // an extremity of its part).
         let center = loop {
             match frontier.pop() {
-                Some((OrdF64(d), Reverse(p))) => {
+                Some((TotalF64(d), Reverse(p))) => {
                     if d == sampler.distance[p as usize]
                         && !was_center[p as usize]
                         && sampler.borders_uncovered(p)
@@ -81,24 +82,6 @@ pub fn sample(points: &PointSet, params: &Params) -> Samples {
     Samples {
         nodes,
         owner: sampler.owner,
-    }
-}
-
-/// `f64` with a total order, for heap keys (values are never NaN here).
-#[derive(Clone, Copy, Debug, PartialEq)]
-struct OrdF64(f64);
-
-impl Eq for OrdF64 {}
-
-impl PartialOrd for OrdF64 {
-    fn partial_cmp(&self, other: &Self) -> Option<std::cmp::Ordering> {
-        Some(self.cmp(other))
-    }
-}
-
-impl Ord for OrdF64 {
-    fn cmp(&self, other: &Self) -> std::cmp::Ordering {
-        self.0.total_cmp(&other.0)
     }
 }
 
@@ -402,7 +385,7 @@ impl<'a> Sampler<'a> {
         &mut self,
         center: u32,
         id: u32,
-        frontier: &mut BinaryHeap<(OrdF64, Reverse<u32>)>,
+        frontier: &mut BinaryHeap<(TotalF64, Reverse<u32>)>,
     ) -> (Node, usize) {
         // Two epochs per node: `epoch` marks search/rim membership, `epoch - 1` marks rim points
         // already visited by the component search.
@@ -422,7 +405,8 @@ impl<'a> Sampler<'a> {
         self.enqueue(0, center);
 
         let spacing = self.points.spacing.max(1e-9);
-        // Local width (adaptation 3): w_loc = 2 max(dt) - 1 over the disk of radius max(3, 3 dt(c)).
+        // Local width (adaptation 3): w_loc = 2 max(dt) - 1 over the disk of radius max(3, 3
+        // dt(c)).
         let dt_center = self.points.half_width[center as usize] as f64;
         // A center on the edge of a wide stroke (dt(c) small) would not see the stroke's middle in
         // that disk: widen the probe until it reaches past the deepest point found (at most 3x).
@@ -460,8 +444,8 @@ impl<'a> Sampler<'a> {
             self.grow_disk(c, r);
             let count = self.prefix(r);
             if self.params.arms_test {
-                // The arms test (adaptation 5): the rim `(r - 2, r]` of the disk must cut the ink in
-                // 1 or 2 places. A crossing gives 4 cuts, a T 3, a disk that holds a whole small
+                // The arms test (adaptation 5): the rim `(r - 2, r]` of the disk must cut the ink
+                // in 1 or 2 places. A crossing gives 4 cuts, a T 3, a disk that holds a whole small
                 // part 0.
                 last_cuts = self.rim_cuts(c, count, r);
                 if tries == 0 {
@@ -555,7 +539,7 @@ impl<'a> Sampler<'a> {
         for i in 0..count {
             let p = self.order[i].1;
             if self.borders_uncovered(p) {
-                frontier.push((OrdF64(self.distance[p as usize]), Reverse(p)));
+                frontier.push((TotalF64(self.distance[p as usize]), Reverse(p)));
             }
         }
         let node = Node {
@@ -581,55 +565,4 @@ fn quantize(d2: f64) -> u32 {
 /// The largest key inside radius `r`.
 fn quantize_bound(r: f64) -> u32 {
     (r * r * 4.0 + 1e-6).floor().min(u32::MAX as f64 / 2.0) as u32
-}
-
-/// Closed-form eigen-decomposition of the 2x2 covariance: returns the linearity
-/// `l = λ_max / (λ_min + λ_max)` (Eq. (3) in 2-D) and the unit eigenvector of `λ_max`.
-pub fn principal(cxx: f64, cxy: f64, cyy: f64) -> (f64, [f64; 2]) {
-    let trace = cxx + cyy;
-    if trace.is_nan() || trace <= 1e-12 {
-        return (0.5, [1.0, 0.0]);
-    }
-    let half_diff = (cxx - cyy) / 2.0;
-    let root = (half_diff * half_diff + cxy * cxy).sqrt();
-    let lambda_max = trace / 2.0 + root;
-    let linearity = (lambda_max / trace).clamp(0.5, 1.0);
-    // Eigenvector of λ_max; pick the better-conditioned of the two forms.
-    let direction = if cxy.abs() > 1e-12 {
-        let v = [lambda_max - cyy, cxy];
-        let norm = v[0].hypot(v[1]);
-        [v[0] / norm, v[1] / norm]
-    } else if cxx >= cyy {
-        [1.0, 0.0]
-    } else {
-        [0.0, 1.0]
-    };
-    // A canonical sign keeps results independent of accumulation order.
-    if direction[0] < 0.0 || (direction[0] == 0.0 && direction[1] < 0.0) {
-        (linearity, [-direction[0], -direction[1]])
-    } else {
-        (linearity, direction)
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn principal_of_a_horizontal_segment() {
-        let (l, d) = principal(10.0, 0.0, 0.1);
-        assert!(l > 0.98);
-        assert!((d[0] - 1.0).abs() < 1e-9 && d[1].abs() < 1e-9);
-    }
-
-    #[test]
-    fn principal_of_a_diagonal_and_isotropic_cloud() {
-        // Points along y = x: cov = [[1, 1], [1, 1]].
-        let (l, d) = principal(1.0, 1.0, 1.0);
-        assert!((l - 1.0).abs() < 1e-9);
-        assert!((d[0] - d[1]).abs() < 1e-9 && (d[0] - 0.5f64.sqrt()).abs() < 1e-9);
-        let (l, _) = principal(1.0, 0.0, 1.0);
-        assert!((l - 0.5).abs() < 1e-9);
-    }
 }

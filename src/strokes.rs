@@ -1,5 +1,5 @@
-//! Strokes through crossings (docs/design.md, "Beyond the paper"): the edges of a [`StrokeGraph`] chained
-//! into maximal *strokes* that run straight through junctions, the way a pen drew them.
+//! Strokes through crossings (docs/design.md, "Beyond the paper"): the edges of a [`StrokeGraph`]
+//! chained into maximal *strokes* that run straight through junctions, the way a pen drew them.
 //!
 //! At each vertex the incident edge ends are paired by good continuation:
 //! - degree 2 (two edges, or a self-loop): the two ends always continue each other;

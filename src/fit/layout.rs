@@ -3,6 +3,7 @@
 //! ones", docs/design.md, adaptation 12: spacing `h`).
 
 use super::math::{arc_lengths, point_at};
+use crate::csr::Csr;
 use crate::NodeGraph;
 
 /// One fitted edge: vertex `from` to vertex `to` through the contiguous interior unknowns
@@ -76,30 +77,20 @@ fn chains(graph: &NodeGraph, collapse_dots: bool) -> (Vec<u32>, Vec<Chain>) {
     let n = graph.nodes.len();
     // CSR adjacency with edge ids; malformed edges (self-loops, missing nodes) are skipped.
     let valid = |&&[a, b]: &&[u32; 2]| a != b && (a as usize) < n && (b as usize) < n;
-    let mut offsets = vec![0u32; n + 1];
-    for &[a, b] in graph.edges.iter().filter(valid) {
-        offsets[a as usize + 1] += 1;
-        offsets[b as usize + 1] += 1;
-    }
+    let mut adjacent = Csr::build(n, |sink| {
+        for (e, &[a, b]) in graph.edges.iter().filter(valid).enumerate() {
+            sink.push(a as usize, (b, e as u32));
+            sink.push(b as usize, (a, e as u32));
+        }
+    });
     for i in 0..n {
-        offsets[i + 1] += offsets[i];
+        adjacent.row_mut(i).sort_unstable();
     }
-    let mut fill = offsets.clone();
-    let mut adjacent = vec![(0u32, 0u32); offsets[n] as usize];
-    for (e, &[a, b]) in graph.edges.iter().filter(valid).enumerate() {
-        adjacent[fill[a as usize] as usize] = (b, e as u32);
-        fill[a as usize] += 1;
-        adjacent[fill[b as usize] as usize] = (a, e as u32);
-        fill[b as usize] += 1;
-    }
-    for i in 0..n {
-        adjacent[offsets[i] as usize..offsets[i + 1] as usize].sort_unstable();
-    }
-    let around = |v: u32| &adjacent[offsets[v as usize] as usize..offsets[v as usize + 1] as usize];
-    let degree = |v: u32| offsets[v as usize + 1] - offsets[v as usize];
+    let around = |v: u32| adjacent.row(v as usize);
+    let degree = |v: u32| adjacent.row(v as usize).len() as u32;
 
     let mut is_vertex: Vec<bool> = (0..n as u32).map(|v| degree(v) != 2).collect();
-    let mut used = vec![false; adjacent.len() / 2];
+    let mut used = vec![false; adjacent.values.len() / 2];
     let mut on_chain = vec![false; n];
     type Found = Vec<(u32, u32, Vec<u32>)>;
     let mut found: Found = Vec::new();

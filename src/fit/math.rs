@@ -1,6 +1,8 @@
 //! Small geometry for the fit: L1 medians (Weiszfeld), principal directions, least-squares line
 //! intersections and arc-length walks along polylines.
 
+use crate::geometry::principal;
+
 /// Working arrays of [`l1_median`], kept between calls so that nothing is allocated per node.
 #[derive(Clone, Debug, Default)]
 pub struct MedianScratch {
@@ -130,8 +132,7 @@ pub fn principal_line(sample: &[[f64; 2]]) -> Option<([f64; 2], [f64; 2])> {
     if sxx + syy < 1e-12 {
         return None;
     }
-    let angle = 0.5 * (2.0 * sxy).atan2(sxx - syy);
-    Some((c, [angle.cos(), angle.sin()]))
+    Some((c, principal(sxx, sxy, syy).1))
 }
 
 /// The point minimizing the summed squared distances to lines `(point, unit direction)`:

@@ -3,18 +3,18 @@
 //! In: the refined 1-D [`NodeGraph`] (§3.3) and the [`PointSet`]. Out: a [`StrokeGraph`] whose
 //! edges are polylines from vertex to vertex. The steps, each in its own module:
 //!
-//! 1. `layout`: cut the graph into chains between vertices (nodes of degree other than 2, one
-//!    node per closed loop) and resample every chain to node spacing `h = max(3, median width)`
-//!    ("equalizing the edge length", adaptation 12 of docs/design.md); with clean-up, an isolated chain shorter than
-//!    its stroke is wide is a dot and becomes one lone vertex;
+//! 1. `layout`: cut the graph into chains between vertices (nodes of degree other than 2, one node
+//!    per closed loop) and resample every chain to node spacing `h = max(3, median width)`
+//!    ("equalizing the edge length", adaptation 12 of docs/design.md); with clean-up, an isolated
+//!    chain shorter than its stroke is wide is a dot and becomes one lone vertex;
 //! 2. `assign`: give every point to the nearest fitted node of its own ink component (a
 //!    geodesic Voronoi partition over the neighbour graph), then take the L1 median `q'_i` of each
 //!    node's points by Weiszfeld's iteration (`math::l1_median`);
-//! 3. `solve`: minimize Eq. (4), `sum W_i |q_i - q'_i|^2 + w |L Q|^2`. By default `L` is the
-//!    "held" Laplacian of adaptation 12 (one row `q_i - (q_a + q_b) / 2` per degree-2 node, so ends and
-//!    junctions are not pulled inward) with data weight `anchor_weight` on ends and junctions;
-//!    with [`LaplacianRule::Uniform`] it is the uniform graph Laplacian, as the paper writes it
-//!    (whose preset also sets the data weights to 1);
+//! 3. `solve`: minimize Eq. (4), `sum W_i |q_i - q'_i|^2 + w |L Q|^2`. By default `L` is the "held"
+//!    Laplacian of adaptation 12 (one row `q_i - (q_a + q_b) / 2` per degree-2 node, so ends and
+//!    junctions are not pulled inward) with data weight `anchor_weight` on ends and junctions; with
+//!    [`LaplacianRule::Uniform`] it is the uniform graph Laplacian, as the paper writes it (whose
+//!    preset also sets the data weights to 1);
 //! 4. `place` (clean-up only): ends out to where the ink ends, junctions where their arms' lines
 //!    meet (adaptations 13, 14), and with [`Params::junctions_on_ink`] a junction left off the ink
 //!    moved onto the nearest point of its cell;
@@ -33,6 +33,7 @@ mod solve;
 #[cfg(test)]
 mod tests;
 
+use crate::csr::Csr;
 use crate::{Edge, LaplacianRule, NodeGraph, Params, PointSet, StrokeGraph, Vertex};
 use assign::Groups;
 use layout::Layout;
@@ -357,32 +358,17 @@ fn held_laplacian(layout: &Layout, polylines: &[Vec<u32>], degrees: &[usize]) ->
 
 /// The paper's Eq. (4) as written: the uniform graph Laplacian, a row for every node.
 fn uniform_laplacian(polylines: &[Vec<u32>], count: usize) -> Smoothness {
-    let mut offsets = vec![0u32; count + 1];
-    for ids in polylines {
-        for w in ids.windows(2) {
-            offsets[w[0] as usize + 1] += 1;
-            offsets[w[1] as usize + 1] += 1;
+    let neighbors = Csr::build(count, |sink| {
+        for ids in polylines {
+            for w in ids.windows(2) {
+                sink.push(w[0] as usize, w[1]);
+                sink.push(w[1] as usize, w[0]);
+            }
         }
-    }
-    for i in 0..count {
-        offsets[i + 1] += offsets[i];
-    }
-    let mut fill = offsets.clone();
-    let mut neighbors = vec![0u32; offsets[count] as usize];
-    for ids in polylines {
-        for w in ids.windows(2) {
-            neighbors[fill[w[0] as usize] as usize] = w[1];
-            fill[w[0] as usize] += 1;
-            neighbors[fill[w[1] as usize] as usize] = w[0];
-            fill[w[1] as usize] += 1;
-        }
-    }
+    });
     let mut rows = Smoothness::new();
     for i in 0..count {
-        rows.push(
-            i as u32,
-            &neighbors[offsets[i] as usize..offsets[i + 1] as usize],
-        );
+        rows.push(i as u32, neighbors.row(i));
     }
     rows
 }

@@ -1,6 +1,6 @@
-//! Ink pixels to the strip point set `P` (docs/design.md, adaptation 1): one point per ink pixel center in raster
-//! order, the pixel neighbour graph (8-neighbourhood, or 5x5 in dropout mode) in CSR form, the
-//! half-width from an exact Euclidean distance transform, and `Dis_ave`.
+//! Ink pixels to the strip point set `P` (docs/design.md, adaptation 1): one point per ink pixel
+//! center in raster order, the pixel neighbour graph (8-neighbourhood, or 5x5 in dropout mode) in
+//! CSR form, the half-width from an exact Euclidean distance transform, and `Dis_ave`.
 //!
 //! Everything here is O(pixels) with no allocation per point; rows run in parallel and write only
 //! their own slices, so the output does not depend on the thread count.

@@ -1,5 +1,6 @@
-//! Property tests (docs/bad-input.md): random stroke images, rendered with [`ridgeline::synth::render`],
-//! must trace without panicking into a valid graph that stays on the ink and misses no stroke.
+//! Property tests (docs/bad-input.md): random stroke images, rendered with
+//! [`ridgeline::synth::render`], must trace without panicking into a valid graph that stays on the
+//! ink and misses no stroke.
 //!
 //! The case count is kept moderate so the suite stays fast, and the seed is fixed so that CI is
 //! reproducible; `PROPTEST_CASES=2000 PROPTEST_RNG_SEED=<n>` explores further. Such runs find

@@ -62,6 +62,7 @@ pub fn build(points: &PointSet, samples: &Samples, params: &Params) -> NodeGraph
         ClusterRule::EqualDistance => color_clusters_as_written(&mut graph, params),
         ClusterRule::NonLinear => color_clusters(&mut graph, points, params),
     }
+    debug_assert_eq!(graph.validate(points.len()), Ok(()));
     graph
 }
 

@@ -29,6 +29,7 @@ pub fn refine(graph: &NodeGraph, points: &PointSet, params: &Params) -> NodeGrap
     };
     let mut work = Work::new(graph, holes);
     work.contract_triangles();
+    debug_assert_eq!(work.contractible_triangle_edge(), None);
     let holes = work.holes.clone();
     work.merge_clusters(params.merge_span, &holes);
     if params.cleanup {
@@ -42,7 +43,9 @@ pub fn refine(graph: &NodeGraph, points: &PointSet, params: &Params) -> NodeGrap
             }
         }
     }
-    work.finish(&graph.owner)
+    let refined = work.finish(&graph.owner);
+    debug_assert_eq!(refined.validate(points.len()), Ok(()));
+    refined
 }
 
 /// The graph being rewritten: adjacency sets, merge forest for re-owning points.
@@ -218,6 +221,22 @@ impl Work {
                 }
             }
         }
+    }
+
+    /// An edge that contraction should have collapsed: on a triangle that encloses no known hole,
+    /// between nodes of one cluster (or unclustered ones). None after [`Work::contract_triangles`]:
+    /// what triangles remain go around a hole or have every edge between two clusters.
+    fn contractible_triangle_edge(&self) -> Option<(u32, u32)> {
+        (0..self.nodes.len() as u32)
+            .filter(|&a| self.alive[a as usize])
+            .flat_map(|a| self.adj[a as usize].iter().map(move |&b| (a, b)))
+            .find(|&(a, b)| {
+                let (ca, cb) = (
+                    self.nodes[a as usize].cluster,
+                    self.nodes[b as usize].cluster,
+                );
+                a < b && !matches!((ca, cb), (Some(x), Some(y)) if x != y) && self.in_triangle(a, b)
+            })
     }
 
     fn edge_key(&self, a: u32, b: u32) -> (TotalF64, usize, u32, u32) {

@@ -79,10 +79,12 @@ pub fn sample(points: &PointSet, params: &Params) -> Samples {
             nodes.push(node);
         }
     }
-    Samples {
+    let samples = Samples {
         nodes,
         owner: sampler.owner,
-    }
+    };
+    debug_assert_eq!(samples.validate(n), Ok(()));
+    samples
 }
 
 /// Reusable state of the sampling loop: no allocation per node beyond the reused buffers.

@@ -983,6 +983,158 @@ fn background_regions(runs: &[(i64, i64, i64)], row_start: &[usize]) -> Vec<u32>
 mod tests {
     use super::*;
 
+    /// A node of a hand-built graph: non-linear when it has a cluster.
+    fn node(pos: [f64; 2], width: f64, cluster: Option<u32>) -> GraphNode {
+        GraphNode {
+            pos,
+            r_min: 3.0,
+            width,
+            direction: [1.0, 0.0],
+            linear: cluster.is_none(),
+            cluster,
+            tip: false,
+        }
+    }
+
+    /// The work graph of `nodes` and `edges`, without hole knowledge (as without clean-up).
+    fn work(nodes: Vec<GraphNode>, edges: &[[u32; 2]]) -> Work {
+        let mut edges: Vec<[u32; 2]> = edges.iter().map(|&[a, b]| [a.min(b), a.max(b)]).collect();
+        edges.sort_unstable();
+        let graph = NodeGraph {
+            nodes,
+            edges,
+            owner: Vec::new(),
+        };
+        assert_eq!(graph.validate(0), Ok(()));
+        Work::new(&graph, Holes::Unknown)
+    }
+
+    /// Degrees of the live nodes, in node order.
+    fn degrees(work: &Work) -> Vec<usize> {
+        work.live().into_iter().map(|i| work.degree(i)).collect()
+    }
+
+    /// Two Y's joined at `[0, 0]`-`[bar, 0]`, the left one's arms to `left`, mirrored in y; the
+    /// right one's arms to `right`, mirrored in y. Nodes: 0 and 1 the Y's, then the arm ends.
+    fn two_ys(bar: f64, left: [f64; 2], right: [f64; 2], width: f64) -> Work {
+        let nodes = vec![
+            node([0.0, 0.0], width, Some(0)),
+            node([bar, 0.0], width, Some(0)),
+            node(left, width, None),
+            node([left[0], -left[1]], width, None),
+            node(right, width, None),
+            node([right[0], -right[1]], width, None),
+        ];
+        work(nodes, &[[0, 1], [0, 2], [0, 3], [1, 4], [1, 5]])
+    }
+
+    #[test]
+    fn contraction_removes_triangles_within_a_cluster_only() {
+        // A triangle with a tail: its shortest edge (1-2) collapses to its midpoint, the tail
+        // stays.
+        let nodes = vec![
+            node([0.0, 0.0], 3.0, None),
+            node([2.0, 0.0], 3.0, None),
+            node([1.5, 1.5], 3.0, None),
+            node([10.0, 0.0], 3.0, None),
+        ];
+        let mut w = work(nodes.clone(), &[[0, 1], [1, 2], [0, 2], [1, 3]]);
+        w.contract_triangles();
+        assert_eq!(w.contractible_triangle_edge(), None);
+        assert_eq!(w.live(), [0, 1, 3]);
+        assert_eq!(degrees(&w), [1, 2, 1]);
+        assert_eq!(w.nodes[1].pos, [1.75, 0.75]);
+        // The same triangle with its corners in three clusters is three regions: untouched.
+        let clustered: Vec<GraphNode> = nodes
+            .iter()
+            .enumerate()
+            .map(|(i, n)| GraphNode {
+                cluster: (i < 3).then_some(i as u32),
+                ..*n
+            })
+            .collect();
+        let mut w = work(clustered, &[[0, 1], [1, 2], [0, 2], [1, 3]]);
+        w.contract_triangles();
+        assert_eq!(w.live().len(), 4);
+        assert_eq!(w.contractible_triangle_edge(), None);
+    }
+
+    #[test]
+    fn merging_joins_close_junctions_of_one_cluster() {
+        // Two Y's 2 apart in one cluster (r_min 3, span 2: within 6) become one crossing.
+        let mut w = two_ys(2.0, [-5.0, 3.0], [7.0, 3.0], 3.0);
+        w.merge_clusters(2.0, &Holes::Unknown);
+        assert_eq!(degrees(&w), [4, 1, 1, 1, 1]);
+        assert_eq!(w.nodes[0].pos, [1.0, 0.0], "at the centroid");
+        // 20 apart they are two junctions; with the paper's whole-cluster merge, one.
+        let mut w = two_ys(20.0, [-5.0, 3.0], [25.0, 3.0], 3.0);
+        w.merge_clusters(2.0, &Holes::Unknown);
+        assert_eq!(degrees(&w), [3, 3, 1, 1, 1, 1]);
+        let mut w = two_ys(20.0, [-5.0, 3.0], [25.0, 3.0], 3.0);
+        w.merge_clusters(f64::INFINITY, &Holes::Unknown);
+        assert_eq!(degrees(&w), [4, 1, 1, 1, 1]);
+    }
+
+    #[test]
+    fn spur_pruning_drops_short_branches_only() {
+        // A line of nodes 4 apart with a branch at its middle, 3 long (a spur: under 1.1 widths
+        // of 4) or 10 long (an arm). Without a pixel grid the branch's length is its reach.
+        for (branch, pruned) in [(3.0, true), (10.0, false)] {
+            let mut nodes: Vec<GraphNode> = (0..5)
+                .map(|i| node([4.0 * i as f64, 0.0], 4.0, None))
+                .collect();
+            nodes.push(node([8.0, branch], 4.0, None));
+            let mut w = work(nodes, &[[0, 1], [1, 2], [2, 3], [3, 4], [2, 5]]);
+            assert_eq!(
+                w.prune_spurs(&PointSet::default()),
+                pruned,
+                "branch {branch}"
+            );
+            let expected: &[usize] = if pruned {
+                &[1, 2, 2, 2, 1]
+            } else {
+                &[1, 2, 3, 2, 1, 1]
+            };
+            assert_eq!(degrees(&w), expected, "branch {branch}");
+            assert_eq!(
+                w.nodes[2].pos,
+                [8.0, 0.0],
+                "the junction stays where it was"
+            );
+        }
+    }
+
+    #[test]
+    fn short_bars_between_junctions_collapse() {
+        // A bar of 2 between two junctions of width 4 is one junction; a bar of 6 stays.
+        let mut w = two_ys(2.0, [-6.0, 4.0], [8.0, 4.0], 4.0);
+        assert!(w.collapse_short_bars());
+        assert_eq!(degrees(&w), [4, 1, 1, 1, 1]);
+        assert_eq!(w.nodes[0].pos, [1.0, 0.0]);
+        let mut w = two_ys(6.0, [-6.0, 4.0], [12.0, 4.0], 4.0);
+        assert!(!w.collapse_short_bars());
+        assert_eq!(degrees(&w), [3, 3, 1, 1, 1, 1]);
+    }
+
+    #[test]
+    fn y_bar_y_becomes_one_crossing_when_the_arms_pair_up() {
+        // An acute X sampled as two Y's 4 apart (width 3): the outer arms open away from the bar
+        // and pair up anti-parallel, so the bar (under 3 w / sin(θ/2) ≈ 31) is merged.
+        let mut w = two_ys(4.0, [-10.0, 4.0], [14.0, 4.0], 3.0);
+        assert!(w.merge_y_bar_y());
+        assert_eq!(degrees(&w), [4, 1, 1, 1, 1]);
+        assert_eq!(w.nodes[0].pos, [2.0, 0.0]);
+        // Arms at right angles to the bar on one side (a stroke passing the end of another) do
+        // not open away from it: two junctions stay.
+        let mut w = two_ys(4.0, [-10.0, 4.0], [4.0, 10.0], 3.0);
+        assert!(!w.merge_y_bar_y());
+        assert_eq!(degrees(&w), [3, 3, 1, 1, 1, 1]);
+        // Arms that open away but do not pair up (a wide and a narrow Y) stay too.
+        let mut w = two_ys(4.0, [-10.0, 4.0], [6.0, 10.0], 3.0);
+        assert!(!w.merge_y_bar_y());
+        assert_eq!(degrees(&w), [3, 3, 1, 1, 1, 1]);
+    }
+
     #[test]
     fn complete_linkage_requires_every_pair_close() {
         // 0, 1, 2 on a line 1 apart: with limit 1.5, {0,1} and {2} (0-2 is 2 apart).

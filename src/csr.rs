@@ -78,6 +78,36 @@ impl<T> Csr<T> {
     }
 }
 
+/// A symmetric neighbour relation in CSR form with `u32` offsets, as [`crate::PointSet`] holds
+/// it: every pair `(i, j)` that `pairs` hands to its callback joins `i` to `j` and `j` to `i`;
+/// each of the `n` rows is sorted and its repeats (pairs given both ways) dropped.
+pub(crate) fn symmetric_neighbours(
+    n: usize,
+    mut pairs: impl FnMut(&mut dyn FnMut(u32, u32)),
+) -> (Vec<u32>, Vec<u32>) {
+    let mut both = Csr::build(n, |sink| {
+        pairs(&mut |i, j| {
+            sink.push(i as usize, j);
+            sink.push(j as usize, i);
+        })
+    });
+    let mut offsets = Vec::with_capacity(n + 1);
+    offsets.push(0u32);
+    let mut neighbors = Vec::with_capacity(both.values.len());
+    for i in 0..n {
+        let list = both.row_mut(i);
+        list.sort_unstable();
+        let start = neighbors.len();
+        for &j in list.iter() {
+            if neighbors.len() == start || neighbors.last() != Some(&j) {
+                neighbors.push(j);
+            }
+        }
+        offsets.push(neighbors.len() as u32);
+    }
+    (offsets, neighbors)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -96,6 +126,19 @@ mod tests {
         assert!(csr.row(1).is_empty());
         assert_eq!(csr.row(2), ['a', 'c']);
         assert_eq!(csr.row(3), ['e']);
+    }
+
+    #[test]
+    fn symmetric_neighbours_are_sorted_and_unique() {
+        // 0-1 given both ways, 2-0 once, 3 alone.
+        let pairs = [(0, 1), (1, 0), (2, 0)];
+        let (offsets, neighbors) = symmetric_neighbours(4, |emit| {
+            for &(i, j) in &pairs {
+                emit(i, j);
+            }
+        });
+        assert_eq!(offsets, [0, 2, 3, 4, 4]);
+        assert_eq!(neighbors, [1, 2, 0, 0]);
     }
 
     #[test]

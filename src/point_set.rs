@@ -1,7 +1,7 @@
 //! The strip point set `P` of the paper: one point per foreground pixel center (or one per line of
 //! a point list), with the neighbour graph every later stage walks and the local half-width.
 
-use crate::csr::Csr;
+use crate::csr::symmetric_neighbours;
 use crate::mask::{run_components, Run};
 
 /// A pixel grid the points came from: lets stages use pixel adjacency instead of tree queries.
@@ -126,32 +126,17 @@ impl PointSet {
 
     /// Builds the CSR neighbour arrays from per-point lists, symmetrizing them.
     pub fn set_neighbors_symmetric(&mut self, lists: &[Vec<u32>]) {
-        let n = self.points.len();
-        let mut all = Csr::build(n, |sink| {
+        let (offsets, neighbors) = symmetric_neighbours(self.points.len(), |emit| {
             for (i, list) in lists.iter().enumerate() {
                 for &j in list {
                     if j as usize != i {
-                        sink.push(i, j);
-                        sink.push(j as usize, i as u32);
+                        emit(i as u32, j);
                     }
                 }
             }
         });
-        self.offsets = Vec::with_capacity(n + 1);
-        self.neighbors.clear();
-        self.offsets.push(0);
-        for i in 0..n {
-            let list = all.row_mut(i);
-            list.sort_unstable();
-            let mut last = None;
-            for &j in list.iter() {
-                if last != Some(j) {
-                    self.neighbors.push(j);
-                    last = Some(j);
-                }
-            }
-            self.offsets.push(self.neighbors.len() as u32);
-        }
+        self.offsets = offsets;
+        self.neighbors = neighbors;
     }
 
     /// Splits the points into chunks of whole connected components (of the neighbour graph), each

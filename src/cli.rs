@@ -263,6 +263,15 @@ pub struct Cli {
     #[arg(long, help_heading = "Sampling (paper §3.1)")]
     no_arms_test: bool,
 
+    /// Use the rim "arms" test besides PCA, also with --paper (the last of --arms-test and
+    /// --no-arms-test wins)
+    #[arg(
+        long,
+        overrides_with = "no_arms_test",
+        help_heading = "Sampling (paper §3.1)"
+    )]
+    arms_test: bool,
+
     /// k nearest neighbours for point lists, 2-64 [default: 5]
     #[arg(
         long = "k",
@@ -303,6 +312,15 @@ pub struct Cli {
     /// ends and junctions [default: clean-up on, paper: off]
     #[arg(long, help_heading = "Graph and refinement (paper §3.2, §3.3)")]
     no_cleanup: bool,
+
+    /// Run the clean-up after §3.3 and the placement of ends and junctions, also with --paper
+    /// (the last of --cleanup and --no-cleanup wins)
+    #[arg(
+        long,
+        overrides_with = "no_cleanup",
+        help_heading = "Graph and refinement (paper §3.2, §3.3)"
+    )]
+    cleanup: bool,
 
     /// Smoothness term of Eq. (4): held (degree-2 nodes only) or the uniform Laplacian over every
     /// node [default: held, paper: uniform]
@@ -517,8 +535,14 @@ impl TryFrom<&Cli> for Params {
         if cli.no_arms_test {
             params.arms_test = false;
         }
+        if cli.arms_test {
+            params.arms_test = true;
+        }
         if cli.no_cleanup {
             params.cleanup = false;
+        }
+        if cli.cleanup {
+            params.cleanup = true;
         }
         if cli.skeleton {
             params.skeleton = true;
@@ -1806,6 +1830,38 @@ mod tests {
         // Untouched fields keep the paper's values.
         assert_eq!(params.r_max_factor, Params::paper().r_max_factor);
         assert_eq!(params.anchor_weight, Params::paper().anchor_weight);
+    }
+
+    #[test]
+    fn every_rule_of_the_paper_preset_can_be_given_back() {
+        let params = Params::try_from(&parse(&[
+            "--paper",
+            "--r-min-rule",
+            "width",
+            "--r-min-factor",
+            "1",
+            "--r-max-factor",
+            "3",
+            "--arms-test",
+            "--clusters",
+            "non-linear",
+            "--merge-span",
+            "2",
+            "--cleanup",
+            "--laplacian",
+            "held",
+            "--anchor-weight",
+            "10",
+            "a.png",
+        ]))
+        .expect("valid");
+        assert_eq!(params, Params::default());
+        // The last of a flag and its negation wins.
+        let off = Params::try_from(&parse(&["--cleanup", "--no-cleanup", "a.png"])).expect("valid");
+        assert!(!off.cleanup);
+        let on =
+            Params::try_from(&parse(&["--no-arms-test", "--arms-test", "a.png"])).expect("valid");
+        assert!(on.arms_test);
     }
 
     #[test]

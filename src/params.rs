@@ -46,8 +46,7 @@ pub enum Polarity {
 #[serde(rename_all = "snake_case")]
 pub enum RMinRule {
     /// One local stroke width: `r_min = max(3 Dis_ave, r_min_factor · w_loc)`, where `w_loc` is
-    /// the stroke width around the disk's center (docs/design.md, adaptations 2 and 12). The
-    /// default.
+    /// the stroke width around the disk's center (docs/design.md, adaptation 3). The default.
     StrokeWidth,
     /// The paper's rule: `r_min = r_min_factor · Dis_ave` (§3.1, 10 `Dis_ave` in §4).
     Spacing,
@@ -59,7 +58,7 @@ pub enum RMinRule {
 #[serde(rename_all = "snake_case")]
 pub enum ClusterRule {
     /// Non-linear nodes only, joined by edges shorter than `cluster_link · r_min`; linear nodes
-    /// belong to no cluster (docs/design.md, adaptation 7). The default.
+    /// belong to no cluster (docs/design.md, adaptation 8). The default.
     NonLinear,
     /// The paper's rule as written: edges shorter than `cluster_link · r_min` weigh 0, others
     /// their length; nodes at the same shortest distance from a root form one cluster (§3.2).
@@ -71,7 +70,7 @@ pub enum ClusterRule {
 #[serde(rename_all = "snake_case")]
 pub enum LaplacianRule {
     /// Rows `q_i - (q_a + q_b) / 2` for degree-2 nodes only: junctions and endpoints are held by
-    /// their data term alone (docs/design.md, adaptation 9). The default.
+    /// their data term alone (docs/design.md, adaptation 12). The default.
     Held,
     /// The paper's uniform graph Laplacian over every node (§3.4), which pulls junctions and
     /// curves inward.
@@ -137,7 +136,7 @@ pub struct Params {
     /// [`RMinRule::Spacing`].
     pub r_min_rule: RMinRule,
     /// `r_min` factor: with [`RMinRule::StrokeWidth`] `r_min = max(3 Dis_ave, r_min_factor ·
-    /// w_loc)` (β of docs/design.md, adaptation 12, default 1.0); with [`RMinRule::Spacing`]
+    /// w_loc)` (β of docs/design.md, adaptation 3, default 1.0); with [`RMinRule::Spacing`]
     /// `r_min = r_min_factor · Dis_ave` (paper 10).
     pub r_min_factor: f64,
     /// `r_max / r_min`. Default 3 (paper: 6).

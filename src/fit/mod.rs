@@ -291,9 +291,9 @@ fn length_unit(points: &PointSet) -> f64 {
     }
 }
 
-/// Design 9: the node spacing `h = max(3, spacing_factor x median stroke width)` over the nodes
-/// of `graphs` (the refined graphs of all parts of one input; lengths in the unit of `points`,
-/// any one of the parts' point sets).
+/// Adaptation 12: the node spacing `h = max(3, spacing_factor x median stroke width)` over the
+/// nodes of `graphs` (the refined graphs of all parts of one input; lengths in the unit of
+/// `points`, any one of the parts' point sets).
 pub fn node_spacing(graphs: &[&NodeGraph], points: &PointSet, params: &Params) -> f64 {
     let unit = length_unit(points);
     let mut widths: Vec<f64> = graphs
@@ -338,8 +338,8 @@ fn vertex_ends(layout: &Layout, polylines: &[Vec<u32>]) -> Vec<Vec<End>> {
     ends
 }
 
-/// Design 9: smoothness rows `q_i - (q_a + q_b) / 2` only where the curve passes through (chain
-/// interiors and the anchor of a closed loop), none at ends and junctions.
+/// Adaptation 12: smoothness rows `q_i - (q_a + q_b) / 2` only where the curve passes through
+/// (chain interiors and the anchor of a closed loop), none at ends and junctions.
 fn held_laplacian(layout: &Layout, polylines: &[Vec<u32>], degrees: &[usize]) -> Smoothness {
     let mut rows = Smoothness::new();
     for ids in polylines {

@@ -8,8 +8,9 @@ use sprs_ldl::Ldl;
 
 /// The rows of the smoothness operator `L`: row `r` is `q_c - mean(q_n for n in neighbours)`.
 ///
-/// Design 9 ("held" Laplacian) has one row per degree-2 chain node with its two chain neighbours;
-/// the paper's uniform graph Laplacian has one row per node with all its graph neighbours.
+/// Adaptation 12 of docs/design.md (the "held" Laplacian) has one row per degree-2 chain node with
+/// its two chain neighbours; the paper's uniform graph Laplacian has one row per node with all its
+/// graph neighbours.
 #[derive(Clone, Debug, Default)]
 pub struct Smoothness {
     /// The center unknown of each row.

@@ -1,6 +1,7 @@
-//! The pictures of the README's feature section (issue 6), made by the project's own code: a
-//! generated case is traced, its strokes, widths, minutiae or curves are drawn by the SVG writer
-//! exactly as `ridgeline --strokes` (and friends) would, and resvg renders the SVG to a PNG.
+//! The pictures of the README's feature section (docs/design.md, "Beyond the paper"), made by the
+//! project's own code: a generated case is traced, its strokes, widths, minutiae or curves are
+//! drawn by the SVG writer exactly as `ridgeline --strokes` (and friends) would, and resvg renders
+//! the SVG to a PNG.
 //!
 //! ```text
 //! cargo run --example feature_pictures [-- OUTPUT_DIR]     # default: docs/features

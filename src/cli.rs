@@ -27,7 +27,7 @@ use ridgeline::export::Features;
 use ridgeline::minutiae::{minutiae, MinutiaeOptions};
 use ridgeline::raster::{Page, Picture};
 use ridgeline::strokes::{strokes, StrokeOptions};
-use ridgeline::{Params, Polarity, StrokeGraph, Threshold};
+use ridgeline::{ClusterRule, LaplacianRule, Params, Polarity, RMinRule, StrokeGraph, Threshold};
 
 /// Sauvola window when `--sauvola` is given without `--window` (the value `Threshold` documents).
 const SAUVOLA_WINDOW: u32 = 31;
@@ -220,8 +220,9 @@ pub struct Cli {
     #[arg(long, value_name = "SHARE", help_heading = "Input and binarization")]
     dropout_fraction: Option<f64>,
 
-    /// Start from the paper's own parameter values (r_min = 10 Dis_ave, r_max = 6 r_min, no arms
-    /// test, whole-cluster merging, uniform fit weights, no clean-up); flags below still override
+    /// Start from the paper's own rules and values (r_min = 10 Dis_ave, r_max = 6 r_min, no arms
+    /// test, equal-distance clusters, whole-cluster merging, uniform Laplacian and fit weights, no
+    /// clean-up); every other flag given still overrides them
     #[arg(long, help_heading = "Method")]
     paper: bool,
 
@@ -230,8 +231,18 @@ pub struct Cli {
     #[arg(long, help_heading = "Method")]
     skeleton: bool,
 
-    /// r_min factor: r_min = max(3 Dis_ave, factor x local stroke width), px; with --paper
-    /// r_min = factor x Dis_ave [default: 1, paper: 10]
+    /// How r_min is chosen: from the local stroke width or from the point spacing Dis_ave
+    /// [default: width, paper: spacing]
+    #[arg(
+        long,
+        value_enum,
+        value_name = "RULE",
+        help_heading = "Sampling (paper §3.1)"
+    )]
+    r_min_rule: Option<RMinRuleArg>,
+
+    /// r_min factor: r_min = max(3 Dis_ave, factor x local stroke width), px; with
+    /// --r-min-rule spacing r_min = factor x Dis_ave [default: 1, paper: 10]
     #[arg(long, value_name = "FACTOR", help_heading = "Sampling (paper §3.1)")]
     r_min_factor: Option<f64>,
 
@@ -252,6 +263,15 @@ pub struct Cli {
     #[arg(long, help_heading = "Sampling (paper §3.1)")]
     no_arms_test: bool,
 
+    /// Use the rim "arms" test besides PCA, also with --paper (the last of --arms-test and
+    /// --no-arms-test wins)
+    #[arg(
+        long,
+        overrides_with = "no_arms_test",
+        help_heading = "Sampling (paper §3.1)"
+    )]
+    arms_test: bool,
+
     /// k nearest neighbours for point lists, 2-64 [default: 5]
     #[arg(
         long = "k",
@@ -259,6 +279,16 @@ pub struct Cli {
         help_heading = "Graph and refinement (paper §3.2, §3.3)"
     )]
     k: Option<usize>,
+
+    /// Which nodes form the clusters (non-linear regions) that refinement merges
+    /// [default: non-linear, paper: equal-distance]
+    #[arg(
+        long,
+        value_enum,
+        value_name = "RULE",
+        help_heading = "Graph and refinement (paper §3.2, §3.3)"
+    )]
+    clusters: Option<ClusterArg>,
 
     /// Cluster link length, in units of r_min: shorter edges join non-linear nodes into one
     /// cluster [default: 1.5]
@@ -282,6 +312,25 @@ pub struct Cli {
     /// ends and junctions [default: clean-up on, paper: off]
     #[arg(long, help_heading = "Graph and refinement (paper §3.2, §3.3)")]
     no_cleanup: bool,
+
+    /// Run the clean-up after §3.3 and the placement of ends and junctions, also with --paper
+    /// (the last of --cleanup and --no-cleanup wins)
+    #[arg(
+        long,
+        overrides_with = "no_cleanup",
+        help_heading = "Graph and refinement (paper §3.2, §3.3)"
+    )]
+    cleanup: bool,
+
+    /// Smoothness term of Eq. (4): held (degree-2 nodes only) or the uniform Laplacian over every
+    /// node [default: held, paper: uniform]
+    #[arg(
+        long,
+        value_enum,
+        value_name = "RULE",
+        help_heading = "Fitting (paper §3.4)"
+    )]
+    laplacian: Option<LaplacianArg>,
 
     /// Laplacian weight w of Eq. (4), >= 0: higher is smoother, lower follows the ink more
     /// closely [default: 1]
@@ -359,6 +408,33 @@ enum PolarityArg {
     Light,
 }
 
+/// `--r-min-rule` values.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+enum RMinRuleArg {
+    /// r_min = max(3 Dis_ave, factor x local stroke width).
+    Width,
+    /// r_min = factor x Dis_ave, as in the paper.
+    Spacing,
+}
+
+/// `--clusters` values.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+enum ClusterArg {
+    /// Non-linear nodes joined by short edges.
+    NonLinear,
+    /// Nodes at equal shortest distance from a root, as in the paper.
+    EqualDistance,
+}
+
+/// `--laplacian` values.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+enum LaplacianArg {
+    /// Smoothness rows for degree-2 nodes only.
+    Held,
+    /// The uniform Laplacian of every node, as in the paper.
+    Uniform,
+}
+
 /// `--dropout` values.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
 enum Dropout {
@@ -417,6 +493,24 @@ impl TryFrom<&Cli> for Params {
                 Dropout::Auto => None,
             };
         }
+        if let Some(rule) = cli.r_min_rule {
+            params.r_min_rule = match rule {
+                RMinRuleArg::Width => RMinRule::StrokeWidth,
+                RMinRuleArg::Spacing => RMinRule::Spacing,
+            };
+        }
+        if let Some(rule) = cli.clusters {
+            params.cluster_rule = match rule {
+                ClusterArg::NonLinear => ClusterRule::NonLinear,
+                ClusterArg::EqualDistance => ClusterRule::EqualDistance,
+            };
+        }
+        if let Some(rule) = cli.laplacian {
+            params.laplacian = match rule {
+                LaplacianArg::Held => LaplacianRule::Held,
+                LaplacianArg::Uniform => LaplacianRule::Uniform,
+            };
+        }
         fn set<T: Copy>(field: &mut T, flag: Option<T>) {
             if let Some(value) = flag {
                 *field = value;
@@ -441,8 +535,14 @@ impl TryFrom<&Cli> for Params {
         if cli.no_arms_test {
             params.arms_test = false;
         }
+        if cli.arms_test {
+            params.arms_test = true;
+        }
         if cli.no_cleanup {
             params.cleanup = false;
+        }
+        if cli.cleanup {
+            params.cleanup = true;
         }
         if cli.skeleton {
             params.skeleton = true;
@@ -1650,9 +1750,8 @@ fn os_reason(err: &std::io::Error) -> String {
     err.kind().to_string()
 }
 
-/// Writes `bytes` to a temporary file beside `path`, then renames it over `path`: readers see
-/// the old file or the new one, never a truncated one, and a failure leaves the old file as it
-/// was. Errors name `path` and the reason, never the temporary file.
+/// Writes `bytes` to `path` atomically ([`ridgeline::export::write_atomically`]). Errors name
+/// `path` and the reason, never the temporary file.
 fn write_atomically(path: &Path, bytes: &[u8]) -> Result<()> {
     let dir = match path.parent() {
         Some(parent) if !parent.as_os_str().is_empty() => parent,
@@ -1661,22 +1760,8 @@ fn write_atomically(path: &Path, bytes: &[u8]) -> Result<()> {
     if !dir.is_dir() {
         anyhow::bail!("cannot write {}: {}", path.display(), missing_folder(dir));
     }
-    let fail = |err: std::io::Error| {
-        anyhow::anyhow!("cannot write {}: {}", path.display(), os_reason(&err))
-    };
-    let mut builder = tempfile::Builder::new();
-    builder.prefix(".ridgeline-").suffix(".tmp");
-    // tempfile creates private (0600) files; outputs are ordinary files, readable as usual
-    // (the umask still applies).
-    #[cfg(unix)]
-    {
-        use std::os::unix::fs::PermissionsExt;
-        builder.permissions(fs::Permissions::from_mode(0o644));
-    }
-    let mut file = builder.tempfile_in(dir).map_err(fail)?;
-    file.write_all(bytes).map_err(fail)?;
-    file.persist(path).map_err(|err| fail(err.error))?;
-    Ok(())
+    ridgeline::export::write_atomically(path, bytes)
+        .map_err(|err| anyhow::anyhow!("cannot write {}: {}", path.display(), os_reason(&err)))
 }
 
 #[cfg(test)]
@@ -1725,7 +1810,9 @@ mod tests {
             "a.png",
         ]);
         let params = Params::try_from(&cli).expect("valid");
-        assert!(params.paper);
+        assert_eq!(params.r_min_rule, RMinRule::Spacing);
+        assert_eq!(params.cluster_rule, ClusterRule::EqualDistance);
+        assert_eq!(params.laplacian, LaplacianRule::Uniform);
         assert_eq!(params.r_min_factor, 7.0);
         assert_eq!(params.merge_span, 3.0);
         assert_eq!(params.k, 8);
@@ -1743,6 +1830,38 @@ mod tests {
         // Untouched fields keep the paper's values.
         assert_eq!(params.r_max_factor, Params::paper().r_max_factor);
         assert_eq!(params.anchor_weight, Params::paper().anchor_weight);
+    }
+
+    #[test]
+    fn every_rule_of_the_paper_preset_can_be_given_back() {
+        let params = Params::try_from(&parse(&[
+            "--paper",
+            "--r-min-rule",
+            "width",
+            "--r-min-factor",
+            "1",
+            "--r-max-factor",
+            "3",
+            "--arms-test",
+            "--clusters",
+            "non-linear",
+            "--merge-span",
+            "2",
+            "--cleanup",
+            "--laplacian",
+            "held",
+            "--anchor-weight",
+            "10",
+            "a.png",
+        ]))
+        .expect("valid");
+        assert_eq!(params, Params::default());
+        // The last of a flag and its negation wins.
+        let off = Params::try_from(&parse(&["--cleanup", "--no-cleanup", "a.png"])).expect("valid");
+        assert!(!off.cleanup);
+        let on =
+            Params::try_from(&parse(&["--no-arms-test", "--arms-test", "a.png"])).expect("valid");
+        assert!(on.arms_test);
     }
 
     #[test]

@@ -1,5 +1,5 @@
 //! Smooth curves: cubic Béziers fitted to centerline polylines, for SVG paths that are smaller and
-//! smoother than polylines (issue 6, part 4).
+//! smoother than polylines (docs/design.md, "Beyond the paper").
 //!
 //! Schneider's algorithm ("An Algorithm for Automatically Fitting Digitized Curves", Graphics
 //! Gems, 1990): split the polyline at corners (turning angle above a threshold), then for each

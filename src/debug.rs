@@ -18,7 +18,7 @@
 //! at least [`MIN_LONG_SIDE`] px, at most [`MAX_UPSCALE`] times, and never beyond
 //! [`MAX_PICTURE_PIXELS`]; an image larger than that is drawn scaled down instead.
 
-use std::io::{Cursor, Write};
+use std::io::Cursor;
 use std::path::Path;
 
 use image::{ImageFormat, Rgb, RgbImage};
@@ -138,18 +138,7 @@ pub fn write_stage_pictures(
         picture
             .write_to(&mut Cursor::new(&mut png), ImageFormat::Png)
             .map_err(|err| io_error(&path, std::io::Error::other(err)))?;
-        let mut builder = tempfile::Builder::new();
-        builder.prefix(".ridgeline-").suffix(".tmp");
-        // tempfile creates private (0600) files; pictures are ordinary files (the umask applies).
-        #[cfg(unix)]
-        {
-            use std::os::unix::fs::PermissionsExt;
-            builder.permissions(std::fs::Permissions::from_mode(0o644));
-        }
-        let mut file = builder.tempfile_in(dir).map_err(|err| io_error(dir, err))?;
-        file.write_all(&png).map_err(|err| io_error(&path, err))?;
-        file.persist(&path)
-            .map_err(|err| io_error(&path, err.error))?;
+        crate::export::write_atomically(&path, &png).map_err(|err| io_error(&path, err))?;
     }
     Ok(())
 }

@@ -2,18 +2,20 @@
 //!
 //! `H` joins two nodes when their point sets touch. The paper tests shared k-nearest neighbours of
 //! the associated points; on a pixel grid the same relation is "some 8-neighbour pixel pair has
-//! owners i and j" (design 6), which is O(N) and needs no tree. For point lists the neighbour graph
-//! of the [`PointSet`] is the k-nearest-neighbour graph, so the same rule *is* the paper's.
+//! owners i and j" (docs/design.md, adaptation 7), which is O(N) and needs no tree. For point lists
+//! the neighbour graph of the [`PointSet`] is the k-nearest-neighbour graph, so the same rule *is*
+//! the paper's.
 //!
 //! Clusters: the paper weights edges shorter than `1.5 r_min` with zero and groups nodes at equal
 //! shortest distance from a root, i.e. nodes joined by zero-weight edges. Applied to all nodes that
-//! chains whole thin strokes into one cluster, so only non-linear nodes are clustered (design 7).
+//! chains whole thin strokes into one cluster, so only non-linear nodes are clustered (adaptation
+//! 8).
 
 use petgraph::algo::dijkstra;
 use petgraph::graph::{NodeIndex, UnGraph};
 use petgraph::unionfind::UnionFind;
 
-use crate::{GraphNode, NodeGraph, Params, PointSet, Samples};
+use crate::{ClusterRule, GraphNode, NodeGraph, Params, PointSet, Samples};
 
 /// Builds `H` from the sampled nodes and colors its non-linear clusters.
 pub fn build(points: &PointSet, samples: &Samples, params: &Params) -> NodeGraph {
@@ -56,11 +58,11 @@ pub fn build(points: &PointSet, samples: &Samples, params: &Params) -> NodeGraph
         edges,
         owner: owner.clone(),
     };
-    if params.paper {
-        color_clusters_as_written(&mut graph, params);
-    } else {
-        color_clusters(&mut graph, points, params);
+    match params.cluster_rule {
+        ClusterRule::EqualDistance => color_clusters_as_written(&mut graph, params),
+        ClusterRule::NonLinear => color_clusters(&mut graph, points, params),
     }
+    debug_assert_eq!(graph.validate(points.len()), Ok(()));
     graph
 }
 
@@ -97,9 +99,10 @@ fn color_clusters(graph: &mut NodeGraph, points: &PointSet, params: &Params) {
     }
 }
 
-/// The paper's rule as written (paper mode): edge weight 0 below `cluster_link · r_min`, else the
-/// edge length; shortest distances from a root per component; nodes at equal distance form one
-/// group. Groups of one node stay uncolored (a color on every node would forbid all contraction).
+/// The paper's rule as written ([`ClusterRule::EqualDistance`]): edge weight 0 below `cluster_link
+/// · r_min`, else the edge length; shortest distances from a root per component; nodes at equal
+/// distance form one group. Groups of one node stay uncolored (a color on every node would forbid
+/// all contraction).
 fn color_clusters_as_written(graph: &mut NodeGraph, params: &Params) {
     let n = graph.nodes.len();
     let mut h: UnGraph<(), f64> = UnGraph::with_capacity(n, graph.edges.len());

@@ -63,7 +63,9 @@
 #![warn(missing_docs)]
 
 mod binary;
+mod csr;
 mod error;
+mod geometry;
 mod mask;
 mod node_graph;
 mod params;
@@ -88,12 +90,16 @@ pub mod synth;
 
 pub use binary::Binary;
 pub use error::{Error, Result};
+pub use geometry::{dist, segment_dist};
 pub use image::GrayImage;
 pub use node_graph::{GraphNode, NodeGraph};
-pub use params::{Limits, Params, Polarity, Threshold, DENSE_SPACING, MAX_WEISZFELD_ITERATIONS};
+pub use params::{
+    ClusterRule, LaplacianRule, Limits, Params, Polarity, RMinRule, Threshold, DENSE_SPACING,
+    MAX_WEISZFELD_ITERATIONS,
+};
 pub use point_set::{Grid, PointSet};
 pub use samples::{Node, Samples};
-pub use stroke_graph::{dist, segment_dist, Edge, StrokeGraph, Vertex};
+pub use stroke_graph::{Edge, StrokeGraph, Vertex};
 
 use std::time::{Duration, Instant};
 

@@ -1,6 +1,7 @@
 //! Operations on foreground masks shared by both front ends (images and point lists): the exact
 //! Euclidean distance transform that gives each point its half-width, the 3x3 closing of dropout
-//! mode, and the count of tiny background holes that switches dropout mode on (design items 1, 11).
+//! mode, and the count of tiny background holes that switches dropout mode on (docs/design.md,
+//! adaptation 2).
 //!
 //! Plain math on row-major `bool` masks; it knows nothing about stages.
 
@@ -20,7 +21,7 @@ pub(crate) fn ink_distances(ink: &[bool], width: usize, height: usize) -> Vec<f3
 }
 
 /// A run of ink pixels `x0..x1` (end excluded) in row `y`.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub(crate) struct Run {
     pub y: u32,
     pub x0: u32,
@@ -324,7 +325,7 @@ fn envelope_row(g: &[u32], s: &mut [usize], t: &mut [i64], d2: &mut [u64]) {
 }
 
 /// The 3x3 morphological closing (dilation then erosion, square element) of dropout mode
-/// (design item 1): it bridges the one- and two-pixel gaps that random dropout leaves inside
+/// (adaptation 2): it bridges the one- and two-pixel gaps that random dropout leaves inside
 /// strokes, so the distance transform sees the stroke's full width. Computed on the image padded
 /// with one ring of background, so the result is the closing on an unbounded background plane,
 /// cropped: it contains `ink` and does not glue strokes to the image border.
@@ -409,7 +410,7 @@ fn filter3(mask: &[bool], width: usize, height: usize, dilate: bool) -> Vec<bool
 }
 
 /// Total pixel count of the background 4-connected components of at most 3 pixels that do not
-/// touch the image border: the specks random dropout punches into strokes (design items 1, 11).
+/// touch the image border: the specks random dropout punches into strokes (adaptation 2).
 pub(crate) fn tiny_hole_pixels(ink: &[bool], width: usize, height: usize) -> usize {
     if width < 3 || height < 3 {
         return 0;

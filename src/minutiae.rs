@@ -1,4 +1,4 @@
-//! Fingerprint minutiae from the stroke graph (DESIGN "Beyond the paper"; issue 6, part 3): ridge
+//! Fingerprint minutiae from the stroke graph (docs/design.md, "Beyond the paper"): ridge
 //! endings are the degree-1 vertices, bifurcations the degree-3 vertices, each with a direction
 //! from its incident edges.
 //!

@@ -1,7 +1,8 @@
 //! Every tunable of the pipeline in one place, with the paper's symbol and unit.
 //!
-//! The defaults are the values that measure best on pixel images (see `DESIGN.md` and the quality
-//! benchmark); [`Params::paper`] gives the paper's own values so the two can be compared.
+//! The defaults are the values that measure best on pixel images (docs/design.md, "Adaptations to
+//! pixel images", and the quality benchmark); [`Params::paper`] gives the paper's own values so the
+//! two can be compared.
 
 use serde::{Deserialize, Serialize};
 
@@ -38,6 +39,42 @@ pub enum Polarity {
     /// Light strokes (ridges) on a dark background.
     #[serde(rename = "light", alias = "lightink")]
     LightInk,
+}
+
+/// How §3.1 chooses the smallest disk radius `r_min` ([`Params::r_min_rule`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum RMinRule {
+    /// One local stroke width: `r_min = max(3 Dis_ave, r_min_factor · w_loc)`, where `w_loc` is
+    /// the stroke width around the disk's center (docs/design.md, adaptation 3). The default.
+    StrokeWidth,
+    /// The paper's rule: `r_min = r_min_factor · Dis_ave` (§3.1, 10 `Dis_ave` in §4).
+    Spacing,
+}
+
+/// Which nodes §3.2 groups into clusters, the non-linear regions that §3.3 merges
+/// ([`Params::cluster_rule`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ClusterRule {
+    /// Non-linear nodes only, joined by edges shorter than `cluster_link · r_min`; linear nodes
+    /// belong to no cluster (docs/design.md, adaptation 8). The default.
+    NonLinear,
+    /// The paper's rule as written: edges shorter than `cluster_link · r_min` weigh 0, others
+    /// their length; nodes at the same shortest distance from a root form one cluster (§3.2).
+    EqualDistance,
+}
+
+/// The smoothness term `L` of Eq. (4) ([`Params::laplacian`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum LaplacianRule {
+    /// Rows `q_i - (q_a + q_b) / 2` for degree-2 nodes only: junctions and endpoints are held by
+    /// their data term alone (docs/design.md, adaptation 12). The default.
+    Held,
+    /// The paper's uniform graph Laplacian over every node (§3.4), which pulls junctions and
+    /// curves inward.
+    Uniform,
 }
 
 /// Bounds on what one input may make the library allocate.
@@ -89,16 +126,18 @@ pub struct Params {
     pub polarity: Polarity,
     /// Size limits. Default [`Limits::default`].
     pub limits: Limits,
-    /// Dropout mode (§ design 1, 11): `None` decides from the image (background specks of 3 px or
-    /// less exceeding `dropout_fraction` of the ink), `Some(b)` forces it.
+    /// Dropout mode (docs/design.md, adaptation 2): `None` decides from the image (background
+    /// specks of 3 px or less exceeding `dropout_fraction` of the ink), `Some(b)` forces it.
     pub dropout: Option<bool>,
     /// Share of ink pixels that tiny background holes must exceed to switch dropout mode on.
     /// Default 0.015.
     pub dropout_fraction: f64,
-    /// Paper mode: `r_min = r_min_factor · Dis_ave` instead of one stroke width. Default false.
-    pub paper: bool,
-    /// `r_min` factor: in the default mode `r_min = max(3 Dis_ave, r_min_factor · w_loc)` (β of the
-    /// design, default 1.0); in paper mode `r_min = r_min_factor · Dis_ave` (default 10).
+    /// How `r_min` is chosen (§3.1). Default [`RMinRule::StrokeWidth`]; paper
+    /// [`RMinRule::Spacing`].
+    pub r_min_rule: RMinRule,
+    /// `r_min` factor: with [`RMinRule::StrokeWidth`] `r_min = max(3 Dis_ave, r_min_factor ·
+    /// w_loc)` (β of docs/design.md, adaptation 3, default 1.0); with [`RMinRule::Spacing`]
+    /// `r_min = r_min_factor · Dis_ave` (paper 10).
     pub r_min_factor: f64,
     /// `r_max / r_min`. Default 3 (paper: 6).
     pub r_max_factor: f64,
@@ -106,52 +145,60 @@ pub struct Params {
     pub r_growth: f64,
     /// Linearity threshold of Eq. (3): a disk is linear when `l > linearity`. Default 0.9.
     pub linearity: f64,
-    /// Use the rim "arms" test as well as PCA to detect non-linear nodes (design 4). Default true.
+    /// Use the rim "arms" test as well as PCA to detect non-linear nodes (adaptation 5). Default
+    /// true.
     pub arms_test: bool,
     /// `k` nearest neighbours for point-set input (§3.2). Default 5.
     pub k: usize,
+    /// Which nodes form clusters (§3.2). Default [`ClusterRule::NonLinear`]; paper
+    /// [`ClusterRule::EqualDistance`].
+    pub cluster_rule: ClusterRule,
     /// Cluster link length, in units of `r_min` (§3.2: edges shorter than this join non-linear
     /// nodes into one cluster). Default 1.5.
     pub cluster_link: f64,
     /// Merge groups: degree > 2 nodes of a cluster are merged only when all are within this many
-    /// `r_min` of each other (design 13). Default 2.0; the paper merges whole clusters (infinity).
+    /// `r_min` of each other (adaptation 9). Default 2.0; the paper merges whole clusters
+    /// (infinity).
     pub merge_span: f64,
+    /// The smoothness term of Eq. (4). Default [`LaplacianRule::Held`]; paper
+    /// [`LaplacianRule::Uniform`].
+    pub laplacian: LaplacianRule,
     /// Laplacian weight `w` of Eq. (4). Default 1.0.
     pub smoothness: f64,
-    /// Data weight on junctions and endpoints in the fit (design 9). Default 10 (paper: 1).
+    /// Data weight on junctions and endpoints in the fit (adaptation 12). Default 10 (paper: 1).
     pub anchor_weight: f64,
     /// Weiszfeld iterations for the L1 medians of §3.4, at most [`MAX_WEISZFELD_ITERATIONS`].
     /// Default 20.
     pub weiszfeld_iterations: usize,
     /// Node spacing after equalization, in units of the median stroke width, at least 3 px
-    /// (design 9). Default 1.0.
+    /// (adaptation 12). Default 1.0.
     pub spacing_factor: f64,
     /// Clean-up after §3.3 (contract hole-free cycles, prune spurs, collapse short bars) and the
-    /// placement of ends and junctions (design 8, 10, 14, 15). Default true; paper mode false.
+    /// placement of ends and junctions (adaptations 10, 11, 13, 14). Default true; paper false.
     pub cleanup: bool,
     /// Skeleton-carried geometry (an experiment, [`crate::skeleton`]): the polylines follow a
     /// topology-preserving pixel skeleton, and the method's graph decides crossings and spurs.
-    /// Images only, not in dropout mode. Default false; paper mode false.
+    /// Images only, not in dropout mode. Default false; paper false.
     pub skeleton: bool,
     /// Disks that respect the ink (§3.1 on pixel images): a sampling disk never holds ink hidden
     /// from its center (ink reached around a hole or across a gap from another stroke), so it
     /// never wraps around a cell or counter nor spans two strokes. The radius is cut below the
     /// first hidden point, down to at most `width / 2 + Dis_ave`. Needs a pixel grid; off in
-    /// dropout mode (its ink has holes by nature). Default false; paper mode false.
+    /// dropout mode (its ink has holes by nature). Default false; paper false.
     #[serde(default, skip_serializing_if = "std::ops::Not::not")]
     pub ink_disks: bool,
     /// Clusters that never span two junction sites (§3.2): two non-linear nodes are linked only
     /// when the straight segment between them stays on the ink, so nodes on either side of a
-    /// cell, a counter or a gap between strokes are never one region. Default false; paper mode
+    /// cell, a counter or a gap between strokes are never one region. Default false; paper
     /// false.
     #[serde(default, skip_serializing_if = "std::ops::Not::not")]
     pub site_clusters: bool,
     /// Dense re-fit (§3.4): the fitted nodes are spaced [`DENSE_SPACING`] `Dis_ave` apart instead
     /// of `h`, so each node's Voronoi cell is a thin slice of its stroke and its L1 median lies
-    /// on the stroke's middle. Default false; paper mode false.
+    /// on the stroke's middle. Default false; paper false.
     #[serde(default, skip_serializing_if = "std::ops::Not::not")]
     pub dense_fit: bool,
-    /// Junctions on the ink (§3.4, design 14): a junction whose fitted position is off its
+    /// Junctions on the ink (§3.4, adaptation 14): a junction whose fitted position is off its
     /// component's ink moves to the nearest ink point of its own cell. Default false; paper
     /// mode false.
     #[serde(default, skip_serializing_if = "std::ops::Not::not")]
@@ -169,15 +216,17 @@ impl Default for Params {
             limits: Limits::default(),
             dropout: None,
             dropout_fraction: 0.015,
-            paper: false,
+            r_min_rule: RMinRule::StrokeWidth,
             r_min_factor: 1.0,
             r_max_factor: 3.0,
             r_growth: 1.25,
             linearity: 0.9,
             arms_test: true,
             k: 5,
+            cluster_rule: ClusterRule::NonLinear,
             cluster_link: 1.5,
             merge_span: 2.0,
+            laplacian: LaplacianRule::Held,
             smoothness: 1.0,
             anchor_weight: 10.0,
             weiszfeld_iterations: 20,
@@ -193,15 +242,19 @@ impl Default for Params {
 }
 
 impl Params {
-    /// The paper's own values: `r_min = 10 Dis_ave`, `r_max = 6 r_min`, `k = 5`, `w = 1`,
-    /// linearity 0.9, no arms test, whole-cluster merging, uniform data weights, no clean-up.
+    /// The paper's own rules and values, a preset whose every field can still be changed:
+    /// `r_min = 10 Dis_ave`, `r_max = 6 r_min`, `k = 5`, `w = 1`, linearity 0.9, no arms test,
+    /// clusters of nodes at equal distance, whole-cluster merging, a uniform Laplacian with
+    /// uniform data weights, no clean-up.
     pub fn paper() -> Self {
         Params {
-            paper: true,
+            r_min_rule: RMinRule::Spacing,
             r_min_factor: 10.0,
             r_max_factor: 6.0,
             arms_test: false,
+            cluster_rule: ClusterRule::EqualDistance,
             merge_span: f64::INFINITY,
+            laplacian: LaplacianRule::Uniform,
             anchor_weight: 1.0,
             cleanup: false,
             ink_disks: false,

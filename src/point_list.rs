@@ -8,6 +8,7 @@ use std::num::NonZero;
 use kiddo::{ImmutableKdTree, SquaredEuclidean};
 use rayon::prelude::*;
 
+use crate::csr::symmetric_neighbours;
 use crate::mask::{close3, ink_row_starts, squared_distance_rows, tiny_hole_pixels};
 use crate::{Error, Params, PointSet, Result, StrokeGraph};
 
@@ -81,7 +82,7 @@ pub fn point_set(list: &[[f64; 2]], params: &Params) -> Result<PointSet> {
     Ok(set)
 }
 
-/// A list's coordinates in pixel-like units, and back (hostile, issue 5).
+/// A list's coordinates in pixel-like units, and back (docs/design.md, "Hostile input").
 ///
 /// The stages work in pixel-like units: `sample` quantizes squared distances in quarter units and
 /// sizes its queue by them, the fit spaces nodes at least 3 units apart, widths are `f32`. A list
@@ -255,8 +256,8 @@ fn without_duplicates(list: &[[f64; 2]]) -> Vec<[f64; 2]> {
 /// Needs `1 <= k < points.len()` and distinct points.
 fn nearest_neighbours(points: &[[f64; 2]], k: usize) -> Result<(Vec<u32>, Vec<u32>, f64)> {
     let n = points.len();
-    // The immutable tree: the mutable one fails on collinear or repeated coordinates (DESIGN,
-    // crates).
+    // The immutable tree: the mutable one fails on collinear or repeated coordinates (kiddo 6:
+    // unsplittable buckets on pixel-like grids).
     let tree: ImmutableKdTree<f64, 2> = ImmutableKdTree::new_from_slice(points)
         .map_err(|e| Error::InvalidParams(format!("cannot index the points: {e:?}")))?;
     let wanted = NonZero::new(k + 1).unwrap_or(NonZero::<usize>::MIN);
@@ -281,44 +282,14 @@ fn nearest_neighbours(points: &[[f64; 2]], k: usize) -> Result<(Vec<u32>, Vec<u3
         .collect();
     let spacing = nearest.iter().sum::<f64>() / n as f64;
 
-    // The symmetric relation as CSR: room for both directions of every k-nearest pair, then each
-    // point's list sorted and its repeats (mutual pairs) squeezed out.
-    let pairs = lists.chunks(k).enumerate().flat_map(|(i, list)| {
-        list.iter()
-            .filter(|&&j| j != u32::MAX)
-            .map(move |&j| (i as u32, j))
-    });
-    let mut room = vec![0u32; n + 1];
-    for (i, j) in pairs.clone() {
-        room[i as usize + 1] += 1;
-        room[j as usize + 1] += 1;
-    }
-    for i in 0..n {
-        room[i + 1] += room[i];
-    }
-    let mut filled = room.clone();
-    let mut all = vec![0u32; room[n] as usize];
-    for (i, j) in pairs {
-        all[filled[i as usize] as usize] = j;
-        filled[i as usize] += 1;
-        all[filled[j as usize] as usize] = i;
-        filled[j as usize] += 1;
-    }
-    drop(filled);
-    let mut offsets = Vec::with_capacity(n + 1);
-    offsets.push(0u32);
-    let mut neighbors = Vec::with_capacity(all.len());
-    for i in 0..n {
-        let list = &mut all[room[i] as usize..room[i + 1] as usize];
-        list.sort_unstable();
-        let start = neighbors.len();
-        for &j in list.iter() {
-            if neighbors.len() == start || neighbors.last() != Some(&j) {
-                neighbors.push(j);
+    // The symmetric relation: both directions of every k-nearest pair, mutual pairs once.
+    let (offsets, neighbors) = symmetric_neighbours(n, |emit| {
+        for (i, list) in lists.chunks(k).enumerate() {
+            for &j in list.iter().filter(|&&j| j != u32::MAX) {
+                emit(i as u32, j);
             }
         }
-        offsets.push(neighbors.len() as u32);
-    }
+    });
     Ok((offsets, neighbors, spacing))
 }
 

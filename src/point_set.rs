@@ -1,6 +1,7 @@
 //! The strip point set `P` of the paper: one point per foreground pixel center (or one per line of
 //! a point list), with the neighbour graph every later stage walks and the local half-width.
 
+use crate::csr::symmetric_neighbours;
 use crate::mask::{run_components, Run};
 
 /// A pixel grid the points came from: lets stages use pixel adjacency instead of tree queries.
@@ -125,37 +126,17 @@ impl PointSet {
 
     /// Builds the CSR neighbour arrays from per-point lists, symmetrizing them.
     pub fn set_neighbors_symmetric(&mut self, lists: &[Vec<u32>]) {
-        let n = self.points.len();
-        let mut degree = vec![0u32; n];
-        for (i, list) in lists.iter().enumerate() {
-            for &j in list {
-                if j as usize != i {
-                    degree[i] += 1;
-                    degree[j as usize] += 1;
+        let (offsets, neighbors) = symmetric_neighbours(self.points.len(), |emit| {
+            for (i, list) in lists.iter().enumerate() {
+                for &j in list {
+                    if j as usize != i {
+                        emit(i as u32, j);
+                    }
                 }
             }
-        }
-        let mut all: Vec<Vec<u32>> = degree
-            .iter()
-            .map(|&d| Vec::with_capacity(d as usize))
-            .collect();
-        for (i, list) in lists.iter().enumerate() {
-            for &j in list {
-                if j as usize != i {
-                    all[i].push(j);
-                    all[j as usize].push(i as u32);
-                }
-            }
-        }
-        self.offsets = Vec::with_capacity(n + 1);
-        self.neighbors.clear();
-        self.offsets.push(0);
-        for mut list in all {
-            list.sort_unstable();
-            list.dedup();
-            self.neighbors.extend_from_slice(&list);
-            self.offsets.push(self.neighbors.len() as u32);
-        }
+        });
+        self.offsets = offsets;
+        self.neighbors = neighbors;
     }
 
     /// Splits the points into chunks of whole connected components (of the neighbour graph), each

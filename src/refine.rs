@@ -3,22 +3,25 @@
 //! - **Contraction** (as in the paper): repeatedly collapse the shortest, lowest-degree edge that
 //!   lies on a triangle into its midpoint, never joining two different clusters, until no triangle
 //!   is left.
-//! - **Merging**: the nodes of degree > 2 of one cluster become one node. The paper merges the whole
-//!   cluster; one cluster once spanned a handwritten word and became one star vertex, so they are
-//!   merged in groups whose members are all within `merge_span · r_min` of each other (design 13).
-//! - **Clean-up** (the paper's "restructuring operators", design 8 and 15), repeated until stable:
-//!   contract cycles that enclose no background hole; prune terminal branches shorter than the
-//!   stroke width; collapse junction-junction bars shorter than the stroke width; merge two Y's
+//! - **Merging**: the nodes of degree > 2 of one cluster become one node. The paper merges the
+//!   whole cluster; one cluster once spanned a handwritten word and became one star vertex, so they
+//!   are merged in groups whose members are all within `merge_span · r_min` of each other
+//!   (docs/design.md, adaptation 9).
+//! - **Clean-up** (the paper's "restructuring operators", adaptations 10 and 11), repeated until
+//!   stable: contract cycles that enclose no background hole; prune terminal branches shorter than
+//!   the stroke width; collapse junction-junction bars shorter than the stroke width; merge two Y's
 //!   joined by a short bar whose outer arms pair up anti-parallel into one crossing.
 
 use std::cmp::Reverse;
 use std::collections::BinaryHeap;
 
-use crate::{dist, GraphNode, NodeGraph, Params, PointSet};
+use crate::geometry::{dist, point_in_polygon, TotalF64};
+use crate::{GraphNode, NodeGraph, Params, PointSet};
 
 /// Refines `H` into a 1-D graph (no triangles; one vertex per crossing).
 pub fn refine(graph: &NodeGraph, points: &PointSet, params: &Params) -> NodeGraph {
-    // Holes guide contraction, merging and clean-up; the paper's rules (paper mode) ignore them.
+    // Holes guide contraction, merging and clean-up; without clean-up (the paper's rules) they are
+    // unknown.
     let holes = if params.cleanup {
         Holes::find(points, graph)
     } else {
@@ -26,6 +29,7 @@ pub fn refine(graph: &NodeGraph, points: &PointSet, params: &Params) -> NodeGrap
     };
     let mut work = Work::new(graph, holes);
     work.contract_triangles();
+    debug_assert_eq!(work.contractible_triangle_edge(), None);
     let holes = work.holes.clone();
     work.merge_clusters(params.merge_span, &holes);
     if params.cleanup {
@@ -39,25 +43,9 @@ pub fn refine(graph: &NodeGraph, points: &PointSet, params: &Params) -> NodeGrap
             }
         }
     }
-    work.finish(&graph.owner)
-}
-
-/// `f64` with a total order, for heap keys.
-#[derive(Clone, Copy, Debug, PartialEq)]
-struct Key(f64);
-
-impl Eq for Key {}
-
-impl PartialOrd for Key {
-    fn partial_cmp(&self, other: &Self) -> Option<std::cmp::Ordering> {
-        Some(self.cmp(other))
-    }
-}
-
-impl Ord for Key {
-    fn cmp(&self, other: &Self) -> std::cmp::Ordering {
-        self.0.total_cmp(&other.0)
-    }
+    let refined = work.finish(&graph.owner);
+    debug_assert_eq!(refined.validate(points.len()), Ok(()));
+    refined
 }
 
 /// The graph being rewritten: adjacency sets, merge forest for re-owning points.
@@ -69,7 +57,7 @@ struct Work {
     alive: Vec<bool>,
     /// Merge forest: `parent[i] == i` for live nodes.
     parent: Vec<u32>,
-    /// Background holes of the ink (empty knowledge in paper mode).
+    /// Background holes of the ink (unknown without clean-up).
     holes: Holes,
 }
 
@@ -190,7 +178,7 @@ impl Work {
     /// Contraction operator: collapse the shortest, lowest-degree triangle edge until no triangle
     /// is left (edges joining two different clusters are never collapsed).
     fn contract_triangles(&mut self) {
-        let mut heap: BinaryHeap<Reverse<(Key, usize, u32, u32)>> = BinaryHeap::new();
+        let mut heap: BinaryHeap<Reverse<(TotalF64, usize, u32, u32)>> = BinaryHeap::new();
         for a in 0..self.nodes.len() as u32 {
             for &b in &self.adj[a as usize] {
                 if a < b && self.in_triangle(a, b) {
@@ -198,7 +186,7 @@ impl Work {
                 }
             }
         }
-        while let Some(Reverse((Key(length), degree, a, b))) = heap.pop() {
+        while let Some(Reverse((TotalF64(length), degree, a, b))) = heap.pop() {
             if !(self.alive[a as usize] && self.alive[b as usize] && self.adjacent(a, b)) {
                 continue;
             }
@@ -235,16 +223,32 @@ impl Work {
         }
     }
 
-    fn edge_key(&self, a: u32, b: u32) -> (Key, usize, u32, u32) {
+    /// An edge that contraction should have collapsed: on a triangle that encloses no known hole,
+    /// between nodes of one cluster (or unclustered ones). None after [`Work::contract_triangles`]:
+    /// what triangles remain go around a hole or have every edge between two clusters.
+    fn contractible_triangle_edge(&self) -> Option<(u32, u32)> {
+        (0..self.nodes.len() as u32)
+            .filter(|&a| self.alive[a as usize])
+            .flat_map(|a| self.adj[a as usize].iter().map(move |&b| (a, b)))
+            .find(|&(a, b)| {
+                let (ca, cb) = (
+                    self.nodes[a as usize].cluster,
+                    self.nodes[b as usize].cluster,
+                );
+                a < b && !matches!((ca, cb), (Some(x), Some(y)) if x != y) && self.in_triangle(a, b)
+            })
+    }
+
+    fn edge_key(&self, a: u32, b: u32) -> (TotalF64, usize, u32, u32) {
         (
-            Key(self.len(a, b)),
+            TotalF64(self.len(a, b)),
             self.degree(a).min(self.degree(b)),
             a,
             b,
         )
     }
 
-    /// Merging operator with complete-linkage groups (design 13).
+    /// Merging operator with complete-linkage groups (adaptation 9).
     fn merge_clusters(&mut self, span: f64, holes: &Holes) {
         let mut members: Vec<Vec<u32>> = Vec::new();
         for i in 0..self.nodes.len() as u32 {
@@ -277,7 +281,7 @@ impl Work {
                         a,
                     )
             }) {
-                // hostile (issue 5, found by fuzzing): `absorb_dangling` after an earlier group
+                // hostile input (found by fuzzing): `absorb_dangling` after an earlier group
                 // of this cluster may already have merged members of this one (they dropped to
                 // degree 1 or 2); merging a dead node again tripped `merge`'s assertion (and in
                 // release counted its mass twice). Only the live members are merged.
@@ -336,8 +340,8 @@ impl Work {
         let mut best: std::collections::HashMap<u32, (f64, u32)> = std::collections::HashMap::new();
         let mut heap = BinaryHeap::new();
         best.insert(from, (0.0, from));
-        heap.push(Reverse((Key(0.0), from)));
-        while let Some(Reverse((Key(d), x))) = heap.pop() {
+        heap.push(Reverse((TotalF64(0.0), from)));
+        while let Some(Reverse((TotalF64(d), x))) = heap.pop() {
             if best.get(&x).is_some_and(|&(bd, _)| bd < d) {
                 continue;
             }
@@ -358,7 +362,7 @@ impl Work {
                 let nd = d + self.len(x, y);
                 if nd <= limit && best.get(&y).is_none_or(|&(bd, _)| nd < bd) {
                     best.insert(y, (nd, x));
-                    heap.push(Reverse((Key(nd), y)));
+                    heap.push(Reverse((TotalF64(nd), y)));
                 }
             }
         }
@@ -599,7 +603,7 @@ impl Work {
         [d[0] / norm, d[1] / norm]
     }
 
-    /// Clean-up 4 (design 15): Y-bar-Y → X. Two degree-3 vertices joined by a short bar, whose
+    /// Clean-up 4 (adaptation 11): Y-bar-Y → X. Two degree-3 vertices joined by a short bar, whose
     /// outer arms open away from the bar and pair up anti-parallel (within 25°), are one crossing
     /// that thinning-like sampling split in two. The bar limit `3 w / sin(θ/2)` grows as the
     /// crossing gets more acute (θ = angle between one Y's outer arms).
@@ -808,7 +812,7 @@ impl Holes {
         if points.grid.is_none() {
             return Holes::Unknown;
         }
-        // Specks of background inside dropout ink are not holes (the closing of design 1).
+        // Specks of background inside dropout ink are not holes (the closing of adaptation 2).
         let min_size = if points.dropout { 4 } else { 2 };
         let (labels, _) = points.component_labels();
         // Ink runs (component, row, x0, x1 exclusive) from the pixel centers.
@@ -975,24 +979,161 @@ fn background_regions(runs: &[(i64, i64, i64)], row_start: &[usize]) -> Vec<u32>
     union.into_labeling()
 }
 
-fn point_in_polygon(p: [f64; 2], polygon: &[[f64; 2]]) -> bool {
-    let mut inside = false;
-    let n = polygon.len();
-    for i in 0..n {
-        let (a, b) = (polygon[i], polygon[(i + 1) % n]);
-        if (a[1] > p[1]) != (b[1] > p[1]) {
-            let x = a[0] + (p[1] - a[1]) * (b[0] - a[0]) / (b[1] - a[1]);
-            if p[0] < x {
-                inside = !inside;
-            }
-        }
-    }
-    inside
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A node of a hand-built graph: non-linear when it has a cluster.
+    fn node(pos: [f64; 2], width: f64, cluster: Option<u32>) -> GraphNode {
+        GraphNode {
+            pos,
+            r_min: 3.0,
+            width,
+            direction: [1.0, 0.0],
+            linear: cluster.is_none(),
+            cluster,
+            tip: false,
+        }
+    }
+
+    /// The work graph of `nodes` and `edges`, without hole knowledge (as without clean-up).
+    fn work(nodes: Vec<GraphNode>, edges: &[[u32; 2]]) -> Work {
+        let mut edges: Vec<[u32; 2]> = edges.iter().map(|&[a, b]| [a.min(b), a.max(b)]).collect();
+        edges.sort_unstable();
+        let graph = NodeGraph {
+            nodes,
+            edges,
+            owner: Vec::new(),
+        };
+        assert_eq!(graph.validate(0), Ok(()));
+        Work::new(&graph, Holes::Unknown)
+    }
+
+    /// Degrees of the live nodes, in node order.
+    fn degrees(work: &Work) -> Vec<usize> {
+        work.live().into_iter().map(|i| work.degree(i)).collect()
+    }
+
+    /// Two Y's joined at `[0, 0]`-`[bar, 0]`, the left one's arms to `left`, mirrored in y; the
+    /// right one's arms to `right`, mirrored in y. Nodes: 0 and 1 the Y's, then the arm ends.
+    fn two_ys(bar: f64, left: [f64; 2], right: [f64; 2], width: f64) -> Work {
+        let nodes = vec![
+            node([0.0, 0.0], width, Some(0)),
+            node([bar, 0.0], width, Some(0)),
+            node(left, width, None),
+            node([left[0], -left[1]], width, None),
+            node(right, width, None),
+            node([right[0], -right[1]], width, None),
+        ];
+        work(nodes, &[[0, 1], [0, 2], [0, 3], [1, 4], [1, 5]])
+    }
+
+    #[test]
+    fn contraction_removes_triangles_within_a_cluster_only() {
+        // A triangle with a tail: its shortest edge (1-2) collapses to its midpoint, the tail
+        // stays.
+        let nodes = vec![
+            node([0.0, 0.0], 3.0, None),
+            node([2.0, 0.0], 3.0, None),
+            node([1.5, 1.5], 3.0, None),
+            node([10.0, 0.0], 3.0, None),
+        ];
+        let mut w = work(nodes.clone(), &[[0, 1], [1, 2], [0, 2], [1, 3]]);
+        w.contract_triangles();
+        assert_eq!(w.contractible_triangle_edge(), None);
+        assert_eq!(w.live(), [0, 1, 3]);
+        assert_eq!(degrees(&w), [1, 2, 1]);
+        assert_eq!(w.nodes[1].pos, [1.75, 0.75]);
+        // The same triangle with its corners in three clusters is three regions: untouched.
+        let clustered: Vec<GraphNode> = nodes
+            .iter()
+            .enumerate()
+            .map(|(i, n)| GraphNode {
+                cluster: (i < 3).then_some(i as u32),
+                ..*n
+            })
+            .collect();
+        let mut w = work(clustered, &[[0, 1], [1, 2], [0, 2], [1, 3]]);
+        w.contract_triangles();
+        assert_eq!(w.live().len(), 4);
+        assert_eq!(w.contractible_triangle_edge(), None);
+    }
+
+    #[test]
+    fn merging_joins_close_junctions_of_one_cluster() {
+        // Two Y's 2 apart in one cluster (r_min 3, span 2: within 6) become one crossing.
+        let mut w = two_ys(2.0, [-5.0, 3.0], [7.0, 3.0], 3.0);
+        w.merge_clusters(2.0, &Holes::Unknown);
+        assert_eq!(degrees(&w), [4, 1, 1, 1, 1]);
+        assert_eq!(w.nodes[0].pos, [1.0, 0.0], "at the centroid");
+        // 20 apart they are two junctions; with the paper's whole-cluster merge, one.
+        let mut w = two_ys(20.0, [-5.0, 3.0], [25.0, 3.0], 3.0);
+        w.merge_clusters(2.0, &Holes::Unknown);
+        assert_eq!(degrees(&w), [3, 3, 1, 1, 1, 1]);
+        let mut w = two_ys(20.0, [-5.0, 3.0], [25.0, 3.0], 3.0);
+        w.merge_clusters(f64::INFINITY, &Holes::Unknown);
+        assert_eq!(degrees(&w), [4, 1, 1, 1, 1]);
+    }
+
+    #[test]
+    fn spur_pruning_drops_short_branches_only() {
+        // A line of nodes 4 apart with a branch at its middle, 3 long (a spur: under 1.1 widths
+        // of 4) or 10 long (an arm). Without a pixel grid the branch's length is its reach.
+        for (branch, pruned) in [(3.0, true), (10.0, false)] {
+            let mut nodes: Vec<GraphNode> = (0..5)
+                .map(|i| node([4.0 * i as f64, 0.0], 4.0, None))
+                .collect();
+            nodes.push(node([8.0, branch], 4.0, None));
+            let mut w = work(nodes, &[[0, 1], [1, 2], [2, 3], [3, 4], [2, 5]]);
+            assert_eq!(
+                w.prune_spurs(&PointSet::default()),
+                pruned,
+                "branch {branch}"
+            );
+            let expected: &[usize] = if pruned {
+                &[1, 2, 2, 2, 1]
+            } else {
+                &[1, 2, 3, 2, 1, 1]
+            };
+            assert_eq!(degrees(&w), expected, "branch {branch}");
+            assert_eq!(
+                w.nodes[2].pos,
+                [8.0, 0.0],
+                "the junction stays where it was"
+            );
+        }
+    }
+
+    #[test]
+    fn short_bars_between_junctions_collapse() {
+        // A bar of 2 between two junctions of width 4 is one junction; a bar of 6 stays.
+        let mut w = two_ys(2.0, [-6.0, 4.0], [8.0, 4.0], 4.0);
+        assert!(w.collapse_short_bars());
+        assert_eq!(degrees(&w), [4, 1, 1, 1, 1]);
+        assert_eq!(w.nodes[0].pos, [1.0, 0.0]);
+        let mut w = two_ys(6.0, [-6.0, 4.0], [12.0, 4.0], 4.0);
+        assert!(!w.collapse_short_bars());
+        assert_eq!(degrees(&w), [3, 3, 1, 1, 1, 1]);
+    }
+
+    #[test]
+    fn y_bar_y_becomes_one_crossing_when_the_arms_pair_up() {
+        // An acute X sampled as two Y's 4 apart (width 3): the outer arms open away from the bar
+        // and pair up anti-parallel, so the bar (under 3 w / sin(θ/2) ≈ 31) is merged.
+        let mut w = two_ys(4.0, [-10.0, 4.0], [14.0, 4.0], 3.0);
+        assert!(w.merge_y_bar_y());
+        assert_eq!(degrees(&w), [4, 1, 1, 1, 1]);
+        assert_eq!(w.nodes[0].pos, [2.0, 0.0]);
+        // Arms at right angles to the bar on one side (a stroke passing the end of another) do
+        // not open away from it: two junctions stay.
+        let mut w = two_ys(4.0, [-10.0, 4.0], [4.0, 10.0], 3.0);
+        assert!(!w.merge_y_bar_y());
+        assert_eq!(degrees(&w), [3, 3, 1, 1, 1, 1]);
+        // Arms that open away but do not pair up (a wide and a narrow Y) stay too.
+        let mut w = two_ys(4.0, [-10.0, 4.0], [6.0, 10.0], 3.0);
+        assert!(!w.merge_y_bar_y());
+        assert_eq!(degrees(&w), [3, 3, 1, 1, 1, 1]);
+    }
 
     #[test]
     fn complete_linkage_requires_every_pair_close() {
@@ -1003,12 +1144,5 @@ mod tests {
         });
         assert_eq!(groups.len(), 2);
         assert!(groups.iter().all(|g| g.len() <= 2));
-    }
-
-    #[test]
-    fn point_in_square() {
-        let square = [[0.0, 0.0], [2.0, 0.0], [2.0, 2.0], [0.0, 2.0]];
-        assert!(point_in_polygon([1.0, 1.0], &square));
-        assert!(!point_in_polygon([3.0, 1.0], &square));
     }
 }

@@ -2,7 +2,7 @@
 //!
 //! Farthest-point sampling driven by the anisotropic distance of Eq. (1), with a disk whose radius
 //! adapts to the local linearity of Eq. (3). The adaptations to pixel images, each needed on the
-//! ground-truth suite (see `DESIGN.md`, items 2-5 and 12):
+//! ground-truth suite (docs/design.md, adaptations 3-6):
 //! - `r_min` follows the local stroke width instead of `10 Dis_ave`: a fixed 10 px disk is already
 //!   linear at `r_min` on thin strokes (so nothing is marked non-linear) and spans neighbouring
 //!   strokes.
@@ -16,7 +16,8 @@
 use std::cmp::Reverse;
 use std::collections::BinaryHeap;
 
-use crate::{Node, Params, PointSet, Samples};
+use crate::geometry::{principal, TotalF64};
+use crate::{Node, Params, PointSet, RMinRule, Samples};
 
 /// Marks a point that no node owns yet.
 const UNOWNED: u32 = u32::MAX;
@@ -24,7 +25,7 @@ const UNOWNED: u32 = u32::MAX;
 /// End of a bucket's stack in the disk search queue.
 const NIL: u32 = u32::MAX;
 
-/// hostile (issue 5): keys at or above this go to a binary heap instead of the bucket array. The
+/// hostile input: keys at or above this go to a binary heap instead of the bucket array. The
 /// array has one bucket per quarter unit² of squared radius, so radii of thousands of units
 /// (blobs thousands of pixels wide, `--r-min-factor 1e9`, point lists in large units) asked for
 /// up to 2^31 buckets (51 GB) for a handful of points. Below this (radii < 512 px) nothing
@@ -37,9 +38,9 @@ pub fn sample(points: &PointSet, params: &Params) -> Samples {
     let mut sampler = Sampler::new(points, params);
     let mut nodes = Vec::new();
     // Max-heap of (anisotropic distance D, point): candidates for the next center.
-    let mut frontier: BinaryHeap<(OrdF64, Reverse<u32>)> = BinaryHeap::new();
+    let mut frontier: BinaryHeap<(TotalF64, Reverse<u32>)> = BinaryHeap::new();
     let mut seed_cursor = 0usize;
-    // hostile (issue 5): a point is a center at most once. With k-nearest-neighbour graphs
+    // hostile input: a point is a center at most once. With k-nearest-neighbour graphs
     // (point lists) a neighbour can lie beyond `r_min`, so a center's disk may take no new point
     // while the center still borders uncovered ink: it came back off the heap with the same key
     // forever (10 collinear points hung). On pixel images a center's neighbours are all inside
@@ -51,7 +52,7 @@ pub fn sample(points: &PointSet, params: &Params) -> Samples {
         // an extremity of its part).
         let center = loop {
             match frontier.pop() {
-                Some((OrdF64(d), Reverse(p))) => {
+                Some((TotalF64(d), Reverse(p))) => {
                     if d == sampler.distance[p as usize]
                         && !was_center[p as usize]
                         && sampler.borders_uncovered(p)
@@ -71,35 +72,19 @@ pub fn sample(points: &PointSet, params: &Params) -> Samples {
         was_center[center as usize] = true;
         let id = nodes.len() as u32;
         let (node, taken) = sampler.node_at(center, id, &mut frontier);
-        // hostile (issue 5): a node that took no point would own an empty `P_i`, which the later
+        // hostile input: a node that took no point would own an empty `P_i`, which the later
         // stages do not expect; its `D` updates are kept, the node is not (nothing refers to
         // `id`). Never happens on pixel images (see `was_center`).
         if taken > 0 {
             nodes.push(node);
         }
     }
-    Samples {
+    let samples = Samples {
         nodes,
         owner: sampler.owner,
-    }
-}
-
-/// `f64` with a total order, for heap keys (values are never NaN here).
-#[derive(Clone, Copy, Debug, PartialEq)]
-struct OrdF64(f64);
-
-impl Eq for OrdF64 {}
-
-impl PartialOrd for OrdF64 {
-    fn partial_cmp(&self, other: &Self) -> Option<std::cmp::Ordering> {
-        Some(self.cmp(other))
-    }
-}
-
-impl Ord for OrdF64 {
-    fn cmp(&self, other: &Self) -> std::cmp::Ordering {
-        self.0.total_cmp(&other.0)
-    }
+    };
+    debug_assert_eq!(samples.validate(n), Ok(()));
+    samples
 }
 
 /// Reusable state of the sampling loop: no allocation per node beyond the reused buffers.
@@ -133,7 +118,7 @@ struct Sampler<'a> {
     limit: u32,
     /// Points reached with keys beyond the current bound, admitted when the bound grows.
     overflow: Vec<(u32, u32)>,
-    /// hostile (issue 5): queued points with keys of [`BUCKET_KEYS`] or more, smallest first.
+    /// hostile input: queued points with keys of [`BUCKET_KEYS`] or more, smallest first.
     far: BinaryHeap<Reverse<(u32, u32)>>,
     rim: Vec<u32>,
     stack: Vec<u32>,
@@ -217,7 +202,7 @@ impl<'a> Sampler<'a> {
             }
         }
         while self.queued > 0 {
-            // Buckets first, then (hostile, issue 5) the far heap, whose keys are all larger.
+            // Buckets first, then (hostile input) the far heap, whose keys are all larger.
             let (key, p) = if self.cursor < self.used && self.cursor as u32 <= limit {
                 let p = self.heads[self.cursor];
                 if p == NIL {
@@ -397,12 +382,12 @@ impl<'a> Sampler<'a> {
 
     /// Grows the disk around `center` (Algorithm 1, line 2), makes the node, assigns its points and
     /// updates `D` (lines 3-4), pushing frontier points onto the sampling heap. Also returns how
-    /// many points the node took (hostile, issue 5).
+    /// many points the node took (hostile input).
     fn node_at(
         &mut self,
         center: u32,
         id: u32,
-        frontier: &mut BinaryHeap<(OrdF64, Reverse<u32>)>,
+        frontier: &mut BinaryHeap<(TotalF64, Reverse<u32>)>,
     ) -> (Node, usize) {
         // Two epochs per node: `epoch` marks search/rim membership, `epoch - 1` marks rim points
         // already visited by the component search.
@@ -422,7 +407,8 @@ impl<'a> Sampler<'a> {
         self.enqueue(0, center);
 
         let spacing = self.points.spacing.max(1e-9);
-        // Local width (design 2): w_loc = 2 max(dt) - 1 over the disk of radius max(3, 3 dt(c)).
+        // Local width (adaptation 3): w_loc = 2 max(dt) - 1 over the disk of radius max(3, 3
+        // dt(c)).
         let dt_center = self.points.half_width[center as usize] as f64;
         // A center on the edge of a wide stroke (dt(c) small) would not see the stroke's middle in
         // that disk: widen the probe until it reaches past the deepest point found (at most 3x).
@@ -444,10 +430,9 @@ impl<'a> Sampler<'a> {
             probe = 2.0 * max_dt + spacing;
         }
         let width = (2.0 * max_dt - spacing).max(spacing);
-        let r_min = if self.params.paper {
-            self.params.r_min_factor * spacing
-        } else {
-            (3.0 * spacing).max(self.params.r_min_factor * width)
+        let r_min = match self.params.r_min_rule {
+            RMinRule::Spacing => self.params.r_min_factor * spacing,
+            RMinRule::StrokeWidth => (3.0 * spacing).max(self.params.r_min_factor * width),
         };
         let r_max = self.params.r_max_factor * r_min;
 
@@ -461,8 +446,8 @@ impl<'a> Sampler<'a> {
             self.grow_disk(c, r);
             let count = self.prefix(r);
             if self.params.arms_test {
-                // The arms test (design 4): the rim `(r - 2, r]` of the disk must cut the ink in
-                // 1 or 2 places. A crossing gives 4 cuts, a T 3, a disk that holds a whole small
+                // The arms test (adaptation 5): the rim `(r - 2, r]` of the disk must cut the ink
+                // in 1 or 2 places. A crossing gives 4 cuts, a T 3, a disk that holds a whole small
                 // part 0.
                 last_cuts = self.rim_cuts(c, count, r);
                 if tries == 0 {
@@ -556,7 +541,7 @@ impl<'a> Sampler<'a> {
         for i in 0..count {
             let p = self.order[i].1;
             if self.borders_uncovered(p) {
-                frontier.push((OrdF64(self.distance[p as usize]), Reverse(p)));
+                frontier.push((TotalF64(self.distance[p as usize]), Reverse(p)));
             }
         }
         let node = Node {
@@ -582,55 +567,4 @@ fn quantize(d2: f64) -> u32 {
 /// The largest key inside radius `r`.
 fn quantize_bound(r: f64) -> u32 {
     (r * r * 4.0 + 1e-6).floor().min(u32::MAX as f64 / 2.0) as u32
-}
-
-/// Closed-form eigen-decomposition of the 2x2 covariance: returns the linearity
-/// `l = λ_max / (λ_min + λ_max)` (Eq. (3) in 2-D) and the unit eigenvector of `λ_max`.
-pub fn principal(cxx: f64, cxy: f64, cyy: f64) -> (f64, [f64; 2]) {
-    let trace = cxx + cyy;
-    if trace.is_nan() || trace <= 1e-12 {
-        return (0.5, [1.0, 0.0]);
-    }
-    let half_diff = (cxx - cyy) / 2.0;
-    let root = (half_diff * half_diff + cxy * cxy).sqrt();
-    let lambda_max = trace / 2.0 + root;
-    let linearity = (lambda_max / trace).clamp(0.5, 1.0);
-    // Eigenvector of λ_max; pick the better-conditioned of the two forms.
-    let direction = if cxy.abs() > 1e-12 {
-        let v = [lambda_max - cyy, cxy];
-        let norm = v[0].hypot(v[1]);
-        [v[0] / norm, v[1] / norm]
-    } else if cxx >= cyy {
-        [1.0, 0.0]
-    } else {
-        [0.0, 1.0]
-    };
-    // A canonical sign keeps results independent of accumulation order.
-    if direction[0] < 0.0 || (direction[0] == 0.0 && direction[1] < 0.0) {
-        (linearity, [-direction[0], -direction[1]])
-    } else {
-        (linearity, direction)
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn principal_of_a_horizontal_segment() {
-        let (l, d) = principal(10.0, 0.0, 0.1);
-        assert!(l > 0.98);
-        assert!((d[0] - 1.0).abs() < 1e-9 && d[1].abs() < 1e-9);
-    }
-
-    #[test]
-    fn principal_of_a_diagonal_and_isotropic_cloud() {
-        // Points along y = x: cov = [[1, 1], [1, 1]].
-        let (l, d) = principal(1.0, 1.0, 1.0);
-        assert!((l - 1.0).abs() < 1e-9);
-        assert!((d[0] - d[1]).abs() < 1e-9 && (d[0] - 0.5f64.sqrt()).abs() < 1e-9);
-        let (l, _) = principal(1.0, 0.0, 1.0);
-        assert!((l - 0.5).abs() < 1e-9);
-    }
 }

@@ -2,6 +2,8 @@
 
 use serde::Serialize;
 
+use crate::geometry::dist;
+
 /// A vertex: a stroke end (degree 1), a junction (degree 3 or more), or the anchor of a closed
 /// loop (degree 2, an edge from the vertex to itself), or an isolated blob (degree 0).
 #[derive(Clone, Debug, PartialEq, Serialize)]
@@ -47,29 +49,6 @@ pub struct StrokeGraph {
     pub vertices: Vec<Vertex>,
     /// The edges.
     pub edges: Vec<Edge>,
-}
-
-/// Euclidean distance.
-#[inline]
-pub fn dist(a: [f64; 2], b: [f64; 2]) -> f64 {
-    (a[0] - b[0]).hypot(a[1] - b[1])
-}
-
-/// Euclidean distance from `p` to the segment `a`-`b`.
-pub fn segment_dist(p: [f64; 2], a: [f64; 2], b: [f64; 2]) -> f64 {
-    segment_closest(p, a, b).0
-}
-
-/// Distance from `p` to the segment `a`-`b` and the parameter in `[0, 1]` of the closest point.
-pub(crate) fn segment_closest(p: [f64; 2], a: [f64; 2], b: [f64; 2]) -> (f64, f64) {
-    let d = [b[0] - a[0], b[1] - a[1]];
-    let len2 = d[0] * d[0] + d[1] * d[1];
-    let t = if len2 > 0.0 {
-        (((p[0] - a[0]) * d[0] + (p[1] - a[1]) * d[1]) / len2).clamp(0.0, 1.0)
-    } else {
-        0.0
-    };
-    (dist(p, [a[0] + t * d[0], a[1] + t * d[1]]), t)
 }
 
 impl StrokeGraph {

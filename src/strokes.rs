@@ -1,5 +1,5 @@
-//! Strokes through crossings (DESIGN "Beyond the paper"): the edges of a [`StrokeGraph`] chained
-//! into maximal *strokes* that run straight through junctions, the way a pen drew them.
+//! Strokes through crossings (docs/design.md, "Beyond the paper"): the edges of a [`StrokeGraph`]
+//! chained into maximal *strokes* that run straight through junctions, the way a pen drew them.
 //!
 //! At each vertex the incident edge ends are paired by good continuation:
 //! - degree 2 (two edges, or a self-loop): the two ends always continue each other;
@@ -271,7 +271,7 @@ pub fn strokes(graph: &StrokeGraph, options: &StrokeOptions) -> Vec<Stroke> {
 /// How well the widths cover the ink: every edge re-rendered with its per-point widths (round caps
 /// and joins, as [`crate::synth::render`] draws the truth) and every isolated vertex as a disk, then
 /// the intersection over union with the foreground of `binary`. 1 when both are empty. The quality
-/// benchmark reports it (issue 6 asks for at least 0.9 on text).
+/// benchmark reports it (the target is at least 0.9 on text).
 pub fn coverage_iou(graph: &StrokeGraph, binary: &Binary) -> f64 {
     let mut drawn: Vec<crate::synth::Stroke> = graph
         .edges

@@ -343,15 +343,20 @@ fn help_mentions_every_flag_group_and_flag() {
         "--dropout",
         "--dropout-fraction",
         "--paper",
+        "--r-min-rule",
         "--r-min-factor",
         "--r-max-factor",
         "--r-growth",
         "--linearity",
         "--no-arms-test",
+        "--arms-test",
         "--k",
+        "--clusters",
         "--cluster-link",
         "--merge-span",
         "--no-cleanup",
+        "--cleanup",
+        "--laplacian",
         "--smoothness",
         "--anchor-weight",
         "--weiszfeld-iterations",
@@ -541,4 +546,58 @@ fn a_blank_page_is_a_warning_not_an_error() {
             .count(),
         0
     );
+}
+
+/// The graph part (vertices and edges) of a JSON document.
+fn graph_part(document: &serde_json::Value) -> (serde_json::Value, serde_json::Value) {
+    (document["vertices"].clone(), document["edges"].clone())
+}
+
+/// `ridgeline samples/t.png` with `flags`, as JSON on stdout.
+fn traced_t(flags: &[&str]) -> serde_json::Value {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    let mut args = vec!["samples/t.png", "-o", "-", "--format", "json"];
+    args.extend_from_slice(flags);
+    let output = ridgeline(&args, root);
+    assert!(output.status.success(), "{}", stderr(&output));
+    serde_json::from_slice(&output.stdout).expect("JSON on stdout")
+}
+
+#[test]
+fn paper_alone_gives_the_paper_preset_and_its_golden_graph() {
+    let paper = traced_t(&["--paper"]);
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    let golden: serde_json::Value =
+        serde_json::from_slice(&fs::read(root.join("tests/golden/t.paper.json")).expect("golden"))
+            .expect("golden JSON");
+    assert_eq!(graph_part(&paper), graph_part(&golden));
+    assert_eq!(
+        paper["parameters"],
+        serde_json::to_value(Params::paper()).expect("params as JSON")
+    );
+}
+
+#[test]
+fn flags_given_with_paper_override_its_rules() {
+    let paper = traced_t(&["--paper"]);
+    let heavy = traced_t(&["--paper", "--anchor-weight", "50"]);
+    assert_eq!(heavy["parameters"]["anchor_weight"], 50.0);
+    assert_ne!(
+        graph_part(&heavy),
+        graph_part(&paper),
+        "--anchor-weight ignored"
+    );
+    // Each rule can be chosen apart from the preset.
+    let held = traced_t(&["--paper", "--laplacian", "held"]);
+    assert_eq!(held["parameters"]["laplacian"], "held");
+    assert_ne!(graph_part(&held), graph_part(&paper), "--laplacian ignored");
+    let width = traced_t(&["--paper", "--r-min-rule", "width", "--r-min-factor", "1"]);
+    assert_eq!(width["parameters"]["r_min_rule"], "stroke_width");
+    assert_ne!(
+        graph_part(&width),
+        graph_part(&paper),
+        "--r-min-rule ignored"
+    );
+    let clusters = traced_t(&["--r-min-rule", "spacing", "--clusters", "equal-distance"]);
+    assert_eq!(clusters["parameters"]["cluster_rule"], "equal_distance");
 }

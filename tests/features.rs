@@ -1,5 +1,5 @@
-//! Features beyond thinning (issue 6): strokes through crossings, width coverage, minutiae and
-//! Bézier curves, end to end from rendered centerlines.
+//! Features beyond thinning (docs/design.md, "Beyond the paper"): strokes through crossings, width
+//! coverage, minutiae and Bézier curves, end to end from rendered centerlines.
 
 use crate::support::{ridgeline, run_ok, write_mask_png};
 use ridgeline::curves::{fit_beziers, fit_edges, CurveOptions};

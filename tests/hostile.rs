@@ -1,6 +1,6 @@
-//! Hostile and broken input (issue 5): every kind of bad file gets a clear message and a non-zero
-//! exit, never a panic; degenerate but valid input traces or warns; outputs are never clobbered;
-//! and the output does not depend on the run or the thread count.
+//! Hostile and broken input (docs/bad-input.md): every kind of bad file gets a clear message and a
+//! non-zero exit, never a panic; degenerate but valid input traces or warns; outputs are never
+//! clobbered; and the output does not depend on the run or the thread count.
 //!
 //! CLI-level cases run the real binary; the rest call the library. Every input is built here, in
 //! the test, byte by byte where it matters (the decompression bomb, the palette PNG).

@@ -1,5 +1,6 @@
-//! Property tests (issue 5): random stroke images, rendered with [`ridgeline::synth::render`],
-//! must trace without panicking into a valid graph that stays on the ink and misses no stroke.
+//! Property tests (docs/bad-input.md): random stroke images, rendered with
+//! [`ridgeline::synth::render`], must trace without panicking into a valid graph that stays on the
+//! ink and misses no stroke.
 //!
 //! The case count is kept moderate so the suite stays fast, and the seed is fixed so that CI is
 //! reproducible; `PROPTEST_CASES=2000 PROPTEST_RNG_SEED=<n>` explores further. Such runs find
@@ -13,9 +14,9 @@ use ridgeline::synth::{render, Stroke};
 use ridgeline::{trace_binary, Binary, Params, StrokeGraph};
 
 const SIDE: u32 = 96;
-/// How far outside the ink an output point may lie (the issue's bound), px.
+/// How far outside the ink an output point may lie (the bound the library promises), px.
 const SLACK: f64 = 2.0;
-/// Components at least this large must be traced (the issue's bound), pixels.
+/// Components at least this large must be traced (the bound the library promises), pixels.
 const MIN_COMPONENT: usize = 20;
 
 /// 1 to 4 polylines of 2 to 4 points inside the image, widths 2 to 10 px.

@@ -5,9 +5,9 @@
 //! [`Features`] given (strokes through crossings, minutiae) and summary statistics. Floats are
 //! rounded to 3 decimals; keys come in a fixed order, so the same graph always gives the same bytes.
 //!
-//! Per point: `widths` are the local stroke width (2 x distance to the background, DESIGN "Width
-//! along the centerline"); `directions` are unit tangents in the direction of travel from `from` to
-//! `to`. The design asks for the local direction "from the sampling PCA"; the fit stage computes it
+//! Per point: `widths` are the local stroke width (2 x distance to the background, docs/design.md,
+//! "Beyond the paper"); `directions` are unit tangents in the direction of travel from `from` to
+//! `to`. One could take the local direction from the sampling PCA; the fit stage computes it
 //! instead by central differences on the fitted polyline (wrapping around closed loops), which is the
 //! direction of the centerline actually written, and agrees with the PCA axis of the ink around it
 //! wherever the stroke is straight over a few widths.

@@ -12,14 +12,38 @@ pub mod json;
 pub mod svg;
 
 use std::fmt::Write;
+use std::path::Path;
 
 use crate::curves::CubicBezier;
 use crate::minutiae::Minutia;
 use crate::strokes::Stroke;
 
-/// Results computed from the graph beyond the graph itself (issue 6), handed to the writers as
-/// plain data so that export never runs a computation of its own. Build it from
-/// [`Features::default`] (nothing) and the `with_*` setters: more may be added.
+/// Writes `bytes` to a temporary file beside `path`, then renames it over `path`: readers see the
+/// old file or the new one, never a truncated one, and a failure leaves the old file as it was.
+/// The file is an ordinary one, readable as usual (mode 0644 less the umask; temporary files are
+/// otherwise private). The error is the operating system's, for the caller to name `path`.
+pub fn write_atomically(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
+    use std::io::Write as _;
+    let dir = match path.parent() {
+        Some(parent) if !parent.as_os_str().is_empty() => parent,
+        _ => Path::new("."),
+    };
+    let mut builder = tempfile::Builder::new();
+    builder.prefix(".ridgeline-").suffix(".tmp");
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::PermissionsExt;
+        builder.permissions(std::fs::Permissions::from_mode(0o644));
+    }
+    let mut file = builder.tempfile_in(dir)?;
+    file.write_all(bytes)?;
+    file.persist(path).map_err(|err| err.error)?;
+    Ok(())
+}
+
+/// Results computed from the graph beyond the graph itself (docs/design.md, "Beyond the paper"),
+/// handed to the writers as plain data so that export never runs a computation of its own. Build it
+/// from [`Features::default`] (nothing) and the `with_*` setters: more may be added.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 #[non_exhaustive]
 pub struct Features<'a> {

@@ -3,8 +3,10 @@
 //! Coordinates are image coordinates (pixel `(x, y)` covers `[x, x+1] x [y, y+1]`), so the
 //! polylines are written as they are, over an `<image>` that covers `[0, W] x [0, H]`. The document
 //! is written by hand rather than through the `svg` crate: nothing in it comes from the user but
-//! numbers, it streams into one `String` without a node per polyline, and the attribute order stays
-//! fixed, which keeps the output byte-for-byte deterministic.
+//! numbers and a MIME type from a fixed list (so nothing needs escaping), it streams into one
+//! `String` without a node per polyline, and the attribute order stays as written. The crate sorts
+//! attributes by name (every output would change) and was slower even when handed our coordinate
+//! strings: 58 ms against 41 ms for a page-sized graph of 30 000 edges.
 //!
 //! The image under the centerlines is a [`Backdrop`]: gray or colour pixels, written as a PNG, or
 //! an already encoded file (a PNG, JPEG, GIF or WebP as the user gave it) written as it is.

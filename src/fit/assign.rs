@@ -1,47 +1,38 @@
 //! §3.4 "every original point is associated with one of the nodes that is the nearest", made to
-//! respect ink components (design 9): a multi-source shortest-path search over the point
-//! neighbour graph from the point nearest to each fitted node, i.e. a geodesic Voronoi partition.
-//! Two strokes a pixel apart never trade points, which Euclidean nearest-node assignment would do.
+//! respect ink components (docs/design.md, adaptation 12): a multi-source shortest-path search over
+//! the point neighbour graph from the point nearest to each fitted node, i.e. a geodesic Voronoi
+//! partition. Two strokes a pixel apart never trade points, which Euclidean nearest-node assignment
+//! would do.
 
 use super::math::distance;
+use crate::csr::Csr;
 use crate::PointSet;
 
 /// Points grouped by an index (old graph nodes or fitted nodes), in CSR form.
 #[derive(Clone, Debug, Default)]
 pub struct Groups {
-    offsets: Vec<u32>,
-    members: Vec<u32>,
+    members: Csr<u32>,
 }
 
 impl Groups {
     /// Groups points by `label`; labels `>= groups` (e.g. "unassigned") are left out.
     pub fn new(label: &[u32], groups: usize) -> Self {
-        let mut offsets = vec![0u32; groups + 1];
-        for &l in label {
-            if (l as usize) < groups {
-                offsets[l as usize + 1] += 1;
+        let members = Csr::build(groups, |sink| {
+            for (p, &l) in label.iter().enumerate() {
+                if (l as usize) < groups {
+                    sink.push(l as usize, p as u32);
+                }
             }
-        }
-        for i in 0..groups {
-            offsets[i + 1] += offsets[i];
-        }
-        let mut fill = offsets.clone();
-        let mut members = vec![0u32; offsets[groups] as usize];
-        for (p, &l) in label.iter().enumerate() {
-            if (l as usize) < groups {
-                members[fill[l as usize] as usize] = p as u32;
-                fill[l as usize] += 1;
-            }
-        }
-        Groups { offsets, members }
+        });
+        Groups { members }
     }
 
     /// The points of group `i` (empty for an unknown group).
     pub fn of(&self, i: usize) -> &[u32] {
-        if i + 1 >= self.offsets.len() {
+        if i >= self.members.rows() {
             return &[];
         }
-        &self.members[self.offsets[i] as usize..self.offsets[i + 1] as usize]
+        self.members.row(i)
     }
 }
 

@@ -1,8 +1,9 @@
 //! §3.4 first step: the refined 1-D graph cut into chains between vertices, each chain resampled
 //! to equal node spacing ("splitting the relatively long edges and merging the relatively short
-//! ones", design 9: spacing `h`).
+//! ones", docs/design.md, adaptation 12: spacing `h`).
 
 use super::math::{arc_lengths, point_at};
+use crate::csr::Csr;
 use crate::NodeGraph;
 
 /// One fitted edge: vertex `from` to vertex `to` through the contiguous interior unknowns
@@ -76,30 +77,20 @@ fn chains(graph: &NodeGraph, collapse_dots: bool) -> (Vec<u32>, Vec<Chain>) {
     let n = graph.nodes.len();
     // CSR adjacency with edge ids; malformed edges (self-loops, missing nodes) are skipped.
     let valid = |&&[a, b]: &&[u32; 2]| a != b && (a as usize) < n && (b as usize) < n;
-    let mut offsets = vec![0u32; n + 1];
-    for &[a, b] in graph.edges.iter().filter(valid) {
-        offsets[a as usize + 1] += 1;
-        offsets[b as usize + 1] += 1;
-    }
+    let mut adjacent = Csr::build(n, |sink| {
+        for (e, &[a, b]) in graph.edges.iter().filter(valid).enumerate() {
+            sink.push(a as usize, (b, e as u32));
+            sink.push(b as usize, (a, e as u32));
+        }
+    });
     for i in 0..n {
-        offsets[i + 1] += offsets[i];
+        adjacent.row_mut(i).sort_unstable();
     }
-    let mut fill = offsets.clone();
-    let mut adjacent = vec![(0u32, 0u32); offsets[n] as usize];
-    for (e, &[a, b]) in graph.edges.iter().filter(valid).enumerate() {
-        adjacent[fill[a as usize] as usize] = (b, e as u32);
-        fill[a as usize] += 1;
-        adjacent[fill[b as usize] as usize] = (a, e as u32);
-        fill[b as usize] += 1;
-    }
-    for i in 0..n {
-        adjacent[offsets[i] as usize..offsets[i + 1] as usize].sort_unstable();
-    }
-    let around = |v: u32| &adjacent[offsets[v as usize] as usize..offsets[v as usize + 1] as usize];
-    let degree = |v: u32| offsets[v as usize + 1] - offsets[v as usize];
+    let around = |v: u32| adjacent.row(v as usize);
+    let degree = |v: u32| adjacent.row(v as usize).len() as u32;
 
     let mut is_vertex: Vec<bool> = (0..n as u32).map(|v| degree(v) != 2).collect();
-    let mut used = vec![false; adjacent.len() / 2];
+    let mut used = vec![false; adjacent.values.len() / 2];
     let mut on_chain = vec![false; n];
     type Found = Vec<(u32, u32, Vec<u32>)>;
     let mut found: Found = Vec::new();
@@ -186,7 +177,7 @@ fn chains(graph: &NodeGraph, collapse_dots: bool) -> (Vec<u32>, Vec<Chain>) {
     (vertex_node, chains)
 }
 
-/// Most segments per link of a chain (hostile, issue 5; see `equalize`).
+/// Most segments per link of a chain (hostile input, docs/bad-input.md; see `equalize`).
 const MAX_SEGMENTS_PER_LINK: usize = 256;
 
 /// Decomposes the graph into chains and resamples each to spacing `h`. A chain keeps at least its
@@ -220,7 +211,7 @@ pub fn equalize(graph: &NodeGraph, h: f64, collapse_dots: bool) -> Layout {
         } else {
             1
         };
-        // hostile (issue 5, found by fuzzing): a chain may span a gap far longer than its ink
+        // hostile input (found by fuzzing): a chain may span a gap far longer than its ink
         // (five points 1e9 units apart made 2.5 million fitted nodes, 18 s and gigabytes). At most
         // MAX_SEGMENTS_PER_LINK per link between refined nodes keeps the layout a multiple of the
         // node count; on images a link that long (768 px at h = 3) needs a blob far wider than

@@ -3,19 +3,20 @@
 //! In: the refined 1-D [`NodeGraph`] (§3.3) and the [`PointSet`]. Out: a [`StrokeGraph`] whose
 //! edges are polylines from vertex to vertex. The steps, each in its own module:
 //!
-//! 1. `layout`: cut the graph into chains between vertices (nodes of degree other than 2, one
-//!    node per closed loop) and resample every chain to node spacing `h = max(3, median width)`
-//!    ("equalizing the edge length", design 9); with clean-up, an isolated chain shorter than
-//!    its stroke is wide is a dot and becomes one lone vertex;
+//! 1. `layout`: cut the graph into chains between vertices (nodes of degree other than 2, one node
+//!    per closed loop) and resample every chain to node spacing `h = max(3, median width)`
+//!    ("equalizing the edge length", adaptation 12 of docs/design.md); with clean-up, an isolated
+//!    chain shorter than its stroke is wide is a dot and becomes one lone vertex;
 //! 2. `assign`: give every point to the nearest fitted node of its own ink component (a
 //!    geodesic Voronoi partition over the neighbour graph), then take the L1 median `q'_i` of each
 //!    node's points by Weiszfeld's iteration (`math::l1_median`);
-//! 3. `solve`: minimize Eq. (4), `sum W_i |q_i - q'_i|^2 + w |L Q|^2`. By default `L` is the
-//!    "held" Laplacian of design 9 (one row `q_i - (q_a + q_b) / 2` per degree-2 node, so ends and
-//!    junctions are not pulled inward) with data weight `anchor_weight` on ends and junctions; in
-//!    paper mode it is the uniform graph Laplacian with unit weights, as the paper writes it;
+//! 3. `solve`: minimize Eq. (4), `sum W_i |q_i - q'_i|^2 + w |L Q|^2`. By default `L` is the "held"
+//!    Laplacian of adaptation 12 (one row `q_i - (q_a + q_b) / 2` per degree-2 node, so ends and
+//!    junctions are not pulled inward) with data weight `anchor_weight` on ends and junctions; with
+//!    [`LaplacianRule::Uniform`] it is the uniform graph Laplacian, as the paper writes it (whose
+//!    preset also sets the data weights to 1);
 //! 4. `place` (clean-up only): ends out to where the ink ends, junctions where their arms' lines
-//!    meet (design 10, 14), and with [`Params::junctions_on_ink`] a junction left off the ink
+//!    meet (adaptations 13, 14), and with [`Params::junctions_on_ink`] a junction left off the ink
 //!    moved onto the nearest point of its cell;
 //! 5. `dense` ([`Params::dense_fit`], off by default): after the junctions are placed, every edge
 //!    re-fitted from its own points, one point per slice of `2 Dis_ave` at the median offset of
@@ -32,7 +33,8 @@ mod solve;
 #[cfg(test)]
 mod tests;
 
-use crate::{Edge, NodeGraph, Params, PointSet, StrokeGraph, Vertex};
+use crate::csr::Csr;
+use crate::{Edge, LaplacianRule, NodeGraph, Params, PointSet, StrokeGraph, Vertex};
 use assign::Groups;
 use layout::Layout;
 use place::{End, Ink, Placement};
@@ -110,11 +112,7 @@ pub fn fit_with_spacing(
         .collect();
 
     let degrees = layout.degrees();
-    let anchor = if params.paper {
-        1.0
-    } else {
-        params.anchor_weight
-    };
+    let anchor = params.anchor_weight;
     let mut weights = vec![1.0; count];
     let mut targets = layout.pos.clone();
     for i in 0..count {
@@ -130,10 +128,9 @@ pub fn fit_with_spacing(
         }
     }
     let mut polylines: Vec<Vec<u32>> = layout.edges.iter().map(|e| layout.polyline(e)).collect();
-    let smoothness = if params.paper {
-        uniform_laplacian(&polylines, count)
-    } else {
-        held_laplacian(&layout, &polylines, &degrees)
+    let smoothness = match params.laplacian {
+        LaplacianRule::Uniform => uniform_laplacian(&polylines, count),
+        LaplacianRule::Held => held_laplacian(&layout, &polylines, &degrees),
     };
     let mut positions = solve::solve(&targets, &weights, &smoothness, params.smoothness)
         .unwrap_or_else(|| targets.clone());
@@ -294,9 +291,9 @@ fn length_unit(points: &PointSet) -> f64 {
     }
 }
 
-/// Design 9: the node spacing `h = max(3, spacing_factor x median stroke width)` over the nodes
-/// of `graphs` (the refined graphs of all parts of one input; lengths in the unit of `points`,
-/// any one of the parts' point sets).
+/// Adaptation 12: the node spacing `h = max(3, spacing_factor x median stroke width)` over the
+/// nodes of `graphs` (the refined graphs of all parts of one input; lengths in the unit of
+/// `points`, any one of the parts' point sets).
 pub fn node_spacing(graphs: &[&NodeGraph], points: &PointSet, params: &Params) -> f64 {
     let unit = length_unit(points);
     let mut widths: Vec<f64> = graphs
@@ -341,8 +338,8 @@ fn vertex_ends(layout: &Layout, polylines: &[Vec<u32>]) -> Vec<Vec<End>> {
     ends
 }
 
-/// Design 9: smoothness rows `q_i - (q_a + q_b) / 2` only where the curve passes through (chain
-/// interiors and the anchor of a closed loop), none at ends and junctions.
+/// Adaptation 12: smoothness rows `q_i - (q_a + q_b) / 2` only where the curve passes through
+/// (chain interiors and the anchor of a closed loop), none at ends and junctions.
 fn held_laplacian(layout: &Layout, polylines: &[Vec<u32>], degrees: &[usize]) -> Smoothness {
     let mut rows = Smoothness::new();
     for ids in polylines {
@@ -361,32 +358,17 @@ fn held_laplacian(layout: &Layout, polylines: &[Vec<u32>], degrees: &[usize]) ->
 
 /// The paper's Eq. (4) as written: the uniform graph Laplacian, a row for every node.
 fn uniform_laplacian(polylines: &[Vec<u32>], count: usize) -> Smoothness {
-    let mut offsets = vec![0u32; count + 1];
-    for ids in polylines {
-        for w in ids.windows(2) {
-            offsets[w[0] as usize + 1] += 1;
-            offsets[w[1] as usize + 1] += 1;
+    let neighbors = Csr::build(count, |sink| {
+        for ids in polylines {
+            for w in ids.windows(2) {
+                sink.push(w[0] as usize, w[1]);
+                sink.push(w[1] as usize, w[0]);
+            }
         }
-    }
-    for i in 0..count {
-        offsets[i + 1] += offsets[i];
-    }
-    let mut fill = offsets.clone();
-    let mut neighbors = vec![0u32; offsets[count] as usize];
-    for ids in polylines {
-        for w in ids.windows(2) {
-            neighbors[fill[w[0] as usize] as usize] = w[1];
-            fill[w[0] as usize] += 1;
-            neighbors[fill[w[1] as usize] as usize] = w[0];
-            fill[w[1] as usize] += 1;
-        }
-    }
+    });
     let mut rows = Smoothness::new();
     for i in 0..count {
-        rows.push(
-            i as u32,
-            &neighbors[offsets[i] as usize..offsets[i + 1] as usize],
-        );
+        rows.push(i as u32, neighbors.row(i));
     }
     rows
 }

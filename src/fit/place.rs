@@ -1,4 +1,5 @@
-//! Design 10 and 14: put stroke ends where the ink ends and junctions where their arms meet.
+//! docs/design.md, adaptations 13 and 14: put stroke ends where the ink ends and junctions where
+//! their arms meet.
 //!
 //! The L1 median of an end node's Voronoi cell lies inside the stroke, pulled back from the cap by
 //! half the cell; the median of a junction's cell is pulled toward the widest arm. Both are fixed
@@ -146,7 +147,7 @@ pub struct Placement<'a> {
 }
 
 impl Placement<'_> {
-    /// Design 10: moves each stroke end (`vertex` of degree 1, local stroke width `width`) out
+    /// Adaptation 13: moves each stroke end (`vertex` of degree 1, local stroke width `width`) out
     /// along its end tangent to the farthest ink, less half the width. An end only moves outward:
     /// a ray that grazes the stroke's side stops early and must not pull the end in.
     pub fn place_end(
@@ -189,7 +190,7 @@ impl Placement<'_> {
         }
     }
 
-    /// Design 10 and 14: moves a junction (`vertex` of degree 3 or more, local stroke width
+    /// Adaptation 14: moves a junction (`vertex` of degree 3 or more, local stroke width
     /// `width`) to the least-squares intersection of lines fitted to its arms between `width` and
     /// `4 width` from it, if that point is on the ink and within `1.5 width` of where the junction
     /// is. Arm points left behind the new junction are dropped.

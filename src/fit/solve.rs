@@ -2,13 +2,15 @@
 //! through its normal equations `(W + w L^T L) Q = W Q'` with one sparse LDL^T factorization shared
 //! by the x and y coordinates.
 
+use crate::csr::Csr;
 use sprs::{CsMat, FillInReduction, SymmetryCheck};
 use sprs_ldl::Ldl;
 
 /// The rows of the smoothness operator `L`: row `r` is `q_c - mean(q_n for n in neighbours)`.
 ///
-/// Design 9 ("held" Laplacian) has one row per degree-2 chain node with its two chain neighbours;
-/// the paper's uniform graph Laplacian has one row per node with all its graph neighbours.
+/// Adaptation 12 of docs/design.md (the "held" Laplacian) has one row per degree-2 chain node with
+/// its two chain neighbours; the paper's uniform graph Laplacian has one row per node with all its
+/// graph neighbours.
 #[derive(Clone, Debug, Default)]
 pub struct Smoothness {
     /// The center unknown of each row.
@@ -93,47 +95,31 @@ pub fn solve(
 /// are merged per row. Triplet assembly sorted globally and cost more than the factorization.
 fn normal_matrix(weights: &[f64], smoothness: &Smoothness, w: f64) -> CsMat<f64> {
     let n = weights.len();
-    let mut offsets = vec![0usize; n + 1];
-    for i in 0..n {
-        offsets[i + 1] = 1; // the diagonal
-    }
-    for r in 0..smoothness.len() {
-        let (center, neighbors) = smoothness.row(r);
-        let k = neighbors.len() + 1;
-        offsets[center as usize + 1] += k;
-        for &m in neighbors {
-            offsets[m as usize + 1] += k;
-        }
-    }
-    for i in 0..n {
-        offsets[i + 1] += offsets[i];
-    }
-    let mut fill = offsets.clone();
-    let mut entries = vec![(0usize, 0.0f64); offsets[n]];
-    for (i, &wi) in weights.iter().enumerate() {
-        entries[fill[i]] = (i, wi);
-        fill[i] += 1;
-    }
     let mut row: Vec<(usize, f64)> = Vec::new();
-    for r in 0..smoothness.len() {
-        let (center, neighbors) = smoothness.row(r);
-        let share = -1.0 / neighbors.len() as f64;
-        row.clear();
-        row.push((center as usize, 1.0));
-        row.extend(neighbors.iter().map(|&m| (m as usize, share)));
-        for &(i, ci) in &row {
-            for &(j, cj) in &row {
-                entries[fill[i]] = (j, w * ci * cj);
-                fill[i] += 1;
+    // Per matrix row: the diagonal weight first, then each smoothness row's outer product.
+    let mut entries = Csr::build(n, |sink| {
+        for (i, &wi) in weights.iter().enumerate() {
+            sink.push(i, (i, wi));
+        }
+        for r in 0..smoothness.len() {
+            let (center, neighbors) = smoothness.row(r);
+            let share = -1.0 / neighbors.len() as f64;
+            row.clear();
+            row.push((center as usize, 1.0));
+            row.extend(neighbors.iter().map(|&m| (m as usize, share)));
+            for &(i, ci) in &row {
+                for &(j, cj) in &row {
+                    sink.push(i, (j, w * ci * cj));
+                }
             }
         }
-    }
+    });
     let mut indptr = Vec::with_capacity(n + 1);
-    let mut indices = Vec::with_capacity(entries.len());
-    let mut data = Vec::with_capacity(entries.len());
+    let mut indices = Vec::with_capacity(entries.values.len());
+    let mut data = Vec::with_capacity(entries.values.len());
     indptr.push(0);
     for i in 0..n {
-        let slice = &mut entries[offsets[i]..offsets[i + 1]];
+        let slice = entries.row_mut(i);
         slice.sort_unstable_by_key(|e| e.0);
         let start = indices.len();
         for &(j, v) in slice.iter() {

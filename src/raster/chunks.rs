@@ -1,5 +1,5 @@
-//! Whole pages (issue 4): the ink pixels of a large image as chunks of whole components, each
-//! chunk's point set built by the thread that traces it.
+//! Whole pages (docs/design.md, "Whole pages"): the ink pixels of a large image as chunks of whole
+//! components, each chunk's point set built by the thread that traces it.
 //!
 //! Building the page's point set first and cutting it into chunks afterwards made one pass over a
 //! `u32` index of every pixel, neighbour lists and a distance transform of the whole page, all on
@@ -13,6 +13,7 @@
 use rayon::prelude::*;
 
 use super::points::{check_point_count, dropout_mode, for_each_in_window, nearest_distance};
+use crate::csr::Csr;
 use crate::mask::{ink_row_starts, run_components, tiny_hole, Run, RunEnvelope};
 use crate::{Binary, Grid, Params, PointSet, Result};
 
@@ -128,38 +129,28 @@ pub(crate) fn pixel_chunks(
 
     // Consecutive components fill a chunk up to `target` points (as `component_chunks` does).
     let mut chunk_of = Vec::with_capacity(sizes.len());
-    let mut chunk_runs: Vec<usize> = Vec::new();
+    let mut chunks = 0u32;
     let mut filled = 0usize;
     for &size in &sizes {
         if filled > 0 && filled + size > target {
             filled = 0;
         }
         if filled == 0 {
-            chunk_runs.push(0);
+            chunks += 1;
         }
-        chunk_of.push(chunk_runs.len() as u32 - 1);
+        chunk_of.push(chunks - 1);
         filled += size;
     }
     // The runs grouped by chunk, keeping raster order within each (a stable counting sort).
-    for &l in &label {
-        chunk_runs[chunk_of[l as usize] as usize] += 1;
-    }
-    let mut offsets = Vec::with_capacity(chunk_runs.len() + 1);
-    offsets.push(0);
-    for &n in &chunk_runs {
-        offsets.push(offsets[offsets.len() - 1] + n);
-    }
-    let mut fill = offsets[..offsets.len() - 1].to_vec();
-    let mut grouped = vec![Run { y: 0, x0: 0, x1: 0 }; runs.len()];
-    for (run, &l) in runs.iter().zip(&label) {
-        let chunk = chunk_of[l as usize] as usize;
-        grouped[fill[chunk]] = *run;
-        fill[chunk] += 1;
-    }
+    let grouped = Csr::build(chunks as usize, |sink| {
+        for (run, &l) in runs.iter().zip(&label) {
+            sink.push(chunk_of[l as usize] as usize, *run);
+        }
+    });
     Ok(Some(PixelChunks {
         spacing,
-        runs: grouped,
-        offsets,
+        runs: grouped.values,
+        offsets: grouped.offsets,
     }))
 }
 

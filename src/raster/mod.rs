@@ -5,7 +5,7 @@
 //! bytes ─decode─> GrayImage ─binarize─> Binary ─points─> PointSet (pixel centers, 8- or 5x5
 //!                                                         neighbours, half-width, Dis_ave)
 //! ```
-//! Design item 1 (points, dropout mode) and item 11 (the dropout test) live in [`points`].
+//! docs/design.md, adaptations 1 (points) and 2 (dropout mode), live in [`points`].
 
 mod binarize;
 mod chunks;

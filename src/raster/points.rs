@@ -1,6 +1,6 @@
-//! Ink pixels to the strip point set `P` (design item 1): one point per ink pixel center in raster
-//! order, the pixel neighbour graph (8-neighbourhood, or 5x5 in dropout mode) in CSR form, the
-//! half-width from an exact Euclidean distance transform, and `Dis_ave`.
+//! Ink pixels to the strip point set `P` (docs/design.md, adaptation 1): one point per ink pixel
+//! center in raster order, the pixel neighbour graph (8-neighbourhood, or 5x5 in dropout mode) in
+//! CSR form, the half-width from an exact Euclidean distance transform, and `Dis_ave`.
 //!
 //! Everything here is O(pixels) with no allocation per point; rows run in parallel and write only
 //! their own slices, so the output does not depend on the thread count.
@@ -13,7 +13,7 @@ use crate::mask::{
 };
 use crate::{Binary, Error, Grid, Params, PointSet, Result};
 
-/// `Dis_ave` above this switches dropout mode on (design item 1): more than about 5% of the
+/// `Dis_ave` above this switches dropout mode on (adaptation 2): more than about 5% of the
 /// points have no ink pixel touching them.
 const DROPOUT_SPACING: f64 = 1.05;
 /// Share of ink pixels with exactly one ink 8-neighbour above which dropout mode switches on.
@@ -171,11 +171,11 @@ pub(super) fn dropout_mode(
     }
     // Heavy dropout (over half the pixels of a stroke gone) opens the holes to the outside, so
     // they are no longer tiny; what remains is pixels hanging on by a single neighbour, which
-    // solid strokes of any width have only at 1-px line ends. Item 1: sparse points.
+    // solid strokes of any width have only at 1-px line ends. Adaptation 2: sparse points.
     let loose = loose as f64;
     (loose > LOOSE_FRACTION * count as f64 && loose >= 16.0)
         || spacing > DROPOUT_SPACING
-        // Design item 11: tiny holes above a share of the ink (1.5% by default; 0.5% misfired
+        // Adaptation 2: tiny holes above a share of the ink (1.5% by default; 0.5% misfired
         // on script, whose loops leave tiny holes).
         || holes() as f64 > params.dropout_fraction * count as f64
 }

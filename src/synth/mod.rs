@@ -2,7 +2,7 @@
 //! and the generator of `samples/`.
 //!
 //! Every case carries the polylines it was drawn from, so quality is measured against the truth
-//! (DESIGN.md, "Measuring quality"). Three groups make [`all_cases`]: `hard` (crossings,
+//! (docs/design.md, "Measuring quality"). Three groups make [`all_cases`]: `hard` (crossings,
 //! junctions, loops, near misses, dropout), `text` (Hershey single-stroke glyphs) and `prints`
 //! (fingerprint-like ridge fields traced as level sets of a phase function). The groups where
 //! strokes crowd (docs/quality.md) come on their own: [`font_cases`] (Hershey script, cursive,
@@ -282,7 +282,7 @@ mod tests {
             let n = s.points.len();
             (0..n.saturating_sub(1).max(1)).any(|i| {
                 let j = (i + 1).min(n - 1);
-                let (d, t) = crate::stroke_graph::segment_closest(p, s.points[i], s.points[j]);
+                let (d, t) = crate::geometry::segment_closest(p, s.points[i], s.points[j]);
                 d <= (s.widths[i] + t * (s.widths[j] - s.widths[i])) / 2.0 + slack
             })
         })

@@ -456,6 +456,7 @@ pub fn carry(method: &StrokeGraph, points: &PointSet) -> StrokeGraph {
     }
     work.join_degree_two();
     work.collapse_dots();
+    work.extend_ends();
     work.straighten_junctions();
     work.adopt_method_geometry(method);
     work.finish(method.width, method.height)
@@ -601,7 +602,7 @@ impl Work {
     }
 
     /// Crossings: around each of the method's vertices of degree >= 4, the skeleton junctions
-    /// nearer to it than to any other of the method's junctions and within 4 of its widths,
+    /// nearer to it than to any other of the method's junctions and within 5 of its widths,
     /// linked by short skeleton edges (at most that radius) that form a tree (no hole among
     /// them), and leaving by exactly as many arms as the crossing has, become one vertex at the
     /// crossing. A long edge between two of them (the loop of an `8` closing on its waist)
@@ -628,8 +629,9 @@ impl Work {
             let owner = nearest.item as usize;
             let c = junctions[owner];
             // The Y's of an acute crossing lie about (w / 2) / sin(theta / 2) from it, 3.8 w at
-            // 15 degrees: 4 widths.
-            if c.degree >= 4 && dist(self.vertices[i].pos, c.pos) <= 4.0 * c.width.max(2.0) {
+            // 15 degrees, and the method's width at a crossing can be a little less than the
+            // strokes': 5 widths.
+            if c.degree >= 4 && dist(self.vertices[i].pos, c.pos) <= 5.0 * c.width.max(2.0) {
                 owned[owner].push(i);
             }
         }
@@ -641,7 +643,7 @@ impl Work {
                 continue;
             }
             let c = junctions[owner];
-            let radius = 4.0 * c.width.max(2.0);
+            let radius = 5.0 * c.width.max(2.0);
             for &i in near {
                 mark[i] = owner;
             }
@@ -1076,6 +1078,68 @@ impl Work {
             joined.dedup();
             at[a] = joined;
             at[b].clear();
+        }
+    }
+
+    /// Thinning erodes a stroke's end, most along a diagonal: each end is carried on along its
+    /// own direction (taken over the last two widths) to where the ink ends, less the stroke's
+    /// half-width, the centre of its cap. Ends are only ever lengthened.
+    fn extend_ends(&mut self) {
+        let degree = self.degrees();
+        let median = |widths: &[f64]| {
+            let mut sorted = widths.to_vec();
+            sorted.sort_by(f64::total_cmp);
+            sorted.get(sorted.len() / 2).copied().unwrap_or(1.0)
+        };
+        for e in 0..self.edges.len() {
+            for at_start in [true, false] {
+                let Some(edge) = &self.edges[e] else { break };
+                let v = if at_start { edge.from } else { edge.to };
+                if degree[v] != 1 || edge.from == edge.to || edge.points.len() < 2 {
+                    continue;
+                }
+                let stroke = median(&edge.widths);
+                let half = (stroke + 1.0) / 2.0;
+                let mut inwards: Vec<[f64; 2]> = edge.points.clone();
+                if !at_start {
+                    inwards.reverse();
+                }
+                let tip = inwards[0];
+                let back = inwards
+                    .iter()
+                    .find(|&&p| dist(p, tip) >= 2.0 * stroke.max(1.5))
+                    .copied()
+                    .unwrap_or(inwards[inwards.len() - 1]);
+                let d = [tip[0] - back[0], tip[1] - back[1]];
+                let n = d[0].hypot(d[1]);
+                if n < 1.0 {
+                    continue;
+                }
+                let u = [d[0] / n, d[1] / n];
+                // March in half pixels while on the ink (at most a few widths).
+                let mut last = 0.0;
+                let mut t = 0.5;
+                while t <= 2.0 * stroke + 4.0 && self.ink.at([tip[0] + t * u[0], tip[1] + t * u[1]])
+                {
+                    last = t;
+                    t += 0.5;
+                }
+                let reach = last + 0.5 - half;
+                if reach < 1.0 {
+                    continue;
+                }
+                let end = [tip[0] + reach * u[0], tip[1] + reach * u[1]];
+                let width = edge.widths[if at_start { 0 } else { edge.widths.len() - 1 }];
+                let edge = self.edges[e].as_mut().expect("live edge");
+                if at_start {
+                    edge.points.insert(0, end);
+                    edge.widths.insert(0, width);
+                } else {
+                    edge.points.push(end);
+                    edge.widths.push(width);
+                }
+                self.vertices[v].pos = end;
+            }
         }
     }
 

@@ -226,9 +226,16 @@ pub struct Cli {
     #[arg(long, help_heading = "Method")]
     paper: bool,
 
-    /// Experimental: centerlines carried by a pixel skeleton of the ink, with crossings and spurs
-    /// decided by the method's graph (images only; not in dropout mode) [default: off]
+    /// Centerlines from the node graph's own fitted polylines (§3.4) instead of the pixel
+    /// skeleton the method decides on: faster, but chords cut across cells, counters and loops
+    /// finer than a stroke width [default: skeleton on, paper: off]
     #[arg(long, help_heading = "Method")]
+    no_skeleton: bool,
+
+    /// Centerlines carried by a pixel skeleton of the ink (every hole a cycle, no edge off the
+    /// ink), crossings, spurs and bends decided by the method's graph; turns it back on after
+    /// --paper (images only; not in dropout mode) [default: on, paper: off]
+    #[arg(long, overrides_with = "no_skeleton", help_heading = "Method")]
     skeleton: bool,
 
     /// How r_min is chosen: from the local stroke width or from the point spacing Dis_ave
@@ -543,6 +550,9 @@ impl TryFrom<&Cli> for Params {
         }
         if cli.cleanup {
             params.cleanup = true;
+        }
+        if cli.no_skeleton {
+            params.skeleton = false;
         }
         if cli.skeleton {
             params.skeleton = true;
@@ -1852,10 +1862,15 @@ mod tests {
             "held",
             "--anchor-weight",
             "10",
+            "--skeleton",
             "a.png",
         ]))
         .expect("valid");
         assert_eq!(params, Params::default());
+        let node_graph = Params::try_from(&parse(&["--no-skeleton", "a.png"])).expect("valid");
+        assert!(!node_graph.skeleton);
+        let back = Params::try_from(&parse(&["--no-skeleton", "--skeleton", "a.png"])).expect("ok");
+        assert!(back.skeleton);
         // The last of a flag and its negation wins.
         let off = Params::try_from(&parse(&["--cleanup", "--no-cleanup", "a.png"])).expect("valid");
         assert!(!off.cleanup);

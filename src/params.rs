@@ -176,9 +176,11 @@ pub struct Params {
     /// Clean-up after §3.3 (contract hole-free cycles, prune spurs, collapse short bars) and the
     /// placement of ends and junctions (adaptations 10, 11, 13, 14). Default true; paper false.
     pub cleanup: bool,
-    /// Skeleton-carried geometry (an experiment, [`crate::skeleton`]): the polylines follow a
-    /// topology-preserving pixel skeleton, and the method's graph decides crossings and spurs.
-    /// Images only, not in dropout mode. Default false; paper false.
+    /// Skeleton-carried geometry ([`crate::skeleton`], docs/quality.md "Fidelity directions"): a
+    /// topology-preserving pixel skeleton carries the polylines and every hole, the method's
+    /// graph decides crossings and spurs and lends its fitted lines where it follows the
+    /// skeleton. Images only, not in dropout mode. Default true; paper false (the node graph's
+    /// own polylines, §3.4).
     pub skeleton: bool,
     /// Disks that respect the ink (§3.1 on pixel images): a sampling disk never holds ink hidden
     /// from its center (ink reached around a hole or across a gap from another stroke), so it
@@ -232,7 +234,7 @@ impl Default for Params {
             weiszfeld_iterations: 20,
             spacing_factor: 1.0,
             cleanup: true,
-            skeleton: false,
+            skeleton: true,
             ink_disks: false,
             site_clusters: false,
             dense_fit: false,
@@ -257,6 +259,7 @@ impl Params {
             laplacian: LaplacianRule::Uniform,
             anchor_weight: 1.0,
             cleanup: false,
+            skeleton: false,
             ink_disks: false,
             site_clusters: false,
             dense_fit: false,

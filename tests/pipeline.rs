@@ -372,12 +372,19 @@ fn deviation(graph: &StrokeGraph, strokes: &[Stroke]) -> (f64, f64) {
 fn dense_fit_follows_a_tight_loop_closer_than_the_coarse_fit() {
     // A loop only a few stroke widths around: the coarse fit's nodes, one width apart, cut it
     // by chords; the dense re-fit (one point per 2 px from each edge's own pixels) follows it.
+    // Both on the node graph's own polylines (the skeleton would carry either).
     let strokes = vec![circle([40.0, 40.0], 9.0, 6.0)];
     let binary = render(&strokes, 80, 80);
-    let coarse = trace(&binary);
+    let node_graph = Params {
+        skeleton: false,
+        ..Params::default()
+    };
+    let coarse = trace_binary(&binary, &node_graph)
+        .expect("trace succeeds")
+        .graph;
     let dense_params = Params {
         dense_fit: true,
-        ..Params::default()
+        ..node_graph
     };
     let dense = trace_binary(&binary, &dense_params)
         .expect("trace succeeds")

@@ -116,7 +116,7 @@ fn all_groups() -> Vec<&'static str> {
 /// The methods compared in every table.
 const METHODS: [&str; 5] = [
     "ridgeline",
-    "skeleton",
+    "node graph",
     "paper",
     "thinning",
     "thinning+pruning",
@@ -168,9 +168,9 @@ fn run_method(method: &str, case: &Case) -> anyhow::Result<StrokeGraph> {
     Ok(match method {
         "ridgeline" => ridgeline::trace_binary(&case.binary, &variant_params()?)?.graph,
         "paper" => ridgeline::trace_binary(&case.binary, &Params::paper())?.graph,
-        "skeleton" => {
+        "node graph" => {
             let params = Params {
-                skeleton: true,
+                skeleton: false,
                 ..Params::default()
             };
             ridgeline::trace_binary(&case.binary, &params)?.graph

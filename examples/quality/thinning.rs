@@ -12,7 +12,7 @@ use ridgeline::skeleton::{pixel_graph, tangents, zhang_suen};
 use ridgeline::{Binary, Edge, StrokeGraph};
 
 /// Zhang-Suen thinning followed by pixel-graph extraction (the library's, `ridgeline::skeleton`,
-/// which the `--skeleton` experiment builds on).
+/// which the default skeleton-carried tracing builds on).
 pub fn trace(binary: &Binary) -> StrokeGraph {
     let (w, h) = (binary.width as usize, binary.height as usize);
     let skeleton = zhang_suen(&binary.ink, w, h);

@@ -137,10 +137,11 @@ pub fn zhang_suen(ink: &[bool], width: usize, height: usize) -> Vec<bool> {
 
 /// Zhang-Suen can leave runs two pixels thick (a 45 degree staircase, an L-shaped step) whose
 /// pixels all have three or more skeleton neighbours, so the graph would make one junction of the
-/// whole run. Removes, in raster order until none is left, every skeleton pixel with at least two
-/// skeleton neighbours that is simple: its removal changes neither the skeleton's
-/// 8-connectivity nor its holes (Yokoi's 8-connectivity number is 1). Ends, the middle pixels of
-/// one-pixel lines and the centers of real junctions are not simple.
+/// whole run. Removes, in raster order until none is left, every skeleton pixel that is simple
+/// (its removal changes neither the skeleton's 8-connectivity nor its holes: Yokoi's
+/// 8-connectivity number is 1) and is no tip: it has three or more skeleton neighbours, or two
+/// that make it the inner corner of an L. Ends, the middle pixels of one-pixel lines and the
+/// centers of real junctions are not simple.
 pub fn one_pixel_thick(skeleton: &mut [bool], width: usize, height: usize) {
     let (w, h) = (width as i64, height as i64);
     let on =
@@ -170,8 +171,13 @@ pub fn one_pixel_thick(skeleton: &mut [bool], width: usize, height: usize) {
             let (x, y) = ((i as i64) % w, (i as i64) / w);
             let n: [bool; 8] =
                 std::array::from_fn(|k| on(skeleton, x + AROUND[k].0, y + AROUND[k].1));
-            if n.iter().filter(|&&v| v).count() < 2 {
-                continue;
+            // Two neighbours: only the inner corner of an L step (both of them 4-neighbours)
+            // goes; two neighbours side by side are the tip of a run, which removing would
+            // shorten (the run would be eaten away from its end).
+            match n.iter().filter(|&&v| v).count() {
+                0 | 1 => continue,
+                2 if (0..8).step_by(2).filter(|&k| n[k]).count() != 2 => continue,
+                _ => {}
             }
             // Yokoi: C8 = sum over k in {0, 2, 4, 6} of x'k - x'k x'k+1 x'k+2, x' = not x.
             let c8: i32 = (0..4)
@@ -1608,5 +1614,152 @@ mod tests {
         let arm = spur_reach(&[[0.0, 4.0], [0.0, 12.0]], &[8.0, 6.0], &envelope);
         assert!(bump < 1.0, "{bump}");
         assert!(arm > 0.5 * 8.0, "{arm}");
+    }
+
+    fn traced(strokes: &[Stroke], w: u32, h: u32) -> (crate::Binary, StrokeGraph) {
+        let binary = render(strokes, w, h);
+        let graph = crate::trace_binary(&binary, &skeleton_params())
+            .expect("trace")
+            .graph;
+        graph.validate().expect("valid graph");
+        (binary, graph)
+    }
+
+    fn assert_on_ink(binary: &crate::Binary, graph: &StrokeGraph) {
+        for edge in &graph.edges {
+            for s in edge.points.windows(2) {
+                for k in 0..=8 {
+                    let t = k as f64 / 8.0;
+                    let p = [
+                        s[0][0] + t * (s[1][0] - s[0][0]),
+                        s[0][1] + t * (s[1][1] - s[0][1]),
+                    ];
+                    assert!(
+                        binary.get(p[0].floor() as i64, p[1].floor() as i64),
+                        "{p:?} is off the ink"
+                    );
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn a_thick_staircase_thins_to_one_pixel_and_a_ring_stays_a_cycle() {
+        // A 2-pixel-thick 45 degree staircase: every pixel has three neighbours.
+        let (w, h) = (12, 12);
+        let mut skeleton = vec![false; w * h];
+        for i in 1..10 {
+            skeleton[i * w + i] = true;
+            skeleton[i * w + i + 1] = true;
+        }
+        one_pixel_thick(&mut skeleton, w, h);
+        let on = |x: usize, y: usize| skeleton[y * w + x];
+        let neighbours = |x: usize, y: usize| {
+            RING.iter()
+                .filter(|&&(dx, dy)| {
+                    let (nx, ny) = (x as i64 + dx, y as i64 + dy);
+                    nx >= 0
+                        && ny >= 0
+                        && (nx as usize) < w
+                        && (ny as usize) < h
+                        && on(nx as usize, ny as usize)
+                })
+                .count()
+        };
+        let pixels: Vec<(usize, usize)> = (0..h)
+            .flat_map(|y| (0..w).map(move |x| (x, y)))
+            .filter(|&(x, y)| on(x, y))
+            .collect();
+        assert!(pixels.len() >= 9, "{pixels:?}");
+        assert!(
+            pixels.iter().all(|&(x, y)| neighbours(x, y) <= 2),
+            "{pixels:?}"
+        );
+        // A ring of ink keeps its hole: one cycle, no end.
+        let (_, ring) = traced(
+            &[Stroke::new(
+                (0..=64)
+                    .map(|k| {
+                        let a = k as f64 / 64.0 * std::f64::consts::TAU;
+                        [40.0 + 20.0 * a.cos(), 40.0 + 20.0 * a.sin()]
+                    })
+                    .collect(),
+                5.0,
+            )],
+            80,
+            80,
+        );
+        assert_eq!(ring.edges.len() + 1, ring.vertices.len() + 1, "one loop");
+        assert_eq!(ring.endpoints().count(), 0);
+    }
+
+    #[test]
+    fn a_sharp_corner_is_a_bend_at_the_corner_not_a_junction() {
+        // Two legs of width 6 meeting at 30 degrees at (50, 90).
+        let corner = [50.0, 90.0];
+        let a = 15f64.to_radians();
+        let legs = Stroke::new(
+            vec![
+                [50.0 - 70.0 * a.sin(), 90.0 - 70.0 * a.cos()],
+                corner,
+                [50.0 + 70.0 * a.sin(), 90.0 - 70.0 * a.cos()],
+            ],
+            6.0,
+        );
+        let (binary, graph) = traced(&[legs], 100, 110);
+        assert!(
+            graph.vertices.iter().all(|v| v.degree < 3),
+            "{:?}",
+            graph.vertices
+        );
+        assert_eq!(graph.endpoints().count(), 2);
+        let nearest = graph
+            .edges
+            .iter()
+            .flat_map(|e| e.points.iter())
+            .map(|&p| dist(p, corner))
+            .fold(f64::INFINITY, f64::min);
+        assert!(
+            nearest <= 3.0,
+            "the bend is {nearest:.1} px from the corner"
+        );
+        assert_on_ink(&binary, &graph);
+    }
+
+    #[test]
+    fn cells_finer_than_a_stroke_stay_cycles() {
+        // A box of 2 x 2 cells, each 5 px across, strokes 8 px wide (cells 0.6 widths).
+        let (x0, y0, c, w) = (10.0, 10.0, 13.0, 8.0);
+        let strokes: Vec<Stroke> = (0..3)
+            .flat_map(|k| {
+                let t = k as f64 * c;
+                [
+                    Stroke::new(vec![[x0, y0 + t], [x0 + 2.0 * c, y0 + t]], w),
+                    Stroke::new(vec![[x0 + t, y0], [x0 + t, y0 + 2.0 * c]], w),
+                ]
+            })
+            .collect();
+        let (binary, graph) = traced(&strokes, 56, 56);
+        let cycles = graph.edges.len() + 1 - graph.vertices.len();
+        assert_eq!(cycles, 4, "every cell a cycle");
+        assert_eq!(graph.endpoints().count(), 0, "no spur");
+        assert_on_ink(&binary, &graph);
+    }
+
+    #[test]
+    fn a_dot_is_one_vertex_and_an_end_reaches_its_cap() {
+        let dot = Stroke::new(vec![[20.0, 20.0], [21.0, 20.5]], 5.0);
+        let diagonal = Stroke::new(vec![[40.0, 10.0], [90.0, 60.0]], 3.0);
+        let (_, graph) = traced(&[dot, diagonal], 100, 70);
+        let dots: Vec<&Vertex> = graph.vertices.iter().filter(|v| v.degree == 0).collect();
+        assert_eq!(dots.len(), 1, "{:?}", graph.vertices);
+        assert!(dist(dots[0].pos, [20.5, 20.25]) <= 1.5);
+        for end in [[40.0, 10.0], [90.0, 60.0]] {
+            let nearest = graph
+                .endpoints()
+                .map(|v| dist(graph.vertices[v].pos, end))
+                .fold(f64::INFINITY, f64::min);
+            assert!(nearest <= 1.5, "an end {nearest:.1} px from {end:?}");
+        }
     }
 }

@@ -1483,17 +1483,37 @@ fn follows(p: &[[f64; 2]], q: &[[f64; 2]], tight: f64, loose: f64) -> Option<f64
         x * x + y * y
     };
     let (tight2, loose2) = (tight * tight, loose * loose);
+    // The segments of `to` bucketed in square cells at least `2 loose` across, so a point only
+    // looks at the segments of the (at most four) cells within `loose` of it: linear in the
+    // points, however long the lines (a page-long stroke has tens of thousands).
+    let cell = (2.0 * loose).max(4.0);
+    let key = |v: f64| (v / cell).floor() as i64;
     let directed = |from: &[[f64; 2]], to: &[[f64; 2]]| -> Option<f64> {
+        let segments: Vec<([f64; 2], [f64; 2])> = match to {
+            [only] => vec![(*only, *only)],
+            _ => to.windows(2).map(|s| (s[0], s[1])).collect(),
+        };
+        let mut buckets: std::collections::HashMap<(i64, i64), Vec<usize>> =
+            std::collections::HashMap::new();
+        for (k, &(a, b)) in segments.iter().enumerate() {
+            for cx in key(a[0].min(b[0]))..=key(a[0].max(b[0])) {
+                for cy in key(a[1].min(b[1]))..=key(a[1].max(b[1])) {
+                    buckets.entry((cx, cy)).or_default().push(k);
+                }
+            }
+        }
         let mut worst = 0.0f64;
         let mut off = 0;
         for &x in from {
-            let d2 = match to {
-                [only] => segment_d2(x, *only, *only),
-                _ => to
-                    .windows(2)
-                    .map(|s| segment_d2(x, s[0], s[1]))
-                    .fold(f64::INFINITY, f64::min),
-            };
+            let mut d2 = f64::INFINITY;
+            for cx in key(x[0] - loose)..=key(x[0] + loose) {
+                for cy in key(x[1] - loose)..=key(x[1] + loose) {
+                    for &k in buckets.get(&(cx, cy)).map_or(&[][..], Vec::as_slice) {
+                        let (a, b) = segments[k];
+                        d2 = d2.min(segment_d2(x, a, b));
+                    }
+                }
+            }
             if d2 > loose2 {
                 return None;
             }

@@ -894,8 +894,8 @@ impl Work {
     /// corner and a stub running on into the corner's tip. A degree-3 skeleton junction with one
     /// terminal stub is such a corner when its two legs, followed straight beyond where they
     /// bend, meet under less than 120 degrees at a point `v` on the stub, and the stub's ink ends
-    /// within the stroke's half-width (plus the spur margin of [`Self::prune_spurs`]) of `v`: no
-    /// ink reaches beyond the corner the two legs make by themselves. Then the stub and the
+    /// within the stroke's half-width of `v`, plus the uncertainty of `v` and a tenth of the
+    /// width: no ink reaches beyond the corner the two legs make by themselves. Then the stub and the
     /// junction go, and both legs run straight to `v`, the bend.
     fn dissolve_corners(&mut self) -> bool {
         let mut changed = false;
@@ -978,7 +978,12 @@ impl Work {
                 continue;
             }
             let v = [a[0] + s * ua[0], a[1] + s * ua[1]];
-            let margin = (0.4 * stroke).max(1.5);
+            // The legs' lines are known to about a pixel across, which moves where they meet by
+            // 1 / sin(theta / 2) along the bisector (theta the corner's angle); beyond that, the
+            // ink may stick out by a tenth of the width before it is an end of its own (a brush's
+            // overshoot at the corner of a box).
+            let half_angle = (ua[0] * ub[0] + ua[1] * ub[1]).clamp(-1.0, 1.0).acos() / 2.0;
+            let margin = 0.1 * stroke + 1.0 / half_angle.sin().max(0.1);
             let on_stub = stub_points
                 .iter()
                 .map(|&p| dist(p, v))

@@ -269,15 +269,15 @@ pub fn strokes(graph: &StrokeGraph, options: &StrokeOptions) -> Vec<Stroke> {
 }
 
 /// How well the widths cover the ink: every edge re-rendered with its per-point widths (round caps
-/// and joins, as [`crate::synth::render`] draws the truth) and every isolated vertex as a disk, then
+/// and joins, as [`crate::draw::render`] draws the truth) and every isolated vertex as a disk, then
 /// the intersection over union with the foreground of `binary`. 1 when both are empty. The quality
 /// benchmark reports it (the target is at least 0.9 on text).
 pub fn coverage_iou(graph: &StrokeGraph, binary: &Binary) -> f64 {
-    let mut drawn: Vec<crate::synth::Stroke> = graph
+    let mut drawn: Vec<crate::draw::Stroke> = graph
         .edges
         .iter()
         .filter(|e| !e.points.is_empty() && e.points.len() == e.widths.len())
-        .map(|e| crate::synth::Stroke {
+        .map(|e| crate::draw::Stroke {
             points: e.points.clone(),
             widths: e.widths.clone(),
         })
@@ -287,12 +287,12 @@ pub fn coverage_iou(graph: &StrokeGraph, binary: &Binary) -> f64 {
             .vertices
             .iter()
             .filter(|v| v.degree == 0)
-            .map(|v| crate::synth::Stroke {
+            .map(|v| crate::draw::Stroke {
                 points: vec![v.pos],
                 widths: vec![v.width],
             }),
     );
-    let rendered = crate::synth::render(&drawn, binary.width, binary.height);
+    let rendered = crate::draw::render(&drawn, binary.width, binary.height);
     let (mut both, mut either) = (0usize, 0usize);
     for (&a, &b) in rendered.ink.iter().zip(&binary.ink) {
         both += usize::from(a && b);

@@ -393,7 +393,7 @@ fn the_readme_says_how_to_get_the_command_and_what_the_svg_shows() {
         fs::read_to_string(crate::support::repository_root().join("README.md")).expect("README.md");
     let start = &readme[..readme.find("## ").unwrap_or(readme.len())];
     for words in [
-        "cargo install --path .",
+        "cargo install --path cli",
         "target/release/ridgeline",
         "first build compiles",
     ] {

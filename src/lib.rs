@@ -77,7 +77,7 @@ pub mod curves;
 pub mod debug;
 pub mod draw;
 pub mod export;
-pub mod fit;
+pub(crate) mod fit;
 pub mod graph;
 pub mod minutiae;
 pub mod point_list;

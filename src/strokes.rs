@@ -20,7 +20,6 @@
 
 use crate::{dist, Binary, Edge, StrokeGraph};
 use serde::Serialize;
-use std::fmt::Write;
 
 /// Options for [`strokes`].
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
@@ -311,26 +310,6 @@ pub fn stroke_color(index: usize) -> String {
     format!("hsl({hue:.1},75%,42%)")
 }
 
-/// SVG `<polyline>` elements, one per stroke, each in its own color ([`stroke_color`]), with
-/// coordinates to 2 decimals. `line_width` is the drawn width in px.
-pub fn svg_polylines(strokes: &[Stroke], line_width: f64) -> String {
-    let mut svg = String::new();
-    for (i, stroke) in strokes.iter().enumerate() {
-        svg.push_str("<polyline points=\"");
-        for (k, p) in stroke.points.iter().enumerate() {
-            let separator = if k == 0 { "" } else { " " };
-            let _ = write!(svg, "{separator}{:.2},{:.2}", p[0], p[1]);
-        }
-        let _ = writeln!(
-            svg,
-            "\" fill=\"none\" stroke=\"{}\" stroke-width=\"{line_width:.2}\" \
-             stroke-linecap=\"round\" stroke-linejoin=\"round\"/>",
-            stroke_color(i)
-        );
-    }
-    svg
-}
-
 /// A stroke graph built from vertex positions and edge polylines, with every width set to
 /// `width` and directions along the polylines: for tests of the feature modules.
 #[cfg(test)]
@@ -596,7 +575,7 @@ mod tests {
     }
 
     #[test]
-    fn deterministic_and_svg_has_one_polyline_per_stroke() {
+    fn deterministic() {
         let c = [100.0, 100.0];
         let tips: Vec<_> = [0.0, 60.0, 120.0, 180.0, 240.0, 300.0]
             .iter()
@@ -607,8 +586,5 @@ mod tests {
         let b = strokes(&g, &StrokeOptions::default());
         assert_eq!(a, b);
         assert_eq!(a.len(), 3);
-        let svg = svg_polylines(&a, 2.0);
-        assert_eq!(svg.matches("<polyline").count(), 3);
-        assert!(svg.contains("140.00,100.00"));
     }
 }

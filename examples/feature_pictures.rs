@@ -20,8 +20,8 @@ use ridgeline::export::svg::{self, Backdrop, SvgOptions};
 use ridgeline::export::Features;
 use ridgeline::minutiae::{minutiae, MinutiaeOptions};
 use ridgeline::strokes::{strokes, StrokeOptions};
-use ridgeline::synth::{print_cases, text_cases, text_line, Case};
 use ridgeline::{Binary, GrayImage, Params, StrokeGraph};
+use ridgeline_testkit::synth::{print_cases, text_cases, text_line, Case};
 
 fn main() -> Result<()> {
     let out = std::env::args_os()

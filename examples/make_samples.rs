@@ -1,4 +1,4 @@
-//! Writes the sample images in `samples/` from the synthetic fixtures (`ridgeline::synth`).
+//! Writes the sample images in `samples/` from the synthetic fixtures (`ridgeline_testkit::synth`).
 //!
 //! ```text
 //! cargo run --example make_samples            # samples/*.png
@@ -7,8 +7,8 @@
 
 use image::codecs::png::{CompressionType, FilterType, PngEncoder};
 use image::{GrayImage, ImageEncoder};
-use ridgeline::synth::{self, Case, Stroke};
 use ridgeline::Binary;
+use ridgeline_testkit::synth::{self, Case, Stroke};
 use std::path::Path;
 
 /// Ink as 0 on 255 (or the reverse with `light_on_dark`), 8-bit gray.

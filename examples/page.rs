@@ -12,7 +12,7 @@
 //!
 //! `--keep DIR` writes the generated pages into DIR (kept) instead of a temporary directory.
 //!
-//! Inputs: a generated A4 page at 300 dpi of dense text ([`ridgeline::synth::page`], 2480 x 3508,
+//! Inputs: a generated A4 page at 300 dpi of dense text ([`ridgeline_testkit::synth::page`], 2480 x 3508,
 //! 40 px x-height, 4 px strokes) and the same page at half the size per side (1240 x 1754: the
 //! generator keeps the glyph size and stroke width and fills a quarter of the area with the same
 //! kind of lines), both written as PNG into a temporary directory; then the three largest real
@@ -103,7 +103,7 @@ fn main() {
     let mut inputs: Vec<(String, PathBuf)> = Vec::new();
     for (name, w, h) in [("A4 half", 1240, 1754), ("A4 300dpi", 2480, 3508)] {
         let clock = Instant::now();
-        let case = ridgeline::synth::page(w, h, 1);
+        let case = ridgeline_testkit::synth::page(w, h, 1);
         let path = dir.join(format!("page_{w}x{h}.png"));
         to_gray(&case.binary).save(&path).expect("write page PNG");
         eprintln!(
@@ -248,7 +248,7 @@ fn run_batch(count: usize, repeat: usize) {
         } else {
             (1240, 1754)
         };
-        let case = ridgeline::synth::page(w, h, k as u64 + 1);
+        let case = ridgeline_testkit::synth::page(w, h, k as u64 + 1);
         ink += case.binary.count();
         to_gray(&case.binary)
             .save(pages.join(format!("page{k:03}.png")))

@@ -21,26 +21,54 @@ impl Binary {
         }
     }
 
-    /// Whether pixel `(x, y)` is ink; false outside the image.
+    /// Whether pixel `(x, y)` is ink; false outside the image, and for a pixel that `ink` is too
+    /// short to hold (the fields are public, so a mask can be built with the wrong length).
     #[inline]
     pub fn get(&self, x: i64, y: i64) -> bool {
         x >= 0
             && y >= 0
             && x < self.width as i64
             && y < self.height as i64
-            && self.ink[y as usize * self.width as usize + x as usize]
+            && self
+                .ink
+                .get(y as usize * self.width as usize + x as usize)
+                .is_some_and(|&ink| ink)
     }
 
-    /// Sets pixel `(x, y)` (ignored outside the image).
+    /// Sets pixel `(x, y)` (ignored outside the image, or beyond the end of `ink`).
     #[inline]
     pub fn set(&mut self, x: i64, y: i64, value: bool) {
         if x >= 0 && y >= 0 && x < self.width as i64 && y < self.height as i64 {
-            self.ink[y as usize * self.width as usize + x as usize] = value;
+            if let Some(ink) = self
+                .ink
+                .get_mut(y as usize * self.width as usize + x as usize)
+            {
+                *ink = value;
+            }
         }
     }
 
     /// Number of ink pixels.
     pub fn count(&self) -> usize {
         self.ink.iter().filter(|&&b| b).count()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_mask_with_too_few_flags_reads_as_background_and_ignores_writes() {
+        let mut short = Binary {
+            width: 4,
+            height: 4,
+            ink: vec![true; 5],
+        };
+        assert!(short.get(0, 1));
+        assert!(!short.get(3, 3));
+        short.set(3, 3, true);
+        assert_eq!(short.ink.len(), 5);
+        assert!(!short.get(3, 3));
     }
 }

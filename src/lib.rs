@@ -17,7 +17,7 @@
 //! four stroke ends of degree 1, and four edges between them.
 //!
 //! ```
-//! use ridgeline::synth::{render, Stroke};
+//! use ridgeline::draw::{render, Stroke};
 //! use ridgeline::{trace_binary, Params};
 //!
 //! let plus = render(
@@ -75,22 +75,29 @@ mod stroke_graph;
 
 pub mod curves;
 pub mod debug;
+pub mod draw;
 pub mod export;
-pub mod fit;
+pub(crate) mod fit;
 pub mod graph;
 pub mod minutiae;
 pub mod point_list;
 pub mod raster;
 pub mod refine;
 pub mod sample;
-pub mod score;
 pub mod skeleton;
 pub mod strokes;
-pub mod synth;
+
+// The unit tests of `skeleton.rs` draw their inputs under the name the test kit gives the drawing
+// helper (`ridgeline_testkit::synth` re-exports `draw`); the test kit itself depends on this crate,
+// so the unit tests cannot use it.
+#[cfg(test)]
+mod synth {
+    pub(crate) use crate::draw::{render, Stroke};
+}
 
 pub use binary::Binary;
 pub use error::{Error, Result};
-pub use geometry::{dist, segment_dist};
+pub use geometry::{dist, segment_closest, segment_dist};
 pub use image::GrayImage;
 pub use node_graph::{GraphNode, NodeGraph};
 pub use params::{

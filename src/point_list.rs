@@ -75,7 +75,8 @@ pub fn parse(text: &str) -> Result<Vec<[f64; 2]>> {
 /// Builds the point set for a list of points: exact duplicates removed (the first occurrence kept,
 /// input order otherwise), symmetric `k`-nearest-neighbour lists, `Dis_ave`, and half-widths.
 /// Output coordinates are the input's (half-widths beyond `f32` range, for lists spanning more
-/// than about 1e38 units, read as infinite); the pipeline itself runs on [`point_set_in_units`].
+/// than about 1e38 units, read as infinite); [`crate::trace_points`] runs the
+/// pipeline on the list moved and scaled to pixel-like units instead.
 pub fn point_set(list: &[[f64; 2]], params: &Params) -> Result<PointSet> {
     let (mut set, units) = point_set_in_units(list, params)?;
     units.restore_points(&mut set);
@@ -92,7 +93,7 @@ pub fn point_set(list: &[[f64; 2]], params: &Params) -> Result<PointSet> {
 /// graph is mapped back. Pixel centers listed as points have `Dis_ave = 1`: only the translation
 /// applies.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Units {
+pub(crate) struct Units {
     /// The bounding box's lower corner, in list units (subtracted first).
     pub origin: [f64; 2],
     /// List units per pipeline unit: a power of two.
@@ -145,7 +146,7 @@ impl Units {
 }
 
 /// Like [`point_set`], in the pipeline's pixel-like [`Units`], which are returned with it.
-pub fn point_set_in_units(list: &[[f64; 2]], params: &Params) -> Result<(PointSet, Units)> {
+pub(crate) fn point_set_in_units(list: &[[f64; 2]], params: &Params) -> Result<(PointSet, Units)> {
     if list.len() as u64 > params.limits.max_points {
         return Err(Error::Limit {
             what: "points",
@@ -389,7 +390,7 @@ fn sparse_half_widths(cells: &[(i64, i64)], scale: f32) -> Vec<f32> {
 }
 
 /// Image-like extent (width, height) covering all points.
-pub fn extent(list: &[[f64; 2]]) -> (u32, u32) {
+pub(crate) fn extent(list: &[[f64; 2]]) -> (u32, u32) {
     let mut w = 0.0f64;
     let mut h = 0.0f64;
     for p in list {

@@ -20,7 +20,6 @@
 
 use crate::{dist, Binary, Edge, StrokeGraph};
 use serde::Serialize;
-use std::fmt::Write;
 
 /// Options for [`strokes`].
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
@@ -269,15 +268,15 @@ pub fn strokes(graph: &StrokeGraph, options: &StrokeOptions) -> Vec<Stroke> {
 }
 
 /// How well the widths cover the ink: every edge re-rendered with its per-point widths (round caps
-/// and joins, as [`crate::synth::render`] draws the truth) and every isolated vertex as a disk, then
+/// and joins, as [`crate::draw::render`] draws the truth) and every isolated vertex as a disk, then
 /// the intersection over union with the foreground of `binary`. 1 when both are empty. The quality
 /// benchmark reports it (the target is at least 0.9 on text).
 pub fn coverage_iou(graph: &StrokeGraph, binary: &Binary) -> f64 {
-    let mut drawn: Vec<crate::synth::Stroke> = graph
+    let mut drawn: Vec<crate::draw::Stroke> = graph
         .edges
         .iter()
         .filter(|e| !e.points.is_empty() && e.points.len() == e.widths.len())
-        .map(|e| crate::synth::Stroke {
+        .map(|e| crate::draw::Stroke {
             points: e.points.clone(),
             widths: e.widths.clone(),
         })
@@ -287,12 +286,12 @@ pub fn coverage_iou(graph: &StrokeGraph, binary: &Binary) -> f64 {
             .vertices
             .iter()
             .filter(|v| v.degree == 0)
-            .map(|v| crate::synth::Stroke {
+            .map(|v| crate::draw::Stroke {
                 points: vec![v.pos],
                 widths: vec![v.width],
             }),
     );
-    let rendered = crate::synth::render(&drawn, binary.width, binary.height);
+    let rendered = crate::draw::render(&drawn, binary.width, binary.height);
     let (mut both, mut either) = (0usize, 0usize);
     for (&a, &b) in rendered.ink.iter().zip(&binary.ink) {
         both += usize::from(a && b);
@@ -309,26 +308,6 @@ pub fn coverage_iou(graph: &StrokeGraph, binary: &Binary) -> f64 {
 pub fn stroke_color(index: usize) -> String {
     let hue = (index as f64 * 137.507_764) % 360.0;
     format!("hsl({hue:.1},75%,42%)")
-}
-
-/// SVG `<polyline>` elements, one per stroke, each in its own color ([`stroke_color`]), with
-/// coordinates to 2 decimals. `line_width` is the drawn width in px.
-pub fn svg_polylines(strokes: &[Stroke], line_width: f64) -> String {
-    let mut svg = String::new();
-    for (i, stroke) in strokes.iter().enumerate() {
-        svg.push_str("<polyline points=\"");
-        for (k, p) in stroke.points.iter().enumerate() {
-            let separator = if k == 0 { "" } else { " " };
-            let _ = write!(svg, "{separator}{:.2},{:.2}", p[0], p[1]);
-        }
-        let _ = writeln!(
-            svg,
-            "\" fill=\"none\" stroke=\"{}\" stroke-width=\"{line_width:.2}\" \
-             stroke-linecap=\"round\" stroke-linejoin=\"round\"/>",
-            stroke_color(i)
-        );
-    }
-    svg
 }
 
 /// A stroke graph built from vertex positions and edge polylines, with every width set to
@@ -596,7 +575,7 @@ mod tests {
     }
 
     #[test]
-    fn deterministic_and_svg_has_one_polyline_per_stroke() {
+    fn deterministic() {
         let c = [100.0, 100.0];
         let tips: Vec<_> = [0.0, 60.0, 120.0, 180.0, 240.0, 300.0]
             .iter()
@@ -607,8 +586,5 @@ mod tests {
         let b = strokes(&g, &StrokeOptions::default());
         assert_eq!(a, b);
         assert_eq!(a.len(), 3);
-        let svg = svg_polylines(&a, 2.0);
-        assert_eq!(svg.matches("<polyline").count(), 3);
-        assert!(svg.contains("140.00,100.00"));
     }
 }

@@ -555,7 +555,7 @@ fn graph_part(document: &serde_json::Value) -> (serde_json::Value, serde_json::V
 
 /// `ridgeline samples/t.png` with `flags`, as JSON on stdout.
 fn traced_t(flags: &[&str]) -> serde_json::Value {
-    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    let root = crate::support::repository_root();
     let mut args = vec!["samples/t.png", "-o", "-", "--format", "json"];
     args.extend_from_slice(flags);
     let output = ridgeline(&args, root);
@@ -566,7 +566,7 @@ fn traced_t(flags: &[&str]) -> serde_json::Value {
 #[test]
 fn paper_alone_gives_the_paper_preset_and_its_golden_graph() {
     let paper = traced_t(&["--paper"]);
-    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    let root = crate::support::repository_root();
     let golden: serde_json::Value =
         serde_json::from_slice(&fs::read(root.join("tests/golden/t.paper.json")).expect("golden"))
             .expect("golden JSON");

@@ -6,10 +6,10 @@ use std::path::Path;
 
 use image::{Rgb, RgbImage};
 use ridgeline::debug::{picture_scale, stage_pictures, write_stage_pictures, PICTURE_NAMES};
-use ridgeline::synth::{render, Stroke};
 use ridgeline::{
     trace_binary_with_stages, Binary, Edge, Grid, Params, PointSet, Stages, StrokeGraph, Vertex,
 };
+use ridgeline_testkit::synth::{render, Stroke};
 
 const SIDE: u32 = 80;
 const CENTER: [f64; 2] = [40.0, 40.0];
@@ -360,7 +360,7 @@ fn json_fields_are_all_documented() {
             _ => {}
         }
     }
-    let docs = fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("docs/json.md"))
+    let docs = fs::read_to_string(crate::support::repository_root().join("docs/json.md"))
         .expect("docs/json.md");
     for params in [
         Params::default(),

@@ -15,7 +15,7 @@ use ridgeline::strokes::{strokes, StrokeOptions};
 use ridgeline::{Params, StrokeGraph};
 
 fn root() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+    crate::support::repository_root().to_path_buf()
 }
 
 /// The JSON document of `graph` with its strokes and minutiae, as the CLI writes it.

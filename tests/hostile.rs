@@ -10,15 +10,15 @@ mod point_bytes;
 
 use std::fs;
 use std::io::Cursor;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 use crate::support::{entries, mask_image, ridgeline, stderr, temp_dir};
 
 use image::{DynamicImage, ImageFormat, Luma};
-use ridgeline::synth::{render, Stroke};
 use ridgeline::{
     trace_binary, trace_image, trace_points, Binary, Error, GrayImage, Limits, Params, StrokeGraph,
 };
+use ridgeline_testkit::synth::{render, Stroke};
 
 // ---------------------------------------------------------------------------------------------
 // Helpers
@@ -842,7 +842,7 @@ fn output_is_byte_identical_across_runs_and_thread_counts() {
 // error or a valid graph.
 
 fn regressions(target: &str) -> Vec<(PathBuf, Vec<u8>)> {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR"))
+    let dir = crate::support::repository_root()
         .join("tests/fuzz_regressions")
         .join(target);
     let mut files: Vec<(PathBuf, Vec<u8>)> = entries(&dir)

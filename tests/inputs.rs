@@ -12,8 +12,8 @@ use crate::support::{entries, mask_image, ridgeline, run_ok, stderr, temp_dir};
 
 use base64::Engine;
 use image::{DynamicImage, GrayImage, ImageFormat, Luma, Rgb, RgbImage, Rgba, RgbaImage};
-use ridgeline::synth::{render, Stroke};
 use ridgeline::Limits;
+use ridgeline_testkit::synth::{render, Stroke};
 
 // ---------------------------------------------------------------------------------------------
 // Hand-made TIFF files

@@ -1,8 +1,8 @@
 //! End-to-end: render known centerlines thickly, trace, and compare topology and geometry with the
 //! truth. Nothing here is special-cased in the pipeline: the shapes are only drawn here.
 
-use ridgeline::synth::{render, Stroke};
 use ridgeline::{segment_dist, trace_binary, Binary, Params, StrokeGraph};
+use ridgeline_testkit::synth::{render, Stroke};
 
 fn line(a: [f64; 2], b: [f64; 2], width: f64) -> Stroke {
     Stroke::new(vec![a, b], width)

@@ -1,5 +1,5 @@
 //! Property tests (docs/bad-input.md): random stroke images, rendered with
-//! [`ridgeline::synth::render`], must trace without panicking into a valid graph that stays on the
+//! [`ridgeline_testkit::synth::render`], must trace without panicking into a valid graph that stays on the
 //! ink and misses no stroke.
 //!
 //! The case count is kept moderate so the suite stays fast, and the seed is fixed so that CI is
@@ -10,8 +10,8 @@
 
 use proptest::prelude::*;
 use proptest::test_runner::RngSeed;
-use ridgeline::synth::{render, Stroke};
 use ridgeline::{trace_binary, Binary, Params, StrokeGraph};
+use ridgeline_testkit::synth::{render, Stroke};
 
 const SIDE: u32 = 96;
 /// How far outside the ink an output point may lie (the bound the library promises), px.

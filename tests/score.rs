@@ -1,12 +1,12 @@
 //! The quality scorer: the truth scored against itself is perfect, and known damage to a
 //! prediction lowers the score that measures it.
 
-use ridgeline::score::{
+use ridgeline::{Edge, StrokeGraph, Vertex};
+use ridgeline_testkit::score::{
     aggregate, normalize, off_ink, score, score_with, truth_graph, truth_graph_with, ScoreOptions,
     Scores,
 };
-use ridgeline::synth::{render, Case, Stroke};
-use ridgeline::{Edge, StrokeGraph, Vertex};
+use ridgeline_testkit::synth::{render, Case, Stroke};
 
 fn case(name: &str, strokes: Vec<Stroke>, width: u32, height: u32) -> Case {
     Case {
@@ -479,7 +479,7 @@ fn broken_predictions_do_not_panic() {
 
 #[test]
 fn truth_of_every_generated_case_scored_against_itself_is_perfect() {
-    let cases = ridgeline::synth::all_cases();
+    let cases = ridgeline_testkit::synth::all_cases();
     assert!(!cases.is_empty());
     for c in &cases {
         let truth = truth_graph(c);
@@ -492,8 +492,8 @@ fn truth_of_every_generated_case_scored_against_itself_is_perfect() {
 
 #[test]
 fn truth_of_every_crowded_case_scored_against_itself_is_perfect() {
-    for group in ridgeline::synth::CROWDED_GROUPS {
-        let cases = ridgeline::synth::group_cases(group).expect("known group");
+    for group in ridgeline_testkit::synth::CROWDED_GROUPS {
+        let cases = ridgeline_testkit::synth::group_cases(group).expect("known group");
         assert!(!cases.is_empty(), "{group}");
         for c in &cases {
             let truth = truth_graph(c);

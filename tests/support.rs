@@ -5,8 +5,14 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
 use image::Luma;
-use ridgeline::synth::{render, Stroke};
 use ridgeline::{Binary, GrayImage};
+use ridgeline_testkit::synth::{render, Stroke};
+
+/// The repository root, where `samples/`, `docs/` and the golden files are. The tests belong to
+/// the command-line crate, whose manifest is in `cli/`.
+pub fn repository_root() -> &'static Path {
+    Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/.."))
+}
 
 /// Runs the built `ridgeline` binary with `args` in `dir`.
 pub fn ridgeline(args: &[&str], dir: &Path) -> Output {

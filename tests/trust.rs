@@ -389,11 +389,11 @@ fn a_point_list_canvas_fits_the_points() {
 
 #[test]
 fn the_readme_says_how_to_get_the_command_and_what_the_svg_shows() {
-    let readme = fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("README.md"))
-        .expect("README.md");
+    let readme =
+        fs::read_to_string(crate::support::repository_root().join("README.md")).expect("README.md");
     let start = &readme[..readme.find("## ").unwrap_or(readme.len())];
     for words in [
-        "cargo install --path .",
+        "cargo install --path cli",
         "target/release/ridgeline",
         "first build compiles",
     ] {

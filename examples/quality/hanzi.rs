@@ -21,9 +21,9 @@ use std::path::{Path, PathBuf};
 
 use anyhow::Context;
 use resvg::{tiny_skia, usvg};
-use ridgeline::score::ScoreOptions;
-use ridgeline::synth::{Case, Stroke};
 use ridgeline::{dist, Binary};
+use ridgeline_testkit::score::ScoreOptions;
+use ridgeline_testkit::synth::{Case, Stroke};
 use serde::Deserialize;
 
 use crate::thinning::distance_to_background;

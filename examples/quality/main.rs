@@ -1,7 +1,7 @@
 //! The quality benchmark: every case with known centerlines is traced by ridgeline, by ridgeline
 //! with the paper's own parameters (`Params::paper()`), by a Zhang-Suen thinning baseline and by
 //! that baseline with the pruning a careful user adds, then scored against the truth as the ink
-//! shows it (`ridgeline::score`). Prints a table per group, with a row of the best thinning
+//! shows it (`ridgeline_testkit::score`). Prints a table per group, with a row of the best thinning
 //! baseline per column, the time each group took, and writes everything as JSON.
 //!
 //! ```text
@@ -24,7 +24,7 @@
 //! the input foreground (`ridgeline::strokes::coverage_iou`); `exactly right` is the share of cases
 //! whose graph is exactly right (`Scores::exactly_right`: every junction and end matched one to
 //! one with none left over, components and cycles exact); `off-ink` is the share of the predicted
-//! centerline length over background pixels (`ridgeline::score::off_ink`). The real fingerprints
+//! centerline length over background pixels (`ridgeline_testkit::score::off_ink`). The real fingerprints
 //! get their minutiae counts (`ridgeline::minutiae`, endings and bifurcations away from the
 //! print's border).
 
@@ -38,12 +38,12 @@ use std::time::Instant;
 
 use anyhow::{bail, Context};
 use ridgeline::minutiae::{minutiae, MinutiaKind, MinutiaeOptions};
-use ridgeline::score::{
+use ridgeline::strokes::coverage_iou;
+use ridgeline::{Limits, Params, StrokeGraph};
+use ridgeline_testkit::score::{
     aggregate, score_with, truth_graph_with, GroupScores, ScoreOptions, Scores,
 };
-use ridgeline::strokes::coverage_iou;
-use ridgeline::synth::{Case, CROWDED_GROUPS};
-use ridgeline::{Limits, Params, StrokeGraph};
+use ridgeline_testkit::synth::{Case, CROWDED_GROUPS};
 use serde::Serialize;
 
 /// Command-line arguments.
@@ -217,8 +217,8 @@ fn load_group(name: &str, hanzi_every: usize) -> anyhow::Result<Group> {
             note,
         });
     }
-    let cases =
-        ridgeline::synth::group_cases(name).with_context(|| format!("unknown group {name}"))?;
+    let cases = ridgeline_testkit::synth::group_cases(name)
+        .with_context(|| format!("unknown group {name}"))?;
     Ok(Group {
         cases,
         options: ScoreOptions::default(),
@@ -682,7 +682,7 @@ fn print_table(rows: &[GroupRow], best: &BestBaseline) {
     let taus = rows
         .iter()
         .find(|r| r.scores.cases > 0)
-        .map_or(ridgeline::score::TAUS, |r| r.scores.taus);
+        .map_or(ridgeline_testkit::score::TAUS, |r| r.scores.taus);
     println!(
         "| method | F1@{} | F1@{} | chamfer | Hausdorff | junction P | junction R | X >=30° | X 15° | spurs/stroke | endpoint R | components exact | cycles exact | exactly right | off-ink | IoU | ms | failed |",
         tau(taus[0]),
@@ -753,7 +753,7 @@ fn print_cases(outcomes: &[Outcome]) {
     let taus = outcomes
         .iter()
         .find_map(|o| o.scores.as_ref())
-        .map_or(ridgeline::score::TAUS, |s| s.taus);
+        .map_or(ridgeline_testkit::score::TAUS, |s| s.taus);
     println!(
         "\n| case | method | F1@{} | F1@{} | Hausdorff | junctions matched/predicted/true | crossings right | spurs | endpoints found/true | components | cycles | exactly right | off-ink | IoU | ms |",
         tau(taus[0]),

@@ -7,8 +7,8 @@ use std::path::Path;
 
 use anyhow::Context;
 use image::{Rgb, RgbImage};
-use ridgeline::synth::Case;
 use ridgeline::StrokeGraph;
+use ridgeline_testkit::synth::Case;
 
 const INK: Rgb<u8> = Rgb([205, 205, 205]);
 const PAPER: Rgb<u8> = Rgb([255, 255, 255]);

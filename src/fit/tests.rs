@@ -3,7 +3,7 @@
 //! deterministic jitter, as refinement would leave it.
 
 use super::fit;
-use crate::synth::{render, Stroke};
+use crate::draw::{render, Stroke};
 use crate::{segment_dist, Binary, GraphNode, Grid, NodeGraph, Params, PointSet, StrokeGraph};
 
 /// Points, 8-neighbours, half-widths (distance to the nearest background pixel center) and the

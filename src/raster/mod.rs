@@ -13,7 +13,6 @@ mod decode;
 mod points;
 mod tiff_pages;
 
-pub use binarize::otsu_level;
 pub(crate) use chunks::pixel_chunks;
 pub use decode::{decode_file, Page, Pages, Picture, Transparency};
 

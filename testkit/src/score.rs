@@ -22,8 +22,8 @@ use std::collections::{BTreeMap, BinaryHeap};
 use serde::Serialize;
 
 use crate::synth::{render, Case};
-use crate::Binary;
-use crate::{dist, Edge, StrokeGraph, Vertex};
+use ridgeline::Binary;
+use ridgeline::{dist, Edge, StrokeGraph, Vertex};
 
 /// Distance tolerances (px) at which centerline precision, recall and F1 are reported.
 pub const TAUS: [f64; 3] = [1.0, 2.0, 3.0];

@@ -4,7 +4,7 @@
 //! polylines, framed with a margin of two widths plus one pixel, so its truth is exact.
 
 use super::{frame, render, Case, Font, Stroke};
-use crate::Binary;
+use ridgeline::Binary;
 
 /// Unit vector at `degrees` (image coordinates: y down, so positive angles turn clockwise).
 fn dir(degrees: f64) -> [f64; 2] {

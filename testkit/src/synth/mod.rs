@@ -28,17 +28,8 @@ pub use prints::print_cases;
 pub use rng::SplitMix64;
 pub use shapes::hard_cases;
 
-use crate::Binary;
-
-/// A true stroke: a centerline polyline with the stroke width at each point (round caps and joins).
-/// A closed stroke repeats its first point at the end.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Stroke {
-    /// Centerline points, image coordinates.
-    pub points: Vec<[f64; 2]>,
-    /// Stroke width at each point, px.
-    pub widths: Vec<f64>,
-}
+pub use ridgeline::draw::{render, Stroke};
+use ridgeline::Binary;
 
 /// One generated test image with its truth.
 #[derive(Clone, Debug)]
@@ -51,27 +42,6 @@ pub struct Case {
     pub binary: Binary,
     /// The true centerlines.
     pub strokes: Vec<Stroke>,
-}
-
-impl Stroke {
-    /// A stroke of constant width.
-    pub fn new(points: Vec<[f64; 2]>, width: f64) -> Self {
-        let widths = vec![width; points.len()];
-        Stroke { points, widths }
-    }
-
-    /// The largest width along the stroke (0 for an empty stroke).
-    pub fn max_width(&self) -> f64 {
-        self.widths.iter().fold(0.0, |m: f64, &w| m.max(w))
-    }
-
-    /// Moves every point by `offset`.
-    pub fn translate(&mut self, offset: [f64; 2]) {
-        for p in &mut self.points {
-            p[0] += offset[0];
-            p[1] += offset[1];
-        }
-    }
 }
 
 /// Every fixture of the first benchmark groups: [`hard_cases`], then [`text_cases`], then
@@ -147,57 +117,6 @@ pub fn frame(name: &str, group: &str, mut strokes: Vec<Stroke>, margin: f64) -> 
         binary,
         strokes,
     }
-}
-
-/// Renders strokes thickly: a pixel is ink when its center lies within half the (linearly
-/// interpolated) width of a stroke's centerline; round caps and joins.
-///
-/// Each segment only visits the pixels of its own bounding box, and the test is done on squared
-/// distances without allocating, so a dense A4 page renders in a few tens of milliseconds.
-pub fn render(strokes: &[Stroke], width: u32, height: u32) -> Binary {
-    let mut binary = Binary::new(width, height);
-    let w = width as usize;
-    for stroke in strokes {
-        let n = stroke.points.len().min(stroke.widths.len());
-        for i in 0..n {
-            let a = stroke.points[i];
-            let b = stroke.points[(i + 1).min(n - 1)];
-            // A lone point is its own segment (a dot); otherwise the last point is covered by
-            // the previous segment's cap.
-            if i + 1 == n && n > 1 {
-                break;
-            }
-            let (ra, rb) = (
-                stroke.widths[i] / 2.0,
-                stroke.widths[(i + 1).min(n - 1)] / 2.0,
-            );
-            let r = ra.max(rb);
-            let x0 = (a[0].min(b[0]) - r - 1.0).floor().max(0.0) as usize;
-            let x1 = (a[0].max(b[0]) + r + 1.0).ceil().clamp(0.0, width as f64) as usize;
-            let y0 = (a[1].min(b[1]) - r - 1.0).floor().max(0.0) as usize;
-            let y1 = (a[1].max(b[1]) + r + 1.0).ceil().clamp(0.0, height as f64) as usize;
-            let d = [b[0] - a[0], b[1] - a[1]];
-            let len2 = d[0] * d[0] + d[1] * d[1];
-            let inv_len2 = if len2 > 0.0 { 1.0 / len2 } else { 0.0 };
-            for y in y0..y1 {
-                let py = y as f64 + 0.5 - a[1];
-                let row = &mut binary.ink[y * w..(y + 1) * w];
-                for (x, ink) in row.iter_mut().enumerate().take(x1).skip(x0) {
-                    if *ink {
-                        continue;
-                    }
-                    let px = x as f64 + 0.5 - a[0];
-                    let t = ((px * d[0] + py * d[1]) * inv_len2).clamp(0.0, 1.0);
-                    let (ex, ey) = (px - t * d[0], py - t * d[1]);
-                    let radius = ra + t * (rb - ra);
-                    if ex * ex + ey * ey <= radius * radius {
-                        *ink = true;
-                    }
-                }
-            }
-        }
-    }
-    binary
 }
 
 /// Knocks out ink: each ink pixel inside `region` = `[x0, y0, x1, y1]` (half-open, pixels) turns
@@ -282,7 +201,7 @@ mod tests {
             let n = s.points.len();
             (0..n.saturating_sub(1).max(1)).any(|i| {
                 let j = (i + 1).min(n - 1);
-                let (d, t) = crate::geometry::segment_closest(p, s.points[i], s.points[j]);
+                let (d, t) = ridgeline::segment_closest(p, s.points[i], s.points[j]);
                 d <= (s.widths[i] + t * (s.widths[j] - s.widths[i])) / 2.0 + slack
             })
         })

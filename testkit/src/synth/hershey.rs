@@ -57,7 +57,7 @@ impl Glyph {
     /// one centerline per stroke.
     pub fn single_pass(&self, tolerance: f64) -> Glyph {
         let length =
-            |s: &[[f64; 2]]| -> f64 { s.windows(2).map(|w| crate::dist(w[0], w[1])).sum() };
+            |s: &[[f64; 2]]| -> f64 { s.windows(2).map(|w| ridgeline::dist(w[0], w[1])).sum() };
         let mut order: Vec<usize> = (0..self.strokes.len()).collect();
         order.sort_by(|&a, &b| {
             length(&self.strokes[b])
@@ -71,7 +71,7 @@ impl Glyph {
             let pass = &self.strokes[i];
             let mut samples: Vec<[f64; 2]> = Vec::new();
             for w in pass.windows(2) {
-                let n = (crate::dist(w[0], w[1]) / 0.5).ceil().max(1.0) as usize;
+                let n = (ridgeline::dist(w[0], w[1]) / 0.5).ceil().max(1.0) as usize;
                 for k in 0..n {
                     let t = k as f64 / n as f64;
                     samples.push([
@@ -88,7 +88,7 @@ impl Glyph {
                 .map(|&p| {
                     kept.iter().any(|s| {
                         s.windows(2)
-                            .any(|w| crate::segment_dist(p, w[0], w[1]) <= tolerance)
+                            .any(|w| ridgeline::segment_dist(p, w[0], w[1]) <= tolerance)
                     })
                 })
                 .collect();
@@ -140,7 +140,7 @@ fn nearest_on(polylines: &[Vec<[f64; 2]>], p: [f64; 2]) -> [f64; 2] {
     let mut best = (f64::INFINITY, p);
     for s in polylines {
         for w in s.windows(2) {
-            let (d, t) = crate::geometry::segment_closest(p, w[0], w[1]);
+            let (d, t) = ridgeline::segment_closest(p, w[0], w[1]);
             if d < best.0 {
                 best = (
                     d,
@@ -611,7 +611,7 @@ mod tests {
         let length = |g: &Glyph| -> f64 {
             g.strokes
                 .iter()
-                .flat_map(|s| s.windows(2).map(|w| crate::dist(w[0], w[1])))
+                .flat_map(|s| s.windows(2).map(|w| ridgeline::dist(w[0], w[1])))
                 .sum()
         };
         let h = Font::futural().glyph('H').expect("H");

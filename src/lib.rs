@@ -201,8 +201,8 @@ pub fn trace_binary(binary: &Binary, params: &Params) -> Result<Trace> {
 pub fn trace_points(list: &[[f64; 2]], params: &Params) -> Result<Trace> {
     params.validate()?;
     let start = Instant::now();
-    // The stages run in pixel-like units and the result is mapped back (hostile, issue 5; see
-    // `point_list::Units`).
+    // The stages run in pixel-like units and the result is mapped back (docs/design.md, "Hostile
+    // input"; see `point_list::Units`).
     let (points, units) = point_list::point_set_in_units(list, params)?;
     let points_time = start.elapsed();
     let (w, h) = point_list::extent(list);

@@ -7,7 +7,7 @@
 //! through crossings, made to match the ink the way rendered truths do (docs/quality.md):
 //! - each point's width is twice the distance to the background of the pen stroke's *own*
 //!   outline (rendered alone), at most 2 px away from the median, less one pixel (the width a
-//!   rendered truth would need to cover the same pixels, DESIGN.md change 2's `w_loc`);
+//!   rendered truth would need to cover the same pixels, docs/design.md adaptation 3's `w_loc`);
 //! - each end is moved out along the median's last direction to the farthest pixel of its own
 //!   outline minus half the width there, as a rendered truth's round cap ends (the medians stop a
 //!   little short of the tips);

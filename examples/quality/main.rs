@@ -296,8 +296,8 @@ struct TruthCheck {
 }
 
 /// Background components of at most this many pixels are specks, not holes: where two strokes
-/// meet at a sharp angle the rendering can enclose one or two pixels (DESIGN.md changes 1 and 11
-/// take holes of 3 px or less for noise too).
+/// meet at a sharp angle the rendering can enclose one or two pixels (docs/design.md,
+/// adaptation 2, takes holes of 3 px or less for noise too).
 const SPECK: usize = 3;
 
 /// Ink components (8-connected) and holes (4-connected background components that do not reach

@@ -6,7 +6,7 @@
 //!
 //! [`trace_pruned`] adds the pruning a careful user of thinning adds: terminal branches (a
 //! junction to an end) shorter than the local stroke width removed, the same rule as ridgeline's
-//! own cleanup (DESIGN.md change 8), in one pass.
+//! own cleanup (docs/design.md, adaptation 10), in one pass.
 
 use ridgeline::skeleton::{pixel_graph, tangents, zhang_suen};
 use ridgeline::{Binary, Edge, StrokeGraph};

@@ -1,5 +1,5 @@
-//! Quality scores of a predicted stroke graph against known centerlines (DESIGN.md, "Measuring
-//! quality").
+//! Quality scores of a predicted stroke graph against known centerlines (docs/design.md,
+//! "Measuring quality").
 //!
 //! - [`truth_graph`] turns a case's true strokes into the graph *the ink shows*: strokes split where
 //!   they cross, a stroke end whose ink touches another stroke joined to it (a T), short overshooting
@@ -2082,7 +2082,7 @@ fn ink_touches(p: [f64; 2], r_p: f64, far: &[(f64, usize)], samples: &Samples) -
 
 /// Background components of at most this many pixels are specks, not holes: where two strokes
 /// meet at a sharp angle or three cross close together, the rendering can enclose a pixel or two
-/// (DESIGN.md changes 1 and 11 take holes of 3 px or less for noise too).
+/// (docs/design.md, adaptation 2, takes holes of 3 px or less for noise too).
 pub const SPECK: usize = 3;
 
 /// The holes of the ink: background components (4-connected) larger than [`SPECK`] that do not

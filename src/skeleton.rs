@@ -642,8 +642,7 @@ impl Work {
             }
         }
         let mut mark = vec![usize::MAX; self.vertices.len()];
-        let length =
-            |edge: &Edge| -> f64 { edge.points.windows(2).map(|p| dist(p[0], p[1])).sum() };
+        let length = Edge::length;
         for (owner, near) in owned.iter().enumerate() {
             if near.len() < 2 {
                 continue;
@@ -825,11 +824,6 @@ impl Work {
         let at = self.incidence();
         // The stroke width an arm leaves: the narrowest median width of the junction's other
         // edges (the width at the junction itself is inflated where strokes meet).
-        let median = |widths: &[f64]| {
-            let mut sorted = widths.to_vec();
-            sorted.sort_by(f64::total_cmp);
-            sorted.get(sorted.len() / 2).copied().unwrap_or(1.0)
-        };
         let mut spurs = Vec::new();
         for (e, edge) in self.edges.iter().enumerate() {
             let Some(edge) = edge else { continue };
@@ -901,11 +895,6 @@ impl Work {
         let mut changed = false;
         let at = self.incidence();
         let degree = self.degrees();
-        let median = |widths: &[f64]| {
-            let mut sorted = widths.to_vec();
-            sorted.sort_by(f64::total_cmp);
-            sorted.get(sorted.len() / 2).copied().unwrap_or(1.0)
-        };
         for j in 0..self.vertices.len() {
             if !self.alive[j] || degree[j] != 3 || at[j].len() != 3 {
                 continue;
@@ -1032,18 +1021,13 @@ impl Work {
     fn contract_short_links(&mut self) {
         let mut degree = self.degrees();
         let mut at = self.incidence();
-        let median = |widths: &[f64]| {
-            let mut sorted = widths.to_vec();
-            sorted.sort_by(f64::total_cmp);
-            sorted.get(sorted.len() / 2).copied().unwrap_or(1.0)
-        };
         for e in 0..self.edges.len() {
             let Some(edge) = &self.edges[e] else { continue };
             let (a, b) = (edge.from, edge.to);
             if a == b || degree[a] < 3 || degree[b] < 3 {
                 continue;
             }
-            let length: f64 = edge.points.windows(2).map(|p| dist(p[0], p[1])).sum();
+            let length = edge.length();
             if length > (0.5 * median(&edge.widths)).max(3.0) {
                 continue;
             }
@@ -1097,11 +1081,6 @@ impl Work {
     /// half-width, the centre of its cap. Ends are only ever lengthened.
     fn extend_ends(&mut self) {
         let degree = self.degrees();
-        let median = |widths: &[f64]| {
-            let mut sorted = widths.to_vec();
-            sorted.sort_by(f64::total_cmp);
-            sorted.get(sorted.len() / 2).copied().unwrap_or(1.0)
-        };
         for e in 0..self.edges.len() {
             for at_start in [true, false] {
                 let Some(edge) = &self.edges[e] else { break };
@@ -1163,7 +1142,7 @@ impl Work {
             if edge.from == edge.to || degree[edge.from] != 1 || degree[edge.to] != 1 {
                 continue;
             }
-            let length: f64 = edge.points.windows(2).map(|p| dist(p[0], p[1])).sum();
+            let length = edge.length();
             let width = edge.widths.iter().copied().fold(1.0f64, f64::max);
             if length > width {
                 continue;
@@ -1273,11 +1252,6 @@ impl Work {
         }
         let degree = self.degrees();
         let at = self.incidence();
-        let median = |widths: &[f64]| {
-            let mut sorted = widths.to_vec();
-            sorted.sort_by(f64::total_cmp);
-            sorted.get(sorted.len() / 2).copied().unwrap_or(1.0)
-        };
         // The stroke width at a vertex: the widest median of its edges.
         let stroke_at = |v: usize| {
             at[v]
@@ -1533,6 +1507,14 @@ fn follows(p: &[[f64; 2]], q: &[[f64; 2]], tight: f64, loose: f64) -> Option<f64
         return None;
     }
     Some(directed(p, q)?.max(directed(q, p)?))
+}
+
+/// The median of a polyline's widths (1 for none): the stroke's width, unmoved by the wider
+/// pixels where it meets another.
+fn median(widths: &[f64]) -> f64 {
+    let mut sorted = widths.to_vec();
+    sorted.sort_by(f64::total_cmp);
+    sorted.get(sorted.len() / 2).copied().unwrap_or(1.0)
 }
 
 fn reverse(edge: &mut Edge) {

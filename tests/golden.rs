@@ -1,5 +1,6 @@
-//! Golden outputs: every image in `samples/` and a few point lists, traced with the default and with
-//! the paper's parameters, compared byte for byte with the JSON stored in `tests/golden/`.
+//! Golden outputs: every image in `samples/`, a fixed set of the quality benchmark's generated cases
+//! (the test kit's, drawn from known polylines) and a few point lists, traced with the default and
+//! with the paper's parameters, compared byte for byte with the JSON stored in `tests/golden/`.
 //!
 //! A change that should not move outputs proves it here. A change that does move them regenerates
 //! the files with `RIDGELINE_BLESS=1 cargo test golden` and says in its commit which moved and why;
@@ -50,6 +51,20 @@ fn point_lists() -> Vec<(&'static str, Vec<[f64; 2]>)> {
     vec![("points-cross", cross), ("points-circle", circle)]
 }
 
+/// Generated cases, by group and name: an acute and a wide crossing, a K, cells finer than a
+/// stroke, a bold `w` and `t`, a sharp zig-zag, three close crossings and a short arm.
+const GENERATED: [(&str, &str); 9] = [
+    ("hard", "x15_w8"),
+    ("hard", "x30_w14"),
+    ("hard", "k_w3"),
+    ("cells", "box2x2_c0.5_w10"),
+    ("letters", "letter_w_w11"),
+    ("letters", "letter_t_w8"),
+    ("zigzags", "zigzag30_w6"),
+    ("triples", "triple_even_s1_w8"),
+    ("arms", "arm_square_k1_w8"),
+];
+
 /// Every golden case: its file stem and its document under both parameter sets.
 fn cases() -> Vec<(String, String)> {
     let mut out = Vec::new();
@@ -73,6 +88,21 @@ fn cases() -> Vec<(String, String)> {
             let source = format!("samples/{stem}.png");
             out.push((
                 format!("{stem}.{preset}"),
+                document(&trace.graph, params, &source),
+            ));
+        }
+    }
+    for (group, name) in GENERATED {
+        let cases = ridgeline_testkit::synth::group_cases(group).expect("a generated group");
+        let case = cases
+            .iter()
+            .find(|c| c.name == name)
+            .unwrap_or_else(|| panic!("no generated case {name} in {group}"));
+        for (preset, params) in &presets {
+            let trace = ridgeline::trace_binary(&case.binary, params).expect("trace case");
+            let source = format!("generated/{group}/{name}");
+            out.push((
+                format!("{name}.{preset}"),
                 document(&trace.graph, params, &source),
             ));
         }

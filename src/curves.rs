@@ -13,7 +13,6 @@
 
 use crate::StrokeGraph;
 use serde::Serialize;
-use std::fmt::Write;
 
 /// One cubic Bézier segment.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
@@ -325,48 +324,6 @@ fn reparameterize(d: &[Point], curve: &CubicBezier, u: &mut [f64]) {
     }
 }
 
-/// SVG path data for joined segments: `M x y C x1 y1 x2 y2 x y C …`, 2 decimals. Empty for no
-/// segments. A segment that does not start where the previous one ended begins a new subpath.
-pub fn svg_path_data(segments: &[CubicBezier]) -> String {
-    let mut data = String::new();
-    let mut at: Option<Point> = None;
-    for s in segments {
-        if at.is_none_or(|p| norm(sub(p, s.p0)) > 1e-6) {
-            let separator = if data.is_empty() { "" } else { " " };
-            let _ = write!(data, "{separator}M {:.2} {:.2}", s.p0[0], s.p0[1]);
-        }
-        let _ = write!(
-            data,
-            " C {:.2} {:.2} {:.2} {:.2} {:.2} {:.2}",
-            s.p1[0], s.p1[1], s.p2[0], s.p2[1], s.p3[0], s.p3[1]
-        );
-        at = Some(s.p3);
-    }
-    data
-}
-
-/// SVG `<path>` elements, one per edge of `graph`, with the curves of [`fit_edges`].
-pub fn svg_paths(
-    graph: &StrokeGraph,
-    options: &CurveOptions,
-    stroke: &str,
-    line_width: f64,
-) -> String {
-    let mut svg = String::new();
-    for segments in fit_edges(graph, options) {
-        if segments.is_empty() {
-            continue;
-        }
-        let _ = writeln!(
-            svg,
-            "<path d=\"{}\" fill=\"none\" stroke=\"{stroke}\" stroke-width=\"{line_width:.2}\" \
-             stroke-linecap=\"round\" stroke-linejoin=\"round\"/>",
-            svg_path_data(&segments)
-        );
-    }
-    svg
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -499,10 +456,5 @@ mod tests {
         assert!(fit_beziers(&[[1.0, 1.0], [1.0, 1.0], [f64::NAN, 2.0]], 0.5, 60.0).is_empty());
         let two = fit_beziers(&[[0.0, 0.0], [3.0, 4.0]], 0.0, 60.0);
         assert_eq!(two.len(), 1);
-        assert_eq!(
-            svg_path_data(&two),
-            "M 0.00 0.00 C 1.00 1.33 2.00 2.67 3.00 4.00"
-        );
-        assert_eq!(svg_path_data(&[]), "");
     }
 }

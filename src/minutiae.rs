@@ -28,7 +28,6 @@
 use crate::strokes::end_direction;
 use crate::{dist, Binary, StrokeGraph};
 use serde::Serialize;
-use std::fmt::Write;
 
 /// Kind of minutia.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
@@ -390,45 +389,6 @@ fn lower_envelope(f: &[f64], d: &mut [f64], hull: &mut [usize], bounds: &mut [f6
     }
 }
 
-/// SVG marks for minutiae: a circle (ending, red) or a square (bifurcation, blue) of side `size`
-/// px at each position, with a line of length `2 size` along its direction; 2-decimal coordinates.
-pub fn svg_marks(minutiae: &[Minutia], size: f64) -> String {
-    let mut svg = String::new();
-    for m in minutiae {
-        let [x, y] = m.pos;
-        let tip = [
-            x + 2.0 * size * m.direction.cos(),
-            y + 2.0 * size * m.direction.sin(),
-        ];
-        let half = size / 2.0;
-        let color = match m.kind {
-            MinutiaKind::Ending => {
-                let _ = write!(svg, "<circle cx=\"{x:.2}\" cy=\"{y:.2}\" r=\"{half:.2}\"");
-                "#d62728"
-            }
-            MinutiaKind::Bifurcation => {
-                let _ = write!(
-                    svg,
-                    "<rect x=\"{:.2}\" y=\"{:.2}\" width=\"{size:.2}\" height=\"{size:.2}\"",
-                    x - half,
-                    y - half
-                );
-                "#1f77b4"
-            }
-        };
-        let _ = writeln!(
-            svg,
-            " fill=\"none\" stroke=\"{color}\" stroke-width=\"1.00\"/>"
-        );
-        let _ = writeln!(
-            svg,
-            "<line x1=\"{x:.2}\" y1=\"{y:.2}\" x2=\"{:.2}\" y2=\"{:.2}\" stroke=\"{color}\" stroke-width=\"1.00\"/>",
-            tip[0], tip[1]
-        );
-    }
-    svg
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -593,14 +553,5 @@ mod tests {
         assert!(squared_distance_transform(&[false; 6], 3, 2)
             .iter()
             .all(|v| v.is_infinite()));
-    }
-
-    #[test]
-    fn svg_marks_one_shape_and_line_each() {
-        let g = graph_from(&[[50.0, 100.0], [150.0, 100.0]], &[(0, 1, vec![])], 4.0);
-        let svg = svg_marks(&minutiae(&g, None, &no_filters()), 6.0);
-        assert_eq!(svg.matches("<circle").count(), 2);
-        assert_eq!(svg.matches("<line").count(), 2);
-        assert!(svg.contains("x2=\"162.00\" y2=\"100.00\""));
     }
 }

@@ -304,12 +304,6 @@ pub fn coverage_iou(graph: &StrokeGraph, binary: &Binary) -> f64 {
     }
 }
 
-/// A distinct color for stroke `index`: hues spaced by the golden angle.
-pub fn stroke_color(index: usize) -> String {
-    let hue = (index as f64 * 137.507_764) % 360.0;
-    format!("hsl({hue:.1},75%,42%)")
-}
-
 /// A stroke graph built from vertex positions and edge polylines, with every width set to
 /// `width` and directions along the polylines: for tests of the feature modules.
 #[cfg(test)]

@@ -24,8 +24,8 @@ use base64::Engine;
 use image::{DynamicImage, GrayImage, ImageFormat};
 
 use super::{push_number, Features};
-use crate::curves::{svg_path_data, CubicBezier};
-use crate::strokes::stroke_color;
+use crate::curves::CubicBezier;
+use crate::minutiae::{Minutia, MinutiaKind};
 use crate::StrokeGraph;
 
 /// Color of the centerlines (and of isolated dots).
@@ -310,7 +310,7 @@ pub fn to_string_with(
         // neighbouring ridges.
         let size = (2.0 * median_vertex_width(graph).unwrap_or(2.0)).max(4.0);
         out.push_str("<g id=\"minutiae\">\n");
-        out.push_str(&crate::minutiae::svg_marks(minutiae, size));
+        out.push_str(&svg_marks(minutiae, size));
         out.push_str("</g>\n");
     }
     out.push_str("</svg>\n");
@@ -486,4 +486,111 @@ fn is_mime(mime: &str) -> bool {
                 .all(|b| b.is_ascii_lowercase() || b.is_ascii_digit() || b"+.-".contains(&b))
     };
     matches!(mime.split_once('/'), Some((kind, subtype)) if allowed(kind) && allowed(subtype))
+}
+/// SVG path data for joined segments: `M x y C x1 y1 x2 y2 x y C …`, 2 decimals. Empty for no
+/// segments. A segment that does not start where the previous one ended begins a new subpath.
+pub(crate) fn svg_path_data(segments: &[CubicBezier]) -> String {
+    let mut data = String::new();
+    let mut at: Option<[f64; 2]> = None;
+    for s in segments {
+        if at.is_none_or(|p| crate::dist(p, s.p0) > 1e-6) {
+            let separator = if data.is_empty() { "" } else { " " };
+            let _ = write!(data, "{separator}M {:.2} {:.2}", s.p0[0], s.p0[1]);
+        }
+        let _ = write!(
+            data,
+            " C {:.2} {:.2} {:.2} {:.2} {:.2} {:.2}",
+            s.p1[0], s.p1[1], s.p2[0], s.p2[1], s.p3[0], s.p3[1]
+        );
+        at = Some(s.p3);
+    }
+    data
+}
+
+/// SVG marks for minutiae: a circle (ending, red) or a square (bifurcation, blue) of side `size`
+/// px at each position, with a line of length `2 size` along its direction; 2-decimal coordinates.
+pub fn svg_marks(minutiae: &[Minutia], size: f64) -> String {
+    let mut svg = String::new();
+    for m in minutiae {
+        let [x, y] = m.pos;
+        let tip = [
+            x + 2.0 * size * m.direction.cos(),
+            y + 2.0 * size * m.direction.sin(),
+        ];
+        let half = size / 2.0;
+        let color = match m.kind {
+            MinutiaKind::Ending => {
+                let _ = write!(svg, "<circle cx=\"{x:.2}\" cy=\"{y:.2}\" r=\"{half:.2}\"");
+                "#d62728"
+            }
+            MinutiaKind::Bifurcation => {
+                let _ = write!(
+                    svg,
+                    "<rect x=\"{:.2}\" y=\"{:.2}\" width=\"{size:.2}\" height=\"{size:.2}\"",
+                    x - half,
+                    y - half
+                );
+                "#1f77b4"
+            }
+        };
+        let _ = writeln!(
+            svg,
+            " fill=\"none\" stroke=\"{color}\" stroke-width=\"1.00\"/>"
+        );
+        let _ = writeln!(
+            svg,
+            "<line x1=\"{x:.2}\" y1=\"{y:.2}\" x2=\"{:.2}\" y2=\"{:.2}\" stroke=\"{color}\" stroke-width=\"1.00\"/>",
+            tip[0], tip[1]
+        );
+    }
+    svg
+}
+
+/// A distinct color for stroke `index`: hues spaced by the golden angle.
+pub(crate) fn stroke_color(index: usize) -> String {
+    let hue = (index as f64 * 137.507_764) % 360.0;
+    format!("hsl({hue:.1},75%,42%)")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::curves::fit_beziers;
+
+    #[test]
+    fn path_data_of_joined_segments_and_of_none() {
+        let two = fit_beziers(&[[0.0, 0.0], [3.0, 4.0]], 0.0, 60.0);
+        assert_eq!(
+            svg_path_data(&two),
+            "M 0.00 0.00 C 1.00 1.33 2.00 2.67 3.00 4.00"
+        );
+        assert_eq!(svg_path_data(&[]), "");
+    }
+
+    #[test]
+    fn minutia_marks_one_shape_and_line_each() {
+        let mark = |kind, pos: [f64; 2], direction| Minutia {
+            kind,
+            vertex: 0,
+            pos,
+            direction,
+            width: 4.0,
+        };
+        let svg = svg_marks(
+            &[
+                mark(MinutiaKind::Ending, [150.0, 100.0], 0.0),
+                mark(
+                    MinutiaKind::Bifurcation,
+                    [50.0, 100.0],
+                    std::f64::consts::PI,
+                ),
+            ],
+            6.0,
+        );
+        assert_eq!(svg.matches("<circle").count(), 1);
+        assert_eq!(svg.matches("<rect").count(), 1);
+        assert_eq!(svg.matches("<line").count(), 2);
+        assert!(svg.contains("x2=\"162.00\" y2=\"100.00\""), "{svg}");
+        assert_ne!(stroke_color(0), stroke_color(1));
+    }
 }

@@ -16,6 +16,20 @@ pub fn segment_dist(p: [f64; 2], a: [f64; 2], b: [f64; 2]) -> f64 {
 
 /// Distance from `p` to the segment `a`-`b` and the parameter in `[0, 1]` of the closest point.
 pub fn segment_closest(p: [f64; 2], a: [f64; 2], b: [f64; 2]) -> (f64, f64) {
+    let (q, t) = closest_on_segment(p, a, b);
+    (dist(p, q), t)
+}
+
+/// Squared distance from `p` to the segment `a`-`b`, for comparisons against squared bounds
+/// where a square root per point would cost (long polylines compared point by point).
+pub(crate) fn segment_dist2(p: [f64; 2], a: [f64; 2], b: [f64; 2]) -> f64 {
+    let (q, _) = closest_on_segment(p, a, b);
+    let (x, y) = (q[0] - p[0], q[1] - p[1]);
+    x * x + y * y
+}
+
+/// The point of the segment `a`-`b` closest to `p`, and its parameter in `[0, 1]`.
+fn closest_on_segment(p: [f64; 2], a: [f64; 2], b: [f64; 2]) -> ([f64; 2], f64) {
     let d = [b[0] - a[0], b[1] - a[1]];
     let len2 = d[0] * d[0] + d[1] * d[1];
     let t = if len2 > 0.0 {
@@ -23,7 +37,7 @@ pub fn segment_closest(p: [f64; 2], a: [f64; 2], b: [f64; 2]) -> (f64, f64) {
     } else {
         0.0
     };
-    (dist(p, [a[0] + t * d[0], a[1] + t * d[1]]), t)
+    ([a[0] + t * d[0], a[1] + t * d[1]], t)
 }
 
 /// Whether `p` lies inside the closed polygon (last point joined to the first), by the even-odd

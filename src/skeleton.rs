@@ -1449,18 +1449,7 @@ impl Work {
 /// `loose` from the other, or when more than a tenth of either's points lie farther than
 /// `tight`; else the largest distance.
 fn follows(p: &[[f64; 2]], q: &[[f64; 2]], tight: f64, loose: f64) -> Option<f64> {
-    // Squared distances from a point to a segment, compared with squared bounds.
-    let segment_d2 = |p: [f64; 2], a: [f64; 2], b: [f64; 2]| {
-        let d = [b[0] - a[0], b[1] - a[1]];
-        let len2 = d[0] * d[0] + d[1] * d[1];
-        let t = if len2 > 0.0 {
-            (((p[0] - a[0]) * d[0] + (p[1] - a[1]) * d[1]) / len2).clamp(0.0, 1.0)
-        } else {
-            0.0
-        };
-        let (x, y) = (a[0] + t * d[0] - p[0], a[1] + t * d[1] - p[1]);
-        x * x + y * y
-    };
+    // Squared distances, compared with squared bounds.
     let (tight2, loose2) = (tight * tight, loose * loose);
     // The segments of `to` bucketed in square cells at least `2 loose` across, so a point only
     // looks at the segments of the (at most four) cells within `loose` of it: linear in the
@@ -1489,7 +1478,7 @@ fn follows(p: &[[f64; 2]], q: &[[f64; 2]], tight: f64, loose: f64) -> Option<f64
                 for cy in key(x[1] - loose)..=key(x[1] + loose) {
                     for &k in buckets.get(&(cx, cy)).map_or(&[][..], Vec::as_slice) {
                         let (a, b) = segments[k];
-                        d2 = d2.min(segment_d2(x, a, b));
+                        d2 = d2.min(crate::geometry::segment_dist2(x, a, b));
                     }
                 }
             }
@@ -1523,43 +1512,39 @@ fn reverse(edge: &mut Edge) {
     edge.widths.reverse();
 }
 
+/// The index of the point where an arm first leaves the disk of radius `reach` around `hub`,
+/// walking from its start when `at_start`, else from its end; the far end when it never does.
+fn cut_index(points: &[[f64; 2]], at_start: bool, hub: [f64; 2], reach: f64) -> usize {
+    let n = points.len();
+    let beyond = |i: &usize| dist(points[*i], hub) > reach;
+    if at_start {
+        (0..n).find(beyond).unwrap_or(n - 1)
+    } else {
+        (0..n).rev().find(beyond).unwrap_or(0)
+    }
+}
+
 /// Where [`cut_arm`] would cut.
 fn cut_point(edge: &Edge, at_start: bool, hub: [f64; 2], reach: f64) -> [f64; 2] {
-    let beyond = |p: &&[f64; 2]| dist(**p, hub) > reach;
-    let found = if at_start {
-        edge.points.iter().find(beyond)
-    } else {
-        edge.points.iter().rev().find(beyond)
-    };
-    let last = if at_start {
-        edge.points[edge.points.len() - 1]
-    } else {
-        edge.points[0]
-    };
-    found.copied().unwrap_or(last)
+    edge.points[cut_index(&edge.points, at_start, hub, reach)]
 }
 
 /// Cuts an arm's polyline where it first leaves the disk of radius `reach` around `hub` (from its
 /// start when `at_start`, else from its end) and joins it straight to `hub`.
 fn cut_arm(edge: &mut Edge, at_start: bool, hub: [f64; 2], reach: f64) {
-    if !at_start {
-        edge.points.reverse();
-        edge.widths.reverse();
-    }
-    let keep_from = edge
-        .points
-        .iter()
-        .position(|&p| dist(p, hub) > reach)
-        .unwrap_or(edge.points.len() - 1)
-        .min(edge.points.len() - 1);
-    let width = edge.widths.first().copied().unwrap_or(1.0);
-    edge.points.drain(..keep_from);
-    edge.widths.drain(..keep_from);
-    edge.points.insert(0, hub);
-    edge.widths.insert(0, width);
-    if !at_start {
-        edge.points.reverse();
-        edge.widths.reverse();
+    let cut = cut_index(&edge.points, at_start, hub, reach);
+    if at_start {
+        let width = edge.widths.first().copied().unwrap_or(1.0);
+        edge.points.drain(..cut);
+        edge.widths.drain(..cut);
+        edge.points.insert(0, hub);
+        edge.widths.insert(0, width);
+    } else {
+        let width = edge.widths.last().copied().unwrap_or(1.0);
+        edge.points.truncate(cut + 1);
+        edge.widths.truncate(cut + 1);
+        edge.points.push(hub);
+        edge.widths.push(width);
     }
 }
 

@@ -64,6 +64,7 @@
 
 mod binary;
 mod csr;
+mod decisions;
 mod error;
 mod geometry;
 mod mask;
@@ -86,6 +87,7 @@ pub mod refine;
 pub mod sample;
 pub mod skeleton;
 pub mod strokes;
+pub mod warnings;
 
 // The unit tests of `skeleton.rs` draw their inputs under the name the test kit gives the drawing
 // helper (`ridgeline_testkit::synth` re-exports `draw`); the test kit itself depends on this crate,
@@ -96,6 +98,7 @@ mod synth {
 }
 
 pub use binary::Binary;
+pub use decisions::{Decisions, ThresholdUsed, Warning, UNEVEN_LIGHT};
 pub use error::{Error, Result};
 pub use geometry::{dist, segment_closest, segment_dist};
 pub use image::GrayImage;
@@ -155,6 +158,12 @@ pub struct Trace {
     pub stages: Option<Stages>,
     /// Time per stage.
     pub timings: Timings,
+    /// What the front end decided (images only): polarity, threshold, dropout mode.
+    pub decisions: Option<Decisions>,
+    /// What is probably wrong with the result ([`warnings`]).
+    pub warnings: Vec<Warning>,
+    /// Whether dropout mode was on (images and masks; docs/design.md, adaptation 2).
+    pub dropout: Option<bool>,
 }
 
 /// Decodes an image file's bytes to grayscale, refusing images larger than `limits` before
@@ -167,10 +176,13 @@ pub fn decode(bytes: &[u8], limits: &Limits) -> Result<GrayImage> {
 pub fn trace_image(gray: &GrayImage, params: &Params) -> Result<Trace> {
     params.validate()?;
     let start = Instant::now();
-    let binary = raster::binarize(gray, params)?;
+    let (binary, mut decisions) = raster::binarize_deciding(gray, params)?;
     let binarize_time = start.elapsed();
     let mut trace = trace_binary(&binary, params)?;
     trace.timings.binarize = binarize_time;
+    decisions.dropout = trace.dropout;
+    trace.warnings = warnings::of(&trace.graph, Some(&decisions));
+    trace.decisions = Some(decisions);
     trace.binary = Some(binary);
     Ok(trace)
 }
@@ -178,6 +190,16 @@ pub fn trace_image(gray: &GrayImage, params: &Params) -> Result<Trace> {
 /// Traces a foreground mask.
 pub fn trace_binary(binary: &Binary, params: &Params) -> Result<Trace> {
     params.validate()?;
+    if params.min_area > 0 {
+        let kept = raster::drop_small_components(binary, params.min_area);
+        return trace_binary(
+            &kept,
+            &Params {
+                min_area: 0,
+                ..params.clone()
+            },
+        );
+    }
     let start = Instant::now();
     // A large mask goes straight to chunks of components, each chunk's points built where it is
     // traced; a small one (or one in dropout mode) becomes one point set first.
@@ -188,12 +210,18 @@ pub fn trace_binary(binary: &Binary, params: &Params) -> Result<Trace> {
         trace.graph.width = binary.width;
         trace.graph.height = binary.height;
         trace.timings.points += scan_time;
+        // Chunks are only cut outside dropout mode.
+        trace.dropout = Some(false);
+        trace.warnings = warnings::of(&trace.graph, None);
         return Ok(trace);
     }
     let points = raster::points(binary, params)?;
     let points_time = start.elapsed();
+    let dropout = points.dropout;
     let mut trace = run(points, binary.width, binary.height, params, false)?;
     trace.timings.points += points_time;
+    trace.dropout = Some(dropout);
+    trace.warnings = warnings::of(&trace.graph, None);
     Ok(trace)
 }
 
@@ -208,6 +236,7 @@ pub fn trace_points(list: &[[f64; 2]], params: &Params) -> Result<Trace> {
     let (w, h) = point_list::extent(list);
     let mut trace = run(points, w, h, params, false)?;
     units.restore_graph(&mut trace.graph);
+    trace.warnings = warnings::of(&trace.graph, None);
     trace.timings.points += points_time;
     Ok(trace)
 }
@@ -232,6 +261,9 @@ fn run(points: PointSet, width: u32, height: u32, params: &Params, keep: bool) -
             point_count,
             stages,
             timings,
+            decisions: None,
+            warnings: Vec::new(),
+            dropout: None,
         }
     } else {
         let chunks = points.component_chunks(CHUNK_POINTS);
@@ -279,6 +311,9 @@ fn run_chunks(sizes: &[usize], part: impl Fn(usize) -> PointSet + Sync, params: 
             point_count: 0,
             stages: None,
             timings: Timings::default(),
+            decisions: None,
+            warnings: Vec::new(),
+            dropout: None,
         };
     };
     let graphs: Vec<&NodeGraph> = refined.iter().map(|(_, _, graph, _)| graph).collect();
@@ -323,6 +358,9 @@ fn run_chunks(sizes: &[usize], part: impl Fn(usize) -> PointSet + Sync, params: 
         point_count,
         stages: None,
         timings,
+        decisions: None,
+        warnings: Vec::new(),
+        dropout: None,
     }
 }
 

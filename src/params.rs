@@ -10,8 +10,16 @@ use serde::{Deserialize, Serialize};
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase", tag = "method")]
 pub enum Threshold {
-    /// Otsu's global threshold. The default.
+    /// Otsu's global level where it separates ink from paper all over the image, the local
+    /// threshold ([`Threshold::Local`]) where the light or the contrast varies across it
+    /// (docs/design.md, "The front end"). The default.
+    Auto,
+    /// Otsu's global threshold, wherever the light.
     Otsu,
+    /// The local threshold: halfway between the darkest and lightest levels of blocks of about
+    /// six stroke widths (the width measured on the image), blocks without strokes filled in
+    /// from their neighbours, interpolated between block centers.
+    Local,
     /// A fixed gray level 0-255; pixels darker than or equal to it are ink (for dark ink).
     Fixed {
         /// The level.
@@ -120,7 +128,7 @@ pub const MAX_WEISZFELD_ITERATIONS: usize = 1000;
 /// Parameters of the whole pipeline.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Params {
-    /// Binarization method. Default [`Threshold::Otsu`].
+    /// Binarization method. Default [`Threshold::Auto`].
     pub threshold: Threshold,
     /// Ink polarity. Default [`Polarity::Auto`].
     pub polarity: Polarity,
@@ -132,6 +140,10 @@ pub struct Params {
     /// Share of ink pixels that tiny background holes must exceed to switch dropout mode on.
     /// Default 0.015.
     pub dropout_fraction: f64,
+    /// Ink components (8-connected) of fewer pixels than this are dropped before tracing, for
+    /// speckled scans (the `speckle` warning suggests a value). Default 0: none dropped.
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub min_area: usize,
     /// How `r_min` is chosen (§3.1). Default [`RMinRule::StrokeWidth`]; paper
     /// [`RMinRule::Spacing`].
     pub r_min_rule: RMinRule,
@@ -213,11 +225,12 @@ pub const DENSE_SPACING: f64 = 2.0;
 impl Default for Params {
     fn default() -> Self {
         Params {
-            threshold: Threshold::Otsu,
+            threshold: Threshold::Auto,
             polarity: Polarity::Auto,
             limits: Limits::default(),
             dropout: None,
             dropout_fraction: 0.015,
+            min_area: 0,
             r_min_rule: RMinRule::StrokeWidth,
             r_min_factor: 1.0,
             r_max_factor: 3.0,
@@ -356,4 +369,8 @@ impl Params {
         }
         Ok(())
     }
+}
+
+fn is_zero(n: &usize) -> bool {
+    *n == 0
 }

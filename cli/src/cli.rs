@@ -164,7 +164,20 @@ pub struct Cli {
     #[arg(long, help_heading = "Input and binarization")]
     points: bool,
 
-    /// Fixed threshold: gray levels 0-255 at or below LEVEL are dark [default: Otsu's level]
+    /// How gray becomes ink and paper: auto uses Otsu's global level where it separates ink from
+    /// paper all over the image and the local threshold (halfway between each neighbourhood's ink
+    /// and paper, blocks of about six stroke widths) where the light or contrast varies; otsu and
+    /// local force one. The JSON's "decisions" say what was used [default: auto]
+    #[arg(
+        long,
+        value_enum,
+        value_name = "METHOD",
+        conflicts_with_all = ["sauvola", "threshold"],
+        help_heading = "Input and binarization"
+    )]
+    binarize: Option<BinarizeArg>,
+
+    /// Fixed threshold: gray levels 0-255 at or below LEVEL are dark [default: --binarize auto]
     #[arg(
         long,
         value_name = "LEVEL",
@@ -173,7 +186,7 @@ pub struct Cli {
     )]
     threshold: Option<u8>,
 
-    /// Sauvola's adaptive threshold, for unevenly lit scans and photos [default: Otsu]
+    /// Sauvola's adaptive threshold with a fixed window [default: --binarize auto]
     #[arg(long, help_heading = "Input and binarization")]
     sauvola: bool,
 
@@ -195,8 +208,9 @@ pub struct Cli {
     )]
     sauvola_k: Option<f64>,
 
-    /// Which side of the threshold is ink: the minority side, dark ink on light paper, or light
-    /// strokes (fingerprint ridges) on a dark background [default: auto]
+    /// Which side of the threshold is ink: auto decides from stroke evidence (ink is the thinner
+    /// side, paper fills the border; dark when the evidence is weak, with a warning), dark ink on
+    /// light paper, or light strokes (fingerprint ridges) on a dark background [default: auto]
     #[arg(
         long,
         value_enum,
@@ -219,6 +233,11 @@ pub struct Cli {
     /// (0, 1) [default: 0.015]
     #[arg(long, value_name = "SHARE", help_heading = "Input and binarization")]
     dropout_fraction: Option<f64>,
+
+    /// Drop ink components of fewer than N pixels before tracing (specks of a noisy scan; the
+    /// speckle warning suggests a value) [default: 0]
+    #[arg(long, value_name = "N", help_heading = "Input and binarization")]
+    min_area: Option<usize>,
 
     /// Start from the paper's own rules and values (r_min = 10 Dis_ave, r_max = 6 r_min, no arms
     /// test, equal-distance clusters, whole-cluster merging, uniform Laplacian and fit weights, no
@@ -404,10 +423,21 @@ impl Format {
     }
 }
 
+/// `--binarize` values.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+enum BinarizeArg {
+    /// Otsu where the light is even, the local threshold where it is not.
+    Auto,
+    /// Otsu's global level everywhere.
+    Otsu,
+    /// The local threshold everywhere.
+    Local,
+}
+
 /// `--polarity` values.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
 enum PolarityArg {
-    /// The minority side after thresholding is ink.
+    /// Decided from stroke evidence.
     Auto,
     /// Dark ink on light paper.
     Dark,
@@ -477,6 +507,13 @@ impl TryFrom<&Cli> for Params {
         } else {
             Params::default()
         };
+        if let Some(method) = cli.binarize {
+            params.threshold = match method {
+                BinarizeArg::Auto => Threshold::Auto,
+                BinarizeArg::Otsu => Threshold::Otsu,
+                BinarizeArg::Local => Threshold::Local,
+            };
+        }
         if let Some(level) = cli.threshold {
             params.threshold = Threshold::Fixed { level };
         }
@@ -524,6 +561,7 @@ impl TryFrom<&Cli> for Params {
             }
         }
         set(&mut params.dropout_fraction, cli.dropout_fraction);
+        set(&mut params.min_area, cli.min_area);
         set(&mut params.r_min_factor, cli.r_min_factor);
         set(&mut params.r_max_factor, cli.r_max_factor);
         set(&mut params.r_growth, cli.r_growth);
@@ -1478,7 +1516,8 @@ fn trace_and_write(job: &Job, settings: &Settings) -> Result<Traced> {
                 .to_string(),
             );
         }
-        let meta = JsonMeta::new(params.clone());
+        let meta = JsonMeta::new(params.clone()).with_trace(&trace);
+        warnings.extend(trace.warnings.iter().map(|w| w.message.clone()));
         let text = render(job, settings, kind, &trace.graph, None, None, meta);
         let output = write_output(job, &job.destination, &text)?;
         return Ok(Traced::of(&trace.graph, warnings, output));
@@ -1611,7 +1650,10 @@ fn trace_page(
         Picture::Color(image) => Backdrop::Color(image),
         Picture::Gray => Backdrop::Gray(&page.gray),
     };
-    let meta = JsonMeta::new(params.clone()).with_page(page.number, count);
+    let meta = JsonMeta::new(params.clone())
+        .with_page(page.number, count)
+        .with_trace(&trace);
+    warnings.extend(trace.warnings.iter().map(|w| w.message.clone()));
     let backdrop = settings.embed_image.then_some(backdrop);
     let text = render(
         job,
@@ -1907,6 +1949,7 @@ mod tests {
             format!("default: {}]", d.weiszfeld_iterations),
             format!("default: {}]", d.spacing_factor),
             format!("default: {}]", d.dropout_fraction),
+            format!("default: {}]", d.min_area),
             format!("default: {}]", d.limits.max_pixels),
             format!("default: {}]", d.limits.max_side),
             format!("default: {}]", d.limits.max_points),

@@ -32,6 +32,7 @@ mod hanzi;
 mod pictures;
 mod thinning;
 
+use std::collections::HashMap;
 use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -39,11 +40,11 @@ use std::time::Instant;
 use anyhow::{bail, Context};
 use ridgeline::minutiae::{minutiae, MinutiaKind, MinutiaeOptions};
 use ridgeline::strokes::coverage_iou;
-use ridgeline::{Limits, Params, StrokeGraph};
+use ridgeline::{Limits, Params, Polarity, StrokeGraph};
 use ridgeline_testkit::score::{
     aggregate, score_with, truth_graph_with, GroupScores, ScoreOptions, Scores,
 };
-use ridgeline_testkit::synth::{Case, CROWDED_GROUPS};
+use ridgeline_testkit::synth::{self, Case, Degraded, CROWDED_GROUPS};
 use serde::Serialize;
 
 /// Command-line arguments.
@@ -110,6 +111,7 @@ fn all_groups() -> Vec<&'static str> {
     let mut groups = vec!["hard", "text", "prints"];
     groups.extend(CROWDED_GROUPS);
     groups.push("hanzi");
+    groups.push("degraded");
     groups
 }
 
@@ -121,6 +123,19 @@ const METHODS: [&str; 5] = [
     "thinning",
     "thinning+pruning",
 ];
+
+/// The extra row of the `degraded` group: ridgeline on the clean mask of the same case, the score
+/// the degraded capture is measured against.
+const CLEAN: &str = "ridgeline on clean";
+
+/// The methods of one group's table: [`METHODS`], and for `degraded` also [`CLEAN`].
+fn group_methods(group: &str) -> Vec<&'static str> {
+    let mut list = METHODS.to_vec();
+    if group == "degraded" {
+        list.insert(1, CLEAN);
+    }
+    list
+}
 
 /// The baselines whose best per column gets a row of its own.
 const BASELINES: [&str; 2] = ["thinning", "thinning+pruning"];
@@ -153,30 +168,54 @@ fn variant_params() -> anyhow::Result<Params> {
     Ok(params)
 }
 
-/// The methods to run: all of [`METHODS`], or those named in `QUALITY_METHODS` (comma-separated).
-fn methods() -> Vec<&'static str> {
+/// The methods to run on `group`: all of [`group_methods`], or those named in `QUALITY_METHODS`
+/// (comma-separated).
+fn methods(group: &str) -> Vec<&'static str> {
     match std::env::var("QUALITY_METHODS") {
-        Ok(list) => METHODS
+        Ok(list) => group_methods(group)
             .into_iter()
             .filter(|m| list.split(',').any(|x| x.trim() == *m))
             .collect(),
-        Err(_) => METHODS.to_vec(),
+        Err(_) => group_methods(group),
     }
 }
 
-fn run_method(method: &str, case: &Case) -> anyhow::Result<StrokeGraph> {
+/// One method on one case. With a degraded capture (`gray`), ridgeline's methods trace the gray
+/// image with their front end, the thinning baselines run on Otsu's mask with the polarity known
+/// (`ridgeline on clean` traces the clean mask).
+fn run_method(method: &str, case: &Case, gray: Option<&Degraded>) -> anyhow::Result<StrokeGraph> {
+    let trace = |params: &Params| -> anyhow::Result<StrokeGraph> {
+        Ok(match gray {
+            Some(d) => ridgeline::trace_image(&d.gray, params)?.graph,
+            None => ridgeline::trace_binary(&case.binary, params)?.graph,
+        })
+    };
+    let baseline_mask = || -> anyhow::Result<ridgeline::Binary> {
+        Ok(match gray {
+            Some(d) => {
+                let params = Params {
+                    polarity: if d.recipe.inverted {
+                        Polarity::LightInk
+                    } else {
+                        Polarity::DarkInk
+                    },
+                    ..Params::default()
+                };
+                ridgeline::raster::binarize(&d.gray, &params)?
+            }
+            None => case.binary.clone(),
+        })
+    };
     Ok(match method {
-        "ridgeline" => ridgeline::trace_binary(&case.binary, &variant_params()?)?.graph,
-        "paper" => ridgeline::trace_binary(&case.binary, &Params::paper())?.graph,
-        "node graph" => {
-            let params = Params {
-                skeleton: false,
-                ..Params::default()
-            };
-            ridgeline::trace_binary(&case.binary, &params)?.graph
-        }
-        "thinning" => thinning::trace(&case.binary),
-        "thinning+pruning" => thinning::trace_pruned(&case.binary),
+        "ridgeline" => trace(&variant_params()?)?,
+        "paper" => trace(&Params::paper())?,
+        "node graph" => trace(&Params {
+            skeleton: false,
+            ..Params::default()
+        })?,
+        CLEAN => ridgeline::trace_binary(&case.binary, &variant_params()?)?.graph,
+        "thinning" => thinning::trace(&baseline_mask()?),
+        "thinning+pruning" => thinning::trace_pruned(&baseline_mask()?),
         other => bail!("unknown method {other}"),
     })
 }
@@ -184,6 +223,8 @@ fn run_method(method: &str, case: &Case) -> anyhow::Result<StrokeGraph> {
 /// The cases of one group, how they are scored, and what was left out.
 struct Group {
     cases: Vec<Case>,
+    /// The degraded captures of the cases, by case name (group `degraded` only).
+    captures: HashMap<String, Degraded>,
     options: ScoreOptions,
     note: Option<String>,
 }
@@ -194,6 +235,7 @@ fn load_group(name: &str, hanzi_every: usize) -> anyhow::Result<Group> {
             return Ok(Group {
                 cases: Vec::new(),
                 options: hanzi::OPTIONS,
+                captures: HashMap::new(),
                 note: Some(format!(
                     "skipped: no data in {} (see docs/quality.md)",
                     hanzi::data_dir().display()
@@ -214,7 +256,32 @@ fn load_group(name: &str, hanzi_every: usize) -> anyhow::Result<Group> {
         return Ok(Group {
             cases,
             options: hanzi::OPTIONS,
+            captures: HashMap::new(),
             note,
+        });
+    }
+    if name == "degraded" {
+        let mut clean = synth::text_cases();
+        clean.extend(synth::letter_cases());
+        clean.extend(synth::hard_cases());
+        let degraded = synth::degrade_cases(clean, 0xD1E7);
+        let cases = degraded.iter().map(|d| d.case.clone()).collect();
+        return Ok(Group {
+            cases,
+            // Scored at 2 px and more: the capture moves edges by a pixel before any tracing.
+            options: ScoreOptions {
+                taus: [2.0, 3.0, 4.0],
+                ..ScoreOptions::default()
+            },
+            captures: degraded
+                .into_iter()
+                .map(|d| (d.case.name.clone(), d))
+                .collect(),
+            note: Some(
+                "text, letters and hard cases drawn anti-aliased, blurred, unevenly lit, noised, \
+                 JPEG q70, every third inverted; scored against the clean truth"
+                    .to_string(),
+            ),
         });
     }
     let cases = ridgeline_testkit::synth::group_cases(name)
@@ -222,6 +289,7 @@ fn load_group(name: &str, hanzi_every: usize) -> anyhow::Result<Group> {
     Ok(Group {
         cases,
         options: ScoreOptions::default(),
+        captures: HashMap::new(),
         note: None,
     })
 }
@@ -435,6 +503,7 @@ fn main() -> anyhow::Result<()> {
         let load_start = Instant::now();
         let Group {
             cases,
+            captures,
             options,
             note,
         } = guarded(|| load_group(name, args.hanzi_every))
@@ -482,9 +551,17 @@ fn main() -> anyhow::Result<()> {
                 truth_off += own.off_ink_length;
             }
             let mut traced = Vec::new();
-            for method in methods() {
+            let capture = captures.get(&case.name);
+            if let (Some(dir), Some(d)) = (&args.pictures, capture) {
+                std::fs::create_dir_all(dir)?;
+                let path = dir.join(format!("{}.capture.png", case.name));
+                d.gray
+                    .save(&path)
+                    .with_context(|| format!("writing {}", path.display()))?;
+            }
+            for method in methods(name) {
                 let start = Instant::now();
-                let result = guarded(|| run_method(method, case));
+                let result = guarded(|| run_method(method, case, capture));
                 let time_ms = start.elapsed().as_secs_f64() * 1e3;
                 let iou = result
                     .as_ref()
@@ -512,7 +589,7 @@ fn main() -> anyhow::Result<()> {
                 });
             }
             if let (Some(dir), Ok(truth)) = (&args.pictures, &truth) {
-                pictures::write(dir, case, truth, &methods(), &traced)?;
+                pictures::write(dir, case, truth, &methods(name), &traced)?;
             }
         }
         let methods_s = methods_start.elapsed().as_secs_f64() - truth_s;
@@ -522,7 +599,7 @@ fn main() -> anyhow::Result<()> {
             0.0
         };
 
-        let rows: Vec<GroupRow> = METHODS
+        let rows: Vec<GroupRow> = group_methods(name)
             .iter()
             .map(|&method| group_row(name, method, &outcomes))
             .collect();

@@ -30,7 +30,25 @@ use super::Features;
 use crate::curves::CubicBezier;
 use crate::minutiae::Minutia;
 use crate::strokes::Stroke;
-use crate::{Edge, Params, StrokeGraph, Vertex};
+use crate::{Decisions, Edge, Params, StrokeGraph, Vertex, Warning};
+
+/// The decisions with their floats rounded like the graph's.
+struct RoundedDecisions<'a>(&'a Decisions);
+
+impl Serialize for RoundedDecisions<'_> {
+    fn serialize<S: Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+        use serde::ser::SerializeStruct;
+        let d = self.0;
+        let mut s = serializer.serialize_struct("Decisions", 6)?;
+        s.serialize_field("polarity", d.polarity)?;
+        s.serialize_field("polarity_confidence", &d.polarity_confidence.map(Rounded))?;
+        s.serialize_field("threshold", &d.threshold)?;
+        s.serialize_field("stroke_width", &Rounded(d.stroke_width))?;
+        s.serialize_field("uneven_light", &Rounded(d.uneven_light))?;
+        s.serialize_field("dropout", &d.dropout)?;
+        s.end()
+    }
+}
 
 /// What the JSON says besides the graph. Build it from [`JsonMeta::new`] or
 /// [`JsonMeta::default`] and assign the public fields: more may be added.
@@ -46,6 +64,11 @@ pub struct JsonMeta {
     /// For one page of a multi-page input: its 1-based number and the input's page count, written
     /// as `source.page` and `source.pages` (absent for single images). Default value: `None`.
     pub page: Option<(usize, usize)>,
+    /// What the front end decided (images), written as `decisions`. Default value: `None`.
+    pub decisions: Option<Decisions>,
+    /// What is probably wrong with the result, written as `warnings` (always, possibly empty).
+    /// Default value: none.
+    pub warnings: Vec<Warning>,
 }
 
 impl JsonMeta {
@@ -66,6 +89,13 @@ impl JsonMeta {
     /// Sets [`JsonMeta::pretty`].
     pub fn with_pretty(mut self, pretty: bool) -> Self {
         self.pretty = pretty;
+        self
+    }
+
+    /// Sets [`JsonMeta::decisions`] and [`JsonMeta::warnings`] from a trace.
+    pub fn with_trace(mut self, trace: &crate::Trace) -> Self {
+        self.decisions = trace.decisions.clone();
+        self.warnings = trace.warnings.clone();
         self
     }
 
@@ -95,6 +125,8 @@ pub fn to_string_with(graph: &StrokeGraph, meta: &JsonMeta, features: &Features)
             height: graph.height,
         },
         parameters: &meta.params,
+        decisions: meta.decisions.as_ref().map(RoundedDecisions),
+        warnings: &meta.warnings,
         vertices: Vertices(&graph.vertices),
         edges: Edges(&graph.edges),
         strokes: features.strokes.map(Strokes),
@@ -119,6 +151,9 @@ struct Document<'a> {
     ridgeline: &'static str,
     source: Source<'a>,
     parameters: &'a Params,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    decisions: Option<RoundedDecisions<'a>>,
+    warnings: &'a [Warning],
     vertices: Vertices<'a>,
     edges: Edges<'a>,
     #[serde(skip_serializing_if = "Option::is_none")]

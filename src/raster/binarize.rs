@@ -1,70 +1,141 @@
 //! Binarization: grayscale to the foreground mask, with the threshold method and ink polarity of
-//! [`Params`].
+//! [`Params`], and a record of what was decided (docs/design.md, "The front end").
 //!
 //! Polarity matters as much as the level: text is dark ink on light paper, fingerprint ridges are
-//! often light on a dark background. `Auto` takes the minority side as ink (strokes are thin, so
-//! they cover less of the page than the paper, even when the page lies on a dark table, where the
-//! border would point the wrong way); only when the split is close to even (fingerprints, where
-//! ridges and valleys are about as wide) does it look at the image border, which is then paper.
+//! sometimes light on a dark background. `Auto` decides from stroke evidence (ink is the thinner
+//! side, paper fills the border; [`super::evidence::polarity`]). The automatic threshold is
+//! Otsu's global level where it separates ink from paper all over the image, and the local
+//! threshold where the light or the contrast varies ([`super::evidence::lighting`]).
 
 use rayon::prelude::*;
 
+use super::evidence::{self, PolarityEvidence};
+use crate::decisions::{Decisions, ThresholdUsed, UNEVEN_LIGHT};
 use crate::{Binary, GrayImage, Params, Polarity, Result, Threshold};
 
 /// Sauvola's dynamic range of the standard deviation `R` for 8-bit images.
 const SAUVOLA_R: f64 = 128.0;
-/// Border shares between these bounds do not say which side is paper.
-const AMBIGUOUS_BORDER: (f64, f64) = (0.4, 0.6);
 
 /// Binarizes a grayscale image: ink is `true`. A uniform image gives an empty mask.
 pub fn binarize(gray: &GrayImage, params: &Params) -> Result<Binary> {
+    Ok(binarize_deciding(gray, params)?.0)
+}
+
+/// [`binarize`], with what was decided.
+pub(crate) fn binarize_deciding(gray: &GrayImage, params: &Params) -> Result<(Binary, Decisions)> {
     let (width, height) = gray.dimensions();
+    let (w, h) = (width as usize, height as usize);
     let mut binary = Binary::new(width, height);
     let pixels = gray.as_raw();
-    // One pass gives the range, Otsu's level and the polarity share (a page is tens of MB of
-    // pixels; the histogram is built per block in parallel and summed: integer counts, so the sum
-    // does not depend on the thread count).
+    let forced = match params.polarity {
+        Polarity::Auto => None,
+        Polarity::DarkInk => Some(true),
+        Polarity::LightInk => Some(false),
+    };
+    let mut decisions = Decisions {
+        polarity: if forced == Some(false) {
+            "light"
+        } else {
+            "dark"
+        },
+        polarity_confidence: None,
+        threshold: ThresholdUsed::Uniform,
+        stroke_width: 0.0,
+        uneven_light: 0.0,
+        dropout: None,
+    };
+    // One pass gives the range and Otsu's level (a page is tens of MB of pixels; the histogram is
+    // built per block in parallel and summed: integer counts, so the sum does not depend on the
+    // thread count).
     let histogram = histogram(pixels);
     let (Some(min), Some(max)) = (
         histogram.iter().position(|&c| c > 0),
         histogram.iter().rposition(|&c| c > 0),
     ) else {
-        return Ok(binary);
+        return Ok((binary, decisions));
     };
     if min == max {
-        return Ok(binary);
+        return Ok((binary, decisions));
     }
-    match params.threshold {
-        Threshold::Otsu | Threshold::Fixed { .. } => {
-            let level = match params.threshold {
-                Threshold::Fixed { level } => level,
-                _ => otsu_level_of(&histogram, pixels.len()),
-            };
-            let dark_ink = match params.polarity {
-                Polarity::DarkInk => true,
-                Polarity::LightInk => false,
-                Polarity::Auto => dark_is_ink(gray, &histogram, level),
-            };
-            binary
-                .ink
-                .par_chunks_mut(BLOCK)
-                .zip(pixels.par_chunks(BLOCK))
-                .for_each(|(ink, values)| {
-                    for (ink, &v) in ink.iter_mut().zip(values) {
-                        *ink = (v <= level) == dark_ink;
+    let level = match params.threshold {
+        Threshold::Fixed { level } => level,
+        _ => otsu_level_of(&histogram, pixels.len()),
+    };
+    // The dark side of the global level, then (automatic or local threshold) of the local one
+    // where the global level fails.
+    let mut dark = binary.ink;
+    split(pixels, &mut dark, |v| v <= level);
+    let mut evidence = evidence::polarity(&dark, w, h);
+    decisions.threshold = match params.threshold {
+        Threshold::Fixed { level } => ThresholdUsed::Fixed { level },
+        _ => ThresholdUsed::Otsu { level },
+    };
+    // Sauvola's polarity is decided on the split the automatic threshold would make.
+    if !matches!(params.threshold, Threshold::Otsu | Threshold::Fixed { .. }) {
+        if let Some(lighting) = evidence::lighting(gray, evidence.thinner_width) {
+            // Where the two splits differ on more than a share of the ink, one global level
+            // does not fit the image.
+            let mut local = vec![false; dark.len()];
+            evidence::local_dark(gray, &lighting, &mut local);
+            let differ = dark.par_iter().zip(&local).filter(|(a, b)| a != b).count();
+            let local_dark_count = local.par_iter().filter(|&&d| d).count();
+            let ink = local_dark_count.min(local.len() - local_dark_count).max(1);
+            decisions.uneven_light = differ as f64 / ink as f64;
+            if params.threshold == Threshold::Local || decisions.uneven_light > UNEVEN_LIGHT {
+                dark = local;
+                evidence = evidence::polarity(&dark, w, h);
+                // The global split misjudged the stroke width where it failed; the blocks are
+                // sized again from the local split's.
+                let lighting = match evidence::lighting(gray, evidence.thinner_width) {
+                    Some(again) if again.block != lighting.block => {
+                        evidence::local_dark(gray, &again, &mut dark);
+                        evidence = evidence::polarity(&dark, w, h);
+                        again
                     }
-                });
-        }
-        Threshold::Sauvola { window, k } => {
-            let dark_ink = match params.polarity {
-                Polarity::DarkInk => true,
-                Polarity::LightInk => false,
-                Polarity::Auto => sauvola_dark_is_ink(gray),
-            };
-            sauvola(gray, window, k, dark_ink, &mut binary.ink);
+                    _ => lighting,
+                };
+                decisions.threshold = ThresholdUsed::Local {
+                    window: lighting.block as u32,
+                };
+            }
         }
     }
-    Ok(binary)
+    let dark_ink = forced.unwrap_or(evidence.dark_is_ink);
+    record_polarity(&mut decisions, dark_ink, forced.is_none(), &evidence);
+    if let Threshold::Sauvola { window, k } = params.threshold {
+        sauvola(gray, window, k, dark_ink, &mut dark);
+        decisions.threshold = ThresholdUsed::Sauvola { window, k };
+    } else if !dark_ink {
+        dark.par_iter_mut().for_each(|v| *v = !*v);
+    }
+    binary.ink = dark;
+    Ok((binary, decisions))
+}
+
+fn record_polarity(
+    decisions: &mut Decisions,
+    dark_ink: bool,
+    automatic: bool,
+    evidence: &PolarityEvidence,
+) {
+    decisions.polarity = if dark_ink { "dark" } else { "light" };
+    decisions.polarity_confidence = automatic.then_some(evidence.confidence);
+    decisions.stroke_width = if dark_ink == evidence.dark_is_ink {
+        evidence.stroke_width
+    } else {
+        evidence.other_width
+    };
+}
+
+/// Sets `out[i] = is_dark(pixels[i])`, in parallel blocks.
+fn split(pixels: &[u8], out: &mut [bool], is_dark: impl Fn(u8) -> bool + Sync) {
+    out.par_chunks_mut(BLOCK)
+        .zip(pixels.par_chunks(BLOCK))
+        .for_each(|(out, values)| {
+            for (o, &v) in out.iter_mut().zip(values) {
+                *o = is_dark(v);
+            }
+        });
 }
 
 /// Pixels per parallel block of the whole-image passes.
@@ -95,6 +166,7 @@ fn histogram(pixels: &[u8]) -> [u64; 256] {
 /// Otsu's level over a 256-bin histogram: pixels `<= level` form the dark class. Same rule as
 /// `imageproc::contrast::otsu_level` (first level of maximal between-class variance), with 64-bit
 /// counts so images above 16 megapixels cannot overflow.
+#[cfg(test)]
 pub fn otsu_level(pixels: &[u8]) -> u8 {
     otsu_level_of(&histogram(pixels), pixels.len())
 }
@@ -127,79 +199,6 @@ fn otsu_level_of(histogram: &[u64; 256], total: usize) -> u8 {
         }
     }
     best
-}
-
-/// Whether the dark side of `level` is ink: the minority side of the whole image is ink; when the
-/// split is close to even (40-60%), the side holding most of the border pixels is paper.
-fn dark_is_ink(gray: &GrayImage, histogram: &[u64; 256], level: u8) -> bool {
-    let dark_all: u64 = histogram[..=level as usize].iter().sum();
-    let share_all = dark_all as f64 / gray.as_raw().len().max(1) as f64;
-    if share_all < AMBIGUOUS_BORDER.0 {
-        return true;
-    }
-    if share_all > AMBIGUOUS_BORDER.1 {
-        return false;
-    }
-    let (dark, total) = border_counts(gray, |v| v <= level);
-    dark * 2 <= total
-}
-
-/// Polarity for Sauvola, which is decided before thresholding because the formula is asymmetric:
-/// the global Otsu split of the border when it is clear; otherwise (unevenly lit pages put both
-/// sides on the border) the border is paper, so ink lies on the side of the mean away from it.
-fn sauvola_dark_is_ink(gray: &GrayImage) -> bool {
-    let level = otsu_level(gray.as_raw());
-    let (dark, total) = border_counts(gray, |v| v <= level);
-    let share = dark as f64 / total.max(1) as f64;
-    if share < AMBIGUOUS_BORDER.0 {
-        return true;
-    }
-    if share > AMBIGUOUS_BORDER.1 {
-        return false;
-    }
-    let (border_sum, border_count) = border_sum(gray);
-    let all: u64 = gray.as_raw().iter().map(|&v| v as u64).sum();
-    let border_mean = border_sum as f64 / border_count.max(1) as f64;
-    let mean = all as f64 / gray.as_raw().len().max(1) as f64;
-    border_mean >= mean
-}
-
-/// Visits each pixel of the outermost ring once.
-fn for_each_border(gray: &GrayImage, mut visit: impl FnMut(u8)) {
-    let (w, h) = gray.dimensions();
-    let row = |y: u32| &gray.as_raw()[(y * w) as usize..((y + 1) * w) as usize];
-    for &v in row(0) {
-        visit(v);
-    }
-    if h > 1 {
-        for &v in row(h - 1) {
-            visit(v);
-        }
-    }
-    for y in 1..h.saturating_sub(1) {
-        visit(row(y)[0]);
-        if w > 1 {
-            visit(row(y)[(w - 1) as usize]);
-        }
-    }
-}
-
-fn border_counts(gray: &GrayImage, dark: impl Fn(u8) -> bool) -> (usize, usize) {
-    let (mut hits, mut total) = (0, 0);
-    for_each_border(gray, |v| {
-        hits += usize::from(dark(v));
-        total += 1;
-    });
-    (hits, total)
-}
-
-fn border_sum(gray: &GrayImage) -> (u64, u64) {
-    let (mut sum, mut count) = (0u64, 0u64);
-    for_each_border(gray, |v| {
-        sum += v as u64;
-        count += 1;
-    });
-    (sum, count)
 }
 
 /// Sauvola's threshold `T = m (1 + k (s / R - 1))` over a `window` x `window` box clipped to the
@@ -390,12 +389,61 @@ mod tests {
                 recall > 0.97 && precision > 0.97,
                 "{light_strokes}: {recall} {precision}"
             );
-            let otsu = binarize(&img, &Params::default()).unwrap();
+            let otsu = binarize(&img, &params(Threshold::Otsu, Polarity::Auto)).unwrap();
             let (recall, precision) = agreement(&otsu.ink, &truth);
             assert!(
                 recall < 0.9 || precision < 0.9,
                 "Otsu should fail: {recall} {precision}"
             );
         }
+    }
+
+    #[test]
+    fn automatic_threshold_goes_local_under_uneven_light_and_finds_the_polarity() {
+        for light_strokes in [false, true] {
+            let (img, truth) = gradient_lit(light_strokes);
+            let (binary, decisions) = binarize_deciding(&img, &Params::default()).unwrap();
+            let (recall, precision) = agreement(&binary.ink, &truth);
+            assert!(
+                recall > 0.97 && precision > 0.97,
+                "{light_strokes}: {recall} {precision}"
+            );
+            assert!(
+                matches!(decisions.threshold, ThresholdUsed::Local { .. }),
+                "{decisions:?}"
+            );
+            assert!(decisions.uneven_light > UNEVEN_LIGHT);
+            assert_eq!(
+                decisions.polarity,
+                if light_strokes { "light" } else { "dark" }
+            );
+            assert!(
+                decisions.polarity_confidence.unwrap() > 0.5,
+                "{decisions:?}"
+            );
+            // The stroke widths drawn are 3 and 4 px.
+            assert!(
+                (2.0..=5.0).contains(&decisions.stroke_width),
+                "{decisions:?}"
+            );
+        }
+    }
+
+    #[test]
+    fn even_light_keeps_otsu_and_forced_polarity_has_no_confidence() {
+        let (img, truth) = drawing(230, 20);
+        let (binary, decisions) = binarize_deciding(&img, &Params::default()).unwrap();
+        assert_eq!(binary.ink, truth);
+        assert!(
+            matches!(decisions.threshold, ThresholdUsed::Otsu { .. }),
+            "{decisions:?}"
+        );
+        assert!(decisions.uneven_light < UNEVEN_LIGHT);
+        let forced = params(Threshold::Auto, Polarity::DarkInk);
+        let (_, decisions) = binarize_deciding(&img, &forced).unwrap();
+        assert_eq!(
+            (decisions.polarity, decisions.polarity_confidence),
+            ("dark", None)
+        );
     }
 }

@@ -10,9 +10,11 @@
 mod binarize;
 mod chunks;
 mod decode;
+mod evidence;
 mod points;
 mod tiff_pages;
 
+pub(crate) use binarize::binarize_deciding;
 pub(crate) use chunks::pixel_chunks;
 pub use decode::{decode_file, Page, Pages, Picture, Transparency};
 
@@ -60,6 +62,33 @@ pub fn pages<'a>(bytes: &'a [u8], limits: &Limits) -> Result<Pages<'a>> {
 /// holding most of the image border is paper.
 pub fn binarize(gray: &GrayImage, params: &Params) -> Result<Binary> {
     binarize::binarize(gray, params)
+}
+
+/// `binary` without its ink components (8-connected) of fewer than `min_area` pixels.
+pub(crate) fn drop_small_components(binary: &Binary, min_area: usize) -> Binary {
+    use imageproc::region_labelling::{connected_components, Connectivity};
+    let mask = GrayImage::from_fn(binary.width, binary.height, |x, y| {
+        image::Luma([if binary.get(x as i64, y as i64) {
+            255
+        } else {
+            0
+        }])
+    });
+    let labels = connected_components(&mask, Connectivity::Eight, image::Luma([0u8]));
+    let mut sizes: Vec<usize> = Vec::new();
+    for label in labels.pixels() {
+        let l = label.0[0] as usize;
+        if l >= sizes.len() {
+            sizes.resize(l + 1, 0);
+        }
+        sizes[l] += 1;
+    }
+    let mut kept = binary.clone();
+    for (ink, label) in kept.ink.iter_mut().zip(labels.pixels()) {
+        let l = label.0[0] as usize;
+        *ink = *ink && l > 0 && sizes[l] >= min_area;
+    }
+    kept
 }
 
 /// Turns the ink pixels into the point set (neighbours, half-widths, dropout mode).

@@ -11,6 +11,7 @@
 //! Everything is deterministic: the same call gives the same pixels and the same truth.
 
 mod crowded;
+mod degraded;
 mod hershey;
 mod prints;
 mod rng;
@@ -20,6 +21,7 @@ pub use crowded::{
     arm_cases, cell_cases, letter_cases, triple_cases, zigzag_cases, ARM_LENGTHS, CELL_SIZES,
     LETTER_WIDTHS, TRIPLE_SPREADS, ZIGZAG_CORNERS,
 };
+pub use degraded::{degrade, degrade_cases, Degraded, Recipe};
 pub use hershey::{
     font_cases, japanese_cases, page, text_cases, text_line, Font, Glyph, FONTS,
     SINGLE_PASS_TOLERANCE,

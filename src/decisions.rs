@@ -1,0 +1,70 @@
+//! What the front end decided for an image, and the warnings a trace raises when its result is
+//! probably wrong (docs/design.md, "The front end"). Both go into the JSON and onto stderr, so a
+//! user can see why a trace looks the way it does and which flag overrides it.
+
+use serde::Serialize;
+
+/// The front end's decisions for one image.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Decisions {
+    /// The side traced as ink: `dark` or `light`.
+    pub polarity: &'static str,
+    /// How sure the polarity is, in [0, 1) (0: a coin toss); `None` when `--polarity` forced it.
+    pub polarity_confidence: Option<f64>,
+    /// The threshold used.
+    pub threshold: ThresholdUsed,
+    /// The stroke width the image shows (median chord of the ink, px); 0 for an empty image.
+    pub stroke_width: f64,
+    /// Pixels on which Otsu's global level and the local threshold disagree, as a share of the
+    /// ink (uneven light, varying contrast); above [`UNEVEN_LIGHT`] the automatic threshold is
+    /// the local one. 0 when not measured.
+    pub uneven_light: f64,
+    /// Whether dropout mode (5x5 neighbourhoods for broken, speckled ink) was on; `None` until
+    /// the points are built, and for a point list.
+    pub dropout: Option<bool>,
+}
+
+/// The threshold actually applied, with its settings.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+#[serde(tag = "method", rename_all = "lowercase")]
+pub enum ThresholdUsed {
+    /// No threshold: the image has one gray level, so no ink.
+    Uniform,
+    /// Otsu's global level: gray levels at or below it are dark.
+    Otsu {
+        /// The level.
+        level: u8,
+    },
+    /// A fixed level given by the user.
+    Fixed {
+        /// The level.
+        level: u8,
+    },
+    /// The local threshold: halfway between the darkest and lightest levels of blocks of
+    /// `window` px, interpolated between block centers.
+    Local {
+        /// Block side, px (about six stroke widths).
+        window: u32,
+    },
+    /// Sauvola's threshold, as the user asked.
+    Sauvola {
+        /// Window side, px.
+        window: u32,
+        /// Sensitivity.
+        k: f64,
+    },
+}
+
+/// Disagreement between the global and the local split, as a share of the ink, above which the
+/// automatic threshold goes local.
+pub const UNEVEN_LIGHT: f64 = 0.1;
+
+/// Something about a trace that is probably wrong, with what to try.
+#[derive(Clone, Debug, PartialEq, Eq, Serialize)]
+pub struct Warning {
+    /// A stable name: `polarity_uncertain`, `one_huge_component`, `mesh`, `speckle`,
+    /// `high_degree`.
+    pub code: &'static str,
+    /// One sentence for people, ending with the flag to try.
+    pub message: String,
+}

@@ -1,0 +1,366 @@
+//! What the gray image says before it is binarized (docs/design.md, "The front end"): which side
+//! of a split is made of strokes, how wide they are, and whether one global level separates ink
+//! from paper everywhere or the light varies across the image.
+//!
+//! Both measurements look at a sample of the image, not at every pixel, so deciding costs a
+//! small share of binarizing.
+
+use rayon::prelude::*;
+
+use crate::GrayImage;
+
+/// Lattice samples the stroke evidence aims for; the step between sampled rows and columns is
+/// chosen to give about this many.
+const LATTICE_SAMPLES: usize = 65_536;
+
+/// Chord statistics of the two sides of a split.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub(crate) struct Chords {
+    /// Mean chord over the dark side's samples, px (0 when the side is empty).
+    pub dark_mean: f64,
+    /// Mean chord over the light side's samples, px.
+    pub light_mean: f64,
+    /// Median chord of the dark side, px.
+    pub dark_median: f64,
+    /// Median chord of the light side, px.
+    pub light_median: f64,
+    /// The lower quartile of the chords of the side with the smaller one, px: the stroke width
+    /// even where a badly placed split puts large areas of paper on the ink's side.
+    pub thinner_quartile: f64,
+}
+
+/// The chord of a pixel is the shorter of its horizontal and vertical runs of pixels of its own
+/// side: about the stroke width on a stroke (in any direction but the stroke's own, where the
+/// run is long), the gap to the next stroke on the paper. Measured at every `step`-th pixel of
+/// every `step`-th row, `step` chosen for about [`LATTICE_SAMPLES`] samples.
+pub(crate) fn chords(dark: &[bool], width: usize, height: usize) -> Chords {
+    if width == 0 || height == 0 {
+        return Chords::default();
+    }
+    let step = ((width * height / LATTICE_SAMPLES) as f64)
+        .sqrt()
+        .floor()
+        .max(1.0) as usize;
+    let (cols, rows) = (width.div_ceil(step), height.div_ceil(step));
+    // Horizontal runs at the lattice points of each sampled row.
+    let horizontal: Vec<Vec<u32>> = (0..rows)
+        .into_par_iter()
+        .map(|r| {
+            let row = &dark[r * step * width..(r * step + 1) * width];
+            let runs = run_lengths(row.iter().copied());
+            (0..cols).map(|c| runs[c * step]).collect()
+        })
+        .collect();
+    // Vertical runs at the lattice points of each sampled column.
+    let vertical: Vec<Vec<u32>> = (0..cols)
+        .into_par_iter()
+        .map(|c| {
+            let column = (0..height).map(|y| dark[y * width + c * step]);
+            let runs = run_lengths(column);
+            (0..rows).map(|r| runs[r * step]).collect()
+        })
+        .collect();
+    let (mut dark_chords, mut light_chords) = (Vec::new(), Vec::new());
+    for r in 0..rows {
+        for c in 0..cols {
+            let chord = horizontal[r][c].min(vertical[c][r]);
+            if dark[r * step * width + c * step] {
+                dark_chords.push(chord);
+            } else {
+                light_chords.push(chord);
+            }
+        }
+    }
+    let quartile = |chords: &mut Vec<u32>| -> f64 {
+        if chords.is_empty() {
+            return f64::INFINITY;
+        }
+        let k = chords.len() / 4;
+        *chords.select_nth_unstable(k).1 as f64
+    };
+    let thinner_quartile = quartile(&mut dark_chords).min(quartile(&mut light_chords));
+    let (dark_mean, dark_median) = mean_and_median(&mut dark_chords);
+    let (light_mean, light_median) = mean_and_median(&mut light_chords);
+    Chords {
+        dark_mean,
+        light_mean,
+        dark_median,
+        light_median,
+        thinner_quartile: if thinner_quartile.is_finite() {
+            thinner_quartile
+        } else {
+            0.0
+        },
+    }
+}
+
+/// The length of the run each element belongs to.
+fn run_lengths(values: impl Iterator<Item = bool>) -> Vec<u32> {
+    let mut runs = Vec::new();
+    let (mut current, mut start, mut n) = (None, 0usize, 0usize);
+    for v in values {
+        if current != Some(v) {
+            runs.extend(std::iter::repeat_n((n - start) as u32, n - start));
+            (current, start) = (Some(v), n);
+        }
+        n += 1;
+    }
+    runs.extend(std::iter::repeat_n((n - start) as u32, n - start));
+    runs
+}
+
+fn mean_and_median(values: &mut [u32]) -> (f64, f64) {
+    if values.is_empty() {
+        return (0.0, 0.0);
+    }
+    let mean = values.iter().map(|&v| v as f64).sum::<f64>() / values.len() as f64;
+    let middle = values.len() / 2;
+    let (_, median, _) = values.select_nth_unstable(middle);
+    (mean, *median as f64)
+}
+
+/// The polarity evidence of a split into dark and light sides.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct PolarityEvidence {
+    /// Whether the dark side is ink.
+    pub dark_is_ink: bool,
+    /// How sure, in [0, 1): 0 is a coin toss.
+    pub confidence: f64,
+    /// The ink side's median chord, px: the stroke width the image shows.
+    pub stroke_width: f64,
+    /// The other side's median chord, px.
+    pub other_width: f64,
+    /// The stroke width whichever side is ink ([`Chords::thinner_quartile`]), px.
+    pub thinner_width: f64,
+}
+
+/// Weight of the prior for dark ink on light paper (the common case: print, handwriting, inked
+/// prints), in the units of the log thickness ratio: it decides only when the strokes' evidence
+/// is weak.
+const DARK_PRIOR: f64 = 0.5;
+/// Thickness ratios beyond `e^3` (20 times) say no more.
+const MAX_THICKNESS_EVIDENCE: f64 = 3.0;
+
+/// Which side of a split is ink, from stroke evidence (docs/design.md, "The front end"):
+///
+/// - ink is the thinner side: the log ratio of the sides' mean chords (paper's chords span the
+///   gaps between strokes and the margins, ink's only the stroke width);
+/// - paper is the side that fills the image border: the light share minus the dark share of a
+///   ring inset by 1% of the image's smaller side (at least 2 px), so a scanner's one-pixel frame
+///   does not count;
+/// - a weak prior for dark ink.
+///
+/// The three add to a score `z` whose sign decides; the confidence is `tanh(|z| / 2)`.
+pub(crate) fn polarity(dark: &[bool], width: usize, height: usize) -> PolarityEvidence {
+    let chords = chords(dark, width, height);
+    let thickness = if chords.dark_mean > 0.0 && chords.light_mean > 0.0 {
+        (chords.light_mean / chords.dark_mean)
+            .ln()
+            .clamp(-MAX_THICKNESS_EVIDENCE, MAX_THICKNESS_EVIDENCE)
+    } else {
+        0.0
+    };
+    let z = thickness + border_evidence(dark, width, height) + DARK_PRIOR;
+    let dark_is_ink = z >= 0.0;
+    PolarityEvidence {
+        dark_is_ink,
+        confidence: (z.abs() / 2.0).tanh(),
+        stroke_width: if dark_is_ink {
+            chords.dark_median
+        } else {
+            chords.light_median
+        },
+        other_width: if dark_is_ink {
+            chords.light_median
+        } else {
+            chords.dark_median
+        },
+        thinner_width: chords.thinner_quartile,
+    }
+}
+
+/// Light share minus dark share of the inset border ring, in [-1, 1] (0 for an image too small
+/// to have one).
+fn border_evidence(dark: &[bool], width: usize, height: usize) -> f64 {
+    let inset = (width.min(height) / 100).max(2);
+    if width <= 2 * inset || height <= 2 * inset {
+        return 0.0;
+    }
+    let (x0, x1, y0, y1) = (inset, width - 1 - inset, inset, height - 1 - inset);
+    let (mut dark_count, mut total) = (0usize, 0usize);
+    let mut visit = |x: usize, y: usize| {
+        dark_count += usize::from(dark[y * width + x]);
+        total += 1;
+    };
+    for x in x0..=x1 {
+        visit(x, y0);
+        visit(x, y1);
+    }
+    for y in y0 + 1..y1 {
+        visit(x0, y);
+        visit(x1, y);
+    }
+    1.0 - 2.0 * dark_count as f64 / total.max(1) as f64
+}
+
+/// How the light falls across the image, from blocks of it: each block's darkest and lightest
+/// levels (2nd and 98th percentiles), blocks without strokes filled in from their neighbours, and
+/// the local threshold halfway between (docs/design.md, "The front end").
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) struct Lighting {
+    /// Block side, px.
+    pub block: usize,
+    /// Blocks per row and per column.
+    pub cols: usize,
+    /// Blocks per column.
+    pub rows: usize,
+    /// The local threshold at each block's center, row-major.
+    pub thresholds: Vec<f64>,
+}
+
+/// Blocks whose range is below this many gray levels hold no stroke whatever the image.
+const MIN_CONTRAST: f64 = 24.0;
+/// A block holds strokes when its range reaches this share of the image's high block ranges
+/// (95th percentile): lower ranges are noise, texture or faint paper structure.
+const CONTENT_SHARE: f64 = 0.35;
+
+/// Measures the lighting with blocks of about six stroke widths (at least 8 px, at most 128, and
+/// at most a quarter of the image's smaller side, so that there are blocks to compare). `None`
+/// for an image with no block holding strokes.
+pub(crate) fn lighting(gray: &GrayImage, stroke_width: f64) -> Option<Lighting> {
+    let (width, height) = (gray.width() as usize, gray.height() as usize);
+    let block = ((6.0 * stroke_width).round() as usize)
+        .clamp(8, 128)
+        .min((width.min(height) / 4).max(8));
+    let (cols, rows) = (width.div_ceil(block), height.div_ceil(block));
+    if cols == 0 || rows == 0 {
+        return None;
+    }
+    let pixels = gray.as_raw();
+    // (2nd, 50th, 98th percentile) of each block.
+    let stats: Vec<[f64; 3]> = (0..rows)
+        .into_par_iter()
+        .flat_map_iter(|r| {
+            let (y0, y1) = (r * block, ((r + 1) * block).min(height));
+            (0..cols).map(move |c| {
+                let (x0, x1) = (c * block, ((c + 1) * block).min(width));
+                let mut histogram = [0u32; 256];
+                for y in y0..y1 {
+                    for &v in &pixels[y * width + x0..y * width + x1] {
+                        histogram[v as usize] += 1;
+                    }
+                }
+                let total = ((x1 - x0) * (y1 - y0)) as f64;
+                let mut out = [0.0; 3];
+                for (o, share) in out.iter_mut().zip([0.02, 0.5, 0.98]) {
+                    let target = share * total;
+                    let mut seen = 0.0;
+                    for (v, &count) in histogram.iter().enumerate() {
+                        seen += count as f64;
+                        if seen >= target {
+                            *o = v as f64;
+                            break;
+                        }
+                    }
+                }
+                out
+            })
+        })
+        .collect();
+    let mut contrasts: Vec<f64> = stats.iter().map(|s| s[2] - s[0]).collect();
+    let high = {
+        let k = ((contrasts.len() as f64 * 0.95) as usize).min(contrasts.len() - 1);
+        *contrasts.select_nth_unstable_by(k, |a, b| a.total_cmp(b)).1
+    };
+    let floor = MIN_CONTRAST.max(CONTENT_SHARE * high);
+    let content: Vec<bool> = stats.iter().map(|s| s[2] - s[0] >= floor).collect();
+    if !content.iter().any(|&c| c) {
+        return None;
+    }
+    // Ranges of the blocks without strokes, filled in wave by wave from known neighbours.
+    let mut range: Vec<Option<[f64; 2]>> = stats
+        .iter()
+        .zip(&content)
+        .map(|(s, &c)| c.then_some([s[0], s[2]]))
+        .collect();
+    while range.iter().any(Option::is_none) {
+        let previous = range.clone();
+        for r in 0..rows {
+            for c in 0..cols {
+                if previous[r * cols + c].is_some() {
+                    continue;
+                }
+                let (mut sum, mut n) = ([0.0; 2], 0.0);
+                for nr in r.saturating_sub(1)..(r + 2).min(rows) {
+                    for nc in c.saturating_sub(1)..(c + 2).min(cols) {
+                        if let Some(known) = previous[nr * cols + nc] {
+                            sum[0] += known[0];
+                            sum[1] += known[1];
+                            n += 1.0;
+                        }
+                    }
+                }
+                if n > 0.0 {
+                    range[r * cols + c] = Some([sum[0] / n, sum[1] / n]);
+                }
+            }
+        }
+    }
+    let middle: Vec<f64> = range
+        .iter()
+        .map(|r| r.map_or(0.0, |[lo, hi]| (lo + hi) / 2.0))
+        .collect();
+    // The threshold surface: each block's middle averaged with its neighbours'.
+    let mut thresholds = vec![0.0; middle.len()];
+    for r in 0..rows {
+        for c in 0..cols {
+            let (mut sum, mut n) = (0.0, 0.0);
+            for nr in r.saturating_sub(1)..(r + 2).min(rows) {
+                for nc in c.saturating_sub(1)..(c + 2).min(cols) {
+                    sum += middle[nr * cols + nc];
+                    n += 1.0;
+                }
+            }
+            thresholds[r * cols + c] = sum / n;
+        }
+    }
+    Some(Lighting {
+        block,
+        cols,
+        rows,
+        thresholds,
+    })
+}
+
+/// The dark side of `gray` under the local threshold of `lighting`, interpolated bilinearly
+/// between block centers.
+pub(crate) fn local_dark(gray: &GrayImage, lighting: &Lighting, dark: &mut [bool]) {
+    let (width, height) = (gray.width() as usize, gray.height() as usize);
+    let (block, cols, rows) = (lighting.block as f64, lighting.cols, lighting.rows);
+    // Position of pixel center `p` on the block-center grid: the cell to its left/top and the
+    // weight of the next one.
+    let cell = |p: usize, n: usize| -> (usize, usize, f64) {
+        let g = ((p as f64 + 0.5) / block - 0.5).clamp(0.0, (n - 1) as f64);
+        let i = g.floor() as usize;
+        let j = (i + 1).min(n - 1);
+        (i, j, g - i as f64)
+    };
+    let columns: Vec<(usize, usize, f64)> = (0..width).map(|x| cell(x, cols)).collect();
+    dark.par_chunks_mut(width)
+        .zip(gray.as_raw().par_chunks(width))
+        .enumerate()
+        .for_each(|(y, (out, values))| {
+            let (r0, r1, fy) = cell(y, rows);
+            let row: Vec<f64> = (0..cols)
+                .map(|c| {
+                    let t = &lighting.thresholds;
+                    t[r0 * cols + c] * (1.0 - fy) + t[r1 * cols + c] * fy
+                })
+                .collect();
+            for ((o, &v), &(c0, c1, fx)) in out.iter_mut().zip(values).zip(&columns) {
+                let t = row[c0] * (1.0 - fx) + row[c1] * fx;
+                *o = (v as f64) <= t;
+            }
+        });
+    let _ = height;
+}

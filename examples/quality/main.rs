@@ -183,12 +183,18 @@ fn methods(group: &str) -> Vec<&'static str> {
 /// One method on one case. With a degraded capture (`gray`), ridgeline's methods trace the gray
 /// image with their front end, the thinning baselines run on Otsu's mask with the polarity known
 /// (`ridgeline on clean` traces the clean mask).
-fn run_method(method: &str, case: &Case, gray: Option<&Degraded>) -> anyhow::Result<StrokeGraph> {
-    let trace = |params: &Params| -> anyhow::Result<StrokeGraph> {
-        Ok(match gray {
-            Some(d) => ridgeline::trace_image(&d.gray, params)?.graph,
-            None => ridgeline::trace_binary(&case.binary, params)?.graph,
-        })
+fn run_method(
+    method: &str,
+    case: &Case,
+    gray: Option<&Degraded>,
+) -> anyhow::Result<(StrokeGraph, Vec<String>)> {
+    let trace = |params: &Params| -> anyhow::Result<(StrokeGraph, Vec<String>)> {
+        let trace = match gray {
+            Some(d) => ridgeline::trace_image(&d.gray, params)?,
+            None => ridgeline::trace_binary(&case.binary, params)?,
+        };
+        let codes = trace.warnings.iter().map(|w| w.code.to_string()).collect();
+        Ok((trace.graph, codes))
     };
     let baseline_mask = || -> anyhow::Result<ridgeline::Binary> {
         Ok(match gray {
@@ -213,9 +219,13 @@ fn run_method(method: &str, case: &Case, gray: Option<&Degraded>) -> anyhow::Res
             skeleton: false,
             ..Params::default()
         })?,
-        CLEAN => ridgeline::trace_binary(&case.binary, &variant_params()?)?.graph,
-        "thinning" => thinning::trace(&baseline_mask()?),
-        "thinning+pruning" => thinning::trace_pruned(&baseline_mask()?),
+        CLEAN => {
+            let trace = ridgeline::trace_binary(&case.binary, &variant_params()?)?;
+            let codes = trace.warnings.iter().map(|w| w.code.to_string()).collect();
+            (trace.graph, codes)
+        }
+        "thinning" => (thinning::trace(&baseline_mask()?), Vec::new()),
+        "thinning+pruning" => (thinning::trace_pruned(&baseline_mask()?), Vec::new()),
         other => bail!("unknown method {other}"),
     })
 }
@@ -306,6 +316,8 @@ struct Outcome {
     scores: Option<Scores>,
     /// Re-rendered widths against the input foreground.
     iou: Option<f64>,
+    /// The codes of the warnings the trace raised (ridgeline's methods).
+    warnings: Vec<String>,
 }
 
 /// One method on one group.
@@ -561,7 +573,10 @@ fn main() -> anyhow::Result<()> {
             }
             for method in methods(name) {
                 let start = Instant::now();
-                let result = guarded(|| run_method(method, case, capture));
+                let (result, warnings) = match guarded(|| run_method(method, case, capture)) {
+                    Ok((graph, warnings)) => (Ok(graph), warnings),
+                    Err(e) => (Err(e), Vec::new()),
+                };
                 let time_ms = start.elapsed().as_secs_f64() * 1e3;
                 let iou = result
                     .as_ref()
@@ -586,6 +601,7 @@ fn main() -> anyhow::Result<()> {
                     failure,
                     scores,
                     iou,
+                    warnings,
                 });
             }
             if let (Some(dir), Ok(truth)) = (&args.pictures, &truth) {
@@ -609,6 +625,30 @@ fn main() -> anyhow::Result<()> {
             println!("{note}\n");
         }
         print_table(&rows, &best);
+        let warned: Vec<&Outcome> = outcomes
+            .iter()
+            .filter(|o| o.method == "ridgeline" && !o.warnings.is_empty())
+            .collect();
+        let low: Vec<&Outcome> = outcomes
+            .iter()
+            .filter(|o| o.method == "ridgeline")
+            .filter(|o| o.scores.as_ref().is_some_and(|s| s.f1[0] < 0.9))
+            .collect();
+        let low_warned = low.iter().filter(|o| !o.warnings.is_empty()).count();
+        let mut codes: Vec<&str> = warned
+            .iter()
+            .flat_map(|o| o.warnings.iter().map(String::as_str))
+            .collect();
+        codes.sort_unstable();
+        codes.dedup();
+        println!(
+            "\nwarnings (ridgeline): on {} of {} cases ({}); {low_warned} of the {} cases under F1@{} .9 warned",
+            warned.len(),
+            cases.len(),
+            if codes.is_empty() { "none".to_string() } else { codes.join(", ") },
+            low.len(),
+            tau(options.taus[0]),
+        );
         let timing = GroupTiming {
             group: name.to_string(),
             cases: cases.len(),

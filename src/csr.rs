@@ -1,41 +1,71 @@
-//! Compressed sparse rows: the one builder behind every "count, prefix sum, fill" in the stages
-//! (neighbour lists, a node's points, chunks of runs, the rows of the fit's normal matrix).
+//! Compressed sparse rows: the one builder behind every "count, prefix sum, fill" in the workspace
+//! (neighbour lists, a node's points, chunks of runs, the rows of the fit's normal matrix, and the
+//! test kit's sample graph and grid cells).
 //!
-//! Ground floor: knows nothing about stages.
+//! Ground floor: knows nothing about stages. Public (not part of the tracing pipeline) so that the
+//! test kit's scorer builds its graphs with this code rather than a copy. Nothing here panics:
+//! values pushed to a row that does not exist are dropped, and rows outside the table read as
+//! empty.
+//!
+//! ```
+//! use ridgeline::csr::Csr;
+//!
+//! // Edges of a path 0 - 1 - 2, both ways: the neighbours of each vertex.
+//! let edges = [(0, 1), (1, 2)];
+//! let neighbours = Csr::build(3, |sink| {
+//!     for &(a, b) in &edges {
+//!         sink.push(a, b);
+//!         sink.push(b, a);
+//!     }
+//! });
+//! assert_eq!(neighbours.row(1), [0, 2]);
+//! assert_eq!(neighbours.offsets(), [0, 1, 3, 4]);
+//! assert!(neighbours.row(7).is_empty());
+//! ```
 
 /// Values grouped by row: row `i` holds `values[offsets[i]..offsets[i + 1]]`, in the order they
-/// were pushed.
+/// were pushed. Built only by [`Csr::build`] (or empty, [`Csr::default`]), so the offsets always
+/// run from 0 to `values.len()` without decreasing.
 #[derive(Clone, Debug, Default, PartialEq)]
-pub(crate) struct Csr<T> {
+pub struct Csr<T> {
     /// `rows + 1` offsets into `values`, from 0 to `values.len()`.
-    pub offsets: Vec<usize>,
+    pub(crate) offsets: Vec<usize>,
     /// The values, row after row.
-    pub values: Vec<T>,
+    pub(crate) values: Vec<T>,
 }
 
 /// What [`Csr::build`]'s closure pushes `(row, value)` pairs into: the first call counts them,
 /// the second writes them.
-pub(crate) enum CsrSink<'a, T> {
+pub struct CsrSink<'a, T>(Pass<'a, T>);
+
+enum Pass<'a, T> {
     /// The first pass: counts per row (shifted by one, ready for the prefix sum).
     Count(&'a mut [usize]),
-    /// The second pass: the next free slot of each row, and the values.
+    /// The second pass: the next free slot of each row, the end of each row, and the values.
     Fill {
-        /// Next slot per row.
         next: &'a mut [usize],
-        /// Where the values go.
+        ends: &'a [usize],
         values: &'a mut [T],
     },
 }
 
 impl<T> CsrSink<'_, T> {
-    /// Adds `value` to row `row` (which must be below the row count given to [`Csr::build`]).
+    /// Adds `value` to row `row`. A row at or beyond the row count given to [`Csr::build`] does not
+    /// exist, and the value is dropped.
     #[inline]
     pub fn push(&mut self, row: usize, value: T) {
-        match self {
-            CsrSink::Count(counts) => counts[row + 1] += 1,
-            CsrSink::Fill { next, values } => {
-                values[next[row]] = value;
-                next[row] += 1;
+        match &mut self.0 {
+            Pass::Count(counts) => {
+                if row < counts.len() - 1 {
+                    counts[row + 1] += 1;
+                }
+            }
+            Pass::Fill { next, ends, values } => {
+                // A row pushed more often than in the first pass keeps what was counted.
+                if row < next.len() && next[row] < ends[row] {
+                    values[next[row]] = value;
+                    next[row] += 1;
+                }
             }
         }
     }
@@ -43,20 +73,22 @@ impl<T> CsrSink<'_, T> {
 
 impl<T: Copy + Default> Csr<T> {
     /// Builds `rows` rows from the pairs `emit` pushes. `emit` is called twice (count, then fill)
-    /// and must push the same pairs both times; within a row the values keep their push order (a
-    /// stable counting sort), so the result is as deterministic as `emit`.
+    /// and must push the same pairs both times (slots a row was counted for but not given stay
+    /// `T::default()`); within a row the values keep their push order (a stable counting sort), so
+    /// the result is as deterministic as `emit`.
     pub fn build(rows: usize, mut emit: impl FnMut(&mut CsrSink<'_, T>)) -> Self {
         let mut offsets = vec![0usize; rows + 1];
-        emit(&mut CsrSink::Count(&mut offsets));
+        emit(&mut CsrSink(Pass::Count(&mut offsets)));
         for i in 0..rows {
             offsets[i + 1] += offsets[i];
         }
         let mut next = offsets[..rows].to_vec();
         let mut values = vec![T::default(); offsets[rows]];
-        emit(&mut CsrSink::Fill {
+        emit(&mut CsrSink(Pass::Fill {
             next: &mut next,
+            ends: &offsets[1..],
             values: &mut values,
-        });
+        }));
         Csr { offsets, values }
     }
 }
@@ -67,14 +99,38 @@ impl<T> Csr<T> {
         self.offsets.len().saturating_sub(1)
     }
 
-    /// The values of row `i`.
-    pub fn row(&self, i: usize) -> &[T] {
-        &self.values[self.offsets[i]..self.offsets[i + 1]]
+    /// Where row `i`'s values lie in [`Csr::values`]; empty for a row beyond [`Csr::rows`].
+    #[inline]
+    fn span(&self, i: usize) -> std::ops::Range<usize> {
+        match (
+            self.offsets.get(i),
+            i.checked_add(1).and_then(|j| self.offsets.get(j)),
+        ) {
+            (Some(&start), Some(&end)) => start..end,
+            _ => 0..0,
+        }
     }
 
-    /// The values of row `i`, to sort or edit in place.
+    /// The values of row `i` (empty for a row beyond [`Csr::rows`]).
+    #[inline]
+    pub fn row(&self, i: usize) -> &[T] {
+        &self.values[self.span(i)]
+    }
+
+    /// The values of row `i`, to sort or edit in place (empty for a row beyond [`Csr::rows`]).
     pub fn row_mut(&mut self, i: usize) -> &mut [T] {
-        &mut self.values[self.offsets[i]..self.offsets[i + 1]]
+        let span = self.span(i);
+        &mut self.values[span]
+    }
+
+    /// The `rows + 1` offsets: row `i` is `values()[offsets()[i]..offsets()[i + 1]]`.
+    pub fn offsets(&self) -> &[usize] {
+        &self.offsets
+    }
+
+    /// Every value, row after row.
+    pub fn values(&self) -> &[T] {
+        &self.values
     }
 }
 
@@ -139,6 +195,26 @@ mod tests {
         });
         assert_eq!(offsets, [0, 2, 3, 4, 4]);
         assert_eq!(neighbors, [1, 2, 0, 0]);
+    }
+
+    #[test]
+    fn pushes_to_missing_rows_and_extra_pushes_are_dropped() {
+        // Row 5 does not exist; the second pass pushes row 0 once more than the first.
+        let mut pass = 0;
+        let csr = Csr::build(2, |sink| {
+            pass += 1;
+            sink.push(0, 1u32);
+            sink.push(5, 2);
+            sink.push(usize::MAX, 3);
+            if pass == 2 {
+                sink.push(0, 4);
+            }
+            sink.push(1, 5);
+        });
+        assert_eq!(csr.offsets(), [0, 1, 2]);
+        assert_eq!(csr.values(), [1, 5]);
+        assert!(csr.row(2).is_empty() && csr.row(usize::MAX).is_empty());
+        assert!(Csr::<u32>::default().row(0).is_empty());
     }
 
     #[test]

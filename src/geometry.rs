@@ -1,7 +1,11 @@
-//! Plane geometry every stage shares: distances, the point-in-polygon test, the 2x2 PCA of §3.1
-//! (Eq. (2)-(3) in two dimensions) and a total order on `f64` for heap keys.
+//! Plane geometry every stage shares: distances to points and segments, the point-in-polygon test,
+//! the tangents of a polyline, the 2x2 PCA of §3.1 (Eq. (2)-(3) in two dimensions) and a total
+//! order on `f64` for heap keys.
 //!
-//! Ground floor: plain functions on `[f64; 2]`, no stage types.
+//! Ground floor: plain functions on `[f64; 2]`, no stage types. The distances, the polygon test
+//! and the tangents are public, for measuring a [`StrokeGraph`](crate::StrokeGraph) against other
+//! geometry (the test kit's scorer and synthetic cases use them rather than copies); the PCA and
+//! the float order are the stages' own.
 
 /// Euclidean distance.
 #[inline]
@@ -41,8 +45,8 @@ fn closest_on_segment(p: [f64; 2], a: [f64; 2], b: [f64; 2]) -> ([f64; 2], f64) 
 }
 
 /// Whether `p` lies inside the closed polygon (last point joined to the first), by the even-odd
-/// rule. Points exactly on an edge may fall either way.
-pub(crate) fn point_in_polygon(p: [f64; 2], polygon: &[[f64; 2]]) -> bool {
+/// rule. Points exactly on an edge may fall either way; fewer than three corners enclose nothing.
+pub fn point_in_polygon(p: [f64; 2], polygon: &[[f64; 2]]) -> bool {
     let mut inside = false;
     let n = polygon.len();
     for i in 0..n {
@@ -55,6 +59,25 @@ pub(crate) fn point_in_polygon(p: [f64; 2], polygon: &[[f64; 2]]) -> bool {
         }
     }
     inside
+}
+
+/// Unit tangents of a polyline by central differences (one-sided at its ends), as the
+/// skeleton-carried tracing writes [`Edge::directions`](crate::Edge::directions); `[1, 0]` where
+/// the two neighbours of a point coincide.
+pub fn tangents(points: &[[f64; 2]]) -> Vec<[f64; 2]> {
+    let n = points.len();
+    (0..n)
+        .map(|i| {
+            let (a, b) = (points[i.saturating_sub(1)], points[(i + 1).min(n - 1)]);
+            let d = [b[0] - a[0], b[1] - a[1]];
+            let len = d[0].hypot(d[1]);
+            if len > 0.0 {
+                [d[0] / len, d[1] / len]
+            } else {
+                [1.0, 0.0]
+            }
+        })
+        .collect()
 }
 
 /// Closed-form eigen-decomposition of the 2x2 covariance `[[cxx, cxy], [cxy, cyy]]`: the

@@ -63,10 +63,8 @@
 #![warn(missing_docs)]
 
 mod binary;
-mod csr;
 mod decisions;
 mod error;
-mod geometry;
 mod mask;
 mod node_graph;
 mod params;
@@ -74,11 +72,13 @@ mod point_set;
 mod samples;
 mod stroke_graph;
 
+pub mod csr;
 pub mod curves;
 pub mod debug;
 pub mod draw;
 pub mod export;
 pub(crate) mod fit;
+pub mod geometry;
 pub mod graph;
 pub mod minutiae;
 pub mod point_list;
@@ -100,7 +100,7 @@ mod synth {
 pub use binary::Binary;
 pub use decisions::{Decisions, ThresholdUsed, Warning, UNEVEN_LIGHT};
 pub use error::{Error, Result};
-pub use geometry::{dist, segment_closest, segment_dist};
+pub use geometry::dist;
 pub use image::GrayImage;
 pub use node_graph::{GraphNode, NodeGraph};
 pub use params::{

@@ -19,8 +19,9 @@
 
 use kiddo::{ImmutableKdTree, SquaredEuclidean};
 
+use crate::geometry::{dist, tangents};
 use crate::point_set::{Grid, PointSet};
-use crate::{dist, Edge, StrokeGraph, Vertex};
+use crate::{Edge, StrokeGraph, Vertex};
 
 /// Offsets of the 8 neighbours in the order P2..P9 of Zhang and Suen (N, NE, E, SE, S, SW, W, NW).
 const RING: [(i64, i64); 8] = [
@@ -363,23 +364,6 @@ pub fn pixel_graph(
     };
     set_directions(&mut graph);
     graph
-}
-
-/// Unit tangents of a polyline by central differences, as the fit writes them.
-pub fn tangents(points: &[[f64; 2]]) -> Vec<[f64; 2]> {
-    let n = points.len();
-    (0..n)
-        .map(|i| {
-            let (a, b) = (points[i.saturating_sub(1)], points[(i + 1).min(n - 1)]);
-            let d = [b[0] - a[0], b[1] - a[1]];
-            let len = d[0].hypot(d[1]);
-            if len > 0.0 {
-                [d[0] / len, d[1] / len]
-            } else {
-                [1.0, 0.0]
-            }
-        })
-        .collect()
 }
 
 fn set_directions(graph: &mut StrokeGraph) {

@@ -492,7 +492,7 @@ fn cli_minutiae_json_finds_the_endings_and_bifurcations_of_a_synthetic_print() {
 /// Distance from `p` to the polyline.
 fn distance_to_polyline(p: [f64; 2], line: &[[f64; 2]]) -> f64 {
     line.windows(2)
-        .map(|w| ridgeline::segment_dist(p, w[0], w[1]))
+        .map(|w| ridgeline::geometry::segment_dist(p, w[0], w[1]))
         .fold(f64::INFINITY, f64::min)
 }
 

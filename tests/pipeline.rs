@@ -1,7 +1,8 @@
 //! End-to-end: render known centerlines thickly, trace, and compare topology and geometry with the
 //! truth. Nothing here is special-cased in the pipeline: the shapes are only drawn here.
 
-use ridgeline::{segment_dist, trace_binary, Binary, Params, StrokeGraph};
+use ridgeline::geometry::segment_dist;
+use ridgeline::{trace_binary, Binary, Params, StrokeGraph};
 use ridgeline_testkit::synth::{render, Stroke};
 
 fn line(a: [f64; 2], b: [f64; 2], width: f64) -> Stroke {

@@ -21,6 +21,7 @@ use std::path::{Path, PathBuf};
 
 use anyhow::Context;
 use resvg::{tiny_skia, usvg};
+use ridgeline::geometry::segment_closest;
 use ridgeline::{dist, Binary};
 use ridgeline_testkit::score::ScoreOptions;
 use ridgeline_testkit::synth::{Case, Stroke};
@@ -256,16 +257,9 @@ fn nearest_on(stroke: &Stroke, p: [f64; 2]) -> Option<(f64, [f64; 2], f64)> {
     let mut best: Option<(f64, [f64; 2], f64)> = None;
     for k in 0..stroke.points.len().saturating_sub(1) {
         let (a, b) = (stroke.points[k], stroke.points[k + 1]);
-        let d = [b[0] - a[0], b[1] - a[1]];
-        let len2 = d[0] * d[0] + d[1] * d[1];
-        let t = if len2 > 0.0 {
-            (((p[0] - a[0]) * d[0] + (p[1] - a[1]) * d[1]) / len2).clamp(0.0, 1.0)
-        } else {
-            0.0
-        };
-        let q = [a[0] + t * d[0], a[1] + t * d[1]];
-        let dq = dist(p, q);
+        let (dq, t) = segment_closest(p, a, b);
         if best.is_none_or(|(b, _, _)| dq < b) {
+            let q = [a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1])];
             let w = stroke.widths[k] + t * (stroke.widths[k + 1] - stroke.widths[k]);
             best = Some((dq, q, w));
         }

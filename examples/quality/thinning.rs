@@ -8,7 +8,8 @@
 //! junction to an end) shorter than the local stroke width removed, the same rule as ridgeline's
 //! own cleanup (docs/design.md, adaptation 10), in one pass.
 
-use ridgeline::skeleton::{pixel_graph, tangents, zhang_suen};
+use ridgeline::geometry::tangents;
+use ridgeline::skeleton::{pixel_graph, zhang_suen};
 use ridgeline::{Binary, Edge, StrokeGraph};
 
 /// Zhang-Suen thinning followed by pixel-graph extraction (the library's, `ridgeline::skeleton`,

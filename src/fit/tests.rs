@@ -4,7 +4,8 @@
 
 use super::fit;
 use crate::draw::{render, Stroke};
-use crate::{segment_dist, Binary, GraphNode, Grid, NodeGraph, Params, PointSet, StrokeGraph};
+use crate::geometry::segment_dist;
+use crate::{Binary, GraphNode, Grid, NodeGraph, Params, PointSet, StrokeGraph};
 
 /// Points, 8-neighbours, half-widths (distance to the nearest background pixel center) and the
 /// pixel grid of a mask.

@@ -22,6 +22,8 @@ use std::collections::{BTreeMap, BinaryHeap};
 use serde::Serialize;
 
 use crate::synth::{render, Case};
+use ridgeline::csr::Csr;
+use ridgeline::geometry::point_in_polygon;
 use ridgeline::Binary;
 use ridgeline::{dist, Edge, StrokeGraph, Vertex};
 
@@ -735,8 +737,8 @@ struct PointGrid {
     cell: f64,
     nx: i64,
     ny: i64,
-    start: Vec<u32>,
-    items: Vec<u32>,
+    /// The points of each cell, row-major.
+    cells: Csr<u32>,
 }
 
 impl PointGrid {
@@ -754,8 +756,7 @@ impl PointGrid {
                 cell,
                 nx: 0,
                 ny: 0,
-                start: vec![0],
-                items: vec![],
+                cells: Csr::default(),
             };
         }
         let nx = ((hi[0] - lo[0]) / cell).floor() as i64 + 1;
@@ -765,24 +766,16 @@ impl PointGrid {
             cell,
             nx,
             ny,
-            start: vec![0; (nx * ny) as usize + 1],
-            items: vec![],
+            cells: Csr::default(),
         };
         let cells: Vec<Option<usize>> = points.iter().map(|&p| grid.cell_index(p)).collect();
-        for c in cells.iter().flatten() {
-            grid.start[c + 1] += 1;
-        }
-        for i in 0..grid.start.len() - 1 {
-            grid.start[i + 1] += grid.start[i];
-        }
-        let mut fill = grid.start.clone();
-        grid.items = vec![0; *grid.start.last().unwrap_or(&0) as usize];
-        for (i, c) in cells.iter().enumerate() {
-            if let Some(c) = *c {
-                grid.items[fill[c] as usize] = i as u32;
-                fill[c] += 1;
+        grid.cells = Csr::build((nx * ny) as usize, |sink| {
+            for (i, c) in cells.iter().enumerate() {
+                if let Some(c) = *c {
+                    sink.push(c, i as u32);
+                }
             }
-        }
+        });
         grid
     }
 
@@ -805,8 +798,7 @@ impl PointGrid {
         if cx < 0 || cy < 0 || cx >= self.nx || cy >= self.ny {
             return &[];
         }
-        let c = (cy * self.nx + cx) as usize;
-        &self.items[self.start[c] as usize..self.start[c + 1] as usize]
+        self.cells.row((cy * self.nx + cx) as usize)
     }
 
     /// Indices of the points within `r` of `p` (exact test), appended to `out`.
@@ -826,7 +818,7 @@ impl PointGrid {
 
     /// The nearest point and its distance.
     fn nearest(&self, points: &[[f64; 2]], p: [f64; 2]) -> Option<(u32, f64)> {
-        if self.items.is_empty() || !finite(p) {
+        if self.cells.values().is_empty() || !finite(p) {
             return None;
         }
         let (qx, qy) = self.cell_of(p);
@@ -1394,9 +1386,7 @@ impl Net {
         // Which samples the graph connects at all (a pair in two components touches across).
         let mut parts = UnionFind::new(samples.pos.len());
         for v in 0..samples.pos.len() {
-            for &u in
-                &samples.neighbors[samples.offsets[v] as usize..samples.offsets[v + 1] as usize]
-            {
+            for &u in samples.links.row(v) {
                 parts.union(v, u as usize);
             }
         }
@@ -2162,21 +2152,8 @@ impl Holes {
             }
         }
         self.reps.iter().any(|&q| {
-            if q[0] < lo[0] || q[0] > hi[0] || q[1] < lo[1] || q[1] > hi[1] {
-                return false;
-            }
-            let mut inside = false;
-            let n = polygon.len();
-            for i in 0..n {
-                let (a, b) = (polygon[i], polygon[(i + 1) % n]);
-                if (a[1] > q[1]) != (b[1] > q[1]) {
-                    let x = a[0] + (q[1] - a[1]) / (b[1] - a[1]) * (b[0] - a[0]);
-                    if q[0] < x {
-                        inside = !inside;
-                    }
-                }
-            }
-            inside
+            !(q[0] < lo[0] || q[0] > hi[0] || q[1] < lo[1] || q[1] > hi[1])
+                && point_in_polygon(q, polygon)
         })
     }
 }
@@ -2188,8 +2165,8 @@ struct Samples {
     width: Vec<f64>,
     /// For wire-interior samples: (wire, point index).
     place: Vec<Option<(usize, usize)>>,
-    offsets: Vec<u32>,
-    neighbors: Vec<u32>,
+    /// The samples joined to each sample.
+    links: Csr<u32>,
     grid: PointGrid,
 }
 
@@ -2212,22 +2189,12 @@ impl Samples {
             }
             links.push((prev, wire.to));
         }
-        let mut offsets = vec![0u32; pos.len() + 1];
-        for &(a, b) in &links {
-            offsets[a + 1] += 1;
-            offsets[b + 1] += 1;
-        }
-        for i in 0..pos.len() {
-            offsets[i + 1] += offsets[i];
-        }
-        let mut fill = offsets.clone();
-        let mut neighbors = vec![0u32; offsets[pos.len()] as usize];
-        for &(a, b) in &links {
-            neighbors[fill[a] as usize] = b as u32;
-            fill[a] += 1;
-            neighbors[fill[b] as usize] = a as u32;
-            fill[b] += 1;
-        }
+        let links = Csr::build(pos.len(), |sink| {
+            for &(a, b) in &links {
+                sink.push(a, b as u32);
+                sink.push(b, a as u32);
+            }
+        });
         // Only live vertices and wire points are searched.
         let searchable: Vec<[f64; 2]> = pos
             .iter()
@@ -2246,8 +2213,7 @@ impl Samples {
             pos,
             width,
             place,
-            offsets,
-            neighbors,
+            links,
             grid,
         }
     }
@@ -2307,9 +2273,7 @@ impl Dijkstra {
             if d > self.distance[v] {
                 continue;
             }
-            for &u in
-                &samples.neighbors[samples.offsets[v] as usize..samples.offsets[v + 1] as usize]
-            {
+            for &u in samples.links.row(v) {
                 let u = u as usize;
                 let next = d + dist(samples.pos[v], samples.pos[u]);
                 if next < self.distance[u] && next <= limit {

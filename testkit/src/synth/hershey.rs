@@ -88,7 +88,7 @@ impl Glyph {
                 .map(|&p| {
                     kept.iter().any(|s| {
                         s.windows(2)
-                            .any(|w| ridgeline::segment_dist(p, w[0], w[1]) <= tolerance)
+                            .any(|w| ridgeline::geometry::segment_dist(p, w[0], w[1]) <= tolerance)
                     })
                 })
                 .collect();
@@ -140,7 +140,7 @@ fn nearest_on(polylines: &[Vec<[f64; 2]>], p: [f64; 2]) -> [f64; 2] {
     let mut best = (f64::INFINITY, p);
     for s in polylines {
         for w in s.windows(2) {
-            let (d, t) = ridgeline::segment_closest(p, w[0], w[1]);
+            let (d, t) = ridgeline::geometry::segment_closest(p, w[0], w[1]);
             if d < best.0 {
                 best = (
                     d,

@@ -203,7 +203,7 @@ mod tests {
             let n = s.points.len();
             (0..n.saturating_sub(1).max(1)).any(|i| {
                 let j = (i + 1).min(n - 1);
-                let (d, t) = ridgeline::segment_closest(p, s.points[i], s.points[j]);
+                let (d, t) = ridgeline::geometry::segment_closest(p, s.points[i], s.points[j]);
                 d <= (s.widths[i] + t * (s.widths[j] - s.widths[i])) / 2.0 + slack
             })
         })

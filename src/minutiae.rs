@@ -11,7 +11,7 @@
 //!   points between the two branches. The stem is the arm opposite the narrowest angle between two
 //!   arms.
 //!
-//! Arm directions are chords over about two ridge widths ([`crate::strokes::end_direction`]).
+//! Arm directions are chords over about two ridge widths ([`Edge::end_direction`](crate::Edge::end_direction)).
 //!
 //! **Border**: minutiae closer than [`MinutiaeOptions::border_margin`] to the border of the print are
 //! dropped, because the ridges are cut there, not ended. With a mask, the print region is the
@@ -25,7 +25,6 @@
 //! Input: a [`StrokeGraph`] and optionally its foreground mask. Output: `Vec<Minutia>` in vertex
 //! order. Deterministic.
 
-use crate::strokes::end_direction;
 use crate::{dist, Binary, StrokeGraph};
 use serde::Serialize;
 
@@ -158,7 +157,7 @@ fn detect(graph: &StrokeGraph, options: &MinutiaeOptions) -> Vec<Minutia> {
                 };
                 d.map(|d| if at_start { *d } else { [-d[0], -d[1]] })
             };
-            if let Some(d) = end_direction(edge, at_start, length).or_else(fallback) {
+            if let Some(d) = edge.end_direction(at_start, length).or_else(fallback) {
                 arms[vertex].push(d);
             }
         }
@@ -392,7 +391,7 @@ fn lower_envelope(f: &[f64], d: &mut [f64], hull: &mut [usize], bounds: &mut [f6
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::strokes::graph_from;
+    use crate::stroke_graph::graph_from;
     use std::f64::consts::{FRAC_PI_2, PI};
 
     fn no_filters() -> MinutiaeOptions {

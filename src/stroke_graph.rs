@@ -36,6 +36,48 @@ impl Edge {
     pub fn length(&self) -> f64 {
         self.points.windows(2).map(|w| dist(w[0], w[1])).sum()
     }
+
+    /// Unit direction in which the edge leaves its `from` vertex (`at_start`) or its `to` vertex:
+    /// the chord from the vertex to the polyline point `length` further along the edge. The length
+    /// is clamped to half the edge (a third for a self-loop, whose two ends must not share a
+    /// chord). `None` when the chord is degenerate. The strokes chain edges and the minutiae aim
+    /// their marks by it.
+    pub fn end_direction(&self, at_start: bool, length: f64) -> Option<[f64; 2]> {
+        let n = self.points.len();
+        if n < 2 {
+            return None;
+        }
+        let point = |i: usize| {
+            if at_start {
+                self.points[i]
+            } else {
+                self.points[n - 1 - i]
+            }
+        };
+        let total = self.length();
+        let share = if self.from == self.to { 3.0 } else { 2.0 };
+        let target = length.min(total / share);
+        let origin = point(0);
+        let mut far = point(n - 1);
+        let mut walked = 0.0;
+        for i in 1..n {
+            let (a, b) = (point(i - 1), point(i));
+            let step = dist(a, b);
+            if walked + step >= target {
+                let t = if step > 0.0 {
+                    (target - walked) / step
+                } else {
+                    0.0
+                };
+                far = [a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1])];
+                break;
+            }
+            walked += step;
+        }
+        let chord = [far[0] - origin[0], far[1] - origin[1]];
+        let norm = chord[0].hypot(chord[1]);
+        (norm > 1e-9 && norm.is_finite()).then(|| [chord[0] / norm, chord[1] / norm])
+    }
 }
 
 /// The stroke graph of one image or point set.
@@ -133,5 +175,54 @@ impl StrokeGraph {
             }
         }
         Ok(())
+    }
+}
+
+/// A stroke graph built from vertex positions and edge polylines, with every width set to
+/// `width` and directions along the polylines: for tests of the feature modules.
+#[cfg(test)]
+pub(crate) fn graph_from(
+    positions: &[[f64; 2]],
+    edges: &[(usize, usize, Vec<[f64; 2]>)],
+    width: f64,
+) -> StrokeGraph {
+    let mut vertices: Vec<Vertex> = positions
+        .iter()
+        .map(|&pos| Vertex {
+            pos,
+            degree: 0,
+            width,
+        })
+        .collect();
+    let mut out = Vec::new();
+    for (from, to, interior) in edges {
+        vertices[*from].degree += 1;
+        vertices[*to].degree += 1;
+        let mut points = vec![positions[*from]];
+        points.extend(interior.iter().copied());
+        points.push(positions[*to]);
+        let directions = (0..points.len())
+            .map(|i| {
+                let (a, b) = (
+                    points[i.saturating_sub(1)],
+                    points[(i + 1).min(points.len() - 1)],
+                );
+                let n = dist(a, b).max(1e-12);
+                [(b[0] - a[0]) / n, (b[1] - a[1]) / n]
+            })
+            .collect();
+        out.push(Edge {
+            from: *from,
+            to: *to,
+            widths: vec![width; points.len()],
+            points,
+            directions,
+        });
+    }
+    StrokeGraph {
+        width: 200,
+        height: 200,
+        vertices,
+        edges: out,
     }
 }

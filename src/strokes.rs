@@ -12,13 +12,13 @@
 //!   [`StrokeOptions::max_deviation_deg`]; ends left over stop there.
 //!
 //! The tangent of an edge end is the chord from the vertex to the polyline point about two stroke
-//! widths along the edge ([`end_direction`]): the first segment alone follows the bend that arms
-//! make where they overlap at a junction. Pairing is a matching on edge ends, so the chains are paths
-//! or cycles, and every edge lies in exactly one stroke. Isolated vertices (no edges) give no stroke.
+//! widths along the edge ([`Edge::end_direction`](crate::Edge::end_direction)): the first segment
+//! alone follows the bend that arms make where they overlap at a junction. Pairing is a matching on
+//! edge ends, so the chains are paths or cycles, and every edge lies in exactly one stroke. Isolated vertices (no edges) give no stroke.
 //!
 //! Input: a [`StrokeGraph`]. Output: `Vec<Stroke>`, deterministic (ties broken by edge index).
 
-use crate::{dist, Binary, Edge, StrokeGraph};
+use crate::{dist, Binary, StrokeGraph};
 use serde::Serialize;
 
 /// Options for [`strokes`].
@@ -76,47 +76,6 @@ impl Stroke {
     }
 }
 
-/// Unit direction in which `edge` leaves its `from` vertex (`at_start`) or its `to` vertex: the
-/// chord from the vertex to the polyline point `length` further along the edge. The length is
-/// clamped to half the edge (a third for a self-loop, whose two ends must not share a chord).
-/// `None` when the chord is degenerate.
-pub fn end_direction(edge: &Edge, at_start: bool, length: f64) -> Option<[f64; 2]> {
-    let n = edge.points.len();
-    if n < 2 {
-        return None;
-    }
-    let point = |i: usize| {
-        if at_start {
-            edge.points[i]
-        } else {
-            edge.points[n - 1 - i]
-        }
-    };
-    let total = edge.length();
-    let share = if edge.from == edge.to { 3.0 } else { 2.0 };
-    let target = length.min(total / share);
-    let origin = point(0);
-    let mut far = point(n - 1);
-    let mut walked = 0.0;
-    for i in 1..n {
-        let (a, b) = (point(i - 1), point(i));
-        let step = dist(a, b);
-        if walked + step >= target {
-            let t = if step > 0.0 {
-                (target - walked) / step
-            } else {
-                0.0
-            };
-            far = [a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1])];
-            break;
-        }
-        walked += step;
-    }
-    let chord = [far[0] - origin[0], far[1] - origin[1]];
-    let norm = chord[0].hypot(chord[1]);
-    (norm > 1e-9 && norm.is_finite()).then(|| [chord[0] / norm, chord[1] / norm])
-}
-
 /// Deviation from straight, in degrees, of two outgoing directions: 0 when exactly opposite.
 fn deviation_deg(a: [f64; 2], b: [f64; 2]) -> f64 {
     let cos = (-(a[0] * b[0] + a[1] * b[1])).clamp(-1.0, 1.0);
@@ -159,7 +118,7 @@ fn pair_ends(graph: &StrokeGraph, options: &StrokeOptions) -> Vec<End> {
         directions.clear();
         directions.extend(
             ends.iter()
-                .map(|&end| end_direction(&graph.edges[end / 2], end % 2 == 0, length)),
+                .map(|&end| graph.edges[end / 2].end_direction(end % 2 == 0, length)),
         );
         candidates.clear();
         for i in 0..ends.len() {
@@ -304,59 +263,10 @@ pub fn coverage_iou(graph: &StrokeGraph, binary: &Binary) -> f64 {
     }
 }
 
-/// A stroke graph built from vertex positions and edge polylines, with every width set to
-/// `width` and directions along the polylines: for tests of the feature modules.
-#[cfg(test)]
-pub(crate) fn graph_from(
-    positions: &[[f64; 2]],
-    edges: &[(usize, usize, Vec<[f64; 2]>)],
-    width: f64,
-) -> StrokeGraph {
-    use crate::Vertex;
-    let mut vertices: Vec<Vertex> = positions
-        .iter()
-        .map(|&pos| Vertex {
-            pos,
-            degree: 0,
-            width,
-        })
-        .collect();
-    let mut out = Vec::new();
-    for (from, to, interior) in edges {
-        vertices[*from].degree += 1;
-        vertices[*to].degree += 1;
-        let mut points = vec![positions[*from]];
-        points.extend(interior.iter().copied());
-        points.push(positions[*to]);
-        let directions = (0..points.len())
-            .map(|i| {
-                let (a, b) = (
-                    points[i.saturating_sub(1)],
-                    points[(i + 1).min(points.len() - 1)],
-                );
-                let n = dist(a, b).max(1e-12);
-                [(b[0] - a[0]) / n, (b[1] - a[1]) / n]
-            })
-            .collect();
-        out.push(Edge {
-            from: *from,
-            to: *to,
-            widths: vec![width; points.len()],
-            points,
-            directions,
-        });
-    }
-    StrokeGraph {
-        width: 200,
-        height: 200,
-        vertices,
-        edges: out,
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::stroke_graph::graph_from;
 
     /// A star: one center vertex, one straight arm to each given point.
     fn star(center: [f64; 2], tips: &[[f64; 2]], width: f64) -> StrokeGraph {
@@ -461,7 +371,7 @@ mod tests {
             e.sort();
             e == vec![2, 3]
         }));
-        let d = end_direction(&g.edges[0], true, 12.0).unwrap();
+        let d = g.edges[0].end_direction(true, 12.0).unwrap();
         assert!(
             d[1].abs() < 0.1,
             "chord over 2 widths is close to the arm: {d:?}"

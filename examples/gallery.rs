@@ -153,7 +153,11 @@ fn show(input: &Path, out_dir: &Path, params: &Params, stage_dir: Option<&Path>)
             .stages
             .as_ref()
             .ok_or_else(|| anyhow!("stages not kept"))?;
-        ridgeline::debug::write_stage_pictures(dir, binary, stages, &staged.graph)?;
+        fs::create_dir_all(dir)?;
+        for picture in ridgeline::debug::stage_pngs(binary, stages, &staged.graph) {
+            let (name, png) = picture?;
+            fs::write(dir.join(name), png)?;
+        }
     }
     Ok(())
 }

@@ -19,7 +19,6 @@
 //! [`MAX_PICTURE_PIXELS`]; an image larger than that is drawn scaled down instead.
 
 use std::io::Cursor;
-use std::path::Path;
 
 use image::{ImageFormat, Rgb, RgbImage};
 use imageproc::drawing::{
@@ -112,35 +111,27 @@ pub fn stage_pictures(
         .collect()
 }
 
-/// Writes the pictures of [`stage_pictures`] as PNG files into `dir` (created if missing). Each
-/// file is written to a temporary file in `dir` and renamed over its name, so a reader never sees
-/// a half-written picture. Pictures are drawn one at a time to keep memory low on big pages.
-pub fn write_stage_pictures(
-    dir: &Path,
-    binary: &Binary,
-    stages: &Stages,
-    graph: &StrokeGraph,
-) -> Result<()> {
-    let io_error = |path: &Path, source: std::io::Error| Error::Io {
-        path: path.to_path_buf(),
-        source,
-    };
-    std::fs::create_dir_all(dir).map_err(|err| io_error(dir, err))?;
+/// The pictures of [`stage_pictures`] as the bytes of PNG files, named as in [`PICTURE_NAMES`]:
+/// what `--debug DIR` writes (the caller does the writing). Each picture is drawn and encoded
+/// only when the iterator reaches it, so a big page's pictures are not all in memory at once.
+pub fn stage_pngs<'a>(
+    binary: &'a Binary,
+    stages: &'a Stages,
+    graph: &'a StrokeGraph,
+) -> impl Iterator<Item = Result<(&'static str, Vec<u8>)>> + 'a {
     let scene = Scene {
         binary,
         stages,
         graph,
     };
-    for (stage, name) in PICTURE_NAMES.iter().enumerate() {
-        let path = dir.join(name);
-        let picture = scene.draw(stage);
+    PICTURE_NAMES.iter().enumerate().map(move |(stage, &name)| {
         let mut png = Vec::new();
-        picture
+        scene
+            .draw(stage)
             .write_to(&mut Cursor::new(&mut png), ImageFormat::Png)
-            .map_err(|err| io_error(&path, std::io::Error::other(err)))?;
-        crate::export::write_atomically(&path, &png).map_err(|err| io_error(&path, err))?;
-    }
-    Ok(())
+            .map_err(|err| Error::Encode(format!("{name}: {err}")))?;
+        Ok((name, png))
+    })
 }
 
 /// What the pictures are drawn from.

@@ -42,6 +42,9 @@ pub enum Error {
     /// The parameters contradict each other or are out of range.
     #[error("invalid parameter: {0}")]
     InvalidParams(String),
+    /// A picture could not be encoded (the stage pictures of [`crate::debug::stage_pngs`]).
+    #[error("cannot encode picture {0}")]
+    Encode(String),
     /// One field of [`Params`](crate::Params) is outside its documented range.
     #[error("invalid parameter {field}: {reason}")]
     InvalidParam {

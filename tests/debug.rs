@@ -5,7 +5,7 @@ use std::fs;
 use std::path::Path;
 
 use image::{Rgb, RgbImage};
-use ridgeline::debug::{picture_scale, stage_pictures, write_stage_pictures, PICTURE_NAMES};
+use ridgeline::debug::{picture_scale, stage_pictures, stage_pngs, PICTURE_NAMES};
 use ridgeline::{
     trace_binary_with_stages, Binary, Edge, Grid, Params, PointSet, Stages, StrokeGraph, Vertex,
 };
@@ -249,23 +249,19 @@ fn pictures_of_hand_built_stages() {
 }
 
 #[test]
-fn pictures_are_written_atomically_into_a_new_directory() {
+fn stage_pngs_are_the_pictures_encoded() {
     let binary = plus();
     let points = point_set(&binary);
     let stages = hand_stages(&points);
     let graph = plus_graph();
-    let dir = tempfile::TempDir::new().expect("temp dir");
-    let target = dir.path().join("a").join("b");
-    write_stage_pictures(&target, &binary, &stages, &graph).expect("written");
-    let mut names: Vec<String> = fs::read_dir(&target)
-        .expect("list")
-        .map(|e| e.expect("entry").file_name().to_string_lossy().into_owned())
-        .collect();
-    names.sort();
-    assert_eq!(names, PICTURE_NAMES, "the pictures and no temporary files");
     let expected = stage_pictures(&binary, &stages, &graph);
-    for (name, picture) in expected {
-        let read = image::open(target.join(&name)).expect("PNG").to_rgb8();
+    let pngs: Vec<(&str, Vec<u8>)> = stage_pngs(&binary, &stages, &graph)
+        .collect::<ridgeline::Result<_>>()
+        .expect("encoded");
+    let names: Vec<&str> = pngs.iter().map(|(name, _)| *name).collect();
+    assert_eq!(names, PICTURE_NAMES);
+    for ((name, png), (_, picture)) in pngs.iter().zip(expected) {
+        let read = image::load_from_memory(png).expect("PNG").to_rgb8();
         assert!(read == picture, "{name} round-trips");
     }
 }
@@ -304,11 +300,19 @@ fn cli_debug_writes_the_pictures() {
         run_ok(args, dir.path());
     };
 
-    // One input: the pictures go into DIR itself.
-    run(&["plus.png", "-o", "plus.svg", "--debug", "pictures"]);
+    // One input: the pictures go into DIR itself, created with its parents, and nothing else
+    // (no temporary file) is left there.
+    run(&["plus.png", "-o", "plus.svg", "--debug", "pictures/a/b"]);
     assert!(dir.path().join("plus.svg").is_file());
+    let pictures = dir.path().join("pictures").join("a").join("b");
+    let mut names: Vec<String> = fs::read_dir(&pictures)
+        .expect("list")
+        .map(|e| e.expect("entry").file_name().to_string_lossy().into_owned())
+        .collect();
+    names.sort();
+    assert_eq!(names, PICTURE_NAMES, "the pictures and no temporary files");
     for name in PICTURE_NAMES {
-        let picture = image::open(dir.path().join("pictures").join(name)).expect(name);
+        let picture = image::open(pictures.join(name)).expect(name);
         assert_eq!((picture.width(), picture.height()), (320, 320), "{name}");
     }
 

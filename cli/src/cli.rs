@@ -1770,7 +1770,8 @@ fn write_output(job: &Job, destination: &Destination, text: &str) -> Result<Stri
     })
 }
 
-/// Traces `gray` keeping the intermediate stages, and writes their pictures into `dir`.
+/// Traces `gray` keeping the intermediate stages, and writes their pictures into `dir` (created
+/// if missing), each atomically, one at a time.
 fn trace_with_pictures(
     gray: &ridgeline::GrayImage,
     params: &Params,
@@ -1779,8 +1780,12 @@ fn trace_with_pictures(
     let binary = ridgeline::raster::binarize(gray, params)?;
     let mut trace = ridgeline::trace_binary_with_stages(&binary, params)?;
     if let Some(stages) = &trace.stages {
-        ridgeline::debug::write_stage_pictures(dir, &binary, stages, &trace.graph)
-            .context("cannot write the --debug pictures")?;
+        fs::create_dir_all(dir)
+            .with_context(|| format!("cannot create the --debug folder {}", dir.display()))?;
+        for picture in ridgeline::debug::stage_pngs(&binary, stages, &trace.graph) {
+            let (name, png) = picture?;
+            write_atomically(&dir.join(name), &png).context("cannot write the --debug pictures")?;
+        }
     }
     trace.binary = Some(binary);
     Ok(trace)
@@ -1802,8 +1807,8 @@ fn os_reason(err: &std::io::Error) -> String {
     err.kind().to_string()
 }
 
-/// Writes `bytes` to `path` atomically ([`ridgeline::export::write_atomically`]). Errors name
-/// `path` and the reason, never the temporary file.
+/// Writes `bytes` to `path` atomically ([`replace_file`]). Errors name `path` and the reason,
+/// never the temporary file.
 fn write_atomically(path: &Path, bytes: &[u8]) -> Result<()> {
     let dir = match path.parent() {
         Some(parent) if !parent.as_os_str().is_empty() => parent,
@@ -1812,8 +1817,51 @@ fn write_atomically(path: &Path, bytes: &[u8]) -> Result<()> {
     if !dir.is_dir() {
         anyhow::bail!("cannot write {}: {}", path.display(), missing_folder(dir));
     }
-    ridgeline::export::write_atomically(path, bytes)
+    replace_file(path, bytes)
         .map_err(|err| anyhow::anyhow!("cannot write {}: {}", path.display(), os_reason(&err)))
+}
+
+/// Writes `bytes` to a temporary file beside `path`, then renames it over `path`: readers see the
+/// old file or the new one, never a truncated one, and a failure leaves the old file as it was (and
+/// no temporary file behind). The file is an ordinary one, readable as usual (mode 0644 less the
+/// umask). The error is the operating system's, for the caller to name `path`.
+fn replace_file(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
+    use std::io::Write as _;
+    use std::sync::atomic::{AtomicU64, Ordering};
+    // Unique among this process's writes; `create_new` refuses a name another process holds.
+    static NEXT: AtomicU64 = AtomicU64::new(0);
+    let dir = match path.parent() {
+        Some(parent) if !parent.as_os_str().is_empty() => parent,
+        _ => Path::new("."),
+    };
+    let (temp, mut file) = loop {
+        let name = format!(
+            ".ridgeline-{}-{}.tmp",
+            std::process::id(),
+            NEXT.fetch_add(1, Ordering::Relaxed)
+        );
+        let temp = dir.join(name);
+        let mut options = std::fs::OpenOptions::new();
+        options.write(true).create_new(true);
+        #[cfg(unix)]
+        {
+            use std::os::unix::fs::OpenOptionsExt;
+            options.mode(0o644);
+        }
+        match options.open(&temp) {
+            Ok(file) => break (temp, file),
+            Err(err) if err.kind() == std::io::ErrorKind::AlreadyExists => continue,
+            Err(err) => return Err(err),
+        }
+    };
+    let written = file.write_all(bytes).and_then(|()| {
+        drop(file);
+        std::fs::rename(&temp, path)
+    });
+    if written.is_err() {
+        let _ = std::fs::remove_file(&temp);
+    }
+    written
 }
 
 #[cfg(test)]

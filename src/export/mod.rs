@@ -12,54 +12,10 @@ pub mod json;
 pub mod svg;
 
 use std::fmt::Write;
-use std::path::Path;
 
 use crate::curves::CubicBezier;
 use crate::minutiae::Minutia;
 use crate::strokes::Stroke;
-
-/// Writes `bytes` to a temporary file beside `path`, then renames it over `path`: readers see the
-/// old file or the new one, never a truncated one, and a failure leaves the old file as it was (and
-/// no temporary file behind). The file is an ordinary one, readable as usual (mode 0644 less the
-/// umask). The error is the operating system's, for the caller to name `path`.
-pub fn write_atomically(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
-    use std::io::Write as _;
-    use std::sync::atomic::{AtomicU64, Ordering};
-    // Unique among this process's writes; `create_new` refuses a name another process holds.
-    static NEXT: AtomicU64 = AtomicU64::new(0);
-    let dir = match path.parent() {
-        Some(parent) if !parent.as_os_str().is_empty() => parent,
-        _ => Path::new("."),
-    };
-    let (temp, mut file) = loop {
-        let name = format!(
-            ".ridgeline-{}-{}.tmp",
-            std::process::id(),
-            NEXT.fetch_add(1, Ordering::Relaxed)
-        );
-        let temp = dir.join(name);
-        let mut options = std::fs::OpenOptions::new();
-        options.write(true).create_new(true);
-        #[cfg(unix)]
-        {
-            use std::os::unix::fs::OpenOptionsExt;
-            options.mode(0o644);
-        }
-        match options.open(&temp) {
-            Ok(file) => break (temp, file),
-            Err(err) if err.kind() == std::io::ErrorKind::AlreadyExists => continue,
-            Err(err) => return Err(err),
-        }
-    };
-    let written = file.write_all(bytes).and_then(|()| {
-        drop(file);
-        std::fs::rename(&temp, path)
-    });
-    if written.is_err() {
-        let _ = std::fs::remove_file(&temp);
-    }
-    written
-}
 
 /// Results computed from the graph beyond the graph itself (docs/design.md, "Beyond the paper"),
 /// handed to the writers as plain data so that export never runs a computation of its own. Build it

@@ -48,6 +48,19 @@ impl Binary {
         }
     }
 
+    /// Refuses a mask whose `ink` is not `width x height` pixels (the fields are public): the
+    /// stages index it by pixel.
+    pub(crate) fn check_size(&self) -> crate::Result<()> {
+        let (width, height) = (self.width as usize, self.height as usize);
+        if width.checked_mul(height) != Some(self.ink.len()) {
+            return Err(crate::Error::InvalidParams(format!(
+                "mask has {} pixels for a {width}x{height} image",
+                self.ink.len()
+            )));
+        }
+        Ok(())
+    }
+
     /// Number of ink pixels.
     pub fn count(&self) -> usize {
         self.ink.iter().filter(|&&b| b).count()

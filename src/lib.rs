@@ -56,7 +56,8 @@
 //!   [`strokes`], [`minutiae`] and [`curves`] derive pen strokes, fingerprint minutiae and Bézier
 //!   curves from it.
 //! - To see what each stage did, trace with [`trace_binary_with_stages`] and draw the stages with
-//!   [`debug::stage_pictures`] (the CLI's `--debug DIR`).
+//!   [`debug::stage_pictures`] or encode them with [`debug::stage_pngs`] (the CLI's `--debug DIR`).
+//!   [`thin`] gives plain thinning, for comparison.
 //! - Errors are [`Error`]; the library never panics on input, and refuses inputs larger than
 //!   [`Limits`] before allocating for them.
 
@@ -79,13 +80,13 @@ pub mod draw;
 pub mod export;
 pub(crate) mod fit;
 pub mod geometry;
-pub mod graph;
+mod graph;
 pub mod minutiae;
 pub mod point_list;
 pub mod raster;
-pub mod refine;
-pub mod sample;
-pub mod skeleton;
+mod refine;
+mod sample;
+mod skeleton;
 pub mod strokes;
 pub mod warnings;
 
@@ -246,6 +247,16 @@ pub fn trace_binary_with_stages(binary: &Binary, params: &Params) -> Result<Trac
     params.validate()?;
     let points = raster::points(binary, params)?;
     run(points, binary.width, binary.height, params, true)
+}
+
+/// Zhang-Suen thinning of a mask and the graph thinning tools extract from its one-pixel skeleton
+/// (junction pixels clustered into one vertex, ends, the pixel paths between them, widths from the
+/// distance transform), without any stage of the method: the quality benchmark's thinning
+/// baseline, and the skeleton the default tracing carries its geometry on (docs/design.md,
+/// "Skeleton-carried geometry"). Refuses a mask whose `ink` is not `width x height` pixels.
+pub fn thin(binary: &Binary) -> Result<StrokeGraph> {
+    binary.check_size()?;
+    Ok(skeleton::thin(binary))
 }
 
 /// Points per chunk when a large input is traced in parallel (whole components per chunk).

@@ -10,7 +10,6 @@ use rayon::prelude::*;
 /// Squared distance transform values at the ink pixels only, in raster order: entry `i` belongs to
 /// the `i`-th ink pixel of `ink`. Pixels outside the image count as background, so a 1-px line has 1 and
 /// the center of a 3-px line 2. See [`squared_distance_rows`].
-#[cfg(test)]
 pub(crate) fn ink_distances(ink: &[bool], width: usize, height: usize) -> Vec<f32> {
     let row_starts = ink_row_starts(ink, width, height);
     let mut half_width = vec![0f32; row_starts[height]];

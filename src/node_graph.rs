@@ -35,7 +35,7 @@ pub struct NodeGraph {
 
 impl NodeGraph {
     /// Adjacency lists (sorted) built from [`NodeGraph::edges`].
-    pub fn adjacency(&self) -> Vec<Vec<u32>> {
+    pub(crate) fn adjacency(&self) -> Vec<Vec<u32>> {
         let mut adj = vec![Vec::new(); self.nodes.len()];
         for &[a, b] in &self.edges {
             adj[a as usize].push(b);

@@ -188,7 +188,7 @@ pub struct Params {
     /// Clean-up after §3.3 (contract hole-free cycles, prune spurs, collapse short bars) and the
     /// placement of ends and junctions (adaptations 10, 11, 13, 14). Default true; paper false.
     pub cleanup: bool,
-    /// Skeleton-carried geometry ([`crate::skeleton`], docs/quality.md "Fidelity directions"): a
+    /// Skeleton-carried geometry ([`crate::thin`], docs/quality.md "Fidelity directions"): a
     /// topology-preserving pixel skeleton carries the polylines and every hole, the method's
     /// graph decides crossings and spurs and lends its fitted lines where it follows the
     /// skeleton. Images only, not in dropout mode. Default true; paper false (the node graph's

@@ -1,6 +1,7 @@
 //! The strip point set `P` of the paper: one point per foreground pixel center (or one per line of
 //! a point list), with the neighbour graph every later stage walks and the local half-width.
 
+#[cfg(test)]
 use crate::csr::symmetric_neighbours;
 use crate::mask::{run_components, Run};
 
@@ -24,6 +25,45 @@ impl Grid {
     /// Marks a background pixel in [`Grid::index`].
     pub const NONE: u32 = u32::MAX;
 
+    /// Checks that the grid indexes exactly `points`: one index entry per pixel of the window,
+    /// each [`Grid::NONE`] or the point whose pixel it is, and every point the center of a pixel
+    /// of the window.
+    fn validate(&self, points: &[[f64; 2]]) -> Result<(), String> {
+        let pixels = (self.width as usize).checked_mul(self.height as usize);
+        if pixels != Some(self.index.len()) {
+            return Err(format!(
+                "grid of {}x{} pixels has {} index entries",
+                self.width,
+                self.height,
+                self.index.len()
+            ));
+        }
+        let mut indexed = 0usize;
+        for (pixel, &id) in self.index.iter().enumerate() {
+            if id == Self::NONE {
+                continue;
+            }
+            let (x, y) = (pixel % self.width as usize, pixel / self.width as usize);
+            let center = [
+                (self.x0 + x as i64) as f64 + 0.5,
+                (self.y0 + y as i64) as f64 + 0.5,
+            ];
+            if points.get(id as usize) != Some(&center) {
+                return Err(format!(
+                    "grid pixel ({x}, {y}) indexes point {id}, not its own"
+                ));
+            }
+            indexed += 1;
+        }
+        if indexed != points.len() {
+            return Err(format!(
+                "grid indexes {indexed} of {} points (each point once, at its pixel)",
+                points.len()
+            ));
+        }
+        Ok(())
+    }
+
     /// Frees the pixel index, keeping the window: a chunk waiting between stages holds no
     /// per-pixel memory (see [`Grid::rebuild`]).
     pub(crate) fn release(&mut self) {
@@ -40,14 +80,17 @@ impl Grid {
         }
     }
 
-    /// The point at pixel `(x, y)`, if it is ink.
+    /// The point at pixel `(x, y)`, if it is ink (`None` also where [`Grid::index`] is shorter
+    /// than the window).
     #[inline]
     pub fn point_at(&self, x: i64, y: i64) -> Option<u32> {
-        let (x, y) = (x - self.x0, y - self.y0);
+        let (x, y) = (x.checked_sub(self.x0)?, y.checked_sub(self.y0)?);
         if x < 0 || y < 0 || x >= self.width as i64 || y >= self.height as i64 {
             return None;
         }
-        let id = self.index[y as usize * self.width as usize + x as usize];
+        let id = *self
+            .index
+            .get(y as usize * self.width as usize + x as usize)?;
         (id != Self::NONE).then_some(id)
     }
 }
@@ -83,8 +126,10 @@ impl ComponentChunks {
 /// The input points with everything the stages need to know about them.
 ///
 /// Invariants (checked by [`PointSet::validate`]): all coordinates finite; `half_width` has one
-/// entry per point; `offsets.len() == len() + 1`; the neighbour relation is symmetric and has no
-/// self-loops.
+/// finite, non-negative entry per point; `offsets` has `len() + 1` entries rising from 0 to
+/// `neighbors.len()`; the neighbour relation is symmetric and has no self-loops; `spacing` is
+/// finite and positive when there are points; a grid indexes exactly the points, each a pixel
+/// center of its window.
 #[derive(Clone, Debug, Default)]
 pub struct PointSet {
     /// Point coordinates. For images: pixel centers, pixel `(c, r)` at `(c + 0.5, r + 0.5)`.
@@ -117,15 +162,23 @@ impl PointSet {
         self.points.is_empty()
     }
 
-    /// The neighbours of point `i`.
+    /// The neighbours of point `i` (none for a point or offsets that do not exist).
     #[inline]
     pub fn neighbors_of(&self, i: u32) -> &[u32] {
         let i = i as usize;
-        &self.neighbors[self.offsets[i] as usize..self.offsets[i + 1] as usize]
+        match (self.offsets.get(i), self.offsets.get(i + 1)) {
+            (Some(&start), Some(&end)) => self
+                .neighbors
+                .get(start as usize..end as usize)
+                .unwrap_or(&[]),
+            _ => &[],
+        }
     }
 
-    /// Builds the CSR neighbour arrays from per-point lists, symmetrizing them.
-    pub fn set_neighbors_symmetric(&mut self, lists: &[Vec<u32>]) {
+    /// Builds the CSR neighbour arrays from per-point lists, symmetrizing them (for hand-built
+    /// point sets in tests).
+    #[cfg(test)]
+    pub(crate) fn set_neighbors_symmetric(&mut self, lists: &[Vec<u32>]) {
         let (offsets, neighbors) = symmetric_neighbours(self.points.len(), |emit| {
             for (i, list) in lists.iter().enumerate() {
                 for &j in list {
@@ -143,14 +196,15 @@ impl PointSet {
     /// chunk about `target` points or one component, in the order of each component's first
     /// point. Every stage treats components independently, so tracing the chunks one by one gives
     /// the same result as tracing the whole set; the chunking does not depend on the thread count.
-    pub fn split_components(&self, target: usize) -> Vec<PointSet> {
+    #[cfg(test)]
+    pub(crate) fn split_components(&self, target: usize) -> Vec<PointSet> {
         let chunks = self.component_chunks(target);
         (0..chunks.len()).map(|c| chunks.part(self, c)).collect()
     }
 
     /// Each point's connected component (of the neighbour graph), numbered in order of the
     /// components' first points, and the components' sizes.
-    pub fn component_labels(&self) -> (Vec<u32>, Vec<usize>) {
+    pub(crate) fn component_labels(&self) -> (Vec<u32>, Vec<usize>) {
         let n = self.len();
         if self.offsets.len() != n + 1 {
             return ((0..n as u32).collect(), vec![1; n]);
@@ -322,6 +376,7 @@ impl PointSet {
     }
 
     /// Checks the invariants listed on the type; returns a description of the first violation.
+    /// Never panics, whatever the fields hold.
     pub fn validate(&self) -> Result<(), String> {
         let n = self.points.len();
         if self.half_width.len() != n {
@@ -333,6 +388,33 @@ impl PointSet {
         }
         if self.offsets.len() != n + 1 {
             return Err(format!("{} offsets for {} points", self.offsets.len(), n));
+        }
+        if self.offsets[0] != 0 || self.offsets[n] as usize != self.neighbors.len() {
+            return Err(format!(
+                "offsets run from {} to {} over {} neighbours",
+                self.offsets[0],
+                self.offsets[n],
+                self.neighbors.len()
+            ));
+        }
+        if let Some(i) = self.offsets.windows(2).position(|w| w[0] > w[1]) {
+            return Err(format!("offsets fall at point {i}"));
+        }
+        if n >= Grid::NONE as usize {
+            return Err(format!(
+                "{n} points: at most {} can be indexed",
+                Grid::NONE - 1
+            ));
+        }
+        if let Some(i) = self
+            .half_width
+            .iter()
+            .position(|h| !(h.is_finite() && *h >= 0.0))
+        {
+            return Err(format!("half-width of point {i} is {}", self.half_width[i]));
+        }
+        if n > 0 && !(self.spacing.is_finite() && self.spacing > 0.0) {
+            return Err(format!("spacing {} is not positive", self.spacing));
         }
         if let Some(i) = self
             .points
@@ -347,6 +429,9 @@ impl PointSet {
                     return Err(format!("neighbour relation broken at {i} - {j}"));
                 }
             }
+        }
+        if let Some(grid) = &self.grid {
+            grid.validate(&self.points)?;
         }
         Ok(())
     }

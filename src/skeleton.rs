@@ -20,8 +20,9 @@
 use kiddo::{ImmutableKdTree, SquaredEuclidean};
 
 use crate::geometry::{dist, tangents};
+use crate::mask::ink_distances;
 use crate::point_set::{Grid, PointSet};
-use crate::{Edge, StrokeGraph, Vertex};
+use crate::{Binary, Edge, StrokeGraph, Vertex};
 
 /// Offsets of the 8 neighbours in the order P2..P9 of Zhang and Suen (N, NE, E, SE, S, SW, W, NW).
 const RING: [(i64, i64); 8] = [
@@ -391,6 +392,27 @@ pub fn spur_reach(points: &[[f64; 2]], widths: &[f64], envelope: &[([f64; 2], f6
         })
         .filter(|e| e.is_finite())
         .fold(0.0f64, f64::max)
+}
+
+/// Zhang-Suen thinning of `binary` (whose size [`Binary::check_size`] has checked) and the
+/// [`pixel_graph`] of its skeleton, half-widths from the exact distance transform of the ink: what
+/// thinning tools give, without any decision of the method.
+pub(crate) fn thin(binary: &Binary) -> StrokeGraph {
+    let (w, h) = (binary.width as usize, binary.height as usize);
+    if w == 0 || h == 0 {
+        return StrokeGraph {
+            width: binary.width,
+            height: binary.height,
+            ..StrokeGraph::default()
+        };
+    }
+    let skeleton = zhang_suen(&binary.ink, w, h);
+    let mut half = vec![0f32; w * h];
+    let ink_pixels = (0..w * h).filter(|&i| binary.ink[i]);
+    for (i, d) in ink_pixels.zip(ink_distances(&binary.ink, w, h)) {
+        half[i] = d;
+    }
+    pixel_graph(w, h, &skeleton, &half)
 }
 
 /// The skeleton-carried graph of `points`' ink with the topology decisions of `method` (see the

@@ -7,7 +7,7 @@ use std::path::Path;
 use image::{Rgb, RgbImage};
 use ridgeline::debug::{picture_scale, stage_pictures, stage_pngs, PICTURE_NAMES};
 use ridgeline::{
-    trace_binary_with_stages, Binary, Edge, Grid, Params, PointSet, Stages, StrokeGraph, Vertex,
+    trace_binary_with_stages, Binary, Edge, Grid, Params, Stages, StrokeGraph, Vertex,
 };
 use ridgeline_testkit::synth::{render, Stroke};
 
@@ -40,9 +40,17 @@ fn ends() -> [[f64; 2]; 4] {
     ]
 }
 
-/// The point set of `binary` built here, independently of the raster stage: pixel centers,
-/// 8-neighbours, half-width by brute force.
-fn point_set(binary: &Binary) -> PointSet {
+/// The point set of `binary` built here, independently of the raster stage: pixel centers in
+/// raster order, the pixel index, the 8-neighbours of each point (ascending), half-widths by brute
+/// force.
+struct HandPoints {
+    points: Vec<[f64; 2]>,
+    index: Vec<u32>,
+    neighbors: Vec<Vec<u32>>,
+    half_width: Vec<f32>,
+}
+
+fn hand_points(binary: &Binary) -> HandPoints {
     let (w, h) = (binary.width as i64, binary.height as i64);
     let mut index = vec![Grid::NONE; (w * h) as usize];
     let mut points = Vec::new();
@@ -68,7 +76,7 @@ fn point_set(binary: &Binary) -> PointSet {
                 .fold(f64::INFINITY, f64::min) as f32
         })
         .collect();
-    let lists: Vec<Vec<u32>> = points
+    let neighbors = points
         .iter()
         .map(|p| {
             let (x, y) = (p[0] as i64, p[1] as i64);
@@ -84,21 +92,12 @@ fn point_set(binary: &Binary) -> PointSet {
             list
         })
         .collect();
-    let mut set = PointSet {
+    HandPoints {
         points,
+        index,
+        neighbors,
         half_width,
-        spacing: 1.0,
-        grid: Some(Grid {
-            width: binary.width,
-            height: binary.height,
-            index,
-            x0: 0,
-            y0: 0,
-        }),
-        ..PointSet::default()
-    };
-    set.set_neighbors_symmetric(&lists);
-    set
+    }
 }
 
 /// The stroke graph a perfect trace of the '+' gives: one degree-4 vertex, four ends.
@@ -133,18 +132,37 @@ fn plus_graph() -> StrokeGraph {
     }
 }
 
-/// Stages from the sampling, graph and refinement stages run on the hand-built point set.
-fn hand_stages(points: &PointSet) -> Stages {
-    let params = Params::default();
-    let samples = ridgeline::sample::sample(points, &params);
-    let node_graph = ridgeline::graph::build(points, &samples, &params);
-    let refined = ridgeline::refine::refine(&node_graph, points, &params);
-    Stages {
-        points: points.clone(),
-        samples,
-        node_graph,
-        refined,
+/// The stages of the trace of `binary`, after checking that the point set they ran on is the one
+/// built here by hand ([`hand_points`]).
+fn hand_stages(binary: &Binary) -> Stages {
+    let trace = trace_binary_with_stages(binary, &Params::default()).expect("trace");
+    let stages = trace.stages.expect("stages kept");
+    let hand = hand_points(binary);
+    let points = &stages.points;
+    points.validate().expect("valid point set");
+    assert_eq!(points.points, hand.points);
+    assert_eq!(points.spacing, 1.0);
+    for (i, (got, want)) in points.half_width.iter().zip(&hand.half_width).enumerate() {
+        assert!(
+            (got - want).abs() < 1e-5,
+            "half-width of point {i}: {got} vs {want}"
+        );
     }
+    assert_eq!(points.half_width.len(), hand.half_width.len());
+    for (i, list) in hand.neighbors.iter().enumerate() {
+        assert_eq!(
+            points.neighbors_of(i as u32),
+            &list[..],
+            "neighbours of {i}"
+        );
+    }
+    let grid = points.grid.as_ref().expect("pixel grid");
+    assert_eq!(
+        (grid.width, grid.height, grid.x0, grid.y0),
+        (SIDE, SIDE, 0, 0)
+    );
+    assert_eq!(grid.index, hand.index);
+    stages
 }
 
 fn rgb(hex: &str) -> Rgb<u8> {
@@ -231,11 +249,9 @@ fn check_pictures(pictures: &[(String, RgbImage)], graph: &StrokeGraph) {
 }
 
 #[test]
-fn pictures_of_hand_built_stages() {
+fn pictures_of_stages_on_a_hand_checked_point_set() {
     let binary = plus();
-    let points = point_set(&binary);
-    points.validate().expect("valid point set");
-    let stages = hand_stages(&points);
+    let stages = hand_stages(&binary);
     let graph = plus_graph();
     let pictures = stage_pictures(&binary, &stages, &graph);
     if let Some(dir) = std::env::var_os("RIDGELINE_KEEP_PICTURES") {
@@ -251,8 +267,7 @@ fn pictures_of_hand_built_stages() {
 #[test]
 fn stage_pngs_are_the_pictures_encoded() {
     let binary = plus();
-    let points = point_set(&binary);
-    let stages = hand_stages(&points);
+    let stages = hand_stages(&binary);
     let graph = plus_graph();
     let expected = stage_pictures(&binary, &stages, &graph);
     let pngs: Vec<(&str, Vec<u8>)> = stage_pngs(&binary, &stages, &graph)
@@ -272,7 +287,7 @@ fn pictures_of_empty_and_mismatched_stages_do_not_panic() {
     let pictures = stage_pictures(&binary, &Stages::default(), &StrokeGraph::default());
     assert_eq!(pictures.len(), PICTURE_NAMES.len());
     let tiny = Binary::new(1, 1);
-    for (_, picture) in stage_pictures(&tiny, &hand_stages(&point_set(&binary)), &plus_graph()) {
+    for (_, picture) in stage_pictures(&tiny, &hand_stages(&binary), &plus_graph()) {
         assert_eq!(picture.dimensions(), (4, 4));
     }
 }

@@ -949,3 +949,142 @@ fn point_lists_trace_the_same_in_any_unit() {
         }
     }
 }
+
+// ---------------------------------------------------------------------------------------------
+// Values a user can build: the public data types' checks and helpers never panic on them
+
+/// The '+' the debug pictures use, as the raster stage's point set (valid to start from).
+fn plus_points() -> ridgeline::PointSet {
+    let plus = render(
+        &[
+            Stroke::new(vec![[5.0, 20.0], [35.0, 20.0]], 5.0),
+            Stroke::new(vec![[20.0, 5.0], [20.0, 35.0]], 5.0),
+        ],
+        40,
+        40,
+    );
+    let points = ridgeline::raster::points(&plus, &Params::default()).expect("points");
+    points.validate().expect("the raster's point set is valid");
+    points
+}
+
+/// Each broken invariant of a point set is reported by `PointSet::validate`, which formerly
+/// panicked on some of them itself (offsets beyond the neighbour list), and that the stages
+/// (crate-private now: sampling read out-of-range neighbours, the skeleton an index beyond its
+/// window) could only have met by panicking.
+#[test]
+fn broken_point_sets_are_reported_not_panicked_on() {
+    let good = plus_points();
+    let n = good.len();
+    let mut cases: Vec<(&str, ridgeline::PointSet)> = Vec::new();
+    let mut out_of_range = good.clone();
+    out_of_range.neighbors[0] = n as u32 + 7;
+    cases.push(("neighbour out of range", out_of_range));
+    let mut self_loop = good.clone();
+    self_loop.neighbors[0] = 0;
+    cases.push(("self-loop", self_loop));
+    let mut beyond = good.clone();
+    beyond.offsets[n] = u32::MAX;
+    cases.push(("offsets beyond the neighbours", beyond));
+    let mut falling = good.clone();
+    falling.offsets[1] = falling.offsets[2] + 1;
+    cases.push(("falling offsets", falling));
+    let mut short = good.clone();
+    short.offsets.pop();
+    cases.push(("offsets missing", short));
+    let mut nan = good.clone();
+    nan.half_width[3] = f32::NAN;
+    cases.push(("NaN half-width", nan));
+    let mut spacing = good.clone();
+    spacing.spacing = 0.0;
+    cases.push(("zero spacing", spacing));
+    let mut far = good.clone();
+    far.points[5][0] = f64::INFINITY;
+    cases.push(("infinite point", far));
+    let mut moved = good.clone();
+    moved.points[5][0] += 1.0;
+    cases.push(("point off its grid pixel", moved));
+    let mut small = good.clone();
+    small.grid.as_mut().expect("grid").index.truncate(10);
+    cases.push(("grid index shorter than its window", small));
+    let mut wrong = good.clone();
+    let grid = wrong.grid.as_mut().expect("grid");
+    let ink = grid.index.iter().position(|&i| i != ridgeline::Grid::NONE);
+    grid.index[ink.expect("ink")] = n as u32 + 1;
+    cases.push(("grid indexes a missing point", wrong));
+    for (what, set) in cases {
+        assert!(set.validate().is_err(), "{what} passed validation");
+        // The accessors stay total on the same values.
+        for i in [0, 1, n as u32 - 1, n as u32, u32::MAX] {
+            let _ = set.neighbors_of(i);
+        }
+    }
+}
+
+/// `Grid::point_at` and `PointSet::neighbors_of` answer "nothing" for what is not there, however
+/// the public fields were filled (both formerly indexed past the end).
+#[test]
+fn grid_and_neighbour_lookups_are_total() {
+    let mut set = plus_points();
+    let grid = set.grid.as_mut().expect("grid");
+    assert!(grid.point_at(20, 20).is_some());
+    grid.index.truncate(3);
+    assert_eq!(grid.point_at(20, 20), None);
+    assert_eq!(grid.point_at(i64::MIN, i64::MAX), None);
+    grid.x0 = i64::MIN;
+    assert_eq!(grid.point_at(i64::MAX, 0), None);
+    set.offsets = vec![5, 2, u32::MAX];
+    assert!(set.neighbors_of(0).is_empty() && set.neighbors_of(1).is_empty());
+}
+
+/// `ridgeline::thin` (the thinning baseline's public entry; its stage functions `zhang_suen` and
+/// `pixel_graph` were public and indexed a short mask past its end) refuses a mask whose pixels do
+/// not fill its size, and thins an empty one to nothing.
+#[test]
+fn thinning_refuses_a_mask_of_the_wrong_size() {
+    let short = Binary {
+        width: 30,
+        height: 30,
+        ink: vec![true; 100],
+    };
+    match ridgeline::thin(&short) {
+        Err(Error::InvalidParams(message)) => assert!(message.contains("100 pixels"), "{message}"),
+        other => panic!("expected an error, got {other:?}"),
+    }
+    for (w, h) in [(0, 0), (0, 5), (7, 0)] {
+        let empty = ridgeline::thin(&Binary::new(w, h)).expect("empty mask");
+        assert!(empty.vertices.is_empty() && empty.edges.is_empty());
+    }
+    let bar = render(&[Stroke::new(vec![[5.0, 10.0], [45.0, 10.0]], 5.0)], 50, 20);
+    let graph = ridgeline::thin(&bar).expect("thinned");
+    graph.validate().expect("a valid stroke graph");
+    assert_eq!(graph.endpoints().count(), 2);
+}
+
+/// The node graphs and samples a user can put into `Stages` (for the debug pictures) are checked
+/// by their `validate`, and the pictures of out-of-range ones draw what exists.
+#[test]
+fn broken_stages_are_reported_and_drawn_without_panicking() {
+    let plus = render(
+        &[
+            Stroke::new(vec![[5.0, 20.0], [35.0, 20.0]], 5.0),
+            Stroke::new(vec![[20.0, 5.0], [20.0, 35.0]], 5.0),
+        ],
+        40,
+        40,
+    );
+    let trace = ridgeline::trace_binary_with_stages(&plus, &Params::default()).expect("trace");
+    let mut stages = trace.stages.expect("stages kept");
+    let n = stages.points.len();
+    stages.node_graph.edges.push([0, 9_999]);
+    stages.refined.edges.push([9_998, 9_999]);
+    stages.refined.owner[0] = 9_999;
+    stages.samples.owner[0] = 9_999;
+    stages.points.neighbors[0] = u32::MAX - 1;
+    assert!(stages.node_graph.validate(n).is_err());
+    assert!(stages.refined.validate(n).is_err());
+    assert!(stages.samples.validate(n).is_err());
+    assert!(stages.points.validate().is_err());
+    let pictures = ridgeline::debug::stage_pictures(&plus, &stages, &trace.graph);
+    assert_eq!(pictures.len(), ridgeline::debug::PICTURE_NAMES.len());
+}

@@ -9,19 +9,13 @@
 //! own cleanup (docs/design.md, adaptation 10), in one pass.
 
 use ridgeline::geometry::tangents;
-use ridgeline::skeleton::{pixel_graph, zhang_suen};
 use ridgeline::{Binary, Edge, StrokeGraph};
 
-/// Zhang-Suen thinning followed by pixel-graph extraction (the library's, `ridgeline::skeleton`,
-/// which the default skeleton-carried tracing builds on).
+/// Zhang-Suen thinning followed by pixel-graph extraction (the library's, [`ridgeline::thin`],
+/// whose skeleton the default skeleton-carried tracing builds on). An empty graph for a mask that
+/// is not `width x height` pixels (the test kit's never are).
 pub fn trace(binary: &Binary) -> StrokeGraph {
-    let (w, h) = (binary.width as usize, binary.height as usize);
-    let skeleton = zhang_suen(&binary.ink, w, h);
-    let half_width: Vec<f32> = distance_to_background(binary)
-        .into_iter()
-        .map(|d| d as f32)
-        .collect();
-    pixel_graph(w, h, &skeleton, &half_width)
+    ridgeline::thin(binary).unwrap_or_default()
 }
 
 /// [`trace`], then terminal branches shorter than the stroke width at their junction removed

@@ -26,13 +26,8 @@ const SPACING_SEARCH: i64 = 6;
 
 /// Builds the point set of the ink pixels of `binary`.
 pub fn points(binary: &Binary, params: &Params) -> Result<PointSet> {
+    binary.check_size()?;
     let (width, height) = (binary.width as usize, binary.height as usize);
-    if binary.ink.len() != width * height {
-        return Err(Error::InvalidParams(format!(
-            "mask has {} pixels for a {width}x{height} image",
-            binary.ink.len()
-        )));
-    }
     let ink = &binary.ink[..];
     let row_starts = ink_row_starts(ink, width, height);
     let count = row_starts[height];

@@ -207,7 +207,7 @@ pub fn trace_binary(binary: &Binary, params: &Params) -> Result<Trace> {
     if let Some(chunks) = raster::pixel_chunks(binary, params, CHUNK_POINTS)? {
         let scan_time = start.elapsed();
         let sizes: Vec<usize> = (0..chunks.len()).map(|c| chunks.size(c)).collect();
-        let mut trace = run_chunks(&sizes, |c| chunks.part(c), params);
+        let mut trace = run_chunks(&sizes, |c| chunks.part(c), params)?;
         trace.graph.width = binary.width;
         trace.graph.height = binary.height;
         trace.timings.points += scan_time;
@@ -279,7 +279,7 @@ fn run(points: PointSet, width: u32, height: u32, params: &Params, keep: bool) -
     } else {
         let chunks = points.component_chunks(CHUNK_POINTS);
         let sizes: Vec<usize> = (0..chunks.len()).map(|c| chunks.size(c)).collect();
-        run_chunks(&sizes, |c| chunks.part(&points, c), params)
+        run_chunks(&sizes, |c| Ok(chunks.part(&points, c)), params)?
     };
     trace.graph.width = width;
     trace.graph.height = height;
@@ -293,7 +293,11 @@ fn run(points: PointSet, width: u32, height: u32, params: &Params, keep: bool) -
 /// width), is taken between the refinement of all chunks and their fits.
 /// Chunks are started largest first (a page's one giant component would otherwise be picked up
 /// late and run alone at the end); `sizes` are their point counts.
-fn run_chunks(sizes: &[usize], part: impl Fn(usize) -> PointSet + Sync, params: &Params) -> Trace {
+fn run_chunks(
+    sizes: &[usize],
+    part: impl Fn(usize) -> Result<PointSet> + Sync,
+    params: &Params,
+) -> Result<Trace> {
     use rayon::prelude::*;
     let mut order: Vec<usize> = (0..sizes.len()).collect();
     order.sort_by_key(|&c| std::cmp::Reverse(sizes[c]));
@@ -301,7 +305,7 @@ fn run_chunks(sizes: &[usize], part: impl Fn(usize) -> PointSet + Sync, params: 
         .into_par_iter()
         .map(|c| {
             let clock = Instant::now();
-            let mut points = part(c);
+            let mut points = part(c)?;
             let mut timings = Timings {
                 points: clock.elapsed(),
                 ..Timings::default()
@@ -312,11 +316,11 @@ fn run_chunks(sizes: &[usize], part: impl Fn(usize) -> PointSet + Sync, params: 
             if let Some(grid) = &mut points.grid {
                 grid.release();
             }
-            (c, points, refined, timings)
+            Ok((c, points, refined, timings))
         })
-        .collect();
+        .collect::<Result<_>>()?;
     let Some((_, first, _, _)) = refined.first() else {
-        return Trace {
+        return Ok(Trace {
             graph: StrokeGraph::default(),
             binary: None,
             point_count: 0,
@@ -325,7 +329,7 @@ fn run_chunks(sizes: &[usize], part: impl Fn(usize) -> PointSet + Sync, params: 
             decisions: None,
             warnings: Vec::new(),
             dropout: None,
-        };
+        });
     };
     let graphs: Vec<&NodeGraph> = refined.iter().map(|(_, _, graph, _)| graph).collect();
     let h = fit::node_spacing(&graphs, first, params);
@@ -363,7 +367,7 @@ fn run_chunks(sizes: &[usize], part: impl Fn(usize) -> PointSet + Sync, params: 
         timings.refine += t.refine;
         timings.fit += t.fit;
     }
-    Trace {
+    Ok(Trace {
         graph,
         binary: None,
         point_count,
@@ -372,7 +376,7 @@ fn run_chunks(sizes: &[usize], part: impl Fn(usize) -> PointSet + Sync, params: 
         decisions: None,
         warnings: Vec::new(),
         dropout: None,
-    }
+    })
 }
 
 /// §3.1-§3.3 on one point set, timed into `timings`; the sampling and `H` go to `keep` when given.

@@ -6,16 +6,15 @@
 //! one thread, and then copied every chunk out of it. Here one parallel pass over the mask finds the
 //! runs of ink in each row and the page-wide figures (`Dis_ave`, the dropout test), a union-find
 //! over the runs finds the 8-connected components, and each chunk's points, pixel index, neighbour
-//! lists and half-widths come from its own window of the mask. The point sets are the ones
-//! [`crate::PointSet::split_components`] cuts from the whole page's, bit for bit (tested below), so
+//! lists and half-widths come from its own window of the mask. The survey and the point-set
+//! builder are the ones the whole image uses (`points.rs`), so the point sets are the ones
+//! [`crate::PointSet::split_components`] cuts from the whole page's, bit for bit (tested below), and
 //! the traces are identical too.
 
-use rayon::prelude::*;
-
-use super::points::{check_point_count, dropout_mode, for_each_in_window, nearest_distance};
+use super::points::{build, check_point_count, survey, Survey, Window};
 use crate::csr::Csr;
-use crate::mask::{ink_row_starts, run_components, tiny_hole, Run, RunEnvelope};
-use crate::{Binary, Grid, Params, PointSet, Result};
+use crate::mask::{ink_row_starts, run_components, Run};
+use crate::{Binary, Params, PointSet, Result};
 
 /// The ink of an image as chunks of whole 8-connected components, in the order of each
 /// component's first pixel, each chunk about `target` points or one component.
@@ -37,89 +36,23 @@ pub(crate) fn pixel_chunks(
     params: &Params,
     target: usize,
 ) -> Result<Option<PixelChunks>> {
+    if binary.width == 0 || binary.height == 0 || binary.check_size().is_err() {
+        return Ok(None);
+    }
+    // The ink is counted (and refused beyond the limits) before the survey allocates anything.
     let (width, height) = (binary.width as usize, binary.height as usize);
-    let ink = &binary.ink[..];
-    if width == 0 || height == 0 || ink.len() != width * height {
-        return Ok(None);
-    }
-    let row_starts = ink_row_starts(ink, width, height);
-    let count = row_starts[height];
-    check_point_count(count, params)?;
+    let count = ink_row_starts(&binary.ink, width, height)[height];
     if count <= target {
+        check_point_count(count, params)?;
         return Ok(None);
     }
-
-    // One pass over the rows: the runs, the `Dis_ave` terms and the loose pixels, exactly as
-    // `points` finds them (the spacing sums in the same order, so `Dis_ave` is the same number).
-    let rows: Vec<(Vec<Run>, (f64, u64), usize)> = (0..height)
-        .into_par_iter()
-        .map_init(
-            || vec![0u8; width + 2],
-            |column, y| {
-                let row = &ink[y * width..(y + 1) * width];
-                // Ink in each column of rows y - 1..=y + 1, at `column[x + 1]`: a pixel's degree
-                // is the sum over its three columns, less itself.
-                let column = &mut column[..];
-                for (c, &on) in column[1..=width].iter_mut().zip(row) {
-                    *c = u8::from(on);
-                }
-                let neighbour_rows = [y.checked_sub(1), Some(y + 1).filter(|&v| v < height)];
-                for v in neighbour_rows.into_iter().flatten() {
-                    let other = &ink[v * width..(v + 1) * width];
-                    for (c, &on) in column[1..=width].iter_mut().zip(other) {
-                        *c += u8::from(on);
-                    }
-                }
-                let mut runs = Vec::new();
-                let mut spacing = (0.0f64, 0u64);
-                let mut loose = 0;
-                let mut x = 0;
-                while x < width {
-                    if !row[x] {
-                        x += 1;
-                        continue;
-                    }
-                    let start = x;
-                    while x < width && row[x] {
-                        let degree = u32::from(column[x] + column[x + 1] + column[x + 2]) - 1;
-                        loose += usize::from(degree == 1);
-                        if let Some(d) = nearest_distance(ink, width, height, x, y, degree) {
-                            spacing.0 += d;
-                            spacing.1 += 1;
-                        }
-                        x += 1;
-                    }
-                    runs.push(Run {
-                        y: y as u32,
-                        x0: start as u32,
-                        x1: x as u32,
-                    });
-                }
-                (runs, spacing, loose)
-            },
-        )
-        .collect();
-    let mut spacing_sum = (0.0f64, 0u64);
-    let mut loose = 0;
-    for (_, spacing, row_loose) in &rows {
-        spacing_sum = (spacing_sum.0 + spacing.0, spacing_sum.1 + spacing.1);
-        loose += row_loose;
-    }
-    let spacing = if spacing_sum.1 == 0 {
-        1.0
-    } else {
-        spacing_sum.0 / spacing_sum.1 as f64
-    };
-    let runs: Vec<Run> = rows.into_iter().flat_map(|(runs, _, _)| runs).collect();
-    // Tiny holes (as `mask::tiny_hole_pixels` counts them): each is counted from its first pixel
-    // in raster order, which ends a run of ink.
-    let holes = || {
-        runs.par_iter()
-            .filter(|r| r.y > 0 && (r.y as usize) + 1 < height && (r.x1 as usize) + 1 < width)
-            .filter_map(|r| tiny_hole(ink, width, height, r.y as usize * width + r.x1 as usize))
-            .sum()
-    };
-    if dropout_mode(params, count, loose, spacing, holes) {
+    // The runs, `Dis_ave` and the dropout test, exactly as `points` finds them.
+    let Survey {
+        runs,
+        spacing,
+        dropout,
+    } = survey(binary, params)?;
+    if dropout {
         return Ok(None);
     }
 
@@ -168,97 +101,30 @@ impl PixelChunks {
             .sum()
     }
 
-    /// The point set of chunk `c`: its pixels in raster order, the 8-neighbour lists, the
-    /// half-widths and the pixel index of its bounding box.
-    pub(crate) fn part(&self, c: usize) -> PointSet {
+    /// The point set of chunk `c`: [`build`] over the bounding box of its runs, holding only its
+    /// own ink.
+    pub(crate) fn part(&self, c: usize) -> Result<PointSet> {
         let runs = &self.runs[self.offsets[c]..self.offsets[c + 1]];
-        let (y0, y1) = (runs[0].y as usize, runs[runs.len() - 1].y as usize + 1);
+        let (Some(first), Some(last)) = (runs.first(), runs.last()) else {
+            return Ok(PointSet::default());
+        };
+        let (y0, y1) = (first.y as usize, last.y as usize + 1);
         let x0 = runs.iter().map(|r| r.x0).min().unwrap_or(0) as usize;
         let x1 = runs.iter().map(|r| r.x1).max().unwrap_or(0) as usize;
-        let (w, h) = (x1 - x0, y1 - y0);
-        let n: usize = runs.iter().map(Run::len).sum();
-
-        let mut points = Vec::with_capacity(n);
-        let mut index = vec![Grid::NONE; w * h];
+        let (width, height) = (x1 - x0, y1 - y0);
+        let mut ink = vec![false; width * height];
         for run in runs {
-            let row = (run.y as usize - y0) * w;
-            for x in run.x0 as usize..run.x1 as usize {
-                index[row + x - x0] = points.len() as u32;
-                points.push([x as f64 + 0.5, run.y as f64 + 0.5]);
-            }
+            let row = (run.y as usize - y0) * width;
+            ink[row + run.x0 as usize - x0..row + run.x1 as usize - x0].fill(true);
         }
-        // Neighbours in raster order of the window, so sorted by point index.
-        let mut offsets = Vec::with_capacity(n + 1);
-        let mut neighbors = Vec::with_capacity(8 * n);
-        offsets.push(0);
-        for run in runs {
-            for x in run.x0 as usize..run.x1 as usize {
-                for_each_in_window(&index, w, h, 1, x - x0, run.y as usize - y0, |j| {
-                    if j != Grid::NONE {
-                        neighbors.push(j);
-                    }
-                });
-                offsets.push(neighbors.len() as u32);
-            }
-        }
-
-        // Half-widths: the exact distance transform of the whole image, evaluated at this
-        // chunk's pixels from its own runs. The ink right above, below, left or right of one of
-        // its pixels touches it, so it belongs to the same component: the vertical distances to
-        // the background (the column pass) come from the chunk's own index, and each run is a
-        // whole run of the image's row, independent of the rest of the row (the row pass).
-        let mut up = vec![0u32; n];
-        for run in runs {
-            let row = (run.y as usize - y0) * w;
-            for x in run.x0 as usize - x0..run.x1 as usize - x0 {
-                let p = index[row + x] as usize;
-                up[p] = match row.checked_sub(w).map(|above| index[above + x]) {
-                    Some(q) if q != Grid::NONE => up[q as usize] + 1,
-                    _ => 1,
-                };
-            }
-        }
-        let mut g = up;
-        let mut down = vec![0u32; n];
-        for run in runs.iter().rev() {
-            let row = (run.y as usize - y0) * w;
-            for x in (run.x0 as usize - x0..run.x1 as usize - x0).rev() {
-                let p = index[row + x] as usize;
-                let below = row + w + x;
-                down[p] = match index.get(below) {
-                    Some(&q) if q != Grid::NONE => down[q as usize] + 1,
-                    _ => 1,
-                };
-                g[p] = g[p].min(down[p]);
-            }
-        }
-        let mut half_width = vec![0f32; n];
-        let mut envelope = RunEnvelope::with_capacity(w);
-        let mut first = 0;
-        for run in runs {
-            let span = first..first + run.len();
-            let d2 = envelope.squared_distances(&g[span.clone()]);
-            for (out, &d2) in half_width[span].iter_mut().zip(d2) {
-                *out = (d2 as f64).sqrt() as f32;
-            }
-            first += run.len();
-        }
-
-        PointSet {
-            points,
-            half_width,
-            offsets,
-            neighbors,
-            spacing: self.spacing,
-            dropout: false,
-            grid: Some(Grid {
-                width: w as u32,
-                height: h as u32,
-                index,
-                x0: x0 as i64,
-                y0: y0 as i64,
-            }),
-        }
+        let window = Window {
+            ink: &ink,
+            width,
+            height,
+            x0,
+            y0,
+        };
+        build(&window, self.spacing, false)
     }
 }
 
@@ -320,7 +186,7 @@ mod tests {
             let expected = whole.split_components(target);
             assert_eq!(chunks.len(), expected.len(), "target {target}");
             for (c, want) in expected.iter().enumerate() {
-                let got = chunks.part(c);
+                let got = chunks.part(c).expect("part");
                 assert_eq!(got.points, want.points, "target {target} chunk {c}");
                 assert_eq!(got.offsets, want.offsets);
                 assert_eq!(got.neighbors, want.neighbors);

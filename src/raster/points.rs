@@ -8,8 +8,8 @@
 use rayon::prelude::*;
 
 use crate::mask::{
-    close3, ink_row_starts, split_by, squared_distance_at, squared_distance_rows, tiny_hole_pixels,
-    Mask,
+    close3, ink_row_starts, split_by, squared_distance_at, squared_distance_rows, tiny_hole, Mask,
+    Run,
 };
 use crate::{Binary, Error, Grid, Params, PointSet, Result};
 
@@ -24,35 +24,159 @@ const LOOSE_FRACTION: f64 = 0.025;
 /// `Dis_ave`.
 const SPACING_SEARCH: i64 = 6;
 
-/// Builds the point set of the ink pixels of `binary`.
+/// Builds the point set of the ink pixels of `binary`: the page's figures from [`survey`], then
+/// [`build`] over the whole image.
 pub fn points(binary: &Binary, params: &Params) -> Result<PointSet> {
+    let survey = survey(binary, params)?;
+    let window = Window {
+        ink: &binary.ink,
+        width: binary.width as usize,
+        height: binary.height as usize,
+        x0: 0,
+        y0: 0,
+    };
+    build(&window, survey.spacing, survey.dropout)
+}
+
+/// What one pass over the rows of an image finds before any point exists: its runs of ink and
+/// the figures that hold for the whole page, whether it is traced whole or in chunks.
+pub(super) struct Survey {
+    /// The runs of ink in raster order.
+    pub(super) runs: Vec<Run>,
+    /// `Dis_ave` (1 when no pixel has a neighbour).
+    pub(super) spacing: f64,
+    /// Whether dropout mode is on (adaptation 2).
+    pub(super) dropout: bool,
+}
+
+/// Surveys `binary` (refusing a mask of the wrong size, or more ink pixels than the limits allow):
+/// one parallel pass over the rows finds the runs of ink, the `Dis_ave` terms and the pixels with
+/// a single 8-neighbour; the rows are summed in order, so the figures do not depend on the thread
+/// count.
+pub(super) fn survey(binary: &Binary, params: &Params) -> Result<Survey> {
     binary.check_size()?;
     let (width, height) = (binary.width as usize, binary.height as usize);
     let ink = &binary.ink[..];
     let row_starts = ink_row_starts(ink, width, height);
     let count = row_starts[height];
     check_point_count(count, params)?;
+    let rows: Vec<(Vec<Run>, (f64, u64), usize)> = (0..height)
+        .into_par_iter()
+        .map_init(
+            || vec![0u8; width + 2],
+            |column, y| {
+                let row = &ink[y * width..(y + 1) * width];
+                // Ink in each column of rows y - 1..=y + 1, at `column[x + 1]`: a pixel's degree
+                // is the sum over its three columns, less itself.
+                let column = &mut column[..];
+                for (c, &on) in column[1..=width].iter_mut().zip(row) {
+                    *c = u8::from(on);
+                }
+                let neighbour_rows = [y.checked_sub(1), Some(y + 1).filter(|&v| v < height)];
+                for v in neighbour_rows.into_iter().flatten() {
+                    let other = &ink[v * width..(v + 1) * width];
+                    for (c, &on) in column[1..=width].iter_mut().zip(other) {
+                        *c += u8::from(on);
+                    }
+                }
+                let mut runs = Vec::new();
+                let mut spacing = (0.0f64, 0u64);
+                let mut loose = 0;
+                let mut x = 0;
+                while x < width {
+                    if !row[x] {
+                        x += 1;
+                        continue;
+                    }
+                    let start = x;
+                    while x < width && row[x] {
+                        let degree = u32::from(column[x] + column[x + 1] + column[x + 2]) - 1;
+                        loose += usize::from(degree == 1);
+                        if let Some(d) = nearest_distance(ink, width, height, x, y, degree) {
+                            spacing.0 += d;
+                            spacing.1 += 1;
+                        }
+                        x += 1;
+                    }
+                    runs.push(Run {
+                        y: y as u32,
+                        x0: start as u32,
+                        x1: x as u32,
+                    });
+                }
+                (runs, spacing, loose)
+            },
+        )
+        .collect();
+    let mut spacing_sum = (0.0f64, 0u64);
+    let mut loose = 0;
+    for (_, spacing, row_loose) in &rows {
+        spacing_sum = (spacing_sum.0 + spacing.0, spacing_sum.1 + spacing.1);
+        loose += row_loose;
+    }
+    let spacing = if spacing_sum.1 == 0 {
+        1.0
+    } else {
+        spacing_sum.0 / spacing_sum.1 as f64
+    };
+    let runs: Vec<Run> = rows.into_iter().flat_map(|(runs, _, _)| runs).collect();
+    // Tiny holes (as `mask::tiny_hole_pixels` counts them): each is counted from its first pixel
+    // in raster order, which ends a run of ink.
+    let holes = || {
+        runs.par_iter()
+            .filter(|r| r.y > 0 && (r.y as usize) + 1 < height && (r.x1 as usize) + 1 < width)
+            .filter_map(|r| tiny_hole(ink, width, height, r.y as usize * width + r.x1 as usize))
+            .sum()
+    };
+    let dropout = dropout_mode(params, count, loose, spacing, holes);
+    Ok(Survey {
+        runs,
+        spacing,
+        dropout,
+    })
+}
 
-    // Points, the pixel -> point index, the 8-neighbour degrees (at `degrees[i + 1]`, the layout
-    // of the CSR offsets) and the nearest-neighbour distances, row by row.
+/// The pixels a point set is built from: a row-major mask whose pixel `(0, 0)` is the image's
+/// pixel `(x0, y0)` (the whole image, or the bounding box of one chunk of components holding only
+/// that chunk's ink).
+pub(super) struct Window<'a> {
+    pub(super) ink: &'a [bool],
+    pub(super) width: usize,
+    pub(super) height: usize,
+    pub(super) x0: usize,
+    pub(super) y0: usize,
+}
+
+/// The one point-set builder, for a whole image and for each chunk of a large one alike: the ink
+/// pixels of `window` as points in raster order, its pixel index, the neighbour lists (the
+/// 8-neighbourhood, 5x5 in dropout mode) and the half-widths from the exact distance transform of
+/// the window (pixels beyond it are background: they are not this window's ink), with the page's
+/// `spacing` and `dropout`. A chunk's window holds whole components, so every distance to the
+/// background and every neighbour list is the one the whole image gives its pixels.
+pub(super) fn build(window: &Window, spacing: f64, dropout: bool) -> Result<PointSet> {
+    let (ink, width, height) = (window.ink, window.width, window.height);
+    let (x0, y0) = (window.x0, window.y0);
+    let row_starts = ink_row_starts(ink, width, height);
+    let count = row_starts[height];
+
+    // Points, the pixel -> point index and the 8-neighbour degrees (at `degrees[i + 1]`, the
+    // layout of the CSR offsets), row by row.
     let mut points = vec![[0.0f64; 2]; count];
     let mut index = vec![Grid::NONE; width * height];
     let mut degrees = vec![0u32; count + 1];
-    let mut spacing_sum = (0.0f64, 0u64);
     if width > 0 {
-        spacing_sum = index
+        index
             .par_chunks_mut(width)
             .zip(split_by(&mut points, &row_starts).into_par_iter())
             .zip(split_by(&mut degrees[1..], &row_starts).into_par_iter())
             .enumerate()
-            .map(|(y, ((index_row, points_row), degree_row))| {
+            .for_each(|(y, ((index_row, points_row), degree_row))| {
                 let mut id = row_starts[y];
                 let mut k = 0;
-                let mut spacing = (0.0f64, 0u64);
                 for (x, slot) in index_row.iter_mut().enumerate() {
                     if ink[y * width + x] {
                         *slot = id as u32;
-                        points_row[k] = [x as f64 + 0.5, y as f64 + 0.5];
+                        points_row[k] = [(x0 + x) as f64 + 0.5, (y0 + y) as f64 + 0.5];
                         let mut degree = 0;
                         for_each_in_window(ink, width, height, 1, x, y, |other| {
                             degree += u32::from(other)
@@ -60,37 +184,17 @@ pub fn points(binary: &Binary, params: &Params) -> Result<PointSet> {
                         degree_row[k] = degree;
                         id += 1;
                         k += 1;
-                        if let Some(d) = nearest_distance(ink, width, height, x, y, degree) {
-                            spacing.0 += d;
-                            spacing.1 += 1;
-                        }
                     }
                 }
-                spacing
-            })
-            // Rows summed in order: a parallel float reduction would depend on the thread count.
-            .collect::<Vec<(f64, u64)>>()
-            .into_iter()
-            .fold((0.0, 0), |a, b| (a.0 + b.0, a.1 + b.1));
+            });
     }
     let grid = Grid {
-        width: binary.width,
-        height: binary.height,
+        width: width as u32,
+        height: height as u32,
         index,
-        x0: 0,
-        y0: 0,
+        x0: x0 as i64,
+        y0: y0 as i64,
     };
-    // `Dis_ave`; 1 when no pixel has a neighbour.
-    let spacing = if spacing_sum.1 == 0 {
-        1.0
-    } else {
-        spacing_sum.0 / spacing_sum.1 as f64
-    };
-
-    let loose = degrees[1..].iter().filter(|&&d| d == 1).count();
-    let dropout = dropout_mode(params, count, loose, spacing, || {
-        tiny_hole_pixels(ink, width, height)
-    });
 
     // Half-width = distance to the nearest background pixel center. In dropout mode the gaps
     // punched into a stroke would make it look thin, so the transform runs on the 3x3 closing.
@@ -154,7 +258,7 @@ pub(super) fn check_point_count(count: usize, params: &Params) -> Result<()> {
 /// Whether dropout mode is on for `count` ink pixels of which `loose` have exactly one ink
 /// 8-neighbour, with `Dis_ave` = `spacing`; `holes` counts the tiny-hole pixels and is only called
 /// when the other tests do not already decide.
-pub(super) fn dropout_mode(
+fn dropout_mode(
     params: &Params,
     count: usize,
     loose: usize,
@@ -251,7 +355,7 @@ fn neighbour_csr(
 /// Calls `visit` with the cells within Chebyshev distance `reach` of `(x, y)`, the center
 /// excluded, in raster order.
 #[inline(always)]
-pub(super) fn for_each_in_window<T: Copy>(
+fn for_each_in_window<T: Copy>(
     cells: &[T],
     width: usize,
     height: usize,
@@ -277,7 +381,7 @@ pub(super) fn for_each_in_window<T: Copy>(
 /// diagonal line sparse. Other pixels count their true Euclidean nearest distance, searched up to
 /// [`SPACING_SEARCH`]; with nothing that close they are left out (`None`). `degree_8` is the
 /// number of ink pixels touching `(x, y)`.
-pub(super) fn nearest_distance(
+fn nearest_distance(
     ink: &[bool],
     width: usize,
     height: usize,

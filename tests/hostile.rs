@@ -953,17 +953,21 @@ fn point_lists_trace_the_same_in_any_unit() {
 // ---------------------------------------------------------------------------------------------
 // Values a user can build: the public data types' checks and helpers never panic on them
 
-/// The '+' the debug pictures use, as the raster stage's point set (valid to start from).
-fn plus_points() -> ridgeline::PointSet {
-    let plus = render(
+/// A '+' of two 5 px strokes on a 40 px square.
+fn small_plus() -> Binary {
+    render(
         &[
             Stroke::new(vec![[5.0, 20.0], [35.0, 20.0]], 5.0),
             Stroke::new(vec![[20.0, 5.0], [20.0, 35.0]], 5.0),
         ],
         40,
         40,
-    );
-    let points = ridgeline::raster::points(&plus, &Params::default()).expect("points");
+    )
+}
+
+/// The point set of [`small_plus`] from the raster stage (valid to start from).
+fn plus_points() -> ridgeline::PointSet {
+    let points = ridgeline::raster::points(&small_plus(), &Params::default()).expect("points");
     points.validate().expect("the raster's point set is valid");
     points
 }
@@ -1065,14 +1069,7 @@ fn thinning_refuses_a_mask_of_the_wrong_size() {
 /// by their `validate`, and the pictures of out-of-range ones draw what exists.
 #[test]
 fn broken_stages_are_reported_and_drawn_without_panicking() {
-    let plus = render(
-        &[
-            Stroke::new(vec![[5.0, 20.0], [35.0, 20.0]], 5.0),
-            Stroke::new(vec![[20.0, 5.0], [20.0, 35.0]], 5.0),
-        ],
-        40,
-        40,
-    );
+    let plus = small_plus();
     let trace = ridgeline::trace_binary_with_stages(&plus, &Params::default()).expect("trace");
     let mut stages = trace.stages.expect("stages kept");
     let n = stages.points.len();

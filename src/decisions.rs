@@ -22,6 +22,9 @@ pub struct Decisions {
     /// Whether dropout mode (5x5 neighbourhoods for broken, speckled ink) was on; `None` until
     /// the points are built, and for a point list.
     pub dropout: Option<bool>,
+    /// The share of the ink traced in dropout mode (decided per group of nearby components);
+    /// `None` when `dropout` is.
+    pub dropout_share: Option<f64>,
 }
 
 /// The threshold actually applied, with its settings.

@@ -133,6 +133,19 @@ pub struct Timings {
     pub fit: Duration,
 }
 
+impl Timings {
+    /// Adds `other`'s time per stage to this one's.
+    pub fn add(&mut self, other: &Timings) {
+        self.decode += other.decode;
+        self.binarize += other.binarize;
+        self.points += other.points;
+        self.sampling += other.sampling;
+        self.graph += other.graph;
+        self.refine += other.refine;
+        self.fit += other.fit;
+    }
+}
+
 /// Intermediate results kept for `--debug` pictures.
 #[derive(Clone, Debug, Default)]
 pub struct Stages {
@@ -163,8 +176,12 @@ pub struct Trace {
     pub decisions: Option<Decisions>,
     /// What is probably wrong with the result ([`warnings`]).
     pub warnings: Vec<Warning>,
-    /// Whether dropout mode was on (images and masks; docs/design.md, adaptation 2).
+    /// Whether dropout mode was on for any of the ink (images and masks; docs/design.md,
+    /// adaptation 2).
     pub dropout: Option<bool>,
+    /// The share of the ink traced in dropout mode: it is decided per group of nearby
+    /// components (docs/design.md, "The front end").
+    pub dropout_share: Option<f64>,
 }
 
 /// Decodes an image file's bytes to grayscale, refusing images larger than `limits` before
@@ -182,6 +199,7 @@ pub fn trace_image(gray: &GrayImage, params: &Params) -> Result<Trace> {
     let mut trace = trace_binary(&binary, params)?;
     trace.timings.binarize = binarize_time;
     decisions.dropout = trace.dropout;
+    decisions.dropout_share = trace.dropout_share;
     trace.warnings = warnings::of(&trace.graph, Some(&decisions));
     trace.decisions = Some(decisions);
     trace.binary = Some(binary);
@@ -213,17 +231,51 @@ pub fn trace_binary(binary: &Binary, params: &Params) -> Result<Trace> {
         trace.timings.points += scan_time;
         // Chunks are only cut outside dropout mode.
         trace.dropout = Some(false);
+        trace.dropout_share = Some(0.0);
         trace.warnings = warnings::of(&trace.graph, None);
         return Ok(trace);
     }
     let points = raster::points(binary, params)?;
     let points_time = start.elapsed();
     let dropout = points.dropout;
+    // Dropout mode is decided per group of nearby components where the groups disagree.
+    if dropout && params.dropout.is_none() {
+        if let Some((solid, speckled)) = raster::split_dropout(binary, params) {
+            drop(points);
+            let forced = |on: bool| Params {
+                dropout: Some(on),
+                ..params.clone()
+            };
+            let mut trace = trace_binary(&solid, &forced(false))?;
+            let broken = trace_binary(&speckled, &forced(true))?;
+            append_graph(&mut trace.graph, broken.graph);
+            trace.timings.add(&broken.timings);
+            trace.timings.points += points_time;
+            trace.point_count += broken.point_count;
+            trace.dropout = Some(true);
+            trace.dropout_share = Some(speckled.count() as f64 / binary.count().max(1) as f64);
+            trace.warnings = warnings::of(&trace.graph, None);
+            return Ok(trace);
+        }
+    }
     let mut trace = run(points, binary.width, binary.height, params, false)?;
     trace.timings.points += points_time;
     trace.dropout = Some(dropout);
+    trace.dropout_share = Some(if dropout { 1.0 } else { 0.0 });
     trace.warnings = warnings::of(&trace.graph, None);
     Ok(trace)
+}
+
+/// Appends `part`'s vertices and edges to `graph`, its edges' ends shifted past `graph`'s
+/// vertices.
+fn append_graph(graph: &mut StrokeGraph, part: StrokeGraph) {
+    let offset = graph.vertices.len();
+    graph.vertices.extend(part.vertices);
+    graph.edges.extend(part.edges.into_iter().map(|mut e| {
+        e.from += offset;
+        e.to += offset;
+        e
+    }));
 }
 
 /// Traces a point list (the paper's own setting): the same pipeline, neighbours from a k-d tree.
@@ -275,6 +327,7 @@ fn run(points: PointSet, width: u32, height: u32, params: &Params, keep: bool) -
             decisions: None,
             warnings: Vec::new(),
             dropout: None,
+            dropout_share: None,
         }
     } else {
         let chunks = points.component_chunks(CHUNK_POINTS);
@@ -329,6 +382,7 @@ fn run_chunks(
             decisions: None,
             warnings: Vec::new(),
             dropout: None,
+            dropout_share: None,
         });
     };
     let graphs: Vec<&NodeGraph> = refined.iter().map(|(_, _, graph, _)| graph).collect();
@@ -353,19 +407,9 @@ fn run_chunks(
     let mut timings = Timings::default();
     let mut point_count = 0;
     for (_, part, n, t) in parts {
-        let offset = graph.vertices.len();
-        graph.vertices.extend(part.vertices);
-        graph.edges.extend(part.edges.into_iter().map(|mut e| {
-            e.from += offset;
-            e.to += offset;
-            e
-        }));
+        append_graph(&mut graph, part);
         point_count += n;
-        timings.points += t.points;
-        timings.sampling += t.sampling;
-        timings.graph += t.graph;
-        timings.refine += t.refine;
-        timings.fit += t.fit;
+        timings.add(&t);
     }
     Ok(Trace {
         graph,
@@ -376,6 +420,7 @@ fn run_chunks(
         decisions: None,
         warnings: Vec::new(),
         dropout: None,
+        dropout_share: None,
     })
 }
 

@@ -232,6 +232,7 @@ mod tests {
             stroke_width: 3.0,
             uneven_light: 0.0,
             dropout: Some(false),
+            dropout_share: Some(0.0),
         }
     }
 

@@ -39,13 +39,14 @@ impl Serialize for RoundedDecisions<'_> {
     fn serialize<S: Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
         use serde::ser::SerializeStruct;
         let d = self.0;
-        let mut s = serializer.serialize_struct("Decisions", 6)?;
+        let mut s = serializer.serialize_struct("Decisions", 7)?;
         s.serialize_field("polarity", d.polarity)?;
         s.serialize_field("polarity_confidence", &d.polarity_confidence.map(Rounded))?;
         s.serialize_field("threshold", &d.threshold)?;
         s.serialize_field("stroke_width", &Rounded(d.stroke_width))?;
         s.serialize_field("uneven_light", &Rounded(d.uneven_light))?;
         s.serialize_field("dropout", &d.dropout)?;
+        s.serialize_field("dropout_share", &d.dropout_share.map(Rounded))?;
         s.end()
     }
 }

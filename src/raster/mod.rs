@@ -10,6 +10,7 @@
 mod binarize;
 mod chunks;
 mod decode;
+mod dropout;
 mod evidence;
 mod points;
 mod tiff_pages;
@@ -17,6 +18,7 @@ mod tiff_pages;
 pub(crate) use binarize::binarize_deciding;
 pub(crate) use chunks::pixel_chunks;
 pub use decode::{decode_file, Page, Pages, Picture, Transparency};
+pub(crate) use dropout::split as split_dropout;
 
 use crate::{Binary, GrayImage, Limits, Params, PointSet, Result};
 

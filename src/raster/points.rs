@@ -17,7 +17,7 @@ use crate::{Binary, Error, Grid, Params, PointSet, Result};
 /// points have no ink pixel touching them.
 const DROPOUT_SPACING: f64 = 1.05;
 /// Share of ink pixels with exactly one ink 8-neighbour above which dropout mode switches on.
-const LOOSE_FRACTION: f64 = 0.025;
+pub(super) const LOOSE_FRACTION: f64 = 0.025;
 
 /// Nearest-neighbour search radius (Chebyshev, pixels) for points with no touching ink pixel.
 /// Points with nothing closer are isolated specks, not samples of a stroke, and are left out of

@@ -229,6 +229,29 @@ pub fn hard_cases() -> Vec<Case> {
         cases.push(case);
     }
 
+    // A line of solid text and, below it, a wavy stroke with 30% of its ink knocked out: dropout
+    // mode belongs to the broken stroke only (docs/design.md, "The front end").
+    {
+        let w = 5.0;
+        let mut strokes = super::text_line("line", "whom", 40.0, w).strokes;
+        let bottom = strokes
+            .iter()
+            .flat_map(|s| s.points.iter().map(|p| p[1]))
+            .fold(0.0f64, f64::max);
+        let wave = sample_curve(
+            |t| [20.0 + t, bottom + 30.0 + 8.0 * (2.0 * PI * t / 120.0).sin()],
+            0.0,
+            160.0,
+            SPACING,
+        );
+        strokes.push(Stroke::new(wave, 7.0));
+        let mut case = hard("dropout_below_text".into(), strokes);
+        let wave_top = case.strokes.last().map_or(0.0, |s| s.points[0][1]) - 14.0;
+        let region = [0, wave_top as u32, case.binary.width, case.binary.height];
+        dropout(&mut case.binary, region, 0.3, 40);
+        cases.push(case);
+    }
+
     // A gentle S curve.
     let s_curve = sample_curve(
         |t| [c[0] + 25.0 * (2.0 * PI * t / 120.0).sin(), c[1] + t],

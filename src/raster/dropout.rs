@@ -1,0 +1,154 @@
+//! Dropout mode decided per group of nearby components (docs/design.md, adaptation 2, and "The
+//! front end"): a page where only some strokes are broken and speckled keeps the plain
+//! 8-neighbourhood, the skeleton and the exact half-widths on its solid strokes.
+//!
+//! A group is the ink within 3 px of each other (the components of the ink grown by one pixel),
+//! so the fragments of one broken stroke, which dropout mode's 5x5 neighbourhood joins, stay in
+//! one group. Each group is tested as the whole image is ([`super::points`]): pixels hanging on by
+//! a single 8-neighbour, isolated pixels, tiny holes.
+
+use imageproc::distance_transform::Norm;
+use imageproc::morphology::dilate;
+use imageproc::region_labelling::{connected_components, Connectivity};
+
+use super::points::LOOSE_FRACTION;
+use crate::mask::tiny_hole;
+use crate::{Binary, GrayImage, Params};
+
+/// Loose or isolated pixels below this count never switch a group on (a few line ends).
+const MIN_LOOSE: usize = 16;
+/// Share of a group's pixels with no 8-neighbour above which it is in dropout mode (the
+/// whole-image test's `Dis_ave` > 1.05 holds at about this share).
+const ISOLATED_FRACTION: f64 = 0.05;
+
+/// The ink split into the groups in dropout mode and the rest, when the groups disagree; `None`
+/// when one decision holds for every group (then the whole image's decision stands).
+pub(crate) fn split(binary: &Binary, params: &Params) -> Option<(Binary, Binary)> {
+    let (w, h) = (binary.width as usize, binary.height as usize);
+    if w < 3 || h < 3 || binary.ink.len() != w * h {
+        return None;
+    }
+    let mask = GrayImage::from_fn(binary.width, binary.height, |x, y| {
+        image::Luma([if binary.ink[y as usize * w + x as usize] {
+            255
+        } else {
+            0
+        }])
+    });
+    let grown = dilate(&mask, Norm::LInf, 1);
+    let labels = connected_components(&grown, Connectivity::Eight, image::Luma([0u8]));
+    let label = |i: usize| labels.as_raw()[i] as usize;
+    let groups = labels.as_raw().iter().copied().max().unwrap_or(0) as usize + 1;
+    // Per group: ink pixels, loose (one 8-neighbour), isolated (none), tiny-hole pixels.
+    let mut stats = vec![[0usize; 4]; groups];
+    let ink = &binary.ink;
+    for y in 0..h {
+        for x in 0..w {
+            let i = y * w + x;
+            if !ink[i] {
+                // A tiny hole is counted once, from its first pixel, whose left neighbour is ink.
+                if x > 0 && ink[i - 1] {
+                    if let Some(size) = tiny_hole(ink, w, h, i) {
+                        stats[label(i - 1)][3] += size;
+                    }
+                }
+                continue;
+            }
+            let mut neighbours = 0;
+            for dy in -1i64..=1 {
+                for dx in -1i64..=1 {
+                    if (dx, dy) != (0, 0) && binary.get(x as i64 + dx, y as i64 + dy) {
+                        neighbours += 1;
+                    }
+                }
+            }
+            let s = &mut stats[label(i)];
+            s[0] += 1;
+            s[1] += usize::from(neighbours == 1);
+            s[2] += usize::from(neighbours == 0);
+        }
+    }
+    let broken: Vec<bool> = stats
+        .iter()
+        .map(|&[count, loose, isolated, holes]| {
+            let count_f = count as f64;
+            (loose > MIN_LOOSE && loose as f64 > LOOSE_FRACTION * count_f)
+                || (isolated > MIN_LOOSE && isolated as f64 > ISOLATED_FRACTION * count_f)
+                || (count > 0 && holes as f64 > params.dropout_fraction * count_f)
+        })
+        .collect();
+    let with_ink = |on: bool| stats.iter().zip(&broken).any(|(s, &b)| s[0] > 0 && b == on);
+    if !with_ink(true) || !with_ink(false) {
+        return None;
+    }
+    let mut solid = Binary::new(binary.width, binary.height);
+    let mut speckled = Binary::new(binary.width, binary.height);
+    for (i, &on) in ink.iter().enumerate() {
+        if on {
+            if broken[label(i)] {
+                speckled.ink[i] = true;
+            } else {
+                solid.ink[i] = true;
+            }
+        }
+    }
+    Some((solid, speckled))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::draw::{render, Stroke};
+
+    /// A solid bar on top, a bar with a third of its pixels knocked out below, 20 px apart.
+    fn half_broken() -> Binary {
+        let mut binary = render(
+            &[
+                Stroke::new(vec![[10.0, 15.0], [150.0, 15.0]], 6.0),
+                Stroke::new(vec![[10.0, 45.0], [150.0, 45.0]], 6.0),
+            ],
+            160,
+            60,
+        );
+        let mut state = 12345u64;
+        for y in 35..56 {
+            for x in 0..160 {
+                state = state
+                    .wrapping_mul(6364136223846793005)
+                    .wrapping_add(1442695040888963407);
+                if (state >> 33) % 3 == 0 {
+                    binary.set(x, y, false);
+                }
+            }
+        }
+        binary
+    }
+
+    #[test]
+    fn only_the_broken_strokes_go_to_dropout_mode() {
+        let binary = half_broken();
+        let (solid, speckled) = split(&binary, &Params::default()).expect("groups disagree");
+        assert!(solid.get(80, 15) && !solid.get(80, 45));
+        assert!(!speckled.get(80, 15));
+        assert_eq!(solid.count() + speckled.count(), binary.count());
+        // Solid strokes alone: one decision, no split.
+        let clean = render(
+            &[Stroke::new(vec![[10.0, 15.0], [150.0, 15.0]], 6.0)],
+            160,
+            30,
+        );
+        assert!(split(&clean, &Params::default()).is_none());
+    }
+
+    #[test]
+    fn a_page_with_one_broken_stroke_keeps_the_solid_one_out_of_dropout_mode() {
+        let binary = half_broken();
+        let trace = crate::trace_binary(&binary, &Params::default()).unwrap();
+        assert_eq!(trace.dropout, Some(true));
+        let share = trace.dropout_share.expect("a share for a mask");
+        assert!(share > 0.2 && share < 0.8, "{share}");
+        // Two strokes, each one edge between two ends.
+        assert_eq!(trace.graph.components(), 2, "{:?}", trace.graph.edges.len());
+        assert_eq!(trace.graph.endpoints().count(), 4);
+    }
+}

@@ -27,7 +27,7 @@ use imageproc::drawing::{
 use imageproc::point::Point;
 
 use crate::export::svg::{EDGE_COLOR, ENDPOINT_COLOR, JUNCTION_COLOR};
-use crate::{Binary, Error, Result, Stages, StrokeGraph};
+use crate::{Binary, Decisions, Error, GrayImage, Result, Stages, StrokeGraph, ThresholdUsed};
 
 /// Pictures are upscaled until their longer side reaches this many pixels (within the limits
 /// below).
@@ -132,6 +132,64 @@ pub fn stage_pngs<'a>(
             .map_err(|err| Error::Encode(format!("{name}: {err}")))?;
         Ok((name, png))
     })
+}
+
+/// File name of the picture of the front end's decisions ([`decisions_png`]).
+pub const DECISIONS_PICTURE: &str = "0-decisions.png";
+
+/// Tint of the ink in the decisions picture.
+const DECIDED_INK: Rgb<u8> = Rgb([0, 90, 220]);
+/// Block grid of the local threshold.
+const BLOCK_GRID: Rgb<u8> = Rgb([255, 150, 0]);
+
+/// The front end's decisions over the gray image it decided on (docs/design.md, "The front end"):
+/// the gray pixels, the side taken as ink tinted blue (so a wrong polarity shows as tinted
+/// paper), and with the local threshold, its blocks as an orange grid. Named
+/// [`DECISIONS_PICTURE`] by `--debug`.
+pub fn decisions_picture(gray: &GrayImage, binary: &Binary, decisions: &Decisions) -> RgbImage {
+    let (w, h) = gray.dimensions();
+    let mut canvas = Canvas::new(w, h);
+    if binary.width != w || binary.height != h || binary.ink.len() != (w * h) as usize {
+        return canvas.image;
+    }
+    let (out_w, out_h) = canvas.image.dimensions();
+    let scale = canvas.scale;
+    let source = |o: u32, n: u32| (((o as f64 + 0.5) / scale) as u32).min(n.max(1) - 1);
+    let window = match decisions.threshold {
+        ThresholdUsed::Local { window } => Some(window.max(1)),
+        _ => None,
+    };
+    for y in 0..out_h {
+        let sy = source(y, h);
+        for x in 0..out_w {
+            let sx = source(x, w);
+            let v = gray.get_pixel(sx, sy).0[0];
+            let mut color = Rgb([v, v, v]);
+            if binary.ink[(sy * w + sx) as usize] {
+                let blend = |a: u8, b: u8| ((a as u16 + b as u16) / 2) as u8;
+                color = Rgb(std::array::from_fn(|k| blend(v, DECIDED_INK.0[k])));
+            }
+            if let Some(b) = window {
+                // The first picture column (row) of every block's first image column (row).
+                let on_grid =
+                    |o: u32, s: u32, n: u32| s % b == 0 && (o == 0 || source(o - 1, n) != s);
+                if on_grid(x, sx, w) || on_grid(y, sy, h) {
+                    color = BLOCK_GRID;
+                }
+            }
+            canvas.image.put_pixel(x, y, color);
+        }
+    }
+    canvas.image
+}
+
+/// [`decisions_picture`] as the bytes of a PNG file.
+pub fn decisions_png(gray: &GrayImage, binary: &Binary, decisions: &Decisions) -> Result<Vec<u8>> {
+    let mut png = Vec::new();
+    decisions_picture(gray, binary, decisions)
+        .write_to(&mut Cursor::new(&mut png), ImageFormat::Png)
+        .map_err(|err| Error::Encode(format!("{DECISIONS_PICTURE}: {err}")))?;
+    Ok(png)
 }
 
 /// What the pictures are drawn from.
@@ -485,5 +543,48 @@ mod tests {
         canvas.ring([5.0, 5.0], 1e12, CURVE);
         canvas.disk([f64::INFINITY, 1.0], 3.0, CURVE);
         assert!(canvas.image.pixels().all(|p| *p == WHITE));
+    }
+}
+
+#[cfg(test)]
+mod decisions_tests {
+    use super::*;
+    use crate::Params;
+
+    #[test]
+    fn the_decisions_picture_tints_the_ink_and_draws_the_local_blocks() {
+        // Light falling from right to left over dark bars: the local threshold.
+        let gray = GrayImage::from_fn(200, 120, |x, y| {
+            let light = 90.0 + 160.0 * x as f64 / 199.0;
+            let on = (y % 30) >= 14 && (y % 30) < 18;
+            image::Luma([(if on { light * 0.5 } else { light }) as u8])
+        });
+        let trace = crate::trace_image_with_stages(&gray, &Params::default()).unwrap();
+        let decisions = trace.decisions.as_ref().unwrap();
+        let ThresholdUsed::Local { window } = decisions.threshold else {
+            panic!("{decisions:?}");
+        };
+        let binary = trace.binary.as_ref().unwrap();
+        let picture = decisions_picture(&gray, binary, decisions);
+        let scale = picture_scale(200, 120);
+        let at = |x: u32, y: u32| {
+            *picture.get_pixel(
+                (x as f64 * scale + 1.0) as u32,
+                (y as f64 * scale + 1.0) as u32,
+            )
+        };
+        // Ink is tinted blue, paper stays gray, block corners are orange.
+        let ink = at(101, 15);
+        assert!(ink.0[2] > ink.0[0] + 40, "{ink:?}");
+        let paper = at(101, 5);
+        assert_eq!(paper.0[0], paper.0[2]);
+        let corner = *picture.get_pixel(
+            (window as f64 * scale) as u32,
+            (window as f64 * scale) as u32 + 2,
+        );
+        assert_eq!(corner, BLOCK_GRID);
+        assert!(decisions_png(&gray, binary, decisions)
+            .unwrap()
+            .starts_with(b"\x89PNG"));
     }
 }

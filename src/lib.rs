@@ -294,6 +294,32 @@ pub fn trace_points(list: &[[f64; 2]], params: &Params) -> Result<Trace> {
     Ok(trace)
 }
 
+/// Like [`trace_image`], keeping the intermediate stages for pictures: the front end's decisions
+/// and the warnings as [`trace_image`] gives them, the stages of one point set (dropout mode is
+/// decided for the whole image here, not per group of components).
+pub fn trace_image_with_stages(gray: &GrayImage, params: &Params) -> Result<Trace> {
+    params.validate()?;
+    let start = Instant::now();
+    let (binary, mut decisions) = raster::binarize_deciding(gray, params)?;
+    let binarize_time = start.elapsed();
+    let binary = if params.min_area > 0 {
+        raster::drop_small_components(&binary, params.min_area)
+    } else {
+        binary
+    };
+    let mut trace = trace_binary_with_stages(&binary, params)?;
+    trace.timings.binarize = binarize_time;
+    let dropout = trace.stages.as_ref().map(|s| s.points.dropout);
+    decisions.dropout = dropout;
+    decisions.dropout_share = dropout.map(|d| if d { 1.0 } else { 0.0 });
+    trace.dropout = decisions.dropout;
+    trace.dropout_share = decisions.dropout_share;
+    trace.warnings = warnings::of(&trace.graph, Some(&decisions));
+    trace.decisions = Some(decisions);
+    trace.binary = Some(binary);
+    Ok(trace)
+}
+
 /// Like [`trace_binary`], keeping the intermediate stages for pictures.
 pub fn trace_binary_with_stages(binary: &Binary, params: &Params) -> Result<Trace> {
     params.validate()?;

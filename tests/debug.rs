@@ -325,8 +325,10 @@ fn cli_debug_writes_the_pictures() {
         .map(|e| e.expect("entry").file_name().to_string_lossy().into_owned())
         .collect();
     names.sort();
-    assert_eq!(names, PICTURE_NAMES, "the pictures and no temporary files");
-    for name in PICTURE_NAMES {
+    let mut expected: Vec<&str> = vec![ridgeline::debug::DECISIONS_PICTURE];
+    expected.extend(PICTURE_NAMES);
+    assert_eq!(names, expected, "the pictures and no temporary files");
+    for name in expected {
         let picture = image::open(pictures.join(name)).expect(name);
         assert_eq!((picture.width(), picture.height()), (320, 320), "{name}");
     }

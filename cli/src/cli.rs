@@ -1349,10 +1349,12 @@ fn file_id(path: &Path) -> Option<FileId> {
 /// `same-file` crate would hold every input open.)
 fn refuse_overwriting_inputs(jobs: &[Job], reserved: &Reserved) -> Result<(), UsageError> {
     for job in jobs {
-        let pictures = job
-            .debug
-            .iter()
-            .flat_map(|dir| ridgeline::debug::PICTURE_NAMES.map(|name| dir.join(name)));
+        let pictures = job.debug.iter().flat_map(|dir| {
+            ridgeline::debug::PICTURE_NAMES
+                .into_iter()
+                .chain([ridgeline::debug::DECISIONS_PICTURE])
+                .map(|name| dir.join(name))
+        });
         let outputs = match &job.destination {
             Destination::File(path) => Some(path.clone()),
             Destination::Stdout => None,
@@ -1777,17 +1779,20 @@ fn trace_with_pictures(
     params: &Params,
     dir: &Path,
 ) -> Result<ridgeline::Trace> {
-    let binary = ridgeline::raster::binarize(gray, params)?;
-    let mut trace = ridgeline::trace_binary_with_stages(&binary, params)?;
-    if let Some(stages) = &trace.stages {
+    let trace = ridgeline::trace_image_with_stages(gray, params)?;
+    if let (Some(stages), Some(binary)) = (&trace.stages, &trace.binary) {
         fs::create_dir_all(dir)
             .with_context(|| format!("cannot create the --debug folder {}", dir.display()))?;
-        for picture in ridgeline::debug::stage_pngs(&binary, stages, &trace.graph) {
+        if let Some(decisions) = &trace.decisions {
+            let png = ridgeline::debug::decisions_png(gray, binary, decisions)?;
+            write_atomically(&dir.join(ridgeline::debug::DECISIONS_PICTURE), &png)
+                .context("cannot write the --debug pictures")?;
+        }
+        for picture in ridgeline::debug::stage_pngs(binary, stages, &trace.graph) {
             let (name, png) = picture?;
             write_atomically(&dir.join(name), &png).context("cannot write the --debug pictures")?;
         }
     }
-    trace.binary = Some(binary);
     Ok(trace)
 }
 

@@ -1,0 +1,155 @@
+"""ridgeline: raster images of strokes (scanned text, handwriting, Chinese characters,
+fingerprints) traced into stroke graphs, the centerlines as polylines meeting at junctions.
+
+>>> import numpy as np, ridgeline
+>>> plus = np.full((80, 80), 255, np.uint8)
+>>> plus[37:43, 10:70] = 0          # a horizontal bar, 6 px thick
+>>> plus[10:70, 37:43] = 0          # and a vertical one
+>>> t = ridgeline.trace(plus)
+>>> t.stats["junctions"], t.stats["endpoints"], list(t.vertex_degree).count(4)
+(1, 4, 1)
+
+``trace`` reads a numpy array (uint8 gray levels or a bool ink mask), encoded image bytes, or a
+path; ``trace_pages`` every page of a multi-page TIFF; ``trace_points`` an N x 2 point array or a
+point-list file. Every parameter of the library is a keyword of the same name and default
+(:func:`default_params` lists them; docs/json.md explains each), and the result, a :class:`Trace`,
+gives the graph as numpy arrays, as lists of dicts, and as the command line's SVG and JSON.
+
+The GIL is released while an image is read and traced, so threads trace in parallel.
+"""
+
+from __future__ import annotations
+
+import inspect
+import os
+from typing import Any, Dict, List, Optional, Union
+
+import numpy as np
+
+from . import _ridgeline
+from ._errors import (
+    DecodeError,
+    LimitError,
+    ParameterError,
+    PointListError,
+    RidgelineError,
+)
+from ._ridgeline import Trace
+
+__version__: str = _ridgeline.__version__
+
+__all__ = [
+    "trace",
+    "trace_pages",
+    "trace_points",
+    "default_params",
+    "paper_params",
+    "Trace",
+    "RidgelineError",
+    "ParameterError",
+    "LimitError",
+    "DecodeError",
+    "PointListError",
+    "__version__",
+]
+
+
+def default_params() -> Dict[str, Any]:
+    """Every keyword parameter of :func:`trace` with its default, in the library's order.
+
+    The values are spelled as in the ``parameters`` object of the JSON output, so
+    ``trace(image, **json.loads(doc)["parameters"])`` traces with what a document records.
+    """
+    return _ridgeline.default_params()
+
+
+def paper_params() -> Dict[str, Any]:
+    """The paper's own rules and values (the command line's ``--paper``), as keywords:
+    ``trace(image, **paper_params())``; any of them can still be changed."""
+    return _ridgeline.paper_params()
+
+
+def trace(
+    image: Union[np.ndarray, bytes, bytearray, memoryview, str, "os.PathLike[str]"],
+    /,
+    *,
+    source_path: Optional[str] = None,
+    threads: Optional[int] = None,
+    **params: Any,
+) -> Trace:
+    """Traces one image into its stroke graph.
+
+    ``image`` is a 2-D numpy array, uint8 gray levels (thresholded and its polarity found as
+    ``threshold`` and ``polarity`` say) or bool (True = ink, traced as it is); or the bytes of an
+    image file (PNG, JPEG, TIFF, BMP, PNM, GIF, WebP; of a multi-page TIFF the first page, see
+    :func:`trace_pages`); or the path of one. A C-contiguous array is read in place with the GIL
+    released (the library copies it once into its own image buffer); other layouts are read
+    element by element.
+
+    ``source_path`` is recorded as ``source.path`` in the JSON (default: the path traced, as
+    given; ``None`` for arrays and bytes). ``threads`` runs the call on that many threads (default:
+    every core; give 1 when many calls run side by side, in threads or processes).
+
+    Every other keyword is a parameter of the library, with the same name and default (see
+    :func:`default_params`); a dict given for ``limits`` or ``threshold`` updates the default one,
+    so ``limits={"max_points": 10**6}`` keeps the other limits.
+
+    Raises :class:`ParameterError` (a ``ValueError``) for a parameter out of range,
+    :class:`LimitError` for an input beyond ``limits``, :class:`DecodeError` for bytes that are not
+    an image, ``OSError`` for a file that cannot be read, ``TypeError`` for an argument of the
+    wrong type or an unknown keyword.
+    """
+    return _ridgeline.trace(image, source_path, threads, params)
+
+
+def trace_pages(
+    image: Union[bytes, bytearray, memoryview, str, "os.PathLike[str]"],
+    /,
+    *,
+    source_path: Optional[str] = None,
+    threads: Optional[int] = None,
+    **params: Any,
+) -> List[Trace]:
+    """Traces every page of an image file (a multi-page TIFF; one page for other formats), one
+    :class:`Trace` per page, each recording its page in ``Trace.page`` and in its JSON, like the
+    command line's ``name.json``, ``name.p2.json``, ... Arguments as for :func:`trace`;
+    ``limits["max_pages"]`` bounds the page count before any page is decoded."""
+    return _ridgeline.trace_pages(image, source_path, threads, params)
+
+
+def trace_points(
+    xy: Union[np.ndarray, Any, str, "os.PathLike[str]"],
+    /,
+    *,
+    source_path: Optional[str] = None,
+    threads: Optional[int] = None,
+    **params: Any,
+) -> Trace:
+    """Traces a point set (the paper's own setting): ``xy`` is an N x 2 array-like of (x, y)
+    coordinates, or the path of a point-list file (``x y`` or ``x,y`` per line, read by the same
+    parser as the command line). Keywords as for :func:`trace` (``k`` is the number of nearest
+    neighbours)."""
+    if not isinstance(xy, (str, os.PathLike)):
+        xy = np.asarray(xy, dtype=np.float64)
+        if xy.ndim != 2 or xy.shape[1] != 2:
+            raise ValueError(f"expected an N x 2 array of (x, y) points, got shape {xy.shape}")
+    return _ridgeline.trace_points(xy, source_path, threads, params)
+
+
+def _with_parameter_keywords(function):
+    """Gives ``function`` the signature that lists every parameter keyword with its default, so
+    ``help()``, ``inspect.signature`` and notebooks show them (the stub, ``__init__.pyi``, lists
+    them for editors)."""
+    signature = inspect.signature(function)
+    fixed = [p for p in signature.parameters.values() if p.kind is not inspect.Parameter.VAR_KEYWORD]
+    keywords = [
+        inspect.Parameter(name, inspect.Parameter.KEYWORD_ONLY, default=value)
+        for name, value in default_params().items()
+    ]
+    function.__signature__ = signature.replace(parameters=fixed + keywords)
+    return function
+
+
+for _function in (trace, trace_pages, trace_points):
+    _with_parameter_keywords(_function)
+del _function

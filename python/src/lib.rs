@@ -1,0 +1,419 @@
+//! The compiled part of the Python package `ridgeline` (`ridgeline._ridgeline`): tracing an image,
+//! its pages or a point list with the GIL released, and the [`result::Trace`] the Python code
+//! reads. The public functions, their docstrings and signatures live in `ridgeline/__init__.py`;
+//! this module takes the keyword arguments as one dict.
+//!
+//! Everything that takes time runs inside `Python::detach` (the GIL released): reading the file,
+//! decoding, copying a numpy array into the library's buffer, tracing, chaining strokes. Threads
+//! of one process therefore trace in parallel; `threads=n` runs a call on a pool of `n` threads
+//! (the library otherwise spreads a large page over every core, which is what one call wants and
+//! not what many calls side by side want).
+
+mod errors;
+mod params;
+mod report;
+mod result;
+
+use std::panic::{catch_unwind, AssertUnwindSafe};
+use std::path::PathBuf;
+use std::sync::{Arc, Mutex};
+use std::time::Instant;
+
+use numpy::{PyArray2, PyArrayMethods, PyUntypedArray, PyUntypedArrayMethods};
+use pyo3::exceptions::{PyTypeError, PyValueError};
+use pyo3::prelude::*;
+use pyo3::types::{PyByteArray, PyBytes, PyDict, PyList, PyMemoryView, PyString};
+use ridgeline::raster::Picture;
+use ridgeline::strokes::{strokes, StrokeOptions};
+use ridgeline::{Binary, GrayImage, Params};
+
+use result::{Backdrop, Kind, Trace, Traced};
+
+/// What `trace` was given, read far enough to let go of the GIL.
+enum Input<'a> {
+    /// A 2-D uint8 array (gray levels) or bool array (ink mask), as a view of its memory.
+    Gray(numpy::ndarray::ArrayView2<'a, u8>),
+    Mask(numpy::ndarray::ArrayView2<'a, bool>),
+    /// Encoded image bytes (shared: an SVG shows them as they are).
+    Bytes(Arc<Vec<u8>>),
+    /// A file to read.
+    Path(PathBuf),
+}
+
+/// Reads an array's dtype and shape, or the bytes, or the path, refusing anything else with a
+/// `TypeError` that says what is accepted.
+fn classify<'py>(image: &Bound<'py, PyAny>) -> PyResult<Classified<'py>> {
+    if let Ok(array) = image.cast::<PyUntypedArray>() {
+        let shape = array.shape().to_vec();
+        let dtype = array.dtype().to_string();
+        if array.ndim() != 2 {
+            return Err(PyValueError::new_err(format!(
+                "expected a 2-D array (rows x columns) of gray levels or ink flags, got shape {shape:?}; \
+                 convert colour to gray first (for example img.mean(axis=2).astype(numpy.uint8))"
+            )));
+        }
+        if let Ok(gray) = image.cast::<PyArray2<u8>>() {
+            return Ok(Classified::Gray(gray.readonly()));
+        }
+        if let Ok(mask) = image.cast::<PyArray2<bool>>() {
+            return Ok(Classified::Mask(mask.readonly()));
+        }
+        return Err(PyTypeError::new_err(format!(
+            "expected a uint8 array (gray levels 0-255) or a bool array (True = ink), got dtype {dtype}; \
+             for example (img * 255).astype(numpy.uint8) for floats in [0, 1]"
+        )));
+    }
+    if let Ok(bytes) = image.cast::<PyBytes>() {
+        return Ok(Classified::Bytes(bytes.as_bytes().to_vec()));
+    }
+    if let Ok(bytes) = image.cast::<PyByteArray>() {
+        return Ok(Classified::Bytes(bytes.to_vec()));
+    }
+    if image.is_instance_of::<PyMemoryView>() {
+        let bytes: Vec<u8> = image
+            .py()
+            .import("builtins")?
+            .getattr("bytes")?
+            .call1((image,))?
+            .extract()?;
+        return Ok(Classified::Bytes(bytes));
+    }
+    if let Some(path) = path_of(image)? {
+        return Ok(Classified::Path(path));
+    }
+    Err(PyTypeError::new_err(format!(
+        "expected a 2-D numpy array (uint8 or bool), encoded image bytes, or a path, got {}",
+        image.get_type().name()?
+    )))
+}
+
+/// A `str` or `os.PathLike` as a path.
+fn path_of(value: &Bound<'_, PyAny>) -> PyResult<Option<PathBuf>> {
+    if value.is_instance_of::<PyString>() || value.hasattr("__fspath__")? {
+        return Ok(Some(value.extract()?));
+    }
+    Ok(None)
+}
+
+/// [`Input`] with the numpy borrows that keep its views valid.
+enum Classified<'py> {
+    Gray(numpy::PyReadonlyArray2<'py, u8>),
+    Mask(numpy::PyReadonlyArray2<'py, bool>),
+    Bytes(Vec<u8>),
+    Path(PathBuf),
+}
+
+impl Classified<'_> {
+    /// The input, borrowing the arrays and taking the bytes (read once).
+    fn input(&mut self) -> Input<'_> {
+        match self {
+            Classified::Gray(array) => Input::Gray(array.as_array()),
+            Classified::Mask(array) => Input::Mask(array.as_array()),
+            Classified::Bytes(bytes) => Input::Bytes(Arc::new(std::mem::take(bytes))),
+            Classified::Path(path) => Input::Path(std::mem::take(path)),
+        }
+    }
+}
+
+/// Pixels of a 2-D view in row-major order: one copy of the buffer when it is C-contiguous,
+/// else read element by element in logical order (Fortran order, strided slices).
+fn row_major<T: Copy, U>(view: &numpy::ndarray::ArrayView2<'_, T>, map: impl Fn(T) -> U) -> Vec<U> {
+    match view.as_slice() {
+        Some(slice) => slice.iter().map(|&v| map(v)).collect(),
+        None => view.iter().map(|&v| map(v)).collect(),
+    }
+}
+
+fn dimensions<T>(view: &numpy::ndarray::ArrayView2<'_, T>) -> ridgeline::Result<(u32, u32)> {
+    let (rows, columns) = view.dim();
+    match (u32::try_from(columns), u32::try_from(rows)) {
+        (Ok(width), Ok(height)) => Ok((width, height)),
+        _ => Err(ridgeline::Error::Limit {
+            what: "image side",
+            actual: rows.max(columns) as u64,
+            limit: u64::from(u32::MAX),
+            flag: "--max-side",
+        }),
+    }
+}
+
+/// Runs `work` on a pool of `threads` threads (kept for later calls), or on the global pool.
+fn on_pool<T: Send>(threads: Option<usize>, work: impl FnOnce() -> T + Send) -> T {
+    static POOLS: Mutex<Vec<(usize, Arc<rayon::ThreadPool>)>> = Mutex::new(Vec::new());
+    let Some(threads) = threads else {
+        return work();
+    };
+    let pool = {
+        let mut pools = POOLS.lock().unwrap_or_else(|poisoned| poisoned.into_inner());
+        match pools.iter().find(|(n, _)| *n == threads) {
+            Some((_, pool)) => Some(Arc::clone(pool)),
+            None => rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .thread_name(|i| format!("ridgeline-{i}"))
+                .build()
+                .ok()
+                .map(|pool| {
+                    let pool = Arc::new(pool);
+                    pools.push((threads, Arc::clone(&pool)));
+                    pool
+                }),
+        }
+    };
+    match pool {
+        Some(pool) => pool.install(work),
+        None => work(),
+    }
+}
+
+fn check_threads(threads: Option<usize>) -> PyResult<()> {
+    if threads == Some(0) {
+        return Err(PyValueError::new_err("threads must be at least 1 (or None for every core)"));
+    }
+    Ok(())
+}
+
+/// Runs `work` with the GIL released, on the pool `threads` asks for, turning a panic into a
+/// `RuntimeError` and a library error into its exception.
+fn detached<T: Send>(
+    py: Python<'_>,
+    threads: Option<usize>,
+    work: impl FnOnce() -> ridgeline::Result<T> + Send,
+) -> PyResult<T> {
+    let outcome = py.detach(|| catch_unwind(AssertUnwindSafe(|| on_pool(threads, work))));
+    match outcome {
+        Ok(Ok(value)) => Ok(value),
+        Ok(Err(err)) => Err(errors::to_py(py, err)),
+        Err(panic) => Err(errors::internal(panic)),
+    }
+}
+
+/// One traced page, before it becomes a Python object.
+fn traced(
+    trace: ridgeline::Trace,
+    binary: Option<Binary>,
+    params: &Params,
+    started: Instant,
+    decode: std::time::Duration,
+) -> Traced {
+    let chained = strokes(&trace.graph, &StrokeOptions::default());
+    Traced {
+        binary: binary.or(trace.binary),
+        strokes: chained,
+        graph: trace.graph,
+        params: params.clone(),
+        point_count: trace.point_count,
+        timings: trace.timings,
+        decode,
+        native: started.elapsed(),
+        page: None,
+        backdrop: Backdrop::None,
+        kind: Kind::Image,
+    }
+}
+
+/// Decodes and traces the pages of encoded `bytes`: every page, or only the first.
+fn trace_encoded(
+    bytes: Arc<Vec<u8>>,
+    params: &Params,
+    all: bool,
+    started: Instant,
+) -> ridgeline::Result<Vec<Traced>> {
+    let mut pages = ridgeline::raster::pages(&bytes, &params.limits)?.with_pictures(true);
+    let count = pages.page_count();
+    let mut out = Vec::new();
+    let mut clock = Instant::now();
+    while let Some(page) = pages.next() {
+        let page = page?;
+        let decode = clock.elapsed();
+        let trace = ridgeline::trace_image(&page.gray, params)?;
+        let mut one = traced(trace, None, params, started, decode);
+        one.page = Some((page.number, count));
+        one.backdrop = match page.picture {
+            Picture::Original { mime } => Backdrop::Encoded {
+                bytes: Arc::clone(&bytes),
+                mime,
+            },
+            Picture::Color(image) => Backdrop::Color(image),
+            Picture::Gray => Backdrop::Gray(page.gray),
+        };
+        out.push(one);
+        if !all {
+            break;
+        }
+        clock = Instant::now();
+    }
+    Ok(out)
+}
+
+fn trace_input(input: Input<'_>, params: &Params, all: bool) -> ridgeline::Result<Vec<Traced>> {
+    let started = Instant::now();
+    match input {
+        Input::Gray(view) => {
+            let (width, height) = dimensions(&view)?;
+            let pixels = row_major(&view, |v| v);
+            let gray = GrayImage::from_raw(width, height, pixels)
+                .ok_or_else(|| ridgeline::Error::InvalidParams("array shape and size disagree".into()))?;
+            let trace = ridgeline::trace_image(&gray, params)?;
+            Ok(vec![traced(trace, None, params, started, Default::default())])
+        }
+        Input::Mask(view) => {
+            let (width, height) = dimensions(&view)?;
+            let binary = Binary {
+                width,
+                height,
+                ink: row_major(&view, |v| v),
+            };
+            let trace = ridgeline::trace_binary(&binary, params)?;
+            let mut one = traced(trace, Some(binary), params, started, Default::default());
+            one.backdrop = Backdrop::Mask;
+            Ok(vec![one])
+        }
+        Input::Bytes(bytes) => trace_encoded(bytes, params, all, started),
+        Input::Path(path) => {
+            let bytes = std::fs::read(&path).map_err(|source| ridgeline::Error::Io { path, source })?;
+            trace_encoded(Arc::new(bytes), params, all, started)
+        }
+    }
+}
+
+/// The source path recorded in the JSON: the one given, else the path traced (as given).
+fn recorded_path(image: &Bound<'_, PyAny>, source_path: Option<String>) -> PyResult<Option<String>> {
+    if source_path.is_some() {
+        return Ok(source_path);
+    }
+    Ok(path_of(image)?.map(|path| path.to_string_lossy().into_owned()))
+}
+
+/// `ridgeline.trace` and `ridgeline.trace_pages` without their Python signature: `all` traces
+/// every page of a multi-page TIFF.
+fn trace_any(
+    py: Python<'_>,
+    image: &Bound<'_, PyAny>,
+    source_path: Option<String>,
+    threads: Option<usize>,
+    params: Option<&Bound<'_, PyDict>>,
+    all: bool,
+) -> PyResult<Vec<Trace>> {
+    check_threads(threads)?;
+    let params = params::from_kwargs(py, params)?;
+    let source_path = recorded_path(image, source_path)?;
+    let mut classified = classify(image)?;
+    let gray_array = match &classified {
+        Classified::Gray(_) => Some(image.clone().unbind()),
+        _ => None,
+    };
+    let input = classified.input();
+    let pages = detached(py, threads, || trace_input(input, &params, all))?;
+    drop(classified);
+    Ok(pages
+        .into_iter()
+        .map(|mut page| {
+            if let Some(array) = &gray_array {
+                page.backdrop = Backdrop::Array(array.clone_ref(py));
+            }
+            Trace::new(page, source_path.clone())
+        })
+        .collect())
+}
+
+#[pyfunction]
+#[pyo3(signature = (image, source_path, threads, params))]
+fn trace(
+    py: Python<'_>,
+    image: &Bound<'_, PyAny>,
+    source_path: Option<String>,
+    threads: Option<usize>,
+    params: Option<&Bound<'_, PyDict>>,
+) -> PyResult<Trace> {
+    let mut pages = trace_any(py, image, source_path, threads, params, false)?;
+    Ok(pages.remove(0))
+}
+
+#[pyfunction]
+#[pyo3(signature = (image, source_path, threads, params))]
+fn trace_pages<'py>(
+    py: Python<'py>,
+    image: &Bound<'py, PyAny>,
+    source_path: Option<String>,
+    threads: Option<usize>,
+    params: Option<&Bound<'py, PyDict>>,
+) -> PyResult<Bound<'py, PyList>> {
+    let pages = trace_any(py, image, source_path, threads, params, true)?;
+    PyList::new(py, pages)
+}
+
+/// Point input: an N x 2 float64 array, or a point-list file read by the library's parser.
+#[pyfunction]
+#[pyo3(signature = (xy, source_path, threads, params))]
+fn trace_points(
+    py: Python<'_>,
+    xy: &Bound<'_, PyAny>,
+    source_path: Option<String>,
+    threads: Option<usize>,
+    params: Option<&Bound<'_, PyDict>>,
+) -> PyResult<Trace> {
+    check_threads(threads)?;
+    let params = params::from_kwargs(py, params)?;
+    let source_path = recorded_path(xy, source_path)?;
+    enum Points {
+        List(Vec<[f64; 2]>),
+        File(PathBuf),
+    }
+    let points = match path_of(xy)? {
+        Some(path) => Points::File(path),
+        None => {
+            let array = xy.cast::<PyArray2<f64>>().map_err(|_| {
+                PyTypeError::new_err("expected an N x 2 float64 array (ridgeline.trace_points converts array-likes)")
+            })?;
+            let view = array.readonly();
+            let view = view.as_array();
+            if view.ncols() != 2 {
+                return Err(PyValueError::new_err(format!(
+                    "expected an N x 2 array of (x, y) points, got shape {:?}",
+                    view.shape()
+                )));
+            }
+            Points::List(view.rows().into_iter().map(|row| [row[0], row[1]]).collect())
+        }
+    };
+    let mut one = detached(py, threads, || {
+        let started = Instant::now();
+        let list = match points {
+            Points::List(list) => list,
+            Points::File(path) => {
+                let text = std::fs::read_to_string(&path)
+                    .map_err(|source| ridgeline::Error::Io { path, source })?;
+                ridgeline::point_list::parse(&text)?
+            }
+        };
+        let trace = ridgeline::trace_points(&list, &params)?;
+        Ok(traced(trace, None, &params, started, Default::default()))
+    })?;
+    one.kind = Kind::Points;
+    Ok(Trace::new(one, source_path))
+}
+
+/// Every keyword of `trace` with its default, in `Params`' field order.
+#[pyfunction]
+fn default_params(py: Python<'_>) -> PyResult<Bound<'_, PyDict>> {
+    params::defaults(py)
+}
+
+/// The paper's own rules and values, as keywords.
+#[pyfunction]
+fn paper_params(py: Python<'_>) -> PyResult<Bound<'_, PyDict>> {
+    let defaults = params::defaults(py)?;
+    params::to_dict(py, &Params::paper(), Some(&defaults))
+}
+
+#[pymodule]
+fn _ridgeline(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_function(wrap_pyfunction!(trace, m)?)?;
+    m.add_function(wrap_pyfunction!(trace_pages, m)?)?;
+    m.add_function(wrap_pyfunction!(trace_points, m)?)?;
+    m.add_function(wrap_pyfunction!(default_params, m)?)?;
+    m.add_function(wrap_pyfunction!(paper_params, m)?)?;
+    m.add_class::<Trace>()?;
+    m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    Ok(())
+}

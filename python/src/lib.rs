@@ -16,7 +16,9 @@ mod result;
 
 use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::path::PathBuf;
-use std::sync::{Arc, Mutex};
+use std::cell::RefCell;
+use std::rc::Rc;
+use std::sync::Arc;
 use std::time::Instant;
 
 use numpy::{PyArray2, PyArrayMethods, PyUntypedArray, PyUntypedArrayMethods};
@@ -137,30 +139,32 @@ fn dimensions<T>(view: &numpy::ndarray::ArrayView2<'_, T>) -> ridgeline::Result<
     }
 }
 
-/// Runs `work` on a pool of `threads` threads (kept for later calls), or on the global pool.
+/// Runs `work` on a pool of `threads` threads, or on the global pool. Each calling thread keeps
+/// its own pools: two Python threads sharing a pool of one thread would take turns on it.
 fn on_pool<T: Send>(threads: Option<usize>, work: impl FnOnce() -> T + Send) -> T {
-    static POOLS: Mutex<Vec<(usize, Arc<rayon::ThreadPool>)>> = Mutex::new(Vec::new());
+    thread_local! {
+        static POOLS: RefCell<Vec<(usize, Rc<rayon::ThreadPool>)>> = const { RefCell::new(Vec::new()) };
+    }
     let Some(threads) = threads else {
         return work();
     };
-    let pool = {
-        let mut pools = POOLS.lock().unwrap_or_else(|poisoned| poisoned.into_inner());
-        match pools.iter().find(|(n, _)| *n == threads) {
-            Some((_, pool)) => Some(Arc::clone(pool)),
-            None => rayon::ThreadPoolBuilder::new()
-                .num_threads(threads)
-                .thread_name(|i| format!("ridgeline-{i}"))
-                .build()
-                .ok()
-                .map(|pool| {
-                    let pool = Arc::new(pool);
-                    pools.push((threads, Arc::clone(&pool)));
-                    pool
-                }),
+    let pool = POOLS.with(|pools| {
+        let mut pools = pools.borrow_mut();
+        if let Some((_, pool)) = pools.iter().find(|(n, _)| *n == threads) {
+            return Some(Rc::clone(pool));
         }
-    };
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .thread_name(|i| format!("ridgeline-{i}"))
+            .build()
+            .ok()
+            .map(Rc::new)?;
+        pools.push((threads, Rc::clone(&pool)));
+        Some(pool)
+    });
     match pool {
         Some(pool) => pool.install(work),
+        // The threads could not be started: the global pool still traces.
         None => work(),
     }
 }

@@ -66,5 +66,7 @@ pub fn internal(payload: Box<dyn std::any::Any + Send>) -> PyErr {
         .map(|s| s.to_string())
         .or_else(|| payload.downcast_ref::<String>().cloned())
         .unwrap_or_default();
-    PyRuntimeError::new_err(format!("internal error in ridgeline, please report it: {message}"))
+    PyRuntimeError::new_err(format!(
+        "internal error in ridgeline, please report it: {message}"
+    ))
 }

@@ -14,9 +14,9 @@ mod params;
 mod report;
 mod result;
 
+use std::cell::RefCell;
 use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::path::PathBuf;
-use std::cell::RefCell;
 use std::rc::Rc;
 use std::sync::Arc;
 use std::time::Instant;
@@ -171,7 +171,9 @@ fn on_pool<T: Send>(threads: Option<usize>, work: impl FnOnce() -> T + Send) -> 
 
 fn check_threads(threads: Option<usize>) -> PyResult<()> {
     if threads == Some(0) {
-        return Err(PyValueError::new_err("threads must be at least 1 (or None for every core)"));
+        return Err(PyValueError::new_err(
+            "threads must be at least 1 (or None for every core)",
+        ));
     }
     Ok(())
 }
@@ -222,11 +224,11 @@ fn trace_encoded(
     all: bool,
     started: Instant,
 ) -> ridgeline::Result<Vec<Traced>> {
-    let mut pages = ridgeline::raster::pages(&bytes, &params.limits)?.with_pictures(true);
+    let pages = ridgeline::raster::pages(&bytes, &params.limits)?.with_pictures(true);
     let count = pages.page_count();
     let mut out = Vec::new();
     let mut clock = Instant::now();
-    while let Some(page) = pages.next() {
+    for page in pages {
         let page = page?;
         let decode = clock.elapsed();
         let trace = ridgeline::trace_image(&page.gray, params)?;
@@ -255,10 +257,17 @@ fn trace_input(input: Input<'_>, params: &Params, all: bool) -> ridgeline::Resul
         Input::Gray(view) => {
             let (width, height) = dimensions(&view)?;
             let pixels = row_major(&view, |v| v);
-            let gray = GrayImage::from_raw(width, height, pixels)
-                .ok_or_else(|| ridgeline::Error::InvalidParams("array shape and size disagree".into()))?;
+            let gray = GrayImage::from_raw(width, height, pixels).ok_or_else(|| {
+                ridgeline::Error::InvalidParams("array shape and size disagree".into())
+            })?;
             let trace = ridgeline::trace_image(&gray, params)?;
-            Ok(vec![traced(trace, None, params, started, Default::default())])
+            Ok(vec![traced(
+                trace,
+                None,
+                params,
+                started,
+                Default::default(),
+            )])
         }
         Input::Mask(view) => {
             let (width, height) = dimensions(&view)?;
@@ -274,14 +283,18 @@ fn trace_input(input: Input<'_>, params: &Params, all: bool) -> ridgeline::Resul
         }
         Input::Bytes(bytes) => trace_encoded(bytes, params, all, started),
         Input::Path(path) => {
-            let bytes = std::fs::read(&path).map_err(|source| ridgeline::Error::Io { path, source })?;
+            let bytes =
+                std::fs::read(&path).map_err(|source| ridgeline::Error::Io { path, source })?;
             trace_encoded(Arc::new(bytes), params, all, started)
         }
     }
 }
 
 /// The source path recorded in the JSON: the one given, else the path traced (as given).
-fn recorded_path(image: &Bound<'_, PyAny>, source_path: Option<String>) -> PyResult<Option<String>> {
+fn recorded_path(
+    image: &Bound<'_, PyAny>,
+    source_path: Option<String>,
+) -> PyResult<Option<String>> {
     if source_path.is_some() {
         return Ok(source_path);
     }
@@ -367,7 +380,9 @@ fn trace_points(
         Some(path) => Points::File(path),
         None => {
             let array = xy.cast::<PyArray2<f64>>().map_err(|_| {
-                PyTypeError::new_err("expected an N x 2 float64 array (ridgeline.trace_points converts array-likes)")
+                PyTypeError::new_err(
+                    "expected an N x 2 float64 array (ridgeline.trace_points converts array-likes)",
+                )
             })?;
             let view = array.readonly();
             let view = view.as_array();
@@ -377,7 +392,12 @@ fn trace_points(
                     view.shape()
                 )));
             }
-            Points::List(view.rows().into_iter().map(|row| [row[0], row[1]]).collect())
+            Points::List(
+                view.rows()
+                    .into_iter()
+                    .map(|row| [row[0], row[1]])
+                    .collect(),
+            )
         }
     };
     let mut one = detached(py, threads, || {

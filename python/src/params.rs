@@ -251,5 +251,7 @@ fn suggestion(name: &str) -> String {
         .map(|&known| (distance(name, known), known))
         .min()
         .filter(|&(d, _)| d <= 2)
-        .map_or_else(String::new, |(_, known)| format!("; did you mean '{known}'?"))
+        .map_or_else(String::new, |(_, known)| {
+            format!("; did you mean '{known}'?")
+        })
 }

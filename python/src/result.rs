@@ -9,7 +9,7 @@ use numpy::{IntoPyArray, PyArray1, PyArray2, PyArrayMethods};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
-use ridgeline::curves::{fit_beziers, fit_edges, CurveOptions, CubicBezier};
+use ridgeline::curves::{fit_beziers, fit_edges, CubicBezier, CurveOptions};
 use ridgeline::export::json::{self, JsonMeta};
 use ridgeline::export::svg::{self, SvgOptions};
 use ridgeline::export::Features;
@@ -163,9 +163,12 @@ fn curve_options(tolerance: Option<f64>, corner_angle: Option<f64>) -> PyResult<
     Ok(options)
 }
 
-fn xy_array<'py>(py: Python<'py>, points: impl ExactSizeIterator<Item = [f64; 2]>) -> Bound<'py, PyArray2<f64>> {
+fn xy_array<'py>(
+    py: Python<'py>,
+    points: impl ExactSizeIterator<Item = [f64; 2]>,
+) -> Bound<'py, PyArray2<f64>> {
     let n = points.len();
-    let flat: Vec<f64> = points.flat_map(|p| p).collect();
+    let flat: Vec<f64> = points.flatten().collect();
     Array2::from_shape_vec((n, 2), flat)
         .unwrap_or_else(|_| Array2::zeros((0, 2)))
         .into_pyarray(py)
@@ -249,7 +252,12 @@ impl Trace {
     /// Vertex degrees, shape (V,): 1 stroke end, 3+ junction or crossing, 2 loop anchor, 0 dot.
     #[getter]
     fn vertex_degree<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<i64>> {
-        let degrees: Vec<i64> = self.graph().vertices.iter().map(|v| v.degree as i64).collect();
+        let degrees: Vec<i64> = self
+            .graph()
+            .vertices
+            .iter()
+            .map(|v| v.degree as i64)
+            .collect();
         degrees.into_pyarray(py)
     }
 
@@ -264,7 +272,10 @@ impl Trace {
     #[getter]
     fn edge_vertices<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray2<i64>> {
         let edges = &self.graph().edges;
-        let flat: Vec<i64> = edges.iter().flat_map(|e| [e.from as i64, e.to as i64]).collect();
+        let flat: Vec<i64> = edges
+            .iter()
+            .flat_map(|e| [e.from as i64, e.to as i64])
+            .collect();
         Array2::from_shape_vec((edges.len(), 2), flat)
             .unwrap_or_else(|_| Array2::zeros((0, 2)))
             .into_pyarray(py)
@@ -295,7 +306,10 @@ impl Trace {
     fn point_xy<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray2<f64>> {
         let edges = &self.graph().edges;
         let n: usize = edges.iter().map(|e| e.points.len()).sum();
-        let flat: Vec<f64> = edges.iter().flat_map(|e| e.points.iter().flatten().copied()).collect();
+        let flat: Vec<f64> = edges
+            .iter()
+            .flat_map(|e| e.points.iter().flatten().copied())
+            .collect();
         Array2::from_shape_vec((n, 2), flat)
             .unwrap_or_else(|_| Array2::zeros((0, 2)))
             .into_pyarray(py)
@@ -304,7 +318,12 @@ impl Trace {
     /// Local stroke width at each point of `point_xy`, shape (P,), px.
     #[getter]
     fn point_width<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
-        let widths: Vec<f64> = self.graph().edges.iter().flat_map(|e| e.widths.iter().copied()).collect();
+        let widths: Vec<f64> = self
+            .graph()
+            .edges
+            .iter()
+            .flat_map(|e| e.widths.iter().copied())
+            .collect();
         widths.into_pyarray(py)
     }
 
@@ -489,17 +508,24 @@ impl Trace {
             _ => None,
         };
         Ok(py.detach(|| {
-            let from_mask: Option<GrayImage> = match (&self.traced.backdrop, &self.traced.binary, image) {
-                (Backdrop::Mask, Some(binary), true) => GrayImage::from_raw(
-                    binary.width,
-                    binary.height,
-                    binary.ink.iter().map(|&ink| if ink { 0 } else { 255 }).collect(),
-                ),
-                _ => None,
-            };
+            let from_mask: Option<GrayImage> =
+                match (&self.traced.backdrop, &self.traced.binary, image) {
+                    (Backdrop::Mask, Some(binary), true) => GrayImage::from_raw(
+                        binary.width,
+                        binary.height,
+                        binary
+                            .ink
+                            .iter()
+                            .map(|&ink| if ink { 0 } else { 255 })
+                            .collect(),
+                    ),
+                    _ => None,
+                };
             let backdrop = match (&self.traced.backdrop, image) {
                 (_, false) | (Backdrop::None, _) => None,
-                (Backdrop::Encoded { bytes, mime }, true) => Some(svg::Backdrop::Encoded { bytes, mime }),
+                (Backdrop::Encoded { bytes, mime }, true) => {
+                    Some(svg::Backdrop::Encoded { bytes, mime })
+                }
                 (Backdrop::Color(picture), true) => Some(svg::Backdrop::Color(picture)),
                 (Backdrop::Gray(gray), true) => Some(svg::Backdrop::Gray(gray)),
                 (Backdrop::Array(_), true) => from_array.as_ref().map(svg::Backdrop::Gray),
@@ -539,7 +565,9 @@ impl Trace {
     fn __repr__(&self) -> String {
         let graph = self.graph();
         let source = match (&self.source_path, self.traced.page) {
-            (Some(path), Some((number, count))) if count > 1 => format!("{path} page {number}/{count}, "),
+            (Some(path), Some((number, count))) if count > 1 => {
+                format!("{path} page {number}/{count}, ")
+            }
             (Some(path), _) => format!("{path}, "),
             _ => String::new(),
         };

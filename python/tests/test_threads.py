@@ -6,6 +6,7 @@ core itself, so on a 2-core machine two default traces side by side cannot finis
 one after the other, GIL or not. With one thread per trace, two traces on two cores take about
 as long as one when the GIL is released, and twice as long when it is held."""
 
+import hashlib
 import os
 import threading
 import time
@@ -61,27 +62,45 @@ def test_python_code_runs_while_a_trace_is_under_way(two_pages):
 
 
 def test_two_threads_trace_two_pages_in_clearly_less_than_twice_the_time(two_pages):
+    """Two pages on two threads against one page alone: 2.0 when the calls take turns, about 1.0
+    when both cores trace at once. A machine shared with other work may give this process only
+    one core for a while (the scheduler shares the CPUs between sessions, whatever their thread
+    counts); a reference workload that certainly runs without the GIL (hashing) tells when: then
+    the traces must scale as well as the reference does, and the test tries again for a moment
+    with two cores, when the bound is 1.8."""
     if cpus() < 2:
         pytest.skip("needs 2 CPUs to run two traces at once; this process may use only 1")
 
     def one(page):
         return ridgeline.trace(page, threads=1).to_json()
 
-    # Sequential: each page alone, best of two (the least disturbed by other load).
-    alone = [min(_timed(lambda: one(page)) for _ in range(2)) for page in two_pages]
-    ratios = []
-    # A few tries: a machine shared with other work may be busy during one of them.
-    for _ in range(5):
-        with ThreadPoolExecutor(2) as pool:
-            start = time.perf_counter()
-            list(pool.map(one, two_pages))
-            together = time.perf_counter() - start
-        # Two pages side by side against the mean time of one: 2.0 when serialized, about 1.0
-        # when both cores trace at once.
-        ratios.append(together / (sum(alone) / 2))
-        if ratios[-1] < 1.8:
-            break
-    assert min(ratios) < 1.8, f"two pages took {ratios} times one page"
+    block = bytes(48 << 20)
+
+    def reference(_):
+        return hashlib.sha256(block).digest()  # releases the GIL for buffers this large
+
+    attempts = []
+    for _ in range(6):
+        traces = _ratio(one, two_pages)
+        hashing = _ratio(reference, [0, 1])
+        attempts.append((round(traces, 2), round(hashing, 2)))
+        if hashing < 1.5 and traces < 1.8:
+            return
+    two_cores = [a for a in attempts if a[1] < 1.5]
+    assert not two_cores, f"with two cores free, two pages took {two_cores} times one page (traces, hashing)"
+    # Never two cores free: the traces scale no worse than the GIL-free reference.
+    assert min(t - h for t, h in attempts) < 0.3, f"(traces, hashing) ratios: {attempts}"
+
+
+def _ratio(work, items) -> float:
+    """Wall time of `work` on both items in two threads over the mean time of one item alone
+    (best of two, the least disturbed)."""
+    alone = [min(_timed(lambda: work(item)) for _ in range(2)) for item in items]
+    with ThreadPoolExecutor(2) as pool:
+        start = time.perf_counter()
+        list(pool.map(work, items))
+        together = time.perf_counter() - start
+    return together / (sum(alone) / len(alone))
 
 
 def test_results_from_many_threads_equal_sequential_results(two_pages):

@@ -426,7 +426,7 @@ fn default_params(py: Python<'_>) -> PyResult<Bound<'_, PyDict>> {
 /// The paper's own rules and values, as keywords.
 #[pyfunction]
 fn paper_params(py: Python<'_>) -> PyResult<Bound<'_, PyDict>> {
-    let defaults = params::defaults(py)?;
+    let defaults = params::cached_defaults(py)?;
     params::to_dict(py, &Params::paper(), Some(&defaults))
 }
 

@@ -124,8 +124,8 @@ pub fn defaults(py: Python<'_>) -> PyResult<Bound<'_, PyDict>> {
     Ok(dict)
 }
 
-/// The defaults, converted once per interpreter.
-fn cached_defaults(py: Python<'_>) -> PyResult<Bound<'_, PyDict>> {
+/// The defaults, converted once per interpreter (not to be changed by callers).
+pub fn cached_defaults(py: Python<'_>) -> PyResult<Bound<'_, PyDict>> {
     static DEFAULTS: pyo3::sync::PyOnceLock<Py<PyDict>> = pyo3::sync::PyOnceLock::new();
     let defaults = DEFAULTS.get_or_try_init(py, || defaults(py).map(Bound::unbind))?;
     Ok(defaults.bind(py).clone())

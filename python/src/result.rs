@@ -217,7 +217,7 @@ impl Trace {
     /// Every parameter used, as keywords: `ridgeline.trace(image, **t.params)` traces the same.
     #[getter]
     fn params<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
-        let defaults = crate::params::defaults(py)?;
+        let defaults = crate::params::cached_defaults(py)?;
         crate::params::to_dict(py, &self.traced.params, Some(&defaults))
     }
 

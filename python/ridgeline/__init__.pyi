@@ -36,7 +36,7 @@ def trace(
     source_path: Optional[str] = None,
     threads: Optional[int] = None,
     # parameters (generated from default_params(): RIDGELINE_BLESS=1 pytest tests/test_stubs.py)
-    threshold: Mapping[str, Any] = ...,  # default {'method': 'otsu'}
+    threshold: Mapping[str, Any] = ...,  # default {'method': 'auto'}
     polarity: str = 'auto',
     limits: Mapping[str, Any] = ...,  # default {'max_pixels': 100000000, 'max_side': 65535, 'max_points': 50000000, 'max_pages': 1000}
     dropout: Any = None,
@@ -58,6 +58,7 @@ def trace(
     spacing_factor: float = 1.0,
     cleanup: bool = True,
     skeleton: bool = True,
+    min_area: bool = False,
     ink_disks: bool = False,
     site_clusters: bool = False,
     dense_fit: bool = False,
@@ -76,7 +77,7 @@ def trace_pages(
     source_path: Optional[str] = None,
     threads: Optional[int] = None,
     # parameters (generated from default_params(): RIDGELINE_BLESS=1 pytest tests/test_stubs.py)
-    threshold: Mapping[str, Any] = ...,  # default {'method': 'otsu'}
+    threshold: Mapping[str, Any] = ...,  # default {'method': 'auto'}
     polarity: str = 'auto',
     limits: Mapping[str, Any] = ...,  # default {'max_pixels': 100000000, 'max_side': 65535, 'max_points': 50000000, 'max_pages': 1000}
     dropout: Any = None,
@@ -98,6 +99,7 @@ def trace_pages(
     spacing_factor: float = 1.0,
     cleanup: bool = True,
     skeleton: bool = True,
+    min_area: bool = False,
     ink_disks: bool = False,
     site_clusters: bool = False,
     dense_fit: bool = False,
@@ -113,7 +115,7 @@ def trace_points(
     source_path: Optional[str] = None,
     threads: Optional[int] = None,
     # parameters (generated from default_params(): RIDGELINE_BLESS=1 pytest tests/test_stubs.py)
-    threshold: Mapping[str, Any] = ...,  # default {'method': 'otsu'}
+    threshold: Mapping[str, Any] = ...,  # default {'method': 'auto'}
     polarity: str = 'auto',
     limits: Mapping[str, Any] = ...,  # default {'max_pixels': 100000000, 'max_side': 65535, 'max_points': 50000000, 'max_pages': 1000}
     dropout: Any = None,
@@ -135,6 +137,7 @@ def trace_points(
     spacing_factor: float = 1.0,
     cleanup: bool = True,
     skeleton: bool = True,
+    min_area: bool = False,
     ink_disks: bool = False,
     site_clusters: bool = False,
     dense_fit: bool = False,
@@ -214,11 +217,12 @@ class Trace:
     def stats(self) -> Dict[str, int]:
         """Counts: vertices, edges, endpoints, junctions, components, cycles."""
     @property
-    def decisions(self) -> Dict[str, Any]:
-        """What the front end decided (polarity, threshold, dropout mode)."""
+    def decisions(self) -> Optional[Dict[str, Any]]:
+        """What the front end decided for an image (polarity and its confidence, threshold,
+        stroke width, dropout mode), as the JSON's decisions; None for masks and point lists."""
     @property
-    def warnings(self) -> List[str]:
-        """The library's warnings about this input."""
+    def warnings(self) -> List[Dict[str, str]]:
+        """What is probably wrong with the result: dicts {"code", "message"}, as in the JSON."""
     def to_json(
         self,
         *,

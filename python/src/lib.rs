@@ -203,6 +203,8 @@ fn traced(
 ) -> Traced {
     let chained = strokes(&trace.graph, &StrokeOptions::default());
     Traced {
+        decisions: trace.decisions,
+        warnings: trace.warnings,
         binary: binary.or(trace.binary),
         strokes: chained,
         graph: trace.graph,

@@ -1,61 +1,32 @@
-//! The front end's decisions (polarity and its confidence, threshold method and level or window,
-//! dropout mode) and the library's warnings for one trace: the one place the Python result reads
-//! them from.
-//!
-//! The library writes them into its JSON document, as top-level `decisions` (an object) and
-//! `warnings` (a list of strings), and this reads them back from there; a document without them
-//! gives an empty dict and an empty list. When `ridgeline::Trace` carries them as typed fields,
-//! [`Report::of`] is the function to change (and it need not write the JSON any more).
+//! The front end's decisions (polarity and its confidence, the threshold used, the stroke width,
+//! dropout mode) and the warnings of one trace, as the Python result gives them: the one place
+//! that turns the library's typed fields into Python values.
 
 use pyo3::prelude::*;
-use pyo3::types::PyDict;
-use serde_json::Value;
+use pyo3::types::{PyDict, PyList};
+use ridgeline::{Decisions, Warning};
 
-/// Decisions and warnings of one trace.
-#[derive(Clone, Debug, Default, PartialEq)]
-pub struct Report {
-    /// The `decisions` object, or an empty object.
-    pub decisions: serde_json::Map<String, Value>,
-    /// The `warnings`, each as its text.
-    pub warnings: Vec<String>,
+/// The decisions as a dict shaped like the JSON's `decisions` (unrounded); `None` when the
+/// library made none (a mask or a point list, which are not thresholded).
+pub fn decisions<'py>(
+    py: Python<'py>,
+    decisions: Option<&Decisions>,
+) -> PyResult<Bound<'py, PyAny>> {
+    match decisions {
+        Some(decisions) => pythonize::pythonize(py, decisions)
+            .map_err(|err| pyo3::exceptions::PyRuntimeError::new_err(err.to_string())),
+        None => Ok(py.None().into_bound(py)),
+    }
 }
 
-impl Report {
-    /// Reads the report out of a JSON document written by the library.
-    pub fn of(document: &str) -> Report {
-        let Ok(Value::Object(mut top)) = serde_json::from_str::<Value>(document) else {
-            return Report::default();
-        };
-        let decisions = match top.remove("decisions") {
-            Some(Value::Object(decisions)) => decisions,
-            _ => serde_json::Map::new(),
-        };
-        let warnings = match top.remove("warnings") {
-            Some(Value::Array(items)) => items
-                .into_iter()
-                .map(|item| match item {
-                    Value::String(text) => text,
-                    // A structured warning: its message when it has one, else the whole object.
-                    Value::Object(ref fields) => match fields.get("message") {
-                        Some(Value::String(text)) => text.clone(),
-                        _ => item.to_string(),
-                    },
-                    other => other.to_string(),
-                })
-                .collect(),
-            _ => Vec::new(),
-        };
-        Report {
-            decisions,
-            warnings,
-        }
+/// The warnings as dicts `{"code", "message"}`, as in the JSON's `warnings`.
+pub fn warnings<'py>(py: Python<'py>, warnings: &[Warning]) -> PyResult<Bound<'py, PyList>> {
+    let list = PyList::empty(py);
+    for warning in warnings {
+        let dict = PyDict::new(py);
+        dict.set_item("code", warning.code)?;
+        dict.set_item("message", &warning.message)?;
+        list.append(dict)?;
     }
-
-    /// The decisions as a Python dict.
-    pub fn decisions<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        match pythonize::pythonize(py, &self.decisions) {
-            Ok(value) => Ok(value),
-            Err(_) => Ok(PyDict::new(py).into_any()),
-        }
-    }
+    Ok(list)
 }

@@ -15,9 +15,7 @@ use ridgeline::export::svg::{self, SvgOptions};
 use ridgeline::export::Features;
 use ridgeline::minutiae::{minutiae, Minutia, MinutiaKind, MinutiaeOptions};
 use ridgeline::strokes::Stroke;
-use ridgeline::{Binary, GrayImage, Params, StrokeGraph, Timings};
-
-use crate::report::Report;
+use ridgeline::{Binary, Decisions, GrayImage, Params, StrokeGraph, Timings, Warning};
 
 /// What the input was: an image (or mask) or a point list, whose SVG canvas fits the drawing.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -61,6 +59,9 @@ pub struct Traced {
     pub page: Option<(usize, usize)>,
     pub backdrop: Backdrop,
     pub kind: Kind,
+    /// What the front end decided (images), and what is probably wrong with the result.
+    pub decisions: Option<Decisions>,
+    pub warnings: Vec<Warning>,
 }
 
 /// The result of `ridgeline.trace`, `ridgeline.trace_pages` or `ridgeline.trace_points`.
@@ -75,7 +76,6 @@ pub struct Trace {
     traced: Traced,
     source_path: Option<String>,
     minutiae: OnceLock<Vec<Minutia>>,
-    report: OnceLock<Report>,
 }
 
 impl Trace {
@@ -84,7 +84,6 @@ impl Trace {
             traced,
             source_path,
             minutiae: OnceLock::new(),
-            report: OnceLock::new(),
         }
     }
 
@@ -110,6 +109,8 @@ impl Trace {
 
     fn meta(&self, pretty: bool) -> JsonMeta {
         let mut meta = JsonMeta::new(self.traced.params.clone()).with_pretty(pretty);
+        meta.decisions = self.traced.decisions.clone();
+        meta.warnings = self.traced.warnings.clone();
         if let Some(path) = &self.source_path {
             meta = meta.with_source_path(path.clone());
         }
@@ -117,14 +118,6 @@ impl Trace {
             meta = meta.with_page(number, count);
         }
         meta
-    }
-
-    fn report(&self, py: Python<'_>) -> &Report {
-        if let Some(report) = self.report.get() {
-            return report;
-        }
-        let report = py.detach(|| Report::of(&self.json_text(false, None, None)));
-        self.report.get_or_init(|| report)
     }
 
     /// The JSON document, as the command line writes it with the same features.
@@ -440,16 +433,20 @@ impl Trace {
         Ok(dict)
     }
 
-    /// What the front end decided (polarity, threshold, dropout mode), as the library reports it.
+    /// What the front end decided for an image, as the JSON's `decisions` (unrounded):
+    /// `polarity`, `polarity_confidence`, `threshold` (method and level or window),
+    /// `stroke_width`, `uneven_light`, `dropout`; `None` for a mask or a point list.
     #[getter]
     fn decisions<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        self.report(py).decisions(py)
+        crate::report::decisions(py, self.traced.decisions.as_ref())
     }
 
-    /// The library's warnings about this input, as strings.
+    /// What is probably wrong with the result, as dicts `{"code", "message"}` (the JSON's
+    /// `warnings`): `code` is a stable name (`polarity_uncertain`, `speckle`, ...), `message`
+    /// says what to try.
     #[getter]
-    fn warnings(&self, py: Python<'_>) -> Vec<String> {
-        self.report(py).warnings.clone()
+    fn warnings<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyList>> {
+        crate::report::warnings(py, &self.traced.warnings)
     }
 
     /// The JSON document, byte for byte what `ridgeline INPUT -o out.json` writes with the same

@@ -111,11 +111,37 @@ def test_svg_draws_over_the_array_it_traced():
     assert "data:image/png;base64," in ridgeline.trace(gray == 0).to_svg()
 
 
-def test_repr_and_decisions_and_warnings_are_plain_python(crossings):
+def test_repr(crossings):
     assert "crossings.png" in repr(crossings) and "junctions" in repr(crossings)
-    assert isinstance(crossings.decisions, dict)
-    assert isinstance(crossings.warnings, list)
-    assert all(isinstance(w, str) for w in crossings.warnings)
+
+
+def test_decisions_are_the_front_ends_as_in_the_json():
+    for name, polarity in [("crossings.png", "dark"), ("fingerprint.png", "light")]:
+        t = ridgeline.trace(SAMPLES / name)
+        recorded = json.loads(t.to_json())["decisions"]
+        assert t.decisions["polarity"] == polarity == recorded["polarity"]
+        assert t.decisions["threshold"] == recorded["threshold"]
+        assert t.decisions["polarity_confidence"] == pytest.approx(recorded["polarity_confidence"], abs=5e-4)
+        assert t.warnings == []
+    forced = ridgeline.trace(SAMPLES / "fingerprint.png", polarity="light")
+    assert forced.decisions["polarity_confidence"] is None
+    # Masks and point lists are not thresholded: no decisions.
+    assert ridgeline.trace(np.zeros((20, 20), bool)).decisions is None
+    assert ridgeline.trace_points([[0, 0], [1, 1], [2, 2]]).decisions is None
+
+
+def test_warnings_say_what_is_probably_wrong():
+    rng = np.random.default_rng(0)
+    speckled = np.full((300, 300), 255, np.uint8)
+    speckled[148:153, 20:280] = 0
+    for y, x in rng.integers(5, 290, (200, 2)):
+        speckled[y : y + 3, x : x + 3] = 0
+    t = ridgeline.trace(speckled)
+    assert [w["code"] for w in t.warnings] == ["speckle"]
+    assert "--min-area" in t.warnings[0]["message"]
+    assert t.warnings == json.loads(t.to_json())["warnings"]
+    # The keyword the warning suggests clears it.
+    assert ridgeline.trace(speckled, min_area=22).warnings == []
 
 
 def test_timings_cover_the_call(crossings):

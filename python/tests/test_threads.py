@@ -79,12 +79,15 @@ def test_two_threads_trace_two_pages_in_clearly_less_than_twice_the_time(two_pag
     def reference(_):
         return hashlib.sha256(block).digest()  # releases the GIL for buffers this large
 
+    # The reference is measured right before and right after the traces: an attempt counts as
+    # having two cores free only when both say so, since the load can change in between.
     attempts = []
     for _ in range(6):
+        before = _ratio(reference, [0, 1])
         traces = _ratio(one, two_pages)
-        hashing = _ratio(reference, [0, 1])
-        attempts.append((round(traces, 2), round(hashing, 2)))
-        if hashing < 1.5 and traces < 1.8:
+        after = _ratio(reference, [0, 1])
+        attempts.append((round(traces, 2), round(max(before, after), 2)))
+        if max(before, after) < 1.5 and traces < 1.8:
             return
     two_cores = [a for a in attempts if a[1] < 1.5]
     assert not two_cores, f"with two cores free, two pages took {two_cores} times one page (traces, hashing)"

@@ -75,15 +75,13 @@ pub(crate) fn binarize_deciding(gray: &GrayImage, params: &Params) -> Result<(Bi
     if !matches!(params.threshold, Threshold::Otsu | Threshold::Fixed { .. }) {
         if let Some(lighting) = evidence::lighting(gray, evidence.thinner_width) {
             // Where the two splits differ on more than a share of the ink, one global level
-            // does not fit the image.
-            let mut local = vec![false; dark.len()];
-            evidence::local_dark(gray, &lighting, &mut local);
-            let differ = dark.par_iter().zip(&local).filter(|(a, b)| a != b).count();
-            let local_dark_count = local.par_iter().filter(|&&d| d).count();
-            let ink = local_dark_count.min(local.len() - local_dark_count).max(1);
+            // does not fit the image (counted against each block's own threshold, a read-only
+            // pass; the interpolated local split is only made when it is used).
+            let (differ, local_dark_count) = evidence::disagreement(gray, &lighting, level);
+            let ink = local_dark_count.min(dark.len() - local_dark_count).max(1);
             decisions.uneven_light = differ as f64 / ink as f64;
             if params.threshold == Threshold::Local || decisions.uneven_light > UNEVEN_LIGHT {
-                dark = local;
+                evidence::local_dark(gray, &lighting, &mut dark);
                 evidence = evidence::polarity(&dark, w, h);
                 // The global split misjudged the stroke width where it failed; the blocks are
                 // sized again from the local split's.

@@ -332,6 +332,32 @@ pub(crate) fn lighting(gray: &GrayImage, stroke_width: f64) -> Option<Lighting> 
     })
 }
 
+/// Pixels on which the global `level` and each block's own local threshold disagree, and the
+/// pixels dark under the local thresholds: what [`local_dark`] would change, without making it.
+pub(crate) fn disagreement(gray: &GrayImage, lighting: &Lighting, level: u8) -> (usize, usize) {
+    let width = gray.width() as usize;
+    if width == 0 {
+        return (0, 0);
+    }
+    let (block, cols) = (lighting.block, lighting.cols);
+    gray.as_raw()
+        .par_chunks(width)
+        .enumerate()
+        .map(|(y, row)| {
+            let thresholds = &lighting.thresholds[(y / block) * cols..(y / block + 1) * cols];
+            let (mut differ, mut dark) = (0, 0);
+            for (chunk, &t) in row.chunks(block).zip(thresholds) {
+                for &v in chunk {
+                    let local = (v as f64) <= t;
+                    differ += usize::from(local != (v <= level));
+                    dark += usize::from(local);
+                }
+            }
+            (differ, dark)
+        })
+        .reduce(|| (0, 0), |a, b| (a.0 + b.0, a.1 + b.1))
+}
+
 /// The dark side of `gray` under the local threshold of `lighting`, interpolated bilinearly
 /// between block centers.
 pub(crate) fn local_dark(gray: &GrayImage, lighting: &Lighting, dark: &mut [bool]) {

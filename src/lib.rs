@@ -78,6 +78,7 @@ pub mod curves;
 pub mod debug;
 pub mod draw;
 pub mod export;
+pub mod fingerprint;
 pub(crate) mod fit;
 pub mod geometry;
 mod graph;
@@ -105,8 +106,8 @@ pub use geometry::dist;
 pub use image::GrayImage;
 pub use node_graph::{GraphNode, NodeGraph};
 pub use params::{
-    ClusterRule, LaplacianRule, Limits, Params, Polarity, RMinRule, Threshold, DENSE_SPACING,
-    MAX_WEISZFELD_ITERATIONS,
+    ClusterRule, FingerprintParams, LaplacianRule, Limits, Params, Polarity, RMinRule, Threshold,
+    DENSE_SPACING, MAX_WEISZFELD_ITERATIONS,
 };
 pub use point_set::{Grid, PointSet};
 pub use samples::{Node, Samples};

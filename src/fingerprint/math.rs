@@ -6,7 +6,7 @@ use super::fields::Plane;
 /// Gaussian blur with standard deviation `sigma` px (radius `ceil(3 sigma)`), borders clamped.
 /// `sigma <= 0` returns a copy.
 pub(crate) fn gaussian_blur(plane: &Plane, sigma: f64) -> Plane {
-    if !(sigma > 0.0) || plane.values.is_empty() {
+    if sigma.is_nan() || sigma <= 0.0 || plane.values.is_empty() {
         return plane.clone();
     }
     let kernel = gaussian_kernel(sigma);

@@ -220,6 +220,9 @@ pub fn fingerprint_minutiae(
             },
         );
     }
+    if params.cloud_periods > 0.0 {
+        drop_clouds(&mut found, typical * params.cloud_periods);
+    }
     // The border: distance to the nearest pixel outside the print.
     let grid = print.segmentation.grid;
     if params.border_margin > 0.0 && !grid.is_empty() {
@@ -245,6 +248,39 @@ pub fn fingerprint_minutiae(
         m.quality = Some(print.quality_at(m.pos));
     }
     found
+}
+
+/// Drops every minutia that has at least two others within `radius`, with those others: a cloud
+/// of minutiae is noise, not ridge structure. Sorted by x, so only a window is compared.
+fn drop_clouds(found: &mut Vec<Minutia>, radius: f64) {
+    let mut by_x: Vec<usize> = (0..found.len()).collect();
+    by_x.sort_by(|&a, &b| found[a].pos[0].total_cmp(&found[b].pos[0]).then(a.cmp(&b)));
+    let mut near: Vec<Vec<usize>> = vec![Vec::new(); found.len()];
+    for (k, &a) in by_x.iter().enumerate() {
+        for &b in &by_x[k + 1..] {
+            if found[b].pos[0] - found[a].pos[0] > radius {
+                break;
+            }
+            if dist(found[a].pos, found[b].pos) < radius {
+                near[a].push(b);
+                near[b].push(a);
+            }
+        }
+    }
+    let mut dropped = vec![false; found.len()];
+    for (a, others) in near.iter().enumerate() {
+        if others.len() >= 2 {
+            dropped[a] = true;
+            for &b in others {
+                dropped[b] = true;
+            }
+        }
+    }
+    let mut index = 0;
+    found.retain(|_| {
+        index += 1;
+        !dropped[index - 1]
+    });
 }
 
 /// Every degree-1 and degree-3 vertex with its direction.
@@ -669,5 +705,30 @@ mod tests {
         assert!(squared_distance_transform(&[false; 6], 3, 2)
             .iter()
             .all(|v| v.is_infinite()));
+    }
+
+    #[test]
+    fn a_cloud_goes_whole_and_a_pair_stays() {
+        let at = |x: f64, y: f64, vertex: usize| Minutia {
+            kind: MinutiaKind::Ending,
+            vertex,
+            pos: [x, y],
+            direction: 0.0,
+            width: 3.0,
+            quality: None,
+        };
+        // Three within 9 px of the first (a cloud), a pair 6 px apart far away, one alone.
+        let mut found = vec![
+            at(50.0, 50.0, 0),
+            at(55.0, 50.0, 1),
+            at(50.0, 56.0, 2),
+            at(58.0, 58.0, 3),
+            at(150.0, 150.0, 4),
+            at(156.0, 150.0, 5),
+            at(100.0, 20.0, 6),
+        ];
+        drop_clouds(&mut found, 9.0);
+        let kept: Vec<usize> = found.iter().map(|m| m.vertex).collect();
+        assert_eq!(kept, vec![4, 5, 6]);
     }
 }

@@ -165,6 +165,10 @@ pub struct FingerprintParams {
     /// Two endings facing each other along the flow closer than this are one broken ridge; both
     /// go, in ridge periods. Default value: 2.
     pub gap_periods: f64,
+    /// Minutiae with at least two others closer than this are a cloud (noise, a scar, a core
+    /// turning too fast); the whole cloud goes, in ridge periods; 0 keeps clouds.
+    /// Default value: 1.
+    pub cloud_periods: f64,
 }
 
 impl Default for FingerprintParams {
@@ -185,6 +189,7 @@ impl Default for FingerprintParams {
             spur_periods: 1.0,
             bridge_periods: 1.5,
             gap_periods: 2.0,
+            cloud_periods: 1.0,
         }
     }
 }
@@ -213,6 +218,7 @@ impl FingerprintParams {
             ("fingerprint.spur_periods", self.spur_periods),
             ("fingerprint.bridge_periods", self.bridge_periods),
             ("fingerprint.gap_periods", self.gap_periods),
+            ("fingerprint.cloud_periods", self.cloud_periods),
         ];
         for (field, v) in non_negative {
             if !(v.is_finite() && (0.0..=1000.0).contains(&v)) {

@@ -78,6 +78,7 @@ pub mod curves;
 pub mod debug;
 pub mod draw;
 pub mod export;
+pub mod fingerprint;
 pub(crate) mod fit;
 pub mod geometry;
 mod graph;
@@ -105,8 +106,8 @@ pub use geometry::dist;
 pub use image::GrayImage;
 pub use node_graph::{GraphNode, NodeGraph};
 pub use params::{
-    ClusterRule, LaplacianRule, Limits, Params, Polarity, RMinRule, Threshold, DENSE_SPACING,
-    MAX_WEISZFELD_ITERATIONS,
+    ClusterRule, FingerprintParams, LaplacianRule, Limits, Params, Polarity, RMinRule, Threshold,
+    DENSE_SPACING, MAX_WEISZFELD_ITERATIONS,
 };
 pub use point_set::{Grid, PointSet};
 pub use samples::{Node, Samples};
@@ -182,6 +183,21 @@ pub struct Trace {
     /// The share of the ink traced in dropout mode: it is decided per group of nearby
     /// components (docs/design.md, "The front end").
     pub dropout_share: Option<f64>,
+    /// What the fingerprint front end found and the print's minutiae (images traced with
+    /// [`Params::fingerprint`] set only).
+    pub fingerprint: Option<Box<FingerprintTrace>>,
+}
+
+/// The fingerprint front end's stages and the minutiae it keeps (docs/fingerprints.md).
+#[derive(Clone, Debug)]
+pub struct FingerprintTrace {
+    /// Segmentation, orientation field, ridge periods, the enhanced image and its contrast.
+    pub analysis: fingerprint::PrintAnalysis,
+    /// The minutiae inside the print, filtered and with qualities
+    /// ([`minutiae::fingerprint_minutiae`]).
+    pub minutiae: Vec<minutiae::Minutia>,
+    /// Time of the front end (segmentation to enhanced binary image).
+    pub enhance: Duration,
 }
 
 /// Decodes an image file's bytes to grayscale, refusing images larger than `limits` before
@@ -190,9 +206,15 @@ pub fn decode(bytes: &[u8], limits: &Limits) -> Result<GrayImage> {
     raster::decode(bytes, limits)
 }
 
-/// Traces a grayscale image: binarize, then run the pipeline on the ink pixels.
+/// Traces a grayscale image: binarize, then run the pipeline on the ink pixels. With
+/// [`Params::fingerprint`] set, the fingerprint front end (segmentation, orientation field,
+/// ridge period, Gabor enhancement; [`fingerprint`]) makes the binary image instead, and the
+/// trace carries the print's filtered minutiae ([`Trace::fingerprint`]).
 pub fn trace_image(gray: &GrayImage, params: &Params) -> Result<Trace> {
     params.validate()?;
+    if let Some(print) = &params.fingerprint {
+        return trace_print(gray, params, print);
+    }
     let start = Instant::now();
     let (binary, mut decisions) = raster::binarize_deciding(gray, params)?;
     let binarize_time = start.elapsed();
@@ -203,6 +225,38 @@ pub fn trace_image(gray: &GrayImage, params: &Params) -> Result<Trace> {
     trace.warnings = warnings::of(&trace.graph, Some(&decisions));
     trace.decisions = Some(decisions);
     trace.binary = Some(binary);
+    Ok(trace)
+}
+
+/// The fingerprint path of [`trace_image`]: front end, the normal pipeline on its binary image,
+/// then the fingerprint minutiae filter. Ridges are dark unless `params.polarity` says light (a
+/// print's ridges and valleys are about as wide, so the stroke evidence of the text front end
+/// cannot tell them apart).
+fn trace_print(gray: &GrayImage, params: &Params, print: &FingerprintParams) -> Result<Trace> {
+    let (width, height) = gray.dimensions();
+    let pixels = u64::from(width) * u64::from(height);
+    if pixels > params.limits.max_pixels {
+        return Err(Error::Limit {
+            what: "image pixels",
+            actual: pixels,
+            limit: params.limits.max_pixels,
+            flag: "--max-pixels",
+        });
+    }
+    let start = Instant::now();
+    let dark_ridges = params.polarity != Polarity::LightInk;
+    let (analysis, binary) = fingerprint::analyze(gray, print, dark_ridges);
+    let enhance = start.elapsed();
+    let mut trace = trace_binary(&binary, params)?;
+    trace.timings.binarize = enhance;
+    trace.warnings = warnings::of(&trace.graph, None);
+    let minutiae = minutiae::fingerprint_minutiae(&trace.graph, &analysis, print);
+    trace.binary = Some(binary);
+    trace.fingerprint = Some(Box::new(FingerprintTrace {
+        analysis,
+        minutiae,
+        enhance,
+    }));
     Ok(trace)
 }
 
@@ -299,6 +353,18 @@ pub fn trace_points(list: &[[f64; 2]], params: &Params) -> Result<Trace> {
 /// decided for the whole image here, not per group of components).
 pub fn trace_image_with_stages(gray: &GrayImage, params: &Params) -> Result<Trace> {
     params.validate()?;
+    if params.fingerprint.is_some() {
+        // The fingerprint front end makes its own binary image; the stages are those of tracing it.
+        let print = trace_image(gray, params)?;
+        let binary = print.binary.clone().unwrap_or_default();
+        let mut trace = trace_binary_with_stages(&binary, params)?;
+        trace.graph = print.graph;
+        trace.fingerprint = print.fingerprint;
+        trace.timings.binarize = print.timings.binarize;
+        trace.warnings = print.warnings;
+        trace.binary = Some(binary);
+        return Ok(trace);
+    }
     let start = Instant::now();
     let (binary, mut decisions) = raster::binarize_deciding(gray, params)?;
     let binarize_time = start.elapsed();
@@ -354,6 +420,7 @@ fn run(points: PointSet, width: u32, height: u32, params: &Params, keep: bool) -
             warnings: Vec::new(),
             dropout: None,
             dropout_share: None,
+            fingerprint: None,
         }
     } else {
         let chunks = points.component_chunks(CHUNK_POINTS);
@@ -409,6 +476,7 @@ fn run_chunks(
             warnings: Vec::new(),
             dropout: None,
             dropout_share: None,
+            fingerprint: None,
         });
     };
     let graphs: Vec<&NodeGraph> = refined.iter().map(|(_, _, graph, _)| graph).collect();
@@ -447,6 +515,7 @@ fn run_chunks(
         warnings: Vec::new(),
         dropout: None,
         dropout_share: None,
+        fingerprint: None,
     })
 }
 

@@ -25,7 +25,8 @@
 //! Input: a [`StrokeGraph`] and optionally its foreground mask. Output: `Vec<Minutia>` in vertex
 //! order. Deterministic.
 
-use crate::{dist, Binary, StrokeGraph};
+use crate::fingerprint::PrintAnalysis;
+use crate::{dist, Binary, FingerprintParams, StrokeGraph};
 use serde::Serialize;
 
 /// Kind of minutia.
@@ -51,6 +52,10 @@ pub struct Minutia {
     pub direction: f64,
     /// Ridge width at the minutia, px.
     pub width: f64,
+    /// Quality 0-100 from the local coherence and contrast of the print
+    /// ([`fingerprint_minutiae`]); `None` without the fingerprint front end.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub quality: Option<u8>,
 }
 
 /// Options for [`minutiae`].
@@ -131,6 +136,153 @@ pub fn minutiae(
     found
 }
 
+/// The minutiae of a print traced with the fingerprint front end (docs/fingerprints.md,
+/// "Minutiae"): every ending and bifurcation of `graph`, less those the structure of the ridges
+/// shows to be false, each with a quality from `print`. Lengths are in ridge periods `T` of the
+/// block where they are measured:
+///
+/// - border: within `border_margin` px of the print's border or the image's;
+/// - fragments and islands: an edge with two free ends shorter than `fragment_periods · T`
+///   (both ends go);
+/// - spurs: an edge from a bifurcation to a free end shorter than `spur_periods · T` (both go);
+/// - bridges: an edge between two bifurcations shorter than `bridge_periods · T` that runs across
+///   the flow (more than 45° from the local ridge orientation): a bar between neighbouring ridges;
+/// - lakes and pores: two bifurcations joined by two edges each shorter than
+///   `2 bridge_periods · T` (both go);
+/// - broken ridges: two endings facing each other along the flow within `gap_periods · T`.
+///
+/// The quality is [`PrintAnalysis::quality_at`]: coherence times contrast, in percent.
+pub fn fingerprint_minutiae(
+    graph: &StrokeGraph,
+    print: &PrintAnalysis,
+    params: &FingerprintParams,
+) -> Vec<Minutia> {
+    let options = MinutiaeOptions::default();
+    let mut found = detect(graph, &options);
+    let mut false_vertex = vec![false; graph.vertices.len()];
+    let degree = |v: usize| graph.vertices.get(v).map_or(0, |v| v.degree);
+    // Short edges between two bifurcations, by vertex pair, to find lakes.
+    let mut short_bars: Vec<(usize, usize)> = Vec::new();
+    for edge in &graph.edges {
+        let (a, b) = (edge.from, edge.to);
+        if a == b || a >= false_vertex.len() || b >= false_vertex.len() {
+            continue;
+        }
+        let length: f64 = edge.points.windows(2).map(|p| dist(p[0], p[1])).sum();
+        let (Some(first), Some(last)) = (edge.points.first(), edge.points.last()) else {
+            continue;
+        };
+        let middle = [(first[0] + last[0]) / 2.0, (first[1] + last[1]) / 2.0];
+        let period = print.periods.at(middle).max(1.0);
+        let short = |factor: f64| length < factor * period;
+        let remove = match (degree(a), degree(b)) {
+            (1, 1) => short(params.fragment_periods),
+            (1, 3) | (3, 1) => short(params.spur_periods),
+            (3, 3) => {
+                if short(2.0 * params.bridge_periods) {
+                    short_bars.push((a.min(b), a.max(b)));
+                }
+                let chord = (last[1] - first[1]).atan2(last[0] - first[0]);
+                let flow = print.orientation.angle_at(middle);
+                let off = (chord - flow).rem_euclid(std::f64::consts::PI);
+                let off = off.min(std::f64::consts::PI - off);
+                short(params.bridge_periods) && off > std::f64::consts::FRAC_PI_4
+            }
+            _ => false,
+        };
+        if remove {
+            false_vertex[a] = true;
+            false_vertex[b] = true;
+        }
+    }
+    short_bars.sort_unstable();
+    for pair in short_bars.windows(2) {
+        if pair[0] == pair[1] {
+            false_vertex[pair[0].0] = true;
+            false_vertex[pair[0].1] = true;
+        }
+    }
+    found.retain(|m| !false_vertex.get(m.vertex).copied().unwrap_or(false));
+    // Broken ridges, with the gap in periods of the print's median period.
+    let mut periods: Vec<f64> = found.iter().map(|m| print.periods.at(m.pos)).collect();
+    let typical = if periods.is_empty() {
+        params.default_period
+    } else {
+        let middle = periods.len() / 2;
+        *periods.select_nth_unstable_by(middle, f64::total_cmp).1
+    };
+    if params.gap_periods > 0.0 {
+        drop_broken_ridges(
+            &mut found,
+            &MinutiaeOptions {
+                broken_ridge_gap: params.gap_periods * typical,
+                ..options
+            },
+        );
+    }
+    if params.cloud_periods > 0.0 {
+        drop_clouds(&mut found, typical * params.cloud_periods);
+    }
+    // The border: distance to the nearest pixel outside the print.
+    let grid = print.segmentation.grid;
+    if params.border_margin > 0.0 && !grid.is_empty() {
+        let (w, h) = (grid.width as usize, grid.height as usize);
+        let outside: Vec<bool> = print
+            .segmentation
+            .pixel_mask()
+            .iter()
+            .map(|&p| !p)
+            .collect();
+        let to_outside = squared_distance_transform(&outside, w, h);
+        let margin = params.border_margin;
+        found.retain(|m| {
+            let [x, y] = m.pos;
+            if !(x >= margin && y >= margin && w as f64 - x >= margin && h as f64 - y >= margin) {
+                return false;
+            }
+            let index = (y as usize).min(h - 1) * w + (x as usize).min(w - 1);
+            f64::from(to_outside[index]) >= margin * margin
+        });
+    }
+    for m in &mut found {
+        m.quality = Some(print.quality_at(m.pos));
+    }
+    found
+}
+
+/// Drops every minutia that has at least two others within `radius`, with those others: a cloud
+/// of minutiae is noise, not ridge structure. Sorted by x, so only a window is compared.
+fn drop_clouds(found: &mut Vec<Minutia>, radius: f64) {
+    let mut by_x: Vec<usize> = (0..found.len()).collect();
+    by_x.sort_by(|&a, &b| found[a].pos[0].total_cmp(&found[b].pos[0]).then(a.cmp(&b)));
+    let mut near: Vec<Vec<usize>> = vec![Vec::new(); found.len()];
+    for (k, &a) in by_x.iter().enumerate() {
+        for &b in &by_x[k + 1..] {
+            if found[b].pos[0] - found[a].pos[0] > radius {
+                break;
+            }
+            if dist(found[a].pos, found[b].pos) < radius {
+                near[a].push(b);
+                near[b].push(a);
+            }
+        }
+    }
+    let mut dropped = vec![false; found.len()];
+    for (a, others) in near.iter().enumerate() {
+        if others.len() >= 2 {
+            dropped[a] = true;
+            for &b in others {
+                dropped[b] = true;
+            }
+        }
+    }
+    let mut index = 0;
+    found.retain(|_| {
+        index += 1;
+        !dropped[index - 1]
+    });
+}
+
 /// Every degree-1 and degree-3 vertex with its direction.
 fn detect(graph: &StrokeGraph, options: &MinutiaeOptions) -> Vec<Minutia> {
     // Outgoing arm directions per vertex, in edge order.
@@ -195,6 +347,7 @@ fn detect(graph: &StrokeGraph, options: &MinutiaeOptions) -> Vec<Minutia> {
             pos: vertex.pos,
             direction,
             width: vertex.width,
+            quality: None,
         });
     }
     found
@@ -552,5 +705,30 @@ mod tests {
         assert!(squared_distance_transform(&[false; 6], 3, 2)
             .iter()
             .all(|v| v.is_infinite()));
+    }
+
+    #[test]
+    fn a_cloud_goes_whole_and_a_pair_stays() {
+        let at = |x: f64, y: f64, vertex: usize| Minutia {
+            kind: MinutiaKind::Ending,
+            vertex,
+            pos: [x, y],
+            direction: 0.0,
+            width: 3.0,
+            quality: None,
+        };
+        // Three within 9 px of the first (a cloud), a pair 6 px apart far away, one alone.
+        let mut found = vec![
+            at(50.0, 50.0, 0),
+            at(55.0, 50.0, 1),
+            at(50.0, 56.0, 2),
+            at(58.0, 58.0, 3),
+            at(150.0, 150.0, 4),
+            at(156.0, 150.0, 5),
+            at(100.0, 20.0, 6),
+        ];
+        drop_clouds(&mut found, 9.0);
+        let kept: Vec<usize> = found.iter().map(|m| m.vertex).collect();
+        assert_eq!(kept, vec![4, 5, 6]);
     }
 }

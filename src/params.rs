@@ -125,6 +125,148 @@ impl Default for Limits {
 /// far fewer).
 pub const MAX_WEISZFELD_ITERATIONS: usize = 1000;
 
+/// The fingerprint front end's tunables ([`Params::fingerprint`]; docs/fingerprints.md). The
+/// defaults are pyfing's values for 500 dpi prints where it has one.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct FingerprintParams {
+    /// Side of the blocks of the segmentation, orientation, period and filter, px. Default value: 8.
+    pub block: u32,
+    /// Gaussian blur before the gradients and the x-signature, px. Default value: 1.
+    pub gradient_sigma: f64,
+    /// A block is print where its mean gradient magnitude reaches this fraction of the image's
+    /// 95th percentile (pyfing's GMFS). Default value: 0.2.
+    pub segment_threshold: f64,
+    /// Standard deviation of the Gaussian smoothing the doubled-angle field, px. Default value: 16.
+    pub orientation_sigma: f64,
+    /// Length of the x-signature window across the ridges, px. Default value: 48.
+    pub signature_length: u32,
+    /// Shortest plausible ridge period, px (highest frequency 1/3 px⁻¹). Default value: 3.
+    pub period_min: f64,
+    /// Longest plausible ridge period, px (lowest frequency 1/25 px⁻¹). Default value: 25.
+    pub period_max: f64,
+    /// Period where none could be measured anywhere, px (500 dpi prints: about 9). Default value: 9.
+    pub default_period: f64,
+    /// Gabor envelope across the ridges, in periods (pyfing's GBFEN: 5/12). Default value: 0.4167.
+    pub gabor_sigma_across: f64,
+    /// Gabor envelope along the ridges, in periods. Default value: 0.4167.
+    pub gabor_sigma_along: f64,
+    /// Minutiae closer than this to the print's border (or the image's) are dropped, px
+    /// (pyfing's SBMEX: 10). Default value: 12.
+    pub border_margin: f64,
+    /// Ridges with two free ends shorter than this are fragments or islands; both ends are
+    /// dropped, in ridge periods. Default value: 1.5.
+    pub fragment_periods: f64,
+    /// A branch from a bifurcation to an ending shorter than this is a spur; both go, in ridge
+    /// periods. Default value: 1.
+    pub spur_periods: f64,
+    /// A bar between two bifurcations shorter than this and across the flow is a bridge between
+    /// neighbouring ridges; both go, in ridge periods. Default value: 1.5.
+    pub bridge_periods: f64,
+    /// Two endings facing each other along the flow closer than this are one broken ridge; both
+    /// go, in ridge periods. Default value: 2.
+    pub gap_periods: f64,
+    /// Minutiae with at least two others closer than this are a cloud (noise, a scar, a core
+    /// turning too fast); the whole cloud goes, in ridge periods; 0 keeps clouds.
+    /// Default value: 1.
+    pub cloud_periods: f64,
+}
+
+impl Default for FingerprintParams {
+    fn default() -> Self {
+        FingerprintParams {
+            block: 8,
+            gradient_sigma: 1.0,
+            segment_threshold: 0.2,
+            orientation_sigma: 16.0,
+            signature_length: 48,
+            period_min: 3.0,
+            period_max: 25.0,
+            default_period: 9.0,
+            gabor_sigma_across: 5.0 / 12.0,
+            gabor_sigma_along: 5.0 / 12.0,
+            border_margin: 12.0,
+            fragment_periods: 1.5,
+            spur_periods: 1.0,
+            bridge_periods: 1.5,
+            gap_periods: 2.0,
+            cloud_periods: 1.0,
+        }
+    }
+}
+
+impl FingerprintParams {
+    /// Checks every range the fields document.
+    pub fn validate(&self) -> crate::Result<()> {
+        let fail =
+            |field: &'static str, reason: String| Err(crate::Error::InvalidParam { field, reason });
+        if !(2..=64).contains(&self.block) {
+            return fail(
+                "fingerprint.block",
+                format!("must be 2-64 px, got {}", self.block),
+            );
+        }
+        if !(8..=256).contains(&self.signature_length) {
+            return fail(
+                "fingerprint.signature_length",
+                format!("must be 8-256 px, got {}", self.signature_length),
+            );
+        }
+        let non_negative = [
+            ("fingerprint.gradient_sigma", self.gradient_sigma),
+            ("fingerprint.border_margin", self.border_margin),
+            ("fingerprint.fragment_periods", self.fragment_periods),
+            ("fingerprint.spur_periods", self.spur_periods),
+            ("fingerprint.bridge_periods", self.bridge_periods),
+            ("fingerprint.gap_periods", self.gap_periods),
+            ("fingerprint.cloud_periods", self.cloud_periods),
+        ];
+        for (field, v) in non_negative {
+            if !(v.is_finite() && (0.0..=1000.0).contains(&v)) {
+                return fail(field, format!("must be 0-1000, got {v}"));
+            }
+        }
+        let positive = [
+            (
+                "fingerprint.segment_threshold",
+                self.segment_threshold,
+                10.0,
+            ),
+            (
+                "fingerprint.orientation_sigma",
+                self.orientation_sigma,
+                1000.0,
+            ),
+            (
+                "fingerprint.gabor_sigma_across",
+                self.gabor_sigma_across,
+                2.0,
+            ),
+            ("fingerprint.gabor_sigma_along", self.gabor_sigma_along, 2.0),
+        ];
+        for (field, v, most) in positive {
+            if !(v.is_finite() && v > 0.0 && v <= most) {
+                return fail(field, format!("must be > 0 and <= {most}, got {v}"));
+            }
+        }
+        if !(self.period_min >= 2.0
+            && self.period_min < self.period_max
+            && self.period_max <= 64.0
+            && self.default_period >= self.period_min
+            && self.default_period <= self.period_max)
+        {
+            return fail(
+                "fingerprint.period_min",
+                format!(
+                    "need 2 <= period_min < period_max <= 64 with default_period between, got \
+                     {}, {}, {}",
+                    self.period_min, self.period_max, self.default_period
+                ),
+            );
+        }
+        Ok(())
+    }
+}
+
 /// Parameters of the whole pipeline.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Params {
@@ -217,6 +359,11 @@ pub struct Params {
     /// mode false.
     #[serde(default, skip_serializing_if = "std::ops::Not::not")]
     pub junctions_on_ink: bool,
+    /// The fingerprint front end ([`Params::fingerprint`]): segmentation, orientation field, ridge
+    /// period and Gabor enhancement in place of the text binarization, and the fingerprint
+    /// minutiae filter (docs/fingerprints.md). Default value: `None` (off).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub fingerprint: Option<FingerprintParams>,
 }
 
 /// Node spacing of [`Params::dense_fit`], in `Dis_ave` (px on images).
@@ -252,6 +399,7 @@ impl Default for Params {
             site_clusters: false,
             dense_fit: false,
             junctions_on_ink: false,
+            fingerprint: None,
         }
     }
 }
@@ -281,10 +429,23 @@ impl Params {
         }
     }
 
+    /// The fingerprint preset, a preset whose every field can still be changed: the default
+    /// tracing with the fingerprint front end ([`FingerprintParams::default`]) in place of the text
+    /// binarization.
+    pub fn fingerprint() -> Self {
+        Params {
+            fingerprint: Some(FingerprintParams::default()),
+            ..Params::default()
+        }
+    }
+
     /// Checks every range the fields document; the one place where parameters are validated.
     /// The error names the field (`threshold.window`, `limits.max_side`, ...), so the command
     /// line can name its flag.
     pub fn validate(&self) -> crate::Result<()> {
+        if let Some(fingerprint) = &self.fingerprint {
+            fingerprint.validate()?;
+        }
         fn fail(field: &'static str, reason: String) -> crate::Result<()> {
             Err(crate::Error::InvalidParam { field, reason })
         }

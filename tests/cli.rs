@@ -601,3 +601,63 @@ fn flags_given_with_paper_override_its_rules() {
     let clusters = traced_t(&["--r-min-rule", "spacing", "--clusters", "equal-distance"]);
     assert_eq!(clusters["parameters"]["cluster_rule"], "equal_distance");
 }
+
+/// `--fingerprint` writes the same minutiae as JSON (with a quality), as NIST `.xyt` lines and as
+/// an ISO/IEC 19794-2 record whose header matches the file; without it nothing of the front end
+/// appears in the output.
+#[test]
+fn fingerprint_minutiae_as_json_xyt_and_iso_records() {
+    let dir = temp_dir();
+    let d = dir.path();
+    let case = ridgeline_testkit::synth::print_cases()
+        .into_iter()
+        .find(|c| c.name.contains("arch_minutiae"))
+        .expect("the kit has this print");
+    crate::support::write_mask_png(&case.binary, &d.join("print.png"));
+    crate::support::run_ok(&["print.png", "--fingerprint", "-o", "print.json"], d);
+    crate::support::run_ok(&["print.png", "--fingerprint", "-o", "print.xyt"], d);
+    crate::support::run_ok(
+        &[
+            "print.png",
+            "--fingerprint",
+            "--format",
+            "iso",
+            "-o",
+            "print.ist",
+        ],
+        d,
+    );
+    let json: serde_json::Value =
+        serde_json::from_str(&fs::read_to_string(d.join("print.json")).expect("json"))
+            .expect("parses");
+    let minutiae = json["minutiae"].as_array().expect("minutiae listed");
+    assert!(!minutiae.is_empty());
+    assert!(minutiae
+        .iter()
+        .all(|m| m["quality"].as_u64().is_some_and(|q| q <= 100)));
+    assert!(json["parameters"]["fingerprint"].is_object());
+    let xyt = fs::read_to_string(d.join("print.xyt")).expect("xyt");
+    assert_eq!(xyt.lines().count(), minutiae.len());
+    for (line, m) in xyt.lines().zip(minutiae) {
+        let v: Vec<i64> = line
+            .split(' ')
+            .map(|t| t.parse().expect("integer"))
+            .collect();
+        assert_eq!(v.len(), 4, "{line}");
+        assert_eq!(v[0], m["x"].as_f64().expect("x").round() as i64);
+        assert_eq!(v[1], (200.0 - m["y"].as_f64().expect("y")).round() as i64);
+        assert!((0..360).contains(&v[2]) && (0..=100).contains(&v[3]));
+    }
+    let iso = fs::read(d.join("print.ist")).expect("ist");
+    assert_eq!(&iso[..8], b"FMR\0 20\0");
+    assert_eq!(
+        u32::from_be_bytes([iso[8], iso[9], iso[10], iso[11]]) as usize,
+        iso.len()
+    );
+    assert_eq!(usize::from(iso[27]), minutiae.len());
+    assert_eq!(iso.len(), 30 + 6 * minutiae.len());
+    // The default run writes no quality and no fingerprint parameters.
+    crate::support::run_ok(&["print.png", "--minutiae", "-o", "plain.json"], d);
+    let plain = fs::read_to_string(d.join("plain.json")).expect("json");
+    assert!(!plain.contains("quality") && !plain.contains("fingerprint"));
+}

@@ -104,7 +104,10 @@ fn an_output_extension_ridgeline_does_not_write_is_a_usage_error() {
         assert_eq!(output.status.code(), Some(2), "{args:?}: {err}");
         assert!(err.contains(names), "{args:?}: {err}");
         if names.starts_with("not") {
-            assert!(err.contains("SVG (.svg) and JSON (.json)"), "{err}");
+            assert!(
+                err.contains("SVG (.svg), JSON (.json), NIST minutiae (.xyt)"),
+                "{err}"
+            );
         }
     }
     assert_eq!(entries(d), [d.join("t.png")], "nothing written");

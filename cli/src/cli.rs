@@ -39,7 +39,8 @@ const IMAGE_EXTENSIONS: &[&str] = &[
     "png", "jpg", "jpeg", "tif", "tiff", "bmp", "gif", "webp", "pnm", "pbm", "pgm", "ppm",
 ];
 /// The formats written, for messages.
-const OUTPUT_FORMATS: &str = "SVG (.svg) and JSON (.json)";
+const OUTPUT_FORMATS: &str =
+    "SVG (.svg), JSON (.json), NIST minutiae (.xyt) and ISO/IEC 19794-2 records (.ist, .iso19794)";
 /// Most bytes read from standard input (`-`).
 const MAX_STDIN_BYTES: u64 = 4 << 30;
 
@@ -245,6 +246,17 @@ pub struct Cli {
     #[arg(long, help_heading = "Method")]
     paper: bool,
 
+    /// Fingerprint preset: segmentation, orientation field, ridge period and Gabor enhancement
+    /// before tracing, and the minutiae inside the print, filtered and with a quality (implies
+    /// --minutiae); every other flag given still overrides it (ridges are dark unless --polarity
+    /// light)
+    #[arg(long, help_heading = "Method")]
+    fingerprint: bool,
+
+    /// Resolution written into ISO/IEC 19794-2 records, dots per inch [default: 500]
+    #[arg(long, value_name = "DPI", help_heading = "Output")]
+    dpi: Option<f64>,
+
     /// Centerlines from the node graph's own fitted polylines (§3.4) instead of the pixel
     /// skeleton the method decides on: faster, but chords cut across cells, counters and loops
     /// finer than a stroke width [default: skeleton on, paper: off]
@@ -412,6 +424,10 @@ enum Format {
     Svg,
     /// Vertices, edges and statistics for other programs.
     Json,
+    /// Minutiae as NIST `x y theta quality` lines (Bozorth3's input).
+    Xyt,
+    /// Minutiae as an ISO/IEC 19794-2:2005 finger minutiae record (binary).
+    Iso,
 }
 
 impl Format {
@@ -419,6 +435,8 @@ impl Format {
         match self {
             Format::Svg => "svg",
             Format::Json => "json",
+            Format::Xyt => "xyt",
+            Format::Iso => "ist",
         }
     }
 }
@@ -507,6 +525,9 @@ impl TryFrom<&Cli> for Params {
         } else {
             Params::default()
         };
+        if cli.fingerprint {
+            params.fingerprint = Params::fingerprint().fingerprint;
+        }
         if let Some(method) = cli.binarize {
             params.threshold = match method {
                 BinarizeArg::Auto => Threshold::Auto,
@@ -666,8 +687,10 @@ struct Settings {
     pretty: bool,
     /// `--strokes`.
     strokes: bool,
-    /// `--minutiae`.
+    /// `--minutiae` (or `--fingerprint`).
     minutiae: bool,
+    /// `--dpi`, for ISO/IEC 19794-2 records.
+    dpi: f64,
     /// `--curves` with its tolerance and corner angle.
     curves: Option<CurveOptions>,
     /// What later pages of a multi-page input (named inside the job, `name.pN.svg`) must not
@@ -797,7 +820,8 @@ fn run_with(cli: &Cli) -> Result<ExitCode> {
         embed_image: !cli.no_image,
         pretty: cli.pretty,
         strokes: cli.strokes,
-        minutiae: cli.minutiae,
+        minutiae: cli.minutiae || cli.fingerprint,
+        dpi: cli.dpi.unwrap_or(500.0),
         curves,
         reserved: Reserved::default(),
     };
@@ -952,6 +976,8 @@ fn output_format(cli: &Cli) -> Result<Format, UsageError> {
             match lower.as_str() {
                 "svg" => Some(Format::Svg),
                 "json" => Some(Format::Json),
+                "xyt" => Some(Format::Xyt),
+                "ist" | "iso19794" => Some(Format::Iso),
                 _ => {
                     return Err(UsageError(format!(
                         "-o {}: ridgeline writes {OUTPUT_FORMATS}, not .{lower} (an output \
@@ -1002,6 +1028,18 @@ fn ignored_flags(cli: &Cli, format: Format) -> Vec<String> {
         Format::Svg => (
             cli.pretty.then_some("--pretty").into_iter().collect(),
             "changes only the JSON",
+        ),
+        Format::Xyt | Format::Iso => (
+            [
+                (cli.pretty, "--pretty"),
+                (cli.strokes, "--strokes"),
+                (cli.width, "--width"),
+                (cli.curves, "--curves"),
+            ]
+            .into_iter()
+            .filter_map(|(on, flag)| on.then_some(flag))
+            .collect(),
+            "change nothing in a minutiae file",
         ),
     };
     if given.is_empty() {
@@ -1520,7 +1558,7 @@ fn trace_and_write(job: &Job, settings: &Settings) -> Result<Traced> {
         }
         let meta = JsonMeta::new(params.clone()).with_trace(&trace);
         warnings.extend(trace.warnings.iter().map(|w| w.message.clone()));
-        let text = render(job, settings, kind, &trace.graph, None, None, meta);
+        let text = render(job, settings, kind, &trace, None, meta)?;
         let output = write_output(job, &job.destination, &text)?;
         return Ok(Traced::of(&trace.graph, warnings, output));
     }
@@ -1657,15 +1695,7 @@ fn trace_page(
         .with_trace(&trace);
     warnings.extend(trace.warnings.iter().map(|w| w.message.clone()));
     let backdrop = settings.embed_image.then_some(backdrop);
-    let text = render(
-        job,
-        settings,
-        Kind::Image,
-        &trace.graph,
-        trace.binary.as_ref(),
-        backdrop,
-        meta,
-    );
+    let text = render(job, settings, Kind::Image, &trace, backdrop, meta)?;
     let destination = page_destination(&job.destination, page.number);
     if let (Destination::File(path), true) = (&destination, page.number > 1) {
         settings.reserved.check(path)?;
@@ -1697,20 +1727,35 @@ fn render(
     job: &Job,
     settings: &Settings,
     kind: Kind,
-    graph: &StrokeGraph,
-    binary: Option<&ridgeline::Binary>,
+    trace: &ridgeline::Trace,
     backdrop: Option<Backdrop>,
     meta: JsonMeta,
-) -> String {
+) -> Result<Vec<u8>> {
+    let graph = &trace.graph;
+    let binary = trace.binary.as_ref();
     // Strokes are cheap (one pass over the edge ends), so the JSON always lists them; the SVG
     // draws them on request.
     let chained = (settings.format == Format::Json || settings.strokes)
         .then(|| strokes(graph, &StrokeOptions::default()));
     // The foreground mask tells where the print ends; point lists have only the extent.
-    let marks = settings
-        .minutiae
-        .then(|| minutiae(graph, binary, &MinutiaeOptions::default()));
-    match settings.format {
+    // The fingerprint front end's minutiae are filtered inside its print; others come from the
+    // graph and the mask.
+    let wanted = settings.minutiae || matches!(settings.format, Format::Xyt | Format::Iso);
+    let marks = wanted.then(|| match &trace.fingerprint {
+        Some(print) => print.minutiae.clone(),
+        None => minutiae(graph, binary, &MinutiaeOptions::default()),
+    });
+    Ok(match settings.format {
+        Format::Xyt => {
+            ridgeline::export::xyt::to_string(marks.as_deref().unwrap_or(&[]), graph.height)
+                .into_bytes()
+        }
+        Format::Iso => ridgeline::export::iso19794::to_bytes(
+            marks.as_deref().unwrap_or(&[]),
+            graph.width,
+            graph.height,
+            settings.dpi,
+        )?,
         Format::Svg => {
             // Curves follow what is drawn: one list per stroke with --strokes, else per edge.
             let curves = settings.curves.map(|options| match &chained {
@@ -1729,7 +1774,7 @@ fn render(
                 .svg
                 .clone()
                 .with_fit_canvas(kind == Kind::PointList);
-            svg::to_string_with(graph, backdrop, &svg_options, &features)
+            svg::to_string_with(graph, backdrop, &svg_options, &features).into_bytes()
         }
         Format::Json => {
             let meta = meta
@@ -1741,20 +1786,18 @@ fn render(
                 .with_strokes(chained.as_deref())
                 .with_minutiae(marks.as_deref())
                 .with_curves(curves.as_deref());
-            json::to_string_with(graph, &meta, &features)
+            json::to_string_with(graph, &meta, &features).into_bytes()
         }
-    }
+    })
 }
 
 /// Writes one output document of `job` to stdout or (atomically) to its file; returns where it
 /// went, as the user should read it.
-fn write_output(job: &Job, destination: &Destination, text: &str) -> Result<String> {
+fn write_output(job: &Job, destination: &Destination, text: &[u8]) -> Result<String> {
     Ok(match destination {
         Destination::Stdout => {
             let mut stdout = std::io::stdout().lock();
-            stdout
-                .write_all(text.as_bytes())
-                .context("cannot write to stdout")?;
+            stdout.write_all(text).context("cannot write to stdout")?;
             stdout.flush().context("cannot write to stdout")?;
             "stdout".to_string()
         }
@@ -1766,7 +1809,7 @@ fn write_output(job: &Job, destination: &Destination, text: &str) -> Result<Stri
                     })?;
                 }
             }
-            write_atomically(path, text.as_bytes())?;
+            write_atomically(path, text)?;
             path.display().to_string()
         }
     })

@@ -326,7 +326,7 @@ impl Serialize for Strokes<'_> {
 }
 
 /// The minutiae: kind, vertex, position, direction (radians, y down, see
-/// [`crate::minutiae`]) and ridge width.
+/// [`crate::minutiae`]), ridge width, and the quality 0-100 when the fingerprint front end gave one.
 struct Minutiae<'a>(&'a [Minutia]);
 
 impl Serialize for Minutiae<'_> {
@@ -339,6 +339,8 @@ impl Serialize for Minutiae<'_> {
             y: Rounded,
             direction: Rounded,
             width: Rounded,
+            #[serde(skip_serializing_if = "Option::is_none")]
+            quality: Option<u8>,
         }
         serializer.collect_seq(self.0.iter().map(|m| MinutiaOut {
             kind: m.kind,
@@ -347,6 +349,7 @@ impl Serialize for Minutiae<'_> {
             y: Rounded(m.pos[1]),
             direction: Rounded(m.direction),
             width: Rounded(m.width),
+            quality: m.quality,
         }))
     }
 }

@@ -8,8 +8,10 @@
 //! What goes beyond the graph (strokes through crossings, minutiae, Bézier curves) is computed by
 //! the caller and handed over as [`Features`].
 
+pub mod iso19794;
 pub mod json;
 pub mod svg;
+pub mod xyt;
 
 use std::fmt::Write;
 

@@ -575,6 +575,7 @@ mod tests {
             pos,
             direction,
             width: 4.0,
+            quality: None,
         };
         let svg = svg_marks(
             &[

@@ -1,0 +1,457 @@
+//! The fingerprint benchmark (docs/fingerprints.md): minutiae of the fingerprint front end
+//! (`Params::fingerprint`) on the test kit's synthetic prints, clean and degraded, scored against
+//! the minutiae of their true ridges, and counts and times on real prints; with `--peer`, the
+//! classical peer (`../shared/bench/peer_minutiae.py`, pyfing) on the same images.
+//!
+//! ```text
+//! cargo run --release --example fingerprint [-- --peer] [--real DIR]
+//! ```
+//!
+//! Truth: the ends of the true ridge polylines more than 16 px inside the image; an end that
+//! touches another ridge (within its width) is a bifurcation, else an ending. Scoring: one-to-one
+//! matching, nearest pairs first, within 8 px and 16 px: precision, recall, F1, and the share of
+//! matched pairs of the same kind.
+
+use ridgeline::draw::Stroke;
+use ridgeline::minutiae::{Minutia, MinutiaKind};
+use ridgeline::{GrayImage, Params};
+use ridgeline_testkit::synth::{print_cases, SplitMix64};
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+/// Ends closer than this to the image border are not counted (the border margin cuts them).
+const TRUTH_MARGIN: f64 = 16.0;
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Point {
+    pos: [f64; 2],
+    bifurcation: bool,
+}
+
+fn main() -> Result<(), Box<dyn std::error::Error>> {
+    let args: Vec<String> = std::env::args().collect();
+    let peer = args.iter().any(|a| a == "--peer");
+    let real = args
+        .windows(2)
+        .find(|w| w[0] == "--real")
+        .map(|w| PathBuf::from(&w[1]))
+        .unwrap_or_else(|| PathBuf::from("../shared/data/fingerprints"));
+    let work = std::env::temp_dir().join("ridgeline-fingerprint-bench");
+    std::fs::create_dir_all(&work)?;
+    let params = Params::fingerprint();
+
+    // Synthetic prints, clean and degraded.
+    let variants = ["clean", "blur", "noise", "contrast", "creases", "all"];
+    let mut images: Vec<(String, String, GrayImage, Vec<Point>)> = Vec::new();
+    for (index, case) in print_cases().iter().enumerate() {
+        let truth: Vec<Point> = truth_of(&case.strokes, case.binary.width, case.binary.height)
+            .into_iter()
+            .filter(|p| inside_print(&case.binary, p.pos))
+            .collect();
+        for (v, variant) in variants.iter().enumerate() {
+            let gray = capture(&case.binary, variant, 0xF1A6 + (index * 16 + v) as u64);
+            images.push((variant.to_string(), case.name.clone(), gray, truth.clone()));
+        }
+    }
+    let mut paths = Vec::new();
+    for (variant, name, gray, _) in &images {
+        let path = work.join(format!("{name}_{variant}.png"));
+        gray.save(&path)?;
+        paths.push(path);
+    }
+    let peer_found = if peer {
+        run_peer(&paths, &work.join("peer.json"))
+    } else {
+        None
+    };
+    let mut rows: BTreeMap<(usize, String), [Score; 4]> = BTreeMap::new();
+    let mut seconds = [0.0f64; 2];
+    for (k, (variant, _, gray, truth)) in images.iter().enumerate() {
+        let clock = Instant::now();
+        let trace = ridgeline::trace_image(gray, &params)?;
+        seconds[0] += clock.elapsed().as_secs_f64();
+        let ours: Vec<Point> = trace
+            .fingerprint
+            .as_ref()
+            .map(|f| f.minutiae.iter().map(point_of).collect())
+            .unwrap_or_default();
+        let order = variants.iter().position(|v| v == variant).unwrap_or(0);
+        let entry = rows.entry((order, variant.clone())).or_default();
+        entry[0].add(&ours, truth, 8.0);
+        entry[1].add(&ours, truth, 16.0);
+        if let Some((found, time)) = peer_found.as_ref().and_then(|p| p.get(&paths[k])) {
+            seconds[1] += time;
+            entry[2].add(found, truth, 8.0);
+            entry[3].add(found, truth, 16.0);
+        }
+    }
+    println!(
+        "Synthetic prints ({} cases x {} captures, 200 x 200 px)",
+        print_cases().len(),
+        variants.len()
+    );
+    println!();
+    println!("| capture | truth | ridgeline P / R / F1 @8 | F1 @16 | type acc. | peer P / R / F1 @8 | peer F1 @16 | peer type acc. |");
+    println!("|---|---|---|---|---|---|---|---|");
+    for ((_, variant), s) in &rows {
+        let peer_cells = if peer_found.is_some() {
+            format!(
+                "{:.2} / {:.2} / {:.2} | {:.2} | {:.2}",
+                s[2].precision(),
+                s[2].recall(),
+                s[2].f1(),
+                s[3].f1(),
+                s[2].type_accuracy()
+            )
+        } else {
+            "- | - | -".to_string()
+        };
+        println!(
+            "| {variant} | {} | {:.2} / {:.2} / {:.2} | {:.2} | {:.2} | {peer_cells} |",
+            s[0].truth,
+            s[0].precision(),
+            s[0].recall(),
+            s[0].f1(),
+            s[1].f1(),
+            s[0].type_accuracy()
+        );
+    }
+    println!();
+    println!(
+        "time over the {} synthetic images: ridgeline {:.2} s{}",
+        images.len(),
+        seconds[0],
+        if peer_found.is_some() {
+            format!(", peer {:.2} s", seconds[1])
+        } else {
+            String::new()
+        }
+    );
+
+    // Real prints: counts and times.
+    let mut files: Vec<PathBuf> = match std::fs::read_dir(&real) {
+        Ok(dir) => dir.filter_map(|e| e.ok().map(|e| e.path())).collect(),
+        Err(_) => Vec::new(),
+    };
+    files.sort();
+    if files.is_empty() {
+        return Ok(());
+    }
+    let peer_real = if peer {
+        run_peer(&files, &work.join("peer_real.json"))
+    } else {
+        None
+    };
+    println!();
+    println!("| print | size | ridgeline minutiae | time, s | peer minutiae | peer time, s |");
+    println!("|---|---|---|---|---|---|");
+    for file in &files {
+        let bytes = std::fs::read(file)?;
+        let gray = ridgeline::decode(&bytes, &params.limits)?;
+        let clock = Instant::now();
+        let trace = ridgeline::trace_image(&gray, &params)?;
+        let time = clock.elapsed().as_secs_f64();
+        let count = trace.fingerprint.as_ref().map_or(0, |f| f.minutiae.len());
+        let (pc, pt) = match peer_real.as_ref().and_then(|p| p.get(file)) {
+            Some((found, t)) => (found.len().to_string(), format!("{t:.2}")),
+            None => ("-".into(), "-".into()),
+        };
+        println!(
+            "| {} | {}x{} | {count} | {time:.2} | {pc} | {pt} |",
+            file.file_name()
+                .map_or(String::new(), |n| n.to_string_lossy().into_owned()),
+            gray.width(),
+            gray.height()
+        );
+    }
+    Ok(())
+}
+
+fn point_of(m: &Minutia) -> Point {
+    Point {
+        pos: m.pos,
+        bifurcation: m.kind == MinutiaKind::Bifurcation,
+    }
+}
+
+/// The true minutiae: ends of the true ridges inside the image (see the module doc).
+fn truth_of(strokes: &[Stroke], width: u32, height: u32) -> Vec<Point> {
+    let (w, h) = (f64::from(width), f64::from(height));
+    let mut out = Vec::new();
+    for (s, stroke) in strokes.iter().enumerate() {
+        let n = stroke.points.len();
+        if n < 2 {
+            continue;
+        }
+        for (end, neighbour) in [(0, 1), (n - 1, n - 2)] {
+            let p = stroke.points[end];
+            if p[0] < TRUTH_MARGIN
+                || p[1] < TRUTH_MARGIN
+                || w - p[0] < TRUTH_MARGIN
+                || h - p[1] < TRUTH_MARGIN
+            {
+                continue;
+            }
+            let _ = neighbour;
+            // The traced level sets are cut into pieces: an end met by another piece's end (or
+            // its own other end, a closed ridge) is where the ridge goes on.
+            let continued = strokes.iter().enumerate().any(|(t, other)| {
+                let m = other.points.len();
+                [0, m.saturating_sub(1)]
+                    .into_iter()
+                    .filter(|&k| !(t == s && k == end))
+                    .any(|k| ridgeline::dist(p, other.points[k]) < 1.5)
+            });
+            if continued {
+                continue;
+            }
+            let width = stroke.widths.get(end).copied().unwrap_or(3.0);
+            // Touching another ridge, or this one far along it: a bifurcation.
+            let touches = strokes.iter().enumerate().any(|(t, other)| {
+                other.points.iter().enumerate().any(|(k, q)| {
+                    let far_along = t != s || (k as i64 - end as i64).abs() > 20;
+                    far_along && ridgeline::dist(p, *q) <= width
+                })
+            });
+            out.push(Point {
+                pos: p,
+                bifurcation: touches,
+            });
+        }
+    }
+    // An end shared by two strokes is one minutia.
+    let mut unique: Vec<Point> = Vec::new();
+    for p in out {
+        if !unique.iter().any(|u| ridgeline::dist(u.pos, p.pos) < 2.0) {
+            unique.push(p);
+        }
+    }
+    unique
+}
+
+/// Whether `pos` lies well inside the print: ink within 6 px of every point of the circle of
+/// 18 px around it (ridges cut by the print's outline end there, not at a minutia).
+fn inside_print(binary: &ridgeline::Binary, pos: [f64; 2]) -> bool {
+    (0..16).all(|k| {
+        let a = k as f64 * std::f64::consts::TAU / 16.0;
+        let (cx, cy) = (pos[0] + 18.0 * a.cos(), pos[1] + 18.0 * a.sin());
+        (-6i64..=6).any(|dy| {
+            (-6i64..=6)
+                .any(|dx| dx * dx + dy * dy <= 36 && binary.get(cx as i64 + dx, cy as i64 + dy))
+        })
+    })
+}
+
+/// The gray capture of a print's ink: dark ridges on light skin, degraded as `variant` says.
+fn capture(binary: &ridgeline::Binary, variant: &str, seed: u64) -> GrayImage {
+    let (w, h) = (binary.width as usize, binary.height as usize);
+    let mut rng = SplitMix64::new(seed);
+    let mut depth: Vec<f64> = binary
+        .ink
+        .iter()
+        .map(|&i| if i { 1.0 } else { 0.0 })
+        .collect();
+    let all = variant == "all";
+    if variant == "creases" || all {
+        // Three light lines across the ridges, 2-3 px wide.
+        for _ in 0..3 {
+            let (cx, cy) = (
+                rng.range(30.0, w as f64 - 30.0),
+                rng.range(30.0, h as f64 - 30.0),
+            );
+            let angle = rng.range(0.0, std::f64::consts::PI);
+            let half = rng.range(1.0, 1.5);
+            let (nx, ny) = (-angle.sin(), angle.cos());
+            for y in 0..h {
+                for x in 0..w {
+                    let d = ((x as f64 - cx) * nx + (y as f64 - cy) * ny).abs();
+                    if d <= half {
+                        depth[y * w + x] = 0.0;
+                    }
+                }
+            }
+        }
+    }
+    if variant == "blur" || all {
+        depth = blur(&depth, w, h, 1.5);
+    } else {
+        depth = blur(&depth, w, h, 0.7);
+    }
+    let contrast_map = variant == "contrast" || all;
+    let (fx, fy, phase) = (
+        rng.range(0.01, 0.03),
+        rng.range(0.01, 0.03),
+        rng.range(0.0, 6.3),
+    );
+    let noise = if variant == "noise" || all { 25.0 } else { 0.0 };
+    let mut pixels = Vec::with_capacity(w * h);
+    for y in 0..h {
+        for x in 0..w {
+            // Dry and wet skin: the ridge depth between 25 % and 100 %, the skin level moving too.
+            let (contrast, skin) = if contrast_map {
+                let s = ((x as f64 * fx + phase).sin() * (y as f64 * fy).cos() + 1.0) / 2.0;
+                (0.25 + 0.75 * s, 230.0 - 60.0 * (1.0 - s))
+            } else {
+                (1.0, 230.0)
+            };
+            let n = if noise > 0.0 {
+                gaussian(&mut rng) * noise
+            } else {
+                0.0
+            };
+            let v = skin - 180.0 * contrast * depth[y * w + x] + n;
+            pixels.push(v.round().clamp(0.0, 255.0) as u8);
+        }
+    }
+    GrayImage::from_raw(w as u32, h as u32, pixels).unwrap_or_default()
+}
+
+fn gaussian(rng: &mut SplitMix64) -> f64 {
+    let u = rng.range(1e-12, 1.0);
+    let v = rng.range(0.0, 1.0);
+    (-2.0 * u.ln()).sqrt() * (std::f64::consts::TAU * v).cos()
+}
+
+fn blur(values: &[f64], w: usize, h: usize, sigma: f64) -> Vec<f64> {
+    let r = (3.0 * sigma).ceil() as i64;
+    let k: Vec<f64> = (-r..=r)
+        .map(|i| (-((i * i) as f64) / (2.0 * sigma * sigma)).exp())
+        .collect();
+    let sum: f64 = k.iter().sum();
+    let mut tmp = vec![0.0; w * h];
+    let mut out = vec![0.0; w * h];
+    for y in 0..h {
+        for x in 0..w {
+            tmp[y * w + x] = k
+                .iter()
+                .enumerate()
+                .map(|(j, c)| {
+                    c * values[y * w + (x as i64 + j as i64 - r).clamp(0, w as i64 - 1) as usize]
+                })
+                .sum::<f64>()
+                / sum;
+        }
+    }
+    for y in 0..h {
+        for x in 0..w {
+            out[y * w + x] = k
+                .iter()
+                .enumerate()
+                .map(|(j, c)| {
+                    c * tmp[(y as i64 + j as i64 - r).clamp(0, h as i64 - 1) as usize * w + x]
+                })
+                .sum::<f64>()
+                / sum;
+        }
+    }
+    out
+}
+
+#[derive(Clone, Copy, Debug, Default)]
+struct Score {
+    truth: usize,
+    found: usize,
+    matched: usize,
+    same_type: usize,
+}
+
+impl Score {
+    /// One-to-one matching within `tolerance`, nearest pairs first.
+    fn add(&mut self, found: &[Point], truth: &[Point], tolerance: f64) {
+        let mut pairs: Vec<(f64, usize, usize)> = Vec::new();
+        for (i, f) in found.iter().enumerate() {
+            for (j, t) in truth.iter().enumerate() {
+                let d = ridgeline::dist(f.pos, t.pos);
+                if d <= tolerance {
+                    pairs.push((d, i, j));
+                }
+            }
+        }
+        pairs.sort_by(|a, b| a.0.total_cmp(&b.0));
+        let (mut used_f, mut used_t) = (vec![false; found.len()], vec![false; truth.len()]);
+        for (_, i, j) in pairs {
+            if !used_f[i] && !used_t[j] {
+                used_f[i] = true;
+                used_t[j] = true;
+                self.matched += 1;
+                if found[i].bifurcation == truth[j].bifurcation {
+                    self.same_type += 1;
+                }
+            }
+        }
+        self.truth += truth.len();
+        self.found += found.len();
+    }
+    fn precision(&self) -> f64 {
+        if self.found == 0 {
+            1.0
+        } else {
+            self.matched as f64 / self.found as f64
+        }
+    }
+    fn recall(&self) -> f64 {
+        if self.truth == 0 {
+            1.0
+        } else {
+            self.matched as f64 / self.truth as f64
+        }
+    }
+    fn f1(&self) -> f64 {
+        let (p, r) = (self.precision(), self.recall());
+        if p + r == 0.0 {
+            0.0
+        } else {
+            2.0 * p * r / (p + r)
+        }
+    }
+    fn type_accuracy(&self) -> f64 {
+        if self.matched == 0 {
+            0.0
+        } else {
+            self.same_type as f64 / self.matched as f64
+        }
+    }
+}
+
+/// Runs the peer on `images`; each image's minutiae and seconds, or `None` when it cannot run.
+fn run_peer(images: &[PathBuf], json: &Path) -> Option<BTreeMap<PathBuf, (Vec<Point>, f64)>> {
+    let script = Path::new("../shared/bench/peer_minutiae.py");
+    let status = std::process::Command::new("python3")
+        .arg(script)
+        .args(images)
+        .arg("--json")
+        .arg(json)
+        .stdout(std::process::Stdio::null())
+        .status()
+        .ok()?;
+    if !status.success() {
+        eprintln!(
+            "the peer did not run (see {} for what it needs)",
+            script.display()
+        );
+        return None;
+    }
+    let text = std::fs::read_to_string(json).ok()?;
+    let value: serde_json::Value = serde_json::from_str(&text).ok()?;
+    let mut out = BTreeMap::new();
+    for (path, entry) in value.as_object()? {
+        let seconds = entry.get("seconds").and_then(|s| s.as_f64()).unwrap_or(0.0);
+        let found = entry
+            .get("minutiae")
+            .and_then(|m| m.as_array())
+            .map(|list| {
+                list.iter()
+                    .filter_map(|m| {
+                        Some(Point {
+                            pos: [m.get("x")?.as_f64()?, m.get("y")?.as_f64()?],
+                            bifurcation: m.get("kind")?.as_str()? == "bifurcation",
+                        })
+                    })
+                    .collect()
+            })
+            .unwrap_or_default();
+        out.insert(PathBuf::from(path), (found, seconds));
+    }
+    Some(out)
+}

@@ -1,0 +1,289 @@
+//! The plain data between the fingerprint stages (docs/fingerprints.md, "Stages"): a grid of
+//! square blocks, a floating-point image plane, and one value per block for the segmentation,
+//! the orientation field and the ridge period.
+//!
+//! Coordinates as everywhere in ridgeline: pixel `(c, r)` covers `[c, c+1] x [r, r+1]`; block
+//! `(i, j)` covers pixels `i·block .. (i+1)·block` by `j·block .. (j+1)·block` (the last column
+//! and row of blocks may be cut by the image edge). Angles are radians in image coordinates (x to
+//! the right, y down).
+
+use serde::Serialize;
+
+/// The blocks an image is cut into.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
+pub struct BlockGrid {
+    /// Image width, px.
+    pub width: u32,
+    /// Image height, px.
+    pub height: u32,
+    /// Side of a block, px (> 0).
+    pub block: u32,
+    /// Blocks per row.
+    pub cols: u32,
+    /// Rows of blocks.
+    pub rows: u32,
+}
+
+impl BlockGrid {
+    /// The grid of `block`-pixel blocks over a `width x height` image (`block` is taken as at
+    /// least 1).
+    pub fn new(width: u32, height: u32, block: u32) -> Self {
+        let block = block.max(1);
+        BlockGrid {
+            width,
+            height,
+            block,
+            cols: width.div_ceil(block),
+            rows: height.div_ceil(block),
+        }
+    }
+
+    /// Number of blocks.
+    pub fn len(&self) -> usize {
+        self.cols as usize * self.rows as usize
+    }
+
+    /// Whether there are no blocks.
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    /// Index of block `(i, j)`.
+    #[inline]
+    pub fn index(&self, i: usize, j: usize) -> usize {
+        j * self.cols as usize + i
+    }
+
+    /// The block holding the point `pos` (clamped to the grid), as `(i, j)`.
+    pub fn block_of(&self, pos: [f64; 2]) -> (usize, usize) {
+        let b = f64::from(self.block);
+        let clamp = |v: f64, n: u32| {
+            if v.is_finite() && v > 0.0 {
+                ((v / b) as usize).min(n.saturating_sub(1) as usize)
+            } else {
+                0
+            }
+        };
+        (clamp(pos[0], self.cols), clamp(pos[1], self.rows))
+    }
+
+    /// The pixel range `[x0, x1) x [y0, y1)` of block `(i, j)`.
+    pub fn pixels(&self, i: usize, j: usize) -> (usize, usize, usize, usize) {
+        let b = self.block as usize;
+        let x0 = (i * b).min(self.width as usize);
+        let y0 = (j * b).min(self.height as usize);
+        (
+            x0,
+            (x0 + b).min(self.width as usize),
+            y0,
+            (y0 + b).min(self.height as usize),
+        )
+    }
+
+    /// The center of block `(i, j)` (of its part inside the image).
+    pub fn center(&self, i: usize, j: usize) -> [f64; 2] {
+        let (x0, x1, y0, y1) = self.pixels(i, j);
+        [(x0 + x1) as f64 / 2.0, (y0 + y1) as f64 / 2.0]
+    }
+}
+
+/// A gray-level image as floating-point values, row-major.
+#[derive(Clone, Debug, Default, PartialEq, Serialize)]
+pub struct Plane {
+    /// Width, px.
+    pub width: u32,
+    /// Height, px.
+    pub height: u32,
+    /// `values[y * width + x]`.
+    pub values: Vec<f32>,
+}
+
+impl Plane {
+    /// The value at pixel `(x, y)`, clamped to the image (0 for an empty plane).
+    #[inline]
+    pub fn at(&self, x: i64, y: i64) -> f32 {
+        if self.width == 0 || self.height == 0 {
+            return 0.0;
+        }
+        let x = x.clamp(0, i64::from(self.width) - 1) as usize;
+        let y = y.clamp(0, i64::from(self.height) - 1) as usize;
+        self.values
+            .get(y * self.width as usize + x)
+            .copied()
+            .unwrap_or(0.0)
+    }
+
+    /// Bilinear interpolation at the point `(x, y)` in pixel-center coordinates (pixel `(c, r)`'s
+    /// value is at `(c + 0.5, r + 0.5)`), clamped to the image.
+    pub fn sample(&self, x: f64, y: f64) -> f32 {
+        let (fx, fy) = (x - 0.5, y - 0.5);
+        let (cx, cy) = (fx.floor(), fy.floor());
+        let (tx, ty) = ((fx - cx) as f32, (fy - cy) as f32);
+        let (cx, cy) = (cx as i64, cy as i64);
+        let top = self.at(cx, cy) * (1.0 - tx) + self.at(cx + 1, cy) * tx;
+        let bottom = self.at(cx, cy + 1) * (1.0 - tx) + self.at(cx + 1, cy + 1) * tx;
+        top * (1.0 - ty) + bottom * ty
+    }
+}
+
+/// Which blocks belong to the print (the segmentation stage's output).
+#[derive(Clone, Debug, Default, PartialEq, Serialize)]
+pub struct Segmentation {
+    /// The blocks.
+    pub grid: BlockGrid,
+    /// One flag per block: true inside the print.
+    pub inside: Vec<bool>,
+}
+
+impl Segmentation {
+    /// Whether pixel `(x, y)` lies in the print (false outside the image).
+    pub fn contains_pixel(&self, x: usize, y: usize) -> bool {
+        if x >= self.grid.width as usize || y >= self.grid.height as usize {
+            return false;
+        }
+        let b = self.grid.block as usize;
+        self.inside
+            .get(self.grid.index(x / b, y / b))
+            .is_some_and(|&v| v)
+    }
+
+    /// The print as one flag per pixel.
+    pub fn pixel_mask(&self) -> Vec<bool> {
+        let (w, h) = (self.grid.width as usize, self.grid.height as usize);
+        let mut mask = Vec::with_capacity(w * h);
+        for y in 0..h {
+            mask.extend((0..w).map(|x| self.contains_pixel(x, y)));
+        }
+        mask
+    }
+
+    /// Number of blocks inside the print.
+    pub fn area_blocks(&self) -> usize {
+        self.inside.iter().filter(|&&v| v).count()
+    }
+}
+
+/// The ridge orientation per block.
+#[derive(Clone, Debug, Default, PartialEq, Serialize)]
+pub struct OrientationField {
+    /// The blocks.
+    pub grid: BlockGrid,
+    /// Ridge direction per block, radians in `[0, π)` (an orientation: `θ` and `θ + π` are the
+    /// same ridge), y down.
+    pub angle: Vec<f32>,
+    /// Coherence per block in `[0, 1]`: `|Σ (g_x² - g_y², 2 g_x g_y)| / Σ (g_x² + g_y²)` over the
+    /// smoothing window, 1 for parallel ridges, 0 for no dominant direction.
+    pub coherence: Vec<f32>,
+}
+
+impl OrientationField {
+    /// The ridge direction at `pos`, interpolated between block centers as a doubled-angle
+    /// vector (so orientations near 0 and near π average correctly).
+    pub fn angle_at(&self, pos: [f64; 2]) -> f64 {
+        let g = &self.grid;
+        if g.is_empty() || self.angle.len() != g.len() {
+            return 0.0;
+        }
+        let b = f64::from(g.block);
+        let fx = (pos[0] / b - 0.5).clamp(0.0, f64::from(g.cols - 1));
+        let fy = (pos[1] / b - 0.5).clamp(0.0, f64::from(g.rows - 1));
+        let (i0, j0) = (fx.floor() as usize, fy.floor() as usize);
+        let (i1, j1) = (
+            (i0 + 1).min(g.cols as usize - 1),
+            (j0 + 1).min(g.rows as usize - 1),
+        );
+        let (tx, ty) = (fx - i0 as f64, fy - j0 as f64);
+        let mut v = [0.0f64; 2];
+        for (i, j, w) in [
+            (i0, j0, (1.0 - tx) * (1.0 - ty)),
+            (i1, j0, tx * (1.0 - ty)),
+            (i0, j1, (1.0 - tx) * ty),
+            (i1, j1, tx * ty),
+        ] {
+            let a = 2.0 * f64::from(self.angle[g.index(i, j)]);
+            v[0] += w * a.cos();
+            v[1] += w * a.sin();
+        }
+        (v[1].atan2(v[0]) / 2.0).rem_euclid(std::f64::consts::PI)
+    }
+}
+
+/// The ridge period (distance between neighbouring ridges) per block.
+#[derive(Clone, Debug, Default, PartialEq, Serialize)]
+pub struct RidgePeriods {
+    /// The blocks.
+    pub grid: BlockGrid,
+    /// Period per block, px, every block filled (measured, or interpolated from its neighbours).
+    pub period: Vec<f32>,
+    /// Whether the block's period was measured (false: interpolated).
+    pub measured: Vec<bool>,
+}
+
+impl RidgePeriods {
+    /// The period of the block holding `pos`, px.
+    pub fn at(&self, pos: [f64; 2]) -> f64 {
+        let (i, j) = self.grid.block_of(pos);
+        self.period
+            .get(self.grid.index(i, j))
+            .map_or(0.0, |&p| f64::from(p))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::f64::consts::PI;
+
+    #[test]
+    fn grid_covers_the_image_with_cut_last_blocks() {
+        let g = BlockGrid::new(20, 9, 8);
+        assert_eq!((g.cols, g.rows, g.len()), (3, 2, 6));
+        assert_eq!(g.pixels(2, 1), (16, 20, 8, 9));
+        assert_eq!(g.center(2, 1), [18.0, 8.5]);
+        assert_eq!(g.block_of([19.9, 8.9]), (2, 1));
+        assert_eq!(g.block_of([-5.0, f64::NAN]), (0, 0));
+        assert_eq!(g.block_of([500.0, 500.0]), (2, 1));
+        assert!(BlockGrid::new(0, 0, 0).is_empty());
+    }
+
+    #[test]
+    fn bilinear_sample_interpolates_between_pixel_centers() {
+        let p = Plane {
+            width: 2,
+            height: 1,
+            values: vec![0.0, 10.0],
+        };
+        assert_eq!(p.sample(0.5, 0.5), 0.0);
+        assert_eq!(p.sample(1.0, 0.5), 5.0);
+        assert_eq!(p.sample(1.5, 0.5), 10.0);
+        assert_eq!(p.sample(9.0, -3.0), 10.0, "clamped");
+        assert_eq!(Plane::default().sample(1.0, 1.0), 0.0);
+    }
+
+    #[test]
+    fn orientation_interpolation_wraps_at_pi() {
+        // Two blocks, one at 5 degrees, one at 175: halfway between them the ridge is horizontal,
+        // not vertical, as averaging the angles themselves would give.
+        let field = OrientationField {
+            grid: BlockGrid::new(16, 8, 8),
+            angle: vec![5f32.to_radians(), 175f32.to_radians()],
+            coherence: vec![1.0; 2],
+        };
+        let mid = field.angle_at([8.0, 4.0]);
+        assert!(mid.min(PI - mid) < 1e-6, "{mid}");
+    }
+
+    #[test]
+    fn pixel_mask_follows_the_blocks() {
+        let s = Segmentation {
+            grid: BlockGrid::new(4, 2, 2),
+            inside: vec![false, true],
+        };
+        assert_eq!(
+            s.pixel_mask(),
+            vec![false, false, true, true, false, false, true, true]
+        );
+        assert!(!s.contains_pixel(4, 0));
+        assert_eq!(s.area_blocks(), 1);
+    }
+}

@@ -1,0 +1,224 @@
+//! Ridge period per block (docs/fingerprints.md, "Ridge period"): the x-signature of Hong, Wan
+//! and Jain, as pyfing's XSFFE computes it.
+//!
+//! Around each print block's center a window `signature_length` px long across the ridges
+//! (along the normal of the local orientation) and two blocks wide along them is sampled; the
+//! means of its rows along the ridge are the x-signature, a wave with one period per ridge. The
+//! distances between consecutive maxima and between consecutive minima that lie between
+//! `period_min` and `period_max` (3 and 25 px: 1/3 to 1/25 px⁻¹) are the candidate periods; with
+//! at least three, the block's period is the mean of those within 2 px (or 20 %) of their median.
+//! Blocks without a measure (background, a crease, a core) are filled wave by wave from the mean
+//! of their filled neighbours, then every block is averaged with its 3 x 3 neighbours.
+//!
+//! In: the smoothed gray image, [`Segmentation`] and [`OrientationField`]; out: [`RidgePeriods`].
+
+use super::fields::{OrientationField, Plane, RidgePeriods, Segmentation};
+use super::math::median;
+use crate::FingerprintParams;
+
+/// Fewest candidate distances for a measured period.
+const MIN_DISTANCES: usize = 3;
+
+/// The ridge period of every block.
+pub(crate) fn ridge_periods(
+    smoothed: &Plane,
+    segmentation: &Segmentation,
+    field: &OrientationField,
+    params: &FingerprintParams,
+) -> RidgePeriods {
+    let grid = segmentation.grid;
+    let (cols, rows) = (grid.cols as usize, grid.rows as usize);
+    let length = params.signature_length.max(4) as usize;
+    let across = (2 * grid.block).max(2) as usize;
+    let mut signature = vec![0.0f32; length];
+    let mut distances: Vec<f32> = Vec::with_capacity(length);
+    let mut period = vec![0.0f32; grid.len()];
+    let mut measured = vec![false; grid.len()];
+    for j in 0..rows {
+        for i in 0..cols {
+            let b = grid.index(i, j);
+            if !segmentation.inside[b] {
+                continue;
+            }
+            let c = grid.center(i, j);
+            let theta = f64::from(field.angle[b]);
+            let (along, normal) = ([theta.cos(), theta.sin()], [-theta.sin(), theta.cos()]);
+            for (t, s) in signature.iter_mut().enumerate() {
+                let u = t as f64 - length as f64 / 2.0 + 0.5;
+                let mut sum = 0.0f32;
+                for k in 0..across {
+                    let v = k as f64 - across as f64 / 2.0 + 0.5;
+                    sum += smoothed.sample(
+                        c[0] + u * normal[0] + v * along[0],
+                        c[1] + u * normal[1] + v * along[1],
+                    );
+                }
+                *s = sum / across as f32;
+            }
+            distances.clear();
+            for extremum in [1.0f32, -1.0] {
+                let mut last: Option<usize> = None;
+                for k in 1..length - 1 {
+                    let (p, q, r) = (
+                        extremum * signature[k - 1],
+                        extremum * signature[k],
+                        extremum * signature[k + 1],
+                    );
+                    if q > p && q >= r {
+                        if let Some(l) = last {
+                            let d = (k - l) as f32;
+                            if f64::from(d) >= params.period_min
+                                && f64::from(d) <= params.period_max
+                            {
+                                distances.push(d);
+                            }
+                        }
+                        last = Some(k);
+                    }
+                }
+            }
+            if distances.len() < MIN_DISTANCES {
+                continue;
+            }
+            let m = median(&mut distances);
+            let tolerance = (0.2 * m).max(2.0);
+            let close: Vec<f32> = distances
+                .iter()
+                .copied()
+                .filter(|d| (d - m).abs() <= tolerance)
+                .collect();
+            if !close.is_empty() {
+                period[b] = close.iter().sum::<f32>() / close.len() as f32;
+                measured[b] = true;
+            }
+        }
+    }
+    let period = fill_and_smooth(period, &measured, cols, rows, params.default_period as f32);
+    let (lo, hi) = (params.period_min as f32, params.period_max as f32);
+    RidgePeriods {
+        grid,
+        period: period.into_iter().map(|p| p.clamp(lo, hi)).collect(),
+        measured,
+    }
+}
+
+/// Fills the unmeasured blocks wave by wave from their filled 8-neighbours, then averages each
+/// block with its 3 x 3 neighbours; `fallback` everywhere when nothing was measured.
+fn fill_and_smooth(
+    mut period: Vec<f32>,
+    measured: &[bool],
+    cols: usize,
+    rows: usize,
+    fallback: f32,
+) -> Vec<f32> {
+    let mut filled = measured.to_vec();
+    if !filled.iter().any(|&f| f) {
+        return vec![fallback; period.len()];
+    }
+    let mut wave = Vec::new();
+    loop {
+        wave.clear();
+        for j in 0..rows {
+            for i in 0..cols {
+                if filled[j * cols + i] {
+                    continue;
+                }
+                let (mut sum, mut n) = (0.0f32, 0);
+                for jj in j.saturating_sub(1)..(j + 2).min(rows) {
+                    for ii in i.saturating_sub(1)..(i + 2).min(cols) {
+                        if filled[jj * cols + ii] {
+                            sum += period[jj * cols + ii];
+                            n += 1;
+                        }
+                    }
+                }
+                if n > 0 {
+                    wave.push((j * cols + i, sum / n as f32));
+                }
+            }
+        }
+        if wave.is_empty() {
+            break;
+        }
+        for &(b, p) in &wave {
+            period[b] = p;
+            filled[b] = true;
+        }
+    }
+    let mut smoothed = vec![0.0f32; period.len()];
+    for j in 0..rows {
+        for i in 0..cols {
+            let (mut sum, mut n) = (0.0f32, 0.0f32);
+            for jj in j.saturating_sub(1)..(j + 2).min(rows) {
+                for ii in i.saturating_sub(1)..(i + 2).min(cols) {
+                    sum += period[jj * cols + ii];
+                    n += 1.0;
+                }
+            }
+            smoothed[j * cols + i] = sum / n;
+        }
+    }
+    smoothed
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::fingerprint::fields::BlockGrid;
+    use crate::fingerprint::tests::ridges_in_disk;
+
+    fn periods_of(period: f64, theta: f64) -> RidgePeriods {
+        let gray = ridges_in_disk(128, 128, period, theta, [64.0, 64.0], 200.0);
+        let grid = BlockGrid::new(128, 128, 8);
+        let mut inside = vec![false; grid.len()];
+        inside[grid.index(8, 8)] = true;
+        inside[grid.index(7, 8)] = true;
+        let s = Segmentation { grid, inside };
+        let field = OrientationField {
+            grid,
+            angle: vec![theta as f32; grid.len()],
+            coherence: vec![1.0; grid.len()],
+        };
+        ridge_periods(&gray, &s, &field, &FingerprintParams::default())
+    }
+
+    #[test]
+    fn the_signature_measures_the_period_at_any_angle() {
+        for (period, theta) in [(6.0, 0.0), (9.0, 0.7), (12.0, 2.0), (16.0, 1.57)] {
+            let p = periods_of(period, theta);
+            assert!(p.measured[p.grid.index(8, 8)]);
+            // Unmeasured blocks are filled from the measured ones.
+            assert!(!p.measured[0]);
+            for b in [p.grid.index(8, 8), 0] {
+                let found = f64::from(p.period[b]);
+                assert!((found - period).abs() < 0.12 * period, "{period}: {found}");
+            }
+        }
+    }
+
+    #[test]
+    fn nothing_measured_gives_the_default_within_limits() {
+        let flat = Plane {
+            width: 32,
+            height: 32,
+            values: vec![9.0; 1024],
+        };
+        let grid = BlockGrid::new(32, 32, 8);
+        let s = Segmentation {
+            grid,
+            inside: vec![true; grid.len()],
+        };
+        let field = OrientationField {
+            grid,
+            angle: vec![0.0; grid.len()],
+            coherence: vec![0.0; grid.len()],
+        };
+        let params = FingerprintParams::default();
+        let p = ridge_periods(&flat, &s, &field, &params);
+        assert!(p.measured.iter().all(|&m| !m));
+        assert!(p
+            .period
+            .iter()
+            .all(|&v| f64::from(v) == params.default_period));
+    }
+}

@@ -1,0 +1,215 @@
+//! Small image operations the fingerprint stages share: a separable Gaussian blur, Sobel
+//! gradients, and morphology and connected components on a grid of block flags.
+
+use super::fields::Plane;
+
+/// Gaussian blur with standard deviation `sigma` px (radius `ceil(3 sigma)`), borders clamped.
+/// `sigma <= 0` returns a copy.
+pub(crate) fn gaussian_blur(plane: &Plane, sigma: f64) -> Plane {
+    if sigma.is_nan() || sigma <= 0.0 || plane.values.is_empty() {
+        return plane.clone();
+    }
+    let kernel = gaussian_kernel(sigma);
+    let r = (kernel.len() / 2) as i64;
+    let (w, h) = (plane.width as usize, plane.height as usize);
+    let mut rows = vec![0.0f32; w * h];
+    for y in 0..h {
+        let line = &plane.values[y * w..(y + 1) * w];
+        for x in 0..w {
+            let mut s = 0.0;
+            for (k, &c) in kernel.iter().enumerate() {
+                let xx = (x as i64 + k as i64 - r).clamp(0, w as i64 - 1) as usize;
+                s += c * line[xx];
+            }
+            rows[y * w + x] = s;
+        }
+    }
+    let mut out = vec![0.0f32; w * h];
+    for y in 0..h {
+        for (k, &c) in kernel.iter().enumerate() {
+            let yy = (y as i64 + k as i64 - r).clamp(0, h as i64 - 1) as usize;
+            let (src, dst) = (&rows[yy * w..(yy + 1) * w], &mut out[y * w..(y + 1) * w]);
+            for (d, &s) in dst.iter_mut().zip(src) {
+                *d += c * s;
+            }
+        }
+    }
+    Plane {
+        width: plane.width,
+        height: plane.height,
+        values: out,
+    }
+}
+
+/// A normalized Gaussian of standard deviation `sigma`, radius `ceil(3 sigma)`.
+pub(crate) fn gaussian_kernel(sigma: f64) -> Vec<f32> {
+    let r = (3.0 * sigma).ceil().max(1.0) as i64;
+    let mut k: Vec<f32> = (-r..=r)
+        .map(|i| (-(i * i) as f64 / (2.0 * sigma * sigma)).exp() as f32)
+        .collect();
+    let sum: f32 = k.iter().sum();
+    k.iter_mut().for_each(|v| *v /= sum);
+    k
+}
+
+/// Sobel gradients `(g_x, g_y)` (x to the right, y down), borders clamped.
+pub(crate) fn sobel(plane: &Plane) -> (Plane, Plane) {
+    let (w, h) = (plane.width as i64, plane.height as i64);
+    let mut gx = Vec::with_capacity(plane.values.len());
+    let mut gy = Vec::with_capacity(plane.values.len());
+    for y in 0..h {
+        for x in 0..w {
+            let p = |dx: i64, dy: i64| plane.at(x + dx, y + dy);
+            gx.push((p(1, -1) + 2.0 * p(1, 0) + p(1, 1)) - (p(-1, -1) + 2.0 * p(-1, 0) + p(-1, 1)));
+            gy.push((p(-1, 1) + 2.0 * p(0, 1) + p(1, 1)) - (p(-1, -1) + 2.0 * p(0, -1) + p(1, -1)));
+        }
+    }
+    let plane_of = |values| Plane {
+        width: plane.width,
+        height: plane.height,
+        values,
+    };
+    (plane_of(gx), plane_of(gy))
+}
+
+/// Dilation (`grow`) or erosion (`!grow`) of block flags by the 3x3 square; outside the grid
+/// counts as false for dilation and true for erosion (so the image edge does not eat the print).
+pub(crate) fn morph3(flags: &[bool], cols: usize, rows: usize, grow: bool) -> Vec<bool> {
+    let mut out = vec![false; flags.len()];
+    for j in 0..rows {
+        for i in 0..cols {
+            let mut any = false;
+            let mut all = true;
+            for dj in -1i64..=1 {
+                for di in -1i64..=1 {
+                    let (ii, jj) = (i as i64 + di, j as i64 + dj);
+                    let v = if ii < 0 || jj < 0 || ii >= cols as i64 || jj >= rows as i64 {
+                        !grow
+                    } else {
+                        flags[jj as usize * cols + ii as usize]
+                    };
+                    any |= v;
+                    all &= v;
+                }
+            }
+            out[j * cols + i] = if grow { any } else { all };
+        }
+    }
+    out
+}
+
+/// 4-connected component labels of the cells equal to `value` (`usize::MAX` elsewhere), with
+/// each component's size, numbered in raster order of their first cell.
+pub(crate) fn components(
+    flags: &[bool],
+    cols: usize,
+    rows: usize,
+    value: bool,
+) -> (Vec<usize>, Vec<usize>) {
+    let mut label = vec![usize::MAX; flags.len()];
+    let mut sizes = Vec::new();
+    let mut stack = Vec::new();
+    for start in 0..flags.len() {
+        if flags[start] != value || label[start] != usize::MAX {
+            continue;
+        }
+        let id = sizes.len();
+        let mut size = 0;
+        label[start] = id;
+        stack.push(start);
+        while let Some(c) = stack.pop() {
+            size += 1;
+            let (i, j) = (c % cols, c / cols);
+            let mut visit = |n: usize| {
+                if flags[n] == value && label[n] == usize::MAX {
+                    label[n] = id;
+                    stack.push(n);
+                }
+            };
+            if i > 0 {
+                visit(c - 1);
+            }
+            if i + 1 < cols {
+                visit(c + 1);
+            }
+            if j > 0 {
+                visit(c - cols);
+            }
+            if j + 1 < rows {
+                visit(c + cols);
+            }
+        }
+        sizes.push(size);
+    }
+    (label, sizes)
+}
+
+/// The median of `values` (0 for none); reorders them.
+pub(crate) fn median(values: &mut [f32]) -> f32 {
+    if values.is_empty() {
+        return 0.0;
+    }
+    let mid = values.len() / 2;
+    let (_, m, _) = values.select_nth_unstable_by(mid, f32::total_cmp);
+    *m
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn blur_keeps_a_constant_and_the_mean() {
+        let p = Plane {
+            width: 9,
+            height: 7,
+            values: (0..63).map(|i| if i == 31 { 63.0 } else { 0.0 }).collect(),
+        };
+        let b = gaussian_blur(&p, 1.0);
+        let sum: f32 = b.values.iter().sum();
+        assert!((sum - 63.0).abs() < 1e-3, "{sum}");
+        assert!(b.values[31] < 63.0 && b.values[31] > b.values[30]);
+        let flat = Plane {
+            width: 5,
+            height: 5,
+            values: vec![7.0; 25],
+        };
+        assert!(gaussian_blur(&flat, 2.0)
+            .values
+            .iter()
+            .all(|&v| (v - 7.0).abs() < 1e-4));
+    }
+
+    #[test]
+    fn sobel_of_a_ramp() {
+        // Value = 2x - y: g_x = 8 * 2, g_y = -8 away from the border.
+        let p = Plane {
+            width: 6,
+            height: 6,
+            values: (0..36).map(|i| (2 * (i % 6) - i / 6) as f32).collect(),
+        };
+        let (gx, gy) = sobel(&p);
+        assert_eq!(gx.values[2 * 6 + 2], 16.0);
+        assert_eq!(gy.values[2 * 6 + 2], -8.0);
+    }
+
+    #[test]
+    fn morphology_and_components() {
+        // A 5x4 grid with a 2x2 square and a single cell apart.
+        let mut f = vec![false; 20];
+        for c in [6, 7, 11, 12, 4] {
+            f[c] = true;
+        }
+        let (label, sizes) = components(&f, 5, 4, true);
+        assert_eq!(sizes, vec![1, 4]);
+        assert_eq!(label[6], 1);
+        let eroded = morph3(&f, 5, 4, false);
+        assert!(eroded.iter().all(|&v| !v));
+        let grown = morph3(&f, 5, 4, true);
+        assert_eq!(grown.iter().filter(|&&v| v).count(), 18);
+        // Erosion treats outside as print: a full grid stays full.
+        assert!(morph3(&[true; 6], 3, 2, false).iter().all(|&v| v));
+        assert_eq!(median(&mut [3.0, 1.0, 2.0]), 2.0);
+        assert_eq!(median(&mut []), 0.0);
+    }
+}

@@ -1,0 +1,239 @@
+//! The fingerprint front end (docs/fingerprints.md): what a print needs before its ridges can be
+//! traced, in stages with a plain data type each ([`fields`]):
+//!
+//! ```text
+//! gray ─segment─> Segmentation ─orientation─> OrientationField ─frequency─> RidgePeriods
+//!      ─enhance─> enhanced Plane (Gabor response) ─sign inside the print─> Binary
+//! ```
+//!
+//! The constants follow pyfing's classical pipeline (GMFS segmentation, GBFOE orientations,
+//! XSFFE frequencies, GBFEN Gabor enhancement), at 500 dpi. `lib.rs` runs [`analyze`] in place of
+//! the text front end (`raster::binarize`) when [`crate::Params::fingerprint`] is set, then the
+//! normal pipeline on the binary image, then the fingerprint minutiae filter
+//! ([`crate::minutiae::fingerprint_minutiae`]).
+
+mod enhance;
+pub mod fields;
+mod frequency;
+pub(crate) mod math;
+mod orientation;
+mod segment;
+
+use crate::{Binary, FingerprintParams, GrayImage};
+use fields::{BlockGrid, OrientationField, Plane, RidgePeriods, Segmentation};
+use serde::Serialize;
+
+/// Everything the fingerprint front end found on one print.
+#[derive(Clone, Debug, Default, PartialEq, Serialize)]
+pub struct PrintAnalysis {
+    /// Which blocks hold the print.
+    pub segmentation: Segmentation,
+    /// Ridge orientation and coherence per block.
+    pub orientation: OrientationField,
+    /// Ridge period per block.
+    pub periods: RidgePeriods,
+    /// The Gabor response, ridges positive, zero outside the print.
+    #[serde(skip)]
+    pub enhanced: Plane,
+    /// Contrast per block in `[0, 1]`: the root mean square of the enhanced response over the
+    /// block, divided by its median over the print's blocks and capped at 1 (0 outside).
+    pub contrast: Vec<f32>,
+}
+
+impl PrintAnalysis {
+    /// A minutia's quality 0-100 at `pos`: coherence times contrast of its block, in percent.
+    pub fn quality_at(&self, pos: [f64; 2]) -> u8 {
+        let grid = self.orientation.grid;
+        if grid.is_empty() {
+            return 0;
+        }
+        let (i, j) = grid.block_of(pos);
+        let b = grid.index(i, j);
+        let c = self.orientation.coherence.get(b).copied().unwrap_or(0.0);
+        let k = self.contrast.get(b).copied().unwrap_or(0.0);
+        (100.0 * c * k).round().clamp(0.0, 100.0) as u8
+    }
+}
+
+/// Runs segmentation, orientation field, ridge periods and Gabor enhancement on `gray` and
+/// returns them with the binarization of the enhanced image (ink: positive response inside the
+/// print). `dark_ridges` says whether ridges are darker than valleys.
+pub(crate) fn analyze(
+    gray: &GrayImage,
+    params: &FingerprintParams,
+    dark_ridges: bool,
+) -> (PrintAnalysis, Binary) {
+    let (width, height) = gray.dimensions();
+    let plane = Plane {
+        width,
+        height,
+        values: gray.as_raw().iter().map(|&v| f32::from(v)).collect(),
+    };
+    let grid = BlockGrid::new(width, height, params.block);
+    let smoothed = math::gaussian_blur(&plane, params.gradient_sigma);
+    let (gx, gy) = math::sobel(&smoothed);
+    let segmentation = segment::segment(&gx, &gy, grid, params);
+    let orientation = orientation::orientation(&gx, &gy, &segmentation, params);
+    drop((gx, gy));
+    let periods = frequency::ridge_periods(&smoothed, &segmentation, &orientation, params);
+    drop(smoothed);
+    let enhanced = enhance::enhance(
+        &plane,
+        &segmentation,
+        &orientation,
+        &periods,
+        params,
+        dark_ridges,
+    );
+    let contrast = block_contrast(&enhanced, &segmentation);
+    let mut binary = Binary::new(width, height);
+    for (ink, &r) in binary.ink.iter_mut().zip(&enhanced.values) {
+        *ink = r > 0.0;
+    }
+    (
+        PrintAnalysis {
+            segmentation,
+            orientation,
+            periods,
+            enhanced,
+            contrast,
+        },
+        binary,
+    )
+}
+
+/// Per block, the RMS of the response over the print's median RMS, capped at 1.
+fn block_contrast(enhanced: &Plane, segmentation: &Segmentation) -> Vec<f32> {
+    let grid = segmentation.grid;
+    let w = grid.width as usize;
+    let mut rms = vec![0.0f32; grid.len()];
+    for j in 0..grid.rows as usize {
+        for i in 0..grid.cols as usize {
+            let b = grid.index(i, j);
+            if !segmentation.inside[b] {
+                continue;
+            }
+            let (x0, x1, y0, y1) = grid.pixels(i, j);
+            let mut sum = 0.0f64;
+            for y in y0..y1 {
+                for &v in &enhanced.values[y * w + x0..y * w + x1] {
+                    sum += f64::from(v * v);
+                }
+            }
+            let n = ((x1 - x0) * (y1 - y0)).max(1);
+            rms[b] = (sum / n as f64).sqrt() as f32;
+        }
+    }
+    let mut inside: Vec<f32> = rms
+        .iter()
+        .zip(&segmentation.inside)
+        .filter(|(_, &i)| i)
+        .map(|(&r, _)| r)
+        .collect();
+    let m = math::median(&mut inside);
+    if m > 0.0 {
+        rms.iter_mut().for_each(|r| *r = (*r / m).min(1.0));
+    }
+    rms
+}
+
+#[cfg(test)]
+pub(crate) mod tests {
+    use super::*;
+    use std::f64::consts::TAU;
+
+    /// Straight ridges of `period` px running at `theta` (dark where `cos(2π u / T) > 0`, `u` the
+    /// distance from `centre` along the normal), inside a disk of `radius`; flat 200 outside.
+    pub(crate) fn ridges_in_disk(
+        width: u32,
+        height: u32,
+        period: f64,
+        theta: f64,
+        centre: [f64; 2],
+        radius: f64,
+    ) -> Plane {
+        let normal = [-theta.sin(), theta.cos()];
+        let mut values = Vec::with_capacity(width as usize * height as usize);
+        for y in 0..height {
+            for x in 0..width {
+                let (dx, dy) = (x as f64 + 0.5 - centre[0], y as f64 + 0.5 - centre[1]);
+                values.push(if dx * dx + dy * dy <= radius * radius {
+                    let u = dx * normal[0] + dy * normal[1];
+                    (128.0 - 100.0 * (TAU * u / period).cos()) as f32
+                } else {
+                    200.0
+                });
+            }
+        }
+        Plane {
+            width,
+            height,
+            values,
+        }
+    }
+
+    fn gray_of(plane: &Plane) -> GrayImage {
+        GrayImage::from_raw(
+            plane.width,
+            plane.height,
+            plane
+                .values
+                .iter()
+                .map(|&v| v.clamp(0.0, 255.0) as u8)
+                .collect(),
+        )
+        .expect("size matches")
+    }
+
+    #[test]
+    fn the_chain_gives_ridges_inside_the_print_only() {
+        let plane = ridges_in_disk(200, 200, 9.0, 0.5, [100.0, 100.0], 70.0);
+        let (analysis, binary) = analyze(&gray_of(&plane), &FingerprintParams::default(), true);
+        assert!(
+            !binary.get(5, 5) && !binary.get(195, 100),
+            "nothing outside the print"
+        );
+        // Inside: about half the pixels are ridge, and the ridge pixels are the dark ones.
+        let mut ink = 0;
+        let mut dark_ink = 0;
+        let mut total = 0;
+        for y in 70..130 {
+            for x in 70..130 {
+                total += 1;
+                if binary.get(x, y) {
+                    ink += 1;
+                    if plane.values[y as usize * 200 + x as usize] < 128.0 {
+                        dark_ink += 1;
+                    }
+                }
+            }
+        }
+        let share = ink as f64 / total as f64;
+        assert!((0.4..0.6).contains(&share), "{share}");
+        assert!(dark_ink as f64 > 0.95 * ink as f64, "{dark_ink} / {ink}");
+        let q = analysis.quality_at([100.0, 100.0]);
+        assert!(q > 80, "{q}");
+        assert_eq!(analysis.quality_at([2.0, 2.0]), 0);
+        let p = analysis.periods.at([100.0, 100.0]);
+        assert!((p - 9.0).abs() < 1.0, "{p}");
+    }
+
+    #[test]
+    fn light_ridges_flip_the_sign_and_tiny_images_do_not_panic() {
+        let plane = ridges_in_disk(120, 120, 9.0, 0.0, [60.0, 60.0], 200.0);
+        let (_, dark) = analyze(&gray_of(&plane), &FingerprintParams::default(), true);
+        let (_, light) = analyze(&gray_of(&plane), &FingerprintParams::default(), false);
+        let differ = dark
+            .ink
+            .iter()
+            .zip(&light.ink)
+            .filter(|(a, b)| a != b)
+            .count();
+        assert!(differ as f64 > 0.9 * dark.ink.len() as f64);
+        for (w, h) in [(1, 1), (3, 40), (0, 0)] {
+            let gray = GrayImage::new(w, h);
+            let (_, b) = analyze(&gray, &FingerprintParams::default(), true);
+            assert_eq!(b.ink.len(), (w * h) as usize);
+        }
+    }
+}

@@ -1,0 +1,175 @@
+//! Segmentation: which blocks hold the print (docs/fingerprints.md, "Segmentation").
+//!
+//! As pyfing's GMFS: the gradient magnitude averaged over a neighbourhood is high where ridges
+//! alternate with valleys and low on the empty background, so a block is print where its mean
+//! gradient magnitude, averaged over 3 x 3 blocks, reaches a fraction (`segment_threshold`, 0.2)
+//! of the image's 95th percentile of gradient magnitude. The block mask is then cleaned: a closing
+//! (one block) bridges gaps between ridges' blocks, only the largest component is kept, holes not
+//! open to the image edge are filled (a faint patch inside the print is still print), and an
+//! opening (one block) removes protrusions and blocks hanging on by a corner.
+//!
+//! In: the gradients; out: [`Segmentation`].
+
+use super::fields::{BlockGrid, Plane, Segmentation};
+use super::math::{components, median, morph3};
+use crate::FingerprintParams;
+
+/// The percentile of the pixels' gradient magnitudes the threshold is a fraction of.
+const PERCENTILE: f64 = 0.95;
+
+/// Segments the print from its gradients `gx`, `gy`.
+pub(crate) fn segment(
+    gx: &Plane,
+    gy: &Plane,
+    grid: BlockGrid,
+    params: &FingerprintParams,
+) -> Segmentation {
+    let (cols, rows) = (grid.cols as usize, grid.rows as usize);
+    let w = grid.width as usize;
+    let magnitude: Vec<f32> = gx
+        .values
+        .iter()
+        .zip(&gy.values)
+        .map(|(a, b)| (a * a + b * b).sqrt())
+        .collect();
+    let mut block_mean = vec![0.0f32; grid.len()];
+    for j in 0..rows {
+        for i in 0..cols {
+            let (x0, x1, y0, y1) = grid.pixels(i, j);
+            let mut sum = 0.0f64;
+            for y in y0..y1 {
+                sum += magnitude[y * w + x0..y * w + x1]
+                    .iter()
+                    .map(|&v| f64::from(v))
+                    .sum::<f64>();
+            }
+            let n = ((x1 - x0) * (y1 - y0)).max(1);
+            block_mean[grid.index(i, j)] = (sum / n as f64) as f32;
+        }
+    }
+    let level = percentile(magnitude, PERCENTILE) * params.segment_threshold as f32;
+    let mut inside = vec![false; grid.len()];
+    for j in 0..rows {
+        for i in 0..cols {
+            let (mut sum, mut n) = (0.0f32, 0.0f32);
+            for jj in j.saturating_sub(1)..(j + 2).min(rows) {
+                for ii in i.saturating_sub(1)..(i + 2).min(cols) {
+                    sum += block_mean[grid.index(ii, jj)];
+                    n += 1.0;
+                }
+            }
+            inside[grid.index(i, j)] = level > 0.0 && sum / n >= level;
+        }
+    }
+    let inside = clean(&inside, cols, rows);
+    Segmentation { grid, inside }
+}
+
+/// Closing, largest component, holes filled, opening, largest component (see the module doc).
+fn clean(flags: &[bool], cols: usize, rows: usize) -> Vec<bool> {
+    let closed = morph3(&morph3(flags, cols, rows, true), cols, rows, false);
+    let mut mask = largest(&closed, cols, rows);
+    // Background components that touch no edge of the grid are holes.
+    let (label, sizes) = components(&mask, cols, rows, false);
+    let mut open_to_edge = vec![false; sizes.len()];
+    for j in 0..rows {
+        for i in 0..cols {
+            let l = label[j * cols + i];
+            if l != usize::MAX && (i == 0 || j == 0 || i + 1 == cols || j + 1 == rows) {
+                open_to_edge[l] = true;
+            }
+        }
+    }
+    for (m, &l) in mask.iter_mut().zip(&label) {
+        if l != usize::MAX && !open_to_edge[l] {
+            *m = true;
+        }
+    }
+    let opened = morph3(&morph3(&mask, cols, rows, false), cols, rows, true);
+    // The opening may leave nothing of a thin print: then keep the filled mask.
+    if opened.iter().any(|&v| v) {
+        largest(&opened, cols, rows)
+    } else {
+        mask
+    }
+}
+
+/// The largest 4-connected component of `flags` (the first in raster order on ties).
+fn largest(flags: &[bool], cols: usize, rows: usize) -> Vec<bool> {
+    let (label, sizes) = components(flags, cols, rows, true);
+    let Some(best) = (0..sizes.len()).max_by_key(|&c| (sizes[c], std::cmp::Reverse(c))) else {
+        return vec![false; flags.len()];
+    };
+    label.iter().map(|&l| l == best).collect()
+}
+
+/// The `q` quantile of `values` (0 for none).
+fn percentile(mut values: Vec<f32>, q: f64) -> f32 {
+    if values.is_empty() {
+        return 0.0;
+    }
+    let k = ((values.len() - 1) as f64 * q).round() as usize;
+    let (_, v, _) = values.select_nth_unstable_by(k, f32::total_cmp);
+    let v = *v;
+    if v > 0.0 {
+        v
+    } else {
+        median(&mut values)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::fingerprint::math::sobel;
+    use crate::fingerprint::tests::ridges_in_disk;
+
+    #[test]
+    fn the_print_is_the_disk_of_ridges() {
+        let gray = ridges_in_disk(160, 160, 9.0, 0.4, [80.0, 80.0], 50.0);
+        let (gx, gy) = sobel(&gray);
+        let grid = BlockGrid::new(160, 160, 8);
+        let s = segment(&gx, &gy, grid, &FingerprintParams::default());
+        assert!(s.contains_pixel(80, 80));
+        assert!(s.contains_pixel(80, 40), "inside the disk near its edge");
+        assert!(!s.contains_pixel(5, 5), "corner is background");
+        assert!(!s.contains_pixel(80, 150));
+        // About the disk's area, in blocks of 64 px.
+        let disk = std::f64::consts::PI * 50.0 * 50.0 / 64.0;
+        let area = s.area_blocks() as f64;
+        assert!((area - disk).abs() < 0.25 * disk, "{area} vs {disk}");
+    }
+
+    #[test]
+    fn holes_are_filled_and_specks_dropped() {
+        // 7 x 7 blocks: a ring with a hole in the middle, and a lone block apart.
+        let mut f = vec![false; 49];
+        for j in 1..6 {
+            for i in 1..5 {
+                f[j * 7 + i] = true;
+            }
+        }
+        f[3 * 7 + 2] = false;
+        f[6] = true;
+        let m = clean(&f, 7, 7);
+        assert!(m[3 * 7 + 2], "hole filled");
+        assert!(!m[6], "speck dropped");
+    }
+
+    #[test]
+    fn a_flat_image_has_no_print() {
+        let flat = Plane {
+            width: 32,
+            height: 32,
+            values: vec![100.0; 1024],
+        };
+        let (gx, gy) = sobel(&flat);
+        let s = segment(
+            &gx,
+            &gy,
+            BlockGrid::new(32, 32, 8),
+            &FingerprintParams::default(),
+        );
+        assert_eq!(s.area_blocks(), 0);
+    }
+}

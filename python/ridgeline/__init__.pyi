@@ -63,6 +63,7 @@ def trace(
     site_clusters: bool = False,
     dense_fit: bool = False,
     junctions_on_ink: bool = False,
+    fingerprint: Any = None,
     # end of parameters
 ) -> Trace:
     """Traces one image (a 2-D uint8 or bool array, encoded image bytes, or a path) into its
@@ -104,6 +105,7 @@ def trace_pages(
     site_clusters: bool = False,
     dense_fit: bool = False,
     junctions_on_ink: bool = False,
+    fingerprint: Any = None,
     # end of parameters
 ) -> List[Trace]:
     """Traces every page of an image file (a multi-page TIFF), one Trace per page."""
@@ -142,6 +144,7 @@ def trace_points(
     site_clusters: bool = False,
     dense_fit: bool = False,
     junctions_on_ink: bool = False,
+    fingerprint: Any = None,
     # end of parameters
 ) -> Trace:
     """Traces an N x 2 array of (x, y) points, or a point-list file."""

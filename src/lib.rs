@@ -177,15 +177,20 @@ pub struct Trace {
     pub decisions: Option<Decisions>,
     /// What is probably wrong with the result ([`warnings`]).
     pub warnings: Vec<Warning>,
-    /// Whether dropout mode was on for any of the ink (images and masks; docs/design.md,
-    /// adaptation 2).
-    pub dropout: Option<bool>,
-    /// The share of the ink traced in dropout mode: it is decided per group of nearby
-    /// components (docs/design.md, "The front end").
+    /// The share of the ink traced in dropout mode (images and masks; docs/design.md,
+    /// adaptation 2): it is decided per group of nearby components (docs/design.md, "The front
+    /// end"). [`Trace::dropout`] says whether any was.
     pub dropout_share: Option<f64>,
     /// What the fingerprint front end found and the print's minutiae (images traced with
     /// [`Params::fingerprint`] set only).
     pub fingerprint: Option<Box<FingerprintTrace>>,
+}
+
+impl Trace {
+    /// Whether dropout mode was on for any of the ink.
+    pub fn dropout(&self) -> Option<bool> {
+        self.dropout_share.map(|share| share > 0.0)
+    }
 }
 
 /// The fingerprint front end's stages and the minutiae it keeps (docs/fingerprints.md).
@@ -216,16 +221,27 @@ pub fn trace_image(gray: &GrayImage, params: &Params) -> Result<Trace> {
         return trace_print(gray, params, print);
     }
     let start = Instant::now();
-    let (binary, mut decisions) = raster::binarize_deciding(gray, params)?;
+    let (binary, decisions) = raster::binarize_deciding(gray, params)?;
     let binarize_time = start.elapsed();
-    let mut trace = trace_binary(&binary, params)?;
+    let trace = trace_mask(&binary, params)?;
+    Ok(with_decisions(trace, binary, decisions, binarize_time))
+}
+
+/// Completes the trace of an image's mask: the front end's `decisions` with the dropout mode the
+/// trace found, the warnings both give, the mask and the time binarizing took.
+fn with_decisions(
+    mut trace: Trace,
+    binary: Binary,
+    mut decisions: Decisions,
+    binarize_time: Duration,
+) -> Trace {
     trace.timings.binarize = binarize_time;
-    decisions.dropout = trace.dropout;
+    decisions.dropout = trace.dropout();
     decisions.dropout_share = trace.dropout_share;
     trace.warnings = warnings::of(&trace.graph, Some(&decisions));
     trace.decisions = Some(decisions);
     trace.binary = Some(binary);
-    Ok(trace)
+    trace
 }
 
 /// The fingerprint path of [`trace_image`]: front end, the normal pipeline on its binary image,
@@ -249,7 +265,6 @@ fn trace_print(gray: &GrayImage, params: &Params, print: &FingerprintParams) -> 
     let enhance = start.elapsed();
     let mut trace = trace_binary(&binary, params)?;
     trace.timings.binarize = enhance;
-    trace.warnings = warnings::of(&trace.graph, None);
     let minutiae = minutiae::fingerprint_minutiae(&trace.graph, &analysis, print);
     trace.binary = Some(binary);
     trace.fingerprint = Some(Box::new(FingerprintTrace {
@@ -262,10 +277,17 @@ fn trace_print(gray: &GrayImage, params: &Params, print: &FingerprintParams) -> 
 
 /// Traces a foreground mask.
 pub fn trace_binary(binary: &Binary, params: &Params) -> Result<Trace> {
+    let mut trace = trace_mask(binary, params)?;
+    trace.warnings = warnings::of(&trace.graph, None);
+    Ok(trace)
+}
+
+/// [`trace_binary`] without the warnings: an image's trace gives them with its decisions.
+fn trace_mask(binary: &Binary, params: &Params) -> Result<Trace> {
     params.validate()?;
     if params.min_area > 0 {
         let kept = raster::drop_small_components(binary, params.min_area);
-        return trace_binary(
+        return trace_mask(
             &kept,
             &Params {
                 min_area: 0,
@@ -284,9 +306,7 @@ pub fn trace_binary(binary: &Binary, params: &Params) -> Result<Trace> {
         trace.graph.height = binary.height;
         trace.timings.points += scan_time;
         // Chunks are only cut outside dropout mode.
-        trace.dropout = Some(false);
         trace.dropout_share = Some(0.0);
-        trace.warnings = warnings::of(&trace.graph, None);
         return Ok(trace);
     }
     let points = raster::points(binary, params)?;
@@ -300,23 +320,19 @@ pub fn trace_binary(binary: &Binary, params: &Params) -> Result<Trace> {
                 dropout: Some(on),
                 ..params.clone()
             };
-            let mut trace = trace_binary(&solid, &forced(false))?;
-            let broken = trace_binary(&speckled, &forced(true))?;
+            let mut trace = trace_mask(&solid, &forced(false))?;
+            let broken = trace_mask(&speckled, &forced(true))?;
             append_graph(&mut trace.graph, broken.graph);
             trace.timings.add(&broken.timings);
             trace.timings.points += points_time;
             trace.point_count += broken.point_count;
-            trace.dropout = Some(true);
             trace.dropout_share = Some(speckled.count() as f64 / binary.count().max(1) as f64);
-            trace.warnings = warnings::of(&trace.graph, None);
             return Ok(trace);
         }
     }
     let mut trace = run(points, binary.width, binary.height, params, false)?;
     trace.timings.points += points_time;
-    trace.dropout = Some(dropout);
     trace.dropout_share = Some(if dropout { 1.0 } else { 0.0 });
-    trace.warnings = warnings::of(&trace.graph, None);
     Ok(trace)
 }
 
@@ -366,7 +382,7 @@ pub fn trace_image_with_stages(gray: &GrayImage, params: &Params) -> Result<Trac
         return Ok(trace);
     }
     let start = Instant::now();
-    let (binary, mut decisions) = raster::binarize_deciding(gray, params)?;
+    let (binary, decisions) = raster::binarize_deciding(gray, params)?;
     let binarize_time = start.elapsed();
     let binary = if params.min_area > 0 {
         raster::drop_small_components(&binary, params.min_area)
@@ -374,16 +390,9 @@ pub fn trace_image_with_stages(gray: &GrayImage, params: &Params) -> Result<Trac
         binary
     };
     let mut trace = trace_binary_with_stages(&binary, params)?;
-    trace.timings.binarize = binarize_time;
     let dropout = trace.stages.as_ref().map(|s| s.points.dropout);
-    decisions.dropout = dropout;
-    decisions.dropout_share = dropout.map(|d| if d { 1.0 } else { 0.0 });
-    trace.dropout = decisions.dropout;
-    trace.dropout_share = decisions.dropout_share;
-    trace.warnings = warnings::of(&trace.graph, Some(&decisions));
-    trace.decisions = Some(decisions);
-    trace.binary = Some(binary);
-    Ok(trace)
+    trace.dropout_share = dropout.map(|d| if d { 1.0 } else { 0.0 });
+    Ok(with_decisions(trace, binary, decisions, binarize_time))
 }
 
 /// Like [`trace_binary`], keeping the intermediate stages for pictures.
@@ -418,7 +427,6 @@ fn run(points: PointSet, width: u32, height: u32, params: &Params, keep: bool) -
             timings,
             decisions: None,
             warnings: Vec::new(),
-            dropout: None,
             dropout_share: None,
             fingerprint: None,
         }
@@ -474,7 +482,6 @@ fn run_chunks(
             timings: Timings::default(),
             decisions: None,
             warnings: Vec::new(),
-            dropout: None,
             dropout_share: None,
             fingerprint: None,
         });
@@ -513,7 +520,6 @@ fn run_chunks(
         timings,
         decisions: None,
         warnings: Vec::new(),
-        dropout: None,
         dropout_share: None,
         fingerprint: None,
     })

@@ -106,6 +106,13 @@ impl StrokeGraph {
 
     /// Number of connected components (isolated vertices count as components).
     pub fn components(&self) -> usize {
+        let roots = self.component_roots();
+        (0..roots.len()).filter(|&v| roots[v] == v).count()
+    }
+
+    /// For each vertex, the vertex that stands for its connected component (union-find over the
+    /// edges): the components are the vertices that are their own root.
+    pub(crate) fn component_roots(&self) -> Vec<usize> {
         let mut parent: Vec<usize> = (0..self.vertices.len()).collect();
         fn find(parent: &mut [usize], mut x: usize) -> usize {
             while parent[x] != x {
@@ -114,15 +121,13 @@ impl StrokeGraph {
             }
             x
         }
-        let mut count = self.vertices.len();
         for e in &self.edges {
             let (a, b) = (find(&mut parent, e.from), find(&mut parent, e.to));
             if a != b {
                 parent[a] = b;
-                count -= 1;
             }
         }
-        count
+        (0..parent.len()).map(|v| find(&mut parent, v)).collect()
     }
 
     /// Cycle rank (independent cycles): `E - V + C`.

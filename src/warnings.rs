@@ -52,37 +52,21 @@ pub fn of(graph: &StrokeGraph, decisions: Option<&Decisions>) -> Vec<Warning> {
     if graph.edges.iter().any(|e| e.from >= n || e.to >= n) {
         return out;
     }
-    let widths: Vec<f64> = graph.edges.iter().map(median_width).collect();
-    let width = median(widths.clone()).max(1.0);
-    // Components by union-find over the edges: length, edges and vertices of each.
-    let mut parent: Vec<usize> = (0..n).collect();
-    fn root(parent: &mut [usize], mut v: usize) -> usize {
-        while parent[v] != v {
-            parent[v] = parent[parent[v]];
-            v = parent[v];
-        }
-        v
-    }
-    for e in &graph.edges {
-        let (a, b) = (root(&mut parent, e.from), root(&mut parent, e.to));
-        if a != b {
-            parent[a] = b;
-        }
-    }
+    let width = median(graph.edges.iter().map(median_width).collect()).max(1.0);
+    // Length, edges and vertices of each component, at its root.
+    let root = graph.component_roots();
     let mut length = vec![0.0; n];
     let mut edges = vec![0usize; n];
     let mut vertices = vec![0usize; n];
-    for v in 0..n {
-        let r = root(&mut parent, v);
+    for &r in &root {
         vertices[r] += 1;
     }
     for e in &graph.edges {
-        let r = root(&mut parent, e.from);
-        length[r] += e.length();
-        edges[r] += 1;
+        length[root[e.from]] += e.length();
+        edges[root[e.from]] += 1;
     }
     let total: f64 = length.iter().sum();
-    let roots: Vec<usize> = (0..n).filter(|&v| parent[v] == v).collect();
+    let roots: Vec<usize> = (0..n).filter(|&v| root[v] == v).collect();
     if let Some(&big) = roots
         .iter()
         .max_by(|&&a, &&b| length[a].total_cmp(&length[b]))

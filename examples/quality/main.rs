@@ -188,13 +188,16 @@ fn run_method(
     case: &Case,
     gray: Option<&Degraded>,
 ) -> anyhow::Result<(StrokeGraph, Vec<String>)> {
+    // The graph and the codes of the warnings it raised.
+    let graph_and_codes = |trace: ridgeline::Trace| {
+        let codes = trace.warnings.iter().map(|w| w.code.to_string()).collect();
+        (trace.graph, codes)
+    };
     let trace = |params: &Params| -> anyhow::Result<(StrokeGraph, Vec<String>)> {
-        let trace = match gray {
+        Ok(graph_and_codes(match gray {
             Some(d) => ridgeline::trace_image(&d.gray, params)?,
             None => ridgeline::trace_binary(&case.binary, params)?,
-        };
-        let codes = trace.warnings.iter().map(|w| w.code.to_string()).collect();
-        Ok((trace.graph, codes))
+        }))
     };
     let baseline_mask = || -> anyhow::Result<ridgeline::Binary> {
         Ok(match gray {
@@ -219,11 +222,7 @@ fn run_method(
             skeleton: false,
             ..Params::default()
         })?,
-        CLEAN => {
-            let trace = ridgeline::trace_binary(&case.binary, &variant_params()?)?;
-            let codes = trace.warnings.iter().map(|w| w.code.to_string()).collect();
-            (trace.graph, codes)
-        }
+        CLEAN => graph_and_codes(ridgeline::trace_binary(&case.binary, &variant_params()?)?),
         "thinning" => (thinning::trace(&baseline_mask()?), Vec::new()),
         "thinning+pruning" => (thinning::trace_pruned(&baseline_mask()?), Vec::new()),
         other => bail!("unknown method {other}"),

@@ -13,7 +13,7 @@ use imageproc::region_labelling::{connected_components, Connectivity};
 
 use super::points::LOOSE_FRACTION;
 use crate::mask::tiny_hole;
-use crate::{Binary, GrayImage, Params};
+use crate::{Binary, Params};
 
 /// Loose or isolated pixels below this count never switch a group on (a few line ends).
 const MIN_LOOSE: usize = 16;
@@ -28,14 +28,7 @@ pub(crate) fn split(binary: &Binary, params: &Params) -> Option<(Binary, Binary)
     if w < 3 || h < 3 || binary.ink.len() != w * h {
         return None;
     }
-    let mask = GrayImage::from_fn(binary.width, binary.height, |x, y| {
-        image::Luma([if binary.ink[y as usize * w + x as usize] {
-            255
-        } else {
-            0
-        }])
-    });
-    let grown = dilate(&mask, Norm::LInf, 1);
+    let grown = dilate(&super::mask_image(binary), Norm::LInf, 1);
     let labels = connected_components(&grown, Connectivity::Eight, image::Luma([0u8]));
     let label = |i: usize| labels.as_raw()[i] as usize;
     let groups = labels.as_raw().iter().copied().max().unwrap_or(0) as usize + 1;
@@ -144,7 +137,7 @@ mod tests {
     fn a_page_with_one_broken_stroke_keeps_the_solid_one_out_of_dropout_mode() {
         let binary = half_broken();
         let trace = crate::trace_binary(&binary, &Params::default()).unwrap();
-        assert_eq!(trace.dropout, Some(true));
+        assert_eq!(trace.dropout(), Some(true));
         let share = trace.dropout_share.expect("a share for a mask");
         assert!(share > 0.2 && share < 0.8, "{share}");
         // Two strokes, each one edge between two ends.

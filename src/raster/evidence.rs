@@ -361,7 +361,7 @@ pub(crate) fn disagreement(gray: &GrayImage, lighting: &Lighting, level: u8) -> 
 /// The dark side of `gray` under the local threshold of `lighting`, interpolated bilinearly
 /// between block centers.
 pub(crate) fn local_dark(gray: &GrayImage, lighting: &Lighting, dark: &mut [bool]) {
-    let (width, height) = (gray.width() as usize, gray.height() as usize);
+    let width = gray.width() as usize;
     let (block, cols, rows) = (lighting.block as f64, lighting.cols, lighting.rows);
     // Position of pixel center `p` on the block-center grid: the cell to its left/top and the
     // weight of the next one.
@@ -388,5 +388,4 @@ pub(crate) fn local_dark(gray: &GrayImage, lighting: &Lighting, dark: &mut [bool
                 *o = (v as f64) <= t;
             }
         });
-    let _ = height;
 }

@@ -66,17 +66,21 @@ pub fn binarize(gray: &GrayImage, params: &Params) -> Result<Binary> {
     binarize::binarize(gray, params)
 }
 
-/// `binary` without its ink components (8-connected) of fewer than `min_area` pixels.
-pub(crate) fn drop_small_components(binary: &Binary, min_area: usize) -> Binary {
-    use imageproc::region_labelling::{connected_components, Connectivity};
-    let mask = GrayImage::from_fn(binary.width, binary.height, |x, y| {
+/// `binary` as a gray image for imageproc's morphology and labelling: ink 255, paper 0.
+pub(crate) fn mask_image(binary: &Binary) -> GrayImage {
+    GrayImage::from_fn(binary.width, binary.height, |x, y| {
         image::Luma([if binary.get(x as i64, y as i64) {
             255
         } else {
             0
         }])
-    });
-    let labels = connected_components(&mask, Connectivity::Eight, image::Luma([0u8]));
+    })
+}
+
+/// `binary` without its ink components (8-connected) of fewer than `min_area` pixels.
+pub(crate) fn drop_small_components(binary: &Binary, min_area: usize) -> Binary {
+    use imageproc::region_labelling::{connected_components, Connectivity};
+    let labels = connected_components(&mask_image(binary), Connectivity::Eight, image::Luma([0u8]));
     let mut sizes: Vec<usize> = Vec::new();
     for label in labels.pixels() {
         let l = label.0[0] as usize;

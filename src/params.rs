@@ -17,8 +17,9 @@ pub enum Threshold {
     /// Otsu's global threshold, wherever the light.
     Otsu,
     /// The local threshold: halfway between the darkest and lightest levels of blocks of about
-    /// six stroke widths (the width measured on the image), blocks without strokes filled in
-    /// from their neighbours, interpolated between block centers.
+    /// six stroke widths (the width measured on the image); blocks without strokes keep their
+    /// own paper level and their neighbours' offset from paper; interpolated between block
+    /// centers.
     Local,
     /// A fixed gray level 0-255; pixels darker than or equal to it are ink (for dark ink).
     Fixed {

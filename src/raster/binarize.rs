@@ -73,19 +73,25 @@ pub(crate) fn binarize_deciding(gray: &GrayImage, params: &Params) -> Result<(Bi
     };
     // Sauvola's polarity is decided on the split the automatic threshold would make.
     if !matches!(params.threshold, Threshold::Otsu | Threshold::Fixed { .. }) {
-        if let Some(lighting) = evidence::lighting(gray, evidence.thinner_width) {
+        let dark_ink = forced.unwrap_or(evidence.dark_is_ink);
+        if let Some(lighting) = evidence::lighting(gray, evidence.thinner_width, dark_ink) {
             // Where the two splits differ on more than a share of the ink, one global level
             // does not fit the image (counted against each block's own threshold, a read-only
             // pass; the interpolated local split is only made when it is used).
             let (differ, local_dark_count) = evidence::disagreement(gray, &lighting, level);
             let ink = local_dark_count.min(dark.len() - local_dark_count).max(1);
             decisions.uneven_light = differ as f64 / ink as f64;
-            if params.threshold == Threshold::Local || decisions.uneven_light > UNEVEN_LIGHT {
+            // A global level that reaches some paper block's own levels specks (or, between
+            // close strokes, bridges) that paper however little of the ink it moves.
+            if params.threshold == Threshold::Local
+                || decisions.uneven_light > UNEVEN_LIGHT
+                || evidence::level_reaches_paper(&lighting, level, dark_ink)
+            {
                 evidence::local_dark(gray, &lighting, &mut dark);
                 evidence = evidence::polarity(&dark, w, h);
                 // The global split misjudged the stroke width where it failed; the blocks are
                 // sized again from the local split's.
-                let lighting = match evidence::lighting(gray, evidence.thinner_width) {
+                let lighting = match evidence::lighting(gray, evidence.thinner_width, dark_ink) {
                     Some(again) if again.block != lighting.block => {
                         evidence::local_dark(gray, &again, &mut dark);
                         evidence = evidence::polarity(&dark, w, h);
@@ -426,6 +432,46 @@ mod tests {
                 "{decisions:?}"
             );
         }
+    }
+
+    /// Even light with strokes on the right, and a small dim patch of blank paper in the left
+    /// corner that falls past Otsu's level: too little to move a tenth of the ink, enough to
+    /// speck the paper there.
+    fn dim_corner() -> (GrayImage, Vec<bool>) {
+        let (w, h) = (240u32, 160u32);
+        let mut truth = vec![false; (w * h) as usize];
+        let img = GrayImage::from_fn(w, h, |x, y| {
+            let on = x >= 120 && (x % 24) < 3;
+            truth[(y * w + x) as usize] = on;
+            // Deterministic noise of +-6 levels.
+            let noise = ((x * 7919 + y * 104_729) % 13) as f64 - 6.0;
+            let reach = (1.0 - f64::from(x * x + y * y).sqrt() / 60.0).max(0.0);
+            let paper = 220.0 - 100.0 * reach;
+            Luma([(if on { 40.0 } else { paper } + noise).round() as u8])
+        });
+        (img, truth)
+    }
+
+    #[test]
+    fn a_dim_patch_of_paper_makes_the_threshold_local_and_stays_paper() {
+        let (img, truth) = dim_corner();
+        let corner_ink = |ink: &[bool]| {
+            (0..30)
+                .flat_map(|y| (0..30).map(move |x| y * 240 + x))
+                .filter(|&i| ink[i])
+                .count()
+        };
+        let otsu = binarize(&img, &params(Threshold::Otsu, Polarity::Auto)).unwrap();
+        assert!(corner_ink(&otsu.ink) > 10, "{}", corner_ink(&otsu.ink));
+        let (binary, decisions) = binarize_deciding(&img, &Params::default()).unwrap();
+        assert!(decisions.uneven_light < UNEVEN_LIGHT, "{decisions:?}");
+        assert!(
+            matches!(decisions.threshold, ThresholdUsed::Local { .. }),
+            "{decisions:?}"
+        );
+        assert_eq!(corner_ink(&binary.ink), 0);
+        let (recall, precision) = agreement(&binary.ink, &truth);
+        assert!(recall > 0.99 && precision > 0.99, "{recall} {precision}");
     }
 
     #[test]

@@ -204,8 +204,9 @@ fn border_evidence(dark: &[bool], width: usize, height: usize) -> f64 {
 }
 
 /// How the light falls across the image, from blocks of it: each block's darkest and lightest
-/// levels (2nd and 98th percentiles), blocks without strokes filled in from their neighbours, and
-/// the local threshold halfway between (docs/design.md, "The front end").
+/// levels (2nd and 98th percentiles) and the local threshold halfway between; blocks without
+/// strokes keep their own paper level and their neighbours' offset of the threshold from paper
+/// (docs/design.md, "The front end").
 #[derive(Clone, Debug, PartialEq)]
 pub(crate) struct Lighting {
     /// Block side, px.
@@ -216,6 +217,10 @@ pub(crate) struct Lighting {
     pub rows: usize,
     /// The local threshold at each block's center, row-major.
     pub thresholds: Vec<f64>,
+    /// The darkest level (for dark ink; the lightest for light ink) of the 98% of each paper
+    /// block's pixels nearest its paper level: a global level past it puts specks of ink on that
+    /// block's paper. `None` for the blocks with strokes, and inside bold strokes.
+    pub paper_tails: Vec<Option<f64>>,
 }
 
 /// Blocks whose range is below this many gray levels hold no stroke whatever the image.
@@ -225,9 +230,9 @@ const MIN_CONTRAST: f64 = 24.0;
 const CONTENT_SHARE: f64 = 0.35;
 
 /// Measures the lighting with blocks of about six stroke widths (at least 8 px, at most 128, and
-/// at most a quarter of the image's smaller side, so that there are blocks to compare). `None`
-/// for an image with no block holding strokes.
-pub(crate) fn lighting(gray: &GrayImage, stroke_width: f64) -> Option<Lighting> {
+/// at most a quarter of the image's smaller side, so that there are blocks to compare), the ink
+/// dark or light as `dark_ink` says. `None` for an image with no block holding strokes.
+pub(crate) fn lighting(gray: &GrayImage, stroke_width: f64, dark_ink: bool) -> Option<Lighting> {
     let (width, height) = (gray.width() as usize, gray.height() as usize);
     let block = ((6.0 * stroke_width).round() as usize)
         .clamp(8, 128)
@@ -277,14 +282,19 @@ pub(crate) fn lighting(gray: &GrayImage, stroke_width: f64) -> Option<Lighting> 
     if !content.iter().any(|&c| c) {
         return None;
     }
-    // Ranges of the blocks without strokes, filled in wave by wave from known neighbours.
-    let mut range: Vec<Option<[f64; 2]>> = stats
+    // A block with strokes puts its threshold halfway between its ink and paper levels. A block
+    // without strokes takes its neighbours' levels (filled in wave by wave) and their threshold,
+    // but where its median is nearer their paper level than their ink level it is paper, and its
+    // threshold moves at least half their contrast away from that median towards the ink: the
+    // paper of a darker (or, under light ink, lighter) corner stays paper (docs/design.md, "The
+    // front end").
+    let mut levels: Vec<Option<[f64; 2]>> = stats
         .iter()
         .zip(&content)
-        .map(|(s, &c)| c.then_some([s[0], s[2]]))
+        .map(|(&[lo, _, hi], &c)| c.then_some(if dark_ink { [hi, lo] } else { [lo, hi] }))
         .collect();
-    while range.iter().any(Option::is_none) {
-        let previous = range.clone();
+    while levels.iter().any(Option::is_none) {
+        let previous = levels.clone();
         for r in 0..rows {
             for c in 0..cols {
                 if previous[r * cols + c].is_some() {
@@ -301,14 +311,39 @@ pub(crate) fn lighting(gray: &GrayImage, stroke_width: f64) -> Option<Lighting> 
                     }
                 }
                 if n > 0.0 {
-                    range[r * cols + c] = Some([sum[0] / n, sum[1] / n]);
+                    levels[r * cols + c] = Some([sum[0] / n, sum[1] / n]);
                 }
             }
         }
     }
-    let middle: Vec<f64> = range
+    let middle: Vec<f64> = stats
         .iter()
-        .map(|r| r.map_or(0.0, |[lo, hi]| (lo + hi) / 2.0))
+        .zip(&content)
+        .zip(&levels)
+        .map(|((&[lo, median, hi], &c), known)| {
+            let [paper, ink] = known.unwrap_or([median; 2]);
+            let filled = (paper + ink) / 2.0;
+            let off_paper = median + (ink - paper) / 2.0;
+            if c {
+                (lo + hi) / 2.0
+            } else if (median - paper).abs() > (median - ink).abs() {
+                filled
+            } else if ink < paper {
+                filled.min(off_paper)
+            } else {
+                filled.max(off_paper)
+            }
+        })
+        .collect();
+    let paper_tails: Vec<Option<f64>> = stats
+        .iter()
+        .zip(&content)
+        .zip(&levels)
+        .map(|((&[lo, median, hi], &c), known)| {
+            let [paper, ink] = known.unwrap_or([median; 2]);
+            let paper_like = !c && (median - paper).abs() <= (median - ink).abs();
+            paper_like.then_some(if dark_ink { lo } else { hi })
+        })
         .collect();
     // The threshold surface: each block's middle averaged with its neighbours'.
     let mut thresholds = vec![0.0; middle.len()];
@@ -329,6 +364,21 @@ pub(crate) fn lighting(gray: &GrayImage, stroke_width: f64) -> Option<Lighting> 
         cols,
         rows,
         thresholds,
+        paper_tails,
+    })
+}
+
+/// Whether the global `level` puts specks of ink on the paper of some block without strokes
+/// (a darker corner under dark ink, a lighter one under light ink): that block's paper is
+/// within its own noise of the level.
+pub(crate) fn level_reaches_paper(lighting: &Lighting, level: u8, dark_ink: bool) -> bool {
+    let level = f64::from(level);
+    lighting.paper_tails.iter().flatten().any(|&tail| {
+        if dark_ink {
+            tail <= level
+        } else {
+            tail > level
+        }
     })
 }
 

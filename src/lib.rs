@@ -48,7 +48,8 @@
 //! # Where to start
 //!
 //! - From a file: [`decode`] then [`trace_image`] (every page of a multi-page TIFF, with what to
-//!   show under the centerlines: [`raster::pages`]); from a mask: [`trace_binary`]; from `x y`
+//!   show under the centerlines: [`raster::pages`]); from a mask: [`trace_binary`]; from pixels
+//!   you own elsewhere, without a copy: a [`GrayView`] or [`MaskView`] of them; from `x y`
 //!   points: [`point_list::parse`] then [`trace_points`]. Every tunable is in [`Params`], whose
 //!   defaults are the values that measure best on pixel images ([`Params::paper`] gives the
 //!   paper's).

@@ -137,9 +137,11 @@ fn gray_in_place<'a>(view: &ArrayView2<'a, u8>) -> Option<GrayView<'a>> {
     let span = (rows - 1).checked_mul(row_stride)?.checked_add(columns)?;
     // SAFETY: the first and the last pixel lie in the array's one buffer (numpy allocates each
     // array's data as one block, and a view shares its base's), so the `span` bytes from the first
-    // pixel to the last are inside that block. Bytes between the rows may belong to the rest of
-    // the base array; `GrayView` never reads them. The numpy readonly borrow held by the caller
-    // keeps the data alive and (for Rust borrowers) unchanged while the view lives.
+    // pixel to the last are inside that block and initialized. Bytes between the rows may belong
+    // to the rest of the base array; `GrayView` never reads them. The numpy readonly borrow held
+    // by the caller keeps the buffer alive for `'a` and stops other Rust code from writing to it;
+    // Python code in another thread could still write to it, as to any array that native code
+    // reads with the GIL released (`to_slice` of a C-order array has the same exposure).
     let pixels = unsafe { std::slice::from_raw_parts(view.as_ptr(), span) };
     GrayView::new(pixels, width, height, row_stride)
 }
@@ -409,38 +411,48 @@ fn trace_points(
     check_threads(threads)?;
     let params = params::from_kwargs(py, params)?;
     let source_path = recorded_path(xy, source_path)?;
-    enum Points {
-        List(Vec<[f64; 2]>),
+    enum Source<'py> {
+        Array(numpy::PyReadonlyArray2<'py, f64>),
         File(PathBuf),
     }
-    let points = match path_of(xy)? {
-        Some(path) => Points::File(path),
-        None => {
-            let array = xy.cast::<PyArray2<f64>>().map_err(|_| {
-                PyTypeError::new_err(
-                    "expected an N x 2 float64 array (ridgeline.trace_points converts array-likes)",
-                )
-            })?;
-            let view = array.readonly();
-            let view = view.as_array();
+    enum Points<'a> {
+        Array(ArrayView2<'a, f64>),
+        File(PathBuf),
+    }
+    let source = match path_of(xy)? {
+        Some(path) => Source::File(path),
+        None => Source::Array(
+            xy.cast::<PyArray2<f64>>()
+                .map_err(|_| {
+                    PyTypeError::new_err(
+                        "expected an N x 2 float64 array (ridgeline.trace_points converts array-likes)",
+                    )
+                })?
+                .readonly(),
+        ),
+    };
+    // The array stays borrowed for the call: its points are read with the GIL released.
+    let points = match &source {
+        Source::Array(array) => {
+            let view = array.as_array();
             if view.ncols() != 2 {
                 return Err(PyValueError::new_err(format!(
                     "expected an N x 2 array of (x, y) points, got shape {:?}",
                     view.shape()
                 )));
             }
-            Points::List(
-                view.rows()
-                    .into_iter()
-                    .map(|row| [row[0], row[1]])
-                    .collect(),
-            )
+            Points::Array(view)
         }
+        Source::File(path) => Points::File(path.clone()),
     };
     let mut one = detached(py, threads, || {
         let started = Instant::now();
         let list = match points {
-            Points::List(list) => list,
+            Points::Array(view) => view
+                .rows()
+                .into_iter()
+                .map(|row| [row[0], row[1]])
+                .collect(),
             Points::File(path) => {
                 let text = std::fs::read_to_string(&path)
                     .map_err(|source| ridgeline::Error::Io { path, source })?;
@@ -450,6 +462,7 @@ fn trace_points(
         let trace = ridgeline::trace_points(&list, &params)?;
         Ok(traced(trace, &params, started, Default::default()))
     })?;
+    drop(source);
     one.kind = Kind::Points;
     Ok(Trace::new(one, source_path))
 }

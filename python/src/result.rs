@@ -356,15 +356,13 @@ impl Trace {
     /// of the array as it is now); `None` for point lists.
     #[getter]
     fn mask<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyArray2<bool>>>> {
-        if let Backdrop::MaskArray(array) = &self.traced.backdrop {
-            let array = array.bind(py).cast::<PyArray2<bool>>()?.readonly();
-            return Ok(Some(array.as_array().to_owned().into_pyarray(py)));
-        }
-        let Some(binary) = self.traced.binary.as_ref() else {
-            return Ok(None);
+        let binary = match (&self.traced.backdrop, &self.traced.binary) {
+            (Backdrop::MaskArray(array), _) => mask_of(py, array)?,
+            (_, Some(binary)) => binary.clone(),
+            (_, None) => return Ok(None),
         };
         let shape = (binary.height as usize, binary.width as usize);
-        Ok(Array2::from_shape_vec(shape, binary.ink.clone())
+        Ok(Array2::from_shape_vec(shape, binary.ink)
             .ok()
             .map(|array| array.into_pyarray(py)))
     }

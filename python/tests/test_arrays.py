@@ -108,6 +108,6 @@ def test_an_array_read_in_place_costs_no_copy_of_its_pixels():
     c_order, crop, fortran = _peak_growth("c"), _peak_growth("crop"), _peak_growth("fortran")
     assert (c_order["copied"], crop["copied"], fortran["copied"]) == (False, False, True)
     # The copy is measurable (so the measurement can tell), and the layouts read in place lack it.
-    assert fortran["growth"] > 1.7, fortran
+    assert fortran["growth"] > 1.4, fortran
     assert c_order["growth"] < fortran["growth"] - 0.7, (c_order, fortran)
     assert crop["growth"] < fortran["growth"] - 0.7, (crop, fortran)

@@ -62,9 +62,9 @@ impl Binary {
     }
 }
 
-/// A foreground mask borrowed from its owner (a [`Binary`], a numpy bool array): `ink[y * width
-/// + x]` is true for foreground pixels. [`crate::trace_binary`] reads one in place; a `&Binary`
-/// converts into one without copying.
+/// A foreground mask borrowed from its owner (a [`Binary`], a numpy bool array): `ink[i]` is
+/// true for foreground pixel `i = y * width + x`. [`crate::trace_binary`] reads one in place; a
+/// `&Binary` converts into one without copying.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct MaskView<'a> {
     /// Width in pixels.

@@ -41,7 +41,7 @@ pub(crate) fn pixel_chunks(
     }
     // The ink is counted (and refused beyond the limits) before the survey allocates anything.
     let (width, height) = (binary.width as usize, binary.height as usize);
-    let count = ink_row_starts(&binary.ink, width, height)[height];
+    let count = ink_row_starts(binary.ink, width, height)[height];
     if count <= target {
         check_point_count(count, params)?;
         return Ok(None);

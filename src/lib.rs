@@ -48,7 +48,8 @@
 //! # Where to start
 //!
 //! - From a file: [`decode`] then [`trace_image`] (every page of a multi-page TIFF, with what to
-//!   show under the centerlines: [`raster::pages`]); from a mask: [`trace_binary`]; from `x y`
+//!   show under the centerlines: [`raster::pages`]); from a mask: [`trace_binary`]; from pixels
+//!   you own elsewhere, without a copy: a [`GrayView`] or [`MaskView`] of them; from `x y`
 //!   points: [`point_list::parse`] then [`trace_points`]. Every tunable is in [`Params`], whose
 //!   defaults are the values that measure best on pixel images ([`Params::paper`] gives the
 //!   paper's).
@@ -66,6 +67,7 @@
 mod binary;
 mod decisions;
 mod error;
+mod gray;
 mod mask;
 mod node_graph;
 mod params;
@@ -99,10 +101,11 @@ mod synth {
     pub(crate) use crate::draw::{render, Stroke};
 }
 
-pub use binary::Binary;
+pub use binary::{Binary, MaskView};
 pub use decisions::{Decisions, ThresholdUsed, Warning, UNEVEN_LIGHT};
 pub use error::{Error, Result};
 pub use geometry::dist;
+pub use gray::GrayView;
 pub use image::GrayImage;
 pub use node_graph::{GraphNode, NodeGraph};
 pub use params::{
@@ -215,7 +218,15 @@ pub fn decode(bytes: &[u8], limits: &Limits) -> Result<GrayImage> {
 /// [`Params::fingerprint`] set, the fingerprint front end (segmentation, orientation field,
 /// ridge period, Gabor enhancement; [`fingerprint`]) makes the binary image instead, and the
 /// trace carries the print's filtered minutiae ([`Trace::fingerprint`]).
-pub fn trace_image(gray: &GrayImage, params: &Params) -> Result<Trace> {
+///
+/// `gray` is a `&GrayImage` or a [`GrayView`] of pixels borrowed from elsewhere (rows any
+/// distance apart); the pixels are read in place, never copied.
+pub fn trace_image<'a>(gray: impl Into<GrayView<'a>>, params: &Params) -> Result<Trace> {
+    trace_gray(gray.into(), params)
+}
+
+/// [`trace_image`] on its one input type.
+fn trace_gray(gray: GrayView<'_>, params: &Params) -> Result<Trace> {
     params.validate()?;
     if let Some(print) = &params.fingerprint {
         return trace_print(gray, params, print);
@@ -223,7 +234,7 @@ pub fn trace_image(gray: &GrayImage, params: &Params) -> Result<Trace> {
     let start = Instant::now();
     let (binary, decisions) = raster::binarize_deciding(gray, params)?;
     let binarize_time = start.elapsed();
-    let trace = trace_mask(&binary, params)?;
+    let trace = trace_mask(binary.view(), params)?;
     Ok(with_decisions(trace, binary, decisions, binarize_time))
 }
 
@@ -248,7 +259,7 @@ fn with_decisions(
 /// then the fingerprint minutiae filter. Ridges are dark unless `params.polarity` says light (a
 /// print's ridges and valleys are about as wide, so the stroke evidence of the text front end
 /// cannot tell them apart).
-fn trace_print(gray: &GrayImage, params: &Params, print: &FingerprintParams) -> Result<Trace> {
+fn trace_print(gray: GrayView<'_>, params: &Params, print: &FingerprintParams) -> Result<Trace> {
     let (width, height) = gray.dimensions();
     let pixels = u64::from(width) * u64::from(height);
     if pixels > params.limits.max_pixels {
@@ -275,20 +286,21 @@ fn trace_print(gray: &GrayImage, params: &Params, print: &FingerprintParams) -> 
     Ok(trace)
 }
 
-/// Traces a foreground mask.
-pub fn trace_binary(binary: &Binary, params: &Params) -> Result<Trace> {
-    let mut trace = trace_mask(binary, params)?;
+/// Traces a foreground mask: a `&Binary`, or a [`MaskView`] of flags borrowed from elsewhere,
+/// read in place.
+pub fn trace_binary<'a>(binary: impl Into<MaskView<'a>>, params: &Params) -> Result<Trace> {
+    let mut trace = trace_mask(binary.into(), params)?;
     trace.warnings = warnings::of(&trace.graph, None);
     Ok(trace)
 }
 
 /// [`trace_binary`] without the warnings: an image's trace gives them with its decisions.
-fn trace_mask(binary: &Binary, params: &Params) -> Result<Trace> {
+fn trace_mask(binary: MaskView<'_>, params: &Params) -> Result<Trace> {
     params.validate()?;
     if params.min_area > 0 {
         let kept = raster::drop_small_components(binary, params.min_area);
         return trace_mask(
-            &kept,
+            kept.view(),
             &Params {
                 min_area: 0,
                 ..params.clone()
@@ -320,8 +332,8 @@ fn trace_mask(binary: &Binary, params: &Params) -> Result<Trace> {
                 dropout: Some(on),
                 ..params.clone()
             };
-            let mut trace = trace_mask(&solid, &forced(false))?;
-            let broken = trace_mask(&speckled, &forced(true))?;
+            let mut trace = trace_mask(solid.view(), &forced(false))?;
+            let broken = trace_mask(speckled.view(), &forced(true))?;
             append_graph(&mut trace.graph, broken.graph);
             trace.timings.add(&broken.timings);
             trace.timings.points += points_time;
@@ -366,12 +378,17 @@ pub fn trace_points(list: &[[f64; 2]], params: &Params) -> Result<Trace> {
 
 /// Like [`trace_image`], keeping the intermediate stages for pictures: the front end's decisions
 /// and the warnings as [`trace_image`] gives them, the stages of one point set (dropout mode is
-/// decided for the whole image here, not per group of components).
-pub fn trace_image_with_stages(gray: &GrayImage, params: &Params) -> Result<Trace> {
+/// decided for the whole image here, not per group of components). `gray` as for
+/// [`trace_image`].
+pub fn trace_image_with_stages<'a>(
+    gray: impl Into<GrayView<'a>>,
+    params: &Params,
+) -> Result<Trace> {
+    let gray = gray.into();
     params.validate()?;
     if params.fingerprint.is_some() {
         // The fingerprint front end makes its own binary image; the stages are those of tracing it.
-        let print = trace_image(gray, params)?;
+        let print = trace_gray(gray, params)?;
         let binary = print.binary.clone().unwrap_or_default();
         let mut trace = trace_binary_with_stages(&binary, params)?;
         trace.graph = print.graph;
@@ -385,7 +402,7 @@ pub fn trace_image_with_stages(gray: &GrayImage, params: &Params) -> Result<Trac
     let (binary, decisions) = raster::binarize_deciding(gray, params)?;
     let binarize_time = start.elapsed();
     let binary = if params.min_area > 0 {
-        raster::drop_small_components(&binary, params.min_area)
+        raster::drop_small_components(binary.view(), params.min_area)
     } else {
         binary
     };
@@ -396,7 +413,11 @@ pub fn trace_image_with_stages(gray: &GrayImage, params: &Params) -> Result<Trac
 }
 
 /// Like [`trace_binary`], keeping the intermediate stages for pictures.
-pub fn trace_binary_with_stages(binary: &Binary, params: &Params) -> Result<Trace> {
+pub fn trace_binary_with_stages<'a>(
+    binary: impl Into<MaskView<'a>>,
+    params: &Params,
+) -> Result<Trace> {
+    let binary = binary.into();
     params.validate()?;
     let points = raster::points(binary, params)?;
     run(points, binary.width, binary.height, params, true)

@@ -313,7 +313,9 @@ pub struct Params {
     pub cluster_link: f64,
     /// Merge groups: degree > 2 nodes of a cluster are merged only when all are within this many
     /// `r_min` of each other (adaptation 9). Default 2.0; the paper merges whole clusters
-    /// (infinity).
+    /// (infinity). JSON has no infinity: serde_json writes it as `null`, which reads back as
+    /// infinity (docs/json.md).
+    #[serde(deserialize_with = "null_is_infinity")]
     pub merge_span: f64,
     /// The smoothness term of Eq. (4). Default [`LaplacianRule::Held`]; paper
     /// [`LaplacianRule::Uniform`].
@@ -535,4 +537,65 @@ impl Params {
 
 fn is_zero(n: &usize) -> bool {
     *n == 0
+}
+
+/// A number, or `null` for infinity: what serde_json writes for [`Params::merge_span`] of the
+/// paper's preset (the one field whose valid range holds infinity).
+fn null_is_infinity<'de, D: serde::Deserializer<'de>>(deserializer: D) -> Result<f64, D::Error> {
+    Ok(Option::<f64>::deserialize(deserializer)?.unwrap_or(f64::INFINITY))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Every preset reads back from the JSON it is written as, alone and as the `parameters` of
+    /// a trace's document.
+    #[test]
+    fn every_preset_round_trips_through_its_json() {
+        let mut paper_fingerprint = Params::paper();
+        paper_fingerprint.fingerprint = Some(FingerprintParams::default());
+        let sauvola = Params {
+            threshold: Threshold::Sauvola { window: 31, k: 0.2 },
+            min_area: 12,
+            dropout: Some(true),
+            ..Params::default()
+        };
+        for (name, params) in [
+            ("default", Params::default()),
+            ("paper", Params::paper()),
+            ("fingerprint", Params::fingerprint()),
+            ("paper with fingerprint", paper_fingerprint),
+            ("sauvola", sauvola),
+        ] {
+            let text = serde_json::to_string(&params).expect("serialize");
+            let back: Params = serde_json::from_str(&text)
+                .unwrap_or_else(|err| panic!("{name}: {err} reading {text}"));
+            assert_eq!(back, params, "{name}");
+            let meta = crate::export::json::JsonMeta::new(params.clone());
+            let document = crate::export::json::to_string(&crate::StrokeGraph::default(), &meta);
+            let value: serde_json::Value = serde_json::from_str(&document).expect("document");
+            let back = Params::deserialize(&value["parameters"])
+                .unwrap_or_else(|err| panic!("{name}: {err} reading the document's parameters"));
+            assert_eq!(back, params, "{name}: {}", value["parameters"]);
+        }
+        assert!(serde_json::to_string(&Params::paper())
+            .expect("serialize")
+            .contains("\"merge_span\":null"));
+    }
+
+    #[test]
+    fn merge_span_reads_numbers_and_null_only() {
+        let mut value = serde_json::to_value(Params::default()).expect("serialize");
+        value["merge_span"] = serde_json::json!(3.5);
+        let params = Params::deserialize(&value).expect("a number");
+        assert_eq!(params.merge_span, 3.5);
+        value["merge_span"] = serde_json::Value::Null;
+        assert_eq!(
+            Params::deserialize(&value).expect("null").merge_span,
+            f64::INFINITY
+        );
+        value["merge_span"] = serde_json::json!("wide");
+        assert!(Params::deserialize(&value).is_err());
+    }
 }

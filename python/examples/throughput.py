@@ -3,12 +3,16 @@ processes, Dask, Ray, Spark) against the command line's batch mode on the same p
 binding's overhead per page.
 
     python throughput.py PAGE [--copies 8] [--workers 2] [--repeat 3] [--engines dask,ray,spark]
+                              [--overhead-only]
 
 PAGE is traced as COPIES files (the repository's A4 page: `cargo run --release --example page --
 --keep DIR --no-scans` writes DIR/page_2480x3508.png). Every path writes one JSON document per
 page, as `ridgeline DIR -o OUT --format json` does. The command line is found as for the tests
 (RIDGELINE_CLI, else target/release/ridgeline). Prints markdown tables; figures are medians over
 REPEAT runs, with the load average, since a shared machine's other work slows every path alike.
+The array rows trace the page as a numpy array (its traced mask drawn black on white, C order)
+and a blank array of the same size, whose call does nothing but cross the binding and read the
+pixels once; `--overhead-only` prints the one-page table alone.
 """
 
 from __future__ import annotations
@@ -25,6 +29,8 @@ import tempfile
 import time
 from concurrent.futures import ProcessPoolExecutor, ThreadPoolExecutor
 from pathlib import Path
+
+import numpy as np
 
 import ridgeline
 
@@ -92,6 +98,21 @@ def overhead(page: Path, cli: str, repeat: int) -> list:
             cli_wall.append(timed(lambda: subprocess.run([cli, str(page), "-o", str(out), "--quiet"], check=True)))
     m = statistics.median
     gil_held = m(c - n for c, n in zip(call, native))
+    # The same page as an array, and a blank one: the array is read in place (GrayView), so the
+    # blank call is the binding's fixed cost plus one histogram pass over the pixels.
+    gray = np.where(ridgeline.trace(page).mask, 0, 255).astype(np.uint8)
+    blank = np.full_like(gray, 255)
+    array_call, array_native, blank_call = [], [], []
+    ridgeline.trace(gray)
+    for _ in range(repeat):
+        start = time.perf_counter()
+        trace = ridgeline.trace(gray)
+        array_call.append(time.perf_counter() - start)
+        array_native.append(trace.timings["native"])
+    for _ in range(5 * repeat):
+        blank_call.append(timed(lambda: ridgeline.trace(blank)))
+    array_held = m(c - n for c, n in zip(array_call, array_native))
+    copied = ridgeline.trace(blank)._input_copied if hasattr(ridgeline.Trace, "_input_copied") else True
     return [
         ("trace(path): whole call", m(call)),
         ("  of which with the GIL released (read, decode, trace, strokes)", m(native)),
@@ -102,6 +123,11 @@ def overhead(page: Path, cli: str, repeat: int) -> list:
         ("Python: trace(path) + to_json() + write, in one process", m(py_wall)),
         ("command line: ridgeline PAGE -o page.json (process start included)", m(cli_wall)),
         ("  Python against the command line", m(py_wall) / m(cli_wall) - 1),
+        (f"trace(array), {gray.shape[1]}x{gray.shape[0]} uint8 ({'copied' if copied else 'read in place'}): whole call", m(array_call)),
+        ("  of which with the GIL released (the array read, trace, strokes)", m(array_native)),
+        ("  of which with the GIL held", array_held),
+        ("  binding overhead (GIL held), share of the trace", array_held / m(array_native)),
+        ("trace(blank array of the same size): whole call", m(blank_call)),
     ]
 
 
@@ -190,6 +216,7 @@ def main() -> None:
     parser.add_argument("--workers", type=int, default=2)
     parser.add_argument("--repeat", type=int, default=3)
     parser.add_argument("--engines", default="dask,ray,spark")
+    parser.add_argument("--overhead-only", action="store_true", help="print the one-page table only")
     args = parser.parse_args()
     cli = cli_path()
     trace = ridgeline.trace(args.page)
@@ -200,6 +227,9 @@ def main() -> None:
     for name, value in overhead(args.page, cli, args.repeat):
         shown = f"{100 * value:.1f} %" if "share" in name or "against" in name else f"{value:.3f}"
         print(f"| {name} | {shown} |")
+    if args.overhead_only:
+        print(f"\nload average at the end: {load()}")
+        return
     with tempfile.TemporaryDirectory() as scratch:
         folder = Path(scratch) / "pages"
         folder.mkdir()

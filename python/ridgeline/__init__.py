@@ -82,9 +82,13 @@ def trace(
     ``image`` is a 2-D numpy array, uint8 gray levels (thresholded and its polarity found as
     ``threshold`` and ``polarity`` say) or bool (True = ink, traced as it is); or the bytes of an
     image file (PNG, JPEG, TIFF, BMP, PNM, GIF, WebP; of a multi-page TIFF the first page, see
-    :func:`trace_pages`); or the path of one. A C-contiguous array is read in place with the GIL
-    released (the library copies it once into its own image buffer); other layouts are read
-    element by element.
+    :func:`trace_pages`); or the path of one. An array is read with the GIL released, in place
+    (without a copy) when its layout allows: a uint8 array whose rows have unit column stride and
+    lie a positive stride apart (C order, rows and columns cut from a C-order array, every n-th
+    row), a bool array in C order. Other layouts (Fortran order, every n-th column, flipped or
+    transposed views) are copied into C order first. The :class:`Trace` keeps a reference to the
+    array, not a copy: ``to_svg()`` (and for a mask ``mask`` and ``minutiae``) read it as it is
+    when called.
 
     ``source_path`` is recorded as ``source.path`` in the JSON (default: the path traced, as
     given; ``None`` for arrays and bytes). ``threads`` runs the call on that many threads (default:

@@ -67,7 +67,10 @@ def trace(
     # end of parameters
 ) -> Trace:
     """Traces one image (a 2-D uint8 or bool array, encoded image bytes, or a path) into its
-    stroke graph, with the GIL released. Every keyword but source_path and threads is a
+    stroke graph, with the GIL released. Read in place, without a copy: a uint8 array whose rows
+    have unit column stride (C order, or rows and columns cut from a C-order array, or every
+    n-th row), a C-order bool array; other layouts (Fortran order, column steps, flipped or
+    transposed views) are copied first. Every keyword but source_path and threads is a
     parameter of the library with the same name and default. Raises ParameterError, LimitError,
     DecodeError (ValueErrors), OSError for an unreadable file, TypeError for a wrong argument."""
 
@@ -203,7 +206,8 @@ class Trace:
         """Unit tangent at each point in the edge's direction of travel, shape (P, 2)."""
     @property
     def mask(self) -> Optional[npt.NDArray[np.bool_]]:
-        """The foreground mask traced, shape (height, width); None for point lists."""
+        """The foreground mask traced, shape (height, width) (for a bool array, a copy of the
+        array as it is now); None for point lists."""
     @property
     def vertices(self) -> List[Dict[str, Any]]:
         """The vertices as dicts {"id", "x", "y", "degree", "width"}."""

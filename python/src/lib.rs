@@ -4,7 +4,8 @@
 //! this module takes the keyword arguments as one dict.
 //!
 //! Everything that takes time runs inside `Python::detach` (the GIL released): reading the file,
-//! decoding, copying a numpy array into the library's buffer, tracing, chaining strokes. Threads
+//! decoding, tracing, chaining strokes. A numpy array is read in place where its layout allows
+//! (`gray_in_place`, and C-order bool masks), else copied there. Threads
 //! of one process therefore trace in parallel; `threads=n` runs a call on a pool of `n` threads
 //! (the library otherwise spreads a large page over every core, which is what one call wants and
 //! not what many calls side by side want).
@@ -21,21 +22,22 @@ use std::rc::Rc;
 use std::sync::Arc;
 use std::time::Instant;
 
+use numpy::ndarray::ArrayView2;
 use numpy::{PyArray2, PyArrayMethods, PyUntypedArray, PyUntypedArrayMethods};
 use pyo3::exceptions::{PyTypeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyByteArray, PyBytes, PyDict, PyList, PyMemoryView, PyString};
 use ridgeline::raster::Picture;
 use ridgeline::strokes::{strokes, StrokeOptions};
-use ridgeline::{Binary, GrayImage, Params};
+use ridgeline::{GrayImage, GrayView, MaskView, Params};
 
 use result::{Backdrop, Kind, Trace, Traced};
 
 /// What `trace` was given, read far enough to let go of the GIL.
 enum Input<'a> {
     /// A 2-D uint8 array (gray levels) or bool array (ink mask), as a view of its memory.
-    Gray(numpy::ndarray::ArrayView2<'a, u8>),
-    Mask(numpy::ndarray::ArrayView2<'a, bool>),
+    Gray(ArrayView2<'a, u8>),
+    Mask(ArrayView2<'a, bool>),
     /// Encoded image bytes (shared: an SVG shows them as they are).
     Bytes(Arc<Vec<u8>>),
     /// A file to read.
@@ -117,16 +119,39 @@ impl Classified<'_> {
     }
 }
 
-/// Pixels of a 2-D view in row-major order: one copy of the buffer when it is C-contiguous,
-/// else read element by element in logical order (Fortran order, strided slices).
-fn row_major<T: Copy, U>(view: &numpy::ndarray::ArrayView2<'_, T>, map: impl Fn(T) -> U) -> Vec<U> {
-    match view.as_slice() {
-        Some(slice) => slice.iter().map(|&v| map(v)).collect(),
-        None => view.iter().map(|&v| map(v)).collect(),
+/// The pixels of a uint8 array in place: rows of unit column stride a positive row stride apart
+/// (C order, or rows or columns cut from a C-order array). `None` for other layouts (Fortran
+/// order, every other column, flipped axes), which are copied.
+fn gray_in_place<'a>(view: &ArrayView2<'a, u8>) -> Option<GrayView<'a>> {
+    let (rows, columns) = view.dim();
+    let (width, height) = (u32::try_from(columns).ok()?, u32::try_from(rows).ok()?);
+    if let Some(packed) = view.to_slice() {
+        return GrayView::new(packed, width, height, columns);
     }
+    let [row_stride, column_stride] = [view.strides()[0], view.strides()[1]];
+    if column_stride != 1 && columns > 1 {
+        return None;
+    }
+    let row_stride = usize::try_from(row_stride).ok().filter(|&s| s >= columns)?;
+    // `to_slice` took every array with fewer than two rows or no pixels.
+    let span = (rows - 1).checked_mul(row_stride)?.checked_add(columns)?;
+    // SAFETY: the first and the last pixel lie in the array's one buffer (numpy allocates each
+    // array's data as one block, and a view shares its base's), so the `span` bytes from the first
+    // pixel to the last are inside that block and initialized. Bytes between the rows may belong
+    // to the rest of the base array; `GrayView` never reads them. The numpy readonly borrow held
+    // by the caller keeps the buffer alive for `'a` and stops other Rust code from writing to it;
+    // Python code in another thread could still write to it, as to any array that native code
+    // reads with the GIL released (`to_slice` of a C-order array has the same exposure).
+    let pixels = unsafe { std::slice::from_raw_parts(view.as_ptr(), span) };
+    GrayView::new(pixels, width, height, row_stride)
 }
 
-fn dimensions<T>(view: &numpy::ndarray::ArrayView2<'_, T>) -> ridgeline::Result<(u32, u32)> {
+/// The row-major copy of a 2-D view that [`gray_in_place`] or a mask cannot read in place.
+fn row_major<T: Copy>(view: &ArrayView2<'_, T>) -> Vec<T> {
+    view.iter().copied().collect()
+}
+
+fn dimensions<T>(view: &ArrayView2<'_, T>) -> ridgeline::Result<(u32, u32)> {
     let (rows, columns) = view.dim();
     match (u32::try_from(columns), u32::try_from(rows)) {
         (Ok(width), Ok(height)) => Ok((width, height)),
@@ -196,7 +221,6 @@ fn detached<T: Send>(
 /// One traced page, before it becomes a Python object.
 fn traced(
     trace: ridgeline::Trace,
-    binary: Option<Binary>,
     params: &Params,
     started: Instant,
     decode: std::time::Duration,
@@ -205,7 +229,7 @@ fn traced(
     Traced {
         decisions: trace.decisions,
         warnings: trace.warnings,
-        binary: binary.or(trace.binary),
+        binary: trace.binary,
         strokes: chained,
         graph: trace.graph,
         params: params.clone(),
@@ -216,6 +240,7 @@ fn traced(
         page: None,
         backdrop: Backdrop::None,
         kind: Kind::Image,
+        input_copied: None,
     }
 }
 
@@ -234,7 +259,7 @@ fn trace_encoded(
         let page = page?;
         let decode = clock.elapsed();
         let trace = ridgeline::trace_image(&page.gray, params)?;
-        let mut one = traced(trace, None, params, started, decode);
+        let mut one = traced(trace, params, started, decode);
         one.page = Some((page.number, count));
         one.backdrop = match page.picture {
             Picture::Original { mime } => Backdrop::Encoded {
@@ -258,29 +283,38 @@ fn trace_input(input: Input<'_>, params: &Params, all: bool) -> ridgeline::Resul
     match input {
         Input::Gray(view) => {
             let (width, height) = dimensions(&view)?;
-            let pixels = row_major(&view, |v| v);
-            let gray = GrayImage::from_raw(width, height, pixels).ok_or_else(|| {
-                ridgeline::Error::InvalidParams("array shape and size disagree".into())
-            })?;
-            let trace = ridgeline::trace_image(&gray, params)?;
-            Ok(vec![traced(
-                trace,
-                None,
-                params,
-                started,
-                Default::default(),
-            )])
+            let copy;
+            let (gray, copied) = match gray_in_place(&view) {
+                Some(gray) => (gray, false),
+                None => {
+                    copy =
+                        GrayImage::from_raw(width, height, row_major(&view)).ok_or_else(|| {
+                            ridgeline::Error::InvalidParams("array shape and size disagree".into())
+                        })?;
+                    (GrayView::from(&copy), true)
+                }
+            };
+            let trace = ridgeline::trace_image(gray, params)?;
+            let mut one = traced(trace, params, started, Default::default());
+            one.input_copied = Some(copied);
+            Ok(vec![one])
         }
         Input::Mask(view) => {
             let (width, height) = dimensions(&view)?;
-            let binary = Binary {
-                width,
-                height,
-                ink: row_major(&view, |v| v),
+            // numpy's bool is one byte holding 0 or 1, Rust's `bool`: a C-order array is the
+            // mask's row-major flags as they are.
+            let copy;
+            let (ink, copied) = match view.to_slice() {
+                Some(ink) => (ink, false),
+                None => {
+                    copy = row_major(&view);
+                    (&copy[..], true)
+                }
             };
-            let trace = ridgeline::trace_binary(&binary, params)?;
-            let mut one = traced(trace, Some(binary), params, started, Default::default());
-            one.backdrop = Backdrop::Mask;
+            let mask = MaskView { width, height, ink };
+            let trace = ridgeline::trace_binary(mask, params)?;
+            let mut one = traced(trace, params, started, Default::default());
+            one.input_copied = Some(copied);
             Ok(vec![one])
         }
         Input::Bytes(bytes) => trace_encoded(bytes, params, all, started),
@@ -317,8 +351,11 @@ fn trace_any(
     let params = params::from_kwargs(py, params)?;
     let source_path = recorded_path(image, source_path)?;
     let mut classified = classify(image)?;
-    let gray_array = match &classified {
-        Classified::Gray(_) => Some(image.clone().unbind()),
+    // The Trace of an array reads it again for `to_svg()`, `mask` and `minutiae` (it keeps no
+    // copy of its pixels).
+    let array = match &classified {
+        Classified::Gray(_) => Some(Backdrop::Array(image.clone().unbind())),
+        Classified::Mask(_) => Some(Backdrop::MaskArray(image.clone().unbind())),
         _ => None,
     };
     let input = classified.input();
@@ -327,8 +364,8 @@ fn trace_any(
     Ok(pages
         .into_iter()
         .map(|mut page| {
-            if let Some(array) = &gray_array {
-                page.backdrop = Backdrop::Array(array.clone_ref(py));
+            if let Some(array) = &array {
+                page.backdrop = array.clone_ref(py);
             }
             Trace::new(page, source_path.clone())
         })
@@ -374,38 +411,48 @@ fn trace_points(
     check_threads(threads)?;
     let params = params::from_kwargs(py, params)?;
     let source_path = recorded_path(xy, source_path)?;
-    enum Points {
-        List(Vec<[f64; 2]>),
+    enum Source<'py> {
+        Array(numpy::PyReadonlyArray2<'py, f64>),
         File(PathBuf),
     }
-    let points = match path_of(xy)? {
-        Some(path) => Points::File(path),
-        None => {
-            let array = xy.cast::<PyArray2<f64>>().map_err(|_| {
-                PyTypeError::new_err(
-                    "expected an N x 2 float64 array (ridgeline.trace_points converts array-likes)",
-                )
-            })?;
-            let view = array.readonly();
-            let view = view.as_array();
+    enum Points<'a> {
+        Array(ArrayView2<'a, f64>),
+        File(PathBuf),
+    }
+    let source = match path_of(xy)? {
+        Some(path) => Source::File(path),
+        None => Source::Array(
+            xy.cast::<PyArray2<f64>>()
+                .map_err(|_| {
+                    PyTypeError::new_err(
+                        "expected an N x 2 float64 array (ridgeline.trace_points converts array-likes)",
+                    )
+                })?
+                .readonly(),
+        ),
+    };
+    // The array stays borrowed for the call: its points are read with the GIL released.
+    let points = match &source {
+        Source::Array(array) => {
+            let view = array.as_array();
             if view.ncols() != 2 {
                 return Err(PyValueError::new_err(format!(
                     "expected an N x 2 array of (x, y) points, got shape {:?}",
                     view.shape()
                 )));
             }
-            Points::List(
-                view.rows()
-                    .into_iter()
-                    .map(|row| [row[0], row[1]])
-                    .collect(),
-            )
+            Points::Array(view)
         }
+        Source::File(path) => Points::File(path.clone()),
     };
     let mut one = detached(py, threads, || {
         let started = Instant::now();
         let list = match points {
-            Points::List(list) => list,
+            Points::Array(view) => view
+                .rows()
+                .into_iter()
+                .map(|row| [row[0], row[1]])
+                .collect(),
             Points::File(path) => {
                 let text = std::fs::read_to_string(&path)
                     .map_err(|source| ridgeline::Error::Io { path, source })?;
@@ -413,8 +460,9 @@ fn trace_points(
             }
         };
         let trace = ridgeline::trace_points(&list, &params)?;
-        Ok(traced(trace, None, &params, started, Default::default()))
+        Ok(traced(trace, &params, started, Default::default()))
     })?;
+    drop(source);
     one.kind = Kind::Points;
     Ok(Trace::new(one, source_path))
 }

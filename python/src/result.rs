@@ -6,7 +6,7 @@ use std::time::Duration;
 
 use numpy::ndarray::{Array1, Array2};
 use numpy::{IntoPyArray, PyArray1, PyArray2, PyArrayMethods};
-use pyo3::exceptions::PyValueError;
+use pyo3::exceptions::{PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 use ridgeline::curves::{fit_beziers, fit_edges, CubicBezier, CurveOptions};
@@ -15,7 +15,7 @@ use ridgeline::export::svg::{self, SvgOptions};
 use ridgeline::export::Features;
 use ridgeline::minutiae::{minutiae, Minutia, MinutiaKind, MinutiaeOptions};
 use ridgeline::strokes::Stroke;
-use ridgeline::{Binary, Decisions, GrayImage, Params, StrokeGraph, Timings, Warning};
+use ridgeline::{Binary, Decisions, Edge, GrayImage, Params, StrokeGraph, Timings, Warning};
 
 /// What the input was: an image (or mask) or a point list, whose SVG canvas fits the drawing.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -39,8 +39,26 @@ pub enum Backdrop {
     Gray(GrayImage),
     /// The caller's uint8 array, read again when the SVG is written (it is not copied meanwhile).
     Array(Py<PyAny>),
-    /// A bool mask: the ink drawn black on white.
-    Mask,
+    /// The caller's bool array, read again for the SVG (the ink drawn black on white), `mask` and
+    /// `minutiae`.
+    MaskArray(Py<PyAny>),
+}
+
+impl Backdrop {
+    /// The same backdrop, sharing the array or the bytes.
+    pub fn clone_ref(&self, py: Python<'_>) -> Backdrop {
+        match self {
+            Backdrop::None => Backdrop::None,
+            Backdrop::Encoded { bytes, mime } => Backdrop::Encoded {
+                bytes: Arc::clone(bytes),
+                mime,
+            },
+            Backdrop::Color(image) => Backdrop::Color(image.clone()),
+            Backdrop::Gray(image) => Backdrop::Gray(image.clone()),
+            Backdrop::Array(array) => Backdrop::Array(array.clone_ref(py)),
+            Backdrop::MaskArray(array) => Backdrop::MaskArray(array.clone_ref(py)),
+        }
+    }
 }
 
 /// One traced page, made with the GIL released.
@@ -62,6 +80,8 @@ pub struct Traced {
     /// What the front end decided (images), and what is probably wrong with the result.
     pub decisions: Option<Decisions>,
     pub warnings: Vec<Warning>,
+    /// For an array: whether its layout made the call copy it (`Trace._input_copied`).
+    pub input_copied: Option<bool>,
 }
 
 /// The result of `ridgeline.trace`, `ridgeline.trace_pages` or `ridgeline.trace_points`.
@@ -97,10 +117,15 @@ impl Trace {
         if let Some(found) = self.minutiae.get() {
             return found;
         }
+        // A mask array is read as it is now (the trace kept no copy of it).
+        let from_array = match &self.traced.backdrop {
+            Backdrop::MaskArray(array) => mask_of(py, array).ok(),
+            _ => None,
+        };
         let found = py.detach(|| {
             minutiae(
                 &self.traced.graph,
-                self.traced.binary.as_ref(),
+                from_array.as_ref().or(self.traced.binary.as_ref()),
                 &MinutiaeOptions::default(),
             )
         });
@@ -156,15 +181,36 @@ fn curve_options(tolerance: Option<f64>, corner_angle: Option<f64>) -> PyResult<
     Ok(options)
 }
 
-fn xy_array<'py>(
+/// An (n, 2) array of `pairs`, their buffer handed to numpy as it is (no copy).
+fn pair_array<'py, T: numpy::Element>(
     py: Python<'py>,
-    points: impl ExactSizeIterator<Item = [f64; 2]>,
-) -> Bound<'py, PyArray2<f64>> {
-    let n = points.len();
-    let flat: Vec<f64> = points.flatten().collect();
-    Array2::from_shape_vec((n, 2), flat)
-        .unwrap_or_else(|_| Array2::zeros((0, 2)))
-        .into_pyarray(py)
+    pairs: Vec<[T; 2]>,
+) -> PyResult<Bound<'py, PyArray2<T>>> {
+    let n = pairs.len();
+    let array = Array2::from_shape_vec((n, 2), pairs.into_flattened())
+        .map_err(|err| PyRuntimeError::new_err(err.to_string()))?;
+    Ok(array.into_pyarray(py))
+}
+
+/// One `field` of every edge (points, widths, directions), edge after edge, in one allocation.
+fn concatenated<T: Copy>(edges: &[Edge], field: impl Fn(&Edge) -> &[T]) -> Vec<T> {
+    let mut all = Vec::with_capacity(edges.iter().map(|e| field(e).len()).sum());
+    for edge in edges {
+        all.extend_from_slice(field(edge));
+    }
+    all
+}
+
+/// A bool array's flags as a mask, read as the array is now.
+fn mask_of(py: Python<'_>, array: &Py<PyAny>) -> PyResult<Binary> {
+    let array = array.bind(py).cast::<PyArray2<bool>>()?.readonly();
+    let view = array.as_array();
+    let (rows, columns) = view.dim();
+    Ok(Binary {
+        width: columns as u32,
+        height: rows as u32,
+        ink: view.iter().copied().collect(),
+    })
 }
 
 fn pairs<'py>(py: Python<'py>, points: &[[f64; 2]]) -> PyResult<Bound<'py, PyList>> {
@@ -238,8 +284,8 @@ impl Trace {
 
     /// Vertex positions, shape (V, 2), px.
     #[getter]
-    fn vertex_xy<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray2<f64>> {
-        xy_array(py, self.graph().vertices.iter().map(|v| v.pos))
+    fn vertex_xy<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        pair_array(py, self.graph().vertices.iter().map(|v| v.pos).collect())
     }
 
     /// Vertex degrees, shape (V,): 1 stroke end, 3+ junction or crossing, 2 loop anchor, 0 dot.
@@ -263,15 +309,9 @@ impl Trace {
 
     /// The vertex ids `(from, to)` of each edge, shape (E, 2).
     #[getter]
-    fn edge_vertices<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray2<i64>> {
-        let edges = &self.graph().edges;
-        let flat: Vec<i64> = edges
-            .iter()
-            .flat_map(|e| [e.from as i64, e.to as i64])
-            .collect();
-        Array2::from_shape_vec((edges.len(), 2), flat)
-            .unwrap_or_else(|_| Array2::zeros((0, 2)))
-            .into_pyarray(py)
+    fn edge_vertices<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<i64>>> {
+        let ends = self.graph().edges.iter();
+        pair_array(py, ends.map(|e| [e.from as i64, e.to as i64]).collect())
     }
 
     /// Shape (E + 1,): the points of edge `i` are `point_xy[edge_offsets[i]:edge_offsets[i + 1]]`.
@@ -296,52 +336,42 @@ impl Trace {
 
     /// Every edge's polyline points, edge after edge, shape (P, 2), px.
     #[getter]
-    fn point_xy<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray2<f64>> {
-        let edges = &self.graph().edges;
-        let n: usize = edges.iter().map(|e| e.points.len()).sum();
-        let flat: Vec<f64> = edges
-            .iter()
-            .flat_map(|e| e.points.iter().flatten().copied())
-            .collect();
-        Array2::from_shape_vec((n, 2), flat)
-            .unwrap_or_else(|_| Array2::zeros((0, 2)))
-            .into_pyarray(py)
+    fn point_xy<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        pair_array(py, concatenated(&self.graph().edges, |e| &e.points))
     }
 
     /// Local stroke width at each point of `point_xy`, shape (P,), px.
     #[getter]
     fn point_width<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
-        let widths: Vec<f64> = self
-            .graph()
-            .edges
-            .iter()
-            .flat_map(|e| e.widths.iter().copied())
-            .collect();
-        widths.into_pyarray(py)
+        concatenated(&self.graph().edges, |e| &e.widths).into_pyarray(py)
     }
 
     /// Unit tangent at each point of `point_xy` in the edge's direction of travel, shape (P, 2).
     #[getter]
-    fn point_direction<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray2<f64>> {
-        let edges = &self.graph().edges;
-        let n: usize = edges.iter().map(|e| e.directions.len()).sum();
-        let flat: Vec<f64> = edges
-            .iter()
-            .flat_map(|e| e.directions.iter().flatten().copied())
-            .collect();
-        Array2::from_shape_vec((n, 2), flat)
-            .unwrap_or_else(|_| Array2::zeros((0, 2)))
-            .into_pyarray(py)
+    fn point_direction<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        pair_array(py, concatenated(&self.graph().edges, |e| &e.directions))
     }
 
-    /// The foreground mask traced, shape (height, width), True = ink; `None` for point lists.
+    /// The foreground mask traced, shape (height, width), True = ink (for a bool array, a copy
+    /// of the array as it is now); `None` for point lists.
     #[getter]
-    fn mask<'py>(&self, py: Python<'py>) -> Option<Bound<'py, PyArray2<bool>>> {
-        let binary = self.traced.binary.as_ref()?;
+    fn mask<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyArray2<bool>>>> {
+        let binary = match (&self.traced.backdrop, &self.traced.binary) {
+            (Backdrop::MaskArray(array), _) => mask_of(py, array)?,
+            (_, Some(binary)) => binary.clone(),
+            (_, None) => return Ok(None),
+        };
         let shape = (binary.height as usize, binary.width as usize);
-        Array2::from_shape_vec(shape, binary.ink.clone())
+        Ok(Array2::from_shape_vec(shape, binary.ink)
             .ok()
-            .map(|array| array.into_pyarray(py))
+            .map(|array| array.into_pyarray(py)))
+    }
+
+    /// For an array: whether its layout made the call copy it (`False`: read in place). A test
+    /// hook; `None` for files, bytes and point lists.
+    #[getter(_input_copied)]
+    fn input_copied(&self) -> Option<bool> {
+        self.traced.input_copied
     }
 
     /// The vertices as dicts `{"id", "x", "y", "degree", "width"}` (the JSON's fields).
@@ -493,7 +523,8 @@ impl Trace {
             .then(|| curve_options(curve_tolerance, corner_angle))
             .transpose()?;
         let marks = minutiae.then(|| self.minutiae_list(py));
-        // A caller's array is read (with the GIL) into the library's gray image.
+        // A caller's array is read (with the GIL) into the library's gray image, a mask's ink
+        // black on white.
         let from_array: Option<GrayImage> = match (&self.traced.backdrop, image) {
             (Backdrop::Array(array), true) => {
                 let array = array.bind(py).cast::<PyArray2<u8>>()?.readonly();
@@ -502,22 +533,16 @@ impl Trace {
                 let pixels: Vec<u8> = view.iter().copied().collect();
                 GrayImage::from_raw(columns as u32, rows as u32, pixels)
             }
+            (Backdrop::MaskArray(array), true) => {
+                let array = array.bind(py).cast::<PyArray2<bool>>()?.readonly();
+                let view = array.as_array();
+                let (rows, columns) = view.dim();
+                let pixels: Vec<u8> = view.iter().map(|&ink| if ink { 0 } else { 255 }).collect();
+                GrayImage::from_raw(columns as u32, rows as u32, pixels)
+            }
             _ => None,
         };
         Ok(py.detach(|| {
-            let from_mask: Option<GrayImage> =
-                match (&self.traced.backdrop, &self.traced.binary, image) {
-                    (Backdrop::Mask, Some(binary), true) => GrayImage::from_raw(
-                        binary.width,
-                        binary.height,
-                        binary
-                            .ink
-                            .iter()
-                            .map(|&ink| if ink { 0 } else { 255 })
-                            .collect(),
-                    ),
-                    _ => None,
-                };
             let backdrop = match (&self.traced.backdrop, image) {
                 (_, false) | (Backdrop::None, _) => None,
                 (Backdrop::Encoded { bytes, mime }, true) => {
@@ -525,8 +550,9 @@ impl Trace {
                 }
                 (Backdrop::Color(picture), true) => Some(svg::Backdrop::Color(picture)),
                 (Backdrop::Gray(gray), true) => Some(svg::Backdrop::Gray(gray)),
-                (Backdrop::Array(_), true) => from_array.as_ref().map(svg::Backdrop::Gray),
-                (Backdrop::Mask, true) => from_mask.as_ref().map(svg::Backdrop::Gray),
+                (Backdrop::Array(_) | Backdrop::MaskArray(_), true) => {
+                    from_array.as_ref().map(svg::Backdrop::Gray)
+                }
             };
             let chained = strokes.then_some(self.traced.strokes.as_slice());
             // Curves follow what is drawn: one list per stroke with strokes, else per edge.

@@ -64,7 +64,21 @@ def test_keywords_mean_what_the_flags_mean(tmp_path, monkeypatch, flags, keyword
     monkeypatch.chdir(REPO)
     for name in ["text.png", "crossings.png"]:
         source = f"samples/{name}"
-        assert ridgeline.trace(source, **keywords).to_json() == cli_output(tmp_path, source, *flags)
+        expected = cli_output(tmp_path, source, *flags)
+        assert ridgeline.trace(source, **keywords).to_json() == expected
+        # The parameters the document records are keywords that trace the same (`--paper`'s
+        # infinite merge_span is recorded as null).
+        recorded = json.loads(expected)["parameters"]
+        assert ridgeline.trace(source, **recorded).to_json() == expected
+
+
+def test_the_fingerprint_presets_recorded_parameters_read_back(tmp_path, monkeypatch):
+    monkeypatch.chdir(REPO)
+    for flags in (["--fingerprint"], ["--fingerprint", "--paper"]):
+        recorded = json.loads(cli_output(tmp_path, "samples/fingerprint.png", *flags))["parameters"]
+        assert recorded["fingerprint"] is not None
+        again = ridgeline.trace("samples/fingerprint.png", **recorded)
+        assert json.loads(again.to_json())["parameters"] == recorded
 
 
 def test_features_and_pretty_equal_the_command_lines(tmp_path, monkeypatch):

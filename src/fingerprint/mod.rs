@@ -19,7 +19,7 @@ pub(crate) mod math;
 mod orientation;
 mod segment;
 
-use crate::{Binary, FingerprintParams, GrayImage};
+use crate::{Binary, FingerprintParams, GrayView};
 use fields::{BlockGrid, OrientationField, Plane, RidgePeriods, Segmentation};
 use serde::Serialize;
 
@@ -59,7 +59,7 @@ impl PrintAnalysis {
 /// returns them with the binarization of the enhanced image (ink: positive response inside the
 /// print). `dark_ridges` says whether ridges are darker than valleys.
 pub(crate) fn analyze(
-    gray: &GrayImage,
+    gray: GrayView<'_>,
     params: &FingerprintParams,
     dark_ridges: bool,
 ) -> (PrintAnalysis, Binary) {
@@ -67,7 +67,7 @@ pub(crate) fn analyze(
     let plane = Plane {
         width,
         height,
-        values: gray.as_raw().iter().map(|&v| f32::from(v)).collect(),
+        values: gray.rows().flatten().map(|&v| f32::from(v)).collect(),
     };
     let grid = BlockGrid::new(width, height, params.block);
     let smoothed = math::gaussian_blur(&plane, params.gradient_sigma);
@@ -140,6 +140,7 @@ fn block_contrast(enhanced: &Plane, segmentation: &Segmentation) -> Vec<f32> {
 #[cfg(test)]
 pub(crate) mod tests {
     use super::*;
+    use crate::GrayImage;
     use std::f64::consts::TAU;
 
     /// Straight ridges of `period` px running at `theta` (dark where `cos(2π u / T) > 0`, `u` the
@@ -188,7 +189,11 @@ pub(crate) mod tests {
     #[test]
     fn the_chain_gives_ridges_inside_the_print_only() {
         let plane = ridges_in_disk(200, 200, 9.0, 0.5, [100.0, 100.0], 70.0);
-        let (analysis, binary) = analyze(&gray_of(&plane), &FingerprintParams::default(), true);
+        let (analysis, binary) = analyze(
+            (&gray_of(&plane)).into(),
+            &FingerprintParams::default(),
+            true,
+        );
         assert!(
             !binary.get(5, 5) && !binary.get(195, 100),
             "nothing outside the print"
@@ -221,8 +226,16 @@ pub(crate) mod tests {
     #[test]
     fn light_ridges_flip_the_sign_and_tiny_images_do_not_panic() {
         let plane = ridges_in_disk(120, 120, 9.0, 0.0, [60.0, 60.0], 200.0);
-        let (_, dark) = analyze(&gray_of(&plane), &FingerprintParams::default(), true);
-        let (_, light) = analyze(&gray_of(&plane), &FingerprintParams::default(), false);
+        let (_, dark) = analyze(
+            (&gray_of(&plane)).into(),
+            &FingerprintParams::default(),
+            true,
+        );
+        let (_, light) = analyze(
+            (&gray_of(&plane)).into(),
+            &FingerprintParams::default(),
+            false,
+        );
         let differ = dark
             .ink
             .iter()
@@ -232,7 +245,7 @@ pub(crate) mod tests {
         assert!(differ as f64 > 0.9 * dark.ink.len() as f64);
         for (w, h) in [(1, 1), (3, 40), (0, 0)] {
             let gray = GrayImage::new(w, h);
-            let (_, b) = analyze(&gray, &FingerprintParams::default(), true);
+            let (_, b) = analyze((&gray).into(), &FingerprintParams::default(), true);
             assert_eq!(b.ink.len(), (w * h) as usize);
         }
     }

@@ -11,22 +11,20 @@ use rayon::prelude::*;
 
 use super::evidence::{self, PolarityEvidence};
 use crate::decisions::{Decisions, ThresholdUsed, UNEVEN_LIGHT};
-use crate::{Binary, GrayImage, Params, Polarity, Result, Threshold};
+use crate::{Binary, GrayView, Params, Polarity, Result, Threshold};
 
 /// Sauvola's dynamic range of the standard deviation `R` for 8-bit images.
 const SAUVOLA_R: f64 = 128.0;
 
-/// Binarizes a grayscale image: ink is `true`. A uniform image gives an empty mask.
-pub fn binarize(gray: &GrayImage, params: &Params) -> Result<Binary> {
-    Ok(binarize_deciding(gray, params)?.0)
-}
-
-/// [`binarize`], with what was decided.
-pub(crate) fn binarize_deciding(gray: &GrayImage, params: &Params) -> Result<(Binary, Decisions)> {
+/// Binarizes a grayscale image, ink `true` (a uniform image gives an empty mask), and says what
+/// was decided.
+pub(crate) fn binarize_deciding(
+    gray: GrayView<'_>,
+    params: &Params,
+) -> Result<(Binary, Decisions)> {
     let (width, height) = gray.dimensions();
     let (w, h) = (width as usize, height as usize);
     let mut binary = Binary::new(width, height);
-    let pixels = gray.as_raw();
     let forced = match params.polarity {
         Polarity::Auto => None,
         Polarity::DarkInk => Some(true),
@@ -48,7 +46,7 @@ pub(crate) fn binarize_deciding(gray: &GrayImage, params: &Params) -> Result<(Bi
     // One pass gives the range and Otsu's level (a page is tens of MB of pixels; the histogram is
     // built per block in parallel and summed: integer counts, so the sum does not depend on the
     // thread count).
-    let histogram = histogram(pixels);
+    let histogram = histogram(gray);
     let (Some(min), Some(max)) = (
         histogram.iter().position(|&c| c > 0),
         histogram.iter().rposition(|&c| c > 0),
@@ -60,12 +58,12 @@ pub(crate) fn binarize_deciding(gray: &GrayImage, params: &Params) -> Result<(Bi
     }
     let level = match params.threshold {
         Threshold::Fixed { level } => level,
-        _ => otsu_level_of(&histogram, pixels.len()),
+        _ => otsu_level_of(&histogram, w * h),
     };
     // The dark side of the global level, then (automatic or local threshold) of the local one
     // where the global level fails.
     let mut dark = binary.ink;
-    split(pixels, &mut dark, |v| v <= level);
+    split(gray, &mut dark, |v| v <= level);
     let mut evidence = evidence::polarity(&dark, w, h);
     decisions.threshold = match params.threshold {
         Threshold::Fixed { level } => ThresholdUsed::Fixed { level },
@@ -132,10 +130,14 @@ fn record_polarity(
     };
 }
 
-/// Sets `out[i] = is_dark(pixels[i])`, in parallel blocks.
-fn split(pixels: &[u8], out: &mut [bool], is_dark: impl Fn(u8) -> bool + Sync) {
-    out.par_chunks_mut(BLOCK)
-        .zip(pixels.par_chunks(BLOCK))
+/// Sets `out[y * width + x] = is_dark(gray.row(y)[x])`, in parallel blocks of rows.
+fn split(gray: GrayView<'_>, out: &mut [bool], is_dark: impl Fn(u8) -> bool + Sync) {
+    let width = gray.width() as usize;
+    if width == 0 {
+        return;
+    }
+    out.par_chunks_mut(width)
+        .zip(gray.par_rows(BLOCK))
         .for_each(|(out, values)| {
             for (o, &v) in out.iter_mut().zip(values) {
                 *o = is_dark(v);
@@ -146,17 +148,18 @@ fn split(pixels: &[u8], out: &mut [bool], is_dark: impl Fn(u8) -> bool + Sync) {
 /// Pixels per parallel block of the whole-image passes.
 const BLOCK: usize = 1 << 16;
 
-/// The 256-bin histogram of `pixels`.
-fn histogram(pixels: &[u8]) -> [u64; 256] {
-    pixels
-        .par_chunks(BLOCK)
-        .map(|block| {
-            let mut counts = [0u64; 256];
-            for &v in block {
-                counts[v as usize] += 1;
-            }
-            counts
-        })
+/// The 256-bin histogram of `gray`'s pixels.
+fn histogram(gray: GrayView<'_>) -> [u64; 256] {
+    gray.par_rows(BLOCK)
+        .fold(
+            || [0u64; 256],
+            |mut counts, row| {
+                for &v in row {
+                    counts[v as usize] += 1;
+                }
+                counts
+            },
+        )
         .reduce(
             || [0u64; 256],
             |mut a, b| {
@@ -173,7 +176,8 @@ fn histogram(pixels: &[u8]) -> [u64; 256] {
 /// counts so images above 16 megapixels cannot overflow.
 #[cfg(test)]
 pub fn otsu_level(pixels: &[u8]) -> u8 {
-    otsu_level_of(&histogram(pixels), pixels.len())
+    let view = GrayView::new(pixels, pixels.len() as u32, 1, pixels.len()).expect("one row");
+    otsu_level_of(&histogram(view), pixels.len())
 }
 
 /// [`otsu_level`] from the histogram of `total` pixels.
@@ -212,11 +216,11 @@ fn otsu_level_of(histogram: &[u64; 256], total: usize) -> u8 {
 /// Window sums slide down the image as per-column sums over the window's rows, in `u64` (squared
 /// sums overflow `u32` past ~66k pixels), so memory stays O(width) instead of two full integral
 /// images.
-fn sauvola(gray: &GrayImage, window: u32, k: f64, dark_ink: bool, ink: &mut [bool]) {
+fn sauvola(gray: GrayView<'_>, window: u32, k: f64, dark_ink: bool, ink: &mut [bool]) {
     let (w, h) = (gray.width() as usize, gray.height() as usize);
     let radius = (window / 2) as usize;
     let value = |x: usize, y: usize| -> u64 {
-        let v = gray.as_raw()[y * w + x];
+        let v = gray.row(y)[x];
         (if dark_ink { v } else { 255 - v }) as u64
     };
     let mut column_sum = vec![0u64; w];
@@ -268,6 +272,8 @@ fn sauvola(gray: &GrayImage, window: u32, k: f64, dark_ink: bool, ink: &mut [boo
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::raster::binarize;
+    use crate::GrayImage;
     use image::Luma;
 
     fn params(threshold: Threshold, polarity: Polarity) -> Params {
@@ -407,7 +413,7 @@ mod tests {
     fn automatic_threshold_goes_local_under_uneven_light_and_finds_the_polarity() {
         for light_strokes in [false, true] {
             let (img, truth) = gradient_lit(light_strokes);
-            let (binary, decisions) = binarize_deciding(&img, &Params::default()).unwrap();
+            let (binary, decisions) = binarize_deciding((&img).into(), &Params::default()).unwrap();
             let (recall, precision) = agreement(&binary.ink, &truth);
             assert!(
                 recall > 0.97 && precision > 0.97,
@@ -463,7 +469,7 @@ mod tests {
         };
         let otsu = binarize(&img, &params(Threshold::Otsu, Polarity::Auto)).unwrap();
         assert!(corner_ink(&otsu.ink) > 10, "{}", corner_ink(&otsu.ink));
-        let (binary, decisions) = binarize_deciding(&img, &Params::default()).unwrap();
+        let (binary, decisions) = binarize_deciding((&img).into(), &Params::default()).unwrap();
         assert!(decisions.uneven_light < UNEVEN_LIGHT, "{decisions:?}");
         assert!(
             matches!(decisions.threshold, ThresholdUsed::Local { .. }),
@@ -477,7 +483,7 @@ mod tests {
     #[test]
     fn even_light_keeps_otsu_and_forced_polarity_has_no_confidence() {
         let (img, truth) = drawing(230, 20);
-        let (binary, decisions) = binarize_deciding(&img, &Params::default()).unwrap();
+        let (binary, decisions) = binarize_deciding((&img).into(), &Params::default()).unwrap();
         assert_eq!(binary.ink, truth);
         assert!(
             matches!(decisions.threshold, ThresholdUsed::Otsu { .. }),
@@ -485,7 +491,7 @@ mod tests {
         );
         assert!(decisions.uneven_light < UNEVEN_LIGHT);
         let forced = params(Threshold::Auto, Polarity::DarkInk);
-        let (_, decisions) = binarize_deciding(&img, &forced).unwrap();
+        let (_, decisions) = binarize_deciding((&img).into(), &forced).unwrap();
         assert_eq!(
             (decisions.polarity, decisions.polarity_confidence),
             ("dark", None)

@@ -14,7 +14,7 @@
 use super::points::{build, check_point_count, survey, Survey, Window};
 use crate::csr::Csr;
 use crate::mask::{ink_row_starts, run_components, Run};
-use crate::{Binary, Params, PointSet, Result};
+use crate::{MaskView, Params, PointSet, Result};
 
 /// The ink of an image as chunks of whole 8-connected components, in the order of each
 /// component's first pixel, each chunk about `target` points or one component.
@@ -32,7 +32,7 @@ pub(crate) struct PixelChunks {
 /// dropout mode (whose 5x5 neighbourhoods and closed distance transform reach across component
 /// gaps).
 pub(crate) fn pixel_chunks(
-    binary: &Binary,
+    binary: MaskView<'_>,
     params: &Params,
     target: usize,
 ) -> Result<Option<PixelChunks>> {
@@ -41,7 +41,7 @@ pub(crate) fn pixel_chunks(
     }
     // The ink is counted (and refused beyond the limits) before the survey allocates anything.
     let (width, height) = (binary.width as usize, binary.height as usize);
-    let count = ink_row_starts(&binary.ink, width, height)[height];
+    let count = ink_row_starts(binary.ink, width, height)[height];
     if count <= target {
         check_point_count(count, params)?;
         return Ok(None);
@@ -132,6 +132,7 @@ impl PixelChunks {
 mod tests {
     use super::*;
     use crate::raster::points;
+    use crate::Binary;
 
     /// A page of blobs, rings, touching and nearly touching strokes and a frame, with pixels on
     /// every image edge.
@@ -180,7 +181,7 @@ mod tests {
         };
         let whole = points(&binary, &params).expect("points");
         for target in [1, 50, 300, 1000] {
-            let chunks = pixel_chunks(&binary, &params, target)
+            let chunks = pixel_chunks(binary.view(), &params, target)
                 .expect("chunks")
                 .expect("more ink than the target");
             let expected = whole.split_components(target);
@@ -207,12 +208,16 @@ mod tests {
         let binary = page();
         let params = Params::default();
         let ink = binary.ink.iter().filter(|&&b| b).count();
-        assert!(pixel_chunks(&binary, &params, ink).expect("ok").is_none());
+        assert!(pixel_chunks(binary.view(), &params, ink)
+            .expect("ok")
+            .is_none());
         let forced = Params {
             dropout: Some(true),
             ..Params::default()
         };
-        assert!(pixel_chunks(&binary, &forced, 10).expect("ok").is_none());
+        assert!(pixel_chunks(binary.view(), &forced, 10)
+            .expect("ok")
+            .is_none());
     }
 
     #[test]
@@ -227,7 +232,9 @@ mod tests {
         }
         let params = Params::default();
         assert!(points(&binary, &params).expect("points").dropout);
-        assert!(pixel_chunks(&binary, &params, 10).expect("ok").is_none());
+        assert!(pixel_chunks(binary.view(), &params, 10)
+            .expect("ok")
+            .is_none());
         // Without the holes the bars are traced in chunks.
         let mut solid = Binary::new(60, 40);
         for y in 2..38 {
@@ -236,7 +243,9 @@ mod tests {
             }
         }
         assert!(!points(&solid, &params).expect("points").dropout);
-        assert!(pixel_chunks(&solid, &params, 10).expect("ok").is_some());
+        assert!(pixel_chunks(solid.view(), &params, 10)
+            .expect("ok")
+            .is_some());
     }
 
     #[test]
@@ -244,6 +253,6 @@ mod tests {
         let binary = page();
         let mut params = Params::default();
         params.limits.max_points = 10;
-        assert!(pixel_chunks(&binary, &params, 5).is_err());
+        assert!(pixel_chunks(binary.view(), &params, 5).is_err());
     }
 }

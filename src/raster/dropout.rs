@@ -13,7 +13,7 @@ use imageproc::region_labelling::{connected_components, Connectivity};
 
 use super::points::LOOSE_FRACTION;
 use crate::mask::tiny_hole;
-use crate::{Binary, Params};
+use crate::{Binary, MaskView, Params};
 
 /// Loose or isolated pixels below this count never switch a group on (a few line ends).
 const MIN_LOOSE: usize = 16;
@@ -23,7 +23,7 @@ const ISOLATED_FRACTION: f64 = 0.05;
 
 /// The ink split into the groups in dropout mode and the rest, when the groups disagree; `None`
 /// when one decision holds for every group (then the whole image's decision stands).
-pub(crate) fn split(binary: &Binary, params: &Params) -> Option<(Binary, Binary)> {
+pub(crate) fn split(binary: MaskView<'_>, params: &Params) -> Option<(Binary, Binary)> {
     let (w, h) = (binary.width as usize, binary.height as usize);
     if w < 3 || h < 3 || binary.ink.len() != w * h {
         return None;
@@ -34,7 +34,7 @@ pub(crate) fn split(binary: &Binary, params: &Params) -> Option<(Binary, Binary)
     let groups = labels.as_raw().iter().copied().max().unwrap_or(0) as usize + 1;
     // Per group: ink pixels, loose (one 8-neighbour), isolated (none), tiny-hole pixels.
     let mut stats = vec![[0usize; 4]; groups];
-    let ink = &binary.ink;
+    let ink = binary.ink;
     for y in 0..h {
         for x in 0..w {
             let i = y * w + x;
@@ -120,7 +120,7 @@ mod tests {
     #[test]
     fn only_the_broken_strokes_go_to_dropout_mode() {
         let binary = half_broken();
-        let (solid, speckled) = split(&binary, &Params::default()).expect("groups disagree");
+        let (solid, speckled) = split(binary.view(), &Params::default()).expect("groups disagree");
         assert!(solid.get(80, 15) && !solid.get(80, 45));
         assert!(!speckled.get(80, 15));
         assert_eq!(solid.count() + speckled.count(), binary.count());
@@ -130,7 +130,7 @@ mod tests {
             160,
             30,
         );
-        assert!(split(&clean, &Params::default()).is_none());
+        assert!(split(clean.view(), &Params::default()).is_none());
     }
 
     #[test]

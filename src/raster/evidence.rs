@@ -7,7 +7,7 @@
 
 use rayon::prelude::*;
 
-use crate::GrayImage;
+use crate::GrayView;
 
 /// Lattice samples the stroke evidence aims for; the step between sampled rows and columns is
 /// chosen to give about this many.
@@ -232,7 +232,7 @@ const CONTENT_SHARE: f64 = 0.35;
 /// Measures the lighting with blocks of about six stroke widths (at least 8 px, at most 128, and
 /// at most a quarter of the image's smaller side, so that there are blocks to compare), the ink
 /// dark or light as `dark_ink` says. `None` for an image with no block holding strokes.
-pub(crate) fn lighting(gray: &GrayImage, stroke_width: f64, dark_ink: bool) -> Option<Lighting> {
+pub(crate) fn lighting(gray: GrayView<'_>, stroke_width: f64, dark_ink: bool) -> Option<Lighting> {
     let (width, height) = (gray.width() as usize, gray.height() as usize);
     let block = ((6.0 * stroke_width).round() as usize)
         .clamp(8, 128)
@@ -241,7 +241,6 @@ pub(crate) fn lighting(gray: &GrayImage, stroke_width: f64, dark_ink: bool) -> O
     if cols == 0 || rows == 0 {
         return None;
     }
-    let pixels = gray.as_raw();
     // (2nd, 50th, 98th percentile) of each block.
     let stats: Vec<[f64; 3]> = (0..rows)
         .into_par_iter()
@@ -251,7 +250,7 @@ pub(crate) fn lighting(gray: &GrayImage, stroke_width: f64, dark_ink: bool) -> O
                 let (x0, x1) = (c * block, ((c + 1) * block).min(width));
                 let mut histogram = [0u32; 256];
                 for y in y0..y1 {
-                    for &v in &pixels[y * width + x0..y * width + x1] {
+                    for &v in &gray.row(y)[x0..x1] {
                         histogram[v as usize] += 1;
                     }
                 }
@@ -384,14 +383,13 @@ pub(crate) fn level_reaches_paper(lighting: &Lighting, level: u8, dark_ink: bool
 
 /// Pixels on which the global `level` and each block's own local threshold disagree, and the
 /// pixels dark under the local thresholds: what [`local_dark`] would change, without making it.
-pub(crate) fn disagreement(gray: &GrayImage, lighting: &Lighting, level: u8) -> (usize, usize) {
+pub(crate) fn disagreement(gray: GrayView<'_>, lighting: &Lighting, level: u8) -> (usize, usize) {
     let width = gray.width() as usize;
     if width == 0 {
         return (0, 0);
     }
     let (block, cols) = (lighting.block, lighting.cols);
-    gray.as_raw()
-        .par_chunks(width)
+    gray.par_rows(1)
         .enumerate()
         .map(|(y, row)| {
             let thresholds = &lighting.thresholds[(y / block) * cols..(y / block + 1) * cols];
@@ -410,7 +408,7 @@ pub(crate) fn disagreement(gray: &GrayImage, lighting: &Lighting, level: u8) -> 
 
 /// The dark side of `gray` under the local threshold of `lighting`, interpolated bilinearly
 /// between block centers.
-pub(crate) fn local_dark(gray: &GrayImage, lighting: &Lighting, dark: &mut [bool]) {
+pub(crate) fn local_dark(gray: GrayView<'_>, lighting: &Lighting, dark: &mut [bool]) {
     let width = gray.width() as usize;
     let (block, cols, rows) = (lighting.block as f64, lighting.cols, lighting.rows);
     // Position of pixel center `p` on the block-center grid: the cell to its left/top and the
@@ -423,7 +421,7 @@ pub(crate) fn local_dark(gray: &GrayImage, lighting: &Lighting, dark: &mut [bool
     };
     let columns: Vec<(usize, usize, f64)> = (0..width).map(|x| cell(x, cols)).collect();
     dark.par_chunks_mut(width)
-        .zip(gray.as_raw().par_chunks(width))
+        .zip(gray.par_rows(1))
         .enumerate()
         .for_each(|(y, (out, values))| {
             let (r0, r1, fy) = cell(y, rows);

@@ -20,7 +20,7 @@ pub(crate) use chunks::pixel_chunks;
 pub use decode::{decode_file, Page, Pages, Picture, Transparency};
 pub(crate) use dropout::split as split_dropout;
 
-use crate::{Binary, GrayImage, Limits, Params, PointSet, Result};
+use crate::{Binary, GrayImage, GrayView, Limits, MaskView, Params, PointSet, Result};
 
 /// Decodes image bytes to grayscale within `limits`.
 ///
@@ -61,13 +61,14 @@ pub fn pages<'a>(bytes: &'a [u8], limits: &Limits) -> Result<Pages<'a>> {
 /// Binarizes a grayscale image (threshold and polarity from `params`).
 ///
 /// A uniform image gives an empty mask. With [`crate::Polarity::Auto`] the side of the threshold
-/// holding most of the image border is paper.
-pub fn binarize(gray: &GrayImage, params: &Params) -> Result<Binary> {
-    binarize::binarize(gray, params)
+/// holding most of the image border is paper. `gray` is a `&GrayImage` or a [`GrayView`] of
+/// borrowed pixels, read in place.
+pub fn binarize<'a>(gray: impl Into<GrayView<'a>>, params: &Params) -> Result<Binary> {
+    Ok(binarize::binarize_deciding(gray.into(), params)?.0)
 }
 
 /// `binary` as a gray image for imageproc's morphology and labelling: ink 255, paper 0.
-pub(crate) fn mask_image(binary: &Binary) -> GrayImage {
+pub(crate) fn mask_image(binary: MaskView<'_>) -> GrayImage {
     GrayImage::from_fn(binary.width, binary.height, |x, y| {
         image::Luma([if binary.get(x as i64, y as i64) {
             255
@@ -78,7 +79,7 @@ pub(crate) fn mask_image(binary: &Binary) -> GrayImage {
 }
 
 /// `binary` without its ink components (8-connected) of fewer than `min_area` pixels.
-pub(crate) fn drop_small_components(binary: &Binary, min_area: usize) -> Binary {
+pub(crate) fn drop_small_components(binary: MaskView<'_>, min_area: usize) -> Binary {
     use imageproc::region_labelling::{connected_components, Connectivity};
     let labels = connected_components(&mask_image(binary), Connectivity::Eight, image::Luma([0u8]));
     let mut sizes: Vec<usize> = Vec::new();
@@ -89,7 +90,7 @@ pub(crate) fn drop_small_components(binary: &Binary, min_area: usize) -> Binary 
         }
         sizes[l] += 1;
     }
-    let mut kept = binary.clone();
+    let mut kept = binary.to_binary();
     for (ink, label) in kept.ink.iter_mut().zip(labels.pixels()) {
         let l = label.0[0] as usize;
         *ink = *ink && l > 0 && sizes[l] >= min_area;
@@ -99,7 +100,8 @@ pub(crate) fn drop_small_components(binary: &Binary, min_area: usize) -> Binary 
 
 /// Turns the ink pixels into the point set (neighbours, half-widths, dropout mode).
 ///
-/// Refuses more than `params.limits.max_points` ink pixels before allocating the points.
-pub fn points(binary: &Binary, params: &Params) -> Result<PointSet> {
-    points::points(binary, params)
+/// Refuses more than `params.limits.max_points` ink pixels before allocating the points. `binary`
+/// is a `&Binary` or a [`MaskView`].
+pub fn points<'a>(binary: impl Into<MaskView<'a>>, params: &Params) -> Result<PointSet> {
+    points::points(binary.into(), params)
 }

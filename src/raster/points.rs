@@ -11,7 +11,7 @@ use crate::mask::{
     close3, ink_row_starts, split_by, squared_distance_at, squared_distance_rows, tiny_hole, Mask,
     Run,
 };
-use crate::{Binary, Error, Grid, Params, PointSet, Result};
+use crate::{Error, Grid, MaskView, Params, PointSet, Result};
 
 /// `Dis_ave` above this switches dropout mode on (adaptation 2): more than about 5% of the
 /// points have no ink pixel touching them.
@@ -26,10 +26,10 @@ const SPACING_SEARCH: i64 = 6;
 
 /// Builds the point set of the ink pixels of `binary`: the page's figures from [`survey`], then
 /// [`build`] over the whole image.
-pub fn points(binary: &Binary, params: &Params) -> Result<PointSet> {
+pub fn points(binary: MaskView<'_>, params: &Params) -> Result<PointSet> {
     let survey = survey(binary, params)?;
     let window = Window {
-        ink: &binary.ink,
+        ink: binary.ink,
         width: binary.width as usize,
         height: binary.height as usize,
         x0: 0,
@@ -53,10 +53,10 @@ pub(super) struct Survey {
 /// one parallel pass over the rows finds the runs of ink, the `Dis_ave` terms and the pixels with
 /// a single 8-neighbour; the rows are summed in order, so the figures do not depend on the thread
 /// count.
-pub(super) fn survey(binary: &Binary, params: &Params) -> Result<Survey> {
+pub(super) fn survey(binary: MaskView<'_>, params: &Params) -> Result<Survey> {
     binary.check_size()?;
     let (width, height) = (binary.width as usize, binary.height as usize);
-    let ink = &binary.ink[..];
+    let ink = binary.ink;
     let row_starts = ink_row_starts(ink, width, height);
     let count = row_starts[height];
     check_point_count(count, params)?;
@@ -423,6 +423,8 @@ fn isolated_distance(at: &impl Fn(i64, i64) -> bool, x: i64, y: i64) -> Option<f
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::raster::points;
+    use crate::Binary;
 
     fn mask(rows: &[&str]) -> Binary {
         let mut binary = Binary::new(rows[0].len() as u32, rows.len() as u32);

@@ -74,6 +74,7 @@ mod params;
 mod point_set;
 mod samples;
 mod stroke_graph;
+mod subpixel;
 
 pub mod csr;
 pub mod curves;
@@ -234,8 +235,24 @@ fn trace_gray(gray: GrayView<'_>, params: &Params) -> Result<Trace> {
     let start = Instant::now();
     let (binary, decisions) = raster::binarize_deciding(gray, params)?;
     let binarize_time = start.elapsed();
-    let trace = trace_mask(binary.view(), params)?;
+    let mut trace = trace_mask(binary.view(), params)?;
+    refine_on_gray(&mut trace, gray, &binary, &decisions, params);
     Ok(with_decisions(trace, binary, decisions, binarize_time))
+}
+
+/// Places the centerline of `trace` below the pixel from the gray levels, when
+/// [`Params::subpixel`] asks for it.
+fn refine_on_gray(
+    trace: &mut Trace,
+    gray: GrayView<'_>,
+    binary: &Binary,
+    decisions: &Decisions,
+    params: &Params,
+) {
+    if params.subpixel {
+        let dark_ink = decisions.polarity == "dark";
+        subpixel::center_on_gray(&mut trace.graph, gray, binary, dark_ink);
+    }
 }
 
 /// Completes the trace of an image's mask: the front end's `decisions` with the dropout mode the
@@ -409,6 +426,7 @@ pub fn trace_image_with_stages<'a>(
     let mut trace = trace_binary_with_stages(&binary, params)?;
     let dropout = trace.stages.as_ref().map(|s| s.points.dropout);
     trace.dropout_share = dropout.map(|d| if d { 1.0 } else { 0.0 });
+    refine_on_gray(&mut trace, gray, &binary, &decisions, params);
     Ok(with_decisions(trace, binary, decisions, binarize_time))
 }
 

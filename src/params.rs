@@ -287,6 +287,12 @@ pub struct Params {
     /// speckled scans (the `speckle` warning suggests a value). Default 0: none dropped.
     #[serde(default, skip_serializing_if = "is_zero")]
     pub min_area: usize,
+    /// Whether the centerline of a gray image is placed below the pixel from its gray levels:
+    /// each polyline point moves along its normal (at most 0.75 px, never off the ink) to the
+    /// middle of the stroke's cross-section in the gray (docs/design.md, "The front end"). Bilevel
+    /// images, masks and point lists are not refined. Default `true`; paper `false`.
+    #[serde(default = "yes", skip_serializing_if = "is_yes")]
+    pub subpixel: bool,
     /// How `r_min` is chosen (§3.1). Default [`RMinRule::StrokeWidth`]; paper
     /// [`RMinRule::Spacing`].
     pub r_min_rule: RMinRule,
@@ -381,6 +387,7 @@ impl Default for Params {
             dropout: None,
             dropout_fraction: 0.015,
             min_area: 0,
+            subpixel: true,
             r_min_rule: RMinRule::StrokeWidth,
             r_min_factor: 1.0,
             r_max_factor: 3.0,
@@ -428,6 +435,7 @@ impl Params {
             site_clusters: false,
             dense_fit: false,
             junctions_on_ink: false,
+            subpixel: false,
             ..Params::default()
         }
     }
@@ -537,6 +545,14 @@ impl Params {
 
 fn is_zero(n: &usize) -> bool {
     *n == 0
+}
+
+fn yes() -> bool {
+    true
+}
+
+fn is_yes(b: &bool) -> bool {
+    *b
 }
 
 /// A number, or `null` for infinity: what serde_json writes for [`Params::merge_span`] of the

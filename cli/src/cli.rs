@@ -240,6 +240,21 @@ pub struct Cli {
     #[arg(long, value_name = "N", help_heading = "Input and binarization")]
     min_area: Option<usize>,
 
+    /// Keep a gray image's centerline where the pixel grid puts it, without placing it below the
+    /// pixel from the gray levels (each point moved along its normal, at most 0.75 px, to the
+    /// middle of the stroke's cross-section) [default: refined, paper: not]
+    #[arg(long, help_heading = "Input and binarization")]
+    no_subpixel: bool,
+
+    /// Place a gray image's centerline below the pixel from its gray levels; turns it back on
+    /// after --paper [default: on, paper: off]
+    #[arg(
+        long,
+        overrides_with = "no_subpixel",
+        help_heading = "Input and binarization"
+    )]
+    subpixel: bool,
+
     /// Start from the paper's own rules and values (r_min = 10 Dis_ave, r_max = 6 r_min, no arms
     /// test, equal-distance clusters, whole-cluster merging, uniform Laplacian and fit weights, no
     /// clean-up); every other flag given still overrides them
@@ -609,6 +624,12 @@ impl TryFrom<&Cli> for Params {
         }
         if cli.cleanup {
             params.cleanup = true;
+        }
+        if cli.no_subpixel {
+            params.subpixel = false;
+        }
+        if cli.subpixel {
+            params.subpixel = true;
         }
         if cli.no_skeleton {
             params.skeleton = false;
@@ -2001,10 +2022,13 @@ mod tests {
             "--anchor-weight",
             "10",
             "--skeleton",
+            "--subpixel",
             "a.png",
         ]))
         .expect("valid");
         assert_eq!(params, Params::default());
+        let grid = Params::try_from(&parse(&["--no-subpixel", "a.png"])).expect("valid");
+        assert!(!grid.subpixel);
         let node_graph = Params::try_from(&parse(&["--no-skeleton", "a.png"])).expect("valid");
         assert!(!node_graph.skeleton);
         let back = Params::try_from(&parse(&["--no-skeleton", "--skeleton", "a.png"])).expect("ok");

@@ -96,24 +96,34 @@ pub fn defaults(py: Python<'_>) -> PyResult<Bound<'_, PyDict>> {
             continue;
         }
         // Serde skipped the field because its value is the one the skip test passes: find the
-        // value that deserializes back to the default.
-        let candidates = [
-            PyBool::new(py, false).to_owned().into_any(),
-            py.None().into_bound(py),
-            0i64.into_pyobject(py)?.into_any(),
-            0.0f64.into_pyobject(py)?.into_any(),
-            PyString::new(py, "").into_any(),
-        ];
-        let found = candidates.into_iter().find(|candidate| {
-            let trial = dict.copy().and_then(|trial| {
-                trial.set_item(name, candidate)?;
-                Ok(trial)
-            });
-            trial.ok().is_some_and(|trial| {
-                pythonize::depythonize::<Params>(trial.as_any())
-                    .is_ok_and(|params| params == Params::default())
-            })
-        });
+        // value that deserializes back to the default. A field that reads 1 and 2 as different
+        // values is a number (a boolean field reads any int by its truth, and a Python bool is
+        // an int); the others are tried with booleans, None and the empty string.
+        let with = |candidate: &Bound<'_, PyAny>| -> Option<Params> {
+            let trial = dict.copy().ok()?;
+            trial.set_item(name, candidate).ok()?;
+            pythonize::depythonize::<Params>(trial.as_any()).ok()
+        };
+        let reads = |candidate: &Bound<'_, PyAny>| {
+            with(candidate).is_some_and(|params| params == Params::default())
+        };
+        let one = with(&1i64.into_pyobject(py)?.into_any());
+        let two = with(&2i64.into_pyobject(py)?.into_any());
+        let numeric = one.is_some() && two.is_some() && one != two;
+        let candidates = if numeric {
+            vec![
+                0i64.into_pyobject(py)?.into_any(),
+                0.0f64.into_pyobject(py)?.into_any(),
+            ]
+        } else {
+            vec![
+                PyBool::new(py, false).to_owned().into_any(),
+                PyBool::new(py, true).to_owned().into_any(),
+                py.None().into_bound(py),
+                PyString::new(py, "").into_any(),
+            ]
+        };
+        let found = candidates.into_iter().find(|candidate| reads(candidate));
         let Some(value) = found else {
             return Err(PyRuntimeError::new_err(format!(
                 "no default found for parameter {name}"

@@ -15,7 +15,7 @@
 use ridgeline::draw::Stroke;
 use ridgeline::minutiae::{Minutia, MinutiaKind};
 use ridgeline::{GrayImage, Params};
-use ridgeline_testkit::synth::{print_cases, SplitMix64};
+use ridgeline_testkit::synth::{dense_print_cases, Case, SplitMix64, DENSE_PRINT_SIZE};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -41,17 +41,23 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     std::fs::create_dir_all(&work)?;
     let params = Params::fingerprint();
 
-    // Synthetic prints, clean and degraded.
-    let variants = ["clean", "blur", "noise", "contrast", "creases", "all"];
+    // Synthetic prints with a real print's minutia density, clean and degraded.
+    let variants = [
+        "clean", "blur", "noise", "contrast", "creases", "breaks", "pores", "partial", "all",
+    ];
+    let cases = dense_print_cases();
     let mut images: Vec<(String, String, GrayImage, Vec<Point>)> = Vec::new();
-    for (index, case) in print_cases().iter().enumerate() {
-        let truth: Vec<Point> = truth_of(&case.strokes, case.binary.width, case.binary.height)
-            .into_iter()
-            .filter(|p| inside_print(&case.binary, p.pos))
-            .collect();
+    for (index, case) in cases.iter().enumerate() {
+        let truth = truth_of(&case.strokes, case.binary.width, case.binary.height);
         for (v, variant) in variants.iter().enumerate() {
-            let gray = capture(&case.binary, variant, 0xF1A6 + (index * 16 + v) as u64);
-            images.push((variant.to_string(), case.name.clone(), gray, truth.clone()));
+            let (gray, print) = capture(case, variant, 0xF1A6 + (index * 16 + v) as u64);
+            // A partial print has fewer true minutiae: those well inside what was captured.
+            let truth: Vec<Point> = truth
+                .iter()
+                .copied()
+                .filter(|p| inside_print(&print, p.pos))
+                .collect();
+            images.push((variant.to_string(), case.name.clone(), gray, truth));
         }
     }
     let mut paths = Vec::new();
@@ -87,8 +93,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         }
     }
     println!(
-        "Synthetic prints ({} cases x {} captures, 200 x 200 px)",
-        print_cases().len(),
+        "Synthetic prints ({} cases x {} captures, {DENSE_PRINT_SIZE} x {DENSE_PRINT_SIZE} px)",
+        cases.len(),
         variants.len()
     );
     println!();
@@ -243,16 +249,97 @@ fn inside_print(binary: &ridgeline::Binary, pos: [f64; 2]) -> bool {
     })
 }
 
-/// The gray capture of a print's ink: dark ridges on light skin, degraded as `variant` says.
-fn capture(binary: &ridgeline::Binary, variant: &str, seed: u64) -> GrayImage {
+/// The gray capture of a print's ink: dark ridges on light skin, degraded as `variant` says; and
+/// the ink that was captured (less than the case's for a partial print).
+fn capture(case: &Case, variant: &str, seed: u64) -> (GrayImage, ridgeline::Binary) {
+    let binary = &case.binary;
     let (w, h) = (binary.width as usize, binary.height as usize);
     let mut rng = SplitMix64::new(seed);
-    let mut depth: Vec<f64> = binary
+    let all = variant == "all";
+    let mut print = binary.clone();
+    if variant == "partial" || all {
+        // The finger touched only part of the sensor: everything beyond a line at 10-35 % of
+        // the image size from the centre, on a random side, is bare.
+        let angle = rng.range(0.0, std::f64::consts::TAU);
+        let offset = rng.range(0.1, 0.35) * w as f64;
+        let (nx, ny) = (angle.cos(), angle.sin());
+        let (cx, cy) = (w as f64 / 2.0, h as f64 / 2.0);
+        for y in 0..h {
+            for x in 0..w {
+                if (x as f64 - cx) * nx + (y as f64 - cy) * ny > offset {
+                    print.ink[y * w + x] = false;
+                }
+            }
+        }
+    }
+    let mut depth: Vec<f64> = print
         .ink
         .iter()
         .map(|&i| if i { 1.0 } else { 0.0 })
         .collect();
-    let all = variant == "all";
+    let erase = |depth: &mut [f64], c: [f64; 2], radius: f64| {
+        let r = radius.ceil() as i64;
+        for dy in -r..=r {
+            for dx in -r..=r {
+                let (x, y) = (c[0].round() as i64 + dx, c[1].round() as i64 + dy);
+                let (fx, fy) = (x as f64 - c[0], y as f64 - c[1]);
+                if x >= 0
+                    && y >= 0
+                    && (x as usize) < w
+                    && (y as usize) < h
+                    && fx * fx + fy * fy <= radius * radius
+                {
+                    depth[y as usize * w + x as usize] = 0.0;
+                }
+            }
+        }
+    };
+    // Points of the true ridges at least `clear` px (along the ridge) from its ends, where a
+    // break or a pore cannot move or fake a minutia.
+    let ends: Vec<[f64; 2]> = case
+        .strokes
+        .iter()
+        .flat_map(|s| [s.points[0], s.points[s.points.len() - 1]])
+        .collect();
+    let far_from_ends =
+        |p: [f64; 2], clear: f64| ends.iter().all(|&e| ridgeline::dist(e, p) >= clear);
+    if variant == "breaks" || all {
+        // 25 ridges broken across their whole width (dry skin, scars): gaps of about one ridge
+        // width, which a good extractor bridges, not minutiae.
+        let points: Vec<([f64; 2], f64)> = case
+            .strokes
+            .iter()
+            .flat_map(|s| s.points.iter().copied().zip(s.widths.iter().copied()))
+            .collect();
+        let mut made = 0;
+        for _ in 0..2000 {
+            if made == 25 || points.is_empty() {
+                break;
+            }
+            let (p, width) = points[rng.below(points.len())];
+            if far_from_ends(p, 15.0) {
+                erase(&mut depth, p, width / 2.0 + rng.range(0.5, 1.5));
+                made += 1;
+            }
+        }
+    }
+    if variant == "pores" || all {
+        // Sweat pores: light dots on the ridge centres every 6-14 px along the ridges.
+        for stroke in &case.strokes {
+            let width = stroke.widths.first().copied().unwrap_or(3.0);
+            let mut next = rng.range(3.0, 14.0);
+            let mut along = 0.0;
+            for pair in stroke.points.windows(2) {
+                along += ridgeline::dist(pair[0], pair[1]);
+                if along >= next {
+                    next = along + rng.range(6.0, 14.0);
+                    if far_from_ends(pair[1], 6.0) {
+                        erase(&mut depth, pair[1], rng.range(0.6, 0.3 * width + 0.2));
+                    }
+                }
+            }
+        }
+    }
     if variant == "creases" || all {
         // Three light lines across the ridges, 2-3 px wide.
         for _ in 0..3 {
@@ -304,7 +391,10 @@ fn capture(binary: &ridgeline::Binary, variant: &str, seed: u64) -> GrayImage {
             pixels.push(v.round().clamp(0.0, 255.0) as u8);
         }
     }
-    GrayImage::from_raw(w as u32, h as u32, pixels).unwrap_or_default()
+    (
+        GrayImage::from_raw(w as u32, h as u32, pixels).unwrap_or_default(),
+        print,
+    )
 }
 
 fn gaussian(rng: &mut SplitMix64) -> f64 {

@@ -32,6 +32,8 @@ struct Point {
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args: Vec<String> = std::env::args().collect();
     let peer = args.iter().any(|a| a == "--peer");
+    // Pictures of every synthetic image's minutiae against the truth, in the work folder.
+    let pictures = args.iter().any(|a| a == "--pictures");
     let real = args
         .windows(2)
         .find(|w| w[0] == "--real")
@@ -84,8 +86,17 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             .unwrap_or_default();
         let order = variants.iter().position(|v| v == variant).unwrap_or(0);
         let entry = rows.entry((order, variant.clone())).or_default();
-        entry[0].add(&ours, truth, 8.0);
+        let matched = entry[0].add(&ours, truth, 8.0);
         entry[1].add(&ours, truth, 16.0);
+        if pictures {
+            let name = paths[k].with_extension("").to_string_lossy().into_owned();
+            picture(gray, &trace, &ours, truth, &matched).save(format!("{name}-minutiae.png"))?;
+            if let Some(print) = &trace.fingerprint {
+                for (stage, image) in ridgeline::debug::print_pictures(gray, &print.analysis) {
+                    image.save(format!("{name}-{}", &stage[2..]))?;
+                }
+            }
+        }
         if let Some((found, time)) = peer_found.as_ref().and_then(|p| p.get(&paths[k])) {
             seconds[1] += time;
             entry[2].add(found, truth, 8.0);
@@ -447,8 +458,9 @@ struct Score {
 }
 
 impl Score {
-    /// One-to-one matching within `tolerance`, nearest pairs first.
-    fn add(&mut self, found: &[Point], truth: &[Point], tolerance: f64) {
+    /// One-to-one matching within `tolerance`, nearest pairs first; returns the matched pairs
+    /// (found, truth).
+    fn add(&mut self, found: &[Point], truth: &[Point], tolerance: f64) -> Vec<(usize, usize)> {
         let mut pairs: Vec<(f64, usize, usize)> = Vec::new();
         for (i, f) in found.iter().enumerate() {
             for (j, t) in truth.iter().enumerate() {
@@ -460,10 +472,12 @@ impl Score {
         }
         pairs.sort_by(|a, b| a.0.total_cmp(&b.0));
         let (mut used_f, mut used_t) = (vec![false; found.len()], vec![false; truth.len()]);
+        let mut matched = Vec::new();
         for (_, i, j) in pairs {
             if !used_f[i] && !used_t[j] {
                 used_f[i] = true;
                 used_t[j] = true;
+                matched.push((i, j));
                 self.matched += 1;
                 if found[i].bifurcation == truth[j].bifurcation {
                     self.same_type += 1;
@@ -472,6 +486,7 @@ impl Score {
         }
         self.truth += truth.len();
         self.found += found.len();
+        matched
     }
     fn precision(&self) -> f64 {
         if self.found == 0 {
@@ -544,4 +559,60 @@ fn run_peer(images: &[PathBuf], json: &Path) -> Option<BTreeMap<PathBuf, (Vec<Po
         out.insert(PathBuf::from(path), (found, seconds));
     }
     Some(out)
+}
+
+/// A picture of one synthetic print at 3x: the gray image faded, the traced ridges dark red, the
+/// true minutiae as green rings (orange when missed), the found ones as dots (red ending, blue
+/// bifurcation) with a magenta ring when they match no truth.
+fn picture(
+    gray: &GrayImage,
+    trace: &ridgeline::Trace,
+    found: &[Point],
+    truth: &[Point],
+    matched: &[(usize, usize)],
+) -> image::RgbImage {
+    use image::Rgb;
+    use imageproc::drawing::{
+        draw_filled_circle_mut, draw_hollow_circle_mut, draw_line_segment_mut,
+    };
+    const SCALE: f64 = 3.0;
+    let (w, h) = gray.dimensions();
+    let mut out = image::RgbImage::from_fn(w * 3, h * 3, |x, y| {
+        let v = gray.get_pixel(x / 3, y / 3).0[0];
+        let v = (155 + u16::from(v) * 100 / 255) as u8;
+        Rgb([v, v, v])
+    });
+    for edge in &trace.graph.edges {
+        for pair in edge.points.windows(2) {
+            let a = ((pair[0][0] * SCALE) as f32, (pair[0][1] * SCALE) as f32);
+            let b = ((pair[1][0] * SCALE) as f32, (pair[1][1] * SCALE) as f32);
+            draw_line_segment_mut(&mut out, a, b, Rgb([150, 20, 20]));
+        }
+    }
+    let at = |p: [f64; 2]| ((p[0] * SCALE) as i32, (p[1] * SCALE) as i32);
+    for (j, t) in truth.iter().enumerate() {
+        let hit = matched.iter().any(|m| m.1 == j);
+        let color = if hit {
+            Rgb([0, 170, 0])
+        } else {
+            Rgb([255, 140, 0])
+        };
+        for r in [14, 15, 16] {
+            draw_hollow_circle_mut(&mut out, at(t.pos), r, color);
+        }
+    }
+    for (i, f) in found.iter().enumerate() {
+        let color = if f.bifurcation {
+            Rgb([30, 60, 230])
+        } else {
+            Rgb([230, 20, 20])
+        };
+        draw_filled_circle_mut(&mut out, at(f.pos), 5, color);
+        if !matched.iter().any(|m| m.0 == i) {
+            for r in [9, 10] {
+                draw_hollow_circle_mut(&mut out, at(f.pos), r, Rgb([230, 0, 230]));
+            }
+        }
+    }
+    out
 }

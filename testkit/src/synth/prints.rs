@@ -650,7 +650,19 @@ pub fn dense_print_cases() -> Vec<Case> {
             let p = [rng.range(cx - ax, cx + ax), rng.range(cy - ay, cy + ay)];
             let (u, v) = ((p[0] - cx) / ax, (p[1] - cy) / ay);
             let far = |q: [f64; 2], d: f64| (q[0] - p[0]).hypot(q[1] - p[1]) >= d;
+            // A loop's ridges fold back along the ray from its core (the phase has a crease
+            // there): a dislocation near the fold would not end one ridge.
+            let off_fold = match field.pattern {
+                Pattern::Loop { angle } => {
+                    let (sin, cos) = angle.sin_cos();
+                    let (du, dv) = (p[0] - field.center[0], p[1] - field.center[1]);
+                    du * cos + dv * sin < -field.period
+                        || (dv * cos - du * sin).abs() > 2.0 * field.period
+                }
+                _ => true,
+            };
             if u * u + v * v <= 1.0
+                && off_fold
                 && core_point.is_none_or(|c| far(c, 2.5 * field.period))
                 && placed.iter().all(|&q| far(q, spacing))
             {

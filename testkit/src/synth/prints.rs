@@ -47,6 +47,11 @@ struct Field {
     /// `period / 2 pi` only the ridge that ends at the point reaches the disk; above it, a
     /// neighbouring ridge can graze the disk and be cut there (three ends at one dislocation).
     core: f64,
+    /// Distance added to a loop's, in periods. With 0 the ray from the core is a level the
+    /// phase only touches, so a loop's innermost valley is two periods wide along it; with 1/2
+    /// that line is the middle of an ordinary valley and the innermost ridge recurves around the
+    /// core, as in a real loop.
+    loop_offset: f64,
 }
 
 impl Field {
@@ -62,11 +67,12 @@ impl Field {
             Pattern::Loop { angle } => {
                 let (s, c) = angle.sin_cos();
                 let along = u * c + v * s;
-                if along <= 0.0 {
+                let d = if along <= 0.0 {
                     u.hypot(v)
                 } else {
                     (v * c - u * s).abs()
-                }
+                };
+                d + self.loop_offset * self.period
             }
             Pattern::Arch { height, spread } => {
                 v + height * (-(u * u) / (2.0 * spread * spread)).exp()
@@ -608,6 +614,7 @@ fn random_field(kind: u8, rng: &mut SplitMix64, s: f64) -> (Field, f64) {
         warp,
         dislocations: Vec::new(),
         core: CORE,
+        loop_offset: 0.0,
     };
     (field, width)
 }
@@ -633,6 +640,7 @@ pub fn dense_print_cases() -> Vec<Case> {
         let (mut field, width) = random_field(kind, &mut rng, s);
         // Every dislocation ends one ridge only (see `Field::core`).
         field.core = 0.1 * field.period;
+        field.loop_offset = 0.5;
         let target = 28 + rng.below(14);
         let spacing = 3.0 * field.period;
         let core_point = match field.pattern {
@@ -734,6 +742,7 @@ mod tests {
             warp: [3.0, 30.0, 35.0, 0.4, 1.1],
             dislocations: vec![([30.3, 80.7], 1.0, false)],
             core: CORE,
+            loop_offset: 0.0,
         };
         let ridges = trace(&field, 120, 120);
         assert!(ridges.len() > 5);

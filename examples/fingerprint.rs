@@ -88,6 +88,30 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         let entry = rows.entry((order, variant.clone())).or_default();
         let matched = entry[0].add(&ours, truth, 8.0);
         entry[1].add(&ours, truth, 16.0);
+        if std::env::var_os("FP_DUMP").is_some() {
+            for (i, f) in ours.iter().enumerate() {
+                if !matched.iter().any(|m| m.0 == i) {
+                    let c = f64::from(DENSE_PRINT_SIZE) / 2.0;
+                    let (u, v) = (
+                        (f.pos[0] - c) / (0.42 * 2.0 * c),
+                        (f.pos[1] - c) / (0.47 * 2.0 * c),
+                    );
+                    let near = truth
+                        .iter()
+                        .map(|t| ridgeline::dist(t.pos, f.pos))
+                        .fold(f64::INFINITY, f64::min);
+                    eprintln!(
+                        "FP {variant} {} {:.0} {:.0} rim {:.2} near {:.1} bif {}",
+                        paths[k].display(),
+                        f.pos[0],
+                        f.pos[1],
+                        (u * u + v * v).sqrt(),
+                        near,
+                        f.bifurcation
+                    );
+                }
+            }
+        }
         if pictures {
             let name = paths[k].with_extension("").to_string_lossy().into_owned();
             picture(gray, &trace, &ours, truth, &matched).save(format!("{name}-minutiae.png"))?;

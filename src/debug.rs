@@ -11,6 +11,11 @@
 //! | `5-fitted.png` | §3.4: the fitted polylines, one color per edge, with their points as dots |
 //! | `6-final.png` | the stroke graph over the foreground: centerlines red, endpoints green, junctions blue (the SVG's colors) |
 //!
+//! With `--fingerprint`, the front end's stages come first ([`print_pictures`]):
+//! `0-segmentation.png` (outside the print tinted orange), `0-orientation.png` (a line along the
+//! ridges per block, dark where coherent) and `0-enhanced.png` (the Gabor response, ridges dark);
+//! the stage pictures above are then those of the enhanced image's binarization.
+//!
 //! The paper shows contraction and merging as two panels; the pipeline keeps only the graph after
 //! all of §3.3 ([`Stages::refined`]), so both are one picture here.
 //!
@@ -629,6 +634,58 @@ fn rgb(hex: &str) -> Rgb<u8> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The front end's pictures: the corner outside the print tinted, the centre not; an
+    /// orientation line drawn in the print; ridges dark in the enhanced picture.
+    #[test]
+    fn print_pictures_show_the_front_end() {
+        let plane =
+            crate::fingerprint::tests::ridges_in_disk(120, 120, 9.0, 0.3, [60.0, 60.0], 40.0);
+        let gray = GrayImage::from_raw(
+            120,
+            120,
+            plane
+                .values
+                .iter()
+                .map(|&v| v.clamp(0.0, 255.0) as u8)
+                .collect(),
+        )
+        .expect("size matches");
+        let (analysis, binary) =
+            crate::fingerprint::analyze(&gray, &crate::FingerprintParams::default(), true);
+        let pictures = print_pictures(&gray, &analysis);
+        let names: Vec<&str> = pictures.iter().map(|p| p.0).collect();
+        assert_eq!(names, PRINT_PICTURE_NAMES);
+        let scale = picture_scale(120, 120) as u32;
+        for (_, picture) in &pictures {
+            assert_eq!(picture.dimensions(), (120 * scale, 120 * scale));
+        }
+        let at = |p: &RgbImage, x: u32, y: u32| p.get_pixel(x * scale, y * scale).0;
+        let corner = at(&pictures[0].1, 2, 2);
+        assert!(
+            corner[0] > corner[2] + 40,
+            "outside tinted orange: {corner:?}"
+        );
+        let centre = at(&pictures[0].1, 60, 60);
+        assert!(
+            centre[0] == centre[1] && centre[1] == centre[2],
+            "{centre:?}"
+        );
+        assert!(
+            pictures[1]
+                .1
+                .pixels()
+                .any(|p| u16::from(p.0[2]) > u16::from(p.0[0]) + 60),
+            "orientation lines drawn"
+        );
+        // A ridge pixel of the binary image is dark in the enhanced picture.
+        let ridge = (0..120 * 120)
+            .find(|&k| binary.ink[k] && analysis.enhanced.values[k] > 0.0)
+            .expect("ridges");
+        let v = at(&pictures[2].1, (ridge % 120) as u32, (ridge / 120) as u32);
+        assert!(v[0] < 128, "{v:?}");
+        assert!(print_pngs(&gray, &analysis).is_ok_and(|p| p.len() == 3));
+    }
 
     #[test]
     fn scale_is_whole_and_bounded() {

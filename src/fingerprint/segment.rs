@@ -212,6 +212,59 @@ mod tests {
         assert!((area - disk).abs() < 0.25 * disk, "{area} vs {disk}");
     }
 
+    /// Faint ridges in a disk under noise everywhere: the gradient magnitude takes the noise for
+    /// print, the Gabor response does not.
+    #[test]
+    fn the_response_drops_noise_the_gradient_keeps() {
+        let mut gray = ridges_in_disk(192, 192, 9.0, 0.4, [96.0, 96.0], 56.0);
+        let mut state = 0x2545_F491_4F6C_DD1Du64;
+        for v in gray.values.iter_mut() {
+            // Faint ridges (40 % of the test pattern's depth) on a flat 200, plus noise.
+            let base = if *v == 200.0 {
+                200.0
+            } else {
+                128.0 + 0.4 * (*v - 128.0)
+            };
+            let mut noise = 0.0;
+            for _ in 0..4 {
+                state ^= state << 13;
+                state ^= state >> 7;
+                state ^= state << 17;
+                noise += (state >> 11) as f32 / (1u64 << 53) as f32 - 0.5;
+            }
+            *v = base + 50.0 * noise;
+        }
+        let params = FingerprintParams::default();
+        let smoothed = crate::fingerprint::math::gaussian_blur(&gray, params.gradient_sigma);
+        let (gx, gy) = sobel(&smoothed);
+        let grid = BlockGrid::new(192, 192, 8);
+        let first = segment(&gx, &gy, grid, &params);
+        assert!(
+            first.contains_pixel(12, 12),
+            "the gradient keeps the noisy corner"
+        );
+        let orientation = crate::fingerprint::orientation::orientation(&gx, &gy, &first, &params);
+        let periods =
+            crate::fingerprint::frequency::ridge_periods(&smoothed, &first, &orientation, &params);
+        let enhanced = crate::fingerprint::enhance::enhance(
+            &gray,
+            &first,
+            &orientation,
+            &periods,
+            &params,
+            true,
+        );
+        let refined = refine(&first, &enhanced, params.response_threshold);
+        assert!(refined.contains_pixel(96, 96) && refined.contains_pixel(96, 50));
+        assert!(!refined.contains_pixel(12, 12) && !refined.contains_pixel(180, 96));
+        let disk = std::f64::consts::PI * 56.0 * 56.0 / 64.0;
+        let area = refined.area_blocks() as f64;
+        // The disk and a rim of noise around it, against most of the image before.
+        assert!(area >= 0.9 * disk && area <= 1.5 * disk, "{area} vs {disk}");
+        assert!(first.area_blocks() as f64 > 2.0 * area);
+        assert_eq!(refine(&first, &enhanced, 0.0), first);
+    }
+
     #[test]
     fn holes_are_filled_and_specks_dropped() {
         // 7 x 7 blocks: a ring with a hole in the middle, and a lone block apart.

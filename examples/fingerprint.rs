@@ -1,13 +1,18 @@
 //! The fingerprint benchmark (docs/fingerprints.md): minutiae of the fingerprint front end
-//! (`Params::fingerprint`) on the test kit's synthetic prints, clean and degraded, scored against
-//! the minutiae of their true ridges, and counts and times on real prints; with `--peer`, the
-//! classical peer (`../shared/bench/peer_minutiae.py`, pyfing) on the same images.
+//! (`Params::fingerprint`) on the test kit's dense synthetic prints (`dense_print_cases`: about
+//! 30 minutiae each, as on a real capture), clean and degraded (blur, noise, a contrast map,
+//! creases, ridge breaks, pores, a partial print, all at once), scored against the minutiae of
+//! their true ridges, and counts and times on real prints; with `--peer`, the classical peer
+//! (`../shared/bench/peer_minutiae.py`, pyfing) on the same images; with `--pictures`, a picture
+//! of each synthetic image's minutiae against the truth and of the front end's stages, beside the
+//! images in the temporary folder `ridgeline-fingerprint-bench`.
 //!
 //! ```text
-//! cargo run --release --example fingerprint [-- --peer] [--real DIR]
+//! cargo run --release --example fingerprint [-- --peer] [--pictures] [--real DIR]
 //! ```
 //!
-//! Truth: the ends of the true ridge polylines more than 16 px inside the image; an end that
+//! Truth: the ends of the true ridge polylines more than 16 px inside the image and well inside
+//! what was captured (ink all around within 18 px); an end that
 //! touches another ridge (within its width) is a bifurcation, else an ending. Scoring: one-to-one
 //! matching, nearest pairs first, within 8 px and 16 px: precision, recall, F1, and the share of
 //! matched pairs of the same kind.
@@ -88,30 +93,6 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         let entry = rows.entry((order, variant.clone())).or_default();
         let matched = entry[0].add(&ours, truth, 8.0);
         entry[1].add(&ours, truth, 16.0);
-        if std::env::var_os("FP_DUMP").is_some() {
-            for (i, f) in ours.iter().enumerate() {
-                if !matched.iter().any(|m| m.0 == i) {
-                    let c = f64::from(DENSE_PRINT_SIZE) / 2.0;
-                    let (u, v) = (
-                        (f.pos[0] - c) / (0.42 * 2.0 * c),
-                        (f.pos[1] - c) / (0.47 * 2.0 * c),
-                    );
-                    let near = truth
-                        .iter()
-                        .map(|t| ridgeline::dist(t.pos, f.pos))
-                        .fold(f64::INFINITY, f64::min);
-                    eprintln!(
-                        "FP {variant} {} {:.0} {:.0} rim {:.2} near {:.1} bif {}",
-                        paths[k].display(),
-                        f.pos[0],
-                        f.pos[1],
-                        (u * u + v * v).sqrt(),
-                        near,
-                        f.bifurcation
-                    );
-                }
-            }
-        }
         if pictures {
             let name = paths[k].with_extension("").to_string_lossy().into_owned();
             picture(gray, &trace, &ours, truth, &matched).save(format!("{name}-minutiae.png"))?;

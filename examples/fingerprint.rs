@@ -1,13 +1,18 @@
 //! The fingerprint benchmark (docs/fingerprints.md): minutiae of the fingerprint front end
-//! (`Params::fingerprint`) on the test kit's synthetic prints, clean and degraded, scored against
-//! the minutiae of their true ridges, and counts and times on real prints; with `--peer`, the
-//! classical peer (`../shared/bench/peer_minutiae.py`, pyfing) on the same images.
+//! (`Params::fingerprint`) on the test kit's dense synthetic prints (`dense_print_cases`: about
+//! 30 minutiae each, as on a real capture), clean and degraded (blur, noise, a contrast map,
+//! creases, ridge breaks, pores, a partial print, all at once), scored against the minutiae of
+//! their true ridges, and counts and times on real prints; with `--peer`, the classical peer
+//! (`../shared/bench/peer_minutiae.py`, pyfing) on the same images; with `--pictures`, a picture
+//! of each synthetic image's minutiae against the truth and of the front end's stages, beside the
+//! images in the temporary folder `ridgeline-fingerprint-bench`.
 //!
 //! ```text
-//! cargo run --release --example fingerprint [-- --peer] [--real DIR]
+//! cargo run --release --example fingerprint [-- --peer] [--pictures] [--real DIR]
 //! ```
 //!
-//! Truth: the ends of the true ridge polylines more than 16 px inside the image; an end that
+//! Truth: the ends of the true ridge polylines more than 16 px inside the image and well inside
+//! what was captured (ink all around within 18 px); an end that
 //! touches another ridge (within its width) is a bifurcation, else an ending. Scoring: one-to-one
 //! matching, nearest pairs first, within 8 px and 16 px: precision, recall, F1, and the share of
 //! matched pairs of the same kind.
@@ -15,7 +20,7 @@
 use ridgeline::draw::Stroke;
 use ridgeline::minutiae::{Minutia, MinutiaKind};
 use ridgeline::{GrayImage, Params};
-use ridgeline_testkit::synth::{print_cases, SplitMix64};
+use ridgeline_testkit::synth::{dense_print_cases, Case, SplitMix64, DENSE_PRINT_SIZE};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -32,6 +37,8 @@ struct Point {
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args: Vec<String> = std::env::args().collect();
     let peer = args.iter().any(|a| a == "--peer");
+    // Pictures of every synthetic image's minutiae against the truth, in the work folder.
+    let pictures = args.iter().any(|a| a == "--pictures");
     let real = args
         .windows(2)
         .find(|w| w[0] == "--real")
@@ -41,17 +48,23 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     std::fs::create_dir_all(&work)?;
     let params = Params::fingerprint();
 
-    // Synthetic prints, clean and degraded.
-    let variants = ["clean", "blur", "noise", "contrast", "creases", "all"];
+    // Synthetic prints with a real print's minutia density, clean and degraded.
+    let variants = [
+        "clean", "blur", "noise", "contrast", "creases", "breaks", "pores", "partial", "all",
+    ];
+    let cases = dense_print_cases();
     let mut images: Vec<(String, String, GrayImage, Vec<Point>)> = Vec::new();
-    for (index, case) in print_cases().iter().enumerate() {
-        let truth: Vec<Point> = truth_of(&case.strokes, case.binary.width, case.binary.height)
-            .into_iter()
-            .filter(|p| inside_print(&case.binary, p.pos))
-            .collect();
+    for (index, case) in cases.iter().enumerate() {
+        let truth = truth_of(&case.strokes, case.binary.width, case.binary.height);
         for (v, variant) in variants.iter().enumerate() {
-            let gray = capture(&case.binary, variant, 0xF1A6 + (index * 16 + v) as u64);
-            images.push((variant.to_string(), case.name.clone(), gray, truth.clone()));
+            let (gray, print) = capture(case, variant, 0xF1A6 + (index * 16 + v) as u64);
+            // A partial print has fewer true minutiae: those well inside what was captured.
+            let truth: Vec<Point> = truth
+                .iter()
+                .copied()
+                .filter(|p| inside_print(&print, p.pos))
+                .collect();
+            images.push((variant.to_string(), case.name.clone(), gray, truth));
         }
     }
     let mut paths = Vec::new();
@@ -78,8 +91,17 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             .unwrap_or_default();
         let order = variants.iter().position(|v| v == variant).unwrap_or(0);
         let entry = rows.entry((order, variant.clone())).or_default();
-        entry[0].add(&ours, truth, 8.0);
+        let matched = entry[0].add(&ours, truth, 8.0);
         entry[1].add(&ours, truth, 16.0);
+        if pictures {
+            let name = paths[k].with_extension("").to_string_lossy().into_owned();
+            picture(gray, &trace, &ours, truth, &matched).save(format!("{name}-minutiae.png"))?;
+            if let Some(print) = &trace.fingerprint {
+                for (stage, image) in ridgeline::debug::print_pictures(gray, &print.analysis) {
+                    image.save(format!("{name}-{}", &stage[2..]))?;
+                }
+            }
+        }
         if let Some((found, time)) = peer_found.as_ref().and_then(|p| p.get(&paths[k])) {
             seconds[1] += time;
             entry[2].add(found, truth, 8.0);
@@ -87,8 +109,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         }
     }
     println!(
-        "Synthetic prints ({} cases x {} captures, 200 x 200 px)",
-        print_cases().len(),
+        "Synthetic prints ({} cases x {} captures, {DENSE_PRINT_SIZE} x {DENSE_PRINT_SIZE} px)",
+        cases.len(),
         variants.len()
     );
     println!();
@@ -243,16 +265,97 @@ fn inside_print(binary: &ridgeline::Binary, pos: [f64; 2]) -> bool {
     })
 }
 
-/// The gray capture of a print's ink: dark ridges on light skin, degraded as `variant` says.
-fn capture(binary: &ridgeline::Binary, variant: &str, seed: u64) -> GrayImage {
+/// The gray capture of a print's ink: dark ridges on light skin, degraded as `variant` says; and
+/// the ink that was captured (less than the case's for a partial print).
+fn capture(case: &Case, variant: &str, seed: u64) -> (GrayImage, ridgeline::Binary) {
+    let binary = &case.binary;
     let (w, h) = (binary.width as usize, binary.height as usize);
     let mut rng = SplitMix64::new(seed);
-    let mut depth: Vec<f64> = binary
+    let all = variant == "all";
+    let mut print = binary.clone();
+    if variant == "partial" || all {
+        // The finger touched only part of the sensor: everything beyond a line at 10-35 % of
+        // the image size from the centre, on a random side, is bare.
+        let angle = rng.range(0.0, std::f64::consts::TAU);
+        let offset = rng.range(0.1, 0.35) * w as f64;
+        let (nx, ny) = (angle.cos(), angle.sin());
+        let (cx, cy) = (w as f64 / 2.0, h as f64 / 2.0);
+        for y in 0..h {
+            for x in 0..w {
+                if (x as f64 - cx) * nx + (y as f64 - cy) * ny > offset {
+                    print.ink[y * w + x] = false;
+                }
+            }
+        }
+    }
+    let mut depth: Vec<f64> = print
         .ink
         .iter()
         .map(|&i| if i { 1.0 } else { 0.0 })
         .collect();
-    let all = variant == "all";
+    let erase = |depth: &mut [f64], c: [f64; 2], radius: f64| {
+        let r = radius.ceil() as i64;
+        for dy in -r..=r {
+            for dx in -r..=r {
+                let (x, y) = (c[0].round() as i64 + dx, c[1].round() as i64 + dy);
+                let (fx, fy) = (x as f64 - c[0], y as f64 - c[1]);
+                if x >= 0
+                    && y >= 0
+                    && (x as usize) < w
+                    && (y as usize) < h
+                    && fx * fx + fy * fy <= radius * radius
+                {
+                    depth[y as usize * w + x as usize] = 0.0;
+                }
+            }
+        }
+    };
+    // Points of the true ridges at least `clear` px (along the ridge) from its ends, where a
+    // break or a pore cannot move or fake a minutia.
+    let ends: Vec<[f64; 2]> = case
+        .strokes
+        .iter()
+        .flat_map(|s| [s.points[0], s.points[s.points.len() - 1]])
+        .collect();
+    let far_from_ends =
+        |p: [f64; 2], clear: f64| ends.iter().all(|&e| ridgeline::dist(e, p) >= clear);
+    if variant == "breaks" || all {
+        // 25 ridges broken across their whole width (dry skin, scars): gaps of about one ridge
+        // width, which a good extractor bridges, not minutiae.
+        let points: Vec<([f64; 2], f64)> = case
+            .strokes
+            .iter()
+            .flat_map(|s| s.points.iter().copied().zip(s.widths.iter().copied()))
+            .collect();
+        let mut made = 0;
+        for _ in 0..2000 {
+            if made == 25 || points.is_empty() {
+                break;
+            }
+            let (p, width) = points[rng.below(points.len())];
+            if far_from_ends(p, 15.0) {
+                erase(&mut depth, p, width / 2.0 + rng.range(0.5, 1.5));
+                made += 1;
+            }
+        }
+    }
+    if variant == "pores" || all {
+        // Sweat pores: light dots on the ridge centres every 6-14 px along the ridges.
+        for stroke in &case.strokes {
+            let width = stroke.widths.first().copied().unwrap_or(3.0);
+            let mut next = rng.range(3.0, 14.0);
+            let mut along = 0.0;
+            for pair in stroke.points.windows(2) {
+                along += ridgeline::dist(pair[0], pair[1]);
+                if along >= next {
+                    next = along + rng.range(6.0, 14.0);
+                    if far_from_ends(pair[1], 6.0) {
+                        erase(&mut depth, pair[1], rng.range(0.6, 0.3 * width + 0.2));
+                    }
+                }
+            }
+        }
+    }
     if variant == "creases" || all {
         // Three light lines across the ridges, 2-3 px wide.
         for _ in 0..3 {
@@ -304,7 +407,10 @@ fn capture(binary: &ridgeline::Binary, variant: &str, seed: u64) -> GrayImage {
             pixels.push(v.round().clamp(0.0, 255.0) as u8);
         }
     }
-    GrayImage::from_raw(w as u32, h as u32, pixels).unwrap_or_default()
+    (
+        GrayImage::from_raw(w as u32, h as u32, pixels).unwrap_or_default(),
+        print,
+    )
 }
 
 fn gaussian(rng: &mut SplitMix64) -> f64 {
@@ -357,8 +463,9 @@ struct Score {
 }
 
 impl Score {
-    /// One-to-one matching within `tolerance`, nearest pairs first.
-    fn add(&mut self, found: &[Point], truth: &[Point], tolerance: f64) {
+    /// One-to-one matching within `tolerance`, nearest pairs first; returns the matched pairs
+    /// (found, truth).
+    fn add(&mut self, found: &[Point], truth: &[Point], tolerance: f64) -> Vec<(usize, usize)> {
         let mut pairs: Vec<(f64, usize, usize)> = Vec::new();
         for (i, f) in found.iter().enumerate() {
             for (j, t) in truth.iter().enumerate() {
@@ -370,10 +477,12 @@ impl Score {
         }
         pairs.sort_by(|a, b| a.0.total_cmp(&b.0));
         let (mut used_f, mut used_t) = (vec![false; found.len()], vec![false; truth.len()]);
+        let mut matched = Vec::new();
         for (_, i, j) in pairs {
             if !used_f[i] && !used_t[j] {
                 used_f[i] = true;
                 used_t[j] = true;
+                matched.push((i, j));
                 self.matched += 1;
                 if found[i].bifurcation == truth[j].bifurcation {
                     self.same_type += 1;
@@ -382,6 +491,7 @@ impl Score {
         }
         self.truth += truth.len();
         self.found += found.len();
+        matched
     }
     fn precision(&self) -> f64 {
         if self.found == 0 {
@@ -454,4 +564,60 @@ fn run_peer(images: &[PathBuf], json: &Path) -> Option<BTreeMap<PathBuf, (Vec<Po
         out.insert(PathBuf::from(path), (found, seconds));
     }
     Some(out)
+}
+
+/// A picture of one synthetic print at 3x: the gray image faded, the traced ridges dark red, the
+/// true minutiae as green rings (orange when missed), the found ones as dots (red ending, blue
+/// bifurcation) with a magenta ring when they match no truth.
+fn picture(
+    gray: &GrayImage,
+    trace: &ridgeline::Trace,
+    found: &[Point],
+    truth: &[Point],
+    matched: &[(usize, usize)],
+) -> image::RgbImage {
+    use image::Rgb;
+    use imageproc::drawing::{
+        draw_filled_circle_mut, draw_hollow_circle_mut, draw_line_segment_mut,
+    };
+    const SCALE: f64 = 3.0;
+    let (w, h) = gray.dimensions();
+    let mut out = image::RgbImage::from_fn(w * 3, h * 3, |x, y| {
+        let v = gray.get_pixel(x / 3, y / 3).0[0];
+        let v = (155 + u16::from(v) * 100 / 255) as u8;
+        Rgb([v, v, v])
+    });
+    for edge in &trace.graph.edges {
+        for pair in edge.points.windows(2) {
+            let a = ((pair[0][0] * SCALE) as f32, (pair[0][1] * SCALE) as f32);
+            let b = ((pair[1][0] * SCALE) as f32, (pair[1][1] * SCALE) as f32);
+            draw_line_segment_mut(&mut out, a, b, Rgb([150, 20, 20]));
+        }
+    }
+    let at = |p: [f64; 2]| ((p[0] * SCALE) as i32, (p[1] * SCALE) as i32);
+    for (j, t) in truth.iter().enumerate() {
+        let hit = matched.iter().any(|m| m.1 == j);
+        let color = if hit {
+            Rgb([0, 170, 0])
+        } else {
+            Rgb([255, 140, 0])
+        };
+        for r in [14, 15, 16] {
+            draw_hollow_circle_mut(&mut out, at(t.pos), r, color);
+        }
+    }
+    for (i, f) in found.iter().enumerate() {
+        let color = if f.bifurcation {
+            Rgb([30, 60, 230])
+        } else {
+            Rgb([230, 20, 20])
+        };
+        draw_filled_circle_mut(&mut out, at(f.pos), 5, color);
+        if !matched.iter().any(|m| m.0 == i) {
+            for r in [9, 10] {
+                draw_hollow_circle_mut(&mut out, at(f.pos), r, Rgb([230, 0, 230]));
+            }
+        }
+    }
+    out
 }

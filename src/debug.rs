@@ -11,6 +11,11 @@
 //! | `5-fitted.png` | §3.4: the fitted polylines, one color per edge, with their points as dots |
 //! | `6-final.png` | the stroke graph over the foreground: centerlines red, endpoints green, junctions blue (the SVG's colors) |
 //!
+//! With `--fingerprint`, the front end's stages come first ([`print_pictures`]):
+//! `0-segmentation.png` (outside the print tinted orange), `0-orientation.png` (a line along the
+//! ridges per block, dark where coherent) and `0-enhanced.png` (the Gabor response, ridges dark);
+//! the stage pictures above are then those of the enhanced image's binarization.
+//!
 //! The paper shows contraction and merging as two panels; the pipeline keeps only the graph after
 //! all of §3.3 ([`Stages::refined`]), so both are one picture here.
 //!
@@ -27,6 +32,7 @@ use imageproc::drawing::{
 use imageproc::point::Point;
 
 use crate::export::svg::{EDGE_COLOR, ENDPOINT_COLOR, JUNCTION_COLOR};
+use crate::fingerprint::PrintAnalysis;
 use crate::{Binary, Decisions, Error, GrayImage, Result, Stages, StrokeGraph, ThresholdUsed};
 
 /// Pictures are upscaled until their longer side reaches this many pixels (within the limits
@@ -190,6 +196,115 @@ pub fn decisions_png(gray: &GrayImage, binary: &Binary, decisions: &Decisions) -
         .write_to(&mut Cursor::new(&mut png), ImageFormat::Png)
         .map_err(|err| Error::Encode(format!("{DECISIONS_PICTURE}: {err}")))?;
     Ok(png)
+}
+
+/// File names of the fingerprint front end's pictures ([`print_pictures`]), in stage order.
+pub const PRINT_PICTURE_NAMES: [&str; 3] =
+    ["0-segmentation.png", "0-orientation.png", "0-enhanced.png"];
+
+/// Outside the print in the segmentation picture.
+const OUTSIDE_PRINT: Rgb<u8> = Rgb([255, 150, 0]);
+
+/// Pictures of the fingerprint front end (docs/fingerprints.md, "Stages"), named as in
+/// [`PRINT_PICTURE_NAMES`]: the gray image with the blocks outside the segmentation mask tinted
+/// orange; the orientation field as a short line along the ridges per block over the faded
+/// image, dark where coherent and pale where not; the enhanced image (the Gabor response, ridges
+/// dark, zero mid-gray), whose sign inside the print is the binary image that is traced.
+pub fn print_pictures(gray: &GrayImage, analysis: &PrintAnalysis) -> Vec<(&'static str, RgbImage)> {
+    let (w, h) = gray.dimensions();
+    let grid = analysis.segmentation.grid;
+    let mask = analysis.segmentation.pixel_mask();
+    let fits = grid.width == w
+        && grid.height == h
+        && mask.len() == w as usize * h as usize
+        && analysis.enhanced.values.len() == mask.len();
+    let mut pictures = Vec::new();
+    // Segmentation.
+    let mut canvas = Canvas::new(w, h);
+    if fits {
+        canvas.paint(|x, y| {
+            let v = gray.get_pixel(x as u32, y as u32).0[0];
+            if mask[y * w as usize + x] {
+                Rgb([v, v, v])
+            } else {
+                Rgb(std::array::from_fn(|k| {
+                    ((u16::from(v) + u16::from(OUTSIDE_PRINT.0[k])) / 2) as u8
+                }))
+            }
+        });
+    }
+    pictures.push((PRINT_PICTURE_NAMES[0], canvas.image));
+    // Orientation field.
+    let mut canvas = Canvas::new(w, h);
+    if fits {
+        canvas.paint(|x, y| {
+            let v = gray.get_pixel(x as u32, y as u32).0[0];
+            let v = (175 + u16::from(v) * 80 / 255) as u8;
+            Rgb([v, v, v])
+        });
+        let field = &analysis.orientation;
+        let half = 0.45 * f64::from(grid.block);
+        for j in 0..grid.rows as usize {
+            for i in 0..grid.cols as usize {
+                let b = grid.index(i, j);
+                if !analysis.segmentation.inside[b] {
+                    continue;
+                }
+                let c = grid.center(i, j);
+                let angle = f64::from(field.angle[b]);
+                let coherence = f64::from(field.coherence[b]).clamp(0.0, 1.0);
+                let d = [half * angle.cos(), half * angle.sin()];
+                let tone = (220.0 * (1.0 - coherence)) as u8;
+                canvas.line(
+                    [c[0] - d[0], c[1] - d[1]],
+                    [c[0] + d[0], c[1] + d[1]],
+                    canvas.line_width(),
+                    Rgb([tone, tone / 2, 160 + tone / 4]),
+                );
+            }
+        }
+    }
+    pictures.push((PRINT_PICTURE_NAMES[1], canvas.image));
+    // Enhanced image.
+    let mut canvas = Canvas::new(w, h);
+    if fits {
+        let values = &analysis.enhanced.values;
+        let mut magnitudes: Vec<f32> = values
+            .iter()
+            .map(|v| v.abs())
+            .filter(|v| *v > 0.0)
+            .collect();
+        let scale = if magnitudes.is_empty() {
+            1.0
+        } else {
+            let k = (magnitudes.len() - 1) * 95 / 100;
+            *magnitudes.select_nth_unstable_by(k, f32::total_cmp).1
+        };
+        canvas.paint(|x, y| {
+            let r = values[y * w as usize + x] / scale.max(f32::MIN_POSITIVE);
+            let v = (128.0 - 127.0 * r.clamp(-1.0, 1.0)) as u8;
+            Rgb([v, v, v])
+        });
+    }
+    pictures.push((PRINT_PICTURE_NAMES[2], canvas.image));
+    pictures
+}
+
+/// The pictures of [`print_pictures`] as the bytes of PNG files.
+pub fn print_pngs(
+    gray: &GrayImage,
+    analysis: &PrintAnalysis,
+) -> Result<Vec<(&'static str, Vec<u8>)>> {
+    print_pictures(gray, analysis)
+        .into_iter()
+        .map(|(name, picture)| {
+            let mut png = Vec::new();
+            picture
+                .write_to(&mut Cursor::new(&mut png), ImageFormat::Png)
+                .map_err(|err| Error::Encode(format!("{name}: {err}")))?;
+            Ok((name, png))
+        })
+        .collect()
 }
 
 /// What the pictures are drawn from.
@@ -372,6 +487,20 @@ impl Canvas {
         }
     }
 
+    /// Paints every picture pixel with `color(x, y)` of the image pixel under it (nearest).
+    fn paint(&mut self, color: impl Fn(usize, usize) -> Rgb<u8>) {
+        let (out_w, out_h) = self.image.dimensions();
+        let source =
+            |o: u32, n: u32| (((o as f64 + 0.5) / self.scale) as usize).min(n.max(1) as usize - 1);
+        let columns: Vec<usize> = (0..out_w).map(|x| source(x, self.width)).collect();
+        for y in 0..out_h {
+            let row = source(y, self.height);
+            for (x, &column) in columns.iter().enumerate() {
+                self.image.put_pixel(x as u32, y, color(column, row));
+            }
+        }
+    }
+
     /// Fills the picture square of the image pixel containing `point`.
     fn cell(&mut self, point: [f64; 2], color: Rgb<u8>) {
         if !(point[0] >= 0.0 && point[1] >= 0.0) {
@@ -505,6 +634,58 @@ fn rgb(hex: &str) -> Rgb<u8> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The front end's pictures: the corner outside the print tinted, the centre not; an
+    /// orientation line drawn in the print; ridges dark in the enhanced picture.
+    #[test]
+    fn print_pictures_show_the_front_end() {
+        let plane =
+            crate::fingerprint::tests::ridges_in_disk(120, 120, 9.0, 0.3, [60.0, 60.0], 40.0);
+        let gray = GrayImage::from_raw(
+            120,
+            120,
+            plane
+                .values
+                .iter()
+                .map(|&v| v.clamp(0.0, 255.0) as u8)
+                .collect(),
+        )
+        .expect("size matches");
+        let (analysis, binary) =
+            crate::fingerprint::analyze((&gray).into(), &crate::FingerprintParams::default(), true);
+        let pictures = print_pictures(&gray, &analysis);
+        let names: Vec<&str> = pictures.iter().map(|p| p.0).collect();
+        assert_eq!(names, PRINT_PICTURE_NAMES);
+        let scale = picture_scale(120, 120) as u32;
+        for (_, picture) in &pictures {
+            assert_eq!(picture.dimensions(), (120 * scale, 120 * scale));
+        }
+        let at = |p: &RgbImage, x: u32, y: u32| p.get_pixel(x * scale, y * scale).0;
+        let corner = at(&pictures[0].1, 2, 2);
+        assert!(
+            corner[0] > corner[2] + 40,
+            "outside tinted orange: {corner:?}"
+        );
+        let centre = at(&pictures[0].1, 60, 60);
+        assert!(
+            centre[0] == centre[1] && centre[1] == centre[2],
+            "{centre:?}"
+        );
+        assert!(
+            pictures[1]
+                .1
+                .pixels()
+                .any(|p| u16::from(p.0[2]) > u16::from(p.0[0]) + 60),
+            "orientation lines drawn"
+        );
+        // A ridge pixel of the binary image is dark in the enhanced picture.
+        let ridge = (0..120 * 120)
+            .find(|&k| binary.ink[k] && analysis.enhanced.values[k] > 0.0)
+            .expect("ridges");
+        let v = at(&pictures[2].1, (ridge % 120) as u32, (ridge / 120) as u32);
+        assert!(v[0] < 128, "{v:?}");
+        assert!(print_pngs(&gray, &analysis).is_ok_and(|p| p.len() == 3));
+    }
 
     #[test]
     fn scale_is_whole_and_bounded() {

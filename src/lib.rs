@@ -277,6 +277,18 @@ fn with_decisions(
 /// print's ridges and valleys are about as wide, so the stroke evidence of the text front end
 /// cannot tell them apart).
 fn trace_print(gray: GrayView<'_>, params: &Params, print: &FingerprintParams) -> Result<Trace> {
+    let (analysis, binary, enhance) = print_front_end(gray, params, print)?;
+    let trace = trace_binary(&binary, params)?;
+    Ok(with_minutiae(trace, binary, analysis, enhance, print))
+}
+
+/// The fingerprint front end of [`trace_print`]: the print's analysis, its binary image and the
+/// time they took, after the pixel limit is checked.
+fn print_front_end(
+    gray: GrayView<'_>,
+    params: &Params,
+    print: &FingerprintParams,
+) -> Result<(fingerprint::PrintAnalysis, Binary, Duration)> {
     let (width, height) = gray.dimensions();
     let pixels = u64::from(width) * u64::from(height);
     if pixels > params.limits.max_pixels {
@@ -290,8 +302,17 @@ fn trace_print(gray: GrayView<'_>, params: &Params, print: &FingerprintParams) -
     let start = Instant::now();
     let dark_ridges = params.polarity != Polarity::LightInk;
     let (analysis, binary) = fingerprint::analyze(gray, print, dark_ridges);
-    let enhance = start.elapsed();
-    let mut trace = trace_binary(&binary, params)?;
+    Ok((analysis, binary, start.elapsed()))
+}
+
+/// Completes the trace of a print's binary image with its minutiae and front end.
+fn with_minutiae(
+    mut trace: Trace,
+    binary: Binary,
+    analysis: fingerprint::PrintAnalysis,
+    enhance: Duration,
+    print: &FingerprintParams,
+) -> Trace {
     trace.timings.binarize = enhance;
     let minutiae = minutiae::fingerprint_minutiae(&trace.graph, &analysis, print);
     trace.binary = Some(binary);
@@ -300,7 +321,7 @@ fn trace_print(gray: GrayView<'_>, params: &Params, print: &FingerprintParams) -
         minutiae,
         enhance,
     }));
-    Ok(trace)
+    trace
 }
 
 /// Traces a foreground mask: a `&Binary`, or a [`MaskView`] of flags borrowed from elsewhere,
@@ -403,17 +424,18 @@ pub fn trace_image_with_stages<'a>(
 ) -> Result<Trace> {
     let gray = gray.into();
     params.validate()?;
-    if params.fingerprint.is_some() {
-        // The fingerprint front end makes its own binary image; the stages are those of tracing it.
-        let print = trace_gray(gray, params)?;
-        let binary = print.binary.clone().unwrap_or_default();
+    if let Some(print) = &params.fingerprint {
+        // The fingerprint front end makes its own binary image; the stages are those of tracing
+        // it, once, and the minutiae are those of the graph the stages end with.
+        let (analysis, binary, enhance) = print_front_end(gray, params, print)?;
+        let binary = if params.min_area > 0 {
+            raster::drop_small_components(binary.view(), params.min_area)
+        } else {
+            binary
+        };
         let mut trace = trace_binary_with_stages(&binary, params)?;
-        trace.graph = print.graph;
-        trace.fingerprint = print.fingerprint;
-        trace.timings.binarize = print.timings.binarize;
-        trace.warnings = print.warnings;
-        trace.binary = Some(binary);
-        return Ok(trace);
+        trace.warnings = warnings::of(&trace.graph, None);
+        return Ok(with_minutiae(trace, binary, analysis, enhance, print));
     }
     let start = Instant::now();
     let (binary, decisions) = raster::binarize_deciding(gray, params)?;

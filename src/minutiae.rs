@@ -141,7 +141,8 @@ pub fn minutiae(
 /// shows to be false, each with a quality from `print`. Lengths are in ridge periods `T` of the
 /// block where they are measured:
 ///
-/// - border: within `border_margin` px of the print's border or the image's;
+/// - border: within `border_margin` px of the print's border (the segmentation mask, and the
+///   closing of the enhanced ridges by one ridge period) or the image's;
 /// - fragments and islands: an edge with two free ends shorter than `fragment_periods · T`
 ///   (both ends go);
 /// - spurs: an edge from a bifurcation to a free end shorter than `spur_periods · T` (both go);
@@ -223,15 +224,27 @@ pub fn fingerprint_minutiae(
     if params.cloud_periods > 0.0 {
         drop_clouds(&mut found, typical * params.cloud_periods);
     }
-    // The border: distance to the nearest pixel outside the print.
+    // The border: distance to the nearest pixel outside the print, which is both inside the
+    // segmentation mask and inside the closing of the enhanced ridges by a disk of one ridge
+    // period (every valley filled, the outline of the ridges kept): the mask's blocks reach past
+    // the last ridges by up to a block and its smoothing, and the ridges cut by the outline
+    // end there, not at minutiae.
     let grid = print.segmentation.grid;
     if params.border_margin > 0.0 && !grid.is_empty() {
         let (w, h) = (grid.width as usize, grid.height as usize);
+        let mut ridges = Binary::new(grid.width, grid.height);
+        if print.enhanced.values.len() == ridges.ink.len() {
+            for (ink, &r) in ridges.ink.iter_mut().zip(&print.enhanced.values) {
+                *ink = r > 0.0;
+            }
+        }
+        let region = print_region(&ridges, typical.max(4.0));
         let outside: Vec<bool> = print
             .segmentation
             .pixel_mask()
             .iter()
-            .map(|&p| !p)
+            .zip(&region)
+            .map(|(&p, &r)| !(p && r))
             .collect();
         let to_outside = squared_distance_transform(&outside, w, h);
         let margin = params.border_margin;

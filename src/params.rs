@@ -137,6 +137,12 @@ pub struct FingerprintParams {
     /// A block is print where its mean gradient magnitude reaches this fraction of the image's
     /// 95th percentile (pyfing's GMFS). Default value: 0.2.
     pub segment_threshold: f64,
+    /// After the enhancement, a block stays print only where the Gabor response's root mean
+    /// square, averaged over 3 x 3 blocks of the print, reaches this fraction of its 95th
+    /// percentile over the print: the filter tuned to the ridges answers strongly to them and
+    /// weakly to noise, which the gradient magnitude cannot tell from ridges. 0 keeps the
+    /// gradient segmentation. Default value: 0.2.
+    pub response_threshold: f64,
     /// Standard deviation of the Gaussian smoothing the doubled-angle field, px. Default value: 16.
     pub orientation_sigma: f64,
     /// Length of the x-signature window across the ridges, px. Default value: 48.
@@ -178,6 +184,7 @@ impl Default for FingerprintParams {
             block: 8,
             gradient_sigma: 1.0,
             segment_threshold: 0.2,
+            response_threshold: 0.2,
             orientation_sigma: 16.0,
             signature_length: 48,
             period_min: 3.0,
@@ -210,6 +217,13 @@ impl FingerprintParams {
             return fail(
                 "fingerprint.signature_length",
                 format!("must be 8-256 px, got {}", self.signature_length),
+            );
+        }
+        if !(self.response_threshold.is_finite() && (0.0..=1.0).contains(&self.response_threshold))
+        {
+            return fail(
+                "fingerprint.response_threshold",
+                format!("must be 0-1, got {}", self.response_threshold),
             );
         }
         let non_negative = [

@@ -660,4 +660,27 @@ fn fingerprint_minutiae_as_json_xyt_and_iso_records() {
     crate::support::run_ok(&["print.png", "--minutiae", "-o", "plain.json"], d);
     let plain = fs::read_to_string(d.join("plain.json")).expect("json");
     assert!(!plain.contains("quality") && !plain.contains("fingerprint"));
+    // --debug draws the front end's stages too, and finds the same minutiae.
+    crate::support::run_ok(
+        &[
+            "print.png",
+            "--fingerprint",
+            "--debug",
+            "stages",
+            "-o",
+            "debug.json",
+        ],
+        d,
+    );
+    for name in ridgeline::debug::PRINT_PICTURE_NAMES
+        .iter()
+        .chain(&ridgeline::debug::PICTURE_NAMES)
+    {
+        let picture = image::open(d.join("stages").join(name)).expect("a PNG picture");
+        assert!(picture.width() >= 200, "{name}");
+    }
+    let debug: serde_json::Value =
+        serde_json::from_str(&fs::read_to_string(d.join("debug.json")).expect("json"))
+            .expect("parses");
+    assert_eq!(debug["minutiae"], json["minutiae"]);
 }

@@ -1412,6 +1412,7 @@ fn refuse_overwriting_inputs(jobs: &[Job], reserved: &Reserved) -> Result<(), Us
             ridgeline::debug::PICTURE_NAMES
                 .into_iter()
                 .chain([ridgeline::debug::DECISIONS_PICTURE])
+                .chain(ridgeline::debug::PRINT_PICTURE_NAMES)
                 .map(|name| dir.join(name))
         });
         let outputs = match &job.destination {
@@ -1851,6 +1852,12 @@ fn trace_with_pictures(
             let png = ridgeline::debug::decisions_png(gray, binary, decisions)?;
             write_atomically(&dir.join(ridgeline::debug::DECISIONS_PICTURE), &png)
                 .context("cannot write the --debug pictures")?;
+        }
+        if let Some(print) = &trace.fingerprint {
+            for (name, png) in ridgeline::debug::print_pngs(gray, &print.analysis)? {
+                write_atomically(&dir.join(name), &png)
+                    .context("cannot write the --debug pictures")?;
+            }
         }
         for picture in ridgeline::debug::stage_pngs(binary, stages, &trace.graph) {
             let (name, png) = picture?;

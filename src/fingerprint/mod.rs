@@ -77,7 +77,7 @@ pub(crate) fn analyze(
     drop((gx, gy));
     let periods = frequency::ridge_periods(&smoothed, &segmentation, &orientation, params);
     drop(smoothed);
-    let enhanced = enhance::enhance(
+    let mut enhanced = enhance::enhance(
         &plane,
         &segmentation,
         &orientation,
@@ -85,6 +85,12 @@ pub(crate) fn analyze(
         params,
         dark_ridges,
     );
+    let segmentation = segment::refine(&segmentation, &enhanced, params.response_threshold);
+    for (value, inside) in enhanced.values.iter_mut().zip(segmentation.pixel_mask()) {
+        if !inside {
+            *value = 0.0;
+        }
+    }
     let contrast = block_contrast(&enhanced, &segmentation);
     let mut binary = Binary::new(width, height);
     for (ink, &r) in binary.ink.iter_mut().zip(&enhanced.values) {

@@ -8,7 +8,14 @@
 //! open to the image edge are filled (a faint patch inside the print is still print), and an
 //! opening (one block) removes protrusions and blocks hanging on by a corner.
 //!
-//! In: the gradients; out: [`Segmentation`].
+//! A second pass ([`refine`]) runs after the enhancement: the Gabor filter tuned to the local
+//! orientation and period gains on the ridges (a matched filter) and not on noise, so where the
+//! gradient magnitude of a noisy, faint or bare area passes for ridges, the response does not.
+//! A block stays print where the response's root mean square, averaged over its 3 x 3
+//! neighbourhood within the print, reaches `response_threshold` (0.2) of the print's 95th
+//! percentile; the mask is cleaned again the same way.
+//!
+//! In: the gradients (then the enhanced image); out: [`Segmentation`].
 
 use super::fields::{BlockGrid, Plane, Segmentation};
 use super::math::{components, median, morph3};
@@ -63,6 +70,71 @@ pub(crate) fn segment(
     }
     let inside = clean(&inside, cols, rows);
     Segmentation { grid, inside }
+}
+
+/// The second pass (see the module doc): `segmentation` less the blocks where the enhanced
+/// response is weak. Returns `segmentation` unchanged when nothing would be left.
+pub(crate) fn refine(
+    segmentation: &Segmentation,
+    enhanced: &Plane,
+    threshold: f64,
+) -> Segmentation {
+    let grid = segmentation.grid;
+    let (cols, rows) = (grid.cols as usize, grid.rows as usize);
+    let w = grid.width as usize;
+    if threshold <= 0.0 || enhanced.values.len() != w * grid.height as usize {
+        return segmentation.clone();
+    }
+    let mut rms = vec![0.0f32; grid.len()];
+    for j in 0..rows {
+        for i in 0..cols {
+            let b = grid.index(i, j);
+            if !segmentation.inside[b] {
+                continue;
+            }
+            let (x0, x1, y0, y1) = grid.pixels(i, j);
+            let mut sum = 0.0f64;
+            for y in y0..y1 {
+                for &v in &enhanced.values[y * w + x0..y * w + x1] {
+                    sum += f64::from(v) * f64::from(v);
+                }
+            }
+            let n = ((x1 - x0) * (y1 - y0)).max(1);
+            rms[b] = (sum / n as f64).sqrt() as f32;
+        }
+    }
+    let inside_rms: Vec<f32> = rms
+        .iter()
+        .zip(&segmentation.inside)
+        .filter(|(_, &inside)| inside)
+        .map(|(&r, _)| r)
+        .collect();
+    let level = percentile(inside_rms, PERCENTILE) * threshold as f32;
+    let mut keep = vec![false; grid.len()];
+    for j in 0..rows {
+        for i in 0..cols {
+            if !segmentation.inside[grid.index(i, j)] {
+                continue;
+            }
+            let (mut sum, mut n) = (0.0f32, 0.0f32);
+            for jj in j.saturating_sub(1)..(j + 2).min(rows) {
+                for ii in i.saturating_sub(1)..(i + 2).min(cols) {
+                    let b = grid.index(ii, jj);
+                    if segmentation.inside[b] {
+                        sum += rms[b];
+                        n += 1.0;
+                    }
+                }
+            }
+            keep[grid.index(i, j)] = level > 0.0 && sum / n >= level;
+        }
+    }
+    let inside = clean(&keep, cols, rows);
+    if inside.iter().any(|&v| v) {
+        Segmentation { grid, inside }
+    } else {
+        segmentation.clone()
+    }
 }
 
 /// Closing, largest component, holes filled, opening, largest component (see the module doc).
@@ -138,6 +210,59 @@ mod tests {
         let disk = std::f64::consts::PI * 50.0 * 50.0 / 64.0;
         let area = s.area_blocks() as f64;
         assert!((area - disk).abs() < 0.25 * disk, "{area} vs {disk}");
+    }
+
+    /// Faint ridges in a disk under noise everywhere: the gradient magnitude takes the noise for
+    /// print, the Gabor response does not.
+    #[test]
+    fn the_response_drops_noise_the_gradient_keeps() {
+        let mut gray = ridges_in_disk(192, 192, 9.0, 0.4, [96.0, 96.0], 56.0);
+        let mut state = 0x2545_F491_4F6C_DD1Du64;
+        for v in gray.values.iter_mut() {
+            // Faint ridges (40 % of the test pattern's depth) on a flat 200, plus noise.
+            let base = if *v == 200.0 {
+                200.0
+            } else {
+                128.0 + 0.4 * (*v - 128.0)
+            };
+            let mut noise = 0.0;
+            for _ in 0..4 {
+                state ^= state << 13;
+                state ^= state >> 7;
+                state ^= state << 17;
+                noise += (state >> 11) as f32 / (1u64 << 53) as f32 - 0.5;
+            }
+            *v = base + 50.0 * noise;
+        }
+        let params = FingerprintParams::default();
+        let smoothed = crate::fingerprint::math::gaussian_blur(&gray, params.gradient_sigma);
+        let (gx, gy) = sobel(&smoothed);
+        let grid = BlockGrid::new(192, 192, 8);
+        let first = segment(&gx, &gy, grid, &params);
+        assert!(
+            first.contains_pixel(12, 12),
+            "the gradient keeps the noisy corner"
+        );
+        let orientation = crate::fingerprint::orientation::orientation(&gx, &gy, &first, &params);
+        let periods =
+            crate::fingerprint::frequency::ridge_periods(&smoothed, &first, &orientation, &params);
+        let enhanced = crate::fingerprint::enhance::enhance(
+            &gray,
+            &first,
+            &orientation,
+            &periods,
+            &params,
+            true,
+        );
+        let refined = refine(&first, &enhanced, params.response_threshold);
+        assert!(refined.contains_pixel(96, 96) && refined.contains_pixel(96, 50));
+        assert!(!refined.contains_pixel(12, 12) && !refined.contains_pixel(180, 96));
+        let disk = std::f64::consts::PI * 56.0 * 56.0 / 64.0;
+        let area = refined.area_blocks() as f64;
+        // The disk and a rim of noise around it, against most of the image before.
+        assert!(area >= 0.9 * disk && area <= 1.5 * disk, "{area} vs {disk}");
+        assert!(first.area_blocks() as f64 > 2.0 * area);
+        assert_eq!(refine(&first, &enhanced, 0.0), first);
     }
 
     #[test]

@@ -15,6 +15,7 @@ const GRID: f64 = 0.5;
 
 /// Cells within this distance of a singular point are not traced: the phase turns too fast there
 /// to compare modulo 2 pi. The ridge is continued straight to the point (it is a ray up close).
+/// The value of [`print_cases`]; see [`Field::core`].
 const CORE: f64 = 1.5;
 
 /// The large-scale ridge flow.
@@ -42,6 +43,15 @@ struct Field {
     /// Dislocations: position, sign (which side gains the ridge) and whether the new ridge is
     /// joined to its neighbour (a bifurcation) rather than left as an ending.
     dislocations: Vec<([f64; 2], f64, bool)>,
+    /// Radius of the untraced disk around each singular point, px ([`CORE`]). Below
+    /// `period / 2 pi` only the ridge that ends at the point reaches the disk; above it, a
+    /// neighbouring ridge can graze the disk and be cut there (three ends at one dislocation).
+    core: f64,
+    /// Distance added to a loop's, in periods. With 0 the ray from the core is a level the
+    /// phase only touches, so a loop's innermost valley is two periods wide along it; with 1/2
+    /// that line is the middle of an ordinary valley and the innermost ridge recurves around the
+    /// core, as in a real loop.
+    loop_offset: f64,
 }
 
 impl Field {
@@ -57,11 +67,12 @@ impl Field {
             Pattern::Loop { angle } => {
                 let (s, c) = angle.sin_cos();
                 let along = u * c + v * s;
-                if along <= 0.0 {
+                let d = if along <= 0.0 {
                     u.hypot(v)
                 } else {
                     (v * c - u * s).abs()
-                }
+                };
+                d + self.loop_offset * self.period
             }
             Pattern::Arch { height, spread } => {
                 v + height * (-(u * u) / (2.0 * spread * spread)).exp()
@@ -152,7 +163,7 @@ fn trace(field: &Field, width: u32, height: u32) -> Vec<(Vec<[f64; 2]>, [bool; 2
             let center = [(i as f64 + 0.5) * GRID, (j as f64 + 0.5) * GRID];
             if singular
                 .iter()
-                .any(|s| (s[0] - center[0]).hypot(s[1] - center[1]) < CORE)
+                .any(|s| (s[0] - center[0]).hypot(s[1] - center[1]) < field.core)
             {
                 continue;
             }
@@ -193,7 +204,7 @@ fn trace(field: &Field, width: u32, height: u32) -> Vec<(Vec<[f64; 2]>, [bool; 2
             }
         }
     }
-    chains(&nodes, &links, &singular)
+    chains(&nodes, &links, &singular, field.core)
 }
 
 /// Joins crossing nodes into polylines. A node has at most two links (one per cell it borders).
@@ -201,6 +212,7 @@ fn chains(
     nodes: &[[f64; 2]],
     links: &[[u32; 2]],
     singular: &[[f64; 2]],
+    core: f64,
 ) -> Vec<(Vec<[f64; 2]>, [bool; 2])> {
     let mut adjacent = vec![[u32::MAX; 2]; nodes.len()];
     for (l, link) in links.iter().enumerate() {
@@ -260,13 +272,13 @@ fn chains(
         singular
             .iter()
             .copied()
-            .find(|s| (s[0] - p[0]).hypot(s[1] - p[1]) < CORE + 1.5 * GRID)
+            .find(|s| (s[0] - p[0]).hypot(s[1] - p[1]) < core + 1.5 * GRID)
     };
     // Crumbs from the cells around an excluded core are not ridges.
     let in_core = |n: &usize| {
         singular
             .iter()
-            .any(|s| (s[0] - nodes[*n][0]).hypot(s[1] - nodes[*n][1]) < CORE + 2.5 * GRID)
+            .any(|s| (s[0] - nodes[*n][0]).hypot(s[1] - nodes[*n][1]) < core + 2.5 * GRID)
     };
     paths
         .into_iter()
@@ -460,7 +472,7 @@ fn clip_to_ellipse(points: &[[f64; 2]], center: [f64; 2], axes: [f64; 2]) -> Vec
 }
 
 /// One print: trace, trim and join at the dislocations, clip to the finger area, render.
-fn print_case(name: &str, field: &Field, width: f64, size: u32) -> Case {
+fn print_case(name: &str, group: &str, field: &Field, width: f64, size: u32) -> Case {
     let mut ridges = trace(field, size, size);
     // Ink gap of 2 px or more between the end of a new ridge and its neighbours.
     trim_ends(&mut ridges, width + 2.5, 4.0 * field.period);
@@ -468,22 +480,24 @@ fn print_case(name: &str, field: &Field, width: f64, size: u32) -> Case {
         if !bifurcation {
             continue;
         }
-        let found = ridges.iter().position(|r| {
-            r.1[1]
-                && r.0
-                    .last()
-                    .is_some_and(|e| (e[0] - p[0]).hypot(e[1] - p[1]) < 4.0 * width + 10.0)
-        });
-        let found = found.or_else(|| {
-            // The end may be at the start of the polyline: turn it around first.
-            let k = ridges.iter().position(|r| {
-                r.1[0] && (r.0[0][0] - p[0]).hypot(r.0[0][1] - p[1]) < 4.0 * width + 10.0
-            })?;
-            ridges[k].0.reverse();
-            ridges[k].1 = [ridges[k].1[1], ridges[k].1[0]];
-            Some(k)
-        });
-        if let Some(r) = found {
+        // The trimmed end of this dislocation's ridge: the nearest end that reached a singular
+        // point (with many dislocations, another one's end may also be within reach).
+        let mut nearest: Option<(usize, usize, f64)> = None;
+        for (k, r) in ridges.iter().enumerate() {
+            for (side, end) in [(0, r.0.first()), (1, r.0.last())] {
+                let Some(e) = end else { continue };
+                let d = (e[0] - p[0]).hypot(e[1] - p[1]);
+                if r.1[side] && d < 4.0 * width + 10.0 && nearest.is_none_or(|n| d < n.2) {
+                    nearest = Some((k, side, d));
+                }
+            }
+        }
+        if let Some((r, side, _)) = nearest {
+            if side == 0 {
+                // The end is at the start of the polyline: turn it around first.
+                ridges[r].0.reverse();
+                ridges[r].1 = [ridges[r].1[1], ridges[r].1[0]];
+            }
             join_ahead(&mut ridges, r, field.period);
         }
     }
@@ -505,7 +519,7 @@ fn print_case(name: &str, field: &Field, width: f64, size: u32) -> Case {
     // The full square image: the finger area sits inside it with a margin.
     Case {
         name: name.to_string(),
-        group: "prints".into(),
+        group: group.into(),
         binary,
         strokes,
     }
@@ -539,53 +553,141 @@ pub fn print_cases() -> Vec<Case> {
     let mut cases = Vec::new();
     for (index, (name, kind, dislocations)) in kinds.iter().enumerate() {
         let mut rng = SplitMix64::new(0x5EED_0000 + index as u64);
-        let period = rng.range(8.0, 11.0);
-        // Ridges at most 45% of the period wide: ink gaps stay >= 3 px where the warp compresses.
-        let widths: Vec<f64> = [3.0, 4.0, 5.0]
-            .into_iter()
-            .filter(|w| *w <= 0.45 * period)
-            .collect();
-        let width = widths.get(rng.below(widths.len())).copied().unwrap_or(3.0);
-        let pattern = match kind {
-            0 => Pattern::Whorl {
-                squash: rng.range(1.0, 1.3),
-            },
-            1 => Pattern::Loop {
-                angle: PI / 2.0 + rng.range(-0.5, 0.5),
-            },
-            2 => Pattern::Arch {
-                height: rng.range(15.0, 35.0),
-                spread: rng.range(35.0, 55.0),
-            },
-            3 => Pattern::Spiral { arms: 1.0 },
-            _ => Pattern::Spiral { arms: 2.0 },
-        };
-        let center = match kind {
-            1 => [s * rng.range(0.45, 0.55), s * rng.range(0.3, 0.4)],
-            2 => [s * 0.5, s * rng.range(0.55, 0.65)],
-            _ => [s * rng.range(0.45, 0.55), s * rng.range(0.45, 0.55)],
-        };
-        let warp = [
-            rng.range(2.0, 4.0),
-            rng.range(25.0, 40.0),
-            rng.range(25.0, 40.0),
-            rng.range(0.0, TAU),
-            rng.range(0.0, TAU),
-        ];
+        let (mut field, width) = random_field(*kind, &mut rng, s);
         // Off-grid positions, so no grid line runs through a singular point.
-        let dislocations = dislocations
+        field.dislocations = dislocations
             .iter()
             .map(|&(x, y, sign, join)| ([x * s + 0.123, y * s + 0.377], sign, join))
             .collect();
-        let field = Field {
-            pattern,
-            center,
-            period,
-            warp,
-            dislocations,
-        };
         cases.push(print_case(
             &format!("print{index}_{name}"),
+            "prints",
+            &field,
+            width,
+            size,
+        ));
+    }
+    cases
+}
+
+/// A ridge field of pattern `kind` (0 whorl, 1 loop, 2 arch, 3 and 4 spirals of one and two
+/// arms) for a square image of side `s`, without dislocations, and its ridge width: period
+/// 8-11 px, width 3-5 px and at most 45 % of the period.
+fn random_field(kind: u8, rng: &mut SplitMix64, s: f64) -> (Field, f64) {
+    let period = rng.range(8.0, 11.0);
+    // Ridges at most 45% of the period wide: ink gaps stay >= 3 px where the warp compresses.
+    let widths: Vec<f64> = [3.0, 4.0, 5.0]
+        .into_iter()
+        .filter(|w| *w <= 0.45 * period)
+        .collect();
+    let width = widths.get(rng.below(widths.len())).copied().unwrap_or(3.0);
+    let pattern = match kind {
+        0 => Pattern::Whorl {
+            squash: rng.range(1.0, 1.3),
+        },
+        1 => Pattern::Loop {
+            angle: PI / 2.0 + rng.range(-0.5, 0.5),
+        },
+        2 => Pattern::Arch {
+            height: rng.range(15.0, 35.0),
+            spread: rng.range(35.0, 55.0),
+        },
+        3 => Pattern::Spiral { arms: 1.0 },
+        _ => Pattern::Spiral { arms: 2.0 },
+    };
+    let center = match kind {
+        1 => [s * rng.range(0.45, 0.55), s * rng.range(0.3, 0.4)],
+        2 => [s * 0.5, s * rng.range(0.55, 0.65)],
+        _ => [s * rng.range(0.45, 0.55), s * rng.range(0.45, 0.55)],
+    };
+    let warp = [
+        rng.range(2.0, 4.0),
+        rng.range(25.0, 40.0),
+        rng.range(25.0, 40.0),
+        rng.range(0.0, TAU),
+        rng.range(0.0, TAU),
+    ];
+    let field = Field {
+        pattern,
+        center,
+        period,
+        warp,
+        dislocations: Vec::new(),
+        core: CORE,
+        loop_offset: 0.0,
+    };
+    (field, width)
+}
+
+/// Side of the [`dense_print_cases`] images, px.
+pub const DENSE_PRINT_SIZE: u32 = 320;
+
+/// Prints with the minutia density of a real capture (group `fingerprints`): 10 ridge fields of
+/// 320 x 320 px (the finger area about 270 x 300 px, 13 x 15 mm at 500 ppi), patterns and ridges
+/// as in [`print_cases`], each with 28-41 dislocations spread over the print. A 500 ppi print
+/// has roughly 30-80 minutiae over a whole finger (docs/fingerprints.md, "Benchmark"); here the dislocations are at least 3
+/// periods apart and 2.5 periods from the pattern's core, their signs balanced (so the flow far
+/// from them is the pattern's), 55 % endings and 45 % bifurcations. Some land near the rim and are
+/// clipped away; the rest are the truth.
+pub fn dense_print_cases() -> Vec<Case> {
+    let size = DENSE_PRINT_SIZE;
+    let s = size as f64;
+    let names = ["whorl", "loop", "arch", "spiral", "spiral2"];
+    let mut cases = Vec::new();
+    for index in 0..10u64 {
+        let kind = (index % 5) as u8;
+        let mut rng = SplitMix64::new(0xF1A6_0000 + index);
+        let (mut field, width) = random_field(kind, &mut rng, s);
+        // Every dislocation ends one ridge only (see `Field::core`).
+        field.core = 0.1 * field.period;
+        field.loop_offset = 0.5;
+        let target = 28 + rng.below(14);
+        let spacing = 3.0 * field.period;
+        let core_point = match field.pattern {
+            Pattern::Arch { .. } => None,
+            _ => Some(field.center),
+        };
+        let (cx, cy) = (s / 2.0, s / 2.0);
+        // Within the finger's ellipse (0.42 s x 0.47 s), a little inside its rim.
+        let (ax, ay) = (0.40 * s, 0.45 * s);
+        let mut placed: Vec<[f64; 2]> = Vec::new();
+        for _ in 0..20_000 {
+            if placed.len() == target {
+                break;
+            }
+            let p = [rng.range(cx - ax, cx + ax), rng.range(cy - ay, cy + ay)];
+            let (u, v) = ((p[0] - cx) / ax, (p[1] - cy) / ay);
+            let far = |q: [f64; 2], d: f64| (q[0] - p[0]).hypot(q[1] - p[1]) >= d;
+            // A loop's ridges fold back along the ray from its core (the phase has a crease
+            // there): a dislocation near the fold would not end one ridge.
+            let off_fold = match field.pattern {
+                Pattern::Loop { angle } => {
+                    let (sin, cos) = angle.sin_cos();
+                    let (du, dv) = (p[0] - field.center[0], p[1] - field.center[1]);
+                    du * cos + dv * sin < -field.period
+                        || (dv * cos - du * sin).abs() > 2.0 * field.period
+                }
+                _ => true,
+            };
+            if u * u + v * v <= 1.0
+                && off_fold
+                && core_point.is_none_or(|c| far(c, 2.5 * field.period))
+                && placed.iter().all(|&q| far(q, spacing))
+            {
+                placed.push(p);
+            }
+        }
+        field.dislocations = placed
+            .iter()
+            .enumerate()
+            .map(|(k, &p)| {
+                let sign = if k % 2 == 0 { 1.0 } else { -1.0 };
+                (p, sign, rng.next_f64() < 0.45)
+            })
+            .collect();
+        cases.push(print_case(
+            &format!("dense{index}_{}", names[kind as usize]),
+            "fingerprints",
             &field,
             width,
             size,
@@ -597,6 +699,29 @@ pub fn print_cases() -> Vec<Case> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The dense prints have a realistic number of free ridge ends well inside the finger.
+    #[test]
+    fn dense_prints_have_many_minutiae() {
+        for case in dense_print_cases() {
+            let s = f64::from(case.binary.width);
+            let ends = case
+                .strokes
+                .iter()
+                .flat_map(|st| [st.points[0], st.points[st.points.len() - 1]])
+                .filter(|p| {
+                    let (u, v) = ((p[0] - s / 2.0) / (0.36 * s), (p[1] - s / 2.0) / (0.41 * s));
+                    u * u + v * v <= 1.0
+                })
+                .count();
+            eprintln!(
+                "{}: {} strokes, {ends} ends inside",
+                case.name,
+                case.strokes.len()
+            );
+            assert!((20..=90).contains(&ends), "{}: {ends} ends", case.name);
+        }
+    }
 
     #[test]
     fn wrap_range() {
@@ -616,6 +741,8 @@ mod tests {
             period: 9.0,
             warp: [3.0, 30.0, 35.0, 0.4, 1.1],
             dislocations: vec![([30.3, 80.7], 1.0, false)],
+            core: CORE,
+            loop_offset: 0.0,
         };
         let ridges = trace(&field, 120, 120);
         assert!(ridges.len() > 5);
@@ -637,7 +764,7 @@ mod tests {
     /// Separate ridges stay apart in the ink, except where a bifurcation joins them.
     #[test]
     fn ridges_do_not_merge() {
-        for case in print_cases() {
+        for case in print_cases().into_iter().chain(dense_print_cases()) {
             let w = case.strokes[0].widths[0];
             let ends: Vec<[f64; 2]> = case
                 .strokes
@@ -650,10 +777,12 @@ mod tests {
             };
             // Bucket the points on a coarse grid for the neighbour search.
             let cell = 8.0;
-            let n = (200.0 / cell) as usize + 1;
+            let n = (f64::from(case.binary.width) / cell) as usize + 1;
             let mut buckets = vec![Vec::new(); n * n];
             for (si, s) in case.strokes.iter().enumerate() {
                 for (pi, p) in s.points.iter().enumerate() {
+                    // Every point lies in the image (the bucket index assumes it).
+                    assert!(p[0] >= 0.0 && p[1] >= 0.0, "{}: {p:?}", case.name);
                     let (bx, by) = ((p[0] / cell) as usize, (p[1] / cell) as usize);
                     buckets[by.min(n - 1) * n + bx.min(n - 1)].push((si, pi));
                 }

@@ -602,6 +602,46 @@ fn flags_given_with_paper_override_its_rules() {
     assert_eq!(clusters["parameters"]["cluster_rule"], "equal_distance");
 }
 
+/// The ISO record's resolution is `--dpi`, else the one the image file states, else 500 dpi.
+#[test]
+fn iso_records_take_the_resolution_the_file_states() {
+    let dir = temp_dir();
+    let d = dir.path();
+    let case = ridgeline_testkit::synth::print_cases()
+        .into_iter()
+        .find(|c| c.name.contains("arch_minutiae"))
+        .expect("the kit has this print");
+    crate::support::write_mask_png(&case.binary, &d.join("plain.png"));
+    // The same pixels stating 1000 dpi (39 370 px per metre).
+    let gray = image::open(d.join("plain.png")).expect("PNG").to_luma8();
+    let mut stated = Vec::new();
+    let mut encoder = png::Encoder::new(&mut stated, gray.width(), gray.height());
+    encoder.set_color(png::ColorType::Grayscale);
+    encoder.set_pixel_dims(Some(png::PixelDimensions {
+        xppu: 39_370,
+        yppu: 39_370,
+        unit: png::Unit::Meter,
+    }));
+    let mut writer = encoder.write_header().expect("header");
+    writer.write_image_data(gray.as_raw()).expect("pixels");
+    writer.finish().expect("finish");
+    fs::write(d.join("stated.png"), stated).expect("write");
+    let resolution = |args: &[&str]| -> (u16, u16) {
+        let mut all = vec!["--fingerprint", "--format", "iso", "-o", "out.ist"];
+        all.extend_from_slice(args);
+        crate::support::run_ok(&all, d);
+        let iso = fs::read(d.join("out.ist")).expect("ist");
+        (
+            u16::from_be_bytes([iso[18], iso[19]]),
+            u16::from_be_bytes([iso[20], iso[21]]),
+        )
+    };
+    // px/cm: 1000 dpi = 393.7, 500 dpi = 196.85, 300 dpi = 118.1.
+    assert_eq!(resolution(&["stated.png"]), (394, 394));
+    assert_eq!(resolution(&["plain.png"]), (197, 197));
+    assert_eq!(resolution(&["stated.png", "--dpi", "300"]), (118, 118));
+}
+
 /// `--fingerprint` writes the same minutiae as JSON (with a quality), as NIST `.xyt` lines and as
 /// an ISO/IEC 19794-2 record whose header matches the file; without it nothing of the front end
 /// appears in the output.

@@ -268,7 +268,8 @@ pub struct Cli {
     #[arg(long, help_heading = "Method")]
     fingerprint: bool,
 
-    /// Resolution written into ISO/IEC 19794-2 records, dots per inch [default: 500]
+    /// Resolution written into ISO/IEC 19794-2 records, dots per inch [default: the one the
+    /// image file states (PNG pHYs, JPEG JFIF density, TIFF XResolution), else 500]
     #[arg(long, value_name = "DPI", help_heading = "Output")]
     dpi: Option<f64>,
 
@@ -710,8 +711,8 @@ struct Settings {
     strokes: bool,
     /// `--minutiae` (or `--fingerprint`).
     minutiae: bool,
-    /// `--dpi`, for ISO/IEC 19794-2 records.
-    dpi: f64,
+    /// `--dpi`, for ISO/IEC 19794-2 records (else the file's, else [`DEFAULT_DPI`]).
+    dpi: Option<f64>,
     /// `--curves` with its tolerance and corner angle.
     curves: Option<CurveOptions>,
     /// What later pages of a multi-page input (named inside the job, `name.pN.svg`) must not
@@ -842,7 +843,7 @@ fn run_with(cli: &Cli) -> Result<ExitCode> {
         pretty: cli.pretty,
         strokes: cli.strokes,
         minutiae: cli.minutiae || cli.fingerprint,
-        dpi: cli.dpi.unwrap_or(500.0),
+        dpi: cli.dpi,
         curves,
         reserved: Reserved::default(),
     };
@@ -1580,7 +1581,7 @@ fn trace_and_write(job: &Job, settings: &Settings) -> Result<Traced> {
         }
         let meta = JsonMeta::new(params.clone()).with_trace(&trace);
         warnings.extend(trace.warnings.iter().map(|w| w.message.clone()));
-        let text = render(job, settings, kind, &trace, None, meta)?;
+        let text = render(job, settings, kind, &trace, None, meta, None)?;
         let output = write_output(job, &job.destination, &text)?;
         return Ok(Traced::of(&trace.graph, warnings, output));
     }
@@ -1592,6 +1593,7 @@ fn trace_and_write(job: &Job, settings: &Settings) -> Result<Traced> {
     let pictures = settings.format == Format::Svg && settings.embed_image;
     let mut pages = ridgeline::raster::pages(&bytes, &params.limits)?.with_pictures(pictures);
     let count = pages.page_count();
+    let file_dpi = pages.resolution();
     if count > 1 && job.destination == Destination::Stdout {
         anyhow::bail!(
             "the file has {count} pages and -o - writes one document; give an output file \
@@ -1613,7 +1615,7 @@ fn trace_and_write(job: &Job, settings: &Settings) -> Result<Traced> {
             Picture::Original { .. } => bytes,
             _ => Vec::new(),
         };
-        let mut traced = trace_page(job, settings, &bytes, &page, count)?;
+        let mut traced = trace_page(job, settings, &bytes, &page, count, file_dpi)?;
         warnings.append(&mut traced.warnings);
         traced.warnings = warnings;
         return Ok(traced);
@@ -1625,7 +1627,7 @@ fn trace_and_write(job: &Job, settings: &Settings) -> Result<Traced> {
         let number = index + 1;
         let traced = page
             .map_err(anyhow::Error::from)
-            .and_then(|page| trace_page(job, settings, &bytes, &page, count));
+            .and_then(|page| trace_page(job, settings, &bytes, &page, count, file_dpi));
         match traced {
             Ok(traced) => {
                 all.warnings.extend(
@@ -1680,6 +1682,7 @@ fn trace_page(
     bytes: &[u8],
     page: &Page,
     count: usize,
+    file_dpi: Option<f64>,
 ) -> Result<Traced> {
     let params = &settings.params;
     let debug = job.debug.as_ref().map(|dir| match page.number {
@@ -1717,7 +1720,7 @@ fn trace_page(
         .with_trace(&trace);
     warnings.extend(trace.warnings.iter().map(|w| w.message.clone()));
     let backdrop = settings.embed_image.then_some(backdrop);
-    let text = render(job, settings, Kind::Image, &trace, backdrop, meta)?;
+    let text = render(job, settings, Kind::Image, &trace, backdrop, meta, file_dpi)?;
     let destination = page_destination(&job.destination, page.number);
     if let (Destination::File(path), true) = (&destination, page.number > 1) {
         settings.reserved.check(path)?;
@@ -1743,8 +1746,11 @@ fn page_destination(destination: &Destination, number: usize) -> Destination {
     }
 }
 
+/// Resolution of ISO/IEC 19794-2 records when neither `--dpi` nor the file gives one.
+const DEFAULT_DPI: f64 = 500.0;
+
 /// The output document of one traced graph (of an input read as `kind`): SVG over `backdrop`,
-/// or JSON with `meta`.
+/// or JSON with `meta`; ISO records at `--dpi`, else `file_dpi`, else [`DEFAULT_DPI`].
 fn render(
     job: &Job,
     settings: &Settings,
@@ -1752,6 +1758,7 @@ fn render(
     trace: &ridgeline::Trace,
     backdrop: Option<Backdrop>,
     meta: JsonMeta,
+    file_dpi: Option<f64>,
 ) -> Result<Vec<u8>> {
     let graph = &trace.graph;
     let binary = trace.binary.as_ref();
@@ -1776,7 +1783,7 @@ fn render(
             marks.as_deref().unwrap_or(&[]),
             graph.width,
             graph.height,
-            settings.dpi,
+            settings.dpi.or(file_dpi).unwrap_or(DEFAULT_DPI),
         )?,
         Format::Svg => {
             // Curves follow what is drawn: one list per stroke with --strokes, else per edge.

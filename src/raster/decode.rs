@@ -175,6 +175,13 @@ impl Pages<'_> {
         self.format
     }
 
+    /// The resolution the file states, dots per inch: PNG's `pHYs` in pixels per metre, JPEG's
+    /// JFIF density per inch or centimetre, TIFF's `XResolution` and `ResolutionUnit` (of the
+    /// first page); `None` where it states none or only an aspect ratio, and for other formats.
+    pub fn resolution(&self) -> Option<f64> {
+        super::resolution::stated(self.bytes, self.format)
+    }
+
     /// The TIFF's chain of pages does not end properly (it points outside the file, at a
     /// truncated directory, or back at an earlier page): the pages before the break are all there
     /// is.

@@ -13,6 +13,7 @@ mod decode;
 mod dropout;
 mod evidence;
 mod points;
+mod resolution;
 mod tiff_pages;
 
 pub(crate) use binarize::binarize_deciding;

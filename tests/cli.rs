@@ -602,16 +602,21 @@ fn flags_given_with_paper_override_its_rules() {
     assert_eq!(clusters["parameters"]["cluster_rule"], "equal_distance");
 }
 
+/// Writes the test kit's arch print with known minutiae as a PNG mask.
+fn write_arch_print(path: &std::path::Path) {
+    let case = ridgeline_testkit::synth::print_cases()
+        .into_iter()
+        .find(|c| c.name.contains("arch_minutiae"))
+        .expect("the kit has this print");
+    crate::support::write_mask_png(&case.binary, path);
+}
+
 /// The ISO record's resolution is `--dpi`, else the one the image file states, else 500 dpi.
 #[test]
 fn iso_records_take_the_resolution_the_file_states() {
     let dir = temp_dir();
     let d = dir.path();
-    let case = ridgeline_testkit::synth::print_cases()
-        .into_iter()
-        .find(|c| c.name.contains("arch_minutiae"))
-        .expect("the kit has this print");
-    crate::support::write_mask_png(&case.binary, &d.join("plain.png"));
+    write_arch_print(&d.join("plain.png"));
     // The same pixels stating 1000 dpi (39 370 px per metre).
     let gray = image::open(d.join("plain.png")).expect("PNG").to_luma8();
     let mut stated = Vec::new();
@@ -649,11 +654,7 @@ fn iso_records_take_the_resolution_the_file_states() {
 fn fingerprint_minutiae_as_json_xyt_and_iso_records() {
     let dir = temp_dir();
     let d = dir.path();
-    let case = ridgeline_testkit::synth::print_cases()
-        .into_iter()
-        .find(|c| c.name.contains("arch_minutiae"))
-        .expect("the kit has this print");
-    crate::support::write_mask_png(&case.binary, &d.join("print.png"));
+    write_arch_print(&d.join("print.png"));
     crate::support::run_ok(&["print.png", "--fingerprint", "-o", "print.json"], d);
     crate::support::run_ok(&["print.png", "--fingerprint", "-o", "print.xyt"], d);
     crate::support::run_ok(

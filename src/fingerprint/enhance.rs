@@ -141,13 +141,11 @@ mod tests {
         let (w, h, period) = (96usize, 96usize, 8.0);
         let mut gray = ridges_in_disk(w as u32, h as u32, period, 0.0, [48.0, 48.0], 200.0);
         for (i, v) in gray.values.iter_mut().enumerate() {
-            let (x, y) = (i % w, i / w);
-            if (44..48).contains(&x) {
+            if (44..48).contains(&(i % w)) {
                 *v = 128.0;
             } else if (i * 7919) % 13 == 0 {
                 *v = 255.0 - *v;
             }
-            let _ = y;
         }
         let grid = BlockGrid::new(w as u32, h as u32, 8);
         let s = Segmentation {

@@ -99,7 +99,8 @@ pub(crate) fn morph3(flags: &[bool], cols: usize, rows: usize, grow: bool) -> Ve
 }
 
 /// 4-connected component labels of the cells equal to `value` (`usize::MAX` elsewhere), with
-/// each component's size, numbered in raster order of their first cell.
+/// each component's size, numbered in raster order of their first cell. Not imageproc's
+/// `connected_components`: its union-find panics on the few-block grids of a tiny image.
 pub(crate) fn components(
     flags: &[bool],
     cols: usize,

@@ -110,26 +110,7 @@ pub(crate) fn analyze(
 
 /// Per block, the RMS of the response over the print's median RMS, capped at 1.
 fn block_contrast(enhanced: &Plane, segmentation: &Segmentation) -> Vec<f32> {
-    let grid = segmentation.grid;
-    let w = grid.width as usize;
-    let mut rms = vec![0.0f32; grid.len()];
-    for j in 0..grid.rows as usize {
-        for i in 0..grid.cols as usize {
-            let b = grid.index(i, j);
-            if !segmentation.inside[b] {
-                continue;
-            }
-            let (x0, x1, y0, y1) = grid.pixels(i, j);
-            let mut sum = 0.0f64;
-            for y in y0..y1 {
-                for &v in &enhanced.values[y * w + x0..y * w + x1] {
-                    sum += f64::from(v * v);
-                }
-            }
-            let n = ((x1 - x0) * (y1 - y0)).max(1);
-            rms[b] = (sum / n as f64).sqrt() as f32;
-        }
-    }
+    let mut rms = segment::block_rms(enhanced, segmentation);
     let mut inside: Vec<f32> = rms
         .iter()
         .zip(&segmentation.inside)

@@ -72,22 +72,13 @@ pub(crate) fn segment(
     Segmentation { grid, inside }
 }
 
-/// The second pass (see the module doc): `segmentation` less the blocks where the enhanced
-/// response is weak. Returns `segmentation` unchanged when nothing would be left.
-pub(crate) fn refine(
-    segmentation: &Segmentation,
-    enhanced: &Plane,
-    threshold: f64,
-) -> Segmentation {
+/// The RMS of `enhanced` over each block inside `segmentation` (0 outside it).
+pub(crate) fn block_rms(enhanced: &Plane, segmentation: &Segmentation) -> Vec<f32> {
     let grid = segmentation.grid;
-    let (cols, rows) = (grid.cols as usize, grid.rows as usize);
     let w = grid.width as usize;
-    if threshold <= 0.0 || enhanced.values.len() != w * grid.height as usize {
-        return segmentation.clone();
-    }
     let mut rms = vec![0.0f32; grid.len()];
-    for j in 0..rows {
-        for i in 0..cols {
+    for j in 0..grid.rows as usize {
+        for i in 0..grid.cols as usize {
             let b = grid.index(i, j);
             if !segmentation.inside[b] {
                 continue;
@@ -103,6 +94,23 @@ pub(crate) fn refine(
             rms[b] = (sum / n as f64).sqrt() as f32;
         }
     }
+    rms
+}
+
+/// The second pass (see the module doc): `segmentation` less the blocks where the enhanced
+/// response is weak. Returns `segmentation` unchanged when nothing would be left.
+pub(crate) fn refine(
+    segmentation: &Segmentation,
+    enhanced: &Plane,
+    threshold: f64,
+) -> Segmentation {
+    let grid = segmentation.grid;
+    let (cols, rows) = (grid.cols as usize, grid.rows as usize);
+    let w = grid.width as usize;
+    if threshold <= 0.0 || enhanced.values.len() != w * grid.height as usize {
+        return segmentation.clone();
+    }
+    let rms = block_rms(enhanced, segmentation);
     let inside_rms: Vec<f32> = rms
         .iter()
         .zip(&segmentation.inside)

@@ -315,35 +315,29 @@ pub(crate) fn lighting(gray: GrayView<'_>, stroke_width: f64, dark_ink: bool) ->
             }
         }
     }
-    let middle: Vec<f64> = stats
+    // Each block's threshold, and for a paper block its ink-side tail.
+    let (middle, paper_tails): (Vec<f64>, Vec<Option<f64>>) = stats
         .iter()
         .zip(&content)
         .zip(&levels)
         .map(|((&[lo, median, hi], &c), known)| {
+            if c {
+                return ((lo + hi) / 2.0, None);
+            }
             let [paper, ink] = known.unwrap_or([median; 2]);
             let filled = (paper + ink) / 2.0;
+            if (median - paper).abs() > (median - ink).abs() {
+                return (filled, None);
+            }
             let off_paper = median + (ink - paper) / 2.0;
-            if c {
-                (lo + hi) / 2.0
-            } else if (median - paper).abs() > (median - ink).abs() {
-                filled
-            } else if ink < paper {
+            let threshold = if ink < paper {
                 filled.min(off_paper)
             } else {
                 filled.max(off_paper)
-            }
+            };
+            (threshold, Some(if dark_ink { lo } else { hi }))
         })
-        .collect();
-    let paper_tails: Vec<Option<f64>> = stats
-        .iter()
-        .zip(&content)
-        .zip(&levels)
-        .map(|((&[lo, median, hi], &c), known)| {
-            let [paper, ink] = known.unwrap_or([median; 2]);
-            let paper_like = !c && (median - paper).abs() <= (median - ink).abs();
-            paper_like.then_some(if dark_ink { lo } else { hi })
-        })
-        .collect();
+        .unzip();
     // The threshold surface: each block's middle averaged with its neighbours'.
     let mut thresholds = vec![0.0; middle.len()];
     for r in 0..rows {

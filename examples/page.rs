@@ -12,6 +12,12 @@
 //!
 //! `--keep DIR` writes the generated pages into DIR (kept) instead of a temporary directory.
 //!
+//! `--front-end` instead measures what the automatic front end's choices cost (docs/performance.md,
+//! "The front end's choices"): the A4 page captured in gray (anti-aliased, blurred, noised, JPEG;
+//! evenly lit, lit unevenly, and lit unevenly with light strokes on a dark ground), each traced
+//! with the defaults and with what the defaults decided given as flags (threshold, polarity,
+//! dropout), in alternating rounds; outputs compared byte for byte.
+//!
 //! Inputs: a generated A4 page at 300 dpi of dense text ([`ridgeline_testkit::synth::page`], 2480 x 3508,
 //! 40 px x-height, 4 px strokes) and the same page at half the size per side (1240 x 1754: the
 //! generator keeps the glyph size and stroke width and fills a quarter of the area with the same
@@ -62,6 +68,7 @@ fn main() {
     let mut child = None;
     let mut keep = None;
     let mut batch = 0usize;
+    let mut front_end = false;
     let mut extra = Vec::new();
     let mut i = 0;
     while i < args.len() {
@@ -72,6 +79,7 @@ fn main() {
             }
             "--peer" => peer = true,
             "--no-scans" => scans = false,
+            "--front-end" => front_end = true,
             "--batch" => {
                 i += 1;
                 batch = args.get(i).and_then(|v| v.parse().ok()).unwrap_or(16);
@@ -95,6 +103,10 @@ fn main() {
 
     if batch > 0 {
         run_batch(batch, repeat);
+        return;
+    }
+    if front_end {
+        run_front_end(repeat.max(5));
         return;
     }
     let temp = tempfile::tempdir().expect("temporary directory");
@@ -209,7 +221,7 @@ fn main() {
             verdict(large.wall / small.wall <= 4.5)
         );
     }
-    // Issue 4's peer goal, per input traced side by side.
+    // The peer goal of docs/performance.md, per input traced side by side.
     let ratios: Vec<String> = results
         .iter()
         .filter_map(|(name, figures, peer)| {
@@ -305,6 +317,100 @@ fn run_batch(count: usize, repeat: usize) {
     );
 }
 
+/// What the automatic front end's choices cost on a gray A4 page: each capture traced with the
+/// defaults (A) and with their decisions forced (B: the threshold, polarity and dropout the
+/// defaults chose, given as parameters), `repeat` rounds of A then B; medians and the median of
+/// the pairwise CPU ratios. The outputs of A and B are the same graph.
+fn run_front_end(repeat: usize) {
+    use ridgeline::ThresholdUsed;
+    use ridgeline_testkit::synth::{degrade, Recipe, SplitMix64};
+
+    let dir = tempfile::tempdir().expect("temporary directory");
+    let (w, h) = (2480, 3508);
+    let case = ridgeline_testkit::synth::page(w, h, 1);
+    let recipe = |inverted: bool, falloff: f64| Recipe {
+        inverted,
+        paper: if inverted { 40 } else { 230 },
+        ink: if inverted { 225 } else { 35 },
+        blur: 1.0,
+        falloff,
+        light_angle: 0.6,
+        noise: 6.0,
+        jpeg_quality: 70,
+    };
+    let captures = [
+        ("even", recipe(false, 0.0)),
+        ("uneven", recipe(false, 0.5)),
+        ("uneven inv", recipe(true, 0.5)),
+    ];
+    let exe = std::env::current_exe().expect("own path");
+    println!(
+        "front end's choices on the gray A4 page ({w}x{h}): A = defaults, B = A's decisions forced; \
+         median of {repeat} rounds; load average {}",
+        load_average()
+    );
+    println!(
+        "{:<11} {:<28} {:>8} {:>8} {:>7} {:>7} {:>7} {:>9}",
+        "capture", "decided", "A binar", "B binar", "A CPU", "B CPU", "A/B CPU", "same graph"
+    );
+    for (k, (name, recipe)) in captures.iter().enumerate() {
+        let mut rng = SplitMix64::new(k as u64 + 1);
+        let gray = degrade(&case.strokes, w, h, recipe, &mut rng);
+        let path = dir.path().join(format!("gray_{k}.png"));
+        gray.save(&path).expect("write capture PNG");
+        let trace = ridgeline::trace_image(&gray, &Params::default()).expect("trace");
+        let Some(decided) = trace.decisions else {
+            println!("{name:<11} no decisions recorded");
+            continue;
+        };
+        let threshold = match decided.threshold {
+            ThresholdUsed::Otsu { level } => serde_json::json!({"method": "fixed", "level": level}),
+            ThresholdUsed::Local { .. } => serde_json::json!({"method": "local"}),
+            other => {
+                println!("{name:<11} decided {other:?}: not a choice this benchmark forces");
+                continue;
+            }
+        };
+        let forced = serde_json::json!({
+            "threshold": threshold,
+            "polarity": decided.polarity,
+            "dropout": decided.dropout,
+        })
+        .to_string();
+        let forced_trace =
+            ridgeline::trace_image(&gray, &params_over_defaults(&forced)).expect("trace forced");
+        let same = trace.graph == forced_trace.graph;
+        let (mut a, mut b, mut ratios) = (Vec::new(), Vec::new(), Vec::new());
+        for _ in 0..repeat {
+            let (Some(fa), Some(fb)) = (
+                spawn_child_with(&exe, &path, 1, None),
+                spawn_child_with(&exe, &path, 1, Some(&forced)),
+            ) else {
+                continue;
+            };
+            ratios.push(fa.cpu / fb.cpu.max(1e-9));
+            a.push(fa);
+            b.push(fb);
+        }
+        let (Some(ma), Some(mb), Some(ratio)) =
+            (median_figures(&a), median_figures(&b), median(&mut ratios))
+        else {
+            println!("{name:<11} failed");
+            continue;
+        };
+        let decided_text = match decided.threshold {
+            ThresholdUsed::Otsu { level } => format!("otsu {level}, {}", decided.polarity),
+            ThresholdUsed::Local { window } => format!("local {window} px, {}", decided.polarity),
+            _ => String::new(),
+        };
+        println!(
+            "{name:<11} {decided_text:<28} {:>8.3} {:>8.3} {:>7.3} {:>7.3} {:>7.3} {:>9}",
+            ma.stages[1], mb.stages[1], ma.cpu, mb.cpu, ratio, same
+        );
+    }
+    println!("load average at the end: {}", load_average());
+}
+
 /// The 1-minute load average: the machine is shared, and wall times mean little without it.
 fn load_average() -> String {
     std::fs::read_to_string("/proc/loadavg")
@@ -373,13 +479,27 @@ fn largest_images(dir: &Path, count: usize) -> Vec<PathBuf> {
 }
 
 fn spawn_child(exe: &Path, path: &Path, repeat: usize) -> Option<Figures> {
-    let output = Command::new(exe)
+    spawn_child_with(exe, path, repeat, None)
+}
+
+/// [`spawn_child`] with `params`, JSON fields laid over the defaults (`RIDGELINE_PARAMS`).
+fn spawn_child_with(
+    exe: &Path,
+    path: &Path,
+    repeat: usize,
+    params: Option<&str>,
+) -> Option<Figures> {
+    let mut command = Command::new(exe);
+    command
         .arg("--child")
         .arg(path)
         .arg("--repeat")
-        .arg(repeat.to_string())
-        .output()
-        .ok()?;
+        .arg(repeat.to_string());
+    match params {
+        Some(json) => command.env("RIDGELINE_PARAMS", json),
+        None => command.env_remove("RIDGELINE_PARAMS"),
+    };
+    let output = command.output().ok()?;
     if !output.status.success() {
         eprintln!(
             "child failed on {}: {}",
@@ -438,16 +558,7 @@ fn run_child(path: &Path, repeat: usize) {
     // Variants on one build: the fields of the JSON object in `RIDGELINE_PARAMS` laid over the
     // defaults (as in the quality benchmark).
     let params = match std::env::var("RIDGELINE_PARAMS") {
-        Ok(json) => {
-            let mut value = serde_json::to_value(Params::default()).expect("params serialize");
-            let over: serde_json::Value = serde_json::from_str(&json).expect("RIDGELINE_PARAMS");
-            if let (Some(fields), Some(over)) = (value.as_object_mut(), over.as_object()) {
-                for (key, v) in over {
-                    fields.insert(key.clone(), v.clone());
-                }
-            }
-            serde_json::from_value(value).expect("RIDGELINE_PARAMS fields")
-        }
+        Ok(json) => params_over_defaults(&json),
         Err(_) => Params::default(),
     };
     let out_dir = tempfile::tempdir().expect("temporary directory");
@@ -488,6 +599,18 @@ fn run_child(path: &Path, repeat: usize) {
     line.push_str(&format!(" {}", median(runs.iter().map(|r| r.2).collect())));
     line.push_str(&format!(" {} {ink} {vertices} {edges}", peak_mb()));
     println!("{line}");
+}
+
+/// The defaults with the fields of the JSON object `json` laid over them.
+fn params_over_defaults(json: &str) -> Params {
+    let mut value = serde_json::to_value(Params::default()).expect("params serialize");
+    let over: serde_json::Value = serde_json::from_str(json).expect("RIDGELINE_PARAMS");
+    if let (Some(fields), Some(over)) = (value.as_object_mut(), over.as_object()) {
+        for (key, v) in over {
+            fields.insert(key.clone(), v.clone());
+        }
+    }
+    serde_json::from_value(value).expect("RIDGELINE_PARAMS fields")
 }
 
 /// CPU time of this process so far (all threads, from each thread's `schedstat`, in ns), in

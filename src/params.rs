@@ -40,7 +40,9 @@ pub enum Threshold {
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase")]
 pub enum Polarity {
-    /// Decide from the image: the minority side (after thresholding) is ink. The default.
+    /// Decide from stroke evidence: ink is the side made of strokes (thinner than the other
+    /// side), paper the side that fills the border; dark when the evidence is weak, with a
+    /// warning (docs/design.md, "The front end"). The default.
     Auto,
     /// Dark strokes on light paper.
     #[serde(rename = "dark", alias = "darkink")]

@@ -8,7 +8,7 @@
 //! images in the temporary folder `ridgeline-fingerprint-bench`.
 //!
 //! ```text
-//! cargo run --release --example fingerprint [-- --peer] [--pictures] [--real DIR]
+//! cargo run --release --example fingerprint [-- --peer] [--pictures] [--real DIR] [--enhance smoothing]
 //! ```
 //!
 //! Truth: the ends of the true ridge polylines more than 16 px inside the image and well inside
@@ -46,7 +46,13 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         .unwrap_or_else(|| PathBuf::from("../shared/data/fingerprints"));
     let work = std::env::temp_dir().join("ridgeline-fingerprint-bench");
     std::fs::create_dir_all(&work)?;
-    let params = Params::fingerprint();
+    // `--enhance smoothing` measures oriented smoothing in place of the Gabor filter.
+    let mut params = Params::fingerprint();
+    if let Some(method) = args.windows(2).find(|w| w[0] == "--enhance").map(|w| &w[1]) {
+        let print = params.fingerprint.as_mut().expect("the preset has one");
+        print.enhancement = serde_json::from_value(serde_json::Value::String(method.clone()))
+            .map_err(|_| format!("--enhance {method}: expected gabor or smoothing"))?;
+    }
 
     // Synthetic prints with a real print's minutia density, clean and degraded.
     let variants = [

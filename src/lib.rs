@@ -110,8 +110,8 @@ pub use gray::GrayView;
 pub use image::GrayImage;
 pub use node_graph::{GraphNode, NodeGraph};
 pub use params::{
-    ClusterRule, FingerprintParams, LaplacianRule, Limits, Params, Polarity, RMinRule, Threshold,
-    DENSE_SPACING, MAX_WEISZFELD_ITERATIONS,
+    ClusterRule, Enhancement, FingerprintParams, LaplacianRule, Limits, Params, Polarity, RMinRule,
+    Threshold, DENSE_SPACING, MAX_WEISZFELD_ITERATIONS,
 };
 pub use point_set::{Grid, PointSet};
 pub use samples::{Node, Samples};

@@ -128,6 +128,19 @@ impl Default for Limits {
 /// far fewer).
 pub const MAX_WEISZFELD_ITERATIONS: usize = 1000;
 
+/// The fingerprint front end's contextual enhancement (docs/fingerprints.md, "Enhancement").
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Enhancement {
+    /// An even Gabor filter per block, tuned to its ridge orientation and period (Hong, Wan and
+    /// Jain; pyfing's GBFEN). The default.
+    #[default]
+    Gabor,
+    /// Oriented smoothing (SourceAFIS's method): an average along the ridge compared with its
+    /// mean across one ridge period.
+    Smoothing,
+}
+
 /// The fingerprint front end's tunables ([`Params::fingerprint`]; docs/fingerprints.md). The
 /// defaults are pyfing's values for 500 dpi prints where it has one.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
@@ -159,6 +172,13 @@ pub struct FingerprintParams {
     pub gabor_sigma_across: f64,
     /// Gabor envelope along the ridges, in periods. Default value: 0.4167.
     pub gabor_sigma_along: f64,
+    /// Which enhancement: the Gabor filter or oriented smoothing. Default value: gabor.
+    #[serde(default)]
+    pub enhancement: Enhancement,
+    /// Length of the oriented smoothing's average along the ridge, in periods (SourceAFIS: 14 px
+    /// at 500 dpi, about 1.5 periods). Default value: 1.5.
+    #[serde(default = "smoothing_along")]
+    pub smoothing_along: f64,
     /// Minutiae closer than this to the print's border (or the image's) are dropped, px
     /// (pyfing's SBMEX: 10). Default value: 12.
     pub border_margin: f64,
@@ -194,6 +214,8 @@ impl Default for FingerprintParams {
             default_period: 9.0,
             gabor_sigma_across: 5.0 / 12.0,
             gabor_sigma_along: 5.0 / 12.0,
+            enhancement: Enhancement::Gabor,
+            smoothing_along: smoothing_along(),
             border_margin: 12.0,
             fragment_periods: 1.5,
             spur_periods: 1.0,
@@ -202,6 +224,10 @@ impl Default for FingerprintParams {
             cloud_periods: 1.0,
         }
     }
+}
+
+fn smoothing_along() -> f64 {
+    1.5
 }
 
 impl FingerprintParams {
@@ -259,6 +285,7 @@ impl FingerprintParams {
                 2.0,
             ),
             ("fingerprint.gabor_sigma_along", self.gabor_sigma_along, 2.0),
+            ("fingerprint.smoothing_along", self.smoothing_along, 8.0),
         ];
         for (field, v, most) in positive {
             if !(v.is_finite() && v > 0.0 && v <= most) {

@@ -647,6 +647,36 @@ fn iso_records_take_the_resolution_the_file_states() {
     assert_eq!(resolution(&["stated.png", "--dpi", "300"]), (118, 118));
 }
 
+/// `--enhance smoothing` runs the fingerprint front end with oriented smoothing in place of the
+/// Gabor filter (it implies `--fingerprint`), records it, and finds minutiae with a quality; an
+/// unknown method is a usage error.
+#[test]
+fn enhance_chooses_the_fingerprint_enhancement() {
+    let dir = temp_dir();
+    let d = dir.path();
+    write_arch_print(&d.join("print.png"));
+    let traced = |method: &str| -> serde_json::Value {
+        let out = format!("{method}.json");
+        crate::support::run_ok(&["print.png", "--enhance", method, "-o", &out], d);
+        serde_json::from_str(&fs::read_to_string(d.join(&out)).expect("json")).expect("parses")
+    };
+    let smoothing = traced("smoothing");
+    assert_eq!(
+        smoothing["parameters"]["fingerprint"]["enhancement"],
+        "smoothing"
+    );
+    let minutiae = smoothing["minutiae"].as_array().expect("minutiae listed");
+    assert!(!minutiae.is_empty());
+    assert!(minutiae.iter().all(|m| m["quality"].as_u64().is_some()));
+    let gabor = traced("gabor");
+    assert_eq!(gabor["parameters"]["fingerprint"]["enhancement"], "gabor");
+    assert_ne!(gabor["edges"], smoothing["edges"], "the two filters differ");
+    let bad = crate::support::ridgeline(&["print.png", "--enhance", "median", "-o", "x.json"], d);
+    assert_eq!(bad.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&bad.stderr).contains("smoothing"));
+    assert!(!d.join("x.json").exists());
+}
+
 /// `--fingerprint` writes the same minutiae as JSON (with a quality), as NIST `.xyt` lines and as
 /// an ISO/IEC 19794-2 record whose header matches the file; without it nothing of the front end
 /// appears in the output.

@@ -27,7 +27,9 @@ use ridgeline::export::Features;
 use ridgeline::minutiae::{minutiae, MinutiaeOptions};
 use ridgeline::raster::{Page, Picture};
 use ridgeline::strokes::{strokes, StrokeOptions};
-use ridgeline::{ClusterRule, LaplacianRule, Params, Polarity, RMinRule, StrokeGraph, Threshold};
+use ridgeline::{
+    ClusterRule, Enhancement, LaplacianRule, Params, Polarity, RMinRule, StrokeGraph, Threshold,
+};
 
 /// Sauvola window when `--sauvola` is given without `--window` (the value `Threshold` documents).
 const SAUVOLA_WINDOW: u32 = 31;
@@ -268,6 +270,13 @@ pub struct Cli {
     #[arg(long, help_heading = "Method")]
     fingerprint: bool,
 
+    /// The fingerprint front end's enhancement: a Gabor filter tuned to each block's ridge
+    /// orientation and period, or oriented smoothing (an average along the ridge against its mean
+    /// across one period: faster, docs/fingerprints.md compares them); implies --fingerprint
+    /// [default: gabor]
+    #[arg(long, value_name = "METHOD", help_heading = "Method")]
+    enhance: Option<EnhanceArg>,
+
     /// Resolution written into ISO/IEC 19794-2 records, dots per inch [default: the one the
     /// image file states (PNG pHYs, JPEG JFIF density, TIFF XResolution), else 500]
     #[arg(long, value_name = "DPI", help_heading = "Output")]
@@ -506,6 +515,15 @@ enum LaplacianArg {
     Uniform,
 }
 
+/// `--enhance` values.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+enum EnhanceArg {
+    /// Gabor filter per block.
+    Gabor,
+    /// Oriented smoothing along and across the ridges.
+    Smoothing,
+}
+
 /// `--dropout` values.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
 enum Dropout {
@@ -541,8 +559,14 @@ impl TryFrom<&Cli> for Params {
         } else {
             Params::default()
         };
-        if cli.fingerprint {
+        if cli.fingerprint || cli.enhance.is_some() {
             params.fingerprint = Params::fingerprint().fingerprint;
+        }
+        if let (Some(method), Some(print)) = (cli.enhance, params.fingerprint.as_mut()) {
+            print.enhancement = match method {
+                EnhanceArg::Gabor => Enhancement::Gabor,
+                EnhanceArg::Smoothing => Enhancement::Smoothing,
+            };
         }
         if let Some(method) = cli.binarize {
             params.threshold = match method {
@@ -842,7 +866,7 @@ fn run_with(cli: &Cli) -> Result<ExitCode> {
         embed_image: !cli.no_image,
         pretty: cli.pretty,
         strokes: cli.strokes,
-        minutiae: cli.minutiae || cli.fingerprint,
+        minutiae: cli.minutiae || cli.fingerprint || cli.enhance.is_some(),
         dpi: cli.dpi,
         curves,
         reserved: Reserved::default(),

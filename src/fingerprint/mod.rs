@@ -18,8 +18,9 @@ mod frequency;
 pub(crate) mod math;
 mod orientation;
 mod segment;
+mod smooth;
 
-use crate::{Binary, FingerprintParams, GrayView};
+use crate::{Binary, Enhancement, FingerprintParams, GrayView};
 use fields::{BlockGrid, OrientationField, Plane, RidgePeriods, Segmentation};
 use serde::Serialize;
 
@@ -77,7 +78,11 @@ pub(crate) fn analyze(
     drop((gx, gy));
     let periods = frequency::ridge_periods(&smoothed, &segmentation, &orientation, params);
     drop(smoothed);
-    let mut enhanced = enhance::enhance(
+    let enhance = match params.enhancement {
+        Enhancement::Gabor => enhance::enhance,
+        Enhancement::Smoothing => smooth::enhance,
+    };
+    let mut enhanced = enhance(
         &plane,
         &segmentation,
         &orientation,

@@ -13,6 +13,12 @@
 //! images are traced too and written to `target/gallery-shared/`: they are read in place and never
 //! copied into the repository.
 //!
+//! It also writes `OUTDIR/fingerprint-minutiae.png`, for the README's fingerprint section: a
+//! synthetic print of the test kit (`dense_print_cases`) captured blurred, unevenly lit, noised and
+//! JPEG-compressed, traced with `--fingerprint`: the capture, the enhanced image, and the ridges
+//! with the minutiae over it (endings red circles, bifurcations blue squares, a line along each
+//! one's direction).
+//!
 //! Prints one line per image: size, ink pixels, vertices, edges, endpoints, junctions, time.
 
 use std::fs;
@@ -58,6 +64,8 @@ fn main() -> Result<()> {
         let stage_dir = stages.then(|| out_dir.join("stages"));
         show(&input, &out_dir, &params, stage_dir.as_deref())?;
     }
+
+    show_print(&out_dir)?;
 
     let shared = root.join("../shared/data");
     // Default parameters everywhere: the gallery shows what a first run gives.
@@ -159,6 +167,103 @@ fn show(input: &Path, out_dir: &Path, params: &Params, stage_dir: Option<&Path>)
             fs::write(dir.join(name), png)?;
         }
     }
+    Ok(())
+}
+
+/// The README's fingerprint picture: a degraded synthetic print, its enhanced image, and the traced
+/// ridges with the minutiae over the enhanced image, the middle of each at 2x.
+fn show_print(out_dir: &Path) -> Result<()> {
+    use ridgeline::export::svg::Backdrop;
+    use ridgeline::export::Features;
+    use ridgeline_testkit::synth::{degrade, dense_print_cases, Recipe, SplitMix64};
+
+    let case = dense_print_cases()
+        .into_iter()
+        .find(|c| c.name.contains("loop"))
+        .ok_or_else(|| anyhow!("the kit has a loop print"))?;
+    let (w, h) = (case.binary.width, case.binary.height);
+    let recipe = Recipe {
+        inverted: false,
+        paper: 215,
+        ink: 70,
+        blur: 1.2,
+        falloff: 0.35,
+        light_angle: 0.8,
+        noise: 14.0,
+        jpeg_quality: 70,
+    };
+    let gray = degrade(&case.strokes, w, h, &recipe, &mut SplitMix64::new(7));
+    let trace = ridgeline::trace_image(&gray, &Params::fingerprint())?;
+    let print = trace
+        .fingerprint
+        .as_ref()
+        .ok_or_else(|| anyhow!("the fingerprint preset keeps its front end"))?;
+    // The response, ridges dark and zero mid-gray, scaled by its 95th percentile.
+    let values = &print.analysis.enhanced.values;
+    let mut magnitudes: Vec<f32> = values
+        .iter()
+        .map(|v| v.abs())
+        .filter(|&v| v > 0.0)
+        .collect();
+    magnitudes.sort_by(f32::total_cmp);
+    let top = magnitudes
+        .get(magnitudes.len() * 95 / 100)
+        .copied()
+        .unwrap_or(1.0)
+        .max(1e-6);
+    let enhanced = GrayImage::from_fn(w, h, |x, y| {
+        let r = values[(y * w + x) as usize] / top;
+        image::Luma([(128.0 - 127.0 * r.clamp(-1.0, 1.0)).round() as u8])
+    });
+    let features = Features::default().with_minutiae(Some(&print.minutiae));
+    let options = SvgOptions::default()
+        .with_show_vertices(false)
+        .with_stroke_width(Some(0.8));
+    let document = svg::to_string_with(
+        &trace.graph,
+        Some(Backdrop::Gray(&enhanced)),
+        &options,
+        &features,
+    );
+    let tree = usvg::Tree::from_str(&document, &usvg::Options::default())
+        .context("resvg cannot parse the SVG")?;
+    // 160 px of the print at 2x: about five ridge periods around the core each way.
+    let scale = 2.0;
+    let side = 160.min(w).min(h);
+    let [x0, y0] = [(w - side) / 2, (h - side) / 2];
+    let crop = |image: &GrayImage| imageops::crop_imm(image, x0, y0, side, side).to_image();
+    let panels = [
+        scaled_input(&crop(&gray), scale),
+        scaled_input(&crop(&enhanced), scale),
+        render_svg(
+            &tree,
+            [x0, y0],
+            (side as f64 * scale) as u32,
+            (side as f64 * scale) as u32,
+            scale,
+        )?,
+    ];
+    let (pw, ph) = panels[0].dimensions();
+    let mut picture = RgbImage::from_pixel(3 * pw + 4 * GAP, ph + 2 * GAP, Rgb([255, 255, 255]));
+    for (k, panel) in panels.iter().enumerate() {
+        imageops::replace(
+            &mut picture,
+            panel,
+            (GAP + k as u32 * (pw + GAP)) as i64,
+            GAP as i64,
+        );
+    }
+    fs::create_dir_all(out_dir)?;
+    save(&picture, &out_dir.join("fingerprint-minutiae.png"))?;
+    println!(
+        "{:<44} {:>11} {:>8} {:>6} {:>6} minutiae {}",
+        format!("synthetic print {} (degraded)", case.name),
+        format!("{w}x{h}"),
+        trace.binary.as_ref().map_or(0, |b| b.count()),
+        trace.graph.vertices.len(),
+        trace.graph.edges.len(),
+        print.minutiae.len()
+    );
     Ok(())
 }
 

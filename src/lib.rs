@@ -314,6 +314,11 @@ fn with_minutiae(
     print: &FingerprintParams,
 ) -> Trace {
     trace.timings.binarize = enhance;
+    trace.graph = fingerprint::prior::ridges_along_the_flow(
+        std::mem::take(&mut trace.graph),
+        &analysis,
+        print,
+    );
     let minutiae = minutiae::fingerprint_minutiae(&trace.graph, &analysis, print);
     trace.binary = Some(binary);
     trace.fingerprint = Some(Box::new(FingerprintTrace {

@@ -17,6 +17,7 @@ pub mod fields;
 mod frequency;
 pub(crate) mod math;
 mod orientation;
+pub(crate) mod prior;
 mod segment;
 mod smooth;
 

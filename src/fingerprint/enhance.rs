@@ -121,7 +121,7 @@ fn gabor_kernel(
 mod tests {
     use super::*;
     use crate::fingerprint::fields::BlockGrid;
-    use crate::fingerprint::tests::ridges_in_disk;
+    use crate::fingerprint::tests::{ridge_agreement, ridges_in_disk, uniform_print};
 
     #[test]
     fn kernel_is_zero_mean_unit_energy_and_peaks_on_the_ridge() {
@@ -148,20 +148,7 @@ mod tests {
             }
         }
         let grid = BlockGrid::new(w as u32, h as u32, 8);
-        let s = Segmentation {
-            grid,
-            inside: vec![true; grid.len()],
-        };
-        let field = OrientationField {
-            grid,
-            angle: vec![0.0; grid.len()],
-            coherence: vec![1.0; grid.len()],
-        };
-        let periods = RidgePeriods {
-            grid,
-            period: vec![period as f32; grid.len()],
-            measured: vec![true; grid.len()],
-        };
+        let (s, field, periods) = uniform_print(grid, 0.0, period as f32);
         let e = enhance(
             &gray,
             &s,
@@ -170,21 +157,7 @@ mod tests {
             &FingerprintParams::default(),
             true,
         );
-        // Truth: the ridge (dark) where cos(2 pi y / T) > 0.5 in `ridges_in_disk`.
-        let mut agree = 0;
-        let mut total = 0;
-        for y in 16..80 {
-            for x in 16..80 {
-                let phase = TAU * ((y as f64 + 0.5) - 48.0) / period;
-                if phase.cos().abs() < 0.5 {
-                    continue;
-                }
-                total += 1;
-                if (e.values[y * w + x] > 0.0) == (phase.cos() > 0.0) {
-                    agree += 1;
-                }
-            }
-        }
-        assert!(agree as f64 > 0.99 * total as f64, "{agree} / {total}");
+        let agree = ridge_agreement(&e, period, 0.0, [48.0, 48.0], (16, 80));
+        assert!(agree > 0.99, "{agree}");
     }
 }

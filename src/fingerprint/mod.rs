@@ -136,6 +136,59 @@ pub(crate) mod tests {
     use crate::GrayImage;
     use std::f64::consts::TAU;
 
+    /// Every block of `grid` print, with ridge direction `theta` and period `period`.
+    pub(crate) fn uniform_print(
+        grid: BlockGrid,
+        theta: f32,
+        period: f32,
+    ) -> (Segmentation, OrientationField, RidgePeriods) {
+        (
+            Segmentation {
+                grid,
+                inside: vec![true; grid.len()],
+            },
+            OrientationField {
+                grid,
+                angle: vec![theta; grid.len()],
+                coherence: vec![1.0; grid.len()],
+            },
+            RidgePeriods {
+                grid,
+                period: vec![period; grid.len()],
+                measured: vec![true; grid.len()],
+            },
+        )
+    }
+
+    /// Of the pixels in `[lo, hi)²` well inside a ridge or a valley of [`ridges_in_disk`]'s
+    /// pattern (`|cos(2π u / T)| ≥ 0.5`), the share where `enhanced` is positive exactly on the
+    /// ridges.
+    pub(crate) fn ridge_agreement(
+        enhanced: &Plane,
+        period: f64,
+        theta: f64,
+        centre: [f64; 2],
+        (lo, hi): (usize, usize),
+    ) -> f64 {
+        let normal = [-theta.sin(), theta.cos()];
+        let w = enhanced.width as usize;
+        let (mut agree, mut total) = (0usize, 0usize);
+        for y in lo..hi {
+            for x in lo..hi {
+                let (dx, dy) = (x as f64 + 0.5 - centre[0], y as f64 + 0.5 - centre[1]);
+                let wave = (TAU * (dx * normal[0] + dy * normal[1]) / period).cos();
+                if wave.abs() < 0.5 {
+                    continue;
+                }
+                total += 1;
+                if (enhanced.values[y * w + x] > 0.0) == (wave > 0.0) {
+                    agree += 1;
+                }
+            }
+        }
+        agree as f64 / total.max(1) as f64
+    }
+
     /// Straight ridges of `period` px running at `theta` (dark where `cos(2π u / T) > 0`, `u` the
     /// distance from `centre` along the normal), inside a disk of `radius`; flat 200 outside.
     pub(crate) fn ridges_in_disk(

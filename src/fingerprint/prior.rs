@@ -249,72 +249,38 @@ fn reversed(mut edge: Edge) -> Edge {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::fingerprint::fields::{BlockGrid, OrientationField, RidgePeriods, Segmentation};
-    use crate::stroke_graph::Vertex;
+    use crate::fingerprint::fields::BlockGrid;
+    use crate::fingerprint::tests::uniform_print;
+    use crate::stroke_graph::graph_from;
 
     /// A print of horizontal ridges of period 9 over a 100 x 60 image.
     fn horizontal_print() -> PrintAnalysis {
-        let grid = BlockGrid::new(100, 60, 8);
+        let (segmentation, orientation, periods) =
+            uniform_print(BlockGrid::new(100, 60, 8), 0.0, 9.0);
         PrintAnalysis {
-            segmentation: Segmentation {
-                grid,
-                inside: vec![true; grid.len()],
-            },
-            orientation: OrientationField {
-                grid,
-                angle: vec![0.0; grid.len()],
-                coherence: vec![1.0; grid.len()],
-            },
-            periods: RidgePeriods {
-                grid,
-                period: vec![9.0; grid.len()],
-                measured: vec![true; grid.len()],
-            },
+            segmentation,
+            orientation,
+            periods,
             ..PrintAnalysis::default()
         }
     }
 
-    /// A graph of straight-segment edges between the given vertex positions.
+    /// A graph of straight edges `(from, to)` between `positions`, 8 segments each, 4 px wide.
     fn graph(positions: &[[f64; 2]], edges: &[(usize, usize)]) -> StrokeGraph {
-        let mut degree = vec![0; positions.len()];
-        let edges = edges
+        let polylines: Vec<(usize, usize, Vec<[f64; 2]>)> = edges
             .iter()
             .map(|&(a, b)| {
-                degree[a] += 1;
-                degree[b] += 1;
                 let (p, q) = (positions[a], positions[b]);
-                let n = 8;
-                let points: Vec<[f64; 2]> = (0..=n)
+                let points = (0..=8)
                     .map(|k| {
-                        let t = k as f64 / n as f64;
+                        let t = f64::from(k) / 8.0;
                         [p[0] + t * (q[0] - p[0]), p[1] + t * (q[1] - p[1])]
                     })
                     .collect();
-                let l = ((q[0] - p[0]).powi(2) + (q[1] - p[1]).powi(2)).sqrt();
-                let d = [(q[0] - p[0]) / l, (q[1] - p[1]) / l];
-                Edge {
-                    from: a,
-                    to: b,
-                    widths: vec![4.0; points.len()],
-                    directions: vec![d; points.len()],
-                    points,
-                }
+                (a, b, points)
             })
             .collect();
-        StrokeGraph {
-            width: 100,
-            height: 60,
-            vertices: positions
-                .iter()
-                .zip(degree)
-                .map(|(&pos, degree)| Vertex {
-                    pos,
-                    degree,
-                    width: 4.0,
-                })
-                .collect(),
-            edges,
-        }
+        graph_from(positions, &polylines, 4.0)
     }
 
     #[test]

@@ -149,8 +149,7 @@ impl Lines<'_> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::fingerprint::tests::ridges_in_disk;
-    use std::f64::consts::TAU;
+    use crate::fingerprint::tests::{ridge_agreement, ridges_in_disk, uniform_print};
 
     #[test]
     fn smoothing_restores_ridges_through_noise_and_a_gap() {
@@ -165,20 +164,7 @@ mod tests {
             }
         }
         let grid = BlockGrid::new(w as u32, h as u32, 8);
-        let s = Segmentation {
-            grid,
-            inside: vec![true; grid.len()],
-        };
-        let field = OrientationField {
-            grid,
-            angle: vec![theta as f32; grid.len()],
-            coherence: vec![1.0; grid.len()],
-        };
-        let periods = RidgePeriods {
-            grid,
-            period: vec![period as f32; grid.len()],
-            measured: vec![true; grid.len()],
-        };
+        let (s, field, periods) = uniform_print(grid, theta as f32, period as f32);
         let e = enhance(
             &gray,
             &s,
@@ -187,42 +173,17 @@ mod tests {
             &FingerprintParams::default(),
             true,
         );
-        // Truth: ridge (dark) where cos(2 pi u / T) > 0, u along the normal from the centre.
-        let normal = [-theta.sin(), theta.cos()];
-        let (mut agree, mut total) = (0, 0);
-        for y in 16..80 {
-            for x in 16..80 {
-                let u = (x as f64 + 0.5 - 48.0) * normal[0] + (y as f64 + 0.5 - 48.0) * normal[1];
-                let wave = (TAU * u / period).cos();
-                if wave.abs() < 0.5 {
-                    continue;
-                }
-                total += 1;
-                if (e.values[y * w + x] > 0.0) == (wave > 0.0) {
-                    agree += 1;
-                }
-            }
-        }
-        assert!(agree as f64 > 0.99 * total as f64, "{agree} / {total}");
+        let agree = ridge_agreement(&e, period, theta, [48.0, 48.0], (16, 80));
+        assert!(agree > 0.99, "{agree}");
     }
 
     #[test]
     fn nothing_outside_the_print() {
         let gray = ridges_in_disk(64, 64, 8.0, 0.0, [32.0, 32.0], 200.0);
         let grid = BlockGrid::new(64, 64, 8);
-        let mut inside = vec![false; grid.len()];
-        inside[grid.index(3, 3)] = true;
-        let s = Segmentation { grid, inside };
-        let field = OrientationField {
-            grid,
-            angle: vec![0.0; grid.len()],
-            coherence: vec![1.0; grid.len()],
-        };
-        let periods = RidgePeriods {
-            grid,
-            period: vec![8.0; grid.len()],
-            measured: vec![true; grid.len()],
-        };
+        let (mut s, field, periods) = uniform_print(grid, 0.0, 8.0);
+        s.inside.iter_mut().for_each(|inside| *inside = false);
+        s.inside[grid.index(3, 3)] = true;
         let e = enhance(
             &gray,
             &s,

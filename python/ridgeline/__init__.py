@@ -96,7 +96,9 @@ def trace(
 
     Every other keyword is a parameter of the library, with the same name and default (see
     :func:`default_params`); a dict given for ``limits`` or ``threshold`` updates the default one,
-    so ``limits={"max_points": 10**6}`` keeps the other limits.
+    so ``limits={"max_points": 10**6}`` keeps the other limits. ``fingerprint=True`` runs the
+    fingerprint front end as the command line's ``--fingerprint`` does, and a dict for it updates
+    that preset: ``fingerprint={"enhancement": "smoothing"}`` is ``--enhance smoothing``.
 
     Raises :class:`ParameterError` (a ``ValueError``) for a parameter out of range,
     :class:`LimitError` for an input beyond ``limits``, :class:`DecodeError` for bytes that are not

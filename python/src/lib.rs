@@ -227,6 +227,7 @@ fn traced(
 ) -> Traced {
     let chained = strokes(&trace.graph, &StrokeOptions::default());
     Traced {
+        print_minutiae: trace.fingerprint.map(|print| print.minutiae),
         decisions: trace.decisions,
         warnings: trace.warnings,
         binary: trace.binary,

@@ -143,7 +143,8 @@ pub fn cached_defaults(py: Python<'_>) -> PyResult<Bound<'_, PyDict>> {
 
 /// `Params` from keyword arguments over the defaults. A mapping given for a field whose value is a
 /// mapping (`limits`, `threshold`) updates the default one, so `limits={"max_points": 10}` keeps
-/// the other limits. Unknown names are a `TypeError`, as for any Python function; values serde
+/// the other limits; for `fingerprint` (off by default) `True` is the preset's front end and a
+/// mapping updates it, so `fingerprint={"enhancement": "smoothing"}` changes one setting. Unknown names are a `TypeError`, as for any Python function; values serde
 /// cannot read, keys it would ignore and values out of range are a [`ParameterError`] naming the
 /// field.
 pub fn from_kwargs(py: Python<'_>, kwargs: Option<&Bound<'_, PyDict>>) -> PyResult<Params> {
@@ -168,6 +169,25 @@ pub fn from_kwargs(py: Python<'_>, kwargs: Option<&Bound<'_, PyDict>>) -> PyResu
                 update.update(mapping)?;
                 update.into_any()
             }
+            // A section that is off by default (`fingerprint`): `True` turns it on as its preset
+            // has it, `False` off, and a mapping updates the preset's values.
+            (Some(default), mapping) if default.is_none() => match preset_section(py, name)? {
+                Some(preset) if value.is_instance_of::<PyBool>() => {
+                    if value.is_truthy()? {
+                        preset.into_any()
+                    } else {
+                        py.None().into_bound(py)
+                    }
+                }
+                Some(preset) => match mapping {
+                    Ok(mapping) => {
+                        preset.update(mapping)?;
+                        preset.into_any()
+                    }
+                    Err(_) => value.clone(),
+                },
+                None => value.clone(),
+            },
             _ => value.clone(),
         };
         merged.set_item(name, &value)?;
@@ -180,6 +200,20 @@ pub fn from_kwargs(py: Python<'_>, kwargs: Option<&Bound<'_, PyDict>>) -> PyResu
     check_keys(py, &params, &given)?;
     params.validate().map_err(|err| errors::to_py(py, err))?;
     Ok(params)
+}
+
+/// The preset's value of a section that is off by default, as a fresh dict: `fingerprint` from
+/// [`Params::fingerprint`]; `None` for other fields.
+fn preset_section<'py>(py: Python<'py>, name: &str) -> PyResult<Option<Bound<'py, PyDict>>> {
+    let preset = to_dict(py, &Params::fingerprint(), None)?;
+    match preset.get_item(name)? {
+        Some(section) => Ok(section
+            .cast::<PyDict>()
+            .ok()
+            .map(|dict| dict.copy())
+            .transpose()?),
+        None => Ok(None),
+    }
 }
 
 /// The error for a set of keywords serde could not read, naming the first field that fails on

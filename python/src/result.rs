@@ -82,6 +82,8 @@ pub struct Traced {
     pub warnings: Vec<Warning>,
     /// For an array: whether its layout made the call copy it (`Trace._input_copied`).
     pub input_copied: Option<bool>,
+    /// With the fingerprint front end: the minutiae it kept inside the print, with a quality.
+    pub print_minutiae: Option<Vec<Minutia>>,
 }
 
 /// The result of `ridgeline.trace`, `ridgeline.trace_pages` or `ridgeline.trace_points`.
@@ -116,6 +118,10 @@ impl Trace {
         // the computing thread needs back.
         if let Some(found) = self.minutiae.get() {
             return found;
+        }
+        // The fingerprint front end's are filtered inside its print, as the command line's.
+        if let Some(print) = &self.traced.print_minutiae {
+            return self.minutiae.get_or_init(|| print.clone());
         }
         // A mask array is read as it is now (the trace kept no copy of it).
         let from_array = match &self.traced.backdrop {
@@ -428,7 +434,8 @@ impl Trace {
     }
 
     /// Fingerprint minutiae (ridge endings and bifurcations away from the print's border) as
-    /// dicts `{"kind", "vertex", "x", "y", "direction", "width"}`; computed on first use.
+    /// dicts `{"kind", "vertex", "x", "y", "direction", "width"}`, with `"quality"` (0-100) when
+    /// the fingerprint front end traced them (`fingerprint=True`); computed on first use.
     #[getter]
     fn minutiae<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyList>> {
         let list = PyList::empty(py);
@@ -444,6 +451,9 @@ impl Trace {
             dict.set_item("y", m.pos[1])?;
             dict.set_item("direction", m.direction)?;
             dict.set_item("width", m.width)?;
+            if let Some(quality) = m.quality {
+                dict.set_item("quality", quality)?;
+            }
             list.append(dict)?;
         }
         Ok(list)

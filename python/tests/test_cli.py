@@ -81,6 +81,22 @@ def test_the_fingerprint_presets_recorded_parameters_read_back(tmp_path, monkeyp
         assert json.loads(again.to_json())["parameters"] == recorded
 
 
+def test_fingerprint_true_is_the_preset_and_a_mapping_updates_it(tmp_path, monkeypatch):
+    monkeypatch.chdir(REPO)
+    source = "samples/fingerprint.png"
+    preset = json.loads(cli_output(tmp_path, source, "--fingerprint"))["parameters"]["fingerprint"]
+    on = ridgeline.trace(source, fingerprint=True)
+    assert json.loads(on.to_json())["parameters"]["fingerprint"] == preset
+    assert all("quality" in m for m in on.minutiae)
+    smoothing = ridgeline.trace(source, fingerprint={"enhancement": "smoothing"})
+    recorded = json.loads(smoothing.to_json())["parameters"]["fingerprint"]
+    assert recorded == {**preset, "enhancement": "smoothing"}
+    assert smoothing.to_json(minutiae=True) == cli_output(tmp_path, source, "--enhance", "smoothing")
+    assert json.loads(ridgeline.trace(source, fingerprint=False).to_json())["parameters"].get("fingerprint") is None
+    with pytest.raises(ridgeline.ParameterError, match="fingerprint.blocks"):
+        ridgeline.trace(source, fingerprint={"blocks": 8})
+
+
 def test_features_and_pretty_equal_the_command_lines(tmp_path, monkeypatch):
     monkeypatch.chdir(REPO)
     source = "samples/fingerprint.png"

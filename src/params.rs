@@ -176,6 +176,11 @@ pub struct FingerprintParams {
     /// turning too fast); the whole cloud goes, in ridge periods; 0 keeps clouds.
     /// Default value: 1.
     pub cloud_periods: f64,
+    /// A traced ridge counts for the minutiae only when at least this share of its length lies
+    /// on ridges the gray image confirms (darker than its local mean, for dark ridges): the
+    /// filter's ghost ridges in valleys wider than the period have no ends or forks of the
+    /// finger's; 0 counts every traced ridge. Default value: 0.5.
+    pub confirmed_share: f64,
 }
 
 impl Default for FingerprintParams {
@@ -198,6 +203,7 @@ impl Default for FingerprintParams {
             bridge_periods: 1.5,
             gap_periods: 2.0,
             cloud_periods: 1.0,
+            confirmed_share: 0.5,
         }
     }
 }
@@ -235,6 +241,12 @@ impl FingerprintParams {
             ("fingerprint.gap_periods", self.gap_periods),
             ("fingerprint.cloud_periods", self.cloud_periods),
         ];
+        if !(self.confirmed_share.is_finite() && (0.0..=1.0).contains(&self.confirmed_share)) {
+            return fail(
+                "fingerprint.confirmed_share",
+                format!("must be 0-1, got {}", self.confirmed_share),
+            );
+        }
         for (field, v) in non_negative {
             if !(v.is_finite() && (0.0..=1000.0).contains(&v)) {
                 return fail(field, format!("must be 0-1000, got {v}"));

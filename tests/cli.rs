@@ -655,7 +655,7 @@ fn an_over_full_iso_record_keeps_255_and_says_so() {
     let d = dir.path();
     // 13 x 16 short horizontal dashes, 4 px thick and 14 px long, 12 px of paper between them
     // along the rows (their traced ends 16 px apart, beyond the broken-ridge gap) and 12 px
-    // across: two endings each, 312 once those at the outline of the dashes are left out.
+    // across: two endings each, 336 once those at the outline of the dashes are left out.
     let mut page = GrayImage::from_pixel(370, 288, image::Luma([235]));
     for row in 0..16 {
         for column in 0..13 {

@@ -99,51 +99,6 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         share[1] += off[1];
         let entry = rows.entry((order, variant.clone())).or_default();
         let matched = entry[0].add(&ours, truth, 8.0);
-        let off = off_enhanced_ink(&trace);
-        let share = off_ink.entry(order).or_default();
-        share[0] += off[0];
-        share[1] += off[1];
-        let entry = rows.entry((order, variant.clone())).or_default();
-        let matched = entry[0].add(&ours, truth, 8.0);
-        if std::env::var_os("FP_DUMP").is_some() {
-            let case = &cases[k / variants.len()];
-            let raw = truth_of(&case.strokes, case.binary.width, case.binary.height);
-            let b = &case.binary;
-            for (i, f) in ours.iter().enumerate() {
-                if matched.iter().any(|m| m.0 == i) {
-                    continue;
-                }
-                let near_raw = raw
-                    .iter()
-                    .map(|t| ridgeline::dist(t.pos, f.pos))
-                    .fold(f64::INFINITY, f64::min);
-                // distance to bare: pixel with no ink within 6 px
-                let mut rim = f64::INFINITY;
-                for y in 0..b.height as i64 {
-                    for x in 0..b.width as i64 {
-                        let d = ridgeline::dist([x as f64, y as f64], f.pos);
-                        if d >= rim {
-                            continue;
-                        }
-                        let bare = !(-6i64..=6).any(|dy| {
-                            (-6i64..=6).any(|dx| dx * dx + dy * dy <= 36 && b.get(x + dx, y + dy))
-                        });
-                        if bare {
-                            rim = d;
-                        }
-                    }
-                }
-                eprintln!(
-                    "FP {variant} {} {:.0} {:.0} {} raw {:.1} rim {:.1}",
-                    case.name,
-                    f.pos[0],
-                    f.pos[1],
-                    if f.bifurcation { "bif" } else { "end" },
-                    near_raw,
-                    rim
-                );
-            }
-        }
         entry[1].add(&ours, truth, 16.0);
         if pictures {
             let name = paths[k].with_extension("").to_string_lossy().into_owned();

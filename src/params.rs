@@ -107,6 +107,10 @@ pub struct Limits {
     pub max_pages: u64,
 }
 
+fn default_confirmed_share() -> f64 {
+    FingerprintParams::default().confirmed_share
+}
+
 fn default_max_pages() -> u64 {
     Limits::default().max_pages
 }
@@ -179,7 +183,9 @@ pub struct FingerprintParams {
     /// A traced ridge counts for the minutiae only when at least this share of its length lies
     /// on ridges the gray image confirms (darker than its local mean, for dark ridges): the
     /// filter's ghost ridges in valleys wider than the period have no ends or forks of the
-    /// finger's; 0 counts every traced ridge. Default value: 0.5.
+    /// finger's; 0 counts every traced ridge. Default value: 0.5 (also when a document written
+    /// before the field existed is read back).
+    #[serde(default = "default_confirmed_share")]
     pub confirmed_share: f64,
 }
 
@@ -624,6 +630,15 @@ mod tests {
         assert!(serde_json::to_string(&Params::paper())
             .expect("serialize")
             .contains("\"merge_span\":null"));
+    }
+
+    #[test]
+    fn fingerprint_parameters_without_the_confirmed_share_read_with_its_default() {
+        let mut value = serde_json::to_value(Params::fingerprint()).expect("serialize");
+        let fields = value["fingerprint"].as_object_mut().expect("an object");
+        assert!(fields.remove("confirmed_share").is_some());
+        let params = Params::deserialize(&value).expect("reads");
+        assert_eq!(params, Params::fingerprint());
     }
 
     #[test]

@@ -15,7 +15,8 @@
 //! what was captured (ink all around within 18 px); an end that
 //! touches another ridge (within its width) is a bifurcation, else an ending. Scoring: one-to-one
 //! matching, nearest pairs first, within 8 px and 16 px: precision, recall, F1, and the share of
-//! matched pairs of the same kind.
+//! matched pairs of the same kind. Off ink: the share of the traced centerlines' length on
+//! pixels that are not ridge in the enhanced binary, per capture and per real print.
 
 use ridgeline::draw::Stroke;
 use ridgeline::minutiae::{Minutia, MinutiaKind};
@@ -85,6 +86,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         None
     };
     let mut rows: BTreeMap<(usize, String), [Score; 4]> = BTreeMap::new();
+    // Per capture: traced centerline length off the enhanced ridges, and in all, px.
+    let mut off_ink: BTreeMap<usize, [f64; 2]> = BTreeMap::new();
     let mut seconds = [0.0f64; 2];
     for (k, (variant, _, gray, truth)) in images.iter().enumerate() {
         let clock = Instant::now();
@@ -96,6 +99,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             .map(|f| f.minutiae.iter().map(point_of).collect())
             .unwrap_or_default();
         let order = variants.iter().position(|v| v == variant).unwrap_or(0);
+        let off = off_enhanced_ink(&trace);
+        let share = off_ink.entry(order).or_default();
+        share[0] += off[0];
+        share[1] += off[1];
         let entry = rows.entry((order, variant.clone())).or_default();
         let matched = entry[0].add(&ours, truth, 8.0);
         entry[1].add(&ours, truth, 16.0);
@@ -120,9 +127,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         variants.len()
     );
     println!();
-    println!("| capture | truth | ridgeline P / R / F1 @8 | F1 @16 | type acc. | peer P / R / F1 @8 | peer F1 @16 | peer type acc. |");
-    println!("|---|---|---|---|---|---|---|---|");
-    for ((_, variant), s) in &rows {
+    println!("| capture | truth | ridgeline P / R / F1 @8 | F1 @16 | type acc. | off ink | peer P / R / F1 @8 | peer F1 @16 | peer type acc. |");
+    println!("|---|---|---|---|---|---|---|---|---|");
+    for ((order, variant), s) in &rows {
+        let off = off_ink.get(order).copied().unwrap_or_default();
         let peer_cells = if peer_found.is_some() {
             format!(
                 "{:.2} / {:.2} / {:.2} | {:.2} | {:.2}",
@@ -136,13 +144,14 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             "- | - | -".to_string()
         };
         println!(
-            "| {variant} | {} | {:.2} / {:.2} / {:.2} | {:.2} | {:.2} | {peer_cells} |",
+            "| {variant} | {} | {:.2} / {:.2} / {:.2} | {:.2} | {:.2} | {} | {peer_cells} |",
             s[0].truth,
             s[0].precision(),
             s[0].recall(),
             s[0].f1(),
             s[1].f1(),
-            s[0].type_accuracy()
+            s[0].type_accuracy(),
+            percent(off)
         );
     }
     println!();
@@ -172,8 +181,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         None
     };
     println!();
-    println!("| print | size | ridgeline minutiae | time, s | peer minutiae | peer time, s |");
-    println!("|---|---|---|---|---|---|");
+    println!(
+        "| print | size | ridgeline minutiae | off ink | time, s | peer minutiae | peer time, s |"
+    );
+    println!("|---|---|---|---|---|---|---|");
     for file in &files {
         let bytes = std::fs::read(file)?;
         let gray = ridgeline::decode(&bytes, &params.limits)?;
@@ -181,12 +192,13 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         let trace = ridgeline::trace_image(&gray, &params)?;
         let time = clock.elapsed().as_secs_f64();
         let count = trace.fingerprint.as_ref().map_or(0, |f| f.minutiae.len());
+        let off = percent(off_enhanced_ink(&trace));
         let (pc, pt) = match peer_real.as_ref().and_then(|p| p.get(file)) {
             Some((found, t)) => (found.len().to_string(), format!("{t:.2}")),
             None => ("-".into(), "-".into()),
         };
         println!(
-            "| {} | {}x{} | {count} | {time:.2} | {pc} | {pt} |",
+            "| {} | {}x{} | {count} | {off} | {time:.2} | {pc} | {pt} |",
             file.file_name()
                 .map_or(String::new(), |n| n.to_string_lossy().into_owned()),
             gray.width(),
@@ -194,6 +206,50 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         );
     }
     Ok(())
+}
+
+/// The traced centerlines' length on pixels that are not ridge in the enhanced binary (the Gabor
+/// response not positive), and their whole length, px: sampled every half pixel, each sample
+/// on the pixel that holds it.
+fn off_enhanced_ink(trace: &ridgeline::Trace) -> [f64; 2] {
+    let Some(print) = &trace.fingerprint else {
+        return [0.0, 0.0];
+    };
+    let enhanced = &print.analysis.enhanced;
+    let ridge = |x: f64, y: f64| {
+        let (x, y) = (x.floor(), y.floor());
+        x >= 0.0
+            && y >= 0.0
+            && (x as u32) < enhanced.width
+            && (y as u32) < enhanced.height
+            && enhanced.values[y as usize * enhanced.width as usize + x as usize] > 0.0
+    };
+    let (mut off, mut total) = (0.0, 0.0);
+    for edge in &trace.graph.edges {
+        for pair in edge.points.windows(2) {
+            let length = ridgeline::dist(pair[0], pair[1]);
+            let steps = (2.0 * length).ceil().max(1.0) as usize;
+            for k in 0..steps {
+                let t = (k as f64 + 0.5) / steps as f64;
+                let x = pair[0][0] + t * (pair[1][0] - pair[0][0]);
+                let y = pair[0][1] + t * (pair[1][1] - pair[0][1]);
+                total += length / steps as f64;
+                if !ridge(x, y) {
+                    off += length / steps as f64;
+                }
+            }
+        }
+    }
+    [off, total]
+}
+
+/// `part / whole` of a pair as a percentage with two decimals.
+fn percent([part, whole]: [f64; 2]) -> String {
+    if whole > 0.0 {
+        format!("{:.2} %", 100.0 * part / whole)
+    } else {
+        "-".to_string()
+    }
 }
 
 fn point_of(m: &Minutia) -> Point {

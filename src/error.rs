@@ -45,6 +45,10 @@ pub enum Error {
     /// A picture could not be encoded (the stage pictures of [`crate::debug::stage_pngs`]).
     #[error("cannot encode picture {0}")]
     Encode(String),
+    /// The minutiae do not fit the record format asked for (ISO/IEC 19794-2: at most 255
+    /// minutiae, 14-bit coordinates, 16-bit image sides).
+    #[error("cannot write the minutiae record: {0}")]
+    Record(String),
     /// One field of [`Params`](crate::Params) is outside its documented range.
     #[error("invalid parameter {field}: {reason}")]
     InvalidParam {

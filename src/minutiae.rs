@@ -159,6 +159,8 @@ pub fn fingerprint_minutiae(
     params: &FingerprintParams,
 ) -> Vec<Minutia> {
     let options = MinutiaeOptions::default();
+    let confirmed = confirmed_edges(graph, &print.ridges, params.confirmed_share);
+    let graph = &confirmed;
     let mut found = detect(graph, &options);
     let mut false_vertex = vec![false; graph.vertices.len()];
     let degree = |v: usize| graph.vertices.get(v).map_or(0, |v| v.degree);
@@ -213,6 +215,17 @@ pub fn fingerprint_minutiae(
         *periods.select_nth_unstable_by(middle, f64::total_cmp).1
     };
     if params.gap_periods > 0.0 {
+        // Two endings closer than half a period, whichever way they point, are one ridge broken
+        // where it turns too fast for the filter (the apex of a loop's innermost ridge): the
+        // ends of two ridges are at least a valley, about half a period, apart.
+        drop_broken_ridges(
+            &mut found,
+            &MinutiaeOptions {
+                broken_ridge_gap: 0.5 * typical,
+                broken_ridge_angle_deg: 180.0,
+                ..options
+            },
+        );
         drop_broken_ridges(
             &mut found,
             &MinutiaeOptions {
@@ -232,13 +245,7 @@ pub fn fingerprint_minutiae(
     let grid = print.segmentation.grid;
     if params.border_margin > 0.0 && !grid.is_empty() {
         let (w, h) = (grid.width as usize, grid.height as usize);
-        let mut ridges = Binary::new(grid.width, grid.height);
-        if print.enhanced.values.len() == ridges.ink.len() {
-            for (ink, &r) in ridges.ink.iter_mut().zip(&print.enhanced.values) {
-                *ink = r > 0.0;
-            }
-        }
-        let region = print_region(&ridges, typical.max(4.0));
+        let region = print_region(&print.ridges, typical.max(4.0));
         let outside: Vec<bool> = print
             .segmentation
             .pixel_mask()
@@ -261,6 +268,53 @@ pub fn fingerprint_minutiae(
         m.quality = Some(print.quality_at(m.pos));
     }
     found
+}
+
+/// `graph` without the edges of which less than `share` of the length lies on `ridges` (the
+/// ridges the gray image confirms, [`PrintAnalysis::ridges`]), the degrees counted again: the
+/// Gabor filter rings into a ghost ridge where a valley is wider than the period (inside the
+/// innermost recurve of a loop, beyond the print's last ridge), and the ends and forks of a
+/// ghost are not the finger's. A ridge broken by a crease, a pore or a dry patch is confirmed
+/// over the rest of its length and stays.
+fn confirmed_edges(graph: &StrokeGraph, ridges: &Binary, share: f64) -> StrokeGraph {
+    let mut out = StrokeGraph {
+        width: graph.width,
+        height: graph.height,
+        vertices: graph.vertices.clone(),
+        edges: Vec::with_capacity(graph.edges.len()),
+    };
+    if share <= 0.0 || ridges.ink.is_empty() {
+        out.edges = graph.edges.clone();
+        return out;
+    }
+    for v in &mut out.vertices {
+        v.degree = 0;
+    }
+    for edge in &graph.edges {
+        let (mut on, mut total) = (0.0, 0.0);
+        for pair in edge.points.windows(2) {
+            let length = dist(pair[0], pair[1]);
+            let steps = length.ceil().max(1.0) as usize;
+            for k in 0..steps {
+                let t = (k as f64 + 0.5) / steps as f64;
+                let x = pair[0][0] + t * (pair[1][0] - pair[0][0]);
+                let y = pair[0][1] + t * (pair[1][1] - pair[0][1]);
+                total += length / steps as f64;
+                if ridges.get(x.floor() as i64, y.floor() as i64) {
+                    on += length / steps as f64;
+                }
+            }
+        }
+        if total == 0.0 || on >= share * total {
+            for v in [edge.from, edge.to] {
+                if let Some(v) = out.vertices.get_mut(v) {
+                    v.degree += 1;
+                }
+            }
+            out.edges.push(edge.clone());
+        }
+    }
+    out
 }
 
 /// Drops every minutia that has at least two others within `radius`, with those others: a cloud
@@ -718,6 +772,78 @@ mod tests {
         assert!(squared_distance_transform(&[false; 6], 3, 2)
             .iter()
             .all(|v| v.is_infinite()));
+    }
+
+    #[test]
+    fn a_ghost_arm_is_no_ridge_and_its_fork_no_bifurcation() {
+        // A Y whose up-right arm lies in a valley (not on the confirmed ridges): without it the
+        // fork is a bend (degree 2) and the arm's far end no ending.
+        let c = [100.0, 100.0];
+        let g = graph_from(
+            &[c, [150.0, 70.0], [40.0, 100.0], [150.0, 130.0]],
+            &[(0, 1, vec![]), (2, 0, vec![]), (0, 3, vec![])],
+            4.0,
+        );
+        let mut ridges = Binary::new(200, 200);
+        for (k, edge) in g.edges.iter().enumerate() {
+            if k == 0 {
+                continue;
+            }
+            for pair in edge.points.windows(2) {
+                for t in 0..=200 {
+                    let t = f64::from(t) / 200.0;
+                    let x = pair[0][0] + t * (pair[1][0] - pair[0][0]);
+                    let y = pair[0][1] + t * (pair[1][1] - pair[0][1]);
+                    ridges.set(x as i64, y as i64, true);
+                }
+            }
+        }
+        let confirmed = confirmed_edges(&g, &ridges, 0.5);
+        assert_eq!(confirmed.edges.len(), 2);
+        confirmed.validate().expect("degrees match the edges");
+        let degrees: Vec<usize> = confirmed.vertices.iter().map(|v| v.degree).collect();
+        assert_eq!(degrees, vec![2, 0, 1, 1]);
+        let found = detect(&confirmed, &no_filters());
+        assert!(found.iter().all(|m| m.kind == MinutiaKind::Ending));
+        assert_eq!(found.len(), 2);
+        // A share of 0 keeps every edge; a ridge confirmed over 60 % of its length stays.
+        assert_eq!(confirmed_edges(&g, &ridges, 0.0).edges.len(), 3);
+        for x in 120..150 {
+            for y in 60..90 {
+                ridges.set(x, y, true);
+            }
+        }
+        assert_eq!(confirmed_edges(&g, &ridges, 0.5).edges.len(), 3);
+    }
+
+    #[test]
+    fn endings_closer_than_half_a_period_are_one_broken_ridge_whichever_way() {
+        let at = |x: f64, direction: f64, vertex: usize| Minutia {
+            kind: MinutiaKind::Ending,
+            vertex,
+            pos: [x, 50.0],
+            direction,
+            width: 3.0,
+            quality: None,
+        };
+        // Two ends 4 px apart pointing the same way (the apex of a tight recurve), and two
+        // 8 px apart, as far as neighbouring ridges' ends: with a period of 9 the first pair goes.
+        let mut found = vec![
+            at(20.0, FRAC_PI_2, 0),
+            at(24.0, FRAC_PI_2, 1),
+            at(60.0, FRAC_PI_2, 2),
+            at(68.0, FRAC_PI_2, 3),
+        ];
+        drop_broken_ridges(
+            &mut found,
+            &MinutiaeOptions {
+                broken_ridge_gap: 0.5 * 9.0,
+                broken_ridge_angle_deg: 180.0,
+                ..Default::default()
+            },
+        );
+        let kept: Vec<usize> = found.iter().map(|m| m.vertex).collect();
+        assert_eq!(kept, vec![2, 3]);
     }
 
     #[test]

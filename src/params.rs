@@ -109,6 +109,10 @@ pub struct Limits {
     pub max_pages: u64,
 }
 
+fn default_confirmed_share() -> f64 {
+    FingerprintParams::default().confirmed_share
+}
+
 fn default_max_pages() -> u64 {
     Limits::default().max_pages
 }
@@ -198,6 +202,13 @@ pub struct FingerprintParams {
     /// turning too fast); the whole cloud goes, in ridge periods; 0 keeps clouds.
     /// Default value: 1.
     pub cloud_periods: f64,
+    /// A traced ridge counts for the minutiae only when at least this share of its length lies
+    /// on ridges the gray image confirms (darker than its local mean, for dark ridges): the
+    /// filter's ghost ridges in valleys wider than the period have no ends or forks of the
+    /// finger's; 0 counts every traced ridge. Default value: 0.5 (also when a document written
+    /// before the field existed is read back).
+    #[serde(default = "default_confirmed_share")]
+    pub confirmed_share: f64,
 }
 
 impl Default for FingerprintParams {
@@ -222,6 +233,7 @@ impl Default for FingerprintParams {
             bridge_periods: 1.5,
             gap_periods: 2.0,
             cloud_periods: 1.0,
+            confirmed_share: 0.5,
         }
     }
 }
@@ -263,6 +275,12 @@ impl FingerprintParams {
             ("fingerprint.gap_periods", self.gap_periods),
             ("fingerprint.cloud_periods", self.cloud_periods),
         ];
+        if !(self.confirmed_share.is_finite() && (0.0..=1.0).contains(&self.confirmed_share)) {
+            return fail(
+                "fingerprint.confirmed_share",
+                format!("must be 0-1, got {}", self.confirmed_share),
+            );
+        }
         for (field, v) in non_negative {
             if !(v.is_finite() && (0.0..=1000.0).contains(&v)) {
                 return fail(field, format!("must be 0-1000, got {v}"));
@@ -641,6 +659,15 @@ mod tests {
         assert!(serde_json::to_string(&Params::paper())
             .expect("serialize")
             .contains("\"merge_span\":null"));
+    }
+
+    #[test]
+    fn fingerprint_parameters_without_the_confirmed_share_read_with_its_default() {
+        let mut value = serde_json::to_value(Params::fingerprint()).expect("serialize");
+        let fields = value["fingerprint"].as_object_mut().expect("an object");
+        assert!(fields.remove("confirmed_share").is_some());
+        let params = Params::deserialize(&value).expect("reads");
+        assert_eq!(params, Params::fingerprint());
     }
 
     #[test]

@@ -677,6 +677,46 @@ fn enhance_chooses_the_fingerprint_enhancement() {
     assert!(!d.join("x.json").exists());
 }
 
+/// More minutiae than an ISO/IEC 19794-2 record holds: the record keeps 255 (of highest
+/// quality), the run succeeds and says so on stderr, and the JSON keeps every one.
+#[test]
+fn an_over_full_iso_record_keeps_255_and_says_so() {
+    let dir = temp_dir();
+    let d = dir.path();
+    // 13 x 16 short horizontal dashes, 4 px thick and 14 px long, 12 px of paper between them
+    // along the rows (their traced ends 16 px apart, beyond the broken-ridge gap) and 12 px
+    // across: two endings each, 336 once those at the outline of the dashes are left out.
+    let mut page = GrayImage::from_pixel(370, 288, image::Luma([235]));
+    for row in 0..16 {
+        for column in 0..13 {
+            let (x0, y0) = (16 + column * 26, 16 + row * 16);
+            for y in y0..y0 + 4 {
+                for x in x0..x0 + 14 {
+                    page.put_pixel(x, y, image::Luma([20]));
+                }
+            }
+        }
+    }
+    page.save(d.join("dashes.png")).expect("png");
+    crate::support::run_ok(&["dashes.png", "--minutiae", "-o", "dashes.json"], d);
+    let json: serde_json::Value =
+        serde_json::from_str(&fs::read_to_string(d.join("dashes.json")).expect("json"))
+            .expect("parses");
+    let count = json["minutiae"].as_array().expect("minutiae").len();
+    assert!(count > 255, "{count}");
+    let output = crate::support::run_ok(&["dashes.png", "--format", "iso", "-o", "dashes.ist"], d);
+    let message = stderr(&output);
+    assert!(
+        message.contains(&format!(
+            "warning: dashes.png: {count} minutiae, more than the 255 an ISO/IEC 19794-2 record holds: wrote the 255 of highest quality"
+        )),
+        "{message}"
+    );
+    let iso = fs::read(d.join("dashes.ist")).expect("ist");
+    assert_eq!(iso[27], 255);
+    assert_eq!(iso.len(), 30 + 6 * 255);
+}
+
 /// `--fingerprint` writes the same minutiae as JSON (with a quality), as NIST `.xyt` lines and as
 /// an ISO/IEC 19794-2 record whose header matches the file; without it nothing of the front end
 /// appears in the output.

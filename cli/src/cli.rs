@@ -1605,7 +1605,7 @@ fn trace_and_write(job: &Job, settings: &Settings) -> Result<Traced> {
         }
         let meta = JsonMeta::new(params.clone()).with_trace(&trace);
         warnings.extend(trace.warnings.iter().map(|w| w.message.clone()));
-        let text = render(job, settings, kind, &trace, None, meta, None)?;
+        let text = render(job, settings, kind, &trace, None, meta, None, &mut warnings)?;
         let output = write_output(job, &job.destination, &text)?;
         return Ok(Traced::of(&trace.graph, warnings, output));
     }
@@ -1744,7 +1744,16 @@ fn trace_page(
         .with_trace(&trace);
     warnings.extend(trace.warnings.iter().map(|w| w.message.clone()));
     let backdrop = settings.embed_image.then_some(backdrop);
-    let text = render(job, settings, Kind::Image, &trace, backdrop, meta, file_dpi)?;
+    let text = render(
+        job,
+        settings,
+        Kind::Image,
+        &trace,
+        backdrop,
+        meta,
+        file_dpi,
+        &mut warnings,
+    )?;
     let destination = page_destination(&job.destination, page.number);
     if let (Destination::File(path), true) = (&destination, page.number > 1) {
         settings.reserved.check(path)?;
@@ -1774,7 +1783,9 @@ fn page_destination(destination: &Destination, number: usize) -> Destination {
 const DEFAULT_DPI: f64 = 500.0;
 
 /// The output document of one traced graph (of an input read as `kind`): SVG over `backdrop`,
-/// or JSON with `meta`; ISO records at `--dpi`, else `file_dpi`, else [`DEFAULT_DPI`].
+/// or JSON with `meta`; ISO records at `--dpi`, else `file_dpi`, else [`DEFAULT_DPI`], with the
+/// 255 minutiae of highest quality when there are more (said in `warnings`).
+#[allow(clippy::too_many_arguments)]
 fn render(
     job: &Job,
     settings: &Settings,
@@ -1783,6 +1794,7 @@ fn render(
     backdrop: Option<Backdrop>,
     meta: JsonMeta,
     file_dpi: Option<f64>,
+    warnings: &mut Vec<String>,
 ) -> Result<Vec<u8>> {
     let graph = &trace.graph;
     let binary = trace.binary.as_ref();
@@ -1803,12 +1815,28 @@ fn render(
             ridgeline::export::xyt::to_string(marks.as_deref().unwrap_or(&[]), graph.height)
                 .into_bytes()
         }
-        Format::Iso => ridgeline::export::iso19794::to_bytes(
-            marks.as_deref().unwrap_or(&[]),
-            graph.width,
-            graph.height,
-            settings.dpi.or(file_dpi).unwrap_or(DEFAULT_DPI),
-        )?,
+        Format::Iso => {
+            use ridgeline::export::iso19794::{best_for_record, to_bytes, MAX_MINUTIAE};
+            let all = marks.as_deref().unwrap_or(&[]);
+            // A record holds 255 minutiae; a matcher given more keeps those it trusts most,
+            // so the record does too, and says so.
+            let kept = best_for_record(all);
+            if kept.len() < all.len() {
+                warnings.push(format!(
+                    "{} minutiae, more than the {MAX_MINUTIAE} an ISO/IEC 19794-2 record \
+                     holds: wrote the {MAX_MINUTIAE} of highest quality (the JSON and .xyt \
+                     outputs keep all {})",
+                    all.len(),
+                    all.len()
+                ));
+            }
+            to_bytes(
+                &kept,
+                graph.width,
+                graph.height,
+                settings.dpi.or(file_dpi).unwrap_or(DEFAULT_DPI),
+            )?
+        }
         Format::Svg => {
             // Curves follow what is drawn: one list per stroke with --strokes, else per edge.
             let curves = settings.curves.map(|options| match &chained {

@@ -27,26 +27,44 @@ use crate::{Error, Result};
 /// Largest coordinate a minutia can have (14 bits).
 const MAX_COORDINATE: f64 = 16383.0;
 
+/// Most minutiae one finger view holds (its count is one byte).
+pub const MAX_MINUTIAE: usize = 255;
+
+/// The [`MAX_MINUTIAE`] of highest quality among `minutiae` (all of them when they fit), in
+/// their order; of equal qualities the earlier ones. What a matcher does with more minutiae
+/// than it takes (Bozorth3 keeps its 150 of highest quality): the ones it can trust most.
+pub fn best_for_record(minutiae: &[Minutia]) -> Vec<Minutia> {
+    if minutiae.len() <= MAX_MINUTIAE {
+        return minutiae.to_vec();
+    }
+    let mut order: Vec<usize> = (0..minutiae.len()).collect();
+    order.sort_by_key(|&i| (std::cmp::Reverse(minutiae[i].quality.unwrap_or(0)), i));
+    order.truncate(MAX_MINUTIAE);
+    order.sort_unstable();
+    order.into_iter().map(|i| minutiae[i]).collect()
+}
+
 /// The record of `minutiae` found on a `width x height` image scanned at `dpi` dots per inch.
-/// Refuses more than 255 minutiae, an image or a position beyond 14-bit coordinates, and a
-/// resolution that is not positive.
+/// Refuses more than [`MAX_MINUTIAE`] minutiae (choose them first with [`best_for_record`]),
+/// an image or a position beyond 14-bit coordinates, and a resolution that is not positive.
 pub fn to_bytes(minutiae: &[Minutia], width: u32, height: u32, dpi: f64) -> Result<Vec<u8>> {
     let count = u8::try_from(minutiae.len()).map_err(|_| {
-        Error::Encode(format!(
-            "an ISO/IEC 19794-2 record holds at most 255 minutiae, got {}",
+        Error::Record(format!(
+            "an ISO/IEC 19794-2 record holds at most {MAX_MINUTIAE} minutiae, got {}; keep the \
+             ones of highest quality with export::iso19794::best_for_record",
             minutiae.len()
         ))
     })?;
     let side = |v: u32| {
         u16::try_from(v).map_err(|_| {
-            Error::Encode(format!(
+            Error::Record(format!(
                 "an ISO/IEC 19794-2 record holds images up to 65535 px, got {v}"
             ))
         })
     };
     let (w, h) = (side(width)?, side(height)?);
     if !(dpi.is_finite() && dpi > 0.0 && dpi / 2.54 <= 65535.0) {
-        return Err(Error::Encode(format!(
+        return Err(Error::Record(format!(
             "resolution must be > 0 dpi, got {dpi}"
         )));
     }
@@ -78,7 +96,7 @@ pub fn to_bytes(minutiae: &[Minutia], width: u32, height: u32, dpi: f64) -> Resu
             if v.is_finite() && v >= 0.0 && v.round() <= MAX_COORDINATE {
                 Ok(v.round() as u16)
             } else {
-                Err(Error::Encode(format!(
+                Err(Error::Record(format!(
                     "minutia at {v} px is outside an ISO/IEC 19794-2 record's 14-bit coordinates"
                 )))
             }
@@ -160,12 +178,41 @@ mod tests {
         let m = minutia(MinutiaKind::Ending, [16384.0, 1.0], 0.0, None);
         assert!(matches!(
             to_bytes(&[m], 100, 100, 500.0),
-            Err(Error::Encode(_))
+            Err(Error::Record(_))
         ));
         assert!(to_bytes(&[], 70_000, 10, 500.0).is_err());
         assert!(to_bytes(&[], 10, 10, 0.0).is_err());
         assert!(to_bytes(&[], 10, 10, f64::NAN).is_err());
         let many = vec![minutia(MinutiaKind::Ending, [1.0, 1.0], 0.0, None); 256];
-        assert!(to_bytes(&many, 10, 10, 500.0).is_err());
+        let message = to_bytes(&many, 10, 10, 500.0)
+            .expect_err("256 minutiae")
+            .to_string();
+        assert!(
+            message.contains("at most 255 minutiae, got 256") && !message.contains("picture"),
+            "{message}"
+        );
+    }
+
+    #[test]
+    fn the_best_255_are_kept_in_order() {
+        // 300 minutiae of qualities 0-99 cycling: the 255 kept are every one of quality at
+        // least the cut, the cut's ties the earlier ones, in input order.
+        let all: Vec<Minutia> = (0..300)
+            .map(|i| {
+                minutia(
+                    MinutiaKind::Ending,
+                    [f64::from(i), 1.0],
+                    0.0,
+                    Some((i % 100) as u8),
+                )
+            })
+            .collect();
+        let kept = best_for_record(&all);
+        assert_eq!(kept.len(), MAX_MINUTIAE);
+        assert!(kept.windows(2).all(|p| p[0].pos[0] < p[1].pos[0]));
+        // Qualities 15-99 three times each is 255.
+        assert!(kept.iter().all(|m| m.quality >= Some(15)));
+        assert_eq!(best_for_record(&all[..10]), all[..10].to_vec());
+        to_bytes(&kept, 400, 10, 500.0).expect("fits");
     }
 }

@@ -37,6 +37,14 @@ pub struct PrintAnalysis {
     /// The Gabor response, ridges positive, zero outside the print.
     #[serde(skip)]
     pub enhanced: Plane,
+    /// The ridges the pixels confirm: enhanced ridge (positive response) where the gray image is
+    /// also on the ridges' side of its local mean (Gaussian of half the print's median period),
+    /// both after the gradients' smoothing.
+    /// Beyond the last ridge of the print the zero-mean filter rings into a ghost ridge over
+    /// bare skin; the gray image there is as light as the skin, so the ghost is not confirmed,
+    /// and the closing of these ridges is the print's outline (`minutiae`'s border).
+    #[serde(skip)]
+    pub ridges: Binary,
     /// Contrast per block in `[0, 1]`: the root mean square of the enhanced response over the
     /// block, divided by its median over the print's blocks and capped at 1 (0 outside).
     pub contrast: Vec<f32>,
@@ -78,7 +86,6 @@ pub(crate) fn analyze(
     let orientation = orientation::orientation(&gx, &gy, &segmentation, params);
     drop((gx, gy));
     let periods = frequency::ridge_periods(&smoothed, &segmentation, &orientation, params);
-    drop(smoothed);
     let enhance = match params.enhancement {
         Enhancement::Gabor => enhance::enhance,
         Enhancement::Smoothing => smooth::enhance,
@@ -102,16 +109,49 @@ pub(crate) fn analyze(
     for (ink, &r) in binary.ink.iter_mut().zip(&enhanced.values) {
         *ink = r > 0.0;
     }
+    let ridges = confirmed_ridges(&smoothed, &binary, &segmentation, &periods, dark_ridges);
     (
         PrintAnalysis {
             segmentation,
             orientation,
             periods,
             enhanced,
+            ridges,
             contrast,
         },
         binary,
     )
+}
+
+/// The enhanced ridges (`binary`) where the gray image (`smoothed` as for the gradients, so
+/// that pixel noise does not confirm a ghost) is also on the ridges' side of its local mean, over
+/// a Gaussian of half the median period of the print ([`PrintAnalysis::ridges`]).
+fn confirmed_ridges(
+    smoothed: &Plane,
+    binary: &Binary,
+    segmentation: &Segmentation,
+    periods: &RidgePeriods,
+    dark_ridges: bool,
+) -> Binary {
+    let mut inside: Vec<f32> = periods
+        .period
+        .iter()
+        .zip(&segmentation.inside)
+        .filter(|(_, &i)| i)
+        .map(|(&p, _)| p)
+        .collect();
+    let period = f64::from(math::median(&mut inside));
+    let mean = math::gaussian_blur(smoothed, (period / 2.0).max(1.0));
+    let mut ridges = binary.clone();
+    for ((ink, &g), &m) in ridges
+        .ink
+        .iter_mut()
+        .zip(&smoothed.values)
+        .zip(&mean.values)
+    {
+        *ink = *ink && if dark_ridges { g < m } else { g > m };
+    }
+    ridges
 }
 
 /// Per block, the RMS of the response over the print's median RMS, capped at 1.

@@ -404,30 +404,37 @@ pub(crate) fn disagreement(gray: GrayView<'_>, lighting: &Lighting, level: u8) -
 /// between block centers.
 pub(crate) fn local_dark(gray: GrayView<'_>, lighting: &Lighting, dark: &mut [bool]) {
     let width = gray.width() as usize;
-    let (block, cols, rows) = (lighting.block as f64, lighting.cols, lighting.rows);
-    // Position of pixel center `p` on the block-center grid: the cell to its left/top and the
-    // weight of the next one.
-    let cell = |p: usize, n: usize| -> (usize, usize, f64) {
-        let g = ((p as f64 + 0.5) / block - 0.5).clamp(0.0, (n - 1) as f64);
-        let i = g.floor() as usize;
-        let j = (i + 1).min(n - 1);
-        (i, j, g - i as f64)
-    };
-    let columns: Vec<(usize, usize, f64)> = (0..width).map(|x| cell(x, cols)).collect();
     dark.par_chunks_mut(width)
         .zip(gray.par_rows(1))
         .enumerate()
         .for_each(|(y, (out, values))| {
-            let (r0, r1, fy) = cell(y, rows);
-            let row: Vec<f64> = (0..cols)
-                .map(|c| {
-                    let t = &lighting.thresholds;
-                    t[r0 * cols + c] * (1.0 - fy) + t[r1 * cols + c] * fy
-                })
-                .collect();
-            for ((o, &v), &(c0, c1, fx)) in out.iter_mut().zip(values).zip(&columns) {
-                let t = row[c0] * (1.0 - fx) + row[c1] * fx;
+            for (o, (&v, t)) in out.iter_mut().zip(values.iter().zip(lighting.row(y, width))) {
                 *o = (v as f64) <= t;
             }
         });
+}
+
+impl Lighting {
+    /// The local threshold at each pixel of row `y` of an image `width` pixels wide,
+    /// interpolated bilinearly between block centers.
+    pub(crate) fn row(&self, y: usize, width: usize) -> impl Iterator<Item = f64> + '_ {
+        let (block, cols, rows) = (self.block as f64, self.cols, self.rows);
+        // Position of pixel center `p` on the block-center grid: the cell to its left/top and
+        // the weight of the next one.
+        let cell = move |p: usize, n: usize| -> (usize, usize, f64) {
+            let g = ((p as f64 + 0.5) / block - 0.5).clamp(0.0, (n - 1) as f64);
+            let i = g.floor() as usize;
+            let j = (i + 1).min(n - 1);
+            (i, j, g - i as f64)
+        };
+        let (r0, r1, fy) = cell(y, rows);
+        let t = &self.thresholds;
+        let row: Vec<f64> = (0..cols)
+            .map(|c| t[r0 * cols + c] * (1.0 - fy) + t[r1 * cols + c] * fy)
+            .collect();
+        (0..width).map(move |x| {
+            let (c0, c1, fx) = cell(x, cols);
+            row[c0] * (1.0 - fx) + row[c1] * fx
+        })
+    }
 }

@@ -20,13 +20,15 @@ use super::evidence::Lighting;
 use crate::GrayView;
 
 /// A valley's sides are at least this many gray levels past the threshold into the ink: less is
-/// within the noise of a stroke's edge.
-const MIN_SIDES: i32 = 16;
+/// within the noise of a stroke's edge (on the degraded captures 24-32 measure alike, 40 and 16
+/// worse; docs/design.md, "The front end").
+const MIN_SIDES: i32 = 28;
 /// A valley is nearer the threshold than this share of the way from the threshold to its
-/// sides' ink (percent): it is in the paper's half of the dip between two strokes. The edge of
-/// a real concave corner (the inside of a V's apex), which the blur also leaves lighter than
-/// the two arms, is deeper in the ink.
-const NEAR_THRESHOLD: i32 = 50;
+/// sides' ink (percent), so at least a quarter of that way lighter than both. The edge of a
+/// real concave corner (the inside of a V's apex), which the blur also leaves lighter than the
+/// two arms, is deeper in the ink; 50 opens too little of a filled crotch, 90 notches such
+/// corners into spurs.
+const NEAR_THRESHOLD: i32 = 75;
 
 /// The threshold the mask was made with.
 pub(crate) enum Level<'a> {
@@ -101,7 +103,17 @@ pub(crate) fn open(gray: GrayView<'_>, dark_ink: bool, threshold: &Level<'_>, in
                 let (here, t) = (at(0, 0), thresholds[x]);
                 STEPS.iter().any(|&(dx, dy)| {
                     let sides = at(dx, dy).min(at(-dx, -dy)) - t;
-                    sides >= 16 * MIN_SIDES && 100 * (here - t) < NEAR_THRESHOLD * sides
+                    // Two pixels out, the pixels between must not be lighter: the valley's
+                    // bottom is here, not beside it (the edge of a stroke next to a gap).
+                    let (ix, iy) = (dx.signum(), dy.signum());
+                    let between = if dx.abs() == 2 || dy.abs() == 2 {
+                        at(ix, iy).min(at(-ix, -iy))
+                    } else {
+                        i32::MAX
+                    };
+                    sides >= 16 * MIN_SIDES
+                        && 100 * (here - t) < NEAR_THRESHOLD * sides
+                        && 8 * (between - here) >= -sides
                 })
             })
         })

@@ -115,14 +115,17 @@ pub(crate) fn binarize_deciding(
     } else if !dark_ink {
         dark.par_iter_mut().for_each(|v| *v = !*v);
     }
+    // A bilevel image has no valley (every ink pixel has the same level).
+    let gray_levels = histogram[min + 1..max].iter().any(|&c| c > 0);
     if params.valleys
+        && gray_levels
         && matches!(
             params.threshold,
             Threshold::Auto | Threshold::Otsu | Threshold::Local
         )
     {
         let threshold = match &local {
-            Some(lighting) => valleys::Level::Local(lighting),
+            Some(lighting) => valleys::Level::Local(lighting.surface(w)),
             None => valleys::Level::Global(level),
         };
         valleys::open(gray, dark_ink, &threshold, &mut dark);

@@ -74,17 +74,9 @@ pub(crate) fn open(gray: GrayView<'_>, dark_ink: bool, threshold: &Level<'_>, in
         }
     });
     drop(across);
-    // Sides at distance 1 and 2 across the pixel, in four directions.
-    const STEPS: [(i64, i64); 8] = [
-        (1, 0),
-        (0, 1),
-        (1, 1),
-        (1, -1),
-        (2, 0),
-        (0, 2),
-        (2, 2),
-        (2, -2),
-    ];
+    // Sides two pixels out across the pixel, in four directions (sides one pixel out measure
+    // worse: docs/design.md, "The front end").
+    const STEPS: [(i64, i64); 4] = [(2, 0), (0, 2), (2, 2), (2, -2)];
     // The threshold as a darkness, 16 times the level (ink is darker than or equal to a
     // dark-ink threshold, lighter than a light-ink one).
     let as_darkness = |t: f64| -> i32 {
@@ -113,14 +105,10 @@ pub(crate) fn open(gray: GrayView<'_>, dark_ink: bool, threshold: &Level<'_>, in
                 let (here, t) = (at(x, 0, 0), thresholds[x]);
                 out[x] = STEPS.iter().any(|&(dx, dy)| {
                     let sides = at(x, dx, dy).min(at(x, -dx, -dy)) - t;
-                    // Two pixels out, the pixels between must not be lighter: the valley's
-                    // bottom is here, not beside it (the edge of a stroke next to a gap).
+                    // The pixels between must not be lighter: the valley's bottom is here,
+                    // not beside it (the edge of a stroke next to a gap).
                     let (ix, iy) = (dx.signum(), dy.signum());
-                    let between = if dx.abs() == 2 || dy.abs() == 2 {
-                        at(x, ix, iy).min(at(x, -ix, -iy))
-                    } else {
-                        i32::MAX
-                    };
+                    let between = at(x, ix, iy).min(at(x, -ix, -iy));
                     sides >= 16 * MIN_SIDES
                         && 100 * (here - t) < NEAR_THRESHOLD * sides
                         && 8 * (between - here) >= -sides
@@ -162,7 +150,12 @@ pub(crate) fn open(gray: GrayView<'_>, dark_ink: bool, threshold: &Level<'_>, in
 
 /// The 8 neighbours of pixel `(x, y)` inside a `w` x `h` image, as indices.
 fn neighbours(x: usize, y: usize, w: usize, h: usize) -> impl Iterator<Item = usize> {
-    let (x0, x1, y0, y1) = (x.saturating_sub(1), (x + 1).min(w - 1), y.saturating_sub(1), (y + 1).min(h - 1));
+    let (x0, x1, y0, y1) = (
+        x.saturating_sub(1),
+        (x + 1).min(w - 1),
+        y.saturating_sub(1),
+        (y + 1).min(h - 1),
+    );
     (y0..=y1)
         .flat_map(move |ny| (x0..=x1).map(move |nx| (nx, ny)))
         .filter(move |&(nx, ny)| (nx, ny) != (x, y))
@@ -221,7 +214,11 @@ mod tests {
             "ink off the arms: {extra_before} before, {} after",
             extra(&ink)
         );
-        assert!(lost(&ink) <= lost_before + 2, "arm pixels lost: {}", lost(&ink));
+        assert!(
+            lost(&ink) <= lost_before + 2,
+            "arm pixels lost: {}",
+            lost(&ink)
+        );
     }
 
     #[test]
@@ -234,7 +231,7 @@ mod tests {
                 (5..45).contains(&x) && ((6..9).contains(&y) || (10..13).contains(&y))
             })
             .collect();
-        let gray = blurred(&truth, w, h, 1.2);
+        let gray = blurred(&truth, w, h, 0.9);
         let level = 125;
         let mut ink = dark_of(&gray, level);
         let gap = |ink: &[bool]| (8..42).filter(|&x| ink[(9 * w + x) as usize]).count();
@@ -252,7 +249,9 @@ mod tests {
         // a valley reaching the paper.
         let mut seed = 12345u64;
         let mut noise = || {
-            seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            seed = seed
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
             ((seed >> 33) % 21) as i32 - 10
         };
         let bar = |x: u32| (14..26).contains(&x);
@@ -265,13 +264,13 @@ mod tests {
         let before = ink.clone();
         open((&gray).into(), false, &Level::Global(130), &mut ink);
         assert_eq!(ink, before);
-        // A bilevel drawing of a crotch: every ink pixel has the same level.
+        // A bilevel drawing of a crotch is left as it is: every ink pixel has the same level
+        // (the smoothed darkness alone would call its crotch a valley).
         let truth = crotch(60, 30);
         let sharp = GrayImage::from_fn(60, 30, |x, y| {
             Luma([if truth[(y * 60 + x) as usize] { 0 } else { 255 }])
         });
-        let mut ink = truth.clone();
-        open((&sharp).into(), true, &Level::Global(127), &mut ink);
-        assert_eq!(ink, truth);
+        let binary = crate::raster::binarize(&sharp, &crate::Params::default()).expect("binarized");
+        assert_eq!(binary.ink, truth);
     }
 }

@@ -11,8 +11,9 @@
 //! and falls; along it, it stays level). Those pixels go back to the paper.
 //!
 //! In: the gray image, the ink's polarity and the thresholded mask. Out: the mask with the
-//! valley pixels cleared. Bilevel images are left as they are (every ink pixel has the same
-//! level, so none is a valley).
+//! valley pixels cleared, the same whatever the thread count (what opens is a set, reached by a
+//! flood). Bilevel images are not given to it (binarization skips them: their ink has one
+//! level, and the smoothing alone would make every sharp crotch a valley).
 
 use rayon::prelude::*;
 

@@ -354,6 +354,12 @@ pub struct Params {
     /// images, masks and point lists are not refined. Default `true`; paper `false`.
     #[serde(default = "yes", skip_serializing_if = "is_yes")]
     pub subpixel: bool,
+    /// Whether thresholded ink pixels that the gray shows lighter than the ink on both sides of
+    /// them (a crotch between two arms or a gap between two strokes that the blur filled) go back
+    /// to the paper (docs/design.md, "The front end"). Bilevel images and masks are not touched;
+    /// neither is a fixed threshold. Default `true`; paper `false`.
+    #[serde(default = "yes", skip_serializing_if = "is_yes")]
+    pub valleys: bool,
     /// How `r_min` is chosen (§3.1). Default [`RMinRule::StrokeWidth`]; paper
     /// [`RMinRule::Spacing`].
     pub r_min_rule: RMinRule,
@@ -449,6 +455,7 @@ impl Default for Params {
             dropout_fraction: 0.015,
             min_area: 0,
             subpixel: true,
+            valleys: true,
             r_min_rule: RMinRule::StrokeWidth,
             r_min_factor: 1.0,
             r_max_factor: 3.0,
@@ -497,6 +504,7 @@ impl Params {
             dense_fit: false,
             junctions_on_ink: false,
             subpixel: false,
+            valleys: false,
             ..Params::default()
         }
     }

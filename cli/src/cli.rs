@@ -257,6 +257,21 @@ pub struct Cli {
     )]
     subpixel: bool,
 
+    /// Keep as ink the thresholded pixels that a gray image shows lighter than the ink on both
+    /// sides of them (crotches and gaps the blur filled), instead of giving them back to the
+    /// paper [default: given back, paper: kept]
+    #[arg(long, help_heading = "Input and binarization")]
+    no_valleys: bool,
+
+    /// Give a gray image's blur-filled crotches and gaps back to the paper; turns it back on
+    /// after --paper [default: on, paper: off]
+    #[arg(
+        long,
+        overrides_with = "no_valleys",
+        help_heading = "Input and binarization"
+    )]
+    valleys: bool,
+
     /// Start from the paper's own rules and values (r_min = 10 Dis_ave, r_max = 6 r_min, no arms
     /// test, equal-distance clusters, whole-cluster merging, uniform Laplacian and fit weights, no
     /// clean-up); every other flag given still overrides them
@@ -655,6 +670,12 @@ impl TryFrom<&Cli> for Params {
         }
         if cli.subpixel {
             params.subpixel = true;
+        }
+        if cli.no_valleys {
+            params.valleys = false;
+        }
+        if cli.valleys {
+            params.valleys = true;
         }
         if cli.no_skeleton {
             params.skeleton = false;
@@ -2089,12 +2110,15 @@ mod tests {
             "10",
             "--skeleton",
             "--subpixel",
+            "--valleys",
             "a.png",
         ]))
         .expect("valid");
         assert_eq!(params, Params::default());
         let grid = Params::try_from(&parse(&["--no-subpixel", "a.png"])).expect("valid");
         assert!(!grid.subpixel);
+        let filled = Params::try_from(&parse(&["--no-valleys", "a.png"])).expect("valid");
+        assert!(!filled.valleys);
         let node_graph = Params::try_from(&parse(&["--no-skeleton", "a.png"])).expect("valid");
         assert!(!node_graph.skeleton);
         let back = Params::try_from(&parse(&["--no-skeleton", "--skeleton", "a.png"])).expect("ok");

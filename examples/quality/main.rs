@@ -974,7 +974,7 @@ fn real_images(verbose: bool) -> Vec<RealImage> {
             image.width = gray.width();
             image.height = gray.height();
             guarded(|| {
-                let trace = ridgeline::trace_image(&gray, &Params::default())?;
+                let trace = ridgeline::trace_image(&gray, &variant_params()?)?;
                 Ok((trace.graph, trace.binary))
             })
         });

@@ -10,6 +10,7 @@
 use rayon::prelude::*;
 
 use super::evidence::{self, PolarityEvidence};
+use super::valleys;
 use crate::decisions::{Decisions, ThresholdUsed, UNEVEN_LIGHT};
 use crate::{Binary, GrayView, Params, Polarity, Result, Threshold};
 
@@ -69,6 +70,8 @@ pub(crate) fn binarize_deciding(
         Threshold::Fixed { level } => ThresholdUsed::Fixed { level },
         _ => ThresholdUsed::Otsu { level },
     };
+    // The local threshold's lighting, where it is the one used.
+    let mut local = None;
     // Sauvola's polarity is decided on the split the automatic threshold would make.
     if !matches!(params.threshold, Threshold::Otsu | Threshold::Fixed { .. }) {
         let dark_ink = forced.unwrap_or(evidence.dark_is_ink);
@@ -100,6 +103,7 @@ pub(crate) fn binarize_deciding(
                 decisions.threshold = ThresholdUsed::Local {
                     window: lighting.block as u32,
                 };
+                local = Some(lighting);
             }
         }
     }
@@ -110,6 +114,21 @@ pub(crate) fn binarize_deciding(
         decisions.threshold = ThresholdUsed::Sauvola { window, k };
     } else if !dark_ink {
         dark.par_iter_mut().for_each(|v| *v = !*v);
+    }
+    // A bilevel image has no valley (every ink pixel has the same level).
+    let gray_levels = histogram[min + 1..max].iter().any(|&c| c > 0);
+    if params.valleys
+        && gray_levels
+        && matches!(
+            params.threshold,
+            Threshold::Auto | Threshold::Otsu | Threshold::Local
+        )
+    {
+        let threshold = match &local {
+            Some(lighting) => valleys::Level::Local(lighting.surface(w)),
+            None => valleys::Level::Global(level),
+        };
+        valleys::open(gray, dark_ink, &threshold, &mut dark);
     }
     binary.ink = dark;
     Ok((binary, decisions))

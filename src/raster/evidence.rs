@@ -404,30 +404,57 @@ pub(crate) fn disagreement(gray: GrayView<'_>, lighting: &Lighting, level: u8) -
 /// between block centers.
 pub(crate) fn local_dark(gray: GrayView<'_>, lighting: &Lighting, dark: &mut [bool]) {
     let width = gray.width() as usize;
-    let (block, cols, rows) = (lighting.block as f64, lighting.cols, lighting.rows);
-    // Position of pixel center `p` on the block-center grid: the cell to its left/top and the
-    // weight of the next one.
-    let cell = |p: usize, n: usize| -> (usize, usize, f64) {
-        let g = ((p as f64 + 0.5) / block - 0.5).clamp(0.0, (n - 1) as f64);
-        let i = g.floor() as usize;
-        let j = (i + 1).min(n - 1);
-        (i, j, g - i as f64)
-    };
-    let columns: Vec<(usize, usize, f64)> = (0..width).map(|x| cell(x, cols)).collect();
+    let surface = lighting.surface(width);
     dark.par_chunks_mut(width)
         .zip(gray.par_rows(1))
         .enumerate()
         .for_each(|(y, (out, values))| {
-            let (r0, r1, fy) = cell(y, rows);
-            let row: Vec<f64> = (0..cols)
-                .map(|c| {
-                    let t = &lighting.thresholds;
-                    t[r0 * cols + c] * (1.0 - fy) + t[r1 * cols + c] * fy
-                })
-                .collect();
-            for ((o, &v), &(c0, c1, fx)) in out.iter_mut().zip(values).zip(&columns) {
-                let t = row[c0] * (1.0 - fx) + row[c1] * fx;
+            for (o, (&v, t)) in out.iter_mut().zip(values.iter().zip(surface.row(y))) {
                 *o = (v as f64) <= t;
             }
         });
+}
+
+/// The local threshold of a [`Lighting`] at every pixel of an image, interpolated bilinearly
+/// between block centers, one row at a time.
+pub(crate) struct Surface<'a> {
+    lighting: &'a Lighting,
+    /// For each pixel column: the block column to its left, the next one and the next one's
+    /// weight.
+    columns: Vec<(usize, usize, f64)>,
+}
+
+impl Lighting {
+    /// The threshold surface over an image `width` pixels wide.
+    pub(crate) fn surface(&self, width: usize) -> Surface<'_> {
+        Surface {
+            lighting: self,
+            columns: (0..width).map(|x| self.cell(x, self.cols)).collect(),
+        }
+    }
+
+    /// Position of pixel center `p` on the block-center grid of `n` blocks: the cell to its
+    /// left/top and the weight of the next one.
+    fn cell(&self, p: usize, n: usize) -> (usize, usize, f64) {
+        let g = ((p as f64 + 0.5) / self.block as f64 - 0.5).clamp(0.0, (n - 1) as f64);
+        let i = g.floor() as usize;
+        let j = (i + 1).min(n - 1);
+        (i, j, g - i as f64)
+    }
+}
+
+impl Surface<'_> {
+    /// The threshold at each pixel of row `y`.
+    pub(crate) fn row(&self, y: usize) -> impl Iterator<Item = f64> + '_ {
+        let lighting = self.lighting;
+        let cols = lighting.cols;
+        let (r0, r1, fy) = lighting.cell(y, lighting.rows);
+        let t = &lighting.thresholds;
+        let row: Vec<f64> = (0..cols)
+            .map(|c| t[r0 * cols + c] * (1.0 - fy) + t[r1 * cols + c] * fy)
+            .collect();
+        self.columns
+            .iter()
+            .map(move |&(c0, c1, fx)| row[c0] * (1.0 - fx) + row[c1] * fx)
+    }
 }

@@ -15,6 +15,7 @@ mod evidence;
 mod points;
 mod resolution;
 mod tiff_pages;
+mod valleys;
 
 pub(crate) use binarize::binarize_deciding;
 pub(crate) use chunks::pixel_chunks;

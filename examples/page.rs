@@ -16,7 +16,8 @@
 //! "The front end's choices"): the A4 page captured in gray (anti-aliased, blurred, noised, JPEG;
 //! evenly lit, lit unevenly, and lit unevenly with light strokes on a dark ground), each traced
 //! with the defaults and with what the defaults decided given as flags (threshold, polarity,
-//! dropout), in alternating rounds; outputs compared byte for byte.
+//! dropout: Otsu or the local threshold forced, which skips the tests that choose between them),
+//! in alternating rounds; outputs compared.
 //!
 //! Inputs: a generated A4 page at 300 dpi of dense text ([`ridgeline_testkit::synth::page`], 2480 x 3508,
 //! 40 px x-height, 4 px strokes) and the same page at half the size per side (1240 x 1754: the
@@ -364,7 +365,7 @@ fn run_front_end(repeat: usize) {
             continue;
         };
         let threshold = match decided.threshold {
-            ThresholdUsed::Otsu { level } => serde_json::json!({"method": "fixed", "level": level}),
+            ThresholdUsed::Otsu { .. } => serde_json::json!({"method": "otsu"}),
             ThresholdUsed::Local { .. } => serde_json::json!({"method": "local"}),
             other => {
                 println!("{name:<11} decided {other:?}: not a choice this benchmark forces");

@@ -104,6 +104,11 @@ pub(crate) fn open(gray: GrayView<'_>, dark_ink: bool, threshold: &Level<'_>, in
             };
             for x in (2..w - 2).filter(|&x| row_ink[x]) {
                 let (here, t) = (at(x, 0, 0), thresholds[x]);
+                // No side is darker than full ink: a pixel that deep in the ink is no valley
+                // (most of a stroke's pixels, decided without reading their neighbours).
+                if 100 * (here - t) >= NEAR_THRESHOLD * (16 * 255 - t) {
+                    continue;
+                }
                 out[x] = STEPS.iter().any(|&(dx, dy)| {
                     let sides = at(x, dx, dy).min(at(x, -dx, -dy)) - t;
                     // The pixels between must not be lighter: the valley's bottom is here,

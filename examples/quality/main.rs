@@ -648,6 +648,33 @@ fn main() -> anyhow::Result<()> {
             low.len(),
             tau(options.taus[0]),
         );
+        if !captures.is_empty() {
+            // The polarity the default front end decides on each capture, against the recipe's.
+            let mut names: Vec<&String> = captures.keys().collect();
+            names.sort();
+            let wrong: Vec<&str> = names
+                .iter()
+                .filter(|name| {
+                    let d = &captures[name.as_str()];
+                    let expected = if d.recipe.inverted { "light" } else { "dark" };
+                    ridgeline::trace_image(&d.gray, &Params::default())
+                        .ok()
+                        .and_then(|t| t.decisions)
+                        .is_none_or(|decided| decided.polarity != expected)
+                })
+                .map(|name| name.as_str())
+                .collect();
+            println!(
+                "polarity (defaults): right on {} of {} captures{}",
+                names.len() - wrong.len(),
+                names.len(),
+                if wrong.is_empty() {
+                    String::new()
+                } else {
+                    format!("; wrong on {}", wrong.join(", "))
+                }
+            );
+        }
         let timing = GroupTiming {
             group: name.to_string(),
             cases: cases.len(),

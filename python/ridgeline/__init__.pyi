@@ -225,7 +225,8 @@ class Trace:
         """Pen strokes as dicts {"id", "edges", "reversed", "closed", "length", "points", "widths"}."""
     @property
     def minutiae(self) -> List[Dict[str, Any]]:
-        """Fingerprint minutiae as dicts {"kind", "vertex", "x", "y", "direction", "width"}."""
+        """Fingerprint minutiae as dicts {"kind", "vertex", "x", "y", "direction", "width"}, with
+        "quality" (0-100) when traced with fingerprint=True."""
     @property
     def stats(self) -> Dict[str, int]:
         """Counts: vertices, edges, endpoints, junctions, components, cycles."""
@@ -260,6 +261,11 @@ class Trace:
         corner_angle: Optional[float] = None,
     ) -> str:
         """The SVG drawing, as the command line writes it with the same flags."""
+    def to_xyt(self) -> str:
+        """The minutiae as NIST .xyt lines (x y theta quality), as the command line's -o out.xyt."""
+    def to_iso(self, *, dpi: Optional[float] = None) -> bytes:
+        """The minutiae as an ISO/IEC 19794-2:2005 record (at most the 255 of highest quality), as
+        the command line's -o out.ist; dpi default: the image file's, else 500."""
     def to_networkx(self) -> Any:
         """The graph as a networkx.MultiGraph (networkx imported on use)."""
     def __repr__(self) -> str: ...

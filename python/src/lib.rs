@@ -228,6 +228,7 @@ fn traced(
     let chained = strokes(&trace.graph, &StrokeOptions::default());
     Traced {
         print_minutiae: trace.fingerprint.map(|print| print.minutiae),
+        resolution: None,
         decisions: trace.decisions,
         warnings: trace.warnings,
         binary: trace.binary,
@@ -254,6 +255,7 @@ fn trace_encoded(
 ) -> ridgeline::Result<Vec<Traced>> {
     let pages = ridgeline::raster::pages(&bytes, &params.limits)?.with_pictures(true);
     let count = pages.page_count();
+    let resolution = pages.resolution();
     let mut out = Vec::new();
     let mut clock = Instant::now();
     for page in pages {
@@ -262,6 +264,7 @@ fn trace_encoded(
         let trace = ridgeline::trace_image(&page.gray, params)?;
         let mut one = traced(trace, params, started, decode);
         one.page = Some((page.number, count));
+        one.resolution = resolution;
         one.backdrop = match page.picture {
             Picture::Original { mime } => Backdrop::Encoded {
                 bytes: Arc::clone(&bytes),

@@ -84,6 +84,8 @@ pub struct Traced {
     pub input_copied: Option<bool>,
     /// With the fingerprint front end: the minutiae it kept inside the print, with a quality.
     pub print_minutiae: Option<Vec<Minutia>>,
+    /// The resolution the image file states, dots per inch (encoded input only).
+    pub resolution: Option<f64>,
 }
 
 /// The result of `ridgeline.trace`, `ridgeline.trace_pages` or `ridgeline.trace_points`.
@@ -487,6 +489,37 @@ impl Trace {
     #[getter]
     fn warnings<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyList>> {
         crate::report::warnings(py, &self.traced.warnings)
+    }
+
+    /// The minutiae as NIST `.xyt` lines (`x y theta quality`, docs/fingerprints.md, "Outputs"),
+    /// byte for byte what `ridgeline INPUT -o out.xyt` writes with the same parameters.
+    fn to_xyt(&self, py: Python<'_>) -> String {
+        ridgeline::export::xyt::to_string(self.minutiae_list(py), self.graph().height)
+    }
+
+    /// The minutiae as an ISO/IEC 19794-2:2005 finger minutiae record, what `ridgeline INPUT -o
+    /// out.ist` writes: at most 255 minutiae (those of highest quality when there are more), at
+    /// `dpi`, else the resolution the image file states, else 500.
+    #[pyo3(signature = (*, dpi = None))]
+    fn to_iso<'py>(
+        &self,
+        py: Python<'py>,
+        dpi: Option<f64>,
+    ) -> PyResult<Bound<'py, pyo3::types::PyBytes>> {
+        use ridgeline::export::iso19794::{best_for_record, to_bytes};
+        let kept = best_for_record(self.minutiae_list(py));
+        let graph = self.graph();
+        if let Some(d) = dpi.filter(|d| !(d.is_finite() && *d > 0.0 && *d / 2.54 <= 65535.0)) {
+            return Err(crate::errors::parameter(
+                py,
+                format!("invalid parameter dpi: must be > 0 and at most 166458, got {d}"),
+                "dpi",
+            ));
+        }
+        let dpi = dpi.or(self.traced.resolution).unwrap_or(500.0);
+        let bytes = to_bytes(&kept, graph.width, graph.height, dpi)
+            .map_err(|err| crate::errors::to_py(py, err))?;
+        Ok(pyo3::types::PyBytes::new(py, &bytes))
     }
 
     /// The JSON document, byte for byte what `ridgeline INPUT -o out.json` writes with the same

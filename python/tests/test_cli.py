@@ -97,6 +97,20 @@ def test_fingerprint_true_is_the_preset_and_a_mapping_updates_it(tmp_path, monke
         ridgeline.trace(source, fingerprint={"blocks": 8})
 
 
+def test_xyt_and_iso_records_equal_the_command_lines(tmp_path, monkeypatch):
+    monkeypatch.chdir(REPO)
+    source = "samples/fingerprint.png"
+    result = ridgeline.trace(source, fingerprint=True)
+    assert result.to_xyt() == cli_output(tmp_path, source, "--fingerprint", suffix=".xyt")
+    assert len(result.to_xyt().splitlines()) == len(result.minutiae) > 0
+    run_cli(source, "--fingerprint", "-o", str(tmp_path / "out.ist"), cwd=Path.cwd())
+    assert result.to_iso() == (tmp_path / "out.ist").read_bytes()
+    record = result.to_iso(dpi=1000)
+    assert record[:8] == b"FMR\0 20\0" and int.from_bytes(record[18:20], "big") == 394
+    with pytest.raises(ridgeline.ParameterError, match="dpi"):
+        result.to_iso(dpi=0)
+
+
 def test_features_and_pretty_equal_the_command_lines(tmp_path, monkeypatch):
     monkeypatch.chdir(REPO)
     source = "samples/fingerprint.png"

@@ -185,11 +185,7 @@ pub fn fingerprint_minutiae(
                 if short(2.0 * params.bridge_periods) {
                     short_bars.push((a.min(b), a.max(b)));
                 }
-                let chord = (last[1] - first[1]).atan2(last[0] - first[0]);
-                let flow = print.orientation.angle_at(middle);
-                let off = (chord - flow).rem_euclid(std::f64::consts::PI);
-                let off = off.min(std::f64::consts::PI - off);
-                short(params.bridge_periods) && off > std::f64::consts::FRAC_PI_4
+                short(params.bridge_periods) && print.across_the_flow(*first, *last)
             }
             _ => false,
         };

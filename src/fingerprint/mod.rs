@@ -51,6 +51,14 @@ pub struct PrintAnalysis {
 }
 
 impl PrintAnalysis {
+    /// Whether the chord from `a` to `b` runs across the ridge flow: more than 45° off the ridge
+    /// direction at its middle (a bar between neighbouring ridges, not a ridge).
+    pub(crate) fn across_the_flow(&self, a: [f64; 2], b: [f64; 2]) -> bool {
+        let middle = [(a[0] + b[0]) / 2.0, (a[1] + b[1]) / 2.0];
+        let chord = (b[1] - a[1]).atan2(b[0] - a[0]);
+        orientation_gap(chord, self.orientation.angle_at(middle)) > std::f64::consts::FRAC_PI_4
+    }
+
     /// A minutia's quality 0-100 at `pos`: coherence times contrast of its block, in percent.
     pub fn quality_at(&self, pos: [f64; 2]) -> u8 {
         let grid = self.orientation.grid;
@@ -152,6 +160,12 @@ fn confirmed_ridges(
         *ink = *ink && if dark_ridges { g < m } else { g > m };
     }
     ridges
+}
+
+/// The angle between two orientations (undirected lines), in `[0, π/2]`.
+pub(crate) fn orientation_gap(a: f64, b: f64) -> f64 {
+    let d = (a - b).rem_euclid(std::f64::consts::PI);
+    d.min(std::f64::consts::PI - d)
 }
 
 /// Per block, the RMS of the response over the print's median RMS, capped at 1.

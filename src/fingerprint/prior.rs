@@ -14,7 +14,7 @@
 //! The minutiae filter drops the bifurcations of bars too ([`crate::minutiae`]); this makes the
 //! graph itself, and so the JSON and SVG, follow the ridges.
 
-use super::PrintAnalysis;
+use super::{orientation_gap, PrintAnalysis};
 use crate::stroke_graph::{Edge, StrokeGraph};
 use crate::FingerprintParams;
 use std::f64::consts::{FRAC_PI_3, FRAC_PI_4, PI};
@@ -39,12 +39,6 @@ pub(crate) fn ridges_along_the_flow(
         }
     }
     work.finish()
-}
-
-/// The angle between two orientations (undirected lines), in `[0, π/2]`.
-fn orientation_gap(a: f64, b: f64) -> f64 {
-    let d = (a - b).rem_euclid(PI);
-    d.min(PI - d)
 }
 
 /// A graph being edited: edges that can be removed, each vertex's edge ends.
@@ -89,9 +83,7 @@ impl Work {
         };
         let middle = [(first[0] + last[0]) / 2.0, (first[1] + last[1]) / 2.0];
         let period = print.periods.at(middle).max(1.0);
-        let chord = (last[1] - first[1]).atan2(last[0] - first[0]);
-        edge.length() < bridge_periods * period
-            && orientation_gap(chord, print.orientation.angle_at(middle)) > FRAC_PI_4
+        edge.length() < bridge_periods * period && print.across_the_flow(*first, *last)
     }
 
     fn remove_edge(&mut self, e: usize) {

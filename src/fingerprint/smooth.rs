@@ -39,7 +39,12 @@ pub(crate) fn enhance(
     }
     // The ridge-wise average is needed inside the print and one block around it (the across-ridge
     // mean of a pixel near the border reads it there).
-    let near = dilated(segmentation);
+    let near = super::math::morph3(
+        &segmentation.inside,
+        grid.cols as usize,
+        grid.rows as usize,
+        true,
+    );
     let lines = Lines {
         grid,
         field,
@@ -62,26 +67,6 @@ pub(crate) fn enhance(
         }
     }
     out
-}
-
-/// The print's blocks and their 8 neighbours.
-fn dilated(segmentation: &Segmentation) -> Vec<bool> {
-    let grid = segmentation.grid;
-    let (cols, rows) = (grid.cols as i64, grid.rows as i64);
-    let mut near = vec![false; grid.len()];
-    for j in 0..rows {
-        for i in 0..cols {
-            near[grid.index(i as usize, j as usize)] = (-1..=1).any(|dj| {
-                (-1..=1).any(|di| {
-                    let (ni, nj) = (i + di, j + dj);
-                    (0..cols).contains(&ni)
-                        && (0..rows).contains(&nj)
-                        && segmentation.inside[grid.index(ni as usize, nj as usize)]
-                })
-            });
-        }
-    }
-    near
 }
 
 /// The blocks' ridge directions and periods, for averaging along lines.

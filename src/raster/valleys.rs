@@ -84,6 +84,10 @@ pub(crate) fn open(gray: GrayView<'_>, dark_ink: bool, threshold: &Level<'_>, in
         let t = if dark_ink { 255.0 - t } else { t + 0.5 };
         (16.0 * t).round() as i32
     };
+    let global = match threshold {
+        Level::Global(t) => as_darkness(f64::from(*t)),
+        Level::Local(_) => 0,
+    };
     let mut candidate = vec![false; w * h];
     candidate
         .par_chunks_mut(w)
@@ -95,15 +99,20 @@ pub(crate) fn open(gray: GrayView<'_>, dark_ink: bool, threshold: &Level<'_>, in
             if !row_ink[2..w - 2].iter().any(|&i| i) {
                 return;
             }
-            let thresholds: Vec<i32> = match threshold {
-                Level::Global(t) => vec![as_darkness(f64::from(*t)); w],
+            // One global level is one darkness; the local surface's row is read once.
+            let local: Vec<i32> = match threshold {
+                Level::Global(_) => Vec::new(),
                 Level::Local(surface) => surface.row(y).map(as_darkness).collect(),
+            };
+            let threshold_at = |x: usize| match threshold {
+                Level::Global(_) => global,
+                Level::Local(_) => local[x],
             };
             let at = |x: usize, dx: i64, dy: i64| {
                 i32::from(dark[(y as i64 + dy) as usize * w + (x as i64 + dx) as usize])
             };
             for x in (2..w - 2).filter(|&x| row_ink[x]) {
-                let (here, t) = (at(x, 0, 0), thresholds[x]);
+                let (here, t) = (at(x, 0, 0), threshold_at(x));
                 // No side is darker than full ink: a pixel that deep in the ink is no valley
                 // (most of a stroke's pixels, decided without reading their neighbours).
                 if 100 * (here - t) >= NEAR_THRESHOLD * (16 * 255 - t) {

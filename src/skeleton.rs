@@ -24,6 +24,15 @@ use crate::mask::ink_distances;
 use crate::point_set::{Grid, PointSet};
 use crate::{Binary, Edge, StrokeGraph, Vertex};
 
+/// Strokes at least this wide (px, the legs' median skeleton width) can show a bold corner
+/// ([`Work::dissolve_corners`]): below it the skeleton's widths, known to a pixel, do not tell
+/// ink where two strokes merge from one stroke.
+const BOLD_CORNER_WIDTH: f64 = 5.0;
+
+/// A corner's leg, its points listed from the junction outwards, and the first and last index
+/// of the stretch that gives its line.
+type LegStretch<'a> = (&'a [[f64; 2]], (usize, usize));
+
 /// Offsets of the 8 neighbours in the order P2..P9 of Zhang and Suen (N, NE, E, SE, S, SW, W, NW).
 const RING: [(i64, i64); 8] = [
     (0, -1),
@@ -897,6 +906,13 @@ impl Work {
     /// within the stroke's half-width of `v`, plus the uncertainty of `v` and a tenth of the
     /// width: no ink reaches beyond the corner the two legs make by themselves. Then the stub and the
     /// junction go, and both legs run straight to `v`, the bend.
+    ///
+    /// A bold corner (strokes of at least [`BOLD_CORNER_WIDTH`], both legs much wider at the
+    /// junction than a stroke: their inks merge over a length of about `w / (2 tan(θ / 2))`)
+    /// may leave no straight leg beyond the stub's reach; its legs' lines are then taken where
+    /// each leg is one stroke wide again, and the bend is placed no deeper than half a width
+    /// inside the ink's end along the bisector (a round corner's centre; the lines of a mitred
+    /// corner meet before that). docs/quality.md, "Bold corners".
     fn dissolve_corners(&mut self) -> bool {
         let mut changed = false;
         let at = self.incidence();
@@ -923,16 +939,17 @@ impl Work {
                 continue;
             };
             let legs: Vec<usize> = at[j].iter().copied().filter(|&e| e != stub).collect();
-            // Every edge's points listed from the junction outwards.
-            let outwards = |e: usize| -> Vec<[f64; 2]> {
+            // Every edge's points and widths listed from the junction outwards.
+            let outwards = |e: usize| -> (Vec<[f64; 2]>, Vec<f64>) {
                 let edge = self.edges[e].as_ref().expect("live edge");
-                let mut points = edge.points.clone();
+                let (mut points, mut widths) = (edge.points.clone(), edge.widths.clone());
                 if edge.from != j {
                     points.reverse();
+                    widths.reverse();
                 }
-                points
+                (points, widths)
             };
-            let stub_points = outwards(stub);
+            let (stub_points, _) = outwards(stub);
             let (jp, tip) = (self.vertices[j].pos, stub_points[stub_points.len() - 1]);
             let stroke = legs
                 .iter()
@@ -941,57 +958,61 @@ impl Work {
                 .fold(f64::INFINITY, f64::min);
             let half = (stroke + 1.0) / 2.0;
             let reach = dist(jp, tip);
-            // Each leg's line: through its points at `reach` and `reach + 2 w` from the junction
-            // (where it no longer bends towards the other leg), pointing towards the corner.
-            let line = |points: &[[f64; 2]]| -> Option<([f64; 2], [f64; 2], usize)> {
+            let (leg_a, leg_b) = (outwards(legs[0]), outwards(legs[1]));
+            let bold = stroke >= BOLD_CORNER_WIDTH
+                && [&leg_a, &leg_b]
+                    .iter()
+                    .all(|(_, widths)| widths[0] > 1.25 * stroke + 1.0);
+            // Each leg's stretch for its line, pointing towards the corner: from `reach` to
+            // `reach + 2 w` from the junction (where it no longer bends towards the other leg);
+            // for a bold corner whose leg is still wider than a stroke there, from where it is
+            // one stroke wide again, up to `2 w` long.
+            let beyond_reach = |points: &[[f64; 2]]| -> Option<(usize, usize)> {
                 let near = points.iter().position(|&p| dist(p, jp) >= reach)?;
                 let far = points
                     .iter()
                     .position(|&p| dist(p, jp) >= reach + 2.0 * stroke)
                     .unwrap_or(points.len() - 1);
-                let (a, b) = (points[near], points[far]);
-                let d = [a[0] - b[0], a[1] - b[1]];
-                let n = d[0].hypot(d[1]);
-                (n >= 1.0).then(|| (a, [d[0] / n, d[1] / n], near))
+                Some((near, far))
             };
-            let (leg_a, leg_b) = (outwards(legs[0]), outwards(legs[1]));
-            let (Some((a, ua, cut_a)), Some((b, ub, cut_b))) = (line(&leg_a), line(&leg_b)) else {
+            let one_stroke = |(points, widths): &(Vec<[f64; 2]>, Vec<f64>)| {
+                let single = |i: usize| widths[i] <= stroke + 1.0;
+                let reached = beyond_reach(points)?;
+                if (reached.0..=reached.1).all(single) {
+                    return Some(reached);
+                }
+                let start =
+                    (0..points.len()).find(|&i| single(i) && dist(points[i], jp) >= half)?;
+                let mut end = start;
+                while end + 1 < points.len()
+                    && single(end + 1)
+                    && dist(points[end + 1], points[start]) <= 2.0 * stroke
+                {
+                    end += 1;
+                }
+                (dist(points[start], points[end]) >= (0.5 * stroke).max(3.0))
+                    .then_some((start, end))
+            };
+            let mut tries = Vec::new();
+            if bold {
+                tries.push([one_stroke(&leg_a), one_stroke(&leg_b)]);
+            }
+            tries.push([beyond_reach(&leg_a.0), beyond_reach(&leg_b.0)]);
+            let Some((v, cut_a, cut_b)) = tries.into_iter().find_map(|stretches| {
+                let [Some(sa), Some(sb)] = stretches else {
+                    return None;
+                };
+                self.corner_of(
+                    jp,
+                    tip,
+                    &stub_points,
+                    stroke,
+                    bold,
+                    [(&leg_a.0[..], sa), (&leg_b.0[..], sb)],
+                )
+            }) else {
                 continue;
             };
-            // The legs leave the corner at less than 120 degrees: -ua . -ub > cos 120.
-            let cross = ua[0] * ub[1] - ua[1] * ub[0];
-            if ua[0] * ub[0] + ua[1] * ub[1] <= (120f64).to_radians().cos() || cross.abs() < 1e-6 {
-                continue;
-            }
-            // a + s ua = b + t ub.
-            let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
-            let (s, t) = (
-                (dx * ub[1] - dy * ub[0]) / cross,
-                (dx * ua[1] - dy * ua[0]) / cross,
-            );
-            if s < 0.0 || t < 0.0 {
-                continue;
-            }
-            let v = [a[0] + s * ua[0], a[1] + s * ua[1]];
-            // The legs' lines are known to about a pixel across, which moves where they meet by
-            // 1 / sin(theta / 2) along the bisector (theta the corner's angle); beyond that, the
-            // ink may stick out by a tenth of the width before it is an end of its own (a brush's
-            // overshoot at the corner of a box).
-            let half_angle = (ua[0] * ub[0] + ua[1] * ub[1]).clamp(-1.0, 1.0).acos() / 2.0;
-            let margin = 0.1 * stroke + 1.0 / half_angle.sin().max(0.1);
-            let on_stub = stub_points
-                .iter()
-                .map(|&p| dist(p, v))
-                .fold(f64::INFINITY, f64::min)
-                <= half + margin;
-            if !on_stub || dist(v, tip) > half + margin {
-                continue;
-            }
-            // Where the legs' lines meet beyond the stub's tip, the bend is the tip (on the ink).
-            let v = if dist(jp, v) > reach { tip } else { v };
-            if !self.ink.holds(v, a) || !self.ink.holds(v, b) {
-                continue;
-            }
             let tip_vertex = far(stub);
             for (e, cut) in [(legs[0], cut_a), (legs[1], cut_b)] {
                 let edge = self.edges[e].as_mut().expect("live edge");
@@ -1018,6 +1039,79 @@ impl Work {
             changed = true;
         }
         changed
+    }
+
+    /// The bend of a corner at the junction `jp` whose stub ends at `tip` (see
+    /// [`Work::dissolve_corners`]), from its two legs' points listed outwards and the stretch of
+    /// each that gives its line: the bend and, per leg, how many points it loses.
+    fn corner_of(
+        &self,
+        jp: [f64; 2],
+        tip: [f64; 2],
+        stub_points: &[[f64; 2]],
+        stroke: f64,
+        bold: bool,
+        legs: [LegStretch; 2],
+    ) -> Option<([f64; 2], usize, usize)> {
+        let half = (stroke + 1.0) / 2.0;
+        let reach = dist(jp, tip);
+        let line = |(points, (near, far)): LegStretch| {
+            let (a, b) = (points[near], points[far]);
+            let d = [a[0] - b[0], a[1] - b[1]];
+            let n = d[0].hypot(d[1]);
+            (n >= 1.0).then(|| (a, [d[0] / n, d[1] / n], near))
+        };
+        let ((a, ua, cut_a), (b, ub, cut_b)) = (line(legs[0])?, line(legs[1])?);
+        // The legs leave the corner at less than 120 degrees: -ua . -ub > cos 120.
+        let cross = ua[0] * ub[1] - ua[1] * ub[0];
+        if ua[0] * ub[0] + ua[1] * ub[1] <= (120f64).to_radians().cos() || cross.abs() < 1e-6 {
+            return None;
+        }
+        // a + s ua = b + t ub.
+        let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
+        let (s, t) = (
+            (dx * ub[1] - dy * ub[0]) / cross,
+            (dx * ua[1] - dy * ua[0]) / cross,
+        );
+        if s < 0.0 || t < 0.0 {
+            return None;
+        }
+        let v = [a[0] + s * ua[0], a[1] + s * ua[1]];
+        // The legs' lines are known to about a pixel across, which moves where they meet by
+        // 1 / sin(theta / 2) along the bisector (theta the corner's angle); beyond that, the
+        // ink may stick out by a tenth of the width before it is an end of its own (a brush's
+        // overshoot at the corner of a box).
+        let half_angle = (ua[0] * ub[0] + ua[1] * ub[1]).clamp(-1.0, 1.0).acos() / 2.0;
+        let margin = 0.1 * stroke + 1.0 / half_angle.sin().max(0.1);
+        let on_stub = stub_points
+            .iter()
+            .map(|&p| dist(p, v))
+            .fold(f64::INFINITY, f64::min)
+            <= half + margin;
+        if !on_stub || dist(v, tip) > half + margin {
+            return None;
+        }
+        let along = dist(jp, v);
+        let v = if bold && along > 0.0 {
+            // No deeper than half a width inside the ink's end along the bisector.
+            let u = [(v[0] - jp[0]) / along, (v[1] - jp[1]) / along];
+            let mut out = 0.0;
+            while out < along + stroke && self.ink.at([jp[0] + out * u[0], jp[1] + out * u[1]]) {
+                out += 0.5;
+            }
+            let inside = (out - half).max(0.0);
+            if along > inside {
+                [jp[0] + inside * u[0], jp[1] + inside * u[1]]
+            } else {
+                v
+            }
+        } else if along > reach {
+            // Where the legs' lines meet beyond the stub's tip, the bend is the tip (on the ink).
+            tip
+        } else {
+            v
+        };
+        (self.ink.holds(v, a) && self.ink.holds(v, b)).then_some((v, cut_a, cut_b))
     }
 
     /// Two skeleton junctions closer than the ink can show apart (a link of at most
@@ -1721,6 +1815,34 @@ mod tests {
             nearest <= 3.0,
             "the bend is {nearest:.1} px from the corner"
         );
+        assert_on_ink(&binary, &graph);
+    }
+
+    #[test]
+    fn a_bold_acute_zigzag_bends_at_its_corners() {
+        // Strokes 12 px wide meeting under 30-36 degrees, legs under six widths long: their inks
+        // merge for about two widths from each corner, so the skeleton's legs bend together far
+        // from it, and thinning makes each corner a Y with its junction deep in the merged ink.
+        let corners = [[30.0, 110.0], [50.0, 30.0], [70.0, 110.0], [92.0, 35.0]];
+        let (binary, graph) = traced(&[Stroke::new(corners.to_vec(), 12.0)], 125, 140);
+        assert!(
+            graph.vertices.iter().all(|v| v.degree < 3),
+            "{:?}",
+            graph.vertices
+        );
+        assert_eq!(graph.endpoints().count(), 2);
+        for corner in &corners[1..3] {
+            let nearest = graph
+                .edges
+                .iter()
+                .flat_map(|e| e.points.iter())
+                .map(|&p| dist(p, *corner))
+                .fold(f64::INFINITY, f64::min);
+            assert!(
+                nearest <= 2.0,
+                "the bend is {nearest:.1} px from the corner {corner:?}"
+            );
+        }
         assert_on_ink(&binary, &graph);
     }
 

@@ -2,7 +2,7 @@
 //! (`Params::fingerprint`) on the test kit's dense synthetic prints (`dense_print_cases`: about
 //! 30 minutiae each, as on a real capture), clean and degraded (blur, noise, a contrast map,
 //! creases, ridge breaks, pores, a partial print, all at once), scored against the minutiae of
-//! their true ridges, and counts and times on real prints; with `--peer`, the classical peer
+//! their true ridges, and counts, median ridge periods and times on real prints; with `--peer`, the classical peer
 //! (`../shared/bench/peer_minutiae.py`, pyfing) on the same images; with `--pictures`, a picture
 //! of each synthetic image's minutiae against the truth and of the front end's stages, beside the
 //! images in the temporary folder `ridgeline-fingerprint-bench`.
@@ -28,6 +28,10 @@ use std::time::Instant;
 
 /// Ends closer than this to the image border are not counted (the border margin cuts them).
 const TRUTH_MARGIN: f64 = 16.0;
+
+/// A real print whose median ridge period is below this, px, is scanned below the 500 ppi the
+/// peer supports (about 9 px there; 6.5 px is about 350 ppi): the peer also gets it enlarged 2x.
+const PEER_PERIOD_MIN: f64 = 6.5;
 
 #[derive(Clone, Copy, Debug, PartialEq)]
 struct Point {
@@ -181,10 +185,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         None
     };
     println!();
-    println!(
-        "| print | size | ridgeline minutiae | off ink | time, s | peer minutiae | peer time, s |"
-    );
-    println!("|---|---|---|---|---|---|---|");
+    let mut rows = Vec::new();
+    let mut enlarged = Vec::new();
     for file in &files {
         let bytes = std::fs::read(file)?;
         let gray = ridgeline::decode(&bytes, &params.limits)?;
@@ -193,19 +195,86 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         let time = clock.elapsed().as_secs_f64();
         let count = trace.fingerprint.as_ref().map_or(0, |f| f.minutiae.len());
         let off = percent(off_enhanced_ink(&trace));
-        let (pc, pt) = match peer_real.as_ref().and_then(|p| p.get(file)) {
+        let period = median_period(&trace);
+        // The peer supports 500 ppi only (pyfing's frequency stage refuses any other
+        // resolution) and looks for periods of about 9 px; a print whose ridges repeat faster
+        // than PEER_PERIOD_MIN px is given to it enlarged twice as well (the count of minutiae
+        // does not depend on the scale of their coordinates).
+        let twice = (peer && period < PEER_PERIOD_MIN).then(|| {
+            let path = work.join(format!(
+                "x2_{}.png",
+                file.file_stem()
+                    .map_or(String::new(), |n| n.to_string_lossy().into_owned())
+            ));
+            let big = image::imageops::resize(
+                &gray,
+                2 * gray.width(),
+                2 * gray.height(),
+                image::imageops::FilterType::CatmullRom,
+            );
+            big.save(&path).map(|_| path)
+        });
+        if let Some(path) = twice {
+            enlarged.push((file.clone(), path?));
+        }
+        rows.push((
+            file.clone(),
+            gray.width(),
+            gray.height(),
+            count,
+            off,
+            time,
+            period,
+        ));
+    }
+    let peer_enlarged = if enlarged.is_empty() {
+        None
+    } else {
+        let paths: Vec<PathBuf> = enlarged.iter().map(|(_, p)| p.clone()).collect();
+        run_peer(&paths, &work.join("peer_real_x2.json"))
+    };
+    println!(
+        "| print | size | median period, px | ridgeline minutiae | off ink | time, s | peer minutiae | peer time, s | peer on the print enlarged 2x |"
+    );
+    println!("|---|---|---|---|---|---|---|---|---|");
+    for (file, width, height, count, off, time, period) in rows {
+        let (pc, pt) = match peer_real.as_ref().and_then(|p| p.get(&file)) {
             Some((found, t)) => (found.len().to_string(), format!("{t:.2}")),
             None => ("-".into(), "-".into()),
         };
+        let twice = enlarged
+            .iter()
+            .find(|(f, _)| *f == file)
+            .and_then(|(_, path)| peer_enlarged.as_ref()?.get(path))
+            .map_or("-".into(), |(found, _)| found.len().to_string());
         println!(
-            "| {} | {}x{} | {count} | {off} | {time:.2} | {pc} | {pt} |",
+            "| {} | {width}x{height} | {period:.1} | {count} | {off} | {time:.2} | {pc} | {pt} | {twice} |",
             file.file_name()
                 .map_or(String::new(), |n| n.to_string_lossy().into_owned()),
-            gray.width(),
-            gray.height()
         );
     }
     Ok(())
+}
+
+/// The median of the ridge periods of the print's blocks, px (0 without the front end).
+fn median_period(trace: &ridgeline::Trace) -> f64 {
+    let Some(print) = &trace.fingerprint else {
+        return 0.0;
+    };
+    let analysis = &print.analysis;
+    let mut periods: Vec<f32> = analysis
+        .periods
+        .period
+        .iter()
+        .zip(&analysis.segmentation.inside)
+        .filter(|(_, &inside)| inside)
+        .map(|(&p, _)| p)
+        .collect();
+    if periods.is_empty() {
+        return 0.0;
+    }
+    let middle = periods.len() / 2;
+    f64::from(*periods.select_nth_unstable_by(middle, f32::total_cmp).1)
 }
 
 /// The traced centerlines' length on pixels that are not ridge in the enhanced binary (the Gabor

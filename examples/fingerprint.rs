@@ -258,23 +258,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
 
 /// The median of the ridge periods of the print's blocks, px (0 without the front end).
 fn median_period(trace: &ridgeline::Trace) -> f64 {
-    let Some(print) = &trace.fingerprint else {
-        return 0.0;
-    };
-    let analysis = &print.analysis;
-    let mut periods: Vec<f32> = analysis
-        .periods
-        .period
-        .iter()
-        .zip(&analysis.segmentation.inside)
-        .filter(|(_, &inside)| inside)
-        .map(|(&p, _)| p)
-        .collect();
-    if periods.is_empty() {
-        return 0.0;
-    }
-    let middle = periods.len() / 2;
-    f64::from(*periods.select_nth_unstable_by(middle, f32::total_cmp).1)
+    trace.fingerprint.as_ref().map_or(0.0, |print| {
+        let analysis = &print.analysis;
+        analysis.periods.median_inside(&analysis.segmentation)
+    })
 }
 
 /// The traced centerlines' length on pixels that are not ridge in the enhanced binary (the Gabor

@@ -571,6 +571,16 @@ impl Ink {
             && self.mask[y as usize * self.width + x as usize]
     }
 
+    /// How far the ink goes on from `from` along the unit vector `u`: the first sample, every
+    /// half pixel from half a pixel on, that is off the ink or beyond `limit`.
+    fn exit(&self, from: [f64; 2], u: [f64; 2], limit: f64) -> f64 {
+        let mut t = 0.5;
+        while t <= limit && self.at([from[0] + t * u[0], from[1] + t * u[1]]) {
+            t += 0.5;
+        }
+        t
+    }
+
     /// Whether the segment `a`-`b` lies on the ink, sampled every half pixel.
     fn holds(&self, a: [f64; 2], b: [f64; 2]) -> bool {
         let n = (dist(a, b) * 2.0).ceil().max(1.0) as usize;
@@ -975,9 +985,9 @@ impl Work {
                     .unwrap_or(points.len() - 1);
                 Some((near, far))
             };
-            let one_stroke = |(points, widths): &(Vec<[f64; 2]>, Vec<f64>)| {
+            let one_stroke = |(points, widths): &(Vec<[f64; 2]>, Vec<f64>),
+                              reached: (usize, usize)| {
                 let single = |i: usize| widths[i] <= stroke + 1.0;
-                let reached = beyond_reach(points)?;
                 if (reached.0..=reached.1).all(single) {
                     return Some(reached);
                 }
@@ -993,15 +1003,12 @@ impl Work {
                 (dist(points[start], points[end]) >= (0.5 * stroke).max(3.0))
                     .then_some((start, end))
             };
-            let mut tries = Vec::new();
-            if bold {
-                tries.push([one_stroke(&leg_a), one_stroke(&leg_b)]);
-            }
-            tries.push([beyond_reach(&leg_a.0), beyond_reach(&leg_b.0)]);
-            let Some((v, cut_a, cut_b)) = tries.into_iter().find_map(|stretches| {
-                let [Some(sa), Some(sb)] = stretches else {
-                    return None;
-                };
+            let (Some(reached_a), Some(reached_b)) =
+                (beyond_reach(&leg_a.0), beyond_reach(&leg_b.0))
+            else {
+                continue;
+            };
+            let corner = |sa: (usize, usize), sb: (usize, usize)| {
                 self.corner_of(
                     jp,
                     tip,
@@ -1010,7 +1017,21 @@ impl Work {
                     bold,
                     [(&leg_a.0[..], sa), (&leg_b.0[..], sb)],
                 )
-            }) else {
+            };
+            // A bold corner tries the one-stroke stretches first, then (where they differ) the
+            // stretches beyond the stub's reach, as every other corner.
+            let first = if bold {
+                one_stroke(&leg_a, reached_a).zip(one_stroke(&leg_b, reached_b))
+            } else {
+                None
+            };
+            let found = match first {
+                Some((sa, sb)) if (sa, sb) != (reached_a, reached_b) => {
+                    corner(sa, sb).or_else(|| corner(reached_a, reached_b))
+                }
+                _ => corner(reached_a, reached_b),
+            };
+            let Some((v, cut_a, cut_b)) = found else {
                 continue;
             };
             let tip_vertex = far(stub);
@@ -1095,11 +1116,7 @@ impl Work {
         let v = if bold && along > 0.0 {
             // No deeper than half a width inside the ink's end along the bisector.
             let u = [(v[0] - jp[0]) / along, (v[1] - jp[1]) / along];
-            let mut out = 0.0;
-            while out < along + stroke && self.ink.at([jp[0] + out * u[0], jp[1] + out * u[1]]) {
-                out += 0.5;
-            }
-            let inside = (out - half).max(0.0);
+            let inside = (self.ink.exit(jp, u, along + stroke) - half).max(0.0);
             if along > inside {
                 [jp[0] + inside * u[0], jp[1] + inside * u[1]]
             } else {
@@ -1206,15 +1223,8 @@ impl Work {
                     continue;
                 }
                 let u = [d[0] / n, d[1] / n];
-                // March in half pixels while on the ink (at most a few widths).
-                let mut last = 0.0;
-                let mut t = 0.5;
-                while t <= 2.0 * stroke + 4.0 && self.ink.at([tip[0] + t * u[0], tip[1] + t * u[1]])
-                {
-                    last = t;
-                    t += 0.5;
-                }
-                let reach = last + 0.5 - half;
+                // Where the ink ends ahead of the tip (at most a few widths on).
+                let reach = self.ink.exit(tip, u, 2.0 * stroke + 4.0) - half;
                 if reach < 1.0 {
                     continue;
                 }
@@ -1717,6 +1727,16 @@ mod tests {
         (binary, graph)
     }
 
+    /// The distance from `p` to the nearest point of the graph's polylines.
+    fn nearest_point(graph: &StrokeGraph, p: [f64; 2]) -> f64 {
+        graph
+            .edges
+            .iter()
+            .flat_map(|e| e.points.iter())
+            .map(|&q| dist(q, p))
+            .fold(f64::INFINITY, f64::min)
+    }
+
     fn assert_on_ink(binary: &crate::Binary, graph: &StrokeGraph) {
         for edge in &graph.edges {
             for s in edge.points.windows(2) {
@@ -1805,12 +1825,7 @@ mod tests {
             graph.vertices
         );
         assert_eq!(graph.endpoints().count(), 2);
-        let nearest = graph
-            .edges
-            .iter()
-            .flat_map(|e| e.points.iter())
-            .map(|&p| dist(p, corner))
-            .fold(f64::INFINITY, f64::min);
+        let nearest = nearest_point(&graph, corner);
         assert!(
             nearest <= 3.0,
             "the bend is {nearest:.1} px from the corner"
@@ -1832,12 +1847,7 @@ mod tests {
         );
         assert_eq!(graph.endpoints().count(), 2);
         for corner in &corners[1..3] {
-            let nearest = graph
-                .edges
-                .iter()
-                .flat_map(|e| e.points.iter())
-                .map(|&p| dist(p, *corner))
-                .fold(f64::INFINITY, f64::min);
+            let nearest = nearest_point(&graph, *corner);
             assert!(
                 nearest <= 2.0,
                 "the bend is {nearest:.1} px from the corner {corner:?}"

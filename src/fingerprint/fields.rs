@@ -227,6 +227,23 @@ impl RidgePeriods {
             .get(self.grid.index(i, j))
             .map_or(0.0, |&p| f64::from(p))
     }
+
+    /// The median period of the blocks inside the print, px (0 for an empty print; of an even
+    /// count, the upper middle one).
+    pub fn median_inside(&self, segmentation: &Segmentation) -> f64 {
+        let mut inside: Vec<f32> = self
+            .period
+            .iter()
+            .zip(&segmentation.inside)
+            .filter(|(_, &i)| i)
+            .map(|(&p, _)| p)
+            .collect();
+        if inside.is_empty() {
+            return 0.0;
+        }
+        let middle = inside.len() / 2;
+        f64::from(*inside.select_nth_unstable_by(middle, f32::total_cmp).1)
+    }
 }
 
 #[cfg(test)]

@@ -141,14 +141,7 @@ fn confirmed_ridges(
     periods: &RidgePeriods,
     dark_ridges: bool,
 ) -> Binary {
-    let mut inside: Vec<f32> = periods
-        .period
-        .iter()
-        .zip(&segmentation.inside)
-        .filter(|(_, &i)| i)
-        .map(|(&p, _)| p)
-        .collect();
-    let period = f64::from(math::median(&mut inside));
+    let period = periods.median_inside(segmentation);
     let mean = math::gaussian_blur(smoothed, (period / 2.0).max(1.0));
     let mut ridges = binary.clone();
     for ((ink, &g), &m) in ridges

@@ -29,9 +29,13 @@ use std::time::Instant;
 /// Ends closer than this to the image border are not counted (the border margin cuts them).
 const TRUTH_MARGIN: f64 = 16.0;
 
-/// A real print whose median ridge period is below this, px, is scanned below the 500 ppi the
-/// peer supports (about 9 px there; 6.5 px is about 350 ppi): the peer also gets it enlarged 2x.
-const PEER_PERIOD_MIN: f64 = 6.5;
+/// The ridge period the peer is made for, px: the middle, on a log scale, of the 5-16 px periods
+/// of pyfing's Gabor bank (about 500 ppi). Each real print is also given to the peer at whichever
+/// of 2x, 1x and 1/2x brings its median period closest to this.
+const PEER_PERIOD: f64 = 8.94;
+
+/// The scales a print is offered to the peer at.
+const PEER_SCALES: [f64; 3] = [2.0, 1.0, 0.5];
 
 #[derive(Clone, Copy, Debug, PartialEq)]
 struct Point {
@@ -186,7 +190,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     };
     println!();
     let mut rows = Vec::new();
-    let mut enlarged = Vec::new();
+    let mut rescaled = Vec::new();
     for file in &files {
         let bytes = std::fs::read(file)?;
         let gray = ridgeline::decode(&bytes, &params.limits)?;
@@ -197,25 +201,36 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         let off = percent(off_enhanced_ink(&trace));
         let period = median_period(&trace);
         // The peer supports 500 ppi only (pyfing's frequency stage refuses any other
-        // resolution) and looks for periods of about 9 px; a print whose ridges repeat faster
-        // than PEER_PERIOD_MIN px is given to it enlarged twice as well (the count of minutiae
-        // does not depend on the scale of their coordinates).
-        let twice = (peer && period < PEER_PERIOD_MIN).then(|| {
+        // resolution) and its Gabor bank covers 5-16 px periods; a print whose median period is
+        // closer to PEER_PERIOD at 2x or 1/2x is given to it at that scale as well (the count of
+        // minutiae does not depend on the scale of their coordinates).
+        let scale = PEER_SCALES
+            .into_iter()
+            .min_by(|a, b| {
+                let off = |f: f64| (period * f / PEER_PERIOD).ln().abs();
+                off(*a).total_cmp(&off(*b))
+            })
+            .unwrap_or(1.0);
+        let scaled = (peer && period > 0.0 && scale != 1.0).then(|| {
             let path = work.join(format!(
-                "x2_{}.png",
+                "x{scale}_{}.png",
                 file.file_stem()
                     .map_or(String::new(), |n| n.to_string_lossy().into_owned())
             ));
-            let big = image::imageops::resize(
-                &gray,
-                2 * gray.width(),
-                2 * gray.height(),
-                image::imageops::FilterType::CatmullRom,
-            );
-            big.save(&path).map(|_| path)
+            let size = |n: u32| ((f64::from(n) * scale).round() as u32).max(1);
+            // Catmull-Rom to enlarge; the triangle filter (a mean over each output pixel's
+            // footprint) to halve.
+            let filter = if scale > 1.0 {
+                image::imageops::FilterType::CatmullRom
+            } else {
+                image::imageops::FilterType::Triangle
+            };
+            let resized =
+                image::imageops::resize(&gray, size(gray.width()), size(gray.height()), filter);
+            resized.save(&path).map(|_| path)
         });
-        if let Some(path) = twice {
-            enlarged.push((file.clone(), path?));
+        if let Some(path) = scaled {
+            rescaled.push((file.clone(), scale, path?));
         }
         rows.push((
             file.clone(),
@@ -227,31 +242,51 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             period,
         ));
     }
-    let peer_enlarged = if enlarged.is_empty() {
+    let peer_rescaled = if rescaled.is_empty() {
         None
     } else {
-        let paths: Vec<PathBuf> = enlarged.iter().map(|(_, p)| p.clone()).collect();
-        run_peer(&paths, &work.join("peer_real_x2.json"))
+        let paths: Vec<PathBuf> = rescaled.iter().map(|(_, _, p)| p.clone()).collect();
+        run_peer(&paths, &work.join("peer_real_rescaled.json"))
     };
     println!(
-        "| print | size | median period, px | ridgeline minutiae | off ink | time, s | peer minutiae | peer time, s | peer on the print enlarged 2x |"
+        "| print | size | median period, px | ridgeline minutiae | off ink | time, s | peer minutiae | peer time, s | peer at 2x or 1/2x | ratio to the peer at its scale |"
     );
-    println!("|---|---|---|---|---|---|---|---|---|");
+    println!("|---|---|---|---|---|---|---|---|---|---|");
+    let (mut in_band, mut compared) = (0, 0);
     for (file, width, height, count, off, time, period) in rows {
-        let (pc, pt) = match peer_real.as_ref().and_then(|p| p.get(&file)) {
+        let native = peer_real.as_ref().and_then(|p| p.get(&file));
+        let (pc, pt) = match native {
             Some((found, t)) => (found.len().to_string(), format!("{t:.2}")),
             None => ("-".into(), "-".into()),
         };
-        let twice = enlarged
+        let other = rescaled
             .iter()
-            .find(|(f, _)| *f == file)
-            .and_then(|(_, path)| peer_enlarged.as_ref()?.get(path))
-            .map_or("-".into(), |(found, _)| found.len().to_string());
+            .find(|(f, _, _)| *f == file)
+            .and_then(|(_, scale, path)| Some((*scale, peer_rescaled.as_ref()?.get(path)?)));
+        let other_cell = other.map_or("-".into(), |(scale, (found, _))| {
+            format!("{} at {scale}x", found.len())
+        });
+        // The peer at the scale it is made for: the rescaled print where there is one.
+        let reference = other
+            .map(|(_, (found, _))| found.len())
+            .or(native.map(|(f, _)| f.len()));
+        let ratio = reference.map_or("-".into(), |r| {
+            let ratio = count as f64 / r.max(1) as f64;
+            compared += 1;
+            if (0.5..=2.0).contains(&ratio) {
+                in_band += 1;
+            }
+            format!("{ratio:.2}")
+        });
         println!(
-            "| {} | {width}x{height} | {period:.1} | {count} | {off} | {time:.2} | {pc} | {pt} | {twice} |",
+            "| {} | {width}x{height} | {period:.1} | {count} | {off} | {time:.2} | {pc} | {pt} | {other_cell} | {ratio} |",
             file.file_name()
                 .map_or(String::new(), |n| n.to_string_lossy().into_owned()),
         );
+    }
+    if compared > 0 {
+        println!();
+        println!("prints within 1/2-2x the peer at its scale: {in_band} of {compared}");
     }
     Ok(())
 }

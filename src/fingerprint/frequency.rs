@@ -7,6 +7,11 @@
 //! distances between consecutive maxima and between consecutive minima that lie between
 //! `period_min` and `period_max` (3 and 25 px: 1/3 to 1/25 px⁻¹) are the candidate periods; with
 //! at least three, the block's period is the mean of those within 2 px (or 20 %) of their median.
+//! Where pores or the lighter middle of a wide ridge add shallow extremes inside the ridges, that
+//! mean is half the period: the block is halved when its signature, less its mean, correlates
+//! negatively with itself shifted by the measure and positively shifted by twice it, and a halved
+//! block's period is doubled where at least a third of its measured 3 x 3 neighbours are halved
+//! too (a single noisy block is not).
 //! Blocks without a measure (background, a crease, a core) are filled wave by wave from the mean
 //! of their filled neighbours, then every block is averaged with its 3 x 3 neighbours.
 //!
@@ -34,6 +39,7 @@ pub(crate) fn ridge_periods(
     let mut distances: Vec<f32> = Vec::with_capacity(length);
     let mut period = vec![0.0f32; grid.len()];
     let mut measured = vec![false; grid.len()];
+    let mut halved = vec![false; grid.len()];
     for j in 0..rows {
         for i in 0..cols {
             let b = grid.index(i, j);
@@ -88,11 +94,19 @@ pub(crate) fn ridge_periods(
                 .filter(|d| (d - m).abs() <= tolerance)
                 .collect();
             if !close.is_empty() {
-                period[b] = close.iter().sum::<f32>() / close.len() as f32;
+                let p = close.iter().sum::<f32>() / close.len() as f32;
+                // Extra shallow extremes inside the ridges (pores, a lighter middle of a wide
+                // ridge) halve the distances; the signature then correlates negatively with
+                // itself one distance away and positively two away.
+                halved[b] = f64::from(2.0 * p) <= params.period_max
+                    && correlation(&signature, p) < 0.0
+                    && correlation(&signature, 2.0 * p) > 0.0;
+                period[b] = p;
                 measured[b] = true;
             }
         }
     }
+    double_halved(&mut period, &measured, &halved, cols, rows);
     let period = fill_and_smooth(period, &measured, cols, rows, params.default_period as f32);
     let (lo, hi) = (params.period_min as f32, params.period_max as f32);
     RidgePeriods {
@@ -100,6 +114,58 @@ pub(crate) fn ridge_periods(
         period: period.into_iter().map(|p| p.clamp(lo, hi)).collect(),
         measured,
     }
+}
+
+/// Doubles the period of every halved block (see [`ridge_periods`]) where at least a third of
+/// the measured blocks of its 3 x 3 neighbourhood are halved too: pores and light ridge middles
+/// cover a stretch of the print, while noise halves a block here and there.
+fn double_halved(period: &mut [f32], measured: &[bool], halved: &[bool], cols: usize, rows: usize) {
+    let before = halved.to_vec();
+    for j in 0..rows {
+        for i in 0..cols {
+            let b = j * cols + i;
+            if !before[b] {
+                continue;
+            }
+            let (mut n, mut h) = (0, 0);
+            for jj in j.saturating_sub(1)..(j + 2).min(rows) {
+                for ii in i.saturating_sub(1)..(i + 2).min(cols) {
+                    let c = jj * cols + ii;
+                    if measured[c] {
+                        n += 1;
+                        h += usize::from(before[c]);
+                    }
+                }
+            }
+            if 3 * h >= n {
+                period[b] *= 2.0;
+            }
+        }
+    }
+}
+
+/// The normalized correlation of the signature, less its mean, with itself shifted by `lag`
+/// samples (linear interpolation between samples); 0 when the overlap is flat or under 4 samples.
+fn correlation(signature: &[f32], lag: f32) -> f32 {
+    let n = signature.len();
+    let mean = signature.iter().sum::<f32>() / n as f32;
+    let whole = lag.floor() as usize;
+    let frac = lag - whole as f32;
+    if whole + 1 + 4 > n {
+        return 0.0;
+    }
+    let (mut sxy, mut sxx, mut syy) = (0.0f32, 0.0f32, 0.0f32);
+    for t in 0..n - whole - 1 {
+        let x = signature[t] - mean;
+        let y = (1.0 - frac) * signature[t + whole] + frac * signature[t + whole + 1] - mean;
+        sxy += x * y;
+        sxx += x * x;
+        syy += y * y;
+    }
+    if sxx <= 0.0 || syy <= 0.0 {
+        return 0.0;
+    }
+    sxy / (sxx * syy).sqrt()
 }
 
 /// Fills the unmeasured blocks wave by wave from their filled 8-neighbours, then averages each
@@ -194,6 +260,46 @@ mod tests {
                 assert!((found - period).abs() < 0.12 * period, "{period}: {found}");
             }
         }
+    }
+
+    #[test]
+    fn ridges_with_lighter_middles_keep_their_period() {
+        // Dark ridges 16 px apart whose middles are lighter: the profile -cos x + 0.6 cos 2x has
+        // its minima 0.36 and 0.64 periods apart, so consecutive extremes are half a period apart
+        // on average.
+        let (size, period, theta) = (128u32, 16.0f64, 0.6f64);
+        let normal = [-theta.sin(), theta.cos()];
+        let mut values = Vec::with_capacity((size * size) as usize);
+        for y in 0..size {
+            for x in 0..size {
+                let u = f64::from(x) * normal[0] + f64::from(y) * normal[1];
+                let a = std::f64::consts::TAU * u / period;
+                values.push((128.0 + 50.0 * (-a.cos() + 0.6 * (2.0 * a).cos())) as f32);
+            }
+        }
+        let gray = Plane {
+            width: size,
+            height: size,
+            values,
+        };
+        let grid = BlockGrid::new(size, size, 8);
+        let mut inside = vec![false; grid.len()];
+        for j in 5..11 {
+            for i in 5..11 {
+                inside[grid.index(i, j)] = true;
+            }
+        }
+        let s = Segmentation { grid, inside };
+        let field = OrientationField {
+            grid,
+            angle: vec![theta as f32; grid.len()],
+            coherence: vec![1.0; grid.len()],
+        };
+        let p = ridge_periods(&gray, &s, &field, &FingerprintParams::default());
+        let b = grid.index(8, 8);
+        assert!(p.measured[b]);
+        let found = f64::from(p.period[b]);
+        assert!((found - period).abs() < 0.12 * period, "{found}");
     }
 
     #[test]

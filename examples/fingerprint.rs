@@ -270,14 +270,12 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         let reference = other
             .map(|(_, (found, _))| found.len())
             .or(native.map(|(f, _)| f.len()));
-        let ratio = reference.map_or("-".into(), |r| {
-            let ratio = count as f64 / r.max(1) as f64;
+        let ratio = reference.map(|r| count as f64 / r.max(1) as f64);
+        if let Some(ratio) = ratio {
             compared += 1;
-            if (0.5..=2.0).contains(&ratio) {
-                in_band += 1;
-            }
-            format!("{ratio:.2}")
-        });
+            in_band += usize::from((0.5..=2.0).contains(&ratio));
+        }
+        let ratio = ratio.map_or("-".into(), |r| format!("{r:.2}"));
         println!(
             "| {} | {width}x{height} | {period:.1} | {count} | {off} | {time:.2} | {pc} | {pt} | {other_cell} | {ratio} |",
             file.file_name()

@@ -98,9 +98,11 @@ pub(crate) fn ridge_periods(
                 // Extra shallow extremes inside the ridges (pores, a lighter middle of a wide
                 // ridge) halve the distances; the signature then correlates negatively with
                 // itself one distance away and positively two away.
-                halved[b] = f64::from(2.0 * p) <= params.period_max
-                    && correlation(&signature, p) < 0.0
-                    && correlation(&signature, 2.0 * p) > 0.0;
+                halved[b] = f64::from(2.0 * p) <= params.period_max && {
+                    let mean = signature.iter().sum::<f32>() / length as f32;
+                    correlation(&signature, mean, p) < 0.0
+                        && correlation(&signature, mean, 2.0 * p) > 0.0
+                };
                 period[b] = p;
                 measured[b] = true;
             }
@@ -120,23 +122,14 @@ pub(crate) fn ridge_periods(
 /// the measured blocks of its 3 x 3 neighbourhood are halved too: pores and light ridge middles
 /// cover a stretch of the print, while noise halves a block here and there.
 fn double_halved(period: &mut [f32], measured: &[bool], halved: &[bool], cols: usize, rows: usize) {
-    let before = halved.to_vec();
     for j in 0..rows {
         for i in 0..cols {
             let b = j * cols + i;
-            if !before[b] {
+            if !halved[b] {
                 continue;
             }
-            let (mut n, mut h) = (0, 0);
-            for jj in j.saturating_sub(1)..(j + 2).min(rows) {
-                for ii in i.saturating_sub(1)..(i + 2).min(cols) {
-                    let c = jj * cols + ii;
-                    if measured[c] {
-                        n += 1;
-                        h += usize::from(before[c]);
-                    }
-                }
-            }
+            let around = neighbourhood(i, j, cols, rows).filter(|&c| measured[c]);
+            let (n, h) = around.fold((0, 0), |(n, h), c| (n + 1, h + usize::from(halved[c])));
             if 3 * h >= n {
                 period[b] *= 2.0;
             }
@@ -144,11 +137,16 @@ fn double_halved(period: &mut [f32], measured: &[bool], halved: &[bool], cols: u
     }
 }
 
-/// The normalized correlation of the signature, less its mean, with itself shifted by `lag`
+/// The indices of block `(i, j)`'s 3 x 3 neighbourhood inside a `cols` x `rows` grid, row by row.
+fn neighbourhood(i: usize, j: usize, cols: usize, rows: usize) -> impl Iterator<Item = usize> {
+    (j.saturating_sub(1)..(j + 2).min(rows))
+        .flat_map(move |jj| (i.saturating_sub(1)..(i + 2).min(cols)).map(move |ii| jj * cols + ii))
+}
+
+/// The normalized correlation of the signature, less its `mean`, with itself shifted by `lag`
 /// samples (linear interpolation between samples); 0 when the overlap is flat or under 4 samples.
-fn correlation(signature: &[f32], lag: f32) -> f32 {
+fn correlation(signature: &[f32], mean: f32, lag: f32) -> f32 {
     let n = signature.len();
-    let mean = signature.iter().sum::<f32>() / n as f32;
     let whole = lag.floor() as usize;
     let frac = lag - whole as f32;
     if whole + 1 + 4 > n {
@@ -190,13 +188,9 @@ fn fill_and_smooth(
                     continue;
                 }
                 let (mut sum, mut n) = (0.0f32, 0);
-                for jj in j.saturating_sub(1)..(j + 2).min(rows) {
-                    for ii in i.saturating_sub(1)..(i + 2).min(cols) {
-                        if filled[jj * cols + ii] {
-                            sum += period[jj * cols + ii];
-                            n += 1;
-                        }
-                    }
+                for c in neighbourhood(i, j, cols, rows).filter(|&c| filled[c]) {
+                    sum += period[c];
+                    n += 1;
                 }
                 if n > 0 {
                     wave.push((j * cols + i, sum / n as f32));
@@ -215,11 +209,9 @@ fn fill_and_smooth(
     for j in 0..rows {
         for i in 0..cols {
             let (mut sum, mut n) = (0.0f32, 0.0f32);
-            for jj in j.saturating_sub(1)..(j + 2).min(rows) {
-                for ii in i.saturating_sub(1)..(i + 2).min(cols) {
-                    sum += period[jj * cols + ii];
-                    n += 1.0;
-                }
+            for c in neighbourhood(i, j, cols, rows) {
+                sum += period[c];
+                n += 1.0;
             }
             smoothed[j * cols + i] = sum / n;
         }
@@ -235,17 +227,24 @@ mod tests {
 
     fn periods_of(period: f64, theta: f64) -> RidgePeriods {
         let gray = ridges_in_disk(128, 128, period, theta, [64.0, 64.0], 200.0);
+        periods_in(&gray, theta, &[(8, 8), (7, 8)])
+    }
+
+    /// The periods of `gray` (128 x 128) with ridges along `theta` everywhere, inside the print
+    /// on the 8 px blocks `inside` only.
+    fn periods_in(gray: &Plane, theta: f64, inside_blocks: &[(usize, usize)]) -> RidgePeriods {
         let grid = BlockGrid::new(128, 128, 8);
         let mut inside = vec![false; grid.len()];
-        inside[grid.index(8, 8)] = true;
-        inside[grid.index(7, 8)] = true;
+        for &(i, j) in inside_blocks {
+            inside[grid.index(i, j)] = true;
+        }
         let s = Segmentation { grid, inside };
         let field = OrientationField {
             grid,
             angle: vec![theta as f32; grid.len()],
             coherence: vec![1.0; grid.len()],
         };
-        ridge_periods(&gray, &s, &field, &FingerprintParams::default())
+        ridge_periods(gray, &s, &field, &FingerprintParams::default())
     }
 
     #[test]
@@ -282,21 +281,10 @@ mod tests {
             height: size,
             values,
         };
-        let grid = BlockGrid::new(size, size, 8);
-        let mut inside = vec![false; grid.len()];
-        for j in 5..11 {
-            for i in 5..11 {
-                inside[grid.index(i, j)] = true;
-            }
-        }
-        let s = Segmentation { grid, inside };
-        let field = OrientationField {
-            grid,
-            angle: vec![theta as f32; grid.len()],
-            coherence: vec![1.0; grid.len()],
-        };
-        let p = ridge_periods(&gray, &s, &field, &FingerprintParams::default());
-        let b = grid.index(8, 8);
+        let blocks: Vec<(usize, usize)> =
+            (5..11).flat_map(|j| (5..11).map(move |i| (i, j))).collect();
+        let p = periods_in(&gray, theta, &blocks);
+        let b = p.grid.index(8, 8);
         assert!(p.measured[b]);
         let found = f64::from(p.period[b]);
         assert!((found - period).abs() < 0.12 * period, "{found}");

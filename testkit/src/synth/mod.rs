@@ -26,7 +26,7 @@ pub use hershey::{
     font_cases, japanese_cases, page, text_cases, text_line, Font, Glyph, FONTS,
     SINGLE_PASS_TOLERANCE,
 };
-pub use prints::{dense_print_cases, print_cases, DENSE_PRINT_SIZE};
+pub use prints::{dense_print_cases, finger_area, print_cases, DENSE_PRINT_SIZE};
 pub use rng::SplitMix64;
 pub use shapes::hard_cases;
 

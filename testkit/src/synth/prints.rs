@@ -501,9 +501,7 @@ fn print_case(name: &str, group: &str, field: &Field, width: f64, size: u32) -> 
             join_ahead(&mut ridges, r, field.period);
         }
     }
-    let s = size as f64;
-    let center = [s / 2.0, s / 2.0];
-    let axes = [0.42 * s, 0.47 * s];
+    let (center, axes) = finger_area(size);
     let mut strokes = Vec::new();
     for (points, _) in &ridges {
         for piece in clip_to_ellipse(points, center, axes) {
@@ -523,6 +521,14 @@ fn print_case(name: &str, group: &str, field: &Field, width: f64, size: u32) -> 
         binary,
         strokes,
     }
+}
+
+/// The finger area of a print image of side `size`: the centre and the half-axes of the ellipse
+/// its ridges are clipped to. A true ridge that ends on this outline was cut there (the finger's
+/// edge), not at a minutia.
+pub fn finger_area(size: u32) -> ([f64; 2], [f64; 2]) {
+    let s = f64::from(size);
+    ([s / 2.0, s / 2.0], [0.42 * s, 0.47 * s])
 }
 
 /// A dislocation placed as fractions of the image size: x, y, sign, and whether it is joined

@@ -8,7 +8,7 @@
 //! images in the temporary folder `ridgeline-fingerprint-bench`.
 //!
 //! ```text
-//! cargo run --release --example fingerprint [-- --peer] [--pictures] [--real DIR] [--enhance smoothing]
+//! cargo run --release --example fingerprint [-- --peer] [--pictures] [--errors] [--real DIR] [--enhance smoothing]
 //! ```
 //!
 //! Truth: the ends of the true ridge polylines but those cut by the finger's outline
@@ -57,6 +57,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let peer = args.iter().any(|a| a == "--peer");
     // Pictures of every synthetic image's minutiae against the truth, in the work folder.
     let pictures = args.iter().any(|a| a == "--pictures");
+    // Each synthetic image's false and missed minutiae within 8 px, listed.
+    let errors = args.iter().any(|a| a == "--errors");
     let real = args
         .windows(2)
         .find(|w| w[0] == "--real")
@@ -128,6 +130,31 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         let entry = rows.entry((order, variant.clone())).or_default();
         let matched = entry[0].add(&ours, truth, 8.0);
         entry[1].add(&ours, truth, 16.0);
+        if errors {
+            let kind = |p: &Point| if p.bifurcation { "fork" } else { "end" };
+            for (i, f) in ours.iter().enumerate() {
+                if !matched.iter().any(|m| m.0 == i) {
+                    println!(
+                        "{}: false {} at {:.0},{:.0}",
+                        paths[k].display(),
+                        kind(f),
+                        f.pos[0],
+                        f.pos[1]
+                    );
+                }
+            }
+            for (j, t) in truth.iter().enumerate() {
+                if !t.optional && !matched.iter().any(|m| m.1 == j) {
+                    println!(
+                        "{}: missed {} at {:.0},{:.0}",
+                        paths[k].display(),
+                        kind(t),
+                        t.pos[0],
+                        t.pos[1]
+                    );
+                }
+            }
+        }
         if pictures {
             let name = paths[k].with_extension("").to_string_lossy().into_owned();
             picture(gray, &trace, &ours, truth, &matched).save(format!("{name}-minutiae.png"))?;

@@ -25,6 +25,22 @@ pub struct Decisions {
     /// The share of the ink traced in dropout mode (decided per group of nearby components);
     /// `None` when `dropout` is.
     pub dropout_share: Option<f64>,
+    /// What the fingerprint front end measured on the print; `None` (and not written) without
+    /// `--fingerprint`.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub print: Option<PrintDecisions>,
+}
+
+/// What the fingerprint front end measured on a print (docs/fingerprints.md).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct PrintDecisions {
+    /// The median ridge period of the blocks inside the print, px (0 for an empty print).
+    pub ridge_period: f64,
+    /// The share of the image's blocks inside the print's segmentation mask.
+    pub print_share: f64,
+    /// The median coherence of the ridge flow over the blocks inside the print, in [0, 1]:
+    /// low on a smudged or noisy print.
+    pub coherence: f64,
 }
 
 /// The threshold actually applied, with its settings.
@@ -48,6 +64,12 @@ pub enum ThresholdUsed {
     Local {
         /// Block side, px (about six stroke widths).
         window: u32,
+    },
+    /// The fingerprint front end: ridges are where the enhanced image (`enhancement`: `gabor` or
+    /// `smoothing`) is positive and the segmentation mask holds the print.
+    Enhanced {
+        /// The contextual enhancement applied.
+        enhancement: &'static str,
     },
     /// Sauvola's threshold, as the user asked.
     Sauvola {

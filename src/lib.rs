@@ -103,7 +103,7 @@ mod synth {
 }
 
 pub use binary::{Binary, MaskView};
-pub use decisions::{Decisions, ThresholdUsed, Warning, UNEVEN_LIGHT};
+pub use decisions::{Decisions, PrintDecisions, ThresholdUsed, Warning, UNEVEN_LIGHT};
 pub use error::{Error, Result};
 pub use geometry::dist;
 pub use gray::GrayView;
@@ -278,8 +278,14 @@ fn with_decisions(
 /// cannot tell them apart).
 fn trace_print(gray: GrayView<'_>, params: &Params, print: &FingerprintParams) -> Result<Trace> {
     let (analysis, binary, enhance) = print_front_end(gray, params, print)?;
-    let trace = trace_binary(&binary, params)?;
-    Ok(with_minutiae(trace, binary, analysis, enhance, print))
+    let trace = trace_mask(binary.view(), params)?;
+    Ok(with_minutiae(
+        trace,
+        binary,
+        analysis,
+        enhance,
+        (params, print),
+    ))
 }
 
 /// The fingerprint front end of [`trace_print`]: the print's analysis, its binary image and the
@@ -305,28 +311,81 @@ fn print_front_end(
     Ok((analysis, binary, start.elapsed()))
 }
 
-/// Completes the trace of a print's binary image with its minutiae and front end.
+/// Completes the trace of a print's binary image with its minutiae, its front end and what that
+/// decided, and the warnings.
 fn with_minutiae(
     mut trace: Trace,
     binary: Binary,
     analysis: fingerprint::PrintAnalysis,
     enhance: Duration,
-    print: &FingerprintParams,
+    (params, print): (&Params, &FingerprintParams),
 ) -> Trace {
-    trace.timings.binarize = enhance;
     trace.graph = fingerprint::prior::ridges_along_the_flow(
         std::mem::take(&mut trace.graph),
         &analysis,
         print,
     );
+    let decisions = print_decisions(&analysis, &binary, params, print);
+    let mut trace = with_decisions(trace, binary, decisions, enhance);
     let minutiae = minutiae::fingerprint_minutiae(&trace.graph, &analysis, print);
-    trace.binary = Some(binary);
     trace.fingerprint = Some(Box::new(FingerprintTrace {
         analysis,
         minutiae,
         enhance,
     }));
     trace
+}
+
+/// The fingerprint front end's decisions: the polarity it was given (ridges dark unless
+/// `--polarity light`: ridges and valleys are about as wide, so there is no stroke evidence to
+/// weigh), the enhanced image's sign as the threshold, the ridge width (median chord of the
+/// enhanced ridges), and what it measured on the print.
+fn print_decisions(
+    analysis: &fingerprint::PrintAnalysis,
+    binary: &Binary,
+    params: &Params,
+    print: &FingerprintParams,
+) -> Decisions {
+    let inside = &analysis.segmentation.inside;
+    let blocks_inside = inside.iter().filter(|&&i| i).count();
+    let mut coherence: Vec<f32> = analysis
+        .orientation
+        .coherence
+        .iter()
+        .zip(inside)
+        .filter(|(_, &i)| i)
+        .map(|(&c, _)| c)
+        .collect();
+    let coherence = if coherence.is_empty() {
+        0.0
+    } else {
+        let middle = coherence.len() / 2;
+        f64::from(*coherence.select_nth_unstable_by(middle, f32::total_cmp).1)
+    };
+    let chords = raster::chords(&binary.ink, binary.width as usize, binary.height as usize);
+    Decisions {
+        polarity: if params.polarity == Polarity::LightInk {
+            "light"
+        } else {
+            "dark"
+        },
+        polarity_confidence: None,
+        threshold: ThresholdUsed::Enhanced {
+            enhancement: match print.enhancement {
+                params::Enhancement::Gabor => "gabor",
+                params::Enhancement::Smoothing => "smoothing",
+            },
+        },
+        stroke_width: chords.dark_median,
+        uneven_light: 0.0,
+        dropout: None,
+        dropout_share: None,
+        print: Some(PrintDecisions {
+            ridge_period: analysis.periods.median_inside(&analysis.segmentation),
+            print_share: blocks_inside as f64 / inside.len().max(1) as f64,
+            coherence,
+        }),
+    }
 }
 
 /// Traces a foreground mask: a `&Binary`, or a [`MaskView`] of flags borrowed from elsewhere,
@@ -439,8 +498,15 @@ pub fn trace_image_with_stages<'a>(
             binary
         };
         let mut trace = trace_binary_with_stages(&binary, params)?;
-        trace.warnings = warnings::of(&trace.graph, None);
-        return Ok(with_minutiae(trace, binary, analysis, enhance, print));
+        let dropout = trace.stages.as_ref().map(|s| s.points.dropout);
+        trace.dropout_share = dropout.map(|d| if d { 1.0 } else { 0.0 });
+        return Ok(with_minutiae(
+            trace,
+            binary,
+            analysis,
+            enhance,
+            (params, print),
+        ));
     }
     let start = Instant::now();
     let (binary, decisions) = raster::binarize_deciding(gray, params)?;

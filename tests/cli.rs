@@ -665,6 +665,10 @@ fn enhance_chooses_the_fingerprint_enhancement() {
         smoothing["parameters"]["fingerprint"]["enhancement"],
         "smoothing"
     );
+    assert_eq!(
+        smoothing["decisions"]["threshold"]["enhancement"],
+        "smoothing"
+    );
     let minutiae = smoothing["minutiae"].as_array().expect("minutiae listed");
     assert!(!minutiae.is_empty());
     assert!(minutiae.iter().all(|m| m["quality"].as_u64().is_some()));
@@ -747,6 +751,24 @@ fn fingerprint_minutiae_as_json_xyt_and_iso_records() {
         .iter()
         .all(|m| m["quality"].as_u64().is_some_and(|q| q <= 100)));
     assert!(json["parameters"]["fingerprint"].is_object());
+    // What the front end decided: ridges dark (given, so no confidence), the enhanced image's
+    // sign as the threshold, and a ridge period about twice the ridge width (ridges and valleys
+    // are about as wide).
+    let decided = &json["decisions"];
+    assert_eq!(decided["polarity"], "dark");
+    assert!(decided["polarity_confidence"].is_null());
+    assert_eq!(decided["threshold"]["method"], "enhanced");
+    assert_eq!(decided["threshold"]["enhancement"], "gabor");
+    let width = decided["stroke_width"].as_f64().expect("width");
+    let period = decided["print"]["ridge_period"].as_f64().expect("period");
+    assert!(
+        width > 1.0 && (1.4 * width..2.8 * width).contains(&period),
+        "{decided}"
+    );
+    let share = decided["print"]["print_share"].as_f64().expect("share");
+    assert!(share > 0.2 && share <= 1.0, "{decided}");
+    let coherence = decided["print"]["coherence"].as_f64().expect("coherence");
+    assert!(coherence > 0.5 && coherence <= 1.0, "{decided}");
     let xyt = fs::read_to_string(d.join("print.xyt")).expect("xyt");
     assert_eq!(xyt.lines().count(), minutiae.len());
     for (line, m) in xyt.lines().zip(minutiae) {
@@ -771,6 +793,7 @@ fn fingerprint_minutiae_as_json_xyt_and_iso_records() {
     crate::support::run_ok(&["print.png", "--minutiae", "-o", "plain.json"], d);
     let plain = fs::read_to_string(d.join("plain.json")).expect("json");
     assert!(!plain.contains("quality") && !plain.contains("fingerprint"));
+    assert!(!plain.contains("\"print\"") && !plain.contains("enhanced"));
     // --debug draws the front end's stages too, and finds the same minutiae.
     crate::support::run_ok(
         &[
@@ -786,6 +809,7 @@ fn fingerprint_minutiae_as_json_xyt_and_iso_records() {
     for name in ridgeline::debug::PRINT_PICTURE_NAMES
         .iter()
         .chain(&ridgeline::debug::PICTURE_NAMES)
+        .chain(&[ridgeline::debug::DECISIONS_PICTURE])
     {
         let picture = image::open(d.join("stages").join(name)).expect("a PNG picture");
         assert!(picture.width() >= 200, "{name}");

@@ -30,7 +30,7 @@ use super::Features;
 use crate::curves::CubicBezier;
 use crate::minutiae::Minutia;
 use crate::strokes::Stroke;
-use crate::{Decisions, Edge, Params, StrokeGraph, Vertex, Warning};
+use crate::{Decisions, Edge, Params, PrintDecisions, StrokeGraph, Vertex, Warning};
 
 /// The decisions with their floats rounded like the graph's.
 struct RoundedDecisions<'a>(&'a Decisions);
@@ -39,7 +39,7 @@ impl Serialize for RoundedDecisions<'_> {
     fn serialize<S: Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
         use serde::ser::SerializeStruct;
         let d = self.0;
-        let mut s = serializer.serialize_struct("Decisions", 7)?;
+        let mut s = serializer.serialize_struct("Decisions", 8)?;
         s.serialize_field("polarity", d.polarity)?;
         s.serialize_field("polarity_confidence", &d.polarity_confidence.map(Rounded))?;
         s.serialize_field("threshold", &d.threshold)?;
@@ -47,6 +47,25 @@ impl Serialize for RoundedDecisions<'_> {
         s.serialize_field("uneven_light", &Rounded(d.uneven_light))?;
         s.serialize_field("dropout", &d.dropout)?;
         s.serialize_field("dropout_share", &d.dropout_share.map(Rounded))?;
+        match &d.print {
+            Some(print) => s.serialize_field("print", &RoundedPrint(print))?,
+            None => s.skip_field("print")?,
+        }
+        s.end()
+    }
+}
+
+/// The fingerprint front end's measures with their floats rounded like the graph's.
+struct RoundedPrint<'a>(&'a PrintDecisions);
+
+impl Serialize for RoundedPrint<'_> {
+    fn serialize<S: Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+        use serde::ser::SerializeStruct;
+        let p = self.0;
+        let mut s = serializer.serialize_struct("PrintDecisions", 3)?;
+        s.serialize_field("ridge_period", &Rounded(p.ridge_period))?;
+        s.serialize_field("print_share", &Rounded(p.print_share))?;
+        s.serialize_field("coherence", &Rounded(p.coherence))?;
         s.end()
     }
 }

@@ -43,6 +43,7 @@ pub(crate) fn binarize_deciding(
         uneven_light: 0.0,
         dropout: None,
         dropout_share: None,
+        print: None,
     };
     // One pass gives the range and Otsu's level (a page is tens of MB of pixels; the histogram is
     // built per block in parallel and summed: integer counts, so the sum does not depend on the

@@ -21,6 +21,7 @@ pub(crate) use binarize::binarize_deciding;
 pub(crate) use chunks::pixel_chunks;
 pub use decode::{decode_file, Page, Pages, Picture, Transparency};
 pub(crate) use dropout::split as split_dropout;
+pub(crate) use evidence::chords;
 
 use crate::{Binary, GrayImage, GrayView, Limits, MaskView, Params, PointSet, Result};
 

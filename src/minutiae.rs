@@ -144,7 +144,8 @@ pub fn minutiae(
 /// - border: within `border_margin` px of the print's border (the segmentation mask, and the
 ///   closing of the enhanced ridges by one ridge period) or the image's;
 /// - fragments and islands: an edge with two free ends shorter than `fragment_periods · T`
-///   (both ends go);
+///   (both ends go), or whose ends come within `T` of each other around at least `3 T` of ridge
+///   (a ring broken once);
 /// - spurs: an edge from a bifurcation to a free end shorter than `spur_periods · T` (both go);
 /// - bridges: an edge between two bifurcations shorter than `bridge_periods · T` that runs across
 ///   the flow (more than 45° from the local ridge orientation): a bar between neighbouring ridges;
@@ -179,7 +180,7 @@ pub fn fingerprint_minutiae(
         let period = print.periods.at(middle).max(1.0);
         let short = |factor: f64| length < factor * period;
         let remove = match (degree(a), degree(b)) {
-            (1, 1) => short(params.fragment_periods),
+            (1, 1) => short(params.fragment_periods) || nearly_closed(&edge.points, period),
             (1, 3) | (3, 1) => short(params.spur_periods),
             (3, 3) => {
                 if short(2.0 * params.bridge_periods) {
@@ -264,6 +265,17 @@ pub fn fingerprint_minutiae(
         m.quality = Some(print.quality_at(m.pos));
     }
     found
+}
+
+/// Whether a ridge's two ends come within one `period` of each other around a loop of at least
+/// three periods: a ring broken in one place (the innermost ridge of a whorl, tighter than the
+/// filter resolves), whose two ends are not endings.
+fn nearly_closed(points: &[[f64; 2]], period: f64) -> bool {
+    let (Some(first), Some(last)) = (points.first(), points.last()) else {
+        return false;
+    };
+    let length: f64 = points.windows(2).map(|p| dist(p[0], p[1])).sum();
+    dist(*first, *last) < period && length >= 3.0 * period
 }
 
 /// `graph` without the edges of which less than `share` of the length lies on `ridges` (the
@@ -840,6 +852,32 @@ mod tests {
         );
         let kept: Vec<usize> = found.iter().map(|m| m.vertex).collect();
         assert_eq!(kept, vec![2, 3]);
+    }
+
+    #[test]
+    fn a_ring_broken_once_is_nearly_closed_but_not_a_hook_or_a_dash() {
+        // Arcs of radius 8 around (50, 50) from angle `gap` to 2π: a ring of period 9 broken by
+        // a gap of `gap` radians.
+        let arc = |gap: f64| -> Vec<[f64; 2]> {
+            (0..=64)
+                .map(|k| {
+                    let a = gap + (std::f64::consts::TAU - gap) * f64::from(k) / 64.0;
+                    [50.0 + 8.0 * a.cos(), 50.0 + 8.0 * a.sin()]
+                })
+                .collect()
+        };
+        assert!(
+            nearly_closed(&arc(0.8), 9.0),
+            "ends 6 px apart around 44 px"
+        );
+        assert!(
+            !nearly_closed(&arc(std::f64::consts::PI), 9.0),
+            "a half ring"
+        );
+        // Ends within a period of each other but only 2 periods of ridge: a short hook.
+        let hook = [[0.0, 0.0], [9.0, 0.0], [9.0, 5.0], [0.0, 5.0]];
+        assert!(!nearly_closed(&hook, 9.0));
+        assert!(!nearly_closed(&[[0.0, 0.0]], 9.0));
     }
 
     #[test]

@@ -84,7 +84,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         let truth = truth_of(&case.strokes, case.binary.width);
         for (v, variant) in variants.iter().enumerate() {
             let (gray, cut) = capture(case, variant, 0xF1A6 + (index * 16 + v) as u64);
-            // A partial print has fewer true minutiae: those clearly inside what was captured.
+            // A partial print has fewer true minutiae: those on the captured side of the cut.
             let truth: Vec<Point> = truth
                 .iter()
                 .filter_map(|p| {
@@ -131,27 +131,19 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         let matched = entry[0].add(&ours, truth, 8.0);
         entry[1].add(&ours, truth, 16.0);
         if errors {
-            let kind = |p: &Point| if p.bifurcation { "fork" } else { "end" };
+            let report = |what: &str, p: &Point| {
+                let kind = if p.bifurcation { "fork" } else { "end" };
+                let [x, y] = p.pos;
+                println!("{}: {what} {kind} at {x:.0},{y:.0}", paths[k].display());
+            };
             for (i, f) in ours.iter().enumerate() {
                 if !matched.iter().any(|m| m.0 == i) {
-                    println!(
-                        "{}: false {} at {:.0},{:.0}",
-                        paths[k].display(),
-                        kind(f),
-                        f.pos[0],
-                        f.pos[1]
-                    );
+                    report("false", f);
                 }
             }
             for (j, t) in truth.iter().enumerate() {
                 if !t.optional && !matched.iter().any(|m| m.1 == j) {
-                    println!(
-                        "{}: missed {} at {:.0},{:.0}",
-                        paths[k].display(),
-                        kind(t),
-                        t.pos[0],
-                        t.pos[1]
-                    );
+                    report("missed", t);
                 }
             }
         }
@@ -474,16 +466,17 @@ fn capture(case: &Case, variant: &str, seed: u64) -> (GrayImage, Option<Cut>) {
     let mut rng = SplitMix64::new(seed);
     let all = variant == "all";
     let mut print = binary.clone();
-    let mut cut = None;
-    if variant == "partial" || all {
-        // The finger touched only part of the sensor: everything beyond a line at 10-35 % of
-        // the image size from the centre, on a random side, is bare.
+    // The finger touched only part of the sensor: everything beyond a line at 10-35 % of the
+    // image size from the centre, on a random side, is bare.
+    let cut = (variant == "partial" || all).then(|| {
         let angle = rng.range(0.0, std::f64::consts::TAU);
-        let line = Cut {
+        Cut {
             center: [w as f64 / 2.0, h as f64 / 2.0],
             normal: [angle.cos(), angle.sin()],
             offset: rng.range(0.1, 0.35) * w as f64,
-        };
+        }
+    });
+    if let Some(line) = cut {
         for y in 0..h {
             for x in 0..w {
                 if line.depth([x as f64, y as f64]) < 0.0 {
@@ -491,7 +484,6 @@ fn capture(case: &Case, variant: &str, seed: u64) -> (GrayImage, Option<Cut>) {
                 }
             }
         }
-        cut = Some(line);
     }
     let mut depth: Vec<f64> = print
         .ink
@@ -777,8 +769,8 @@ fn run_peer(images: &[PathBuf], json: &Path) -> Option<BTreeMap<PathBuf, (Vec<Po
 }
 
 /// A picture of one synthetic print at 3x: the gray image faded, the traced ridges dark red, the
-/// true minutiae as green rings (orange when missed, gray in the border band), the found ones as dots (red ending, blue
-/// bifurcation) with a magenta ring when they match no truth.
+/// true minutiae as green rings (orange when missed, gray in the border band), the found ones
+/// as dots (red ending, blue bifurcation) with a magenta ring when they match no truth.
 fn picture(
     gray: &GrayImage,
     trace: &ridgeline::Trace,

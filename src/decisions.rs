@@ -2,6 +2,7 @@
 //! probably wrong (docs/design.md, "The front end"). Both go into the JSON and onto stderr, so a
 //! user can see why a trace looks the way it does and which flag overrides it.
 
+use crate::params::Enhancement;
 use serde::Serialize;
 
 /// The front end's decisions for one image.
@@ -69,7 +70,7 @@ pub enum ThresholdUsed {
     /// `smoothing`) is positive and the segmentation mask holds the print.
     Enhanced {
         /// The contextual enhancement applied.
-        enhancement: &'static str,
+        enhancement: Enhancement,
     },
     /// Sauvola's threshold, as the user asked.
     Sauvola {

@@ -280,11 +280,7 @@ fn trace_print(gray: GrayView<'_>, params: &Params, print: &FingerprintParams) -
     let (analysis, binary, enhance) = print_front_end(gray, params, print)?;
     let trace = trace_mask(binary.view(), params)?;
     Ok(with_minutiae(
-        trace,
-        binary,
-        analysis,
-        enhance,
-        (params, print),
+        trace, binary, analysis, enhance, params, print,
     ))
 }
 
@@ -318,7 +314,8 @@ fn with_minutiae(
     binary: Binary,
     analysis: fingerprint::PrintAnalysis,
     enhance: Duration,
-    (params, print): (&Params, &FingerprintParams),
+    params: &Params,
+    print: &FingerprintParams,
 ) -> Trace {
     trace.graph = fingerprint::prior::ridges_along_the_flow(
         std::mem::take(&mut trace.graph),
@@ -356,12 +353,6 @@ fn print_decisions(
         .filter(|(_, &i)| i)
         .map(|(&c, _)| c)
         .collect();
-    let coherence = if coherence.is_empty() {
-        0.0
-    } else {
-        let middle = coherence.len() / 2;
-        f64::from(*coherence.select_nth_unstable_by(middle, f32::total_cmp).1)
-    };
     let chords = raster::chords(&binary.ink, binary.width as usize, binary.height as usize);
     Decisions {
         polarity: if params.polarity == Polarity::LightInk {
@@ -371,10 +362,7 @@ fn print_decisions(
         },
         polarity_confidence: None,
         threshold: ThresholdUsed::Enhanced {
-            enhancement: match print.enhancement {
-                params::Enhancement::Gabor => "gabor",
-                params::Enhancement::Smoothing => "smoothing",
-            },
+            enhancement: print.enhancement,
         },
         stroke_width: chords.dark_median,
         uneven_light: 0.0,
@@ -383,7 +371,7 @@ fn print_decisions(
         print: Some(PrintDecisions {
             ridge_period: analysis.periods.median_inside(&analysis.segmentation),
             print_share: blocks_inside as f64 / inside.len().max(1) as f64,
-            coherence,
+            coherence: f64::from(fingerprint::math::median(&mut coherence)),
         }),
     }
 }
@@ -497,15 +485,9 @@ pub fn trace_image_with_stages<'a>(
         } else {
             binary
         };
-        let mut trace = trace_binary_with_stages(&binary, params)?;
-        let dropout = trace.stages.as_ref().map(|s| s.points.dropout);
-        trace.dropout_share = dropout.map(|d| if d { 1.0 } else { 0.0 });
+        let trace = trace_binary_with_stages(&binary, params)?;
         return Ok(with_minutiae(
-            trace,
-            binary,
-            analysis,
-            enhance,
-            (params, print),
+            trace, binary, analysis, enhance, params, print,
         ));
     }
     let start = Instant::now();
@@ -517,8 +499,6 @@ pub fn trace_image_with_stages<'a>(
         binary
     };
     let mut trace = trace_binary_with_stages(&binary, params)?;
-    let dropout = trace.stages.as_ref().map(|s| s.points.dropout);
-    trace.dropout_share = dropout.map(|d| if d { 1.0 } else { 0.0 });
     refine_on_gray(&mut trace, gray, &binary, &decisions, params);
     Ok(with_decisions(trace, binary, decisions, binarize_time))
 }
@@ -531,7 +511,11 @@ pub fn trace_binary_with_stages<'a>(
     let binary = binary.into();
     params.validate()?;
     let points = raster::points(binary, params)?;
-    run(points, binary.width, binary.height, params, true)
+    // One point set: dropout mode is on for all of the ink or none.
+    let dropout = points.dropout;
+    let mut trace = run(points, binary.width, binary.height, params, true)?;
+    trace.dropout_share = Some(if dropout { 1.0 } else { 0.0 });
+    Ok(trace)
 }
 
 /// Zhang-Suen thinning of a mask and the graph thinning tools extract from its one-pixel skeleton

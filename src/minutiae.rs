@@ -180,7 +180,9 @@ pub fn fingerprint_minutiae(
         let period = print.periods.at(middle).max(1.0);
         let short = |factor: f64| length < factor * period;
         let remove = match (degree(a), degree(b)) {
-            (1, 1) => short(params.fragment_periods) || nearly_closed(&edge.points, period),
+            (1, 1) => {
+                short(params.fragment_periods) || nearly_closed([*first, *last], length, period)
+            }
             (1, 3) | (3, 1) => short(params.spur_periods),
             (3, 3) => {
                 if short(2.0 * params.bridge_periods) {
@@ -267,15 +269,11 @@ pub fn fingerprint_minutiae(
     found
 }
 
-/// Whether a ridge's two ends come within one `period` of each other around a loop of at least
-/// three periods: a ring broken in one place (the innermost ridge of a whorl, tighter than the
-/// filter resolves), whose two ends are not endings.
-fn nearly_closed(points: &[[f64; 2]], period: f64) -> bool {
-    let (Some(first), Some(last)) = (points.first(), points.last()) else {
-        return false;
-    };
-    let length: f64 = points.windows(2).map(|p| dist(p[0], p[1])).sum();
-    dist(*first, *last) < period && length >= 3.0 * period
+/// Whether a ridge of `length` px whose two `ends` come within one `period` of each other runs
+/// around a loop of at least three periods: a ring broken in one place (the innermost ridge of a
+/// whorl, tighter than the filter resolves), whose two ends are not endings.
+fn nearly_closed(ends: [[f64; 2]; 2], length: f64, period: f64) -> bool {
+    dist(ends[0], ends[1]) < period && length >= 3.0 * period
 }
 
 /// `graph` without the edges of which less than `share` of the length lies on `ridges` (the
@@ -856,6 +854,11 @@ mod tests {
 
     #[test]
     fn a_ring_broken_once_is_nearly_closed_but_not_a_hook_or_a_dash() {
+        // Whether the polyline `points` is a broken ring, as the filter asks of an edge.
+        let nearly_closed = |points: &[[f64; 2]], period: f64| {
+            let length: f64 = points.windows(2).map(|p| dist(p[0], p[1])).sum();
+            nearly_closed([points[0], points[points.len() - 1]], length, period)
+        };
         // Arcs of radius 8 around (50, 50) from angle `gap` to 2π: a ring of period 9 broken by
         // a gap of `gap` radians.
         let arc = |gap: f64| -> Vec<[f64; 2]> {

@@ -147,10 +147,13 @@ pub const DECISIONS_PICTURE: &str = "0-decisions.png";
 const DECIDED_INK: Rgb<u8> = Rgb([0, 90, 220]);
 /// Block grid of the local threshold.
 const BLOCK_GRID: Rgb<u8> = Rgb([255, 150, 0]);
+/// Outline of a reversed ground.
+const GROUND_OUTLINE: Rgb<u8> = Rgb([0, 170, 60]);
 
 /// The front end's decisions over the gray image it decided on (docs/design.md, "The front end"):
 /// the gray pixels, the side taken as ink tinted blue (so a wrong polarity shows as tinted
-/// paper), and with the local threshold, its blocks as an orange grid. Named
+/// paper), with the local threshold its blocks as an orange grid, and the reversed grounds
+/// (polarity per region) outlined in green. Named
 /// [`DECISIONS_PICTURE`] by `--debug`.
 pub fn decisions_picture(gray: &GrayImage, binary: &Binary, decisions: &Decisions) -> RgbImage {
     let (w, h) = gray.dimensions();
@@ -182,6 +185,14 @@ pub fn decisions_picture(gray: &GrayImage, binary: &Binary, decisions: &Decision
                 if on_grid(x, sx, w) || on_grid(y, sy, h) {
                     color = BLOCK_GRID;
                 }
+            }
+            let on_outline = |g: &crate::raster::Ground| {
+                let (x1, y1) = (g.x + g.width - 1, g.y + g.height - 1);
+                let across = (g.x..=x1).contains(&sx) && (g.y..=y1).contains(&sy);
+                across && (sx == g.x || sx == x1 || sy == g.y || sy == y1)
+            };
+            if decisions.reversed_grounds.iter().any(on_outline) {
+                color = GROUND_OUTLINE;
             }
             canvas.image.put_pixel(x, y, color);
         }
@@ -767,5 +778,37 @@ mod decisions_tests {
         assert!(decisions_png(&gray, binary, decisions)
             .unwrap()
             .starts_with(b"\x89PNG"));
+    }
+
+    #[test]
+    fn the_decisions_picture_outlines_the_reversed_grounds() {
+        // A dark banner holding three light bars.
+        let bars = [(40, 20, 5, 40), (100, 20, 5, 40), (140, 38, 50, 5)];
+        let gray = GrayImage::from_fn(240, 90, |x, y| {
+            let inside = |&(x0, y0, w, h): &(u32, u32, u32, u32)| {
+                (x0..x0 + w).contains(&x) && (y0..y0 + h).contains(&y)
+            };
+            let banner = (10..230).contains(&x) && (10..70).contains(&y);
+            image::Luma([if banner && !bars.iter().any(inside) {
+                30
+            } else {
+                230
+            }])
+        });
+        let trace = crate::trace_image_with_stages(&gray, &Params::default()).unwrap();
+        let decisions = trace.decisions.as_ref().unwrap();
+        assert_eq!(decisions.reversed_grounds.len(), 1, "{decisions:?}");
+        let picture = decisions_picture(&gray, trace.binary.as_ref().unwrap(), decisions);
+        let scale = picture_scale(240, 90);
+        let at = |x: u32, y: u32| {
+            *picture.get_pixel((x as f64 * scale) as u32, (y as f64 * scale) as u32)
+        };
+        assert_eq!(at(10, 40), GROUND_OUTLINE);
+        assert_ne!(at(20, 40), GROUND_OUTLINE);
+        // The bars are the ink now, tinted blue; the banner is paper.
+        let bar = at(42, 40);
+        assert!(bar.0[2] > bar.0[0] + 40, "{bar:?}");
+        let banner = at(20, 40);
+        assert_eq!(banner.0[0], banner.0[2]);
     }
 }

@@ -26,6 +26,11 @@ pub struct Decisions {
     /// The share of the ink traced in dropout mode (decided per group of nearby components);
     /// `None` when `dropout` is.
     pub dropout_share: Option<f64>,
+    /// The grounds reversed (polarity per region: thick fields of ink holding light strokes,
+    /// such as white letters on a dark banner, whose strokes were traced as the ink instead),
+    /// by bounding box; empty (and not written) when there was none.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub reversed_grounds: Vec<crate::raster::Ground>,
     /// What the fingerprint front end measured on the print; `None` (and not written) without
     /// `--fingerprint`.
     #[serde(skip_serializing_if = "Option::is_none")]

@@ -360,6 +360,12 @@ pub struct Params {
     /// neither is a fixed threshold. Default `true`; paper `false`.
     #[serde(default = "yes", skip_serializing_if = "is_yes")]
     pub valleys: bool,
+    /// Whether, with [`Polarity::Auto`], a thick field of ink holding light strokes (white
+    /// letters on a dark banner) is read as a ground: its pixels go to the paper and the strokes
+    /// it encloses become the ink (docs/design.md, "The front end"). Default `true`; paper
+    /// `false`.
+    #[serde(default = "yes", skip_serializing_if = "is_yes")]
+    pub reverse_grounds: bool,
     /// How `r_min` is chosen (§3.1). Default [`RMinRule::StrokeWidth`]; paper
     /// [`RMinRule::Spacing`].
     pub r_min_rule: RMinRule,
@@ -456,6 +462,7 @@ impl Default for Params {
             min_area: 0,
             subpixel: true,
             valleys: true,
+            reverse_grounds: true,
             r_min_rule: RMinRule::StrokeWidth,
             r_min_factor: 1.0,
             r_max_factor: 3.0,
@@ -505,6 +512,7 @@ impl Params {
             junctions_on_ink: false,
             subpixel: false,
             valleys: false,
+            reverse_grounds: false,
             ..Params::default()
         }
     }

@@ -217,6 +217,7 @@ mod tests {
             uneven_light: 0.0,
             dropout: Some(false),
             dropout_share: Some(0.0),
+            reversed_grounds: Vec::new(),
             print: None,
         }
     }

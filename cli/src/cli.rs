@@ -212,8 +212,10 @@ pub struct Cli {
     sauvola_k: Option<f64>,
 
     /// Which side of the threshold is ink: auto decides from stroke evidence (ink is the thinner
-    /// side, paper fills the border; dark when the evidence is weak, with a warning), dark ink on
-    /// light paper, or light strokes (fingerprint ridges) on a dark background [default: auto]
+    /// side, paper fills the border; dark when the evidence is weak, with a warning), and then
+    /// per region (a thick field holding light strokes, white letters on a dark banner, is read
+    /// as a ground: see --no-reverse-grounds); dark ink on light paper, or light strokes
+    /// (fingerprint ridges) on a dark background, everywhere [default: auto]
     #[arg(
         long,
         value_enum,
@@ -271,6 +273,21 @@ pub struct Cli {
         help_heading = "Input and binarization"
     )]
     valleys: bool,
+
+    /// With --polarity auto, keep as ink a thick field holding light strokes (white letters on a
+    /// dark banner) instead of reading it as a ground whose strokes are the ink [default: read
+    /// as a ground, paper: kept as ink]
+    #[arg(long, help_heading = "Input and binarization")]
+    no_reverse_grounds: bool,
+
+    /// Read thick fields holding light strokes as grounds; turns it back on after --paper
+    /// [default: on, paper: off]
+    #[arg(
+        long,
+        overrides_with = "no_reverse_grounds",
+        help_heading = "Input and binarization"
+    )]
+    reverse_grounds: bool,
 
     /// Start from the paper's own rules and values (r_min = 10 Dis_ave, r_max = 6 r_min, no arms
     /// test, equal-distance clusters, whole-cluster merging, uniform Laplacian and fit weights, no
@@ -676,6 +693,12 @@ impl TryFrom<&Cli> for Params {
         }
         if cli.valleys {
             params.valleys = true;
+        }
+        if cli.no_reverse_grounds {
+            params.reverse_grounds = false;
+        }
+        if cli.reverse_grounds {
+            params.reverse_grounds = true;
         }
         if cli.no_skeleton {
             params.skeleton = false;
@@ -2111,6 +2134,7 @@ mod tests {
             "--skeleton",
             "--subpixel",
             "--valleys",
+            "--reverse-grounds",
             "a.png",
         ]))
         .expect("valid");
@@ -2119,6 +2143,8 @@ mod tests {
         assert!(!grid.subpixel);
         let filled = Params::try_from(&parse(&["--no-valleys", "a.png"])).expect("valid");
         assert!(!filled.valleys);
+        let banner = Params::try_from(&parse(&["--no-reverse-grounds", "a.png"])).expect("valid");
+        assert!(!banner.reverse_grounds);
         let node_graph = Params::try_from(&parse(&["--no-skeleton", "a.png"])).expect("valid");
         assert!(!node_graph.skeleton);
         let back = Params::try_from(&parse(&["--no-skeleton", "--skeleton", "a.png"])).expect("ok");

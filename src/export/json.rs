@@ -39,7 +39,7 @@ impl Serialize for RoundedDecisions<'_> {
     fn serialize<S: Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
         use serde::ser::SerializeStruct;
         let d = self.0;
-        let mut s = serializer.serialize_struct("Decisions", 8)?;
+        let mut s = serializer.serialize_struct("Decisions", 9)?;
         s.serialize_field("polarity", d.polarity)?;
         s.serialize_field("polarity_confidence", &d.polarity_confidence.map(Rounded))?;
         s.serialize_field("threshold", &d.threshold)?;
@@ -47,6 +47,11 @@ impl Serialize for RoundedDecisions<'_> {
         s.serialize_field("uneven_light", &Rounded(d.uneven_light))?;
         s.serialize_field("dropout", &d.dropout)?;
         s.serialize_field("dropout_share", &d.dropout_share.map(Rounded))?;
+        if d.reversed_grounds.is_empty() {
+            s.skip_field("reversed_grounds")?;
+        } else {
+            s.serialize_field("reversed_grounds", &d.reversed_grounds)?;
+        }
         match &d.print {
             Some(print) => s.serialize_field("print", &RoundedPrint(print))?,
             None => s.skip_field("print")?,

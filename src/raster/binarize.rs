@@ -10,6 +10,7 @@
 use rayon::prelude::*;
 
 use super::evidence::{self, PolarityEvidence};
+use super::grounds;
 use super::valleys;
 use crate::decisions::{Decisions, ThresholdUsed, UNEVEN_LIGHT};
 use crate::{Binary, GrayView, Params, Polarity, Result, Threshold};
@@ -43,6 +44,7 @@ pub(crate) fn binarize_deciding(
         uneven_light: 0.0,
         dropout: None,
         dropout_share: None,
+        reversed_grounds: Vec::new(),
         print: None,
     };
     // One pass gives the range and Otsu's level (a page is tens of MB of pixels; the histogram is
@@ -130,6 +132,9 @@ pub(crate) fn binarize_deciding(
             None => valleys::Level::Global(level),
         };
         valleys::open(gray, dark_ink, &threshold, &mut dark);
+    }
+    if params.reverse_grounds && forced.is_none() {
+        decisions.reversed_grounds = grounds::reverse(&mut dark, w, h);
     }
     binary.ink = dark;
     Ok((binary, decisions))
@@ -516,5 +521,55 @@ mod tests {
             (decisions.polarity, decisions.polarity_confidence),
             ("dark", None)
         );
+    }
+
+    /// A dark banner with three light bars in it above dark strokes on light paper.
+    fn banner() -> (GrayImage, Vec<bool>) {
+        let (w, h) = (240u32, 160u32);
+        let mut img = GrayImage::from_pixel(w, h, Luma([230]));
+        let mut truth = vec![false; (w * h) as usize];
+        let inside = |x: u32, y: u32, (x0, y0, rw, rh): (u32, u32, u32, u32)| {
+            (x0..x0 + rw).contains(&x) && (y0..y0 + rh).contains(&y)
+        };
+        let bars = [(40, 20, 5, 40), (100, 20, 5, 40), (140, 38, 50, 5)];
+        let strokes = [(40, 110, 4, 40), (60, 128, 120, 4)];
+        for y in 0..h {
+            for x in 0..w {
+                let level = if bars.iter().any(|&b| inside(x, y, b)) {
+                    truth[(y * w + x) as usize] = true;
+                    235
+                } else if inside(x, y, (10, 10, 220, 60)) {
+                    30
+                } else if strokes.iter().any(|&s| inside(x, y, s)) {
+                    truth[(y * w + x) as usize] = true;
+                    25
+                } else {
+                    230
+                };
+                img.put_pixel(x, y, Luma([level]));
+            }
+        }
+        (img, truth)
+    }
+
+    #[test]
+    fn light_strokes_on_a_dark_banner_are_the_ink_and_are_recorded() {
+        let (img, truth) = banner();
+        let (binary, decisions) = binarize_deciding((&img).into(), &Params::default()).unwrap();
+        assert_eq!(decisions.polarity, "dark");
+        assert_eq!(binary.ink, truth);
+        assert_eq!(decisions.reversed_grounds.len(), 1, "{decisions:?}");
+        // Without the rule, or with the polarity forced, the banner is ink.
+        for params in [
+            Params {
+                reverse_grounds: false,
+                ..Params::default()
+            },
+            params(Threshold::Auto, Polarity::DarkInk),
+        ] {
+            let (binary, decisions) = binarize_deciding((&img).into(), &params).unwrap();
+            assert!(decisions.reversed_grounds.is_empty());
+            assert!(binary.ink[15 * 240 + 15], "the banner stays ink");
+        }
     }
 }

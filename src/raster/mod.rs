@@ -12,6 +12,7 @@ mod chunks;
 mod decode;
 mod dropout;
 mod evidence;
+mod grounds;
 mod points;
 mod resolution;
 mod tiff_pages;
@@ -22,6 +23,7 @@ pub(crate) use chunks::pixel_chunks;
 pub use decode::{decode_file, Page, Pages, Picture, Transparency};
 pub(crate) use dropout::split as split_dropout;
 pub(crate) use evidence::chords;
+pub use grounds::Ground;
 
 use crate::{Binary, GrayImage, GrayView, Limits, MaskView, Params, PointSet, Result};
 

@@ -1,0 +1,392 @@
+//! Polarity per region (docs/design.md, "The front end"): a thick field of ink holding light
+//! strokes, such as white letters on a dark banner of a dark-on-light page, is a ground, not ink.
+//! Its pixels go to the paper and the strokes it encloses become the ink.
+//!
+//! A ground is told from a bold stroke, a dense character, a photo or a print's merged ridges by
+//! the holes it encloses (light regions, 4-connected, that reach nothing but it):
+//!
+//! - at least [`MIN_HOLES`] of them are clearly strokes: at least [`MIN_HOLE_CHORD`] px wide (the
+//!   median chord of their pixels, the shorter of the horizontal and vertical runs as in
+//!   [`super::evidence::chords`]) and at least [`HOLE_ELONGATION`] times their squared chord in
+//!   area, where a pore, a pinhole or a crack is not;
+//! - the field's own median chord is at least [`GROUND_TO_STROKE`] times theirs: a character's
+//!   counters and a print's valleys are about as wide as its strokes or ridges;
+//! - they hold at least [`MIN_HOLE_SHARE`] of the field's area and at most all of it: a scanner's
+//!   frame or a photo encloses a few stray light specks, not text, and a frame around a page is
+//!   smaller than the page it encloses.
+//!
+//! A ground's pixels go to the paper; every hole of it that is a stroke, even a thinner one
+//! ([`MIN_REVERSED_CHORD`]), is reversed (its light pixels become ink, the ink inside it, a
+//! letter's counters, becomes paper); its other holes stay paper. Ink strokes that touch the
+//! ground go with it.
+
+use image::{GrayImage, Luma};
+use imageproc::region_labelling::{connected_components, Connectivity};
+
+/// The narrowest hole that shows a ground, px: thinner light lines are as often cracks, pores
+/// and noise as strokes.
+const MIN_HOLE_CHORD: u32 = 3;
+/// A hole that shows a ground is at least this many times its squared chord in area (a stroke
+/// six widths long).
+const HOLE_ELONGATION: f64 = 6.0;
+/// How many times wider than the holes that show it a ground's median chord is at least.
+const GROUND_TO_STROKE: f64 = 6.0;
+/// The narrowest ground, px: [`GROUND_TO_STROKE`] times [`MIN_HOLE_CHORD`].
+const MIN_GROUND_CHORD: u32 = 18;
+/// The smallest ground, pixels.
+const MIN_GROUND_AREA: usize = 1024;
+/// The holes that show a ground hold at least this share of its area, and at most all of it
+/// (a ground is the larger field, like paper).
+const MIN_HOLE_SHARE: f64 = 0.03;
+/// A ground shows itself by at least this many holes.
+const MIN_HOLES: usize = 2;
+/// Once a field is a ground, every hole it encloses at least this wide, px, and at least
+/// [`REVERSED_ELONGATION`] times its squared chord in area, is reversed (small letters and
+/// digits on a banner are thinner than its large ones).
+const MIN_REVERSED_CHORD: u32 = 2;
+/// See [`MIN_REVERSED_CHORD`].
+const REVERSED_ELONGATION: f64 = 4.0;
+/// Step of the lattice the quick test for thick ink samples, px.
+const PROBE_STEP: usize = 4;
+/// Lattice points of chord at least [`MIN_GROUND_CHORD`] the quick test needs before any
+/// component is labelled.
+const MIN_THICK_PROBES: usize = 16;
+
+/// A reversed ground's bounding box, px.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+pub struct Ground {
+    /// Left column.
+    pub x: u32,
+    /// Top row.
+    pub y: u32,
+    /// Width.
+    pub width: u32,
+    /// Height.
+    pub height: u32,
+}
+
+/// Reverses every ground of `ink` (row-major, `width` x `height`) in place and returns their
+/// boxes, in the order of their first pixel.
+pub(crate) fn reverse(ink: &mut [bool], width: usize, height: usize) -> Vec<Ground> {
+    if width == 0 || height == 0 || !has_thick_ink(ink, width, height) {
+        return Vec::new();
+    }
+    let mask = GrayImage::from_fn(width as u32, height as u32, |x, y| {
+        Luma([u8::from(ink[y as usize * width + x as usize]) * 255])
+    });
+    let labels = connected_components(&mask, Connectivity::Eight, Luma([0u8]));
+    let count = labels.pixels().map(|l| l.0[0]).max().unwrap_or(0) as usize;
+    // Each component's area and bounding box.
+    let mut area = vec![0usize; count + 1];
+    let mut boxes = vec![(usize::MAX, usize::MAX, 0usize, 0usize); count + 1];
+    for (i, l) in labels.pixels().enumerate() {
+        let l = l.0[0] as usize;
+        if l == 0 {
+            continue;
+        }
+        let (x, y) = (i % width, i / width);
+        area[l] += 1;
+        let b = &mut boxes[l];
+        *b = (b.0.min(x), b.1.min(y), b.2.max(x), b.3.max(y));
+    }
+    let labels = labels.into_raw();
+    let mut grounds = Vec::new();
+    for l in 1..=count {
+        if area[l] < MIN_GROUND_AREA {
+            continue;
+        }
+        let (x0, y0, x1, y1) = boxes[l];
+        let region = Region {
+            x0,
+            y0,
+            w: x1 - x0 + 1,
+            h: y1 - y0 + 1,
+        };
+        if region.w < MIN_GROUND_CHORD as usize || region.h < MIN_GROUND_CHORD as usize {
+            continue;
+        }
+        if reverse_ground(ink, &labels, width, l as u32, area[l], &region) {
+            grounds.push(Ground {
+                x: x0 as u32,
+                y: y0 as u32,
+                width: region.w as u32,
+                height: region.h as u32,
+            });
+        }
+    }
+    grounds
+}
+
+/// Whether ink of chord at least [`MIN_GROUND_CHORD`] shows at [`MIN_THICK_PROBES`] points of a
+/// lattice of step [`PROBE_STEP`]: a page of strokes has none, and skips the labelling.
+fn has_thick_ink(ink: &[bool], width: usize, height: usize) -> bool {
+    let need = MIN_GROUND_CHORD as usize;
+    if width < need || height < need {
+        return false;
+    }
+    let mut found = 0;
+    for y in (0..height).step_by(PROBE_STEP) {
+        let row = &ink[y * width..(y + 1) * width];
+        let mut x = 0;
+        while x < width {
+            if !row[x] {
+                x += 1;
+                continue;
+            }
+            let start = x;
+            while x < width && row[x] {
+                x += 1;
+            }
+            if x - start < need {
+                continue;
+            }
+            // A long horizontal run: probe the vertical runs along it.
+            for px in (start..x).step_by(PROBE_STEP) {
+                let up = (0..y).rev().take_while(|&yy| ink[yy * width + px]).count();
+                let down = (y..height).take_while(|&yy| ink[yy * width + px]).count();
+                if up + down >= need {
+                    found += 1;
+                    if found >= MIN_THICK_PROBES {
+                        return true;
+                    }
+                }
+            }
+        }
+    }
+    false
+}
+
+/// A bounding box inside the image.
+struct Region {
+    x0: usize,
+    y0: usize,
+    w: usize,
+    h: usize,
+}
+
+/// The length of the run each element belongs to.
+fn run_lengths(values: impl Iterator<Item = bool>, out: &mut [u32], stride: usize, start: usize) {
+    let values: Vec<bool> = values.collect();
+    let mut i = 0;
+    while i < values.len() {
+        let mut j = i;
+        while j < values.len() && values[j] == values[i] {
+            j += 1;
+        }
+        for k in i..j {
+            out[start + k * stride] = (j - i) as u32;
+        }
+        i = j;
+    }
+}
+
+/// The chord (shorter of the horizontal and vertical runs of its own value) of each cell of a
+/// `w` x `h` grid of `values`.
+fn chords(values: &[bool], w: usize, h: usize) -> Vec<u32> {
+    let mut horizontal = vec![0u32; w * h];
+    let mut vertical = vec![0u32; w * h];
+    for y in 0..h {
+        run_lengths(
+            values[y * w..(y + 1) * w].iter().copied(),
+            &mut horizontal,
+            1,
+            y * w,
+        );
+    }
+    for x in 0..w {
+        run_lengths((0..h).map(|y| values[y * w + x]), &mut vertical, w, x);
+    }
+    horizontal
+        .iter()
+        .zip(&vertical)
+        .map(|(&a, &b)| a.min(b))
+        .collect()
+}
+
+fn median(values: &mut [u32]) -> f64 {
+    if values.is_empty() {
+        return 0.0;
+    }
+    let middle = values.len() / 2;
+    *values.select_nth_unstable(middle).1 as f64
+}
+
+/// Tests component `label` (of `area` pixels, inside `region`) as a ground and reverses it if it
+/// is one.
+fn reverse_ground(
+    ink: &mut [bool],
+    labels: &[u32],
+    width: usize,
+    label: u32,
+    area: usize,
+    region: &Region,
+) -> bool {
+    // The box with a one-pixel frame of outside, so that what is not the component and reaches
+    // the frame is outside it.
+    let (w, h) = (region.w + 2, region.h + 2);
+    let at = |x: usize, y: usize| -> Option<usize> {
+        let inside = (1..=region.w).contains(&x) && (1..=region.h).contains(&y);
+        inside.then(|| (y + region.y0 - 1) * width + x + region.x0 - 1)
+    };
+    let member: Vec<bool> = (0..w * h)
+        .map(|i| at(i % w, i / w).is_some_and(|p| labels[p] == label))
+        .collect();
+    let mut own = chords(&member, w, h);
+    let mut own: Vec<u32> = own
+        .iter_mut()
+        .zip(&member)
+        .filter_map(|(c, &m)| m.then_some(*c))
+        .collect();
+    let ground_chord = median(&mut own);
+    if ground_chord < MIN_GROUND_CHORD as f64 {
+        return false;
+    }
+    // What the component encloses: the parts of the rest of the box (4-connected, the
+    // complement of 8-connected ink) that do not reach the frame.
+    let rest = GrayImage::from_fn(w as u32, h as u32, |x, y| {
+        Luma([u8::from(!member[y as usize * w + x as usize]) * 255])
+    });
+    let enclosed = connected_components(&rest, Connectivity::Four, Luma([0u8])).into_raw();
+    let regions = enclosed.iter().copied().max().unwrap_or(0) as usize;
+    let mut reaches_frame = vec![false; regions + 1];
+    for x in 0..w {
+        reaches_frame[enclosed[x] as usize] = true;
+        reaches_frame[enclosed[(h - 1) * w + x] as usize] = true;
+    }
+    for y in 0..h {
+        reaches_frame[enclosed[y * w] as usize] = true;
+        reaches_frame[enclosed[y * w + w - 1] as usize] = true;
+    }
+    // The light pixels' chords, per enclosed region.
+    let light: Vec<bool> = (0..w * h)
+        .map(|i| at(i % w, i / w).is_some_and(|p| !ink[p]))
+        .collect();
+    let light_chords = chords(&light, w, h);
+    let mut per_region: Vec<Vec<u32>> = vec![Vec::new(); regions + 1];
+    for i in 0..w * h {
+        let r = enclosed[i] as usize;
+        if r > 0 && !reaches_frame[r] && light[i] {
+            per_region[r].push(light_chords[i]);
+        }
+    }
+    // The holes that are strokes (reversed if the field is a ground), and of them the ones
+    // clear enough to show that it is.
+    let mut strokes = vec![false; regions + 1];
+    let (mut showing, mut showing_chords, mut showing_area) = (0usize, Vec::new(), 0usize);
+    for (r, chords) in per_region.iter_mut().enumerate() {
+        let n = chords.len() as f64;
+        let chord = median(chords);
+        strokes[r] = chord >= MIN_REVERSED_CHORD as f64 && n >= REVERSED_ELONGATION * chord * chord;
+        if chord >= MIN_HOLE_CHORD as f64 && n >= HOLE_ELONGATION * chord * chord {
+            showing += 1;
+            showing_area += chords.len();
+            showing_chords.extend_from_slice(chords);
+        }
+    }
+    if showing < MIN_HOLES
+        || (showing_area as f64) < MIN_HOLE_SHARE * area as f64
+        || showing_area > area
+        || ground_chord < GROUND_TO_STROKE * median(&mut showing_chords)
+    {
+        return false;
+    }
+    for i in 0..w * h {
+        let Some(p) = at(i % w, i / w) else {
+            continue;
+        };
+        if member[i] {
+            ink[p] = false;
+        } else if strokes[enclosed[i] as usize] {
+            ink[p] = !ink[p];
+        }
+    }
+    true
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A `w` x `h` mask with the rectangles `fill` set and `clear` then cleared.
+    fn mask(
+        w: usize,
+        h: usize,
+        fill: &[(usize, usize, usize, usize)],
+        clear: &[(usize, usize, usize, usize)],
+    ) -> Vec<bool> {
+        let mut ink = vec![false; w * h];
+        for (set, rects) in [(true, fill), (false, clear)] {
+            for &(x0, y0, rw, rh) in rects {
+                for y in y0..y0 + rh {
+                    for x in x0..x0 + rw {
+                        ink[y * w + x] = set;
+                    }
+                }
+            }
+        }
+        ink
+    }
+
+    #[test]
+    fn light_bars_on_a_dark_banner_become_the_ink() {
+        // A 200 x 60 banner with three light bars 4 px wide and 40 px long, and a dark stroke
+        // beside it on the paper.
+        let (w, h) = (260, 80);
+        let bars = [(40, 15, 4, 40), (100, 15, 4, 40), (140, 30, 40, 4)];
+        let mut ink = mask(w, h, &[(10, 10, 200, 60), (230, 10, 4, 50)], &bars);
+        let grounds = reverse(&mut ink, w, h);
+        assert_eq!(
+            grounds,
+            vec![Ground {
+                x: 10,
+                y: 10,
+                width: 200,
+                height: 60
+            }]
+        );
+        let expected = mask(
+            w,
+            h,
+            &bars
+                .iter()
+                .copied()
+                .chain([(230, 10, 4, 50)])
+                .collect::<Vec<_>>(),
+            &[],
+        );
+        assert_eq!(ink, expected);
+    }
+
+    #[test]
+    fn bold_strokes_with_counters_and_pinholes_stay_ink() {
+        let (w, h) = (260, 80);
+        // A bold ring (a letter O: its counter as wide as its stroke).
+        let ring = mask(w, h, &[(10, 10, 60, 60)], &[(30, 30, 20, 20)]);
+        // A dark field with two round pinholes only.
+        let field = mask(
+            w,
+            h,
+            &[(10, 10, 200, 60)],
+            &[(40, 30, 4, 4), (120, 30, 4, 4)],
+        );
+        // A dark field with one light bar: one hole is a mark, not text.
+        let one = mask(w, h, &[(10, 10, 200, 60)], &[(40, 15, 4, 30)]);
+        for original in [ring, field, one] {
+            let mut ink = original.clone();
+            assert!(reverse(&mut ink, w, h).is_empty());
+            assert_eq!(ink, original);
+        }
+    }
+
+    #[test]
+    fn merged_ridges_are_not_a_ground() {
+        // A print's ridges merged at both ends: 20 px ridges between 4 px valleys, five times
+        // as wide, not six.
+        let (w, h) = (160, 120);
+        let valleys: Vec<_> = (0..6).map(|k| (30 + 24 * k, 10, 4, 100)).collect();
+        let original = mask(w, h, &[(10, 4, 140, 112)], &valleys);
+        let mut ink = original.clone();
+        assert!(reverse(&mut ink, w, h).is_empty());
+        assert_eq!(ink, original);
+    }
+}

@@ -46,10 +46,10 @@ const MIN_HOLES: usize = 2;
 const MIN_REVERSED_CHORD: u32 = 2;
 /// See [`MIN_REVERSED_CHORD`].
 const REVERSED_ELONGATION: f64 = 4.0;
-/// Step of the lattice the quick test for thick ink samples, px.
+/// Step of the lattice that probes for thick ink, px.
 const PROBE_STEP: usize = 4;
-/// Lattice points of chord at least [`MIN_GROUND_CHORD`] the quick test needs before any
-/// component is labelled.
+/// Lattice points of chord at least [`MIN_GROUND_CHORD`] an image needs before any component is
+/// labelled.
 const MIN_THICK_PROBES: usize = 16;
 
 /// A reversed ground's bounding box, px.
@@ -66,49 +66,68 @@ pub struct Ground {
 }
 
 /// Reverses every ground of `ink` (row-major, `width` x `height`) in place and returns their
-/// boxes, in the order of their first pixel.
+/// boxes, in the order a row-major lattice first meets them.
 pub(crate) fn reverse(ink: &mut [bool], width: usize, height: usize) -> Vec<Ground> {
-    if width == 0 || height == 0 || !has_thick_ink(ink, width, height) {
+    let probes = thick_probes(ink, width, height);
+    if probes.is_empty() {
         return Vec::new();
     }
-    let mask = GrayImage::from_fn(width as u32, height as u32, |x, y| {
-        Luma([u8::from(ink[y as usize * width + x as usize]) * 255])
-    });
-    let labels = connected_components(&mask, Connectivity::Eight, Luma([0u8]));
-    let count = labels.pixels().map(|l| l.0[0]).max().unwrap_or(0) as usize;
-    // Each component's area and bounding box.
-    let mut area = vec![0usize; count + 1];
-    let mut boxes = vec![(usize::MAX, usize::MAX, 0usize, 0usize); count + 1];
-    for (i, l) in labels.pixels().enumerate() {
-        let l = l.0[0] as usize;
-        if l == 0 {
-            continue;
-        }
-        let (x, y) = (i % width, i / width);
-        area[l] += 1;
-        let b = &mut boxes[l];
-        *b = (b.0.min(x), b.1.min(y), b.2.max(x), b.3.max(y));
+    // Only the components holding thick ink are gathered (8-connected, as the ink is traced),
+    // with a bit per pixel for the ones seen: a page of thin strokes costs the probe alone.
+    let (cols, rows) = (width.div_ceil(PROBE_STEP), height.div_ceil(PROBE_STEP));
+    let mut probe_at = vec![false; cols * rows];
+    for &p in &probes {
+        probe_at[(p / width / PROBE_STEP) * cols + (p % width) / PROBE_STEP] = true;
     }
-    let labels = labels.into_raw();
+    let mut seen = vec![0u64; (width * height).div_ceil(64)];
     let mut grounds = Vec::new();
-    for l in 1..=count {
-        if area[l] < MIN_GROUND_AREA {
+    let mut stack = Vec::new();
+    for start in probes {
+        if seen[start / 64] >> (start % 64) & 1 == 1 {
             continue;
         }
-        let (x0, y0, x1, y1) = boxes[l];
+        seen[start / 64] |= 1 << (start % 64);
+        stack.push(start);
+        let mut pixels = Vec::new();
+        let (mut x0, mut y0, mut x1, mut y1) = (width, height, 0usize, 0usize);
+        let mut thick = 0usize;
+        while let Some(p) = stack.pop() {
+            let (x, y) = (p % width, p / width);
+            pixels.push(p);
+            (x0, y0, x1, y1) = (x0.min(x), y0.min(y), x1.max(x), y1.max(y));
+            if x % PROBE_STEP == 0 && y % PROBE_STEP == 0 {
+                thick += usize::from(probe_at[(y / PROBE_STEP) * cols + x / PROBE_STEP]);
+            }
+            for ny in y.saturating_sub(1)..(y + 2).min(height) {
+                for nx in x.saturating_sub(1)..(x + 2).min(width) {
+                    let q = ny * width + nx;
+                    if ink[q] && seen[q / 64] >> (q % 64) & 1 == 0 {
+                        seen[q / 64] |= 1 << (q % 64);
+                        stack.push(q);
+                    }
+                }
+            }
+        }
         let region = Region {
             x0,
             y0,
             w: x1 - x0 + 1,
             h: y1 - y0 + 1,
         };
-        if region.w < MIN_GROUND_CHORD as usize || region.h < MIN_GROUND_CHORD as usize {
+        // Half a ground's pixels at least are thick (its median chord is), a probe per
+        // PROBE_STEP^2 of them; a component with a quarter of that is no ground.
+        let area = pixels.len();
+        if thick * 4 * PROBE_STEP * PROBE_STEP < area
+            || area < MIN_GROUND_AREA
+            || region.w < MIN_GROUND_CHORD as usize
+            || region.h < MIN_GROUND_CHORD as usize
+        {
             continue;
         }
-        if reverse_ground(ink, &labels, width, l as u32, area[l], &region) {
+        if reverse_ground(ink, &pixels, width, &region) {
             grounds.push(Ground {
-                x: x0 as u32,
-                y: y0 as u32,
+                x: region.x0 as u32,
+                y: region.y0 as u32,
                 width: region.w as u32,
                 height: region.h as u32,
             });
@@ -117,14 +136,15 @@ pub(crate) fn reverse(ink: &mut [bool], width: usize, height: usize) -> Vec<Grou
     grounds
 }
 
-/// Whether ink of chord at least [`MIN_GROUND_CHORD`] shows at [`MIN_THICK_PROBES`] points of a
-/// lattice of step [`PROBE_STEP`]: a page of strokes has none, and skips the labelling.
-fn has_thick_ink(ink: &[bool], width: usize, height: usize) -> bool {
+/// The points of a lattice of step [`PROBE_STEP`] on ink of chord at least [`MIN_GROUND_CHORD`]
+/// (row-major), or none when there are fewer than [`MIN_THICK_PROBES`]: a page of strokes has
+/// none.
+fn thick_probes(ink: &[bool], width: usize, height: usize) -> Vec<usize> {
     let need = MIN_GROUND_CHORD as usize;
+    let mut found = Vec::new();
     if width < need || height < need {
-        return false;
+        return found;
     }
-    let mut found = 0;
     for y in (0..height).step_by(PROBE_STEP) {
         let row = &ink[y * width..(y + 1) * width];
         let mut x = 0;
@@ -141,19 +161,19 @@ fn has_thick_ink(ink: &[bool], width: usize, height: usize) -> bool {
                 continue;
             }
             // A long horizontal run: probe the vertical runs along it.
-            for px in (start..x).step_by(PROBE_STEP) {
+            for px in (start.next_multiple_of(PROBE_STEP)..x).step_by(PROBE_STEP) {
                 let up = (0..y).rev().take_while(|&yy| ink[yy * width + px]).count();
                 let down = (y..height).take_while(|&yy| ink[yy * width + px]).count();
                 if up + down >= need {
-                    found += 1;
-                    if found >= MIN_THICK_PROBES {
-                        return true;
-                    }
+                    found.push(y * width + px);
                 }
             }
         }
     }
-    false
+    if found.len() < MIN_THICK_PROBES {
+        found.clear();
+    }
+    found
 }
 
 /// A bounding box inside the image.
@@ -211,16 +231,10 @@ fn median(values: &mut [u32]) -> f64 {
     *values.select_nth_unstable(middle).1 as f64
 }
 
-/// Tests component `label` (of `area` pixels, inside `region`) as a ground and reverses it if it
-/// is one.
-fn reverse_ground(
-    ink: &mut [bool],
-    labels: &[u32],
-    width: usize,
-    label: u32,
-    area: usize,
-    region: &Region,
-) -> bool {
+/// Tests the component of `pixels` (indices into `ink`, inside `region`) as a ground and
+/// reverses it if it is one.
+fn reverse_ground(ink: &mut [bool], pixels: &[usize], width: usize, region: &Region) -> bool {
+    let area = pixels.len();
     // The box with a one-pixel frame of outside, so that what is not the component and reaches
     // the frame is outside it.
     let (w, h) = (region.w + 2, region.h + 2);
@@ -228,9 +242,11 @@ fn reverse_ground(
         let inside = (1..=region.w).contains(&x) && (1..=region.h).contains(&y);
         inside.then(|| (y + region.y0 - 1) * width + x + region.x0 - 1)
     };
-    let member: Vec<bool> = (0..w * h)
-        .map(|i| at(i % w, i / w).is_some_and(|p| labels[p] == label))
-        .collect();
+    let mut member = vec![false; w * h];
+    for &p in pixels {
+        let (x, y) = (p % width - region.x0 + 1, p / width - region.y0 + 1);
+        member[y * w + x] = true;
+    }
     let mut own = chords(&member, w, h);
     let mut own: Vec<u32> = own
         .iter_mut()

@@ -349,6 +349,41 @@ fn cli_debug_writes_the_pictures() {
 }
 
 #[test]
+fn cli_output_does_not_depend_on_debug() {
+    // A solid stroke above a speckled one: dropout mode is decided per group of components,
+    // which the stage pictures' one point set cannot show; the output must be the same.
+    let dir = tempfile::TempDir::new().expect("temp dir");
+    let strokes = [
+        Stroke::new(vec![[30.0, 40.0], [290.0, 40.0]], 6.0),
+        Stroke::new(vec![[30.0, 200.0], [290.0, 230.0]], 8.0),
+    ];
+    let mut binary = render(&strokes, 320, 260);
+    ridgeline_testkit::synth::dropout(&mut binary, [0, 150, 320, 260], 0.3, 40);
+    write_mask_png(&binary, &dir.path().join("two.png"));
+    run_ok(&["two.png", "-o", "plain.json"], dir.path());
+    run_ok(
+        &["two.png", "-o", "debug.json", "--debug", "pictures"],
+        dir.path(),
+    );
+    let read = |name: &str| -> serde_json::Value {
+        let text = fs::read_to_string(dir.path().join(name)).expect(name);
+        let mut json: serde_json::Value = serde_json::from_str(&text).expect("JSON");
+        json["stats"]
+            .as_object_mut()
+            .expect("stats")
+            .retain(|key, _| !key.contains("time") && !key.ends_with("_s"));
+        json
+    };
+    let (plain, debug) = (read("plain.json"), read("debug.json"));
+    let share = plain["decisions"]["dropout_share"].as_f64().expect("share");
+    assert!(
+        share > 0.0 && share < 1.0,
+        "dropout decided per group: {share}"
+    );
+    assert_eq!(plain, debug);
+}
+
+#[test]
 fn help_explains_debug() {
     let output = run_ok(&["--help"], Path::new("."));
     let help = String::from_utf8_lossy(&output.stdout);

@@ -121,7 +121,9 @@ pub struct Cli {
     /// disks: linear blue, non-linear orange), 3-node-graph (graph H, a color per non-linear
     /// cluster), 4-refined (the 1-D graph), 5-fitted (a color per edge), 6-final (centerlines
     /// red, endpoints green, junctions blue). With several inputs each gets DIR/<output name>/.
-    /// Point lists get no pictures.
+    /// Point lists get no pictures. The output is the same as without --debug; stages 2-5 are
+    /// of the whole image as one point set (where dropout mode is decided per group of
+    /// components, the output's groups are traced apart), 6-final is the output.
     #[arg(long, value_name = "DIR", help_heading = "Output")]
     debug: Option<PathBuf>,
     /// SVG: draw strokes (edges chained straight through crossings, the way a pen drew them), each
@@ -1940,23 +1942,26 @@ fn write_output(job: &Job, destination: &Destination, text: &[u8]) -> Result<Str
     })
 }
 
-/// Traces `gray` keeping the intermediate stages, and writes their pictures into `dir` (created
-/// if missing), each atomically, one at a time.
+/// Traces `gray` as without pictures, and again keeping the intermediate stages (of one point
+/// set, so they can differ from the output where dropout mode is decided per group), and writes
+/// their pictures into `dir` (created if missing), each atomically, one at a time; the final
+/// picture is the output's graph.
 fn trace_with_pictures(
     gray: &ridgeline::GrayImage,
     params: &Params,
     dir: &Path,
 ) -> Result<ridgeline::Trace> {
-    let trace = ridgeline::trace_image_with_stages(gray, params)?;
-    if let (Some(stages), Some(binary)) = (&trace.stages, &trace.binary) {
+    let trace = ridgeline::trace_image(gray, params)?;
+    let staged = ridgeline::trace_image_with_stages(gray, params)?;
+    if let (Some(stages), Some(binary)) = (&staged.stages, &staged.binary) {
         fs::create_dir_all(dir)
             .with_context(|| format!("cannot create the --debug folder {}", dir.display()))?;
-        if let Some(decisions) = &trace.decisions {
+        if let Some(decisions) = &staged.decisions {
             let png = ridgeline::debug::decisions_png(gray, binary, decisions)?;
             write_atomically(&dir.join(ridgeline::debug::DECISIONS_PICTURE), &png)
                 .context("cannot write the --debug pictures")?;
         }
-        if let Some(print) = &trace.fingerprint {
+        if let Some(print) = &staged.fingerprint {
             for (name, png) in ridgeline::debug::print_pngs(gray, &print.analysis)? {
                 write_atomically(&dir.join(name), &png)
                     .context("cannot write the --debug pictures")?;

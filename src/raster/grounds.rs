@@ -405,4 +405,25 @@ mod tests {
         assert!(reverse(&mut ink, w, h).is_empty());
         assert_eq!(ink, original);
     }
+
+    #[test]
+    fn a_scanners_frame_around_a_page_of_text_stays_ink() {
+        // A dark frame 30 px thick around a light page holding thin dark lines of "text": the
+        // page is the frame's one hole, larger than the frame, and its gaps between the lines
+        // are half as wide as the frame, not a sixth.
+        let (w, h) = (300, 260);
+        let lines: Vec<_> = (0..10).map(|k| (50, 45 + 17 * k, 200, 3)).collect();
+        let original = mask(w, h, &[(0, 0, 300, 260)], &[(30, 30, 240, 200)]);
+        let mut with_text = original.clone();
+        for &(x0, y0, rw, rh) in &lines {
+            for y in y0..y0 + rh {
+                for x in x0..x0 + rw {
+                    with_text[y * w + x] = true;
+                }
+            }
+        }
+        let mut ink = with_text.clone();
+        assert!(reverse(&mut ink, w, h).is_empty());
+        assert_eq!(ink, with_text);
+    }
 }

@@ -14,7 +14,8 @@ pub struct Decisions {
     pub polarity_confidence: Option<f64>,
     /// The threshold used.
     pub threshold: ThresholdUsed,
-    /// The stroke width the image shows (median chord of the ink, px); 0 for an empty image.
+    /// The stroke width the image shows (the most common chord of the ink, px; with
+    /// `--fingerprint`, the enhanced ridges' median chord); 0 for an empty image.
     pub stroke_width: f64,
     /// Pixels on which Otsu's global level and the local threshold disagree, as a share of the
     /// ink (uneven light, varying contrast); above [`UNEVEN_LIGHT`] the automatic threshold is

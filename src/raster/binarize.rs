@@ -135,6 +135,10 @@ pub(crate) fn binarize_deciding(
     }
     if params.reverse_grounds && forced.is_none() {
         decisions.reversed_grounds = grounds::reverse(&mut dark, w, h);
+        if !decisions.reversed_grounds.is_empty() {
+            // The ink is another now: its strokes' width, not the grounds'.
+            decisions.stroke_width = evidence::chords(&dark, w, h).dark_mode;
+        }
     }
     binary.ink = dark;
     Ok((binary, decisions))

@@ -24,6 +24,12 @@ pub(crate) struct Chords {
     pub dark_median: f64,
     /// Median chord of the light side, px.
     pub light_median: f64,
+    /// The most common chord of the dark side, px (the smaller of equally common ones): the
+    /// stroke width even where a photo or a banner puts a wide spread of long chords on the
+    /// side.
+    pub dark_mode: f64,
+    /// The most common chord of the light side, px.
+    pub light_mode: f64,
     /// The lower quartile of the chords of the side with the smaller one, px: the stroke width
     /// even where a badly placed split puts large areas of paper on the ink's side.
     pub thinner_quartile: f64,
@@ -79,6 +85,7 @@ pub(crate) fn chords(dark: &[bool], width: usize, height: usize) -> Chords {
         *chords.select_nth_unstable(k).1 as f64
     };
     let thinner_quartile = quartile(&mut dark_chords).min(quartile(&mut light_chords));
+    let (dark_mode, light_mode) = (mode(&dark_chords), mode(&light_chords));
     let (dark_mean, dark_median) = mean_and_median(&mut dark_chords);
     let (light_mean, light_median) = mean_and_median(&mut light_chords);
     Chords {
@@ -86,6 +93,8 @@ pub(crate) fn chords(dark: &[bool], width: usize, height: usize) -> Chords {
         light_mean,
         dark_median,
         light_median,
+        dark_mode,
+        light_mode,
         thinner_quartile: if thinner_quartile.is_finite() {
             thinner_quartile
         } else {
@@ -109,6 +118,25 @@ fn run_lengths(values: impl Iterator<Item = bool>) -> Vec<u32> {
     runs
 }
 
+/// The most common value (the smallest of equally common ones), 0 for none.
+fn mode(values: &[u32]) -> f64 {
+    let Some(&max) = values.iter().max() else {
+        return 0.0;
+    };
+    let mut counts = vec![0u32; max as usize + 1];
+    for &v in values {
+        counts[v as usize] += 1;
+    }
+    // The first of the largest counts.
+    let (mut best, mut best_count) = (0, 0);
+    for (v, &c) in counts.iter().enumerate() {
+        if c > best_count {
+            (best, best_count) = (v, c);
+        }
+    }
+    best as f64
+}
+
 fn mean_and_median(values: &mut [u32]) -> (f64, f64) {
     if values.is_empty() {
         return (0.0, 0.0);
@@ -126,9 +154,9 @@ pub(crate) struct PolarityEvidence {
     pub dark_is_ink: bool,
     /// How sure, in [0, 1): 0 is a coin toss.
     pub confidence: f64,
-    /// The ink side's median chord, px: the stroke width the image shows.
+    /// The ink side's most common chord, px: the stroke width the image shows.
     pub stroke_width: f64,
-    /// The other side's median chord, px.
+    /// The other side's most common chord, px.
     pub other_width: f64,
     /// The stroke width whichever side is ink ([`Chords::thinner_quartile`]), px.
     pub thinner_width: f64,
@@ -166,14 +194,14 @@ pub(crate) fn polarity(dark: &[bool], width: usize, height: usize) -> PolarityEv
         dark_is_ink,
         confidence: (z.abs() / 2.0).tanh(),
         stroke_width: if dark_is_ink {
-            chords.dark_median
+            chords.dark_mode
         } else {
-            chords.light_median
+            chords.light_mode
         },
         other_width: if dark_is_ink {
-            chords.light_median
+            chords.light_mode
         } else {
-            chords.dark_median
+            chords.dark_mode
         },
         thinner_width: chords.thinner_quartile,
     }

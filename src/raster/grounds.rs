@@ -15,10 +15,10 @@
 //!   frame or a photo encloses a few stray light specks, not text, and a frame around a page is
 //!   smaller than the page it encloses.
 //!
-//! A ground's pixels go to the paper; every hole of it that is a stroke, even a thinner one
-//! ([`MIN_REVERSED_CHORD`]), is reversed (its light pixels become ink, the ink inside it, a
-//! letter's counters, becomes paper); its other holes stay paper. Ink strokes that touch the
-//! ground go with it.
+//! A ground's pixels go to the paper; every hole of it that is a stroke, even a thinner or
+//! shorter one ([`MIN_REVERSED_CHORD`]), is reversed (its light pixels become ink, the ink
+//! inside it, a letter's counters, becomes paper); its other holes stay paper. Ink strokes that
+//! touch the ground go with it.
 
 use image::{GrayImage, Luma};
 use imageproc::region_labelling::{connected_components, Connectivity};
@@ -41,11 +41,12 @@ const MIN_HOLE_SHARE: f64 = 0.03;
 /// A ground shows itself by at least this many holes.
 const MIN_HOLES: usize = 2;
 /// Once a field is a ground, every hole it encloses at least this wide, px, and at least
-/// [`REVERSED_ELONGATION`] times its squared chord in area, is reversed (small letters and
-/// digits on a banner are thinner than its large ones).
+/// [`REVERSED_ELONGATION`] times its squared chord in area, is reversed: small letters and
+/// digits on a banner are thinner than its large ones, and a character's dots are short, but a
+/// round or square pinhole is under 1.5 squared chords.
 const MIN_REVERSED_CHORD: u32 = 2;
 /// See [`MIN_REVERSED_CHORD`].
-const REVERSED_ELONGATION: f64 = 4.0;
+const REVERSED_ELONGATION: f64 = 1.5;
 /// Step of the lattice that probes for thick ink, px.
 const PROBE_STEP: usize = 4;
 /// Lattice points of chord at least [`MIN_GROUND_CHORD`] an image needs before any component is

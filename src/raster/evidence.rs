@@ -104,7 +104,7 @@ pub(crate) fn chords(dark: &[bool], width: usize, height: usize) -> Chords {
 }
 
 /// The length of the run each element belongs to.
-fn run_lengths(values: impl Iterator<Item = bool>) -> Vec<u32> {
+pub(super) fn run_lengths(values: impl Iterator<Item = bool>) -> Vec<u32> {
     let mut runs = Vec::new();
     let (mut current, mut start, mut n) = (None, 0usize, 0usize);
     for v in values {

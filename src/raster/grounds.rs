@@ -23,6 +23,8 @@
 use image::{GrayImage, Luma};
 use imageproc::region_labelling::{connected_components, Connectivity};
 
+use super::evidence::run_lengths;
+
 /// The narrowest hole that shows a ground, px: thinner light lines are as often cracks, pores
 /// and noise as strokes.
 const MIN_HOLE_CHORD: u32 = 3;
@@ -185,43 +187,21 @@ struct Region {
     h: usize,
 }
 
-/// The length of the run each element belongs to.
-fn run_lengths(values: impl Iterator<Item = bool>, out: &mut [u32], stride: usize, start: usize) {
-    let values: Vec<bool> = values.collect();
-    let mut i = 0;
-    while i < values.len() {
-        let mut j = i;
-        while j < values.len() && values[j] == values[i] {
-            j += 1;
-        }
-        for k in i..j {
-            out[start + k * stride] = (j - i) as u32;
-        }
-        i = j;
-    }
-}
-
 /// The chord (shorter of the horizontal and vertical runs of its own value) of each cell of a
 /// `w` x `h` grid of `values`.
 fn chords(values: &[bool], w: usize, h: usize) -> Vec<u32> {
-    let mut horizontal = vec![0u32; w * h];
-    let mut vertical = vec![0u32; w * h];
-    for y in 0..h {
-        run_lengths(
-            values[y * w..(y + 1) * w].iter().copied(),
-            &mut horizontal,
-            1,
-            y * w,
-        );
-    }
+    let mut chords: Vec<u32> = values
+        .chunks(w)
+        .flat_map(|row| run_lengths(row.iter().copied()))
+        .collect();
     for x in 0..w {
-        run_lengths((0..h).map(|y| values[y * w + x]), &mut vertical, w, x);
+        let vertical = run_lengths((0..h).map(|y| values[y * w + x]));
+        for (y, run) in vertical.into_iter().enumerate() {
+            let chord = &mut chords[y * w + x];
+            *chord = (*chord).min(run);
+        }
     }
-    horizontal
-        .iter()
-        .zip(&vertical)
-        .map(|(&a, &b)| a.min(b))
-        .collect()
+    chords
 }
 
 fn median(values: &mut [u32]) -> f64 {

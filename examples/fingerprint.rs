@@ -149,7 +149,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         }
         if pictures {
             let name = paths[k].with_extension("").to_string_lossy().into_owned();
-            picture(gray, &trace, &ours, truth, &matched).save(format!("{name}-minutiae.png"))?;
+            let ridges = &cases[k / variants.len()].strokes;
+            picture(gray, &trace, ridges, &ours, truth, &matched)
+                .save(format!("{name}-minutiae.png"))?;
             if let Some(print) = &trace.fingerprint {
                 for (stage, image) in ridgeline::debug::print_pictures(gray, &print.analysis) {
                     image.save(format!("{name}-{}", &stage[2..]))?;
@@ -774,6 +776,7 @@ fn run_peer(images: &[PathBuf], json: &Path) -> Option<BTreeMap<PathBuf, (Vec<Po
 fn picture(
     gray: &GrayImage,
     trace: &ridgeline::Trace,
+    ridges: &[Stroke],
     found: &[Point],
     truth: &[Point],
     matched: &[(usize, usize)],
@@ -789,11 +792,22 @@ fn picture(
         let v = (155 + u16::from(v) * 100 / 255) as u8;
         Rgb([v, v, v])
     });
-    for edge in &trace.graph.edges {
-        for pair in edge.points.windows(2) {
+    // The true ridges in light blue under the traced ones in dark red.
+    let lines = ridges
+        .iter()
+        .map(|r| (&r.points, Rgb([120, 170, 255])))
+        .chain(
+            trace
+                .graph
+                .edges
+                .iter()
+                .map(|e| (&e.points, Rgb([150, 20, 20]))),
+        );
+    for (points, color) in lines {
+        for pair in points.windows(2) {
             let a = ((pair[0][0] * SCALE) as f32, (pair[0][1] * SCALE) as f32);
             let b = ((pair[1][0] * SCALE) as f32, (pair[1][1] * SCALE) as f32);
-            draw_line_segment_mut(&mut out, a, b, Rgb([150, 20, 20]));
+            draw_line_segment_mut(&mut out, a, b, color);
         }
     }
     let at = |p: [f64; 2]| ((p[0] * SCALE) as i32, (p[1] * SCALE) as i32);

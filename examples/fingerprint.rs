@@ -146,6 +146,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                     report("missed", t);
                 }
             }
+            for &(i, j) in &matched {
+                if !truth[j].optional && ours[i].bifurcation != truth[j].bifurcation {
+                    report("wrong type, truth's", &truth[j]);
+                }
+            }
         }
         if pictures {
             let name = paths[k].with_extension("").to_string_lossy().into_owned();

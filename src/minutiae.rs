@@ -151,7 +151,11 @@ pub fn minutiae(
 ///   the flow (more than 45° from the local ridge orientation): a bar between neighbouring ridges;
 /// - lakes and pores: two bifurcations joined by two edges each shorter than
 ///   `2 bridge_periods · T` (both go);
-/// - broken ridges: two endings facing each other along the flow within `gap_periods · T`.
+/// - broken ridges: two endings facing each other along the flow within `gap_periods · T`;
+/// - detached branches: a bifurcation of which one arm crosses a valley in the gray image (off
+///   [`PrintAnalysis::ridges`] for at least 1 px, back on them within `0.6 T` of the junction)
+///   while the other two stay on the ridges for `T` is an ending at the arm's tip: a ridge that
+///   stops just short of its neighbour, the shallow valley at its tip filled by the enhancement.
 ///
 /// The quality is [`PrintAnalysis::quality_at`]: coherence times contrast, in percent.
 pub fn fingerprint_minutiae(
@@ -205,6 +209,7 @@ pub fn fingerprint_minutiae(
         }
     }
     found.retain(|m| !false_vertex.get(m.vertex).copied().unwrap_or(false));
+    detached_branches(&mut found, graph, print);
     // Broken ridges, with the gap in periods of the print's median period.
     let mut periods: Vec<f64> = found.iter().map(|m| print.periods.at(m.pos)).collect();
     let typical = if periods.is_empty() {
@@ -267,6 +272,101 @@ pub fn fingerprint_minutiae(
         m.quality = Some(print.quality_at(m.pos));
     }
     found
+}
+
+/// Bifurcations of which one arm leaves the junction across a valley the gray image shows: off
+/// [`PrintAnalysis::ridges`] for at least a pixel within one period of the junction, on them
+/// again beyond, while the other two arms stay on the ridges over the same period. The ridge of
+/// that arm ends just short of its neighbour and the enhancement, which smooths along the flow,
+/// filled the shallow valley at its tip: the minutia is an ending at the far side of the gap,
+/// pointing towards the junction.
+fn detached_branches(found: &mut [Minutia], graph: &StrokeGraph, print: &PrintAnalysis) {
+    const STEP: f64 = 0.5;
+    // Per vertex, its arms as polylines starting at the vertex.
+    let mut arms: Vec<Vec<Vec<[f64; 2]>>> = vec![Vec::new(); graph.vertices.len()];
+    for edge in &graph.edges {
+        if edge.from == edge.to {
+            continue;
+        }
+        if let Some(a) = arms.get_mut(edge.from) {
+            a.push(edge.points.clone());
+        }
+        if let Some(a) = arms.get_mut(edge.to) {
+            a.push(edge.points.iter().rev().copied().collect());
+        }
+    }
+    // Samples every `STEP` px along `points` up to `reach` px: on the ridges, and where.
+    let samples = |points: &[[f64; 2]], reach: f64| {
+        let mut out: Vec<(bool, [f64; 2])> = Vec::new();
+        let mut travelled = 0.0;
+        for pair in points.windows(2) {
+            let length = dist(pair[0], pair[1]);
+            let mut t = (out.len() as f64 * STEP - travelled).max(0.0);
+            while t < length && (out.len() as f64) * STEP <= reach {
+                let f = t / length;
+                let q = [
+                    pair[0][0] + f * (pair[1][0] - pair[0][0]),
+                    pair[0][1] + f * (pair[1][1] - pair[0][1]),
+                ];
+                out.push((
+                    print.ridges.get(q[0].floor() as i64, q[1].floor() as i64),
+                    q,
+                ));
+                t += STEP;
+            }
+            travelled += length;
+        }
+        out
+    };
+    let run = (1.0 / STEP).ceil() as usize;
+    for m in found.iter_mut() {
+        let Some(arm) = arms.get(m.vertex) else {
+            continue;
+        };
+        if m.kind != MinutiaKind::Bifurcation || arm.len() != 3 {
+            continue;
+        }
+        let reach = print.periods.at(m.pos).max(4.0);
+        let sampled: Vec<Vec<(bool, [f64; 2])>> = arm.iter().map(|a| samples(a, reach)).collect();
+        // The far side of the first gap of at least `run` samples, followed by `run` on-ridge
+        // samples.
+        let gap_end = |s: &[(bool, [f64; 2])]| {
+            let mut k = 0;
+            while k < s.len() {
+                if s[k].0 {
+                    k += 1;
+                    continue;
+                }
+                let start = k;
+                while k < s.len() && !s[k].0 {
+                    k += 1;
+                }
+                if k - start >= run && k + run <= s.len() && s[k..k + run].iter().all(|x| x.0) {
+                    return Some(k);
+                }
+            }
+            None
+        };
+        let ends: Vec<Option<usize>> = sampled.iter().map(|s| gap_end(s)).collect();
+        let detached: Vec<usize> = (0..3).filter(|&i| ends[i].is_some()).collect();
+        let [i] = detached[..] else {
+            continue;
+        };
+        let through_on = (0..3)
+            .filter(|&j| j != i)
+            .all(|j| sampled[j].iter().all(|x| x.0));
+        let Some(k) = ends[i] else {
+            continue;
+        };
+        if !through_on || k as f64 * STEP > 0.6 * reach {
+            continue;
+        }
+        let tip = sampled[i][k].1;
+        let towards = [m.pos[0] - tip[0], m.pos[1] - tip[1]];
+        m.kind = MinutiaKind::Ending;
+        m.pos = tip;
+        m.direction = towards[1].atan2(towards[0]);
+    }
 }
 
 /// Whether a ridge of `length` px whose two `ends` come within one `period` of each other runs
@@ -820,6 +920,67 @@ mod tests {
             }
         }
         assert_eq!(confirmed_edges(&g, &ridges, 0.5).edges.len(), 3);
+    }
+
+    #[test]
+    fn a_branch_across_a_valley_is_an_ending_and_a_break_further_out_is_not() {
+        use crate::fingerprint::fields::BlockGrid;
+        use crate::fingerprint::tests::uniform_print;
+        // A ridge along y = 20 (ink rows 19-21) and a branch leaving it at (50, 20) up to the
+        // right; period 9. The branch's ink is drawn where its arc from the junction is in
+        // `inked` only.
+        let (c, d) = ([50.0, 20.0], [30.0f64 / 36.06, -20.0 / 36.06]);
+        let g = graph_from(
+            &[c, [10.0, 20.0], [90.0, 20.0], [80.0, 0.0]],
+            &[(1, 0, vec![]), (0, 2, vec![]), (0, 3, vec![])],
+            3.0,
+        );
+        let (segmentation, orientation, periods) =
+            uniform_print(BlockGrid::new(100, 60, 8), 0.0, 9.0);
+        let print_with = |inked: &dyn Fn(f64) -> bool| {
+            let mut ridges = Binary::new(100, 60);
+            for y in 0..60i64 {
+                for x in 0..100i64 {
+                    let (u, v) = (x as f64 + 0.5 - c[0], y as f64 + 0.5 - c[1]);
+                    let along = u * d[0] + v * d[1];
+                    let across = (u * d[1] - v * d[0]).abs();
+                    let branch = along >= 0.0 && across <= 1.5 && inked(along);
+                    ridges.set(x, y, (19..=21).contains(&y) || branch);
+                }
+            }
+            PrintAnalysis {
+                segmentation: segmentation.clone(),
+                orientation: orientation.clone(),
+                periods: periods.clone(),
+                ridges,
+                ..PrintAnalysis::default()
+            }
+        };
+        let fork_of = |print: &PrintAnalysis| {
+            let mut found: Vec<Minutia> = detect(&g, &no_filters())
+                .into_iter()
+                .filter(|m| m.vertex == 0)
+                .collect();
+            detached_branches(&mut found, &g, print);
+            found[0]
+        };
+        // The branch's ink starts 4 px out, past a valley from the ridge's edge: an ending at
+        // the branch's tip, pointing back to the junction.
+        let m = fork_of(&print_with(&|s| s >= 4.0));
+        assert_eq!(m.kind, MinutiaKind::Ending);
+        let tip = [c[0] + 4.0 * d[0], c[1] + 4.0 * d[1]];
+        assert!(dist(m.pos, tip) < 1.0, "{:?}", m.pos);
+        assert!(
+            angle_close(m.direction, (-d[1]).atan2(-d[0])),
+            "{}",
+            m.direction
+        );
+        // Ink all the way, or a break beyond 0.6 period of the junction: a bifurcation.
+        for inked in [&(|_: f64| true) as &dyn Fn(f64) -> bool, &|s| {
+            !(6.0..8.0).contains(&s)
+        }] {
+            assert_eq!(fork_of(&print_with(inked)).kind, MinutiaKind::Bifurcation);
+        }
     }
 
     #[test]

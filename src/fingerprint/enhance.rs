@@ -6,7 +6,9 @@
 //! normal), `v` along it, `T` the block's period, `σ_n = gabor_sigma_across · T` (5/12, pyfing's
 //! value) and `σ_r = gabor_sigma_along · T`; it is made zero-mean and of unit energy, so the
 //! local gray level and contrast drop out and the response is the local ridge wave. One kernel per
-//! block (8 px), applied directly; blocks outside the print are not filtered. Dark ridges give a
+//! block (8 px); blocks outside the print are not filtered. With the default round envelope
+//! (`σ_n = σ_r`) the kernel is two separable terms and a constant (`SeparableGabor`), applied as
+//! rows then columns; otherwise it is applied directly. Dark ridges give a
 //! negative response; the plane returned has ridges positive.
 //!
 //! In: the gray image, [`Segmentation`], [`OrientationField`], [`RidgePeriods`]; out: the
@@ -38,24 +40,52 @@ pub(crate) fn enhance(
             values,
         };
     }
+    // With a round envelope (σ across = σ along) the filter is a sum of two separable terms
+    // and a constant (`SeparableGabor`): 3 (2r + 1) taps a pixel in each direction instead of
+    // (2r + 1)², the same response up to rounding.
+    let round = params.gabor_sigma_across == params.gabor_sigma_along;
+    let radius_of = |period: f32| {
+        let sigma = params.gabor_sigma_across.max(params.gabor_sigma_along) * f64::from(period);
+        (3.0 * sigma).ceil().clamp(1.0, 64.0) as usize
+    };
+    let pad = if round {
+        (0..grid.len())
+            .filter(|&k| segmentation.inside[k])
+            .map(|k| radius_of(periods.period[k]))
+            .max()
+            .unwrap_or(1)
+    } else {
+        0
+    };
+    let padded = if round {
+        Some(padded_plane(gray, pad))
+    } else {
+        None
+    };
     values
         .par_chunks_mut(w * b)
         .enumerate()
         .for_each(|(j, band)| {
             let mut kernel = Vec::new();
+            let mut rows = Vec::new();
             for i in 0..grid.cols as usize {
                 let index = grid.index(i, j);
                 if !segmentation.inside[index] {
                     continue;
                 }
-                let radius = gabor_kernel(
+                let (theta, period) = (
                     f64::from(field.angle[index]),
                     f64::from(periods.period[index]),
-                    params,
-                    &mut kernel,
                 );
+                let pixels = grid.pixels(i, j);
+                if let Some(padded) = &padded {
+                    let filter = SeparableGabor::new(theta, period, params);
+                    filter.apply(padded, pad, pixels, sign, band, &mut rows);
+                    continue;
+                }
+                let radius = gabor_kernel(theta, period, params, &mut kernel);
                 let side = 2 * radius + 1;
-                let (x0, x1, y0, y1) = grid.pixels(i, j);
+                let (x0, x1, y0, y1) = pixels;
                 for y in y0..y1 {
                     for x in x0..x1 {
                         let mut s = 0.0f32;
@@ -82,6 +112,125 @@ pub(crate) fn enhance(
         width: grid.width,
         height: grid.height,
         values,
+    }
+}
+
+/// `gray` with `pad` pixels added on every side, each the nearest pixel of the image (as
+/// [`Plane::at`] clamps).
+fn padded_plane(gray: &Plane, pad: usize) -> Plane {
+    let (w, h) = (
+        gray.width as usize + 2 * pad,
+        gray.height as usize + 2 * pad,
+    );
+    let mut values = Vec::with_capacity(w * h);
+    for y in 0..h {
+        let yy = y as i64 - pad as i64;
+        values.extend((0..w).map(|x| gray.at(x as i64 - pad as i64, yy)));
+    }
+    Plane {
+        width: w as u32,
+        height: h as u32,
+        values,
+    }
+}
+
+/// The filter of [`gabor_kernel`] when its envelope is round (`σ` across = along): with
+/// `g(t) = exp(-t² / 2σ²)` and the wave `cos(αx + βy)` (`(α, β) = 2π n / T`, `n` the ridge
+/// normal), the kernel is `A(x) B(y) - C(x) D(y) - m`, `A = g cos αx`, `C = g sin αx`,
+/// `B = g cos βy`, `D = g sin βy`, `m` its mean over the window, all over its energy.
+struct SeparableGabor {
+    radius: usize,
+    /// `A`, `C` over `x` and `B`, `D` over `y`, offsets `-r..=r`.
+    a: Vec<f32>,
+    c: Vec<f32>,
+    b: Vec<f32>,
+    d: Vec<f32>,
+    /// The mean `m` subtracted.
+    mean: f32,
+    /// One over the energy of the zero-mean kernel (0 for a flat one).
+    scale: f32,
+}
+
+impl SeparableGabor {
+    fn new(theta: f64, period: f64, params: &FingerprintParams) -> SeparableGabor {
+        let sigma = params.gabor_sigma_across * period;
+        let radius = (3.0 * sigma).ceil().clamp(1.0, 64.0) as i64;
+        let normal = [-theta.sin(), theta.cos()];
+        let (alpha, beta) = (TAU * normal[0] / period, TAU * normal[1] / period);
+        let g = |t: f64| (-t * t / (2.0 * sigma * sigma)).exp();
+        let taps = |k: f64| -> (Vec<f64>, Vec<f64>) {
+            (-radius..=radius)
+                .map(|t| {
+                    let t = t as f64;
+                    (g(t) * (k * t).cos(), g(t) * (k * t).sin())
+                })
+                .unzip()
+        };
+        let ((a, c), (b, d)) = (taps(alpha), taps(beta));
+        let sum = |v: &[f64]| v.iter().sum::<f64>();
+        let dot = |u: &[f64], v: &[f64]| u.iter().zip(v).map(|(p, q)| p * q).sum::<f64>();
+        let n = ((2 * radius + 1) * (2 * radius + 1)) as f64;
+        let mean = (sum(&a) * sum(&b) - sum(&c) * sum(&d)) / n;
+        let energy = dot(&a, &a) * dot(&b, &b) - 2.0 * dot(&a, &c) * dot(&b, &d)
+            + dot(&c, &c) * dot(&d, &d)
+            - n * mean * mean;
+        let scale = if energy > 0.0 {
+            1.0 / energy.sqrt()
+        } else {
+            0.0
+        };
+        let single = |v: Vec<f64>| v.into_iter().map(|x| x as f32).collect();
+        SeparableGabor {
+            radius: radius as usize,
+            a: single(a),
+            c: single(c),
+            b: single(b),
+            d: single(d),
+            mean: mean as f32,
+            scale: scale as f32,
+        }
+    }
+
+    /// The response over the block `(x0, x1, y0, y1)` of the image that `padded` holds with
+    /// `pad` px around it, times `sign`, into `band` (rows `y0..y1`, image width); `rows` is
+    /// scratch space.
+    fn apply(
+        &self,
+        padded: &Plane,
+        pad: usize,
+        (x0, x1, y0, y1): (usize, usize, usize, usize),
+        sign: f32,
+        band: &mut [f32],
+        rows: &mut Vec<[f32; 3]>,
+    ) {
+        let (r, pw) = (self.radius, padded.width as usize);
+        let (bw, side) = (x1 - x0, 2 * self.radius + 1);
+        let width = pw - 2 * pad;
+        // Per padded row of the window and column of the block: Σ A·gray, Σ C·gray, Σ gray.
+        rows.clear();
+        for yy in y0 + pad - r..y1 + pad + r {
+            for x in x0..x1 {
+                let start = yy * pw + x + pad - r;
+                let line = &padded.values[start..start + side];
+                let mut sums = [0.0f32; 3];
+                for ((&v, &a), &c) in line.iter().zip(&self.a).zip(&self.c) {
+                    sums[0] += a * v;
+                    sums[1] += c * v;
+                    sums[2] += v;
+                }
+                rows.push(sums);
+            }
+        }
+        for y in y0..y1 {
+            for x in x0..x1 {
+                let mut s = 0.0f32;
+                for (k, (&b, &d)) in self.b.iter().zip(&self.d).enumerate() {
+                    let [ha, hc, h1] = rows[(y - y0 + k) * bw + (x - x0)];
+                    s += b * ha - d * hc - self.mean * h1;
+                }
+                band[(y - y0) * width + x] = sign * self.scale * s;
+            }
+        }
     }
 }
 
@@ -133,6 +282,57 @@ mod tests {
         assert!((k.iter().map(|v| v * v).sum::<f32>() - 1.0).abs() < 1e-4);
         let centre = k[r * side + r];
         assert!(k.iter().all(|&v| v <= centre));
+    }
+
+    #[test]
+    fn the_separable_filter_is_the_kernel_inside_and_at_the_border() {
+        let (w, h) = (64usize, 48usize);
+        let gray = Plane {
+            width: w as u32,
+            height: h as u32,
+            values: (0..w * h)
+                .map(|i| ((i * 7919 + (i / w) * 104_729) % 251) as f32)
+                .collect(),
+        };
+        let params = FingerprintParams::default();
+        for (theta, period) in [(0.3, 7.0), (1.2, 11.0), (2.5, 17.0)] {
+            let mut kernel = Vec::new();
+            let r = gabor_kernel(theta, period, &params, &mut kernel);
+            let side = 2 * r + 1;
+            let filter = SeparableGabor::new(theta, period, &params);
+            assert_eq!(filter.radius, r);
+            let padded = padded_plane(&gray, r + 3);
+            for (x0, y0) in [(0, 0), (24, 16), (56, 40)] {
+                let mut band = vec![0.0f32; w * 8];
+                filter.apply(
+                    &padded,
+                    r + 3,
+                    (x0, x0 + 8, y0, y0 + 8),
+                    -1.0,
+                    &mut band,
+                    &mut Vec::new(),
+                );
+                for y in y0..y0 + 8 {
+                    for x in x0..x0 + 8 {
+                        let direct: f32 = kernel
+                            .iter()
+                            .enumerate()
+                            .map(|(k, &tap)| {
+                                let (dx, dy) =
+                                    ((k % side) as i64 - r as i64, (k / side) as i64 - r as i64);
+                                tap * gray.at(x as i64 + dx, y as i64 + dy)
+                            })
+                            .sum();
+                        let got = band[(y - y0) * w + x];
+                        assert!(
+                            (got + direct).abs() < 2e-3 * (1.0 + direct.abs()),
+                            "{theta} {period} ({x}, {y}): {got} vs {}",
+                            -direct
+                        );
+                    }
+                }
+            }
+        }
     }
 
     #[test]

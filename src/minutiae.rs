@@ -44,7 +44,8 @@ pub enum MinutiaKind {
 pub struct Minutia {
     /// Ending or bifurcation.
     pub kind: MinutiaKind,
-    /// The stroke-graph vertex it comes from.
+    /// The stroke-graph vertex it comes from (for an ending read from a bifurcation whose branch
+    /// crosses a valley, [`fingerprint_minutiae`], the junction's, not at `pos`).
     pub vertex: usize,
     /// Position, image coordinates.
     pub pos: [f64; 2],

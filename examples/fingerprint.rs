@@ -178,28 +178,30 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         variants.len()
     );
     println!();
-    println!("| capture | truth | ridgeline P / R / F1 @8 | F1 @16 | type acc. | off ink | peer P / R / F1 @8 | peer F1 @16 | peer type acc. |");
-    println!("|---|---|---|---|---|---|---|---|---|");
+    println!("| capture | truth | ridgeline P / R / F1 @8 | errors @8 | F1 @16 | type acc. | off ink | peer P / R / F1 @8 | peer errors @8 | peer F1 @16 | peer type acc. |");
+    println!("|---|---|---|---|---|---|---|---|---|---|---|");
     for ((order, variant), s) in &rows {
         let off = off_ink.get(order).copied().unwrap_or_default();
         let peer_cells = if peer_found.is_some() {
             format!(
-                "{:.2} / {:.2} / {:.2} | {:.2} | {:.2}",
+                "{:.2} / {:.2} / {:.2} | {} | {:.2} | {:.2}",
                 s[2].precision(),
                 s[2].recall(),
                 s[2].f1(),
+                s[2].errors(),
                 s[3].f1(),
                 s[2].type_accuracy()
             )
         } else {
-            "- | - | -".to_string()
+            "- | - | - | -".to_string()
         };
         println!(
-            "| {variant} | {} | {:.2} / {:.2} / {:.2} | {:.2} | {:.2} | {} | {peer_cells} |",
+            "| {variant} | {} | {:.2} / {:.2} / {:.2} | {} | {:.2} | {:.2} | {} | {peer_cells} |",
             s[0].truth,
             s[0].precision(),
             s[0].recall(),
             s[0].f1(),
+            s[0].errors(),
             s[1].f1(),
             s[0].type_accuracy(),
             percent(off)
@@ -703,6 +705,10 @@ impl Score {
         // Detections matched to optional truth are not counted either way.
         self.found += found.len() - matched.iter().filter(|m| truth[m.1].optional).count();
         matched
+    }
+    /// False and missed minutiae (optional truth counted neither way).
+    fn errors(&self) -> usize {
+        (self.found - self.matched) + (self.truth - self.matched)
     }
     fn precision(&self) -> f64 {
         if self.found == 0 {

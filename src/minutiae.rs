@@ -26,6 +26,7 @@
 //! order. Deterministic.
 
 use crate::fingerprint::PrintAnalysis;
+use crate::fit::math::{arc_lengths, point_at};
 use crate::{dist, Binary, FingerprintParams, StrokeGraph};
 use serde::Serialize;
 
@@ -283,43 +284,56 @@ pub fn fingerprint_minutiae(
 /// pointing towards the junction.
 fn detached_branches(found: &mut [Minutia], graph: &StrokeGraph, print: &PrintAnalysis) {
     const STEP: f64 = 0.5;
-    // Per vertex, its arms as polylines starting at the vertex.
-    let mut arms: Vec<Vec<Vec<[f64; 2]>>> = vec![Vec::new(); graph.vertices.len()];
-    for edge in &graph.edges {
+    // Per vertex, its arms: the edges leaving it, and whether they start there.
+    let mut arms: Vec<Vec<(usize, bool)>> = vec![Vec::new(); graph.vertices.len()];
+    for (e, edge) in graph.edges.iter().enumerate() {
         if edge.from == edge.to {
             continue;
         }
-        if let Some(a) = arms.get_mut(edge.from) {
-            a.push(edge.points.clone());
-        }
-        if let Some(a) = arms.get_mut(edge.to) {
-            a.push(edge.points.iter().rev().copied().collect());
+        for (v, at_start) in [(edge.from, true), (edge.to, false)] {
+            if let Some(a) = arms.get_mut(v) {
+                a.push((e, at_start));
+            }
         }
     }
-    // Samples every `STEP` px along `points` up to `reach` px: on the ridges, and where.
-    let samples = |points: &[[f64; 2]], reach: f64| {
-        let mut out: Vec<(bool, [f64; 2])> = Vec::new();
-        let mut travelled = 0.0;
-        for pair in points.windows(2) {
-            let length = dist(pair[0], pair[1]);
-            let mut t = (out.len() as f64 * STEP - travelled).max(0.0);
-            while t < length && (out.len() as f64) * STEP <= reach {
-                let f = t / length;
-                let q = [
-                    pair[0][0] + f * (pair[1][0] - pair[0][0]),
-                    pair[0][1] + f * (pair[1][1] - pair[0][1]),
-                ];
-                out.push((
+    // Samples every `STEP` px of arc from the vertex along an arm, up to `reach` px: on the
+    // ridges, and where.
+    let samples = |(e, at_start): (usize, bool), reach: f64| -> Vec<(bool, [f64; 2])> {
+        let points = &graph.edges[e].points;
+        let s = arc_lengths(points);
+        let total = s.last().copied().unwrap_or(0.0);
+        (0..)
+            .map(|k| f64::from(k) * STEP)
+            .take_while(|&t| t <= reach && t < total)
+            .map(|t| {
+                let (q, _) = point_at(points, &s, if at_start { t } else { total - t });
+                (
                     print.ridges.get(q[0].floor() as i64, q[1].floor() as i64),
                     q,
-                ));
-                t += STEP;
-            }
-            travelled += length;
-        }
-        out
+                )
+            })
+            .collect()
     };
     let run = (1.0 / STEP).ceil() as usize;
+    // The far side of the first gap of at least `run` samples, followed by `run` on-ridge
+    // samples.
+    let gap_end = |s: &[(bool, [f64; 2])]| {
+        let mut k = 0;
+        while k < s.len() {
+            if s[k].0 {
+                k += 1;
+                continue;
+            }
+            let start = k;
+            while k < s.len() && !s[k].0 {
+                k += 1;
+            }
+            if k - start >= run && k + run <= s.len() && s[k..k + run].iter().all(|x| x.0) {
+                return Some(k);
+            }
+        }
+        None
+    };
     for m in found.iter_mut() {
         let Some(arm) = arms.get(m.vertex) else {
             continue;
@@ -328,37 +342,16 @@ fn detached_branches(found: &mut [Minutia], graph: &StrokeGraph, print: &PrintAn
             continue;
         }
         let reach = print.periods.at(m.pos).max(4.0);
-        let sampled: Vec<Vec<(bool, [f64; 2])>> = arm.iter().map(|a| samples(a, reach)).collect();
-        // The far side of the first gap of at least `run` samples, followed by `run` on-ridge
-        // samples.
-        let gap_end = |s: &[(bool, [f64; 2])]| {
-            let mut k = 0;
-            while k < s.len() {
-                if s[k].0 {
-                    k += 1;
-                    continue;
-                }
-                let start = k;
-                while k < s.len() && !s[k].0 {
-                    k += 1;
-                }
-                if k - start >= run && k + run <= s.len() && s[k..k + run].iter().all(|x| x.0) {
-                    return Some(k);
-                }
-            }
-            None
-        };
-        let ends: Vec<Option<usize>> = sampled.iter().map(|s| gap_end(s)).collect();
-        let detached: Vec<usize> = (0..3).filter(|&i| ends[i].is_some()).collect();
-        let [i] = detached[..] else {
+        let sampled: Vec<Vec<(bool, [f64; 2])>> = arm.iter().map(|&a| samples(a, reach)).collect();
+        let gaps: Vec<(usize, usize)> = (0..3)
+            .filter_map(|i| gap_end(&sampled[i]).map(|k| (i, k)))
+            .collect();
+        let [(i, k)] = gaps[..] else {
             continue;
         };
         let through_on = (0..3)
             .filter(|&j| j != i)
             .all(|j| sampled[j].iter().all(|x| x.0));
-        let Some(k) = ends[i] else {
-            continue;
-        };
         if !through_on || k as f64 * STEP > 0.6 * reach {
             continue;
         }

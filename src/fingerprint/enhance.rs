@@ -48,32 +48,21 @@ pub(crate) fn enhance(
     }
     // With a round envelope (σ across = σ along) the filter is a sum of two separable terms
     // and a constant (`SeparableGabor`): 3 (2r + 1) taps a pixel in each direction instead of
-    // (2r + 1)², the same response up to rounding.
-    let round = params.gabor_sigma_across == params.gabor_sigma_along;
-    let radius_of = |period: f32| {
-        let sigma = params.gabor_sigma_across.max(params.gabor_sigma_along) * f64::from(period);
-        (3.0 * sigma).ceil().clamp(1.0, 64.0) as usize
-    };
-    let pad = if round {
-        (0..grid.len())
+    // (2r + 1)², the same response up to rounding. The image is padded once by the largest
+    // radius the print needs.
+    let padded = (params.gabor_sigma_across == params.gabor_sigma_along).then(|| {
+        let pad = (0..grid.len())
             .filter(|&k| segmentation.inside[k])
-            .map(|k| radius_of(periods.period[k]))
+            .map(|k| kernel_radius(params.gabor_sigma_across * f64::from(periods.period[k])))
             .max()
-            .unwrap_or(1)
-    } else {
-        0
-    };
-    let padded = if round {
-        Some(padded_plane(gray, pad))
-    } else {
-        None
-    };
+            .unwrap_or(1);
+        (padded_plane(gray, pad), pad)
+    });
     values
         .par_chunks_mut(w * b)
         .enumerate()
         .for_each(|(j, band)| {
-            let mut kernel = Vec::new();
-            let mut rows = Vec::new();
+            let (mut kernel, mut rows, mut parts) = (Vec::new(), Vec::new(), Vec::new());
             let band_y0 = j * b;
             for i in 0..grid.cols as usize {
                 let index = grid.index(i, j);
@@ -85,7 +74,7 @@ pub(crate) fn enhance(
                 // Where the flow turns within the block (low coherence: cores, deltas, the apex
                 // of a tight loop), one direction per block misses the ridges at its corners:
                 // sub-blocks take the direction interpolated at their centers.
-                let mut parts = Vec::with_capacity(4);
+                parts.clear();
                 if field.coherence[index] < TURNING_COHERENCE {
                     for ys in (y0..y1).step_by(SUB_BLOCK) {
                         for xs in (x0..x1).step_by(SUB_BLOCK) {
@@ -97,34 +86,14 @@ pub(crate) fn enhance(
                 } else {
                     parts.push(((x0, x1, y0, y1), f64::from(field.angle[index])));
                 }
-                for (pixels, theta) in parts {
-                    if let Some(padded) = &padded {
-                        let filter = SeparableGabor::new(theta, period, params);
-                        filter.apply(padded, pad, pixels, sign, (&mut *band, band_y0), &mut rows);
-                        continue;
-                    }
-                    let radius = gabor_kernel(theta, period, params, &mut kernel);
-                    let side = 2 * radius + 1;
-                    let (x0, x1, y0, y1) = pixels;
-                    for y in y0..y1 {
-                        for x in x0..x1 {
-                            let mut s = 0.0f32;
-                            for (row, taps) in kernel.chunks_exact(side).enumerate() {
-                                let yy = y as i64 + row as i64 - radius as i64;
-                                let x_start = x as i64 - radius as i64;
-                                if x_start >= 0 && x_start + side as i64 <= w as i64 {
-                                    let yy = yy.clamp(0, i64::from(grid.height) - 1) as usize;
-                                    let line = &gray.values[yy * w + x_start as usize
-                                        ..yy * w + x_start as usize + side];
-                                    s += taps.iter().zip(line).map(|(k, v)| k * v).sum::<f32>();
-                                } else {
-                                    for (c, &k) in taps.iter().enumerate() {
-                                        s += k * gray.at(x_start + c as i64, yy);
-                                    }
-                                }
-                            }
-                            band[(y - band_y0) * w + x] = sign * s;
-                        }
+                for &(pixels, theta) in &parts {
+                    let out = (&mut *band, band_y0);
+                    if let Some((padded, pad)) = &padded {
+                        SeparableGabor::new(theta, period, params)
+                            .apply(padded, *pad, pixels, sign, out, &mut rows);
+                    } else {
+                        let radius = gabor_kernel(theta, period, params, &mut kernel);
+                        apply_kernel(gray, &kernel, radius, pixels, sign, out);
                     }
                 }
             }
@@ -134,6 +103,44 @@ pub(crate) fn enhance(
         height: grid.height,
         values,
     }
+}
+
+/// The response of the `(2 radius + 1)²` `kernel` over the block `(x0, x1, y0, y1)` of `gray`
+/// (clamped at the image's edges), times `sign`, into `band` (rows from `band_y0`, image width).
+fn apply_kernel(
+    gray: &Plane,
+    kernel: &[f32],
+    radius: usize,
+    (x0, x1, y0, y1): (usize, usize, usize, usize),
+    sign: f32,
+    (band, band_y0): (&mut [f32], usize),
+) {
+    let (w, side) = (gray.width as usize, 2 * radius + 1);
+    for y in y0..y1 {
+        for x in x0..x1 {
+            let mut s = 0.0f32;
+            for (row, taps) in kernel.chunks_exact(side).enumerate() {
+                let yy = y as i64 + row as i64 - radius as i64;
+                let x_start = x as i64 - radius as i64;
+                if x_start >= 0 && x_start + side as i64 <= w as i64 {
+                    let yy = yy.clamp(0, i64::from(gray.height) - 1) as usize;
+                    let start = yy * w + x_start as usize;
+                    let line = &gray.values[start..start + side];
+                    s += taps.iter().zip(line).map(|(k, v)| k * v).sum::<f32>();
+                } else {
+                    for (c, &k) in taps.iter().enumerate() {
+                        s += k * gray.at(x_start + c as i64, yy);
+                    }
+                }
+            }
+            band[(y - band_y0) * w + x] = sign * s;
+        }
+    }
+}
+
+/// The window radius of a Gaussian envelope of `sigma` px: 3 σ, 1-64 px.
+fn kernel_radius(sigma: f64) -> usize {
+    (3.0 * sigma).ceil().clamp(1.0, 64.0) as usize
 }
 
 /// `gray` with `pad` pixels added on every side, each the nearest pixel of the image (as
@@ -175,7 +182,7 @@ struct SeparableGabor {
 impl SeparableGabor {
     fn new(theta: f64, period: f64, params: &FingerprintParams) -> SeparableGabor {
         let sigma = params.gabor_sigma_across * period;
-        let radius = (3.0 * sigma).ceil().clamp(1.0, 64.0) as i64;
+        let radius = kernel_radius(sigma) as i64;
         let normal = [-theta.sin(), theta.cos()];
         let (alpha, beta) = (TAU * normal[0] / period, TAU * normal[1] / period);
         let g = |t: f64| (-t * t / (2.0 * sigma * sigma)).exp();
@@ -265,7 +272,7 @@ fn gabor_kernel(
 ) -> usize {
     let sigma_n = params.gabor_sigma_across * period;
     let sigma_r = params.gabor_sigma_along * period;
-    let radius = (3.0 * sigma_n.max(sigma_r)).ceil().clamp(1.0, 64.0) as i64;
+    let radius = kernel_radius(sigma_n.max(sigma_r)) as i64;
     let (along, normal) = ([theta.cos(), theta.sin()], [-theta.sin(), theta.cos()]);
     kernel.clear();
     for dy in -radius..=radius {

@@ -27,7 +27,7 @@
 mod assign;
 mod dense;
 mod layout;
-mod math;
+pub(crate) mod math;
 mod place;
 mod solve;
 #[cfg(test)]

@@ -5,6 +5,7 @@
 //!
 //! Plain math on row-major `bool` masks; it knows nothing about stages.
 
+use petgraph::unionfind::UnionFind;
 use rayon::prelude::*;
 
 /// Squared distance transform values at the ink pixels only, in raster order: entry `i` belongs to
@@ -36,17 +37,9 @@ impl Run {
 /// The 8-connected components of `runs` (in raster order, none touching the next in its row):
 /// each run's component, numbered in order of the components' first runs, and each component's
 /// pixel count. A run touches the runs of the row above that overlap it or meet it at a corner;
-/// a union-find whose roots are first runs.
+/// a union-find over the runs.
 pub(crate) fn run_components(runs: &[Run]) -> (Vec<u32>, Vec<usize>) {
-    let mut parent: Vec<u32> = (0..runs.len() as u32).collect();
-    let find = |parent: &mut [u32], mut r: u32| {
-        while parent[r as usize] != r {
-            let up = parent[parent[r as usize] as usize];
-            parent[r as usize] = up; // path halving
-            r = up;
-        }
-        r
-    };
+    let mut sets = UnionFind::<u32>::new(runs.len());
     let mut above = 0..0;
     let mut start = 0;
     while start < runs.len() {
@@ -57,10 +50,7 @@ pub(crate) fn run_components(runs: &[Run]) -> (Vec<u32>, Vec<usize>) {
             while i < above.end && j < end {
                 let (a, b) = (runs[i], runs[j]);
                 if a.x0 <= b.x1 && a.x1 >= b.x0 {
-                    let (ra, rb) = (find(&mut parent, i as u32), find(&mut parent, j as u32));
-                    if ra != rb {
-                        parent[ra.max(rb) as usize] = ra.min(rb);
-                    }
+                    sets.union(i as u32, j as u32);
                 }
                 // The run that ends first cannot touch anything further along the other row.
                 if a.x1 < b.x1 {
@@ -73,20 +63,31 @@ pub(crate) fn run_components(runs: &[Run]) -> (Vec<u32>, Vec<usize>) {
         above = start..end;
         start = end;
     }
-    // In run order a run's parent (earlier, same component) is already labelled.
-    let mut label = parent;
+    first_seen_labels(&mut sets, runs.len(), |r| runs[r].len())
+}
+
+/// The sets of `sets` (over `0..n`) numbered in order of their first members, each element's
+/// number, and each set's total `weight`: labels that do not depend on which member the
+/// union-find made the root.
+pub(crate) fn first_seen_labels(
+    sets: &mut UnionFind<u32>,
+    n: usize,
+    weight: impl Fn(usize) -> usize,
+) -> (Vec<u32>, Vec<usize>) {
+    let mut label_of_root = vec![u32::MAX; n];
+    let mut labels = Vec::with_capacity(n);
     let mut sizes: Vec<usize> = Vec::new();
-    for r in 0..runs.len() {
-        let up = label[r] as usize;
-        if up == r {
-            label[r] = sizes.len() as u32;
-            sizes.push(runs[r].len());
-        } else {
-            label[r] = label[up];
-            sizes[label[r] as usize] += runs[r].len();
+    for i in 0..n {
+        let root = sets.find_mut(i as u32) as usize;
+        if label_of_root[root] == u32::MAX {
+            label_of_root[root] = sizes.len() as u32;
+            sizes.push(0);
         }
+        let label = label_of_root[root];
+        sizes[label as usize] += weight(i);
+        labels.push(label);
     }
-    (label, sizes)
+    (labels, sizes)
 }
 
 /// Prefix counts of ink per row: the ink pixels of row `y` are numbers

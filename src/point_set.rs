@@ -3,7 +3,8 @@
 
 #[cfg(test)]
 use crate::csr::symmetric_neighbours;
-use crate::mask::{run_components, Run};
+use crate::mask::{first_seen_labels, run_components, Run};
+use petgraph::unionfind::UnionFind;
 
 /// A pixel grid the points came from: lets stages use pixel adjacency instead of tree queries.
 #[derive(Clone, Debug, Default)]
@@ -213,41 +214,16 @@ impl PointSet {
             return labels;
         }
         // Union-find over the neighbour lists in index order: the lists are read as they lie in
-        // memory (a depth-first walk jumps around them), and each set's root is its smallest
-        // point.
-        let mut parent: Vec<u32> = (0..n as u32).collect();
-        let find = |parent: &mut [u32], mut p: u32| {
-            while parent[p as usize] != p {
-                let up = parent[parent[p as usize] as usize];
-                parent[p as usize] = up; // path halving
-                p = up;
-            }
-            p
-        };
+        // memory (a depth-first walk jumps around them).
+        let mut sets = UnionFind::<u32>::new(n);
         for p in 0..n as u32 {
             for &q in self.neighbors_of(p) {
                 if q < p {
-                    let (a, b) = (find(&mut parent, p), find(&mut parent, q));
-                    if a != b {
-                        parent[a.max(b) as usize] = a.min(b);
-                    }
+                    sets.union(p, q);
                 }
             }
         }
-        // In index order a point's parent (smaller, same component) is already labelled.
-        let mut label = parent;
-        let mut sizes: Vec<usize> = Vec::new();
-        for p in 0..n {
-            let up = label[p] as usize;
-            if up == p {
-                label[p] = sizes.len() as u32;
-                sizes.push(1);
-            } else {
-                label[p] = label[up];
-                sizes[label[p] as usize] += 1;
-            }
-        }
-        (label, sizes)
+        first_seen_labels(&mut sets, n, |_| 1)
     }
 
     /// [`PointSet::component_labels`] from the runs of pixels, for pixel centers in raster order

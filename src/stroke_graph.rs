@@ -1,5 +1,6 @@
 //! The result: stroke centerlines as polylines (edges) meeting at vertices.
 
+use petgraph::unionfind::UnionFind;
 use serde::Serialize;
 
 use crate::geometry::dist;
@@ -113,21 +114,11 @@ impl StrokeGraph {
     /// For each vertex, the vertex that stands for its connected component (union-find over the
     /// edges): the components are the vertices that are their own root.
     pub(crate) fn component_roots(&self) -> Vec<usize> {
-        let mut parent: Vec<usize> = (0..self.vertices.len()).collect();
-        fn find(parent: &mut [usize], mut x: usize) -> usize {
-            while parent[x] != x {
-                parent[x] = parent[parent[x]];
-                x = parent[x];
-            }
-            x
-        }
+        let mut sets = UnionFind::<usize>::new(self.vertices.len());
         for e in &self.edges {
-            let (a, b) = (find(&mut parent, e.from), find(&mut parent, e.to));
-            if a != b {
-                parent[a] = b;
-            }
+            sets.union(e.from, e.to);
         }
-        (0..parent.len()).map(|v| find(&mut parent, v)).collect()
+        sets.into_labeling()
     }
 
     /// Cycle rank (independent cycles): `E - V + C`.

@@ -31,7 +31,7 @@ pub struct Decisions {
     /// such as white letters on a dark banner, whose strokes were traced as the ink instead),
     /// by bounding box; empty (and not written) when there was none.
     #[serde(skip_serializing_if = "Vec::is_empty")]
-    pub reversed_grounds: Vec<crate::raster::Ground>,
+    pub reversed_grounds: Vec<Ground>,
     /// What the fingerprint front end measured on the print; `None` (and not written) without
     /// `--fingerprint`.
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -99,4 +99,17 @@ pub struct Warning {
     pub code: &'static str,
     /// One sentence for people, ending with the flag to try.
     pub message: String,
+}
+
+/// A reversed ground's bounding box, px.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+pub struct Ground {
+    /// Left column.
+    pub x: u32,
+    /// Top row.
+    pub y: u32,
+    /// Width.
+    pub width: u32,
+    /// Height.
+    pub height: u32,
 }

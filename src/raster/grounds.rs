@@ -24,6 +24,7 @@ use image::{GrayImage, Luma};
 use imageproc::region_labelling::{connected_components, Connectivity};
 
 use super::evidence::run_lengths;
+use crate::decisions::Ground;
 
 /// The narrowest hole that shows a ground, px: thinner light lines are as often cracks, pores
 /// and noise as strokes.
@@ -54,19 +55,6 @@ const PROBE_STEP: usize = 4;
 /// Lattice points of chord at least [`MIN_GROUND_CHORD`] an image needs before any component is
 /// labelled.
 const MIN_THICK_PROBES: usize = 16;
-
-/// A reversed ground's bounding box, px.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
-pub struct Ground {
-    /// Left column.
-    pub x: u32,
-    /// Top row.
-    pub y: u32,
-    /// Width.
-    pub width: u32,
-    /// Height.
-    pub height: u32,
-}
 
 /// Reverses every ground of `ink` (row-major, `width` x `height`) in place and returns their
 /// boxes, in the order a row-major lattice first meets them.

@@ -18,12 +18,12 @@ mod resolution;
 mod tiff_pages;
 mod valleys;
 
+pub use crate::decisions::Ground;
 pub(crate) use binarize::binarize_deciding;
 pub(crate) use chunks::pixel_chunks;
 pub use decode::{decode_file, Page, Pages, Picture, Transparency};
 pub(crate) use dropout::split as split_dropout;
 pub(crate) use evidence::chords;
-pub use grounds::Ground;
 
 use crate::{Binary, GrayImage, GrayView, Limits, MaskView, Params, PointSet, Result};
 

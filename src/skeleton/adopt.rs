@@ -1,0 +1,265 @@
+//! Adoption of the method's lines: §3.4's fitted polyline replaces a skeleton edge where the two
+//! follow each other ([`Work::adopt_method_geometry`], [`follows`]). docs/design.md,
+//! "Skeleton-carried geometry".
+
+use kiddo::{ImmutableKdTree, SquaredEuclidean};
+
+use crate::StrokeGraph;
+
+use super::work::{median, Work};
+use super::MIN_WIDTH_PX;
+
+/// A skeleton vertex is matched to a method vertex within the stroke width and at least this
+/// (px): the method's vertices sit within a pixel or two of the skeleton's on a hairline.
+const MATCH_REACH_PX: f64 = 2.0;
+
+/// A skeleton edge and a method's line follow each other when no point of either lies farther
+/// than this many stroke widths from the other (and [`FOLLOW_LOOSE_PX`]): the method's line
+/// keeps to this stroke's ink.
+const FOLLOW_LOOSE: f64 = 0.5;
+
+/// See [`FOLLOW_LOOSE`] (px).
+const FOLLOW_LOOSE_PX: f64 = 1.0;
+
+/// ...and all but a tenth of their points lie within this (px) of the other: the skeleton's
+/// pixel path and a centred line differ by about half a pixel.
+const FOLLOW_TIGHT_PX: f64 = 1.0;
+
+impl Work {
+    /// Geometry where the method is right (§3.4's fitted polylines, smooth and centred below
+    /// a pixel): a skeleton vertex is matched to the nearest of the method's vertices of the
+    /// same kind (an end to an end, a junction to a junction of the same degree) within
+    /// `max(2 px, w)` ([`MATCH_REACH_PX`]), and a skeleton edge between two matched vertices
+    /// takes the polyline of the method's edge between their partners when the two lie within
+    /// `max(1 px, w / 2)` of each other everywhere ([`FOLLOW_LOOSE`]) and within 1 px for 90 %
+    /// of their points ([`FOLLOW_TIGHT_PX`]), on the ink (so the method's line keeps to this
+    /// stroke's ink). The
+    /// skeleton keeps its own paths wherever the method's graph differs: chords, fused
+    /// junctions, lost arms and loops (docs/quality.md, "Fidelity directions").
+    pub(super) fn adopt_method_geometry(&mut self, method: &StrokeGraph) {
+        if method.vertices.is_empty() {
+            return;
+        }
+        let positions: Vec<[f64; 2]> = method.vertices.iter().map(|v| v.pos).collect();
+        let Ok(tree) = ImmutableKdTree::<f64, 2>::new_from_slice(&positions) else {
+            return;
+        };
+        let mut method_at = vec![Vec::new(); method.vertices.len()];
+        for (f, edge) in method.edges.iter().enumerate() {
+            method_at[edge.from].push(f);
+            if edge.to != edge.from {
+                method_at[edge.to].push(f);
+            }
+        }
+        let degree = self.degrees();
+        let at = self.incidence();
+        // The stroke width at a vertex: the widest median of its edges.
+        let stroke_at = |v: usize| {
+            at[v]
+                .iter()
+                .filter_map(|&e| self.edges[e].as_ref())
+                .map(|e| median(&e.widths))
+                .fold(MIN_WIDTH_PX, f64::max)
+        };
+        let mut partner = vec![usize::MAX; self.vertices.len()];
+        let mut taken = vec![false; method.vertices.len()];
+        let mut order: Vec<(f64, usize, usize)> = Vec::new();
+        for v in (0..self.vertices.len()).filter(|&v| self.alive[v] && degree[v] != 2) {
+            if degree[v] == 0 {
+                continue;
+            }
+            let reach = stroke_at(v).max(MATCH_REACH_PX);
+            let pos = self.vertices[v].pos;
+            for found in tree
+                .query(&pos)
+                .within::<SquaredEuclidean<f64>>(reach * reach)
+                .execute()
+            {
+                let m = found.item as usize;
+                let dm = method.vertices[m].degree;
+                if (degree[v] == 1 && dm == 1) || (degree[v] >= 3 && dm == degree[v]) {
+                    order.push((found.distance, v, m));
+                }
+            }
+        }
+        // Nearest pairs first, each vertex matched once.
+        order.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)).then(a.2.cmp(&b.2)));
+        for (_, v, m) in order {
+            if partner[v] == usize::MAX && !taken[m] {
+                partner[v] = m;
+                taken[m] = true;
+            }
+        }
+        let mut used = vec![false; method.edges.len()];
+        let mut moved = vec![false; self.vertices.len()];
+        let bbox = |points: &[[f64; 2]]| {
+            points.iter().fold(
+                [
+                    f64::INFINITY,
+                    f64::INFINITY,
+                    f64::NEG_INFINITY,
+                    f64::NEG_INFINITY,
+                ],
+                |b, p| {
+                    [
+                        b[0].min(p[0]),
+                        b[1].min(p[1]),
+                        b[2].max(p[0]),
+                        b[3].max(p[1]),
+                    ]
+                },
+            )
+        };
+        // The method's closed curves without a junction (a ring, a closed ridge).
+        let method_rings: Vec<(usize, [f64; 4])> = method
+            .edges
+            .iter()
+            .enumerate()
+            .filter(|(_, f)| f.from == f.to && method.vertices[f.from].degree == 2)
+            .map(|(f, edge)| (f, bbox(&edge.points)))
+            .collect();
+        for e in 0..self.edges.len() {
+            let Some(edge) = &self.edges[e] else { continue };
+            let loose = (FOLLOW_LOOSE * median(&edge.widths)).max(FOLLOW_LOOSE_PX);
+            let ring = edge.from == edge.to && degree[edge.from] == 2;
+            let candidates: Vec<(usize, bool)> = if ring {
+                let b = bbox(&edge.points);
+                method_rings
+                    .iter()
+                    .filter(|(_, r)| {
+                        r[0] <= b[2] + loose
+                            && b[0] <= r[2] + loose
+                            && r[1] <= b[3] + loose
+                            && b[1] <= r[3] + loose
+                    })
+                    .map(|&(f, _)| (f, true))
+                    .collect()
+            } else {
+                let (a, b) = (partner[edge.from], partner[edge.to]);
+                if a == usize::MAX || b == usize::MAX {
+                    continue;
+                }
+                method_at[a]
+                    .iter()
+                    .map(|&f| (f, &method.edges[f]))
+                    .filter(|(_, c)| (c.from == a && c.to == b) || (c.from == b && c.to == a))
+                    .map(|(f, c)| (f, c.from == a && c.to == b))
+                    .collect()
+            };
+            let mut best: Option<(f64, usize, bool)> = None;
+            for (f, forward) in candidates {
+                if used[f] {
+                    continue;
+                }
+                let line = &method.edges[f].points;
+                if !line.windows(2).all(|s| self.ink.holds(s[0], s[1])) {
+                    continue;
+                }
+                if let Some(gap) = follows(&edge.points, line, FOLLOW_TIGHT_PX, loose) {
+                    if best.is_none_or(|(g, ..)| gap < g) {
+                        best = Some((gap, f, forward));
+                    }
+                }
+            }
+            if ring {
+                if let Some((_, f, _)) = best {
+                    partner[edge.from] = method.edges[f].from;
+                }
+            }
+            let Some((_, f, forward)) = best else {
+                continue;
+            };
+            used[f] = true;
+            let source = &method.edges[f];
+            let mut points = source.points.clone();
+            let mut widths = source.widths.clone();
+            let mut directions = source.directions.clone();
+            if !forward {
+                points.reverse();
+                widths.reverse();
+                directions.reverse();
+                for d in &mut directions {
+                    *d = [-d[0], -d[1]];
+                }
+            }
+            let edge = self.edges[e].as_mut().expect("live edge");
+            edge.points = points;
+            edge.widths = widths;
+            edge.directions = directions;
+            for v in [edge.from, edge.to] {
+                moved[v] = true;
+            }
+        }
+        // The vertices whose edges took the method's lines sit where the method put them; the
+        // skeleton edges that meet them there are joined to the new position.
+        for v in (0..self.vertices.len()).filter(|&v| moved[v]) {
+            let pos = method.vertices[partner[v]].pos;
+            self.vertices[v].pos = pos;
+            for &e in &at[v] {
+                let Some(edge) = self.edges[e].as_mut() else {
+                    continue;
+                };
+                if edge.from == v {
+                    edge.points[0] = pos;
+                }
+                if edge.to == v {
+                    let last = edge.points.len() - 1;
+                    edge.points[last] = pos;
+                }
+            }
+        }
+    }
+}
+
+/// How closely two polylines follow each other: `None` when a point of either lies farther than
+/// `loose` from the other, or when more than a tenth of either's points lie farther than
+/// `tight`; else the largest distance.
+fn follows(p: &[[f64; 2]], q: &[[f64; 2]], tight: f64, loose: f64) -> Option<f64> {
+    // Squared distances, compared with squared bounds.
+    let (tight2, loose2) = (tight * tight, loose * loose);
+    // The segments of `to` bucketed in square cells at least `2 loose` across, so a point only
+    // looks at the segments of the (at most four) cells within `loose` of it: linear in the
+    // points, however long the lines (a page-long stroke has tens of thousands).
+    let cell = (2.0 * loose).max(4.0);
+    let key = |v: f64| (v / cell).floor() as i64;
+    let directed = |from: &[[f64; 2]], to: &[[f64; 2]]| -> Option<f64> {
+        let segments: Vec<([f64; 2], [f64; 2])> = match to {
+            [only] => vec![(*only, *only)],
+            _ => to.windows(2).map(|s| (s[0], s[1])).collect(),
+        };
+        let mut buckets: std::collections::HashMap<(i64, i64), Vec<usize>> =
+            std::collections::HashMap::new();
+        for (k, &(a, b)) in segments.iter().enumerate() {
+            for cx in key(a[0].min(b[0]))..=key(a[0].max(b[0])) {
+                for cy in key(a[1].min(b[1]))..=key(a[1].max(b[1])) {
+                    buckets.entry((cx, cy)).or_default().push(k);
+                }
+            }
+        }
+        let mut worst = 0.0f64;
+        let mut off = 0;
+        for &x in from {
+            let mut d2 = f64::INFINITY;
+            for cx in key(x[0] - loose)..=key(x[0] + loose) {
+                for cy in key(x[1] - loose)..=key(x[1] + loose) {
+                    for &k in buckets.get(&(cx, cy)).map_or(&[][..], Vec::as_slice) {
+                        let (a, b) = segments[k];
+                        d2 = d2.min(crate::geometry::segment_dist2(x, a, b));
+                    }
+                }
+            }
+            if d2 > loose2 {
+                return None;
+            }
+            if d2 > tight2 {
+                off += 1;
+            }
+            worst = worst.max(d2);
+        }
+        (off * 10 <= from.len()).then_some(worst.sqrt())
+    };
+    if p.is_empty() || q.is_empty() {
+        return None;
+    }
+    Some(directed(p, q)?.max(directed(q, p)?))
+}

@@ -1,0 +1,358 @@
+//! Crossings: the method's crossings decide which skeleton junctions are one vertex
+//! ([`Work::merge_crossings`]); junctions closer than the ink can show apart are one
+//! ([`Work::contract_short_links`]); arms run straight into their junction
+//! ([`Work::straighten_junctions`]). docs/design.md, "Skeleton-carried geometry".
+
+use kiddo::{ImmutableKdTree, SquaredEuclidean};
+use petgraph::unionfind::UnionFind;
+
+use crate::geometry::dist;
+use crate::{Edge, StrokeGraph, Vertex};
+
+use super::disk_radius;
+use super::work::{cut_arm, cut_point, median, Work};
+
+/// A crossing owns the skeleton junctions within this many of its widths: the Y's of an acute
+/// crossing lie about `(w / 2) / sin(θ / 2)` from it, 3.8 w at 15 degrees, and the method's
+/// width at a crossing can be a little less than the strokes'.
+const CROSSING_REACH: f64 = 5.0;
+
+/// The narrowest width (px) a crossing's reach is measured in: a crossing of hairlines still
+/// owns the Y's thinning makes a pixel or two from it.
+const MIN_CROSSING_WIDTH_PX: f64 = 2.0;
+
+/// A crossing's junctions are linked by edges at most this many reaches long: two junctions
+/// within the reach lie at most twice it apart.
+const LINK_REACHES: f64 = 2.0;
+
+/// A crossing's arms bend towards the skeleton's Y's within about this many widths of them:
+/// they are cut that far beyond the farthest Y.
+const ARM_BEND: f64 = 0.5;
+
+/// The reach of a crossing (px): [`CROSSING_REACH`] of its widths.
+fn crossing_reach(c: &Vertex) -> f64 {
+    CROSSING_REACH * c.width.max(MIN_CROSSING_WIDTH_PX)
+}
+
+/// Two junctions linked by at most this many of the link's widths are one: thinning splits a
+/// crossing of strokes into two Y's closer than half a width.
+const SHORT_LINK: f64 = 0.5;
+
+/// See [`SHORT_LINK`] (px): thinning splits a crossing of thin strokes into two Y's a pixel or
+/// two apart.
+const SHORT_LINK_PX: f64 = 3.0;
+
+impl Work {
+    /// Crossings: around each of the method's vertices of degree >= 4, the skeleton junctions
+    /// nearer to it than to any other of the method's junctions and within 5 of its widths,
+    /// linked by short skeleton edges (at most that radius) that form a tree (no hole among
+    /// them), and leaving by exactly as many arms as the crossing has, become one vertex at the
+    /// crossing. A long edge between two of them (the loop of an `8` closing on its waist)
+    /// becomes a loop at the crossing. Each arm is cut where it leaves the merged junctions'
+    /// reach and joined straight to the crossing.
+    pub(super) fn merge_crossings(&mut self, method: &StrokeGraph) {
+        let junctions: Vec<&Vertex> = method.vertices.iter().filter(|v| v.degree >= 3).collect();
+        if !junctions.iter().any(|v| v.degree >= 4) {
+            return;
+        }
+        let mut degree = self.degrees();
+        let mut at = self.incidence();
+        let Some(owned) = self.crossing_owners(&junctions, &degree) else {
+            return;
+        };
+        let mut mark = vec![usize::MAX; self.vertices.len()];
+        for (owner, near) in owned.iter().enumerate() {
+            if near.len() < 2 {
+                continue;
+            }
+            let c = junctions[owner];
+            for &i in near {
+                mark[i] = owner;
+            }
+            let linked = self.linked_group(c, near, |v| mark[v] == owner, &at);
+            for &i in near {
+                mark[i] = usize::MAX;
+            }
+            let Some((group, links)) = linked else {
+                continue;
+            };
+            if group.len() < 2 {
+                continue;
+            }
+            let Some(internal) = self.spanning_links(&group, links) else {
+                continue;
+            };
+            let arms: usize = group.iter().map(|&i| degree[i]).sum::<usize>() - 2 * internal.len();
+            if arms != c.degree {
+                continue;
+            }
+            let Some(reach) = self.arm_reach(c, &group, &internal, &at) else {
+                continue;
+            };
+            self.merge_into_hub(c, &group, &internal, reach, &mut at, &mut degree);
+            degree[group[0]] = arms;
+        }
+    }
+
+    /// The skeleton junctions each crossing owns: those whose nearest junction of the method
+    /// (in `junctions`) is a crossing, within its reach. `None` when the junctions cannot be
+    /// indexed.
+    fn crossing_owners(&self, junctions: &[&Vertex], degree: &[usize]) -> Option<Vec<Vec<usize>>> {
+        let positions: Vec<[f64; 2]> = junctions.iter().map(|v| v.pos).collect();
+        let tree = ImmutableKdTree::<f64, 2>::new_from_slice(&positions).ok()?;
+        let mut owned: Vec<Vec<usize>> = vec![Vec::new(); junctions.len()];
+        for i in (0..self.vertices.len()).filter(|&i| self.alive[i] && degree[i] >= 3) {
+            let nearest = tree
+                .query(&self.vertices[i].pos)
+                .nearest_one::<SquaredEuclidean<f64>>()
+                .execute();
+            let owner = nearest.item as usize;
+            let c = junctions[owner];
+            if c.degree >= 4 && dist(self.vertices[i].pos, c.pos) <= crossing_reach(c) {
+                owned[owner].push(i);
+            }
+        }
+        Some(owned)
+    }
+
+    /// The skeleton junctions linked to the one of `near` nearest the crossing `c` by edges
+    /// among the junctions `owned` ([`LINK_REACHES`] reaches long at most: two junctions within
+    /// the reach), and the links.
+    fn linked_group(
+        &self,
+        c: &Vertex,
+        near: &[usize],
+        owned: impl Fn(usize) -> bool,
+        at: &[Vec<usize>],
+    ) -> Option<(Vec<usize>, Vec<usize>)> {
+        let length = Edge::length;
+        let radius = crossing_reach(c);
+        let &seed = near.iter().min_by(|&&a, &&b| {
+            dist(self.vertices[a].pos, c.pos)
+                .total_cmp(&dist(self.vertices[b].pos, c.pos))
+                .then(a.cmp(&b))
+        })?;
+        let mut group = vec![seed];
+        let mut links: Vec<usize> = Vec::new();
+        let mut next = 0;
+        while next < group.len() {
+            let g = group[next];
+            next += 1;
+            for &e in &at[g] {
+                let Some(edge) = &self.edges[e] else { continue };
+                let other = if edge.from == g { edge.to } else { edge.from };
+                if other == g || !owned(other) || length(edge) > LINK_REACHES * radius {
+                    continue;
+                }
+                if !links.contains(&e) {
+                    links.push(e);
+                }
+                if !group.contains(&other) {
+                    group.push(other);
+                }
+            }
+        }
+        Some((group, links))
+    }
+
+    /// The shortest links that join the group (Kruskal), to be merged away; `None` when a link
+    /// would close a cycle: it goes round a hole among the junctions (a cell of a grid), so they
+    /// are not one crossing. (A longer edge between two of them, the loop of an `8`, is no link
+    /// and stays, as a loop at the crossing.)
+    fn spanning_links(&self, group: &[usize], mut links: Vec<usize>) -> Option<Vec<usize>> {
+        let length = Edge::length;
+        links.sort_by(|&a, &b| {
+            let (la, lb) = (
+                self.edges[a].as_ref().map_or(0.0, length),
+                self.edges[b].as_ref().map_or(0.0, length),
+            );
+            la.total_cmp(&lb).then(a.cmp(&b))
+        });
+        let mut union = UnionFind::<usize>::new(group.len());
+        let slot = |v: usize| group.iter().position(|&g| g == v).unwrap_or(0);
+        let mut internal = Vec::new();
+        for &e in &links {
+            let Some(edge) = &self.edges[e] else { continue };
+            if union.union(slot(edge.from), slot(edge.to)) {
+                internal.push(e);
+            }
+        }
+        (internal.len() == links.len()).then_some(internal)
+    }
+
+    /// Where the arms of the crossing `c` are cut: they bend towards the skeleton's Y's within
+    /// about [`ARM_BEND`] widths of them, so they are cut beyond that and run straight to the
+    /// crossing, or just beyond the Y's where that line would leave the ink; `None` where both
+    /// would: this is no crossing.
+    fn arm_reach(
+        &self,
+        c: &Vertex,
+        group: &[usize],
+        internal: &[usize],
+        at: &[Vec<usize>],
+    ) -> Option<f64> {
+        let spread = group
+            .iter()
+            .map(|&i| dist(self.vertices[i].pos, c.pos))
+            .fold(0.0f64, f64::max);
+        let arms_hold = |reach: f64| {
+            group.iter().all(|&i| {
+                at[i].iter().all(|&e| {
+                    let Some(edge) = self.edges[e].as_ref() else {
+                        return true;
+                    };
+                    if internal.contains(&e) {
+                        return true;
+                    }
+                    let ends = [edge.from == i, edge.to == i];
+                    ends.iter().enumerate().all(|(end, &here)| {
+                        if !here {
+                            return true;
+                        }
+                        self.ink
+                            .holds(c.pos, cut_point(edge, end == 0, c.pos, reach))
+                    })
+                })
+            })
+        };
+        [spread + ARM_BEND * c.width, spread]
+            .into_iter()
+            .find(|&r| arms_hold(r))
+    }
+
+    /// Makes the group one vertex (its first) at the crossing `c`: the `internal` links go, every
+    /// other edge of the group's is moved to it and cut at `reach`; `at` and `degree` follow,
+    /// but the hub's degree, which the caller knows.
+    fn merge_into_hub(
+        &mut self,
+        c: &Vertex,
+        group: &[usize],
+        internal: &[usize],
+        reach: f64,
+        at: &mut [Vec<usize>],
+        degree: &mut [usize],
+    ) {
+        for &e in internal {
+            self.edges[e] = None;
+        }
+        let hub = group[0];
+        self.vertices[hub].pos = c.pos;
+        self.vertices[hub].width = c.width;
+        let mut hub_edges = Vec::new();
+        for &i in group {
+            if i != hub {
+                self.alive[i] = false;
+            }
+            for &e in &at[i] {
+                let Some(edge) = self.edges[e].as_mut() else {
+                    continue;
+                };
+                if hub_edges.contains(&e) {
+                    continue;
+                }
+                hub_edges.push(e);
+                for end in 0..2 {
+                    let at_end = if end == 0 { edge.from } else { edge.to };
+                    if !group.contains(&at_end) {
+                        continue;
+                    }
+                    if end == 0 {
+                        edge.from = hub;
+                    } else {
+                        edge.to = hub;
+                    }
+                    cut_arm(edge, end == 0, c.pos, reach);
+                }
+            }
+            if i != hub {
+                at[i].clear();
+                degree[i] = 0;
+            }
+        }
+        at[hub] = hub_edges;
+    }
+
+    /// Two skeleton junctions closer than the ink can show apart (a link of at most
+    /// `max(3 px, w / 2)`, `w` its median width): thinning splits a crossing of thin strokes
+    /// into two Y's a pixel or two apart. The link is contracted to its middle; a second edge
+    /// between the two becomes a loop, so no cycle is lost.
+    pub(super) fn contract_short_links(&mut self) {
+        let mut degree = self.degrees();
+        let mut at = self.incidence();
+        for e in 0..self.edges.len() {
+            let Some(edge) = &self.edges[e] else { continue };
+            let (a, b) = (edge.from, edge.to);
+            if a == b || degree[a] < 3 || degree[b] < 3 {
+                continue;
+            }
+            let length = edge.length();
+            if length > (SHORT_LINK * median(&edge.widths)).max(SHORT_LINK_PX) {
+                continue;
+            }
+            let middle = {
+                let (p, q) = (self.vertices[a].pos, self.vertices[b].pos);
+                [(p[0] + q[0]) / 2.0, (p[1] + q[1]) / 2.0]
+            };
+            self.edges[e] = None;
+            let moved: Vec<usize> = at[b].clone();
+            for &o in &moved {
+                let Some(other) = self.edges[o].as_mut() else {
+                    continue;
+                };
+                if other.from == b {
+                    other.from = a;
+                }
+                if other.to == b {
+                    other.to = a;
+                }
+            }
+            for &o in at[a].iter().chain(&moved) {
+                let Some(other) = self.edges[o].as_mut() else {
+                    continue;
+                };
+                if other.from == a {
+                    other.points[0] = middle;
+                }
+                if other.to == a {
+                    let last = other.points.len() - 1;
+                    other.points[last] = middle;
+                }
+            }
+            let width = self.vertices[a].width.max(self.vertices[b].width);
+            self.vertices[a].pos = middle;
+            self.vertices[a].width = width;
+            self.alive[b] = false;
+            degree[a] = degree[a] + degree[b] - 2;
+            degree[b] = 0;
+            let mut joined = std::mem::take(&mut at[a]);
+            joined.extend(moved);
+            joined.retain(|&o| o != e);
+            joined.sort_unstable();
+            joined.dedup();
+            at[a] = joined;
+            at[b].clear();
+        }
+    }
+
+    /// Inside a junction's own disk the skeleton's pixel paths bend towards whichever junction
+    /// pixel they touch, so arms can cross there: each arm is cut where it leaves the disk (radius
+    /// the half-width at the junction) and joined straight to the junction.
+    pub(super) fn straighten_junctions(&mut self) {
+        let degree = self.degrees();
+        for edge in self.edges.iter_mut().flatten() {
+            for at_start in [true, false] {
+                let v = if at_start { edge.from } else { edge.to };
+                if degree[v] < 3 {
+                    continue;
+                }
+                let hub = self.vertices[v].pos;
+                let reach = disk_radius(self.vertices[v].width);
+                if (edge.from == edge.to || edge.points.len() > 2)
+                    && self.ink.holds(hub, cut_point(edge, at_start, hub, reach))
+                {
+                    cut_arm(edge, at_start, hub, reach);
+                }
+            }
+        }
+    }
+}

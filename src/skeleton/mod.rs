@@ -1,0 +1,403 @@
+//! Skeleton-carried geometry, method-decided topology: the default geometry carrier
+//! (`Params::skeleton`, on unless `--no-skeleton` or `--paper`; docs/design.md,
+//! "Skeleton-carried geometry"). A topology-preserving pixel skeleton of the ink carries the
+//! geometry and every hole, and the stroke graph of the paper's method (§3.1-§3.4) decides what
+//! the pixels alone cannot:
+//!
+//! - **crossings** ([`crossings`]): skeleton junctions around one of the method's crossings
+//!   (degree >= 4), joined by short skeleton edges that enclose no hole and leaving it by as many
+//!   arms as the crossing has, are one vertex at the method's crossing (thinning splits an X
+//!   into two Y's);
+//! - **spurs** ([`spurs`]): a terminal skeleton branch is kept when its ink reaches beyond the
+//!   junction's own disk by more than a boundary bump ([`spurs::spur_reach`]);
+//! - **corners** ([`corners`]): where the method sees no junction, the Y that thinning makes of
+//!   a sharp bend (two legs and a stub into the corner) is a bend;
+//! - **ends and dots** ([`ends`]); and the method's fitted lines adopted where they follow the
+//!   skeleton ([`adopt`]).
+//!
+//! ```text
+//! PointSet ─thin─> one-pixel skeleton ─pixel_graph─> StrokeGraph ─Work (+ the method's
+//!                                                     StrokeGraph)─> StrokeGraph
+//! ```
+//!
+//! In: the method's [`StrokeGraph`] and the [`PointSet`] with its pixel grid. Out: a
+//! [`StrokeGraph`] whose polylines are the skeleton's pixel paths (smoothing them, even over 3
+//! pixels, measured worse at 1 px tolerance) or the method's lines it adopted, checked by
+//! [`validate`] in debug builds. Point lists and dropout mode (broken strokes, whose skeleton is
+//! not the stroke's) keep the method's graph.
+
+mod adopt;
+mod corners;
+mod crossings;
+mod ends;
+mod pixel_graph;
+mod spurs;
+mod thin;
+mod work;
+
+use crate::mask::ink_distances;
+use crate::point_set::{Grid, PointSet};
+use crate::{Binary, StrokeGraph};
+
+use pixel_graph::pixel_graph;
+use thin::{fill_specks, keep_every_component, one_pixel_thick, zhang_suen};
+use work::{Ink, Work};
+
+/// The narrowest a stroke is (px): a skeleton pixel is its own width, so no width, and no
+/// stroke an empty list of widths stands for, is below it.
+const MIN_WIDTH_PX: f64 = 1.0;
+
+/// The shortest stretch (px) whose two ends give a direction: below a pixel, the pixel grid's
+/// own steps decide it.
+const MIN_LINE_PX: f64 = 1.0;
+
+/// The radius of the disk a full width `width` (px, the pixel itself counted) covers.
+fn disk_radius(width: f64) -> f64 {
+    (width + 1.0) / 2.0
+}
+
+/// Zhang-Suen thinning of `binary` (whose size [`Binary::check_size`] has checked) and the
+/// [`pixel_graph`] of its skeleton, half-widths from the exact distance transform of the ink: what
+/// thinning tools give, without any decision of the method.
+pub(crate) fn thin(binary: &Binary) -> StrokeGraph {
+    let (w, h) = (binary.width as usize, binary.height as usize);
+    if w == 0 || h == 0 {
+        return StrokeGraph {
+            width: binary.width,
+            height: binary.height,
+            ..StrokeGraph::default()
+        };
+    }
+    let skeleton = zhang_suen(&binary.ink, w, h);
+    let mut half = vec![0f32; w * h];
+    let ink_pixels = (0..w * h).filter(|&i| binary.ink[i]);
+    for (i, d) in ink_pixels.zip(ink_distances(&binary.ink, w, h)) {
+        half[i] = d;
+    }
+    pixel_graph(w, h, &skeleton, &half)
+}
+
+/// The skeleton-carried graph of `points`' ink with the topology decisions of `method` (see the
+/// module doc). Returns `method` unchanged for point lists and in dropout mode.
+pub fn carry(method: &StrokeGraph, points: &PointSet) -> StrokeGraph {
+    let Some(grid) = &points.grid else {
+        return method.clone();
+    };
+    if points.dropout || grid.index.is_empty() {
+        return method.clone();
+    }
+    let (skeleton, ink) = skeleton_graph(points, grid);
+    let carried = reconcile(Work::new(skeleton, ink), method);
+    debug_assert_eq!(validate(&carried), Ok(()));
+    carried
+}
+
+/// The [`pixel_graph`] of the ink of `points`' grid, specks filled, thinned to one pixel, every
+/// component kept, in image coordinates; and that ink.
+fn skeleton_graph(points: &PointSet, grid: &Grid) -> (StrokeGraph, Ink) {
+    let (w, h) = (grid.width as usize, grid.height as usize);
+    let ink: Vec<bool> = grid.index.iter().map(|&i| i != Grid::NONE).collect();
+    let half: Vec<f32> = grid
+        .index
+        .iter()
+        .map(|&i| match i {
+            Grid::NONE => 0.0,
+            i => points.half_width[i as usize],
+        })
+        .collect();
+    let mut ink = ink;
+    fill_specks(&mut ink, w, h);
+    let mut skeleton = zhang_suen(&ink, w, h);
+    one_pixel_thick(&mut skeleton, w, h);
+    keep_every_component(&ink, &half, w, h, &mut skeleton);
+    let mut s = pixel_graph(w, h, &skeleton, &half);
+    let (x0, y0) = (grid.x0 as f64, grid.y0 as f64);
+    for v in &mut s.vertices {
+        v.pos = [v.pos[0] + x0, v.pos[1] + y0];
+    }
+    for e in &mut s.edges {
+        for p in &mut e.points {
+            *p = [p[0] + x0, p[1] + y0];
+        }
+    }
+    let ink = Ink {
+        mask: ink,
+        width: w,
+        height: h,
+        origin: [x0, y0],
+    };
+    (s, ink)
+}
+
+/// The skeleton's graph with the method's decisions, in order: spurs, thinning's split
+/// junctions, crossings, spurs the merged crossings leave, corners, dots, ends, junctions, and
+/// last the method's lines.
+fn reconcile(mut work: Work, method: &StrokeGraph) -> StrokeGraph {
+    work.prune_spurs();
+    work.join_degree_two();
+    work.contract_short_links();
+    work.merge_crossings(method);
+    work.prune_spurs();
+    // A dissolved corner lengthens its neighbours' legs (the corners of a small `w` share them):
+    // repeated until none is left.
+    while work.dissolve_corners() {
+        work.join_degree_two();
+    }
+    work.join_degree_two();
+    work.collapse_dots();
+    work.extend_ends();
+    work.straighten_junctions();
+    work.adopt_method_geometry(method);
+    work.finish(method.width, method.height)
+}
+
+/// Checks the skeleton stage's output ([`carry`] on an image): a valid [`StrokeGraph`]
+/// ([`StrokeGraph::validate`]) in which every vertex of degree 2 is the vertex of a closed curve
+/// without junction (one loop, its only edge): the reconciliation joins every other pair of
+/// edges meeting at a vertex into one.
+pub(crate) fn validate(graph: &StrokeGraph) -> Result<(), String> {
+    graph.validate()?;
+    let mut loops = vec![0usize; graph.vertices.len()];
+    for edge in graph.edges.iter().filter(|e| e.from == e.to) {
+        loops[edge.from] += 1;
+    }
+    for (v, vertex) in graph.vertices.iter().enumerate() {
+        if vertex.degree == 2 && loops[v] != 1 {
+            return Err(format!(
+                "vertex {v} joins two edges: it is no junction, no end and no closed curve's"
+            ));
+        }
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geometry::dist;
+    use crate::synth::{render, Stroke};
+    use crate::{Params, Vertex};
+
+    fn skeleton_params() -> Params {
+        Params {
+            skeleton: true,
+            ..Params::default()
+        }
+    }
+
+    #[test]
+    fn an_x_is_one_crossing_and_every_polyline_stays_on_the_ink() {
+        let x = render(
+            &[
+                Stroke::new(vec![[10.0, 10.0], [90.0, 90.0]], 8.0),
+                Stroke::new(vec![[10.0, 90.0], [90.0, 10.0]], 8.0),
+            ],
+            100,
+            100,
+        );
+        let graph = crate::trace_binary(&x, &skeleton_params())
+            .expect("trace")
+            .graph;
+        validate(&graph).expect("valid skeleton graph");
+        let degrees: Vec<usize> = graph.vertices.iter().map(|v| v.degree).collect();
+        assert_eq!(
+            degrees.iter().filter(|&&d| d == 4).count(),
+            1,
+            "{degrees:?}"
+        );
+        assert_eq!(
+            degrees.iter().filter(|&&d| d == 1).count(),
+            4,
+            "{degrees:?}"
+        );
+        for edge in &graph.edges {
+            for p in &edge.points {
+                assert!(
+                    x.get(p[0].floor() as i64, p[1].floor() as i64),
+                    "{p:?} is off the ink"
+                );
+            }
+        }
+    }
+
+    fn traced(strokes: &[Stroke], w: u32, h: u32) -> (crate::Binary, StrokeGraph) {
+        let binary = render(strokes, w, h);
+        let graph = crate::trace_binary(&binary, &skeleton_params())
+            .expect("trace")
+            .graph;
+        validate(&graph).expect("valid skeleton graph");
+        (binary, graph)
+    }
+
+    /// The distance from `p` to the nearest point of the graph's polylines.
+    fn nearest_point(graph: &StrokeGraph, p: [f64; 2]) -> f64 {
+        graph
+            .edges
+            .iter()
+            .flat_map(|e| e.points.iter())
+            .map(|&q| dist(q, p))
+            .fold(f64::INFINITY, f64::min)
+    }
+
+    fn assert_on_ink(binary: &crate::Binary, graph: &StrokeGraph) {
+        for edge in &graph.edges {
+            for s in edge.points.windows(2) {
+                for k in 0..=8 {
+                    let t = k as f64 / 8.0;
+                    let p = [
+                        s[0][0] + t * (s[1][0] - s[0][0]),
+                        s[0][1] + t * (s[1][1] - s[0][1]),
+                    ];
+                    assert!(
+                        binary.get(p[0].floor() as i64, p[1].floor() as i64),
+                        "{p:?} is off the ink"
+                    );
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn validate_refuses_a_vertex_that_only_joins_two_edges() {
+        // An L: two edges meeting at a vertex of degree 2 that is no closed curve's.
+        let edge = |from: usize, to: usize, a: [f64; 2], b: [f64; 2]| crate::Edge {
+            from,
+            to,
+            points: vec![a, b],
+            widths: vec![3.0, 3.0],
+            directions: crate::geometry::tangents(&[a, b]),
+        };
+        let vertex = |pos: [f64; 2], degree: usize| Vertex {
+            pos,
+            degree,
+            width: 3.0,
+        };
+        let (a, b, c) = ([1.5, 1.5], [9.5, 1.5], [9.5, 9.5]);
+        let mut graph = StrokeGraph {
+            width: 12,
+            height: 12,
+            vertices: vec![vertex(a, 1), vertex(b, 2), vertex(c, 1)],
+            edges: vec![edge(0, 1, a, b), edge(1, 2, b, c)],
+        };
+        assert_eq!(graph.validate(), Ok(()));
+        assert!(validate(&graph).is_err());
+        // Joined into one edge, it is valid.
+        graph.vertices.remove(1);
+        graph.edges = vec![crate::Edge {
+            from: 0,
+            to: 1,
+            points: vec![a, b, c],
+            widths: vec![3.0; 3],
+            directions: crate::geometry::tangents(&[a, b, c]),
+        }];
+        assert_eq!(validate(&graph), Ok(()));
+    }
+
+    #[test]
+    fn a_ring_stays_a_cycle() {
+        // A ring of ink keeps its hole: one cycle, no end.
+        let (_, ring) = traced(
+            &[Stroke::new(
+                (0..=64)
+                    .map(|k| {
+                        let a = k as f64 / 64.0 * std::f64::consts::TAU;
+                        [40.0 + 20.0 * a.cos(), 40.0 + 20.0 * a.sin()]
+                    })
+                    .collect(),
+                5.0,
+            )],
+            80,
+            80,
+        );
+        assert_eq!(ring.edges.len() + 1, ring.vertices.len() + 1, "one loop");
+        assert_eq!(ring.endpoints().count(), 0);
+    }
+
+    #[test]
+    fn a_sharp_corner_is_a_bend_at_the_corner_not_a_junction() {
+        // Two legs of width 6 meeting at 30 degrees at (50, 90).
+        let corner = [50.0, 90.0];
+        let a = 15f64.to_radians();
+        let legs = Stroke::new(
+            vec![
+                [50.0 - 70.0 * a.sin(), 90.0 - 70.0 * a.cos()],
+                corner,
+                [50.0 + 70.0 * a.sin(), 90.0 - 70.0 * a.cos()],
+            ],
+            6.0,
+        );
+        let (binary, graph) = traced(&[legs], 100, 110);
+        assert!(
+            graph.vertices.iter().all(|v| v.degree < 3),
+            "{:?}",
+            graph.vertices
+        );
+        assert_eq!(graph.endpoints().count(), 2);
+        let nearest = nearest_point(&graph, corner);
+        assert!(
+            nearest <= 3.0,
+            "the bend is {nearest:.1} px from the corner"
+        );
+        assert_on_ink(&binary, &graph);
+    }
+
+    #[test]
+    fn a_bold_acute_zigzag_bends_at_its_corners() {
+        // Strokes 12 px wide meeting under 30-36 degrees, legs under six widths long: their inks
+        // merge for about two widths from each corner, so the skeleton's legs bend together far
+        // from it, and thinning makes each corner a Y with its junction deep in the merged ink.
+        let corners = [[30.0, 110.0], [50.0, 30.0], [70.0, 110.0], [92.0, 35.0]];
+        let (binary, graph) = traced(&[Stroke::new(corners.to_vec(), 12.0)], 125, 140);
+        assert!(
+            graph.vertices.iter().all(|v| v.degree < 3),
+            "{:?}",
+            graph.vertices
+        );
+        assert_eq!(graph.endpoints().count(), 2);
+        for corner in &corners[1..3] {
+            let nearest = nearest_point(&graph, *corner);
+            assert!(
+                nearest <= 2.0,
+                "the bend is {nearest:.1} px from the corner {corner:?}"
+            );
+        }
+        assert_on_ink(&binary, &graph);
+    }
+
+    #[test]
+    fn cells_finer_than_a_stroke_stay_cycles() {
+        // A box of 2 x 2 cells, each 5 px across, strokes 8 px wide (cells 0.6 widths).
+        let (x0, y0, c, w) = (10.0, 10.0, 13.0, 8.0);
+        let strokes: Vec<Stroke> = (0..3)
+            .flat_map(|k| {
+                let t = k as f64 * c;
+                [
+                    Stroke::new(vec![[x0, y0 + t], [x0 + 2.0 * c, y0 + t]], w),
+                    Stroke::new(vec![[x0 + t, y0], [x0 + t, y0 + 2.0 * c]], w),
+                ]
+            })
+            .collect();
+        let (binary, graph) = traced(&strokes, 56, 56);
+        let cycles = graph.edges.len() + 1 - graph.vertices.len();
+        assert_eq!(cycles, 4, "every cell a cycle");
+        assert_eq!(graph.endpoints().count(), 0, "no spur");
+        assert_on_ink(&binary, &graph);
+    }
+
+    #[test]
+    fn a_dot_is_one_vertex_and_an_end_reaches_its_cap() {
+        let dot = Stroke::new(vec![[20.0, 20.0], [21.0, 20.5]], 5.0);
+        let diagonal = Stroke::new(vec![[40.0, 10.0], [90.0, 60.0]], 3.0);
+        let (_, graph) = traced(&[dot, diagonal], 100, 70);
+        let dots: Vec<&Vertex> = graph.vertices.iter().filter(|v| v.degree == 0).collect();
+        assert_eq!(dots.len(), 1, "{:?}", graph.vertices);
+        assert!(dist(dots[0].pos, [20.5, 20.25]) <= 1.5);
+        for end in [[40.0, 10.0], [90.0, 60.0]] {
+            let nearest = graph
+                .endpoints()
+                .map(|v| dist(graph.vertices[v].pos, end))
+                .fold(f64::INFINITY, f64::min);
+            assert!(nearest <= 1.5, "an end {nearest:.1} px from {end:?}");
+        }
+    }
+}

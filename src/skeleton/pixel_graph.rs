@@ -1,0 +1,180 @@
+//! The graph thinning tools extract from a one-pixel skeleton: junction pixels clustered into one
+//! vertex, ends, dots, the pixel paths between them as edges, junction-free cycles as loops.
+
+use crate::geometry::tangents;
+use crate::{Edge, StrokeGraph, Vertex};
+
+use super::thin::RING;
+use super::MIN_WIDTH_PX;
+
+/// The graph of a one-pixel skeleton in a `width` x `height` window: skeleton pixels with more
+/// than two skeleton neighbours are junction pixels, clustered 8-connected into one vertex each;
+/// pixels with one neighbour are ends, with none dots; the pixel paths between them are edges;
+/// skeleton cycles without a junction become loops. Coordinates are pixel centers of the window;
+/// widths are `2 half_width - 1` (the pixel itself not counted).
+pub(super) fn pixel_graph(
+    width: usize,
+    height: usize,
+    skeleton: &[bool],
+    half_width: &[f32],
+) -> StrokeGraph {
+    let (w, h) = (width as i64, height as i64);
+    let on = |x: i64, y: i64| x >= 0 && y >= 0 && x < w && y < h && skeleton[(y * w + x) as usize];
+    let neighbours = |i: usize| {
+        let (x, y) = ((i as i64) % w, (i as i64) / w);
+        RING.iter()
+            .filter(move |&&(dx, dy)| on(x + dx, y + dy))
+            .map(move |&(dx, dy)| ((y + dy) * w + x + dx) as usize)
+    };
+    let center = |i: usize| [(i as i64 % w) as f64 + 0.5, (i as i64 / w) as f64 + 0.5];
+    let width_at = |p: [f64; 2]| {
+        let (x, y) = (
+            (p[0].floor() as i64).clamp(0, w - 1),
+            (p[1].floor() as i64).clamp(0, h - 1),
+        );
+        (2.0 * f64::from(half_width[(y * w + x) as usize]) - 1.0).max(MIN_WIDTH_PX)
+    };
+    // Neighbour counts (at most 8) and vertex ids, kept small: the window can be a whole page.
+    // The skeleton's pixels, in raster order: every pass below walks these, not the window.
+    let pixels: Vec<usize> = skeleton
+        .iter()
+        .enumerate()
+        .filter_map(|(i, &on)| on.then_some(i))
+        .collect();
+    let mut count = vec![0u8; skeleton.len()];
+    for &i in &pixels {
+        count[i] = neighbours(i).count() as u8;
+    }
+
+    const NONE: u32 = u32::MAX;
+    let mut vertex_of = vec![NONE; skeleton.len()];
+    let mut vertices: Vec<Vertex> = Vec::new();
+    let mut stack = Vec::new();
+    for &i in &pixels {
+        if vertex_of[i] != NONE || count[i] == 2 {
+            continue;
+        }
+        let id = vertices.len();
+        let mut sum = [0.0, 0.0];
+        let mut members = 0.0;
+        if count[i] > 2 {
+            stack.push(i);
+            vertex_of[i] = id as u32;
+            while let Some(j) = stack.pop() {
+                let c = center(j);
+                sum = [sum[0] + c[0], sum[1] + c[1]];
+                members += 1.0;
+                for k in neighbours(j) {
+                    if count[k] > 2 && vertex_of[k] == NONE {
+                        vertex_of[k] = id as u32;
+                        stack.push(k);
+                    }
+                }
+            }
+        } else {
+            vertex_of[i] = id as u32;
+            sum = center(i);
+            members = 1.0;
+        }
+        let pos = [sum[0] / members, sum[1] / members];
+        vertices.push(Vertex {
+            pos,
+            degree: 0,
+            width: width_at(pos),
+        });
+    }
+
+    let mut edges: Vec<Edge> = Vec::new();
+    let mut visited = vec![false; skeleton.len()];
+    let make_edge = |from: usize, to: usize, points: Vec<[f64; 2]>, edges: &mut Vec<Edge>| {
+        let widths = points.iter().map(|&p| width_at(p)).collect();
+        edges.push(Edge {
+            from,
+            to,
+            points,
+            widths,
+            directions: Vec::new(),
+        });
+    };
+    for &a in pixels.iter().filter(|&&i| vertex_of[i] != NONE) {
+        let from = vertex_of[a] as usize;
+        for u in neighbours(a) {
+            if vertex_of[u] != NONE {
+                if vertex_of[u] as usize != from && a < u {
+                    let points = vec![vertices[from].pos, vertices[vertex_of[u] as usize].pos];
+                    make_edge(from, vertex_of[u] as usize, points, &mut edges);
+                }
+                continue;
+            }
+            if visited[u] {
+                continue;
+            }
+            let mut points = vec![vertices[from].pos];
+            let (mut prev, mut cur) = (a, u);
+            let to = loop {
+                visited[cur] = true;
+                points.push(center(cur));
+                let next = neighbours(cur).find(|&k| k != prev);
+                match next {
+                    Some(k) if vertex_of[k] != NONE => break Some(vertex_of[k] as usize),
+                    Some(k) if !visited[k] => {
+                        prev = cur;
+                        cur = k;
+                    }
+                    _ => break None,
+                }
+            };
+            let Some(to) = to else { continue };
+            if to == from && points.len() <= 3 {
+                continue;
+            }
+            points.push(vertices[to].pos);
+            make_edge(from, to, points, &mut edges);
+        }
+    }
+    for &s in pixels.iter().filter(|&&i| count[i] == 2) {
+        if visited[s] {
+            continue;
+        }
+        let id = vertices.len();
+        vertices.push(Vertex {
+            pos: center(s),
+            degree: 0,
+            width: width_at(center(s)),
+        });
+        let mut points = vec![center(s)];
+        visited[s] = true;
+        let (mut prev, mut cur) = (s, neighbours(s).next().unwrap_or(s));
+        while cur != s && !visited[cur] {
+            visited[cur] = true;
+            points.push(center(cur));
+            match neighbours(cur).find(|&k| k != prev) {
+                Some(k) => {
+                    prev = cur;
+                    cur = k;
+                }
+                None => break,
+            }
+        }
+        points.push(center(s));
+        make_edge(id, id, points, &mut edges);
+    }
+    for e in &edges {
+        vertices[e.from].degree += 1;
+        vertices[e.to].degree += 1;
+    }
+    let mut graph = StrokeGraph {
+        width: width as u32,
+        height: height as u32,
+        vertices,
+        edges,
+    };
+    set_directions(&mut graph);
+    graph
+}
+
+fn set_directions(graph: &mut StrokeGraph) {
+    for edge in &mut graph.edges {
+        edge.directions = tangents(&edge.points);
+    }
+}

@@ -1,0 +1,292 @@
+//! Thinning, a raster operation: the ink's specks filled ([`fill_specks`]), Zhang-Suen's
+//! skeleton ([`zhang_suen`]) made one pixel thick ([`one_pixel_thick`]), and a dot put back for
+//! every component thinning erased ([`keep_every_component`]). docs/design.md,
+//! "Skeleton-carried geometry", first point.
+
+/// Offsets of the 8 neighbours in the order P2..P9 of Zhang and Suen (N, NE, E, SE, S, SW, W, NW).
+pub(super) const RING: [(i64, i64); 8] = [
+    (0, -1),
+    (1, -1),
+    (1, 0),
+    (1, 1),
+    (0, 1),
+    (-1, 1),
+    (-1, 0),
+    (-1, -1),
+];
+
+/// Zhang & Suen (1984), "A fast parallel algorithm for thinning digital patterns": two
+/// sub-iterations, each deleting in parallel the boundary pixels with 2-6 neighbours, one 0->1
+/// transition around them, and (south-east | north-west) boundary conditions, until stable. The
+/// skeleton keeps the ink's connectivity and holes.
+pub(super) fn zhang_suen(ink: &[bool], width: usize, height: usize) -> Vec<bool> {
+    // A copy with a one-pixel background border, so every neighbour is an index offset.
+    let pw = width + 2;
+    let mut padded = vec![false; pw * (height + 2)];
+    for y in 0..height {
+        padded[(y + 1) * pw + 1..(y + 1) * pw + 1 + width]
+            .copy_from_slice(&ink[y * width..(y + 1) * width]);
+    }
+    let pw = pw as isize;
+    let offsets: [isize; 8] = RING.map(|(dx, dy)| dy as isize * pw + dx as isize);
+    // The 8 neighbours as the bits of a byte (bit k: RING[k]), and for each sub-iteration a
+    // table of the neighbourhoods whose center goes.
+    let bits = |grid: &[bool], i: usize| -> u8 {
+        (0..8).fold(0u8, |b, k| {
+            b | (u8::from(grid[(i as isize + offsets[k]) as usize]) << k)
+        })
+    };
+    let table: [[bool; 256]; 2] = std::array::from_fn(|step| {
+        std::array::from_fn(|n| {
+            let p: [bool; 8] = std::array::from_fn(|k| n & (1 << k) != 0);
+            let b = p.iter().filter(|&&v| v).count();
+            let a = (0..8).filter(|&k| !p[k] && p[(k + 1) % 8]).count();
+            let keep = if step == 0 {
+                p[2] && p[4] && (p[0] || p[6])
+            } else {
+                p[0] && p[6] && (p[2] || p[4])
+            };
+            (2..=6).contains(&b) && a == 1 && !keep
+        })
+    });
+    // Only a pixel with a background neighbour can go; after a sub-iteration only the
+    // neighbours of what went can newly have one. Checking just those gives the same result as
+    // checking every ink pixel each time, in a time that grows with the ink, not with the ink
+    // times the stroke width.
+    // A pixel whose neighbourhood has not changed since both sub-iterations checked it cannot
+    // go until a neighbour goes: `since` is the sub-iteration it was (re)queued in.
+    let mut queued = vec![false; padded.len()];
+    let mut since = vec![0u32; padded.len()];
+    let mut candidates: Vec<usize> = padded
+        .iter()
+        .enumerate()
+        .filter_map(|(i, &on)| on.then_some(i))
+        .filter(|&i| bits(&padded, i) != u8::MAX)
+        .collect();
+    for &i in &candidates {
+        queued[i] = true;
+    }
+    let mut marked = Vec::new();
+    let mut idle = 0;
+    let mut step = 0;
+    let mut t = 0u32;
+    // Stable when two sub-iterations in a row delete nothing.
+    while idle < 2 {
+        marked.clear();
+        marked.extend(
+            candidates
+                .iter()
+                .copied()
+                .filter(|&i| table[step][bits(&padded, i) as usize]),
+        );
+        for &i in &marked {
+            padded[i] = false;
+            queued[i] = false;
+        }
+        idle = if marked.is_empty() { idle + 1 } else { 0 };
+        // The next candidates: those checked once since their neighbourhood last changed (the
+        // other sub-iteration may delete them) and the ink neighbours of every deleted pixel.
+        candidates.retain(|&i| {
+            let keep = padded[i] && since[i] == t;
+            if !keep {
+                queued[i] = false;
+            }
+            keep
+        });
+        for &i in &marked {
+            for offset in offsets {
+                let j = (i as isize + offset) as usize;
+                if padded[j] {
+                    since[j] = t + 1;
+                    if !queued[j] {
+                        queued[j] = true;
+                        candidates.push(j);
+                    }
+                }
+            }
+        }
+        step = 1 - step;
+        t += 1;
+    }
+    let mut thin = vec![false; width * height];
+    for y in 0..height {
+        thin[y * width..(y + 1) * width]
+            .copy_from_slice(&padded[(y + 1) * pw as usize + 1..(y + 1) * pw as usize + 1 + width]);
+    }
+    thin
+}
+
+/// Zhang-Suen can leave runs two pixels thick (a 45 degree staircase, an L-shaped step) whose
+/// pixels all have three or more skeleton neighbours, so the graph would make one junction of the
+/// whole run. Removes, in raster order until none is left, every skeleton pixel that is simple
+/// (its removal changes neither the skeleton's 8-connectivity nor its holes: Yokoi's
+/// 8-connectivity number is 1) and is no tip: it has three or more skeleton neighbours, or two
+/// that make it the inner corner of an L. Ends, the middle pixels of one-pixel lines and the
+/// centers of real junctions are not simple.
+pub(super) fn one_pixel_thick(skeleton: &mut [bool], width: usize, height: usize) {
+    let (w, h) = (width as i64, height as i64);
+    let on =
+        |s: &[bool], x: i64, y: i64| x >= 0 && y >= 0 && x < w && y < h && s[(y * w + x) as usize];
+    // Neighbours counter-clockwise from east: E, NE, N, NW, W, SW, S, SE.
+    const AROUND: [(i64, i64); 8] = [
+        (1, 0),
+        (1, -1),
+        (0, -1),
+        (-1, -1),
+        (-1, 0),
+        (-1, 1),
+        (0, 1),
+        (1, 1),
+    ];
+    let mut candidates: Vec<usize> = skeleton
+        .iter()
+        .enumerate()
+        .filter_map(|(i, &on)| on.then_some(i))
+        .collect();
+    loop {
+        let mut changed = false;
+        for &i in &candidates {
+            if !skeleton[i] {
+                continue;
+            }
+            let (x, y) = ((i as i64) % w, (i as i64) / w);
+            let n: [bool; 8] =
+                std::array::from_fn(|k| on(skeleton, x + AROUND[k].0, y + AROUND[k].1));
+            // Two neighbours: only the inner corner of an L step (both of them 4-neighbours)
+            // goes; two neighbours side by side are the tip of a run, which removing would
+            // shorten (the run would be eaten away from its end).
+            match n.iter().filter(|&&v| v).count() {
+                0 | 1 => continue,
+                2 if (0..8).step_by(2).filter(|&k| n[k]).count() != 2 => continue,
+                _ => {}
+            }
+            // Yokoi: C8 = sum over k in {0, 2, 4, 6} of x'k - x'k x'k+1 x'k+2, x' = not x.
+            let c8: i32 = (0..4)
+                .map(|j| {
+                    let k = 2 * j;
+                    let (a, b, c) = (!n[k], !n[k + 1], !n[(k + 2) % 8]);
+                    i32::from(a) - i32::from(a && b && c)
+                })
+                .sum();
+            if c8 == 1 {
+                skeleton[i] = false;
+                changed = true;
+            }
+        }
+        if !changed {
+            return;
+        }
+        candidates.retain(|&i| skeleton[i]);
+    }
+}
+
+/// Background specks of at most 3 pixels enclosed by ink (a sharp meeting of two strokes or a
+/// rendering gap; the noise the dropout test counts, `mask::tiny_hole`) are not holes: filled,
+/// so the skeleton makes no cycle around them.
+pub(super) fn fill_specks(ink: &mut [bool], w: usize, h: usize) {
+    if w < 3 || h < 3 {
+        return;
+    }
+    let mut specks = Vec::new();
+    for i in w..ink.len() - w {
+        if !ink[i] && ink[i - 1] && crate::mask::tiny_hole(ink, w, h, i).is_some() {
+            specks.push(i);
+        }
+    }
+    for start in specks {
+        let mut stack = vec![start];
+        while let Some(p) = stack.pop() {
+            if ink[p] {
+                continue;
+            }
+            ink[p] = true;
+            stack.extend([p - 1, p + 1, p - w, p + w]);
+        }
+    }
+}
+
+/// Zhang-Suen thinning erases some small blobs whole (a 2 x 2 block, a short 2-pixel-thick
+/// diagonal): every component of the ink that lost all its pixels gets back its deepest one, a
+/// dot.
+pub(super) fn keep_every_component(
+    ink: &[bool],
+    half: &[f32],
+    w: usize,
+    h: usize,
+    skeleton: &mut [bool],
+) {
+    let mut seen = vec![false; ink.len()];
+    let mut stack = Vec::new();
+    let mut members = Vec::new();
+    for start in 0..ink.len() {
+        if !ink[start] || seen[start] {
+            continue;
+        }
+        seen[start] = true;
+        stack.push(start);
+        members.clear();
+        while let Some(i) = stack.pop() {
+            members.push(i);
+            let (x, y) = ((i % w) as i64, (i / w) as i64);
+            for (dx, dy) in RING {
+                let (nx, ny) = (x + dx, y + dy);
+                if nx < 0 || ny < 0 || nx >= w as i64 || ny >= h as i64 {
+                    continue;
+                }
+                let j = ny as usize * w + nx as usize;
+                if ink[j] && !seen[j] {
+                    seen[j] = true;
+                    stack.push(j);
+                }
+            }
+        }
+        if members.iter().any(|&i| skeleton[i]) {
+            continue;
+        }
+        if let Some(&deepest) = members
+            .iter()
+            .max_by(|&&a, &&b| half[a].total_cmp(&half[b]).then(b.cmp(&a)))
+        {
+            skeleton[deepest] = true;
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_thick_staircase_thins_to_one_pixel() {
+        // A 2-pixel-thick 45 degree staircase: every pixel has three neighbours.
+        let (w, h) = (12, 12);
+        let mut skeleton = vec![false; w * h];
+        for i in 1..10 {
+            skeleton[i * w + i] = true;
+            skeleton[i * w + i + 1] = true;
+        }
+        one_pixel_thick(&mut skeleton, w, h);
+        let on = |x: usize, y: usize| skeleton[y * w + x];
+        let neighbours = |x: usize, y: usize| {
+            RING.iter()
+                .filter(|&&(dx, dy)| {
+                    let (nx, ny) = (x as i64 + dx, y as i64 + dy);
+                    nx >= 0
+                        && ny >= 0
+                        && (nx as usize) < w
+                        && (ny as usize) < h
+                        && on(nx as usize, ny as usize)
+                })
+                .count()
+        };
+        let pixels: Vec<(usize, usize)> = (0..h)
+            .flat_map(|y| (0..w).map(move |x| (x, y)))
+            .filter(|&(x, y)| on(x, y))
+            .collect();
+        assert!(pixels.len() >= 9, "{pixels:?}");
+        assert!(
+            pixels.iter().all(|&(x, y)| neighbours(x, y) <= 2),
+            "{pixels:?}"
+        );
+    }
+}

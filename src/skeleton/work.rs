@@ -1,0 +1,245 @@
+//! The skeleton graph being edited ([`Work`]) over the ink it was thinned from ([`Ink`]), with the
+//! edits every reconciliation step shares: incidence, joining at degree-2 vertices, cutting an
+//! arm at a junction's disk, and writing the final [`StrokeGraph`].
+
+use crate::geometry::{dist, tangents};
+use crate::{Edge, StrokeGraph, Vertex};
+
+use super::MIN_WIDTH_PX;
+
+/// The ink is sampled along a line every half pixel (px): finer than a pixel, so a line does not
+/// step over a corner of background.
+const INK_STEP_PX: f64 = 0.5;
+
+/// An ink mask over a window of the image.
+pub(super) struct Ink {
+    pub(super) mask: Vec<bool>,
+    pub(super) width: usize,
+    pub(super) height: usize,
+    /// The image coordinates of the window's corner.
+    pub(super) origin: [f64; 2],
+}
+
+impl Ink {
+    pub(super) fn at(&self, p: [f64; 2]) -> bool {
+        let (x, y) = (
+            (p[0] - self.origin[0]).floor(),
+            (p[1] - self.origin[1]).floor(),
+        );
+        x >= 0.0
+            && y >= 0.0
+            && (x as usize) < self.width
+            && (y as usize) < self.height
+            && self.mask[y as usize * self.width + x as usize]
+    }
+
+    /// How far the ink goes on from `from` along the unit vector `u`: the first sample, every
+    /// half pixel from half a pixel on, that is off the ink or beyond `limit`.
+    pub(super) fn exit(&self, from: [f64; 2], u: [f64; 2], limit: f64) -> f64 {
+        let mut t = INK_STEP_PX;
+        while t <= limit && self.at([from[0] + t * u[0], from[1] + t * u[1]]) {
+            t += INK_STEP_PX;
+        }
+        t
+    }
+
+    /// Whether the segment `a`-`b` lies on the ink, sampled every half pixel.
+    pub(super) fn holds(&self, a: [f64; 2], b: [f64; 2]) -> bool {
+        let n = (dist(a, b) / INK_STEP_PX).ceil().max(1.0) as usize;
+        (0..=n).all(|i| {
+            let t = i as f64 / n as f64;
+            self.at([a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1])])
+        })
+    }
+}
+
+/// The skeleton graph being edited: removed edges are `None`, removed vertices `alive == false`.
+pub(super) struct Work {
+    /// The ink the skeleton was thinned from, to keep every straightened line on it.
+    pub(super) ink: Ink,
+    pub(super) vertices: Vec<Vertex>,
+    pub(super) alive: Vec<bool>,
+    /// Vertices that were dots (no edge) from the start: kept with degree 0.
+    pub(super) dot: Vec<bool>,
+    pub(super) edges: Vec<Option<Edge>>,
+}
+
+impl Work {
+    pub(super) fn new(graph: StrokeGraph, ink: Ink) -> Work {
+        let n = graph.vertices.len();
+        let dot = graph.vertices.iter().map(|v| v.degree == 0).collect();
+        Work {
+            ink,
+            vertices: graph.vertices,
+            alive: vec![true; n],
+            dot,
+            // Tangents are written by `finish`, once the polylines are final.
+            edges: graph
+                .edges
+                .into_iter()
+                .map(|mut e| {
+                    e.directions.clear();
+                    Some(e)
+                })
+                .collect(),
+        }
+    }
+
+    pub(super) fn degrees(&self) -> Vec<usize> {
+        let mut degree = vec![0; self.vertices.len()];
+        for e in self.edges.iter().flatten() {
+            degree[e.from] += 1;
+            degree[e.to] += 1;
+        }
+        degree
+    }
+
+    /// The edges at each vertex (a loop listed once).
+    pub(super) fn incidence(&self) -> Vec<Vec<usize>> {
+        let mut at = vec![Vec::new(); self.vertices.len()];
+        for (e, edge) in self.edges.iter().enumerate() {
+            let Some(edge) = edge else { continue };
+            at[edge.from].push(e);
+            if edge.to != edge.from {
+                at[edge.to].push(e);
+            }
+        }
+        at
+    }
+
+    /// Vertices left with two edge ends (after pruning) are not junctions: their two edges
+    /// become one.
+    pub(super) fn join_degree_two(&mut self) {
+        let degree = self.degrees();
+        let mut at = self.incidence();
+        for v in 0..self.vertices.len() {
+            if !self.alive[v] || degree[v] != 2 {
+                continue;
+            }
+            let incident: Vec<usize> = at[v]
+                .iter()
+                .copied()
+                .filter(|&e| self.edges[e].is_some())
+                .collect();
+            let [a, b] = incident[..] else { continue };
+            let is_loop = |e: usize| self.edges[e].as_ref().is_some_and(|x| x.from == x.to);
+            if a == b || is_loop(a) || is_loop(b) {
+                continue;
+            }
+            let (Some(mut first), Some(mut second)) = (self.edges[a].take(), self.edges[b].take())
+            else {
+                continue;
+            };
+            if first.to != v {
+                reverse(&mut first);
+            }
+            if second.from != v {
+                reverse(&mut second);
+            }
+            first.points.pop();
+            first.widths.pop();
+            first.points.extend(second.points);
+            first.widths.extend(second.widths);
+            first.to = second.to;
+            let far = first.to;
+            self.alive[v] = false;
+            self.edges[a] = Some(first);
+            at[v].clear();
+            for e in &mut at[far] {
+                if *e == b {
+                    *e = a;
+                }
+            }
+            at[far].sort_unstable();
+            at[far].dedup();
+        }
+    }
+
+    pub(super) fn finish(self, width: u32, height: u32) -> StrokeGraph {
+        let degree = self.degrees();
+        let mut index = vec![usize::MAX; self.vertices.len()];
+        let mut vertices = Vec::new();
+        for (i, v) in self.vertices.into_iter().enumerate() {
+            if self.alive[i] && (degree[i] > 0 || self.dot[i]) {
+                index[i] = vertices.len();
+                vertices.push(Vertex {
+                    degree: degree[i],
+                    ..v
+                });
+            }
+        }
+        let edges = self
+            .edges
+            .into_iter()
+            .flatten()
+            .map(|mut e| {
+                e.from = index[e.from];
+                e.to = index[e.to];
+                // The method's lines keep their fitted tangents; the skeleton's get theirs.
+                if e.directions.len() != e.points.len() {
+                    e.directions = tangents(&e.points);
+                }
+                e
+            })
+            .collect();
+        StrokeGraph {
+            width,
+            height,
+            vertices,
+            edges,
+        }
+    }
+}
+
+/// The median of a polyline's widths (1 for none): the stroke's width, unmoved by the wider
+/// pixels where it meets another.
+pub(super) fn median(widths: &[f64]) -> f64 {
+    let mut sorted = widths.to_vec();
+    sorted.sort_by(f64::total_cmp);
+    sorted
+        .get(sorted.len() / 2)
+        .copied()
+        .unwrap_or(MIN_WIDTH_PX)
+}
+
+fn reverse(edge: &mut Edge) {
+    std::mem::swap(&mut edge.from, &mut edge.to);
+    edge.points.reverse();
+    edge.widths.reverse();
+}
+
+/// The index of the point where an arm first leaves the disk of radius `reach` around `hub`,
+/// walking from its start when `at_start`, else from its end; the far end when it never does.
+fn cut_index(points: &[[f64; 2]], at_start: bool, hub: [f64; 2], reach: f64) -> usize {
+    let n = points.len();
+    let beyond = |i: &usize| dist(points[*i], hub) > reach;
+    if at_start {
+        (0..n).find(beyond).unwrap_or(n - 1)
+    } else {
+        (0..n).rev().find(beyond).unwrap_or(0)
+    }
+}
+
+/// Where [`cut_arm`] would cut.
+pub(super) fn cut_point(edge: &Edge, at_start: bool, hub: [f64; 2], reach: f64) -> [f64; 2] {
+    edge.points[cut_index(&edge.points, at_start, hub, reach)]
+}
+
+/// Cuts an arm's polyline where it first leaves the disk of radius `reach` around `hub` (from its
+/// start when `at_start`, else from its end) and joins it straight to `hub`.
+pub(super) fn cut_arm(edge: &mut Edge, at_start: bool, hub: [f64; 2], reach: f64) {
+    let cut = cut_index(&edge.points, at_start, hub, reach);
+    if at_start {
+        let width = edge.widths.first().copied().unwrap_or(MIN_WIDTH_PX);
+        edge.points.drain(..cut);
+        edge.widths.drain(..cut);
+        edge.points.insert(0, hub);
+        edge.widths.insert(0, width);
+    } else {
+        let width = edge.widths.last().copied().unwrap_or(MIN_WIDTH_PX);
+        edge.points.truncate(cut + 1);
+        edge.widths.truncate(cut + 1);
+        edge.points.push(hub);
+        edge.widths.push(width);
+    }
+}

@@ -18,7 +18,7 @@ mod resolution;
 mod tiff_pages;
 mod valleys;
 
-pub(crate) use binarize::binarize_deciding;
+pub(crate) use binarize::{binarize_deciding, split_polarity};
 pub(crate) use chunks::pixel_chunks;
 pub use decode::{decode_file, Page, Pages, Picture, Transparency};
 pub(crate) use dropout::split as split_dropout;

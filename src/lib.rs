@@ -273,15 +273,12 @@ fn with_decisions(
 }
 
 /// The fingerprint path of [`trace_image`]: front end, the normal pipeline on its binary image,
-/// then the fingerprint minutiae filter. Ridges are dark unless `params.polarity` says light (a
-/// print's ridges and valleys are about as wide, so the stroke evidence of the text front end
-/// cannot tell them apart).
+/// then the fingerprint minutiae filter. Ridges are dark or light as `params.polarity` says, else
+/// as the image shows ([`print_front_end`]).
 fn trace_print(gray: GrayView<'_>, params: &Params, print: &FingerprintParams) -> Result<Trace> {
     let (analysis, binary, enhance) = print_front_end(gray, params, print)?;
     let trace = trace_mask(binary.view(), params)?;
-    Ok(with_minutiae(
-        trace, binary, analysis, enhance, params, print,
-    ))
+    Ok(with_minutiae(trace, binary, analysis, enhance, print))
 }
 
 /// The fingerprint front end of [`trace_print`]: the print's analysis, its binary image and the
@@ -302,8 +299,19 @@ fn print_front_end(
         });
     }
     let start = Instant::now();
-    let dark_ridges = params.polarity != Polarity::LightInk;
-    let (analysis, binary) = fingerprint::analyze(gray, print, dark_ridges);
+    // Given, or decided from the image as the automatic polarity decides it (ridges and
+    // valleys are about as wide, so the print's background at the image border decides, and
+    // the prior for dark ink when it does not show).
+    let (dark_ridges, confidence) = match params.polarity {
+        Polarity::DarkInk => (true, None),
+        Polarity::LightInk => (false, None),
+        Polarity::Auto => {
+            let (dark, confidence) = raster::split_polarity(gray);
+            (dark, Some(confidence))
+        }
+    };
+    let (mut analysis, binary) = fingerprint::analyze(gray, print, dark_ridges);
+    analysis.polarity_confidence = confidence;
     Ok((analysis, binary, start.elapsed()))
 }
 
@@ -314,7 +322,6 @@ fn with_minutiae(
     binary: Binary,
     analysis: fingerprint::PrintAnalysis,
     enhance: Duration,
-    params: &Params,
     print: &FingerprintParams,
 ) -> Trace {
     trace.graph = fingerprint::prior::ridges_along_the_flow(
@@ -322,7 +329,7 @@ fn with_minutiae(
         &analysis,
         print,
     );
-    let decisions = print_decisions(&analysis, &binary, params, print);
+    let decisions = print_decisions(&analysis, &binary, print);
     let mut trace = with_decisions(trace, binary, decisions, enhance);
     let minutiae = minutiae::fingerprint_minutiae(&trace.graph, &analysis, print);
     trace.fingerprint = Some(Box::new(FingerprintTrace {
@@ -333,14 +340,12 @@ fn with_minutiae(
     trace
 }
 
-/// The fingerprint front end's decisions: the polarity it was given (ridges dark unless
-/// `--polarity light`: ridges and valleys are about as wide, so there is no stroke evidence to
-/// weigh), the enhanced image's sign as the threshold, the ridge width (median chord of the
-/// enhanced ridges), and what it measured on the print.
+/// The fingerprint front end's decisions: the polarity it was given or decided, with its
+/// confidence when decided, the enhanced image's sign as the threshold, the ridge width (median
+/// chord of the enhanced ridges), and what it measured on the print.
 fn print_decisions(
     analysis: &fingerprint::PrintAnalysis,
     binary: &Binary,
-    params: &Params,
     print: &FingerprintParams,
 ) -> Decisions {
     let inside = &analysis.segmentation.inside;
@@ -355,12 +360,12 @@ fn print_decisions(
         .collect();
     let chords = raster::chords(&binary.ink, binary.width as usize, binary.height as usize);
     Decisions {
-        polarity: if params.polarity == Polarity::LightInk {
-            "light"
-        } else {
+        polarity: if analysis.dark_ridges {
             "dark"
+        } else {
+            "light"
         },
-        polarity_confidence: None,
+        polarity_confidence: analysis.polarity_confidence,
         threshold: ThresholdUsed::Enhanced {
             enhancement: print.enhancement,
         },
@@ -487,9 +492,7 @@ pub fn trace_image_with_stages<'a>(
             binary
         };
         let trace = trace_binary_with_stages(&binary, params)?;
-        return Ok(with_minutiae(
-            trace, binary, analysis, enhance, params, print,
-        ));
+        return Ok(with_minutiae(trace, binary, analysis, enhance, print));
     }
     let start = Instant::now();
     let (binary, decisions) = raster::binarize_deciding(gray, params)?;

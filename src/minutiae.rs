@@ -3,13 +3,18 @@
 //! from its incident edges.
 //!
 //! **Direction convention**: an angle in radians in `(-π, π]`, measured in image coordinates (x to
-//! the right, y down, so positive angles turn clockwise on screen), of the way the ridge *flows into*
-//! the minutia:
+//! the right, y down, so positive angles turn clockwise on screen). Both kinds follow NIST's
+//! minutia direction, the one mindtct writes to `.xyt` (docs/fingerprints.md, "Outputs"): the
+//! direction points *out of the ridge pattern at the minutia*, the way an ending points,
 //! - ending: the direction in which the ridge runs into its end (from the ridge towards the end
 //!   point and beyond);
-//! - bifurcation: the direction in which the single ridge (the *stem*) runs into the fork, which
-//!   points between the two branches. The stem is the arm opposite the narrowest angle between two
-//!   arms.
+//! - bifurcation: from the fork along the single ridge (the *stem*), away from the two branches:
+//!   the direction of the ending that the valley between the branches makes in the inverted
+//!   print. The stem is the arm opposite the narrowest angle between two arms.
+//!
+//! So a minutia keeps its direction when noise turns it from one kind into the other (a branch
+//! broken off its fork leaves an ending pointing the same way). ISO/IEC 19794-2 and ANSI INCITS
+//! 378 point the other way for both kinds ([`crate::export::iso19794`]).
 //!
 //! Arm directions are chords over about two ridge widths ([`Edge::end_direction`](crate::Edge::end_direction)).
 //!
@@ -498,7 +503,8 @@ fn detect(graph: &StrokeGraph, options: &MinutiaeOptions) -> Vec<Minutia> {
                         stem = k;
                     }
                 }
-                (MinutiaKind::Bifurcation, [-arm[stem][0], -arm[stem][1]])
+                // Out along the stem, away from the branches (the module doc's convention).
+                (MinutiaKind::Bifurcation, arm[stem])
             }
             _ => continue,
         };
@@ -745,8 +751,10 @@ mod tests {
     }
 
     #[test]
-    fn bifurcation_points_from_the_stem_between_the_branches() {
-        // Stem from the left, branches opening to the right (up-right and down-right).
+    fn bifurcation_points_from_the_fork_along_the_stem() {
+        // Stem from the left, branches opening to the right (up-right and down-right): the
+        // direction points left, away from the branches, as the ending of the valley between
+        // the branches does in the inverted print.
         let c = [100.0, 100.0];
         let g = graph_from(
             &[c, [150.0, 70.0], [40.0, 100.0], [150.0, 130.0]],
@@ -760,19 +768,24 @@ mod tests {
             .collect();
         assert_eq!(fork.len(), 1);
         assert_eq!(fork[0].vertex, 0);
-        assert!(angle_close(fork[0].direction, 0.0), "{}", fork[0].direction);
+        assert!(angle_close(fork[0].direction, PI), "{}", fork[0].direction);
         assert_eq!(
             m.iter().filter(|m| m.kind == MinutiaKind::Ending).count(),
             3
         );
-        // Rotated a quarter turn (stem from above): the direction turns with it (y down).
+        // Rotated a quarter turn (stem from above, branches below): the direction turns with it
+        // and points up the screen (y down: -π/2).
         let g = graph_from(
             &[c, [70.0, 150.0], [100.0, 40.0], [130.0, 150.0]],
             &[(0, 1, vec![]), (2, 0, vec![]), (0, 3, vec![])],
             4.0,
         );
         let m = minutiae(&g, None, &no_filters());
-        assert!(angle_close(m[0].direction, FRAC_PI_2), "{}", m[0].direction);
+        assert!(
+            angle_close(m[0].direction, -FRAC_PI_2),
+            "{}",
+            m[0].direction
+        );
     }
 
     #[test]

@@ -611,6 +611,58 @@ fn write_arch_print(path: &std::path::Path) {
     crate::support::write_mask_png(&case.binary, path);
 }
 
+/// `--fingerprint` reads the polarity from the image: the same print with light ridges on a dark
+/// ground (an enhanced print's look) is read as light ridges, with its confidence, and gives the
+/// minutiae of the dark print; `--polarity` still decides when given (no confidence), and
+/// forced dark on the light print it traces the valleys instead.
+#[test]
+fn fingerprint_polarity_is_read_from_the_image() {
+    let dir = temp_dir();
+    let d = dir.path();
+    write_arch_print(&d.join("dark.png"));
+    let mut light = image::open(d.join("dark.png")).expect("PNG").to_luma8();
+    image::imageops::invert(&mut light);
+    light.save(d.join("light.png")).expect("png");
+    let read = |name: &str, extra: &[&str]| -> serde_json::Value {
+        let mut args = vec![name, "--fingerprint", "-o", "out.json"];
+        args.extend_from_slice(extra);
+        crate::support::run_ok(&args, d);
+        serde_json::from_str(&fs::read_to_string(d.join("out.json")).expect("json"))
+            .expect("parses")
+    };
+    let dark = read("dark.png", &[]);
+    let light = read("light.png", &[]);
+    assert_eq!(light["decisions"]["polarity"], "light");
+    let confidence = light["decisions"]["polarity_confidence"]
+        .as_f64()
+        .expect("decided");
+    assert!(confidence > 0.5, "{}", light["decisions"]);
+    let kinds_and_places = |doc: &serde_json::Value| -> Vec<(String, i64, i64)> {
+        doc["minutiae"]
+            .as_array()
+            .expect("minutiae")
+            .iter()
+            .map(|m| {
+                (
+                    m["kind"].as_str().expect("kind").to_string(),
+                    m["x"].as_f64().expect("x").round() as i64,
+                    m["y"].as_f64().expect("y").round() as i64,
+                )
+            })
+            .collect()
+    };
+    let expected = kinds_and_places(&dark);
+    assert!(!expected.is_empty());
+    assert_eq!(kinds_and_places(&light), expected);
+    let forced = read("light.png", &["--polarity", "light"]);
+    assert_eq!(forced["decisions"]["polarity"], "light");
+    assert!(forced["decisions"]["polarity_confidence"].is_null());
+    assert_eq!(kinds_and_places(&forced), expected);
+    let valleys = read("light.png", &["--polarity", "dark"]);
+    assert_eq!(valleys["decisions"]["polarity"], "dark");
+    assert_ne!(kinds_and_places(&valleys), expected);
+}
+
 /// The ISO record's resolution is `--dpi`, else the one the image file states, else 500 dpi.
 #[test]
 fn iso_records_take_the_resolution_the_file_states() {
@@ -751,12 +803,13 @@ fn fingerprint_minutiae_as_json_xyt_and_iso_records() {
         .iter()
         .all(|m| m["quality"].as_u64().is_some_and(|q| q <= 100)));
     assert!(json["parameters"]["fingerprint"].is_object());
-    // What the front end decided: ridges dark (given, so no confidence), the enhanced image's
-    // sign as the threshold, and a ridge period about twice the ridge width (ridges and valleys
-    // are about as wide).
+    // What the front end decided: ridges dark (read from the image: the paper around the print
+    // is light), the enhanced image's sign as the threshold, and a ridge period about twice the
+    // ridge width (ridges and valleys are about as wide).
     let decided = &json["decisions"];
     assert_eq!(decided["polarity"], "dark");
-    assert!(decided["polarity_confidence"].is_null());
+    let confidence = decided["polarity_confidence"].as_f64().expect("decided");
+    assert!(confidence > 0.5 && confidence < 1.0, "{decided}");
     assert_eq!(decided["threshold"]["method"], "enhanced");
     assert_eq!(decided["threshold"]["enhancement"], "gabor");
     let width = decided["stroke_width"].as_f64().expect("width");

@@ -752,3 +752,89 @@ fn writers_draw_and_list_the_features_given() {
     let plain: Value = serde_json::from_str(&json::to_string(&graph, &meta)).expect("JSON");
     assert!(plain.get("strokes").is_none() && plain.get("minutiae").is_none());
 }
+
+/// The smallest difference between two angles in degrees.
+fn degrees_apart(a: f64, b: f64) -> f64 {
+    let d = (a - b).rem_euclid(360.0);
+    d.min(360.0 - d)
+}
+
+/// A drawn ridge ending and a drawn bifurcation of known directions, written as `.xyt` and as an
+/// ISO/IEC 19794-2 record, read back by each standard's definition (docs/fingerprints.md,
+/// "Outputs"):
+/// - `.xyt` (NIST, as mindtct writes it): origin bottom-left, y up, theta in degrees
+///   counterclockwise; an ending points out of its ridge past the end, a bifurcation from the
+///   fork along the stem, away from the branches.
+/// - ISO/IEC 19794-2: origin top-left, y down, angle in 360/256° units counterclockwise as the
+///   image is seen; an ending points into its ridge, a bifurcation between its branches.
+#[test]
+fn drawn_minutiae_have_the_angles_of_xyt_and_iso_19794_2() {
+    let (width, height) = (240u32, 200u32);
+    // Ending: a ridge running up and to the right on screen (+60 px in x, -50 px in y) that ends
+    // at (100, 120); its other end, at (40, 170), points the other way.
+    let ending = [100.0, 120.0];
+    // Bifurcation: a stem coming up the screen from (170, 175) to a fork at (170, 90), branches
+    // leaving upwards to the left and right.
+    let fork = [170.0, 90.0];
+    let truth = [
+        line([40.0, 170.0], ending, 7.0),
+        line([170.0, 175.0], fork, 7.0),
+        line(fork, [135.0, 25.0], 7.0),
+        line(fork, [205.0, 25.0], 7.0),
+    ];
+    let binary = render(&truth, width, height);
+    let trace = trace_binary(&binary, &Params::default()).expect("trace");
+    let found = minutiae(&trace.graph, None, &MinutiaeOptions::default());
+    let near = |kind: MinutiaKind, at: [f64; 2]| {
+        let i = found
+            .iter()
+            .position(|m| m.kind == kind && ridgeline::dist(m.pos, at) < 8.0);
+        i.unwrap_or_else(|| panic!("no {kind:?} near {at:?}: {found:?}"))
+    };
+    let (e, b) = (
+        near(MinutiaKind::Ending, ending),
+        near(MinutiaKind::Bifurcation, fork),
+    );
+
+    // .xyt: the ridge runs up and right into its end, so the ending points that way:
+    // atan2(50, 60) = 39.8° counterclockwise in the y-up frame. The bifurcation points from the
+    // fork down the stem: 270°.
+    let xyt = ridgeline::export::xyt::to_string(&found, height);
+    let lines: Vec<Vec<f64>> = xyt
+        .lines()
+        .map(|l| l.split(' ').map(|v| v.parse().expect("number")).collect())
+        .collect();
+    assert_eq!(lines.len(), found.len());
+    let expected_ending = 50f64.atan2(60.0).to_degrees();
+    for (i, at, theta) in [(e, ending, expected_ending), (b, fork, 270.0)] {
+        let [x, y, t, _] = lines[i][..] else {
+            panic!("four fields: {xyt}");
+        };
+        assert!((x - at[0]).abs() < 8.0 && (y - (f64::from(height) - at[1])).abs() < 8.0);
+        assert!(degrees_apart(t, theta) <= 10.0, "{t} against {theta}");
+    }
+
+    // ISO/IEC 19794-2: the ending points back into its ridge (39.8 + 180 = 219.8°), the
+    // bifurcation up between its branches (90°), both counterclockwise as the image is seen.
+    let record =
+        ridgeline::export::iso19794::to_bytes(&found, width, height, 500.0).expect("record");
+    let unit = 360.0 / 256.0;
+    for (i, kind_bits, at, angle) in [
+        (e, 0b01, ending, expected_ending + 180.0),
+        (b, 0b10, fork, 90.0),
+    ] {
+        let m = &record[28 + 6 * i..28 + 6 * i + 6];
+        let (first, second) = (
+            u16::from_be_bytes([m[0], m[1]]),
+            u16::from_be_bytes([m[2], m[3]]),
+        );
+        assert_eq!(first >> 14, kind_bits);
+        let (x, y) = (f64::from(first & 0x3FFF), f64::from(second & 0x3FFF));
+        assert!(
+            (x - at[0]).abs() < 8.0 && (y - at[1]).abs() < 8.0,
+            "{x} {y}"
+        );
+        let a = f64::from(m[4]) * unit;
+        assert!(degrees_apart(a, angle) <= 10.0, "{a} against {angle}");
+    }
+}

@@ -299,8 +299,8 @@ pub struct Cli {
 
     /// Fingerprint preset: segmentation, orientation field, ridge period and Gabor enhancement
     /// before tracing, and the minutiae inside the print, filtered and with a quality (implies
-    /// --minutiae); every other flag given still overrides it (ridges are dark unless --polarity
-    /// light)
+    /// --minutiae); every other flag given still overrides it (ridges dark or light as the image
+    /// shows unless --polarity is given)
     #[arg(long, help_heading = "Method")]
     fingerprint: bool,
 

@@ -18,8 +18,13 @@
 //! | end | 2 | length of the extended data (0: none) |
 //!
 //! Coordinates are pixels from the top-left corner, y down; the angle is in units of 360/256
-//! degrees, counterclockwise from the +x axis as the image is seen, of ridgeline's minutia
-//! direction ([`crate::minutiae`]). The finger quality is the mean of the minutiae's qualities.
+//! degrees, counterclockwise from the +x axis as the image is seen. The standard's minutia
+//! direction (the one ANSI INCITS 378 shares) bisects the narrowest angle of the three rays at
+//! the fork of a ridge (bifurcation) or of a valley (ending): an ending points *into* its ridge,
+//! a bifurcation from the fork *between* its branches. That is the opposite of NIST's `.xyt`
+//! direction, which ridgeline keeps ([`crate::minutiae`]: out of the ridge past an ending, along
+//! the stem away from a bifurcation's branches), so the record holds ridgeline's direction turned
+//! by half a turn. The finger quality is the mean of the minutiae's qualities.
 
 use crate::minutiae::{Minutia, MinutiaKind};
 use crate::{Error, Result};
@@ -113,7 +118,10 @@ pub fn to_bytes(minutiae: &[Minutia], width: u32, height: u32, dpi: f64) -> Resu
         } else {
             0.0
         };
-        let units = ((-direction).to_degrees().rem_euclid(360.0) / (360.0 / 256.0)).round();
+        // y down and clockwise on screen -> counterclockwise as seen: the angle changes sign;
+        // the standard's direction is ridgeline's turned by half a turn (module doc).
+        let iso_degrees = (180.0 - direction.to_degrees()).rem_euclid(360.0);
+        let units = (iso_degrees / (360.0 / 256.0)).round();
         out.push((units as u32 % 256) as u8);
         out.push(q as u8);
     }
@@ -142,8 +150,12 @@ mod tests {
     fn record_layout_byte_by_byte() {
         let record = to_bytes(
             &[
+                // An ending whose ridge runs to the right into it: the standard's direction
+                // points back into the ridge, to the left, half a turn: 128 units.
                 minutia(MinutiaKind::Ending, [100.4, 200.0], 0.0, Some(80)),
-                // Up the screen is a quarter turn counterclockwise: 64 units.
+                // A bifurcation whose stem leaves the fork up the screen (branches below): the
+                // standard's direction points down between the branches, three quarter turns
+                // counterclockwise: 192 units.
                 minutia(
                     MinutiaKind::Bifurcation,
                     [16383.0, 7.0],
@@ -165,8 +177,8 @@ mod tests {
             0, 197, 0, 197,         // 500 dpi = 196.85 px/cm
             1, 0,                   // one view, reserved
             0, 0, 60, 2,            // finger position, view/impression, quality, count
-            0x40, 100, 0, 200, 0, 80,       // ending: type 01, x 100; y 200; angle 0; q 80
-            0xBF, 0xFF, 0, 7, 64, 40,       // bifurcation: type 10, x 16383; y 7; 64; q 40
+            0x40, 100, 0, 200, 128, 80,     // ending: type 01, x 100; y 200; angle 128; q 80
+            0xBF, 0xFF, 0, 7, 192, 40,      // bifurcation: type 10, x 16383; y 7; 192; q 40
             0, 0,                   // no extended data
         ];
         assert_eq!(record, expected);

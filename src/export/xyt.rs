@@ -5,11 +5,13 @@
 //! - `x` is the column in pixels, `y` is **flipped**: `height - y_image`, so the origin is the
 //!   image's bottom-left corner and y grows upwards;
 //! - `theta` is in whole degrees `0..360`, counterclockwise from the +x axis in that y-up frame.
-//!   ridgeline writes the minutia's own direction ([`crate::minutiae`]: the way the ridge flows
-//!   into the minutia: past the end of an ending, from the stem between the branches of a
-//!   bifurcation), so an ending whose ridge runs to the right has `theta = 0` and one whose ridge
-//!   runs up the screen has `theta = 90`. Bozorth3 compares the angles of one template with each
-//!   other and with another template's, so templates to be matched must come from one convention;
+//!   ridgeline writes the minutia's own direction, which is NIST's ([`crate::minutiae`]): out of
+//!   the ridge past the end of an ending; from the fork along the stem, away from the branches,
+//!   of a bifurcation (the ending the valley between the branches makes in the inverted print).
+//!   So an ending whose ridge runs to the right into it has `theta = 0`, and a bifurcation whose
+//!   stem leaves the fork up the screen has `theta = 90`. Bozorth3 compares the angles of one
+//!   template with each other and with another template's, so templates to be matched must come
+//!   from one convention;
 //! - `quality` is 0-100 ([`Minutia::quality`]), 50 when the minutia has none.
 //!
 //! Minutiae are written in the order given; coordinates are rounded to the nearest pixel.

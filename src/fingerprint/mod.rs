@@ -48,6 +48,13 @@ pub struct PrintAnalysis {
     /// Contrast per block in `[0, 1]`: the root mean square of the enhanced response over the
     /// block, divided by its median over the print's blocks and capped at 1 (0 outside).
     pub contrast: Vec<f32>,
+    /// Whether the ridges were taken as the image's dark side.
+    #[serde(skip)]
+    pub dark_ridges: bool,
+    /// How sure that polarity is, in [0, 1), when it was decided from the image; `None` when it
+    /// was given (`Params::polarity`).
+    #[serde(skip)]
+    pub polarity_confidence: Option<f64>,
 }
 
 impl PrintAnalysis {
@@ -126,6 +133,8 @@ pub(crate) fn analyze(
             enhanced,
             ridges,
             contrast,
+            dark_ridges,
+            polarity_confidence: None,
         },
         binary,
     )

@@ -3,12 +3,13 @@
 //!
 //! The method is the one of *Efficient reconstruction of non-simple curves* (anisotropic adaptive
 //! sampling, non-linear region clustering, edge refinement, least-squares fitting), adapted to pixel
-//! images. Data flows one way through stages that sit side by side; this file is the one place that
-//! chains them:
+//! images. Data flows one way through stages that sit side by side; the driver (`pipeline.rs`) is
+//! the one place that chains them, and this file holds its public entry points:
 //!
 //! ```text
 //! bytes ─decode─> gray ─binarize─> Binary ─points─> PointSet ─sample─> Samples
-//!       ─graph─> NodeGraph (H + clusters) ─refine─> NodeGraph (1-D) ─fit─> StrokeGraph ─export─> SVG/JSON
+//!       ─graph─> NodeGraph (H + clusters) ─refine─> NodeGraph (1-D) ─fit─> StrokeGraph
+//!       ─skeleton─> StrokeGraph ─export─> SVG/JSON
 //! ```
 //!
 //! # Example
@@ -95,14 +96,6 @@ mod skeleton;
 pub mod strokes;
 pub mod warnings;
 
-// The unit tests of `skeleton.rs` draw their inputs under the name the test kit gives the drawing
-// helper (`ridgeline_testkit::synth` re-exports `draw`); the test kit itself depends on this crate,
-// so the unit tests cannot use it.
-#[cfg(test)]
-mod synth {
-    pub(crate) use crate::draw::{render, Stroke};
-}
-
 pub use binary::{Binary, MaskView};
 pub use decisions::{Decisions, PrintDecisions, ThresholdUsed, Warning, UNEVEN_LIGHT};
 pub use error::{Error, Result};
@@ -174,4 +167,12 @@ pub fn trace_binary_with_stages<'a>(
 pub fn thin(binary: &Binary) -> Result<StrokeGraph> {
     binary.check_size()?;
     Ok(skeleton::thin(binary))
+}
+
+// The unit tests of `skeleton.rs` draw their inputs under the name the test kit gives the drawing
+// helper (`ridgeline_testkit::synth` re-exports `draw`); the test kit itself depends on this crate,
+// so the unit tests cannot use it.
+#[cfg(test)]
+mod synth {
+    pub(crate) use crate::draw::{render, Stroke};
 }

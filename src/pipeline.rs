@@ -633,3 +633,94 @@ fn append_node_graph(graph: &mut NodeGraph, part: NodeGraph) {
         .owner
         .extend(part.owner.iter().map(|&o| o + node_base));
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::draw::{render, Stroke};
+
+    /// The graph as sorted vertex and edge descriptions: equal for equal graphs whatever the order.
+    fn canonical(graph: &StrokeGraph) -> (Vec<String>, Vec<String>) {
+        let mut vertices: Vec<String> = graph
+            .vertices
+            .iter()
+            .map(|v| format!("{:?} {} {}", v.pos, v.degree, v.width))
+            .collect();
+        let mut edges: Vec<String> = graph
+            .edges
+            .iter()
+            .map(|e| format!("{:?} {:?}", e.points, e.widths))
+            .collect();
+        vertices.sort();
+        edges.sort();
+        (vertices, edges)
+    }
+
+    fn circle(center: [f64; 2], radius: f64, width: f64) -> Stroke {
+        let n = (radius * 2.0 * std::f64::consts::PI).ceil() as usize;
+        let points = (0..=n)
+            .map(|i| {
+                let t = i as f64 / n as f64 * 2.0 * std::f64::consts::PI;
+                [center[0] + radius * t.cos(), center[1] + radius * t.sin()]
+            })
+            .collect();
+        Stroke::new(points, width)
+    }
+
+    /// Over 16k ink points, so the driver cuts the page into chunks of components; the same
+    /// page traced as one point set gives the same graph (up to the order of vertices and edges):
+    /// ARCHITECTURE.md, "Large inputs". Rings with blobs and rings inside (holes that hold
+    /// another component), strokes 2 px apart, crossings.
+    #[test]
+    fn a_large_page_traced_in_chunks_equals_the_page_traced_whole() {
+        let mut strokes = Vec::new();
+        for row in 0..4 {
+            for col in 0..6 {
+                let c = [40.0 + 70.0 * col as f64, 40.0 + 70.0 * row as f64];
+                strokes.push(circle(c, 26.0, 4.0));
+                match (row + col) % 3 {
+                    0 => strokes.push(circle(c, 12.0, 4.0)),
+                    1 => strokes.push(Stroke::new(vec![c, [c[0] + 3.0, c[1] + 2.0]], 9.0)),
+                    _ => {
+                        let (s, k) = 30f64.to_radians().sin_cos();
+                        let (a, b) = (
+                            [c[0] - 12.0 * k, c[1] - 12.0 * s],
+                            [c[0] + 12.0 * k, c[1] + 12.0 * s],
+                        );
+                        strokes.push(Stroke::new(vec![a, b], 3.0));
+                        strokes.push(Stroke::new(
+                            vec![
+                                [c[0] + 12.0 * s, c[1] - 12.0 * k],
+                                [c[0] - 12.0 * s, c[1] + 12.0 * k],
+                            ],
+                            3.0,
+                        ));
+                    }
+                }
+            }
+        }
+        for k in 0..6 {
+            let y = 300.0 + 6.0 * k as f64;
+            strokes.push(Stroke::new(vec![[20.0, y], [400.0, y]], 3.0));
+        }
+        let binary = render(&strokes, 440, 350);
+        let params = Params::default();
+        let points = raster::points(&binary, &params).expect("points");
+        assert!(points.len() > CHUNK_POINTS, "{} ink pixels", points.len());
+        assert!(!points.dropout);
+        let whole = trace_one(points, &params, Recording::Off);
+        let chunked = mask(binary.view(), &params, Recording::Off).expect("trace");
+        assert!(
+            raster::pixel_chunks(binary.view(), &params, None, CHUNK_POINTS)
+                .expect("chunks")
+                .is_some_and(|chunks| chunks.len() > 1)
+        );
+        assert_eq!(chunked.point_count, whole.point_count);
+        assert_eq!(canonical(&chunked.graph), canonical(&whole.graph));
+        assert!(
+            chunked.graph.cycles() >= 24 + 8,
+            "{} cycles",
+            chunked.graph.cycles()
+        );
+    }
+}

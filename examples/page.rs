@@ -45,14 +45,14 @@ use ridgeline::export::svg::{self, SvgOptions};
 use ridgeline::{GrayImage, Params};
 
 /// Stage names in report order; the child prints one value per name, in this order.
-const STAGES: [&str; 8] = [
-    "decode", "binarize", "points", "sampling", "graph", "refine", "fit", "export",
+const STAGES: [&str; 9] = [
+    "decode", "binarize", "points", "sampling", "graph", "refine", "fit", "skeleton", "export",
 ];
 
 /// One child's medians: stage seconds, wall seconds, process CPU seconds, peak resident memory in MB, and counts.
 #[derive(Clone, Debug, Default)]
 struct Figures {
-    stages: [f64; 8],
+    stages: [f64; STAGES.len()],
     wall: f64,
     cpu: f64,
     peak_mb: f64,
@@ -151,7 +151,7 @@ fn main() {
         load_average()
     );
     println!(
-        "{:<10} {:>9} {:>7} {:>6} {:>6} {:>6} {:>6} {:>6} {:>6} {:>6} {:>6} {:>6} {:>6} {:>7} {:>7} {:>7}",
+        "{:<10} {:>9} {:>7} {:>6} {:>6} {:>6} {:>6} {:>6} {:>6} {:>6} {:>6} {:>6} {:>6} {:>6} {:>7} {:>7} {:>7}",
         "input",
         "size",
         "ink px",
@@ -162,6 +162,7 @@ fn main() {
         "graph",
         "refine",
         "fit",
+        "skel",
         "export",
         "TOTAL",
         "CPU",
@@ -432,7 +433,7 @@ fn median_figures(runs: &[Figures]) -> Option<Figures> {
     let of = |field: &dyn Fn(&Figures) -> f64| {
         median(&mut runs.iter().map(field).collect::<Vec<_>>()).unwrap_or(0.0)
     };
-    let mut stages = [0.0; 8];
+    let mut stages = [0.0; STAGES.len()];
     for (k, stage) in stages.iter_mut().enumerate() {
         *stage = of(&|f| f.stages[k]);
     }
@@ -518,16 +519,17 @@ fn spawn_child_with(
     if values.len() != STAGES.len() + 6 {
         return None;
     }
-    let mut stages = [0.0; 8];
-    stages.copy_from_slice(&values[..8]);
+    let mut stages = [0.0; STAGES.len()];
+    stages.copy_from_slice(&values[..STAGES.len()]);
+    let values = &values[STAGES.len()..];
     Some(Figures {
         stages,
-        wall: values[8],
-        cpu: values[9],
-        peak_mb: values[10],
-        ink: values[11] as usize,
-        vertices: values[12] as usize,
-        edges: values[13] as usize,
+        wall: values[0],
+        cpu: values[1],
+        peak_mb: values[2],
+        ink: values[3] as usize,
+        vertices: values[4] as usize,
+        edges: values[5] as usize,
     })
 }
 
@@ -564,7 +566,7 @@ fn run_child(path: &Path, repeat: usize) {
     };
     let out_dir = tempfile::tempdir().expect("temporary directory");
     let out_path = out_dir.path().join("out.svg");
-    let mut runs: Vec<([f64; 8], f64, f64)> = Vec::new();
+    let mut runs: Vec<([f64; STAGES.len()], f64, f64)> = Vec::new();
     let (mut ink, mut vertices, mut edges) = (0, 0, 0);
     for _ in 0..repeat {
         let cpu_start = cpu_seconds();
@@ -579,8 +581,8 @@ fn run_child(path: &Path, repeat: usize) {
         let export = clock.elapsed();
         let wall = start.elapsed();
         let t = trace.timings;
-        let stages: [Duration; 8] = [
-            decode, t.binarize, t.points, t.sampling, t.graph, t.refine, t.fit, export,
+        let stages: [Duration; STAGES.len()] = [
+            decode, t.binarize, t.points, t.sampling, t.graph, t.refine, t.fit, t.skeleton, export,
         ];
         let cpu = cpu_seconds() - cpu_start;
         runs.push((stages.map(|d| d.as_secs_f64()), wall.as_secs_f64(), cpu));

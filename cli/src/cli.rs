@@ -1942,8 +1942,7 @@ fn write_output(job: &Job, destination: &Destination, text: &[u8]) -> Result<Str
     })
 }
 
-/// Traces `gray` as without pictures, and again keeping the intermediate stages (of one point
-/// set, so they can differ from the output where dropout mode is decided per group), and writes
+/// Traces `gray` once, keeping the intermediate stages of the output's own trace, and writes
 /// their pictures into `dir` (created if missing), each atomically, one at a time; the final
 /// picture is the output's graph.
 fn trace_with_pictures(
@@ -1951,17 +1950,16 @@ fn trace_with_pictures(
     params: &Params,
     dir: &Path,
 ) -> Result<ridgeline::Trace> {
-    let trace = ridgeline::trace_image(gray, params)?;
-    let staged = ridgeline::trace_image_with_stages(gray, params)?;
-    if let (Some(stages), Some(binary)) = (&staged.stages, &staged.binary) {
+    let mut trace = ridgeline::trace_image_with_stages(gray, params)?;
+    if let (Some(stages), Some(binary)) = (&trace.stages, &trace.binary) {
         fs::create_dir_all(dir)
             .with_context(|| format!("cannot create the --debug folder {}", dir.display()))?;
-        if let Some(decisions) = &staged.decisions {
+        if let Some(decisions) = &trace.decisions {
             let png = ridgeline::debug::decisions_png(gray, binary, decisions)?;
             write_atomically(&dir.join(ridgeline::debug::DECISIONS_PICTURE), &png)
                 .context("cannot write the --debug pictures")?;
         }
-        if let Some(print) = &staged.fingerprint {
+        if let Some(print) = &trace.fingerprint {
             for (name, png) in ridgeline::debug::print_pngs(gray, &print.analysis)? {
                 write_atomically(&dir.join(name), &png)
                     .context("cannot write the --debug pictures")?;
@@ -1972,6 +1970,7 @@ fn trace_with_pictures(
             write_atomically(&dir.join(name), &png).context("cannot write the --debug pictures")?;
         }
     }
+    trace.stages = None;
     Ok(trace)
 }
 

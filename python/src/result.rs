@@ -283,6 +283,7 @@ impl Trace {
             ("graph", t.graph),
             ("refine", t.refine),
             ("fit", t.fit),
+            ("skeleton", t.skeleton),
         ] {
             dict.set_item(name, seconds(duration))?;
         }

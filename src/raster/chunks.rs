@@ -30,10 +30,11 @@ pub(crate) struct PixelChunks {
 /// Splits the ink of `binary` into chunks of whole components of about `target` points, or returns
 /// `None` when the image is better traced as one point set: at most `target` ink pixels, or
 /// dropout mode (whose 5x5 neighbourhoods and closed distance transform reach across component
-/// gaps).
+/// gaps). Dropout mode is `dropout` when given, else decided as [`super::points`] decides it.
 pub(crate) fn pixel_chunks(
     binary: MaskView<'_>,
     params: &Params,
+    dropout: Option<bool>,
     target: usize,
 ) -> Result<Option<PixelChunks>> {
     if binary.width == 0 || binary.height == 0 || binary.check_size().is_err() {
@@ -51,7 +52,7 @@ pub(crate) fn pixel_chunks(
         runs,
         spacing,
         dropout,
-    } = survey(binary, params)?;
+    } = survey(binary, params, dropout)?;
     if dropout {
         return Ok(None);
     }
@@ -181,7 +182,7 @@ mod tests {
         };
         let whole = points(&binary, &params).expect("points");
         for target in [1, 50, 300, 1000] {
-            let chunks = pixel_chunks(binary.view(), &params, target)
+            let chunks = pixel_chunks(binary.view(), &params, params.dropout, target)
                 .expect("chunks")
                 .expect("more ink than the target");
             let expected = whole.split_components(target);
@@ -208,14 +209,14 @@ mod tests {
         let binary = page();
         let params = Params::default();
         let ink = binary.ink.iter().filter(|&&b| b).count();
-        assert!(pixel_chunks(binary.view(), &params, ink)
+        assert!(pixel_chunks(binary.view(), &params, params.dropout, ink)
             .expect("ok")
             .is_none());
         let forced = Params {
             dropout: Some(true),
             ..Params::default()
         };
-        assert!(pixel_chunks(binary.view(), &forced, 10)
+        assert!(pixel_chunks(binary.view(), &forced, forced.dropout, 10)
             .expect("ok")
             .is_none());
     }
@@ -232,7 +233,7 @@ mod tests {
         }
         let params = Params::default();
         assert!(points(&binary, &params).expect("points").dropout);
-        assert!(pixel_chunks(binary.view(), &params, 10)
+        assert!(pixel_chunks(binary.view(), &params, params.dropout, 10)
             .expect("ok")
             .is_none());
         // Without the holes the bars are traced in chunks.
@@ -243,7 +244,7 @@ mod tests {
             }
         }
         assert!(!points(&solid, &params).expect("points").dropout);
-        assert!(pixel_chunks(solid.view(), &params, 10)
+        assert!(pixel_chunks(solid.view(), &params, params.dropout, 10)
             .expect("ok")
             .is_some());
     }
@@ -253,6 +254,6 @@ mod tests {
         let binary = page();
         let mut params = Params::default();
         params.limits.max_points = 10;
-        assert!(pixel_chunks(binary.view(), &params, 5).is_err());
+        assert!(pixel_chunks(binary.view(), &params, params.dropout, 5).is_err());
     }
 }

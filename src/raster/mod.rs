@@ -108,5 +108,15 @@ pub(crate) fn drop_small_components(binary: MaskView<'_>, min_area: usize) -> Bi
 /// Refuses more than `params.limits.max_points` ink pixels before allocating the points. `binary`
 /// is a `&Binary` or a [`MaskView`].
 pub fn points<'a>(binary: impl Into<MaskView<'a>>, params: &Params) -> Result<PointSet> {
-    points::points(binary.into(), params)
+    points::points(binary.into(), params, params.dropout)
+}
+
+/// [`points`] with dropout mode `dropout` when given: the pipeline's groups of components whose
+/// mode is already decided (docs/design.md, "The front end").
+pub(crate) fn points_in_mode(
+    binary: MaskView<'_>,
+    params: &Params,
+    dropout: Option<bool>,
+) -> Result<PointSet> {
+    points::points(binary, params, dropout)
 }

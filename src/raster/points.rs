@@ -25,9 +25,10 @@ pub(super) const LOOSE_FRACTION: f64 = 0.025;
 const SPACING_SEARCH: i64 = 6;
 
 /// Builds the point set of the ink pixels of `binary`: the page's figures from [`survey`], then
-/// [`build`] over the whole image.
-pub fn points(binary: MaskView<'_>, params: &Params) -> Result<PointSet> {
-    let survey = survey(binary, params)?;
+/// [`build`] over the whole image. Dropout mode is `dropout` when given, else decided here
+/// (docs/design.md, adaptation 2).
+pub fn points(binary: MaskView<'_>, params: &Params, dropout: Option<bool>) -> Result<PointSet> {
+    let survey = survey(binary, params, dropout)?;
     let window = Window {
         ink: binary.ink,
         width: binary.width as usize,
@@ -52,8 +53,12 @@ pub(super) struct Survey {
 /// Surveys `binary` (refusing a mask of the wrong size, or more ink pixels than the limits allow):
 /// one parallel pass over the rows finds the runs of ink, the `Dis_ave` terms and the pixels with
 /// a single 8-neighbour; the rows are summed in order, so the figures do not depend on the thread
-/// count.
-pub(super) fn survey(binary: MaskView<'_>, params: &Params) -> Result<Survey> {
+/// count. Dropout mode is `dropout` when given.
+pub(super) fn survey(
+    binary: MaskView<'_>,
+    params: &Params,
+    dropout: Option<bool>,
+) -> Result<Survey> {
     binary.check_size()?;
     let (width, height) = (binary.width as usize, binary.height as usize);
     let ink = binary.ink;
@@ -128,7 +133,7 @@ pub(super) fn survey(binary: MaskView<'_>, params: &Params) -> Result<Survey> {
             .filter_map(|r| tiny_hole(ink, width, height, r.y as usize * width + r.x1 as usize))
             .sum()
     };
-    let dropout = dropout_mode(params, count, loose, spacing, holes);
+    let dropout = dropout.unwrap_or_else(|| dropout_mode(params, count, loose, spacing, holes));
     Ok(Survey {
         runs,
         spacing,
@@ -265,9 +270,6 @@ fn dropout_mode(
     spacing: f64,
     holes: impl FnOnce() -> usize,
 ) -> bool {
-    if let Some(forced) = params.dropout {
-        return forced;
-    }
     // Heavy dropout (over half the pixels of a stroke gone) opens the holes to the outside, so
     // they are no longer tiny; what remains is pixels hanging on by a single neighbour, which
     // solid strokes of any width have only at 1-px line ends. Adaptation 2: sparse points.

@@ -1,0 +1,735 @@
+//! The driver: the one path from an image, a mask or a point list to the stroke graph
+//! (ARCHITECTURE.md, "The pipeline").
+//!
+//! ```text
+//! gray ─binarize─> Binary ─┐                                   (or the fingerprint front end)
+//!                          ├─ small components dropped (min_area)
+//!                          ├─ dropout mode per group of components (docs/design.md, "The front end")
+//!                          └─ chunks of whole components ─> PointSet per chunk
+//! point list ─units─> PointSet ─┘
+//! PointSet ─§3.1 sample─> Samples ─§3.2 graph─> NodeGraph ─§3.3 refine─> NodeGraph (1-D)
+//!          ─§3.4 fit─> StrokeGraph ─skeleton─> StrokeGraph ─sub-pixel / print prior─> warnings
+//! ```
+//!
+//! Every public entry validates its [`Params`] once and then runs this path; the `*_with_stages`
+//! entries run the same path with [`Recording::Stages`], which keeps each chunk's intermediate
+//! results and joins them as the graphs are joined, so the pictures show the output's own trace.
+
+use std::time::{Duration, Instant};
+
+use crate::{
+    fingerprint, fit, graph, minutiae, point_list, raster, refine, sample, skeleton, subpixel,
+    warnings, Binary, Decisions, Error, FingerprintParams, GrayView, Grid, MaskView, NodeGraph,
+    Params, PointSet, Polarity, PrintDecisions, Result, Samples, StrokeGraph, ThresholdUsed,
+    Warning,
+};
+
+/// Points per chunk when a large input is traced in parallel (whole components per chunk).
+const CHUNK_POINTS: usize = 16_384;
+
+/// Wall-clock time spent in each stage of one trace.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Timings {
+    /// Image decoding (zero when the caller passed pixels).
+    pub decode: Duration,
+    /// Thresholding and polarity (for a print: its front end, as [`FingerprintTrace::enhance`]).
+    pub binarize: Duration,
+    /// Point set, neighbour graph and distance transform.
+    pub points: Duration,
+    /// §3.1 sampling.
+    pub sampling: Duration,
+    /// §3.2 node graph and clusters.
+    pub graph: Duration,
+    /// §3.3 contraction, merging and clean-up.
+    pub refine: Duration,
+    /// §3.4 fitting and building the stroke graph.
+    pub fit: Duration,
+    /// The skeleton carrying the geometry (docs/design.md, "Skeleton-carried geometry"; zero
+    /// with [`Params::skeleton`] off).
+    pub skeleton: Duration,
+}
+
+impl Timings {
+    /// Adds `other`'s time per stage to this one's.
+    pub fn add(&mut self, other: &Timings) {
+        self.decode += other.decode;
+        self.binarize += other.binarize;
+        self.points += other.points;
+        self.sampling += other.sampling;
+        self.graph += other.graph;
+        self.refine += other.refine;
+        self.fit += other.fit;
+        self.skeleton += other.skeleton;
+    }
+}
+
+/// Intermediate results kept for `--debug` pictures. When the input was traced in parts (chunks
+/// of components, or groups in and out of dropout mode), the parts' stages follow one another in
+/// the order their graphs do, each part's indices shifted past the parts before it.
+#[derive(Clone, Debug, Default)]
+pub struct Stages {
+    /// The points the pipeline ran on.
+    pub points: PointSet,
+    /// The sampled nodes.
+    pub samples: Samples,
+    /// Graph `H` with clusters (§3.2).
+    pub node_graph: NodeGraph,
+    /// The 1-D graph after §3.3.
+    pub refined: NodeGraph,
+}
+
+/// Everything one trace produces.
+#[derive(Clone, Debug)]
+pub struct Trace {
+    /// The result.
+    pub graph: StrokeGraph,
+    /// The foreground mask (images only).
+    pub binary: Option<Binary>,
+    /// Number of points the pipeline ran on (ink pixels, or lines of a point list).
+    pub point_count: usize,
+    /// Intermediate results, when asked for.
+    pub stages: Option<Stages>,
+    /// Time per stage.
+    pub timings: Timings,
+    /// What the front end decided (images only): polarity, threshold, dropout mode.
+    pub decisions: Option<Decisions>,
+    /// What is probably wrong with the result ([`warnings`]).
+    pub warnings: Vec<Warning>,
+    /// The share of the ink traced in dropout mode (images and masks; docs/design.md,
+    /// adaptation 2): it is decided per group of nearby components (docs/design.md, "The front
+    /// end"). [`Trace::dropout`] says whether any was.
+    pub dropout_share: Option<f64>,
+    /// What the fingerprint front end found and the print's minutiae (images traced with
+    /// [`Params::fingerprint`] set only).
+    pub fingerprint: Option<Box<FingerprintTrace>>,
+}
+
+impl Trace {
+    /// Whether dropout mode was on for any of the ink.
+    pub fn dropout(&self) -> Option<bool> {
+        self.dropout_share.map(|share| share > 0.0)
+    }
+}
+
+/// The fingerprint front end's stages and the minutiae it keeps (docs/fingerprints.md).
+#[derive(Clone, Debug)]
+pub struct FingerprintTrace {
+    /// Segmentation, orientation field, ridge periods, the enhanced image and its contrast.
+    pub analysis: fingerprint::PrintAnalysis,
+    /// The minutiae inside the print, filtered and with qualities
+    /// ([`minutiae::fingerprint_minutiae`]).
+    pub minutiae: Vec<minutiae::Minutia>,
+    /// Time of the front end (segmentation to enhanced binary image).
+    pub enhance: Duration,
+}
+
+/// Whether a trace keeps its intermediate stages ([`Trace::stages`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Recording {
+    /// Only the result.
+    Off,
+    /// The result and the stages that made it.
+    Stages,
+}
+
+/// What tracing a mask or a point set gives, before the front end's results join it.
+struct Traced {
+    graph: StrokeGraph,
+    point_count: usize,
+    timings: Timings,
+    stages: Option<Stages>,
+}
+
+impl Traced {
+    /// Joins traces of disjoint parts of one input, in order: each part's graph (and stages)
+    /// after those of the parts before it.
+    fn join(parts: Vec<Traced>) -> Traced {
+        let mut graph = StrokeGraph::default();
+        let mut timings = Timings::default();
+        let mut point_count = 0;
+        let mut stages = Vec::with_capacity(parts.len());
+        let mut recorded = true;
+        for part in parts {
+            append_graph(&mut graph, part.graph);
+            point_count += part.point_count;
+            timings.add(&part.timings);
+            match part.stages {
+                Some(s) => stages.push(s),
+                None => recorded = false,
+            }
+        }
+        Traced {
+            graph,
+            point_count,
+            timings,
+            stages: (recorded && !stages.is_empty()).then(|| Stages::join(stages)),
+        }
+    }
+
+    /// The [`Trace`] of this result (the one place one is built); the front end's results are
+    /// added by the entry that ran it.
+    fn into_trace(self, dropout_share: Option<f64>) -> Trace {
+        Trace {
+            graph: self.graph,
+            binary: None,
+            point_count: self.point_count,
+            stages: self.stages,
+            timings: self.timings,
+            decisions: None,
+            warnings: Vec::new(),
+            dropout_share,
+            fingerprint: None,
+        }
+    }
+}
+
+/// Traces a grayscale image ([`crate::trace_image`]): binarize (or the fingerprint front end),
+/// the mask's pipeline, sub-pixel placement, the front end's decisions and the warnings.
+pub(crate) fn image(gray: GrayView<'_>, params: &Params, recording: Recording) -> Result<Trace> {
+    params.validate()?;
+    if let Some(print) = &params.fingerprint {
+        return print_image(gray, params, print, recording);
+    }
+    let start = Instant::now();
+    let (binary, decisions) = raster::binarize_deciding(gray, params)?;
+    let binarize_time = start.elapsed();
+    let mut trace = trace_mask(binary.view(), params, recording)?;
+    if params.subpixel {
+        let dark_ink = decisions.polarity == "dark";
+        subpixel::center_on_gray(&mut trace.graph, gray, &binary, dark_ink);
+    }
+    Ok(with_decisions(trace, binary, decisions, binarize_time))
+}
+
+/// Traces a foreground mask ([`crate::trace_binary`]): the mask's pipeline and the warnings.
+pub(crate) fn mask(binary: MaskView<'_>, params: &Params, recording: Recording) -> Result<Trace> {
+    params.validate()?;
+    let mut trace = trace_mask(binary, params, recording)?;
+    trace.warnings = warnings::of(&trace.graph, None);
+    Ok(trace)
+}
+
+/// Traces a point list ([`crate::trace_points`], the paper's own setting): the same stages,
+/// neighbours from a k-d tree. The stages run in pixel-like units and the result is mapped back
+/// (docs/design.md, "Hostile input"; see [`point_list::Units`]).
+pub(crate) fn point_list(list: &[[f64; 2]], params: &Params) -> Result<Trace> {
+    params.validate()?;
+    let start = Instant::now();
+    let (points, units) = point_list::point_set_in_units(list, params)?;
+    let points_time = start.elapsed();
+    let (width, height) = point_list::extent(list);
+    let mut traced = trace_points(points, params, Recording::Off)?;
+    traced.graph.width = width;
+    traced.graph.height = height;
+    traced.timings.points += points_time;
+    units.restore_graph(&mut traced.graph);
+    let mut trace = traced.into_trace(None);
+    trace.warnings = warnings::of(&trace.graph, None);
+    Ok(trace)
+}
+
+/// The fingerprint path of [`image`]: front end, the mask's pipeline on its binary image, the
+/// prior of ridges along the flow, then the fingerprint minutiae filter. Ridges are dark unless
+/// `params.polarity` says light (a print's ridges and valleys are about as wide, so the stroke
+/// evidence of the text front end cannot tell them apart).
+fn print_image(
+    gray: GrayView<'_>,
+    params: &Params,
+    print: &FingerprintParams,
+    recording: Recording,
+) -> Result<Trace> {
+    let (width, height) = gray.dimensions();
+    let pixels = u64::from(width) * u64::from(height);
+    if pixels > params.limits.max_pixels {
+        return Err(Error::Limit {
+            what: "image pixels",
+            actual: pixels,
+            limit: params.limits.max_pixels,
+            flag: "--max-pixels",
+        });
+    }
+    let start = Instant::now();
+    // Given, or decided from the image as the automatic polarity decides it (ridges and
+    // valleys are about as wide, so the print's background at the image border decides, and
+    // the prior for dark ink when it does not show).
+    let (dark_ridges, confidence) = match params.polarity {
+        Polarity::DarkInk => (true, None),
+        Polarity::LightInk => (false, None),
+        Polarity::Auto => {
+            let (dark, confidence) = raster::split_polarity(gray);
+            (dark, Some(confidence))
+        }
+    };
+    let (mut analysis, binary) = fingerprint::analyze(gray, print, dark_ridges);
+    analysis.polarity_confidence = confidence;
+    let enhance = start.elapsed();
+
+    let mut trace = trace_mask(binary.view(), params, recording)?;
+    trace.graph = fingerprint::prior::ridges_along_the_flow(
+        std::mem::take(&mut trace.graph),
+        &analysis,
+        print,
+    );
+    let decisions = print_decisions(&analysis, &binary, print);
+    let mut trace = with_decisions(trace, binary, decisions, enhance);
+    let minutiae = minutiae::fingerprint_minutiae(&trace.graph, &analysis, print);
+    trace.fingerprint = Some(Box::new(FingerprintTrace {
+        analysis,
+        minutiae,
+        enhance,
+    }));
+    Ok(trace)
+}
+
+/// Completes the trace of an image's mask: the front end's `decisions` with the dropout mode the
+/// trace found, the warnings both give, the mask and the time binarizing took.
+fn with_decisions(
+    mut trace: Trace,
+    binary: Binary,
+    mut decisions: Decisions,
+    binarize_time: Duration,
+) -> Trace {
+    trace.timings.binarize = binarize_time;
+    decisions.dropout = trace.dropout();
+    decisions.dropout_share = trace.dropout_share;
+    trace.warnings = warnings::of(&trace.graph, Some(&decisions));
+    trace.decisions = Some(decisions);
+    trace.binary = Some(binary);
+    trace
+}
+
+/// The fingerprint front end's decisions: the polarity it was given or decided, with its
+/// confidence when decided, the enhanced image's sign as the threshold, the ridge width (median
+/// chord of the enhanced ridges), and what it measured on the print.
+fn print_decisions(
+    analysis: &fingerprint::PrintAnalysis,
+    binary: &Binary,
+    print: &FingerprintParams,
+) -> Decisions {
+    let inside = &analysis.segmentation.inside;
+    let blocks_inside = inside.iter().filter(|&&i| i).count();
+    let mut coherence: Vec<f32> = analysis
+        .orientation
+        .coherence
+        .iter()
+        .zip(inside)
+        .filter(|(_, &i)| i)
+        .map(|(&c, _)| c)
+        .collect();
+    let chords = raster::chords(&binary.ink, binary.width as usize, binary.height as usize);
+    Decisions {
+        polarity: if analysis.dark_ridges {
+            "dark"
+        } else {
+            "light"
+        },
+        polarity_confidence: analysis.polarity_confidence,
+        threshold: ThresholdUsed::Enhanced {
+            enhancement: print.enhancement,
+        },
+        stroke_width: chords.dark_median,
+        uneven_light: 0.0,
+        dropout: None,
+        dropout_share: None,
+        reversed_grounds: Vec::new(),
+        print: Some(PrintDecisions {
+            ridge_period: analysis.periods.median_inside(&analysis.segmentation),
+            print_share: blocks_inside as f64 / inside.len().max(1) as f64,
+            coherence: f64::from(fingerprint::math::median(&mut coherence)),
+        }),
+    }
+}
+
+/// The pipeline of a mask: its components of fewer than [`Params::min_area`] pixels dropped,
+/// then [`trace_ink`] with dropout mode as `params.dropout` says (decided here when `None`).
+fn trace_mask(binary: MaskView<'_>, params: &Params, recording: Recording) -> Result<Trace> {
+    let kept;
+    let binary = if params.min_area > 0 {
+        kept = raster::drop_small_components(binary, params.min_area);
+        kept.view()
+    } else {
+        binary
+    };
+    let (mut traced, dropout_share) = trace_ink(binary, params, params.dropout, recording)?;
+    traced.graph.width = binary.width;
+    traced.graph.height = binary.height;
+    Ok(traced.into_trace(Some(dropout_share)))
+}
+
+/// Traces the ink of `binary` with dropout mode `dropout` (decided here when `None`); returns the
+/// result and the share of the ink traced in dropout mode.
+///
+/// A large mask outside dropout mode goes straight to chunks of components, each chunk's points
+/// built where it is traced; otherwise the ink becomes one point set, and when dropout mode is
+/// on for it but the groups of nearby components disagree, the solid groups and the broken ones
+/// are traced apart, each in its own mode (docs/design.md, "The front end").
+fn trace_ink(
+    binary: MaskView<'_>,
+    params: &Params,
+    dropout: Option<bool>,
+    recording: Recording,
+) -> Result<(Traced, f64)> {
+    let start = Instant::now();
+    if let Some(chunks) = raster::pixel_chunks(binary, params, dropout, CHUNK_POINTS)? {
+        let scan_time = start.elapsed();
+        let sizes: Vec<usize> = (0..chunks.len()).map(|c| chunks.size(c)).collect();
+        let mut traced = trace_chunks(&sizes, |c| chunks.part(c), params, recording)?;
+        traced.timings.points += scan_time;
+        // Chunks are only cut outside dropout mode.
+        return Ok((traced, 0.0));
+    }
+    let points = raster::points_in_mode(binary, params, dropout)?;
+    let points_time = start.elapsed();
+    let on = points.dropout;
+    if on && dropout.is_none() {
+        if let Some((solid, speckled)) = raster::split_dropout(binary, params) {
+            drop(points);
+            let (solid_trace, _) = trace_ink(solid.view(), params, Some(false), recording)?;
+            let (broken_trace, _) = trace_ink(speckled.view(), params, Some(true), recording)?;
+            let mut traced = Traced::join(vec![solid_trace, broken_trace]);
+            traced.timings.points += points_time;
+            let share = speckled.count() as f64 / binary.count().max(1) as f64;
+            return Ok((traced, share));
+        }
+    }
+    let mut traced = trace_points(points, params, recording)?;
+    traced.timings.points += points_time;
+    Ok((traced, if on { 1.0 } else { 0.0 }))
+}
+
+/// Traces one point set: whole when small, else in chunks of whole components.
+fn trace_points(points: PointSet, params: &Params, recording: Recording) -> Result<Traced> {
+    if points.len() <= CHUNK_POINTS {
+        return Ok(trace_one(points, params, recording));
+    }
+    let chunks = points.component_chunks(CHUNK_POINTS);
+    let sizes: Vec<usize> = (0..chunks.len()).map(|c| chunks.size(c)).collect();
+    trace_chunks(&sizes, |c| Ok(chunks.part(&points, c)), params, recording)
+}
+
+/// §3.1-§3.4 and the skeleton on one point set.
+fn trace_one(points: PointSet, params: &Params, recording: Recording) -> Traced {
+    let mut timings = Timings::default();
+    let (refined, kept) = refine_stages(&points, params, &mut timings, recording);
+    let clock = Instant::now();
+    let graph = fit::fit(&refined, &points, params);
+    timings.fit = clock.elapsed();
+    let graph = carry_on_skeleton(graph, &points, params, &mut timings);
+    Traced {
+        graph,
+        point_count: points.len(),
+        timings,
+        stages: kept.map(|(samples, node_graph)| Stages {
+            points,
+            samples,
+            node_graph,
+            refined,
+        }),
+    }
+}
+
+/// Traces chunks `0..count` of whole components in parallel, each point set made by `part` on the
+/// thread that traces it, and joins the graphs (and stages) in chunk order. The result does not
+/// depend on the thread count, nor on where the chunks were cut: every stage treats components
+/// independently, and the one figure taken over the whole input, the fit's node spacing `h` (the
+/// median stroke width), is taken between the refinement of all chunks and their fits.
+/// Chunks are started largest first (a page's one giant component would otherwise be picked up
+/// late and run alone at the end); `sizes` are their point counts.
+fn trace_chunks(
+    sizes: &[usize],
+    part: impl Fn(usize) -> Result<PointSet> + Sync,
+    params: &Params,
+    recording: Recording,
+) -> Result<Traced> {
+    use rayon::prelude::*;
+    type Refined = (
+        usize,
+        PointSet,
+        NodeGraph,
+        Timings,
+        Option<(Samples, NodeGraph)>,
+    );
+    let mut order: Vec<usize> = (0..sizes.len()).collect();
+    order.sort_by_key(|&c| std::cmp::Reverse(sizes[c]));
+    let refined: Vec<Refined> = order
+        .into_par_iter()
+        .map(|c| {
+            let clock = Instant::now();
+            let mut points = part(c)?;
+            let mut timings = Timings {
+                points: clock.elapsed(),
+                ..Timings::default()
+            };
+            let (refined, kept) = refine_stages(&points, params, &mut timings, recording);
+            // The pixel index is the bulk of a chunk's memory; the chunks wait for the others
+            // without it, so the next chunk's index reuses the same memory.
+            if let Some(grid) = &mut points.grid {
+                grid.release();
+            }
+            Ok((c, points, refined, timings, kept))
+        })
+        .collect::<Result<_>>()?;
+    let Some((_, first, ..)) = refined.first() else {
+        return Ok(Traced::join(Vec::new()));
+    };
+    let graphs: Vec<&NodeGraph> = refined.iter().map(|(_, _, graph, ..)| graph).collect();
+    let h = fit::node_spacing(&graphs, first, params);
+    let mut parts: Vec<(usize, Traced)> = refined
+        .into_par_iter()
+        .map(|(c, mut points, refined, mut timings, kept)| {
+            let clock = Instant::now();
+            if let Some(grid) = &mut points.grid {
+                grid.rebuild(&points.points);
+            }
+            let graph = fit::fit_with_spacing(&refined, &points, params, h);
+            timings.fit = clock.elapsed();
+            let graph = carry_on_skeleton(graph, &points, params, &mut timings);
+            let traced = Traced {
+                graph,
+                point_count: points.len(),
+                timings,
+                stages: kept.map(|(samples, node_graph)| Stages {
+                    points,
+                    samples,
+                    node_graph,
+                    refined,
+                }),
+            };
+            (c, traced)
+        })
+        .collect();
+    parts.sort_by_key(|&(c, _)| c);
+    Ok(Traced::join(parts.into_iter().map(|(_, t)| t).collect()))
+}
+
+/// §3.1-§3.3 on one point set, timed into `timings`; the sampling and `H` are kept when
+/// recording.
+fn refine_stages(
+    points: &PointSet,
+    params: &Params,
+    timings: &mut Timings,
+    recording: Recording,
+) -> (NodeGraph, Option<(Samples, NodeGraph)>) {
+    let clock = Instant::now();
+    let samples = sample::sample(points, params);
+    timings.sampling = clock.elapsed();
+
+    let clock = Instant::now();
+    let node_graph = graph::build(points, &samples, params);
+    timings.graph = clock.elapsed();
+
+    let clock = Instant::now();
+    let refined = refine::refine(&node_graph, points, params);
+    timings.refine = clock.elapsed();
+    let kept = (recording == Recording::Stages).then_some((samples, node_graph));
+    (refined, kept)
+}
+
+/// The fitted `graph` with its geometry carried by the skeleton of `points` when
+/// [`Params::skeleton`] asks for it (docs/design.md, "Skeleton-carried geometry"), timed.
+fn carry_on_skeleton(
+    graph: StrokeGraph,
+    points: &PointSet,
+    params: &Params,
+    timings: &mut Timings,
+) -> StrokeGraph {
+    if !params.skeleton {
+        return graph;
+    }
+    let clock = Instant::now();
+    let carried = skeleton::carry(&graph, points);
+    timings.skeleton = clock.elapsed();
+    carried
+}
+
+/// Appends `part`'s vertices and edges to `graph`, its edges' ends shifted past `graph`'s
+/// vertices.
+fn append_graph(graph: &mut StrokeGraph, part: StrokeGraph) {
+    let offset = graph.vertices.len();
+    graph.vertices.extend(part.vertices);
+    graph.edges.extend(part.edges.into_iter().map(|mut e| {
+        e.from += offset;
+        e.to += offset;
+        e
+    }));
+}
+
+impl Stages {
+    /// The stages of disjoint parts of one input, one after the other: points, nodes and clusters
+    /// of each part numbered after those of the parts before it. The pixel grid covers the
+    /// parts' windows together when every part has one.
+    fn join(parts: Vec<Stages>) -> Stages {
+        if parts.len() == 1 {
+            return parts.into_iter().next().unwrap_or_default();
+        }
+        let windows: Option<Vec<(i64, i64, i64, i64)>> = parts
+            .iter()
+            .map(|s| {
+                s.points.grid.as_ref().map(|g| {
+                    let (x0, y0) = (g.x0, g.y0);
+                    (x0, y0, x0 + i64::from(g.width), y0 + i64::from(g.height))
+                })
+            })
+            .collect();
+        let mut joined = Stages::default();
+        let points = &mut joined.points;
+        points.offsets.push(0);
+        for part in parts {
+            let point_base = points.points.len() as u32;
+            let neighbour_base = points.neighbors.len() as u32;
+            let sample_base = joined.samples.nodes.len() as u32;
+            points.spacing = part.points.spacing;
+            points.dropout |= part.points.dropout;
+            points.points.extend(&part.points.points);
+            points.half_width.extend(&part.points.half_width);
+            points
+                .neighbors
+                .extend(part.points.neighbors.iter().map(|&j| j + point_base));
+            let offsets = part.points.offsets.iter().skip(1);
+            points.offsets.extend(offsets.map(|&o| o + neighbour_base));
+            joined
+                .samples
+                .nodes
+                .extend(part.samples.nodes.iter().map(|node| {
+                    let mut node = *node;
+                    node.center += point_base;
+                    node
+                }));
+            let owners = part.samples.owner.iter().map(|&o| o + sample_base);
+            joined.samples.owner.extend(owners);
+            append_node_graph(&mut joined.node_graph, part.node_graph);
+            append_node_graph(&mut joined.refined, part.refined);
+        }
+        if let Some(windows) = windows.filter(|w| !w.is_empty()) {
+            let x0 = windows.iter().map(|w| w.0).min().unwrap_or(0);
+            let y0 = windows.iter().map(|w| w.1).min().unwrap_or(0);
+            let x1 = windows.iter().map(|w| w.2).max().unwrap_or(0);
+            let y1 = windows.iter().map(|w| w.3).max().unwrap_or(0);
+            let mut grid = Grid {
+                width: (x1 - x0) as u32,
+                height: (y1 - y0) as u32,
+                index: Vec::new(),
+                x0,
+                y0,
+            };
+            grid.rebuild(&points.points);
+            points.grid = Some(grid);
+        }
+        joined
+    }
+}
+
+/// Appends `part`'s nodes, edges and owners to `graph`: nodes and clusters numbered after
+/// `graph`'s.
+fn append_node_graph(graph: &mut NodeGraph, part: NodeGraph) {
+    let node_base = graph.nodes.len() as u32;
+    let cluster_base = graph
+        .nodes
+        .iter()
+        .filter_map(|n| n.cluster)
+        .max()
+        .map_or(0, |c| c + 1);
+    graph.nodes.extend(part.nodes.into_iter().map(|mut node| {
+        node.cluster = node.cluster.map(|c| c + cluster_base);
+        node
+    }));
+    let edges = part
+        .edges
+        .iter()
+        .map(|&[a, b]| [a + node_base, b + node_base]);
+    graph.edges.extend(edges);
+    graph
+        .owner
+        .extend(part.owner.iter().map(|&o| o + node_base));
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::draw::{render, Stroke};
+
+    /// The graph as sorted vertex and edge descriptions: equal for equal graphs whatever the order.
+    fn canonical(graph: &StrokeGraph) -> (Vec<String>, Vec<String>) {
+        let mut vertices: Vec<String> = graph
+            .vertices
+            .iter()
+            .map(|v| format!("{:?} {} {}", v.pos, v.degree, v.width))
+            .collect();
+        let mut edges: Vec<String> = graph
+            .edges
+            .iter()
+            .map(|e| format!("{:?} {:?}", e.points, e.widths))
+            .collect();
+        vertices.sort();
+        edges.sort();
+        (vertices, edges)
+    }
+
+    fn circle(center: [f64; 2], radius: f64, width: f64) -> Stroke {
+        let n = (radius * 2.0 * std::f64::consts::PI).ceil() as usize;
+        let points = (0..=n)
+            .map(|i| {
+                let t = i as f64 / n as f64 * 2.0 * std::f64::consts::PI;
+                [center[0] + radius * t.cos(), center[1] + radius * t.sin()]
+            })
+            .collect();
+        Stroke::new(points, width)
+    }
+
+    /// Over 16k ink points, so the driver cuts the page into chunks of components; the same
+    /// page traced as one point set gives the same graph (up to the order of vertices and edges):
+    /// ARCHITECTURE.md, "Large inputs". Rings with blobs and rings inside (holes that hold
+    /// another component), strokes 2 px apart, crossings.
+    #[test]
+    fn a_large_page_traced_in_chunks_equals_the_page_traced_whole() {
+        let mut strokes = Vec::new();
+        for row in 0..4 {
+            for col in 0..6 {
+                let c = [40.0 + 70.0 * col as f64, 40.0 + 70.0 * row as f64];
+                strokes.push(circle(c, 26.0, 4.0));
+                match (row + col) % 3 {
+                    0 => strokes.push(circle(c, 12.0, 4.0)),
+                    1 => strokes.push(Stroke::new(vec![c, [c[0] + 3.0, c[1] + 2.0]], 9.0)),
+                    _ => {
+                        let (s, k) = 30f64.to_radians().sin_cos();
+                        let (a, b) = (
+                            [c[0] - 12.0 * k, c[1] - 12.0 * s],
+                            [c[0] + 12.0 * k, c[1] + 12.0 * s],
+                        );
+                        strokes.push(Stroke::new(vec![a, b], 3.0));
+                        strokes.push(Stroke::new(
+                            vec![
+                                [c[0] + 12.0 * s, c[1] - 12.0 * k],
+                                [c[0] - 12.0 * s, c[1] + 12.0 * k],
+                            ],
+                            3.0,
+                        ));
+                    }
+                }
+            }
+        }
+        for k in 0..6 {
+            let y = 300.0 + 6.0 * k as f64;
+            strokes.push(Stroke::new(vec![[20.0, y], [400.0, y]], 3.0));
+        }
+        let binary = render(&strokes, 440, 350);
+        let params = Params::default();
+        let points = raster::points(&binary, &params).expect("points");
+        assert!(points.len() > CHUNK_POINTS, "{} ink pixels", points.len());
+        assert!(!points.dropout);
+        let whole = trace_one(points, &params, Recording::Off);
+        let chunked = mask(binary.view(), &params, Recording::Off).expect("trace");
+        assert!(
+            raster::pixel_chunks(binary.view(), &params, None, CHUNK_POINTS)
+                .expect("chunks")
+                .is_some_and(|chunks| chunks.len() > 1)
+        );
+        assert_eq!(chunked.point_count, whole.point_count);
+        assert_eq!(canonical(&chunked.graph), canonical(&whole.graph));
+        assert!(
+            chunked.graph.cycles() >= 24 + 8,
+            "{} cycles",
+            chunked.graph.cycles()
+        );
+    }
+}

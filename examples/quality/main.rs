@@ -80,7 +80,8 @@ fn parse_args() -> anyhow::Result<Args> {
                 let names: Vec<String> =
                     value()?.split(',').map(|g| g.trim().to_string()).collect();
                 for name in &names {
-                    if name != "real" && name != "points" && !all_groups().contains(&name.as_str()) {
+                    if name != "real" && name != "points" && !all_groups().contains(&name.as_str())
+                    {
                         bail!(
                             "unknown group {name:?}; groups: {}, points, real",
                             all_groups().join(", ")

@@ -141,10 +141,7 @@ pub fn run(only: Option<&str>, verbose: bool) -> Vec<PointOutcome> {
             );
         }
     }
-    println!(
-        "\npoints: {:.1} s",
-        started.elapsed().as_secs_f64()
-    );
+    println!("\npoints: {:.1} s", started.elapsed().as_secs_f64());
     outcomes
 }
 
@@ -247,7 +244,10 @@ fn score(case: &StripCase, graph: &StrokeGraph, o: &mut PointOutcome) {
     let predicted: Vec<[f64; 2]> = junctions.iter().map(|&v| graph.vertices[v].pos).collect();
     let truth: Vec<[f64; 2]> = case.junctions.iter().map(|j| j.0).collect();
     let matched = match_points(&truth, &predicted, radius);
-    o.predicted_junctions = junctions.iter().map(|&v| graph.vertices[v].degree).collect();
+    o.predicted_junctions = junctions
+        .iter()
+        .map(|&v| graph.vertices[v].degree)
+        .collect();
     o.junctions_right = matched.len() == truth.len()
         && predicted.len() == truth.len()
         && matched

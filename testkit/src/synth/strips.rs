@@ -124,7 +124,9 @@ fn draw_points(curves: &[StripCurve], count: usize, rng: &mut SplitMix64) -> Vec
     let mut points = Vec::with_capacity(count);
     while points.len() < count {
         let pick = rng.next_f64() * total;
-        let k = cumulative.partition_point(|&x| x < pick).min(pieces.len() - 1);
+        let k = cumulative
+            .partition_point(|&x| x < pick)
+            .min(pieces.len() - 1);
         let (c, i) = pieces[k];
         let curve = &curves[c];
         let (a, b) = (curve.points[i - 1], curve.points[i]);
@@ -273,13 +275,7 @@ pub fn strip_cases() -> Vec<StripCase> {
         1,
         2,
     ));
-    let sine = curve(
-        |t| [t, 40.0 * (t / 40.0).sin()],
-        0.0,
-        300.0,
-        600,
-        w,
-    );
+    let sine = curve(|t| [t, 40.0 * (t / 40.0).sin()], 0.0, 300.0, 600, w);
     let sine_length = polyline_length(&sine.points);
     cases.push(case(
         "sine",
@@ -377,7 +373,10 @@ pub fn strip_cases() -> Vec<StripCase> {
         vec![
             [0.0, 0.0],
             [200.0, 0.0],
-            [250.0 + 60.0 * (-1.2f64).cos(), 100.0 + 60.0 * (-1.2f64).sin()],
+            [
+                250.0 + 60.0 * (-1.2f64).cos(),
+                100.0 + 60.0 * (-1.2f64).sin(),
+            ],
             [250.0 + 60.0 * 1.2f64.cos(), 100.0 + 60.0 * 1.2f64.sin()],
         ],
         3,

@@ -2,7 +2,7 @@
 //! symmetric k-nearest-neighbour graphs from a k-d tree (§3.2: `k = 5`), `Dis_ave`, and a
 //! half-width from a distance transform on a raster of the points.
 
-use std::collections::HashSet;
+use std::collections::{HashMap, HashSet};
 use std::num::NonZero;
 
 use kiddo::{ImmutableKdTree, SquaredEuclidean};
@@ -10,7 +10,7 @@ use rayon::prelude::*;
 
 use crate::csr::symmetric_neighbours;
 use crate::mask::{close3, ink_row_starts, squared_distance_rows, tiny_hole_pixels};
-use crate::{Error, Params, PointSet, Result, StrokeGraph};
+use crate::{Error, Params, PointSet, RMinRule, Result, StrokeGraph};
 
 /// Coordinates are translated so the smallest is 0; an extent beyond this would overflow squared
 /// distances.
@@ -226,7 +226,15 @@ pub(crate) fn point_set_in_units(list: &[[f64; 2]], params: &Params) -> Result<(
         *p = [p[0] / fine, p[1] / fine];
     }
     let spacing = if k == 0 { 1.0 } else { spacing / fine };
-    let half_width = half_widths(&local, spacing, params);
+    // Points on the lattice of their own spacing (pixel centers listed as points) keep the image
+    // path's distance transform; scattered points (the paper's unorganized strips) have mostly
+    // empty cells inside the strip, so with the width-driven `r_min` (docs/design.md, adaptation
+    // 3) their widths come from the local PCA of §3.1. The paper's own rule sizes its disks from
+    // `Dis_ave` alone and keeps the raster's widths (its node spacing in the fit follows them).
+    let mut half_width = half_widths(&local, spacing, params);
+    if params.r_min_rule == RMinRule::StrokeWidth && !on_lattice(&local, spacing) {
+        strip_half_widths(&local, spacing, &mut half_width);
+    }
     let units = Units {
         origin: min,
         scale: coarse * fine,
@@ -356,6 +364,123 @@ fn half_widths(points: &[[f64; 2]], spacing: f64, params: &Params) -> Vec<f32> {
         sparse_half_widths(&cells, scale)
     }
 }
+
+/// Whether every point lies on the square lattice of step `spacing` through the origin (pixel
+/// centers listed as points; the coordinates are translated to their minimum and scaled by powers
+/// of two, so lattice points stay exactly on it).
+fn on_lattice(points: &[[f64; 2]], spacing: f64) -> bool {
+    let off = |x: f64| {
+        let t = x / spacing;
+        (t - t.round()).abs() > 1e-6
+    };
+    !points.iter().any(|p| off(p[0]) || off(p[1]))
+}
+
+/// Fewest points in a window for its covariance to say anything about the strip.
+const STRIP_MIN_POINTS: f64 = 12.0;
+
+/// Half-widths of a strip of scattered points from the local PCA of §3.1 (Eq. (2)): across a band
+/// of width `w` filled uniformly, the variance is `w^2 / 12`, so the half-width is
+/// `sqrt(3 lambda_min)`. The covariance is taken over windows of 3 x 3 square cells of side `c`
+/// around each point's cell, from per-cell moments, at `c = 2 Dis_ave, 4 Dis_ave, ...`; a point
+/// takes the first window at least twice as wide as the width it measures there (below that the
+/// window is filled and isotropic, and measures its own size). Linear in the number of points per
+/// scale, and the scales stop at the points' extent. Points that never get a window with
+/// [`STRIP_MIN_POINTS`] points in it keep `half_width`'s value, and so does every point unless
+/// the set is a strip at least [`WIDE_STRIP_RATIO`] times wider than the raster says.
+fn strip_half_widths(points: &[[f64; 2]], spacing: f64, half_width: &mut [f32]) {
+    let n = points.len();
+    let extent = points.iter().fold(0.0f64, |m, p| m.max(p[0]).max(p[1]));
+    let mut decided = vec![false; n];
+    let mut measured = vec![f32::NAN; n];
+    let mut cell = 2.0 * spacing;
+    let mut cells: Vec<(i64, i64)> = Vec::with_capacity(n);
+    while decided.iter().any(|d| !d) && cell <= 2.0 * extent.max(spacing) {
+        // Moments per cell: count, sum x, sum y, sum xx, sum xy, sum yy (relative to the cell's
+        // corner, so the sums stay small).
+        cells.clear();
+        cells.extend(
+            points
+                .iter()
+                .map(|p| ((p[0] / cell).floor() as i64, (p[1] / cell).floor() as i64)),
+        );
+        let mut moments: HashMap<(i64, i64), [f64; 6]> = HashMap::new();
+        for (p, &c) in points.iter().zip(&cells) {
+            let (x, y) = (p[0] - c.0 as f64 * cell, p[1] - c.1 as f64 * cell);
+            let m = moments.entry(c).or_insert([0.0; 6]);
+            m[0] += 1.0;
+            m[1] += x;
+            m[2] += y;
+            m[3] += x * x;
+            m[4] += x * y;
+            m[5] += y * y;
+        }
+        for i in 0..n {
+            if decided[i] {
+                continue;
+            }
+            let (cx, cy) = cells[i];
+            // The window's moments about the point's cell corner.
+            let mut w = [0.0f64; 6];
+            for dy in -1..=1i64 {
+                for dx in -1..=1i64 {
+                    if let Some(m) = moments.get(&(cx.saturating_add(dx), cy.saturating_add(dy))) {
+                        let (ox, oy) = (dx as f64 * cell, dy as f64 * cell);
+                        w[0] += m[0];
+                        w[1] += m[1] + ox * m[0];
+                        w[2] += m[2] + oy * m[0];
+                        w[3] += m[3] + 2.0 * ox * m[1] + ox * ox * m[0];
+                        w[4] += m[4] + ox * m[2] + oy * m[1] + ox * oy * m[0];
+                        w[5] += m[5] + 2.0 * oy * m[2] + oy * oy * m[0];
+                    }
+                }
+            }
+            if w[0] < STRIP_MIN_POINTS {
+                continue;
+            }
+            let (mx, my) = (w[1] / w[0], w[2] / w[0]);
+            let sxx = (w[3] / w[0] - mx * mx).max(0.0);
+            let sxy = w[4] / w[0] - mx * my;
+            let syy = (w[5] / w[0] - my * my).max(0.0);
+            // Smallest eigenvalue of the 2 x 2 covariance (Eq. (2)).
+            let half_trace = 0.5 * (sxx + syy);
+            let root = (0.25 * (sxx - syy) * (sxx - syy) + sxy * sxy).sqrt();
+            let lambda_min = (half_trace - root).max(0.0);
+            let half = (3.0 * lambda_min).sqrt();
+            if 3.0 * cell >= 4.0 * half {
+                decided[i] = true;
+                measured[i] = half as f32;
+            }
+        }
+        cell *= 2.0;
+    }
+    // One decision per set: the PCA widths replace the raster's only where the set is a strip
+    // much wider than its spacing (the raster's cells inside it are mostly empty, so its
+    // distances count one or two cells); a thin curve sampled at its spacing keeps the raster's.
+    let mut ratios: Vec<f32> = measured
+        .iter()
+        .zip(half_width.iter())
+        .filter(|(m, _)| m.is_finite())
+        .map(|(m, h)| m / h.max(f32::MIN_POSITIVE))
+        .collect();
+    if ratios.len() * 2 < n {
+        return;
+    }
+    let mid = ratios.len() / 2;
+    let (_, median, _) = ratios.select_nth_unstable_by(mid, f32::total_cmp);
+    if *median < WIDE_STRIP_RATIO {
+        return;
+    }
+    for (h, m) in half_width.iter_mut().zip(&measured) {
+        if m.is_finite() {
+            *h = h.max(*m);
+        }
+    }
+}
+
+/// How many times wider than the raster's half-widths the PCA's must be, at the median point, for
+/// a set to be read as a wide strip of scattered points.
+const WIDE_STRIP_RATIO: f32 = 2.0;
 
 /// The larger side of the points' bounding box (from the origin), in cells of side `spacing`.
 fn extent_cells(points: &[[f64; 2]], spacing: f64) -> f64 {

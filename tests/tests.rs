@@ -9,5 +9,6 @@ mod inputs;
 mod pipeline;
 mod properties;
 mod score;
+mod strips;
 mod support;
 mod trust;

@@ -13,7 +13,9 @@
 //! benchmark), the Hershey fonts `scriptc`, `cursive`, `gothiceng`, `timesr` and `japanese`, the
 //! generated `cells`, `letters`, `zigzags`, `triples`, `arms`, and `hanzi` (characters of a real
 //! font, read from `../shared/data/hanzi` when present; skipped with a note when not;
-//! `--hanzi-every N` keeps every N-th character for a quicker run), then `real` (below). Without
+//! `--hanzi-every N` keeps every N-th character for a quicker run), `points` (strip-shaped point
+//! sets, the paper's own input, scored in units of the strip width: `points.rs`), then `real`
+//! (below). Without
 //! `--group` every group runs (about a minute and a half on two cores).
 //!
 //! When `../shared/data` (beside the crate root) holds real fingerprints and text, ridgeline also
@@ -30,6 +32,7 @@
 
 mod hanzi;
 mod pictures;
+mod points;
 mod thinning;
 
 use std::collections::HashMap;
@@ -77,9 +80,10 @@ fn parse_args() -> anyhow::Result<Args> {
                 let names: Vec<String> =
                     value()?.split(',').map(|g| g.trim().to_string()).collect();
                 for name in &names {
-                    if name != "real" && !all_groups().contains(&name.as_str()) {
+                    if name != "real" && name != "points" && !all_groups().contains(&name.as_str())
+                    {
                         bail!(
-                            "unknown group {name:?}; groups: {}, real",
+                            "unknown group {name:?}; groups: {}, points, real",
                             all_groups().join(", ")
                         );
                     }
@@ -97,7 +101,7 @@ fn parse_args() -> anyhow::Result<Args> {
             "--pictures" => args.pictures = Some(PathBuf::from(value()?)),
             "--verbose" | "-v" => args.verbose = true,
             "--help" | "-h" => {
-                println!("{USAGE}\ngroups: {}, real", all_groups().join(", "));
+                println!("{USAGE}\ngroups: {}, points, real", all_groups().join(", "));
                 std::process::exit(0);
             }
             other => bail!("unknown argument {other:?} (try --help)"),
@@ -468,6 +472,8 @@ struct Report {
     timings: Vec<GroupTiming>,
     truth_checks: Vec<TruthCheck>,
     cases: Vec<Outcome>,
+    /// The point-set group (`points`), scored in units of the strip width.
+    point_sets: Vec<points::PointOutcome>,
     real_images: Vec<RealImage>,
 }
 
@@ -507,6 +513,7 @@ fn main() -> anyhow::Result<()> {
         timings: Vec::new(),
         truth_checks: Vec::new(),
         cases: Vec::new(),
+        point_sets: Vec::new(),
         real_images: Vec::new(),
     };
     let mut any_case = false;
@@ -717,6 +724,14 @@ fn main() -> anyhow::Result<()> {
         report.best_baselines.push(best);
         report.timings.push(timing);
         report.cases.extend(outcomes);
+    }
+    let run_points = args
+        .groups
+        .as_ref()
+        .is_none_or(|g| g.iter().any(|n| n == "points"));
+    if run_points {
+        report.point_sets = points::run(args.case.as_deref(), args.verbose);
+        any_case |= !report.point_sets.is_empty();
     }
     let run_real = args
         .groups

@@ -16,6 +16,7 @@ mod hershey;
 mod prints;
 mod rng;
 mod shapes;
+mod strips;
 
 pub use crowded::{
     arm_cases, cell_cases, letter_cases, triple_cases, zigzag_cases, ARM_LENGTHS, CELL_SIZES,
@@ -29,6 +30,7 @@ pub use hershey::{
 pub use prints::{dense_print_cases, finger_area, print_cases, DENSE_PRINT_SIZE};
 pub use rng::SplitMix64;
 pub use shapes::hard_cases;
+pub use strips::{strip_cases, uniform_cloud, StripCase, StripCurve, STRIP_WIDTH};
 
 pub use ridgeline::draw::{render, Stroke};
 use ridgeline::Binary;

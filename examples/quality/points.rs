@@ -1,0 +1,306 @@
+//! The point-set group: unorganized strip-shaped point sets, the paper's own input (§3), generated
+//! by the test kit with known curves (`ridgeline_testkit::synth::strip_cases`) and traced with
+//! `ridgeline::trace_points`, by default and with `Params::paper()`.
+//!
+//! Scores are in units of the strip's own width `w` (the truth's local full width), so the scaled
+//! copies of a case score the same when the graph is the same, scaled:
+//! - junctions: predicted vertices of degree 3 or more, matched one to one to true junctions
+//!   within the case's largest width, their degree compared; ends (degree 1) alike;
+//! - components and independent cycles of the predicted graph;
+//! - exactly right: every true junction matched by one of the same degree, every true end matched,
+//!   none left over, components and cycles exact;
+//! - centerline F1 within a quarter of the local width (both curves sampled every `w / 20`);
+//! - mean distance of the predicted centerline to the truth, in local widths;
+//! - width: the median of the predicted widths over the median true width (1 is right).
+
+use std::time::Instant;
+
+use ridgeline::{Params, StrokeGraph};
+use ridgeline_testkit::synth::{strip_cases, StripCase};
+use serde::Serialize;
+
+/// One method on one point-set case.
+#[derive(Serialize)]
+pub struct PointOutcome {
+    case: String,
+    method: String,
+    time_ms: f64,
+    failure: Option<String>,
+    true_junctions: Vec<usize>,
+    predicted_junctions: Vec<usize>,
+    junctions_right: bool,
+    true_ends: usize,
+    predicted_ends: usize,
+    ends_right: bool,
+    components: [usize; 2],
+    cycles: [usize; 2],
+    exactly_right: bool,
+    f1: f64,
+    mean_distance_widths: f64,
+    width_ratio: f64,
+    warnings: Vec<String>,
+}
+
+/// The methods compared.
+const METHODS: [&str; 2] = ["ridgeline", "paper"];
+
+fn params(method: &str) -> Params {
+    match method {
+        "paper" => Params::paper(),
+        _ => Params::default(),
+    }
+}
+
+/// Runs the group (one case when `only` names it), prints its table and returns the outcomes.
+pub fn run(only: Option<&str>, verbose: bool) -> Vec<PointOutcome> {
+    let cases: Vec<StripCase> = strip_cases()
+        .into_iter()
+        .filter(|c| only.is_none_or(|n| n == c.name))
+        .collect();
+    if cases.is_empty() {
+        return Vec::new();
+    }
+    let started = Instant::now();
+    let mut outcomes = Vec::new();
+    for case in &cases {
+        for method in METHODS {
+            outcomes.push(run_one(case, method));
+        }
+    }
+    println!("\n## points ({} cases)\n", cases.len());
+    println!(
+        "Random points in strips around known curves (band 8 units wide unless named); scores in \
+         units of the local width w.\n"
+    );
+    println!(
+        "| method | exactly right | junctions right | ends right | components | cycles | F1 @ w/4 | mean dist / w | width ratio | mean time ms | warned |"
+    );
+    println!("|---|---|---|---|---|---|---|---|---|---|---|");
+    for method in METHODS {
+        let mine: Vec<&PointOutcome> = outcomes.iter().filter(|o| o.method == method).collect();
+        let n = mine.len();
+        let count = |f: &dyn Fn(&PointOutcome) -> bool| mine.iter().filter(|o| f(o)).count();
+        let mean = |f: &dyn Fn(&PointOutcome) -> f64| {
+            let v: Vec<f64> = mine
+                .iter()
+                .filter(|o| o.failure.is_none())
+                .map(|o| f(o))
+                .filter(|x| x.is_finite())
+                .collect();
+            v.iter().sum::<f64>() / v.len().max(1) as f64
+        };
+        println!(
+            "| {method} | {}/{n} | {}/{n} | {}/{n} | {}/{n} | {}/{n} | {:.3} | {:.3} | {:.2} | {:.1} | {}/{n} |",
+            count(&|o| o.exactly_right),
+            count(&|o| o.junctions_right),
+            count(&|o| o.ends_right),
+            count(&|o| o.components[0] == o.components[1]),
+            count(&|o| o.cycles[0] == o.cycles[1]),
+            mean(&|o| o.f1),
+            mean(&|o| o.mean_distance_widths),
+            mean(&|o| o.width_ratio),
+            mean(&|o| o.time_ms),
+            count(&|o| !o.warnings.is_empty()),
+        );
+    }
+    if verbose {
+        println!(
+            "\n| case | method | exact | junctions (true / predicted degrees) | ends t/p | comp t/p | cycles t/p | F1 | dist/w | width | ms | warnings |"
+        );
+        println!("|---|---|---|---|---|---|---|---|---|---|---|---|");
+        for o in &outcomes {
+            if let Some(f) = &o.failure {
+                println!("| {} | {} | failed: {f} |", o.case, o.method);
+                continue;
+            }
+            let degrees = |d: &[usize]| {
+                if d.len() > 6 {
+                    format!("{} junctions", d.len())
+                } else {
+                    format!("{d:?}")
+                }
+            };
+            println!(
+                "| {} | {} | {} | {} / {} | {}/{} | {}/{} | {}/{} | {:.3} | {:.3} | {:.2} | {:.1} | {} |",
+                o.case,
+                o.method,
+                if o.exactly_right { "yes" } else { "no" },
+                degrees(&o.true_junctions),
+                degrees(&o.predicted_junctions),
+                o.true_ends,
+                o.predicted_ends,
+                o.components[0],
+                o.components[1],
+                o.cycles[0],
+                o.cycles[1],
+                o.f1,
+                o.mean_distance_widths,
+                o.width_ratio,
+                o.time_ms,
+                o.warnings.join(" "),
+            );
+        }
+    }
+    println!("\npoints: {:.1} s", started.elapsed().as_secs_f64());
+    outcomes
+}
+
+fn run_one(case: &StripCase, method: &str) -> PointOutcome {
+    let start = Instant::now();
+    let result = ridgeline::trace_points(&case.points, &params(method));
+    let time_ms = start.elapsed().as_secs_f64() * 1e3;
+    let mut outcome = PointOutcome {
+        case: case.name.clone(),
+        method: method.to_string(),
+        time_ms,
+        failure: None,
+        true_junctions: case.junctions.iter().map(|j| j.1).collect(),
+        predicted_junctions: Vec::new(),
+        junctions_right: false,
+        true_ends: case.ends.len(),
+        predicted_ends: 0,
+        ends_right: false,
+        components: [case.components, 0],
+        cycles: [case.cycles, 0],
+        exactly_right: false,
+        f1: 0.0,
+        mean_distance_widths: f64::NAN,
+        width_ratio: f64::NAN,
+        warnings: Vec::new(),
+    };
+    match result {
+        Err(e) => outcome.failure = Some(e.to_string()),
+        Ok(trace) => {
+            outcome.warnings = trace.warnings.iter().map(|w| w.code.to_string()).collect();
+            score(case, &trace.graph, &mut outcome);
+        }
+    }
+    outcome
+}
+
+/// A centerline sampled every `step`: positions, and for the truth the local width.
+fn resample(points: &[[f64; 2]], widths: &[f64], step: f64, out: &mut Vec<([f64; 2], f64)>) {
+    for i in 1..points.len() {
+        let (a, b) = (points[i - 1], points[i]);
+        let length = ridgeline::dist(a, b);
+        let n = (length / step).ceil().max(1.0) as usize;
+        for k in 0..n {
+            let t = k as f64 / n as f64;
+            let w = widths.get(i - 1).copied().unwrap_or(0.0) * (1.0 - t)
+                + widths.get(i).copied().unwrap_or(0.0) * t;
+            out.push(([a[0] + (b[0] - a[0]) * t, a[1] + (b[1] - a[1]) * t], w));
+        }
+    }
+    if let Some(&last) = points.last() {
+        out.push((last, widths.last().copied().unwrap_or(0.0)));
+    }
+}
+
+/// Index of the nearest of `targets` to `p` and its distance (brute force; the sets are small).
+fn nearest(p: [f64; 2], targets: &[([f64; 2], f64)]) -> (usize, f64) {
+    let mut best = (0, f64::INFINITY);
+    for (i, t) in targets.iter().enumerate() {
+        let d = ridgeline::dist(p, t.0);
+        if d < best.1 {
+            best = (i, d);
+        }
+    }
+    best
+}
+
+/// Matches `predicted` to `truth` one to one within `radius`, closest pairs first; returns the
+/// pairs (truth index, predicted index).
+fn match_points(truth: &[[f64; 2]], predicted: &[[f64; 2]], radius: f64) -> Vec<(usize, usize)> {
+    let mut pairs: Vec<(f64, usize, usize)> = Vec::new();
+    for (i, t) in truth.iter().enumerate() {
+        for (j, p) in predicted.iter().enumerate() {
+            let d = ridgeline::dist(*t, *p);
+            if d <= radius {
+                pairs.push((d, i, j));
+            }
+        }
+    }
+    pairs.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let (mut used_t, mut used_p) = (vec![false; truth.len()], vec![false; predicted.len()]);
+    let mut matched = Vec::new();
+    for (_, i, j) in pairs {
+        if !used_t[i] && !used_p[j] {
+            used_t[i] = true;
+            used_p[j] = true;
+            matched.push((i, j));
+        }
+    }
+    matched
+}
+
+fn score(case: &StripCase, graph: &StrokeGraph, o: &mut PointOutcome) {
+    let radius = case
+        .curves
+        .iter()
+        .flat_map(|c| c.widths.iter().copied())
+        .fold(case.width, f64::max);
+    // Junctions.
+    let junctions: Vec<usize> = graph.junctions().collect();
+    let predicted: Vec<[f64; 2]> = junctions.iter().map(|&v| graph.vertices[v].pos).collect();
+    let truth: Vec<[f64; 2]> = case.junctions.iter().map(|j| j.0).collect();
+    let matched = match_points(&truth, &predicted, radius);
+    o.predicted_junctions = junctions
+        .iter()
+        .map(|&v| graph.vertices[v].degree)
+        .collect();
+    o.junctions_right = matched.len() == truth.len()
+        && predicted.len() == truth.len()
+        && matched
+            .iter()
+            .all(|&(i, j)| case.junctions[i].1 == graph.vertices[junctions[j]].degree);
+    // Ends.
+    let ends: Vec<[f64; 2]> = graph.endpoints().map(|v| graph.vertices[v].pos).collect();
+    o.predicted_ends = ends.len();
+    let matched = match_points(&case.ends, &ends, radius);
+    o.ends_right = matched.len() == case.ends.len() && ends.len() == case.ends.len();
+    o.components[1] = graph.components();
+    o.cycles[1] = graph.cycles();
+    o.exactly_right = o.junctions_right
+        && o.ends_right
+        && o.components[0] == o.components[1]
+        && o.cycles[0] == o.cycles[1];
+    // Centerlines.
+    let step = case.width / 20.0;
+    let mut truth_samples = Vec::new();
+    for c in &case.curves {
+        resample(&c.points, &c.widths, step, &mut truth_samples);
+    }
+    let mut predicted_samples = Vec::new();
+    for e in &graph.edges {
+        resample(&e.points, &e.widths, step, &mut predicted_samples);
+    }
+    if predicted_samples.is_empty() {
+        return;
+    }
+    let mut close = 0;
+    let mut distance = 0.0;
+    let mut ratios = Vec::new();
+    for &(p, w) in &predicted_samples {
+        let (i, d) = nearest(p, &truth_samples);
+        let local = truth_samples[i].1;
+        if d <= 0.25 * local {
+            close += 1;
+            ratios.push(w / local);
+        }
+        distance += d / local;
+    }
+    let precision = close as f64 / predicted_samples.len() as f64;
+    let found = truth_samples
+        .iter()
+        .filter(|&&(t, w)| nearest(t, &predicted_samples).1 <= 0.25 * w)
+        .count();
+    let recall = found as f64 / truth_samples.len().max(1) as f64;
+    o.f1 = if precision + recall > 0.0 {
+        2.0 * precision * recall / (precision + recall)
+    } else {
+        0.0
+    };
+    o.mean_distance_widths = distance / predicted_samples.len() as f64;
+    ratios.sort_by(f64::total_cmp);
+    o.width_ratio = ratios.get(ratios.len() / 2).copied().unwrap_or(f64::NAN);
+}

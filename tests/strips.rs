@@ -1,0 +1,76 @@
+//! Strip-shaped point sets, the paper's own input (§3): random points in bands several units wide
+//! around known curves (`ridgeline_testkit::synth::strip_cases`), not thin curves.
+
+use ridgeline::{Params, StrokeGraph};
+use ridgeline_testkit::synth::{strip_cases, StripCase};
+
+fn case(name: &str) -> StripCase {
+    strip_cases()
+        .into_iter()
+        .find(|c| c.name == name)
+        .unwrap_or_else(|| panic!("no strip case {name}"))
+}
+
+fn median_width(graph: &StrokeGraph) -> f64 {
+    let mut widths: Vec<f64> = graph
+        .edges
+        .iter()
+        .flat_map(|e| e.widths.iter().copied())
+        .collect();
+    assert!(!widths.is_empty(), "no edge");
+    widths.sort_by(f64::total_cmp);
+    widths[widths.len() / 2]
+}
+
+/// §3.1: the local width of a band of random points is read from its PCA, in the band's units.
+#[test]
+fn strip_width_within_ten_percent_of_the_truth() {
+    for name in ["line", "circle", "sine", "spiral"] {
+        let c = case(name);
+        let trace = ridgeline::trace_points(&c.points, &Params::default()).expect("trace");
+        let w = median_width(&trace.graph);
+        assert!(
+            (w / c.width - 1.0).abs() <= 0.1,
+            "{name}: width {w} against {}",
+            c.width
+        );
+    }
+}
+
+/// A line and a circle of random points in a band 8 units wide: one stroke with two ends, one
+/// loop, by default.
+#[test]
+fn wide_strips_give_their_curves_by_default() {
+    let line = ridgeline::trace_points(&case("line").points, &Params::default()).expect("line");
+    let g = &line.graph;
+    assert_eq!(g.junctions().count(), 0, "line: junctions");
+    assert_eq!(g.endpoints().count(), 2, "line: ends");
+    assert_eq!(g.components(), 1);
+    let circle =
+        ridgeline::trace_points(&case("circle").points, &Params::default()).expect("circle");
+    let g = &circle.graph;
+    assert_eq!(g.junctions().count(), 0, "circle: junctions");
+    assert_eq!(g.endpoints().count(), 0, "circle: ends");
+    assert_eq!(g.cycles(), 1);
+}
+
+/// The result does not depend on the unit: the same set scaled by 1/1024 and by 1024 (powers of
+/// two, exact) gives the same graph, scaled.
+#[test]
+fn scaled_strips_give_the_same_graph_scaled() {
+    let c = case("cross45");
+    let base = ridgeline::trace_points(&c.points, &Params::default()).expect("base");
+    for factor in [1.0 / 1024.0, 1024.0] {
+        let scaled = c.scaled("scaled", factor);
+        let trace = ridgeline::trace_points(&scaled.points, &Params::default()).expect("scaled");
+        let (a, b) = (&base.graph, &trace.graph);
+        assert_eq!(a.vertices.len(), b.vertices.len(), "x{factor}");
+        assert_eq!(a.edges.len(), b.edges.len(), "x{factor}");
+        for (u, v) in a.vertices.iter().zip(&b.vertices) {
+            assert_eq!(u.degree, v.degree);
+            let d = ridgeline::dist([u.pos[0] * factor, u.pos[1] * factor], v.pos);
+            assert!(d <= 1e-9 * factor.max(1.0) * 1e3, "x{factor}: {u:?} {v:?}");
+            assert!((u.width * factor - v.width).abs() <= 1e-6 * factor * u.width.max(1.0));
+        }
+    }
+}

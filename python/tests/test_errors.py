@@ -37,7 +37,7 @@ def test_bad_parameters_are_value_errors_naming_the_field(keywords, field, messa
 
 
 def test_limits_raise_limit_error_with_the_keyword_to_raise_them():
-    with pytest.raises(ridgeline.LimitError, match="points exceeds the limit") as caught:
+    with pytest.raises(ridgeline.LimitError, match="points: .*, over the limit of") as caught:
         ridgeline.trace(T, limits={"max_points": 100})
     err = caught.value
     assert err.field == "limits.max_points" and err.limit == 100 and err.actual > 100

@@ -20,7 +20,7 @@ mod valleys;
 
 pub(crate) use binarize::binarize_deciding;
 pub(crate) use chunks::pixel_chunks;
-pub use decode::{decode_file, Page, Pages, Picture, Transparency};
+pub use decode::{decode_file, gray_from_unit_pixels, Page, Pages, Picture, Transparency};
 pub(crate) use dropout::split as split_dropout;
 pub(crate) use evidence::chords;
 pub use grounds::Ground;

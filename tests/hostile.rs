@@ -425,13 +425,21 @@ fn limit_flags_are_obeyed_with_a_clear_message() {
         (
             "--max-pixels",
             "1000",
-            &["image pixels", "4800 > 1000", "--max-pixels"][..],
+            &["image pixels: 4800, over the limit of 1000", "--max-pixels"][..],
         ),
-        ("--max-side", "64", &["image side", "80 > 64", "--max-side"]),
+        (
+            "--max-side",
+            "64",
+            &["image side: 80, over the limit of 64", "--max-side"],
+        ),
         (
             "--max-points",
             "50",
-            &["foreground points", "> 50", "--max-points"],
+            &[
+                "foreground points: ",
+                ", over the limit of 50",
+                "--max-points",
+            ],
         ),
     ] {
         let output = ridgeline(&["page.png", flag, value], dir.path());

@@ -994,7 +994,11 @@ fn run_with(cli: &Cli) -> Result<ExitCode> {
             Outcome::NotStarted => not_started.push(job),
             Outcome::Skipped(reason) => {
                 skipped += 1;
-                warnings.push(format!("{}: skipped, {reason}", job.input.display()));
+                warnings.push(format!(
+                    "{}: skipped, {}",
+                    job.input.display(),
+                    NotAPointList(reason)
+                ));
             }
             Outcome::Traced(result) => {
                 warnings.extend(

@@ -11,7 +11,7 @@ import ridgeline
 import support
 from support import run_cli
 
-PAGE = support.draw_page(300, 220, seed=5)
+PAGE = support.draw_page(420, 300, seed=5)
 INK = PAGE < 128
 
 
@@ -62,7 +62,7 @@ def test_arrays_trace_as_the_same_pixels_saved_as_png(tmp_path, name, pixels):
     expected = _cli_json(tmp_path, pixels)
     result = ridgeline.trace(pixels, source_path="page.png")
     assert result.to_json() == expected, name
-    assert result.stats["edges"] > 20
+    assert result.stats["edges"] > 15
     # Converted once into the gray image traced (and drawn under the SVG's centerlines).
     assert result._input_copied is True
     assert "<image" in result.to_svg()
@@ -113,7 +113,7 @@ def test_pillow_images_are_read_through_the_array_interface():
     shown = np.asarray(palette.convert("RGB"))
     traced = ridgeline.trace(palette)
     assert traced.to_json() == ridgeline.trace(shown).to_json()
-    assert traced.stats["edges"] > 20
+    assert traced.stats["edges"] > 15
 
 
 def test_other_objects_with_the_array_interface():
@@ -126,13 +126,13 @@ def test_other_objects_with_the_array_interface():
 
 
 REFUSED = [
-    ("float above 1", PAGE.astype(np.float64), ValueError, r"\[0, 1\].*from 0\.0 to 255\.0"),
+    ("float above 1", PAGE.astype(np.float64), ValueError, r"\[0, 1\], this one from 0 to 255"),
     ("negative float", PAGE / 255.0 - 0.5, ValueError, r"\[0, 1\]"),
     ("NaN", np.where(INK, np.nan, 1.0), ValueError, r"NaN \(first at row \d+, column \d+\)"),
     ("int32", PAGE.astype(np.int32), TypeError, "uint8.*uint16.*float32.*got dtype int32"),
     ("int64 RGB", RGB8.astype(np.int64), TypeError, "got dtype int64"),
     ("complex", PAGE.astype(np.complex64), TypeError, "got dtype complex64"),
-    ("five channels", np.zeros((10, 10, 5), np.uint8), ValueError, r"1-4 channels.*\(10, 10, 5\)"),
+    ("five channels", np.zeros((10, 10, 5), np.uint8), ValueError, r"1-4 channels.*\[10, 10, 5\]"),
     ("1-D", np.zeros(10, np.uint8), ValueError, r"got shape \[10\]"),
 ]
 

@@ -82,9 +82,9 @@ def test_a_missing_file_is_file_not_found_with_its_name(tmp_path):
 @pytest.mark.parametrize(
     "image,error,message",
     [
-        (np.zeros((10, 10), np.float32), TypeError, "got dtype float32"),
-        (np.zeros((10, 10, 3), np.uint8), ValueError, "expected a 2-D array"),
-        (np.zeros(10, np.uint8), ValueError, "expected a 2-D array"),
+        (np.zeros((10, 10), np.int32), TypeError, "got dtype int32"),
+        (np.zeros((10, 10, 5), np.uint8), ValueError, "expected an image array"),
+        (np.zeros(10, np.uint8), ValueError, "expected an image array"),
         (12, TypeError, "got int"),
         ([[0, 255]], TypeError, "got list"),
     ],

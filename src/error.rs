@@ -20,7 +20,9 @@ pub enum Error {
     #[error("cannot decode image: {0}")]
     Decode(String),
     /// The image or point set is larger than the configured limits allow.
-    #[error("{what} exceeds the limit ({actual} > {limit}); raise it with {flag} if the input is trusted")]
+    #[error(
+        "{what}: {actual}, over the limit of {limit}; raise it with {flag} if the input is trusted"
+    )]
     Limit {
         /// What was measured ("image pixels", "points", …).
         what: &'static str,

@@ -872,3 +872,126 @@ fn fingerprint_minutiae_as_json_xyt_and_iso_records() {
             .expect("parses");
     assert_eq!(debug["minutiae"], json["minutiae"]);
 }
+
+#[test]
+fn text_files_among_the_scans_are_skipped_unless_they_are_point_lists() {
+    let dir = temp_dir();
+    let scans = dir.path().join("scans");
+    fs::create_dir(&scans).expect("mkdir");
+    write_strokes_png(&scans.join("a.png"));
+    fs::write(
+        scans.join("README.txt"),
+        "Scans of the 1766 print, page 3\nby hand\n",
+    )
+    .expect("write");
+    fs::write(scans.join("title.txt"), "Scans\n").expect("write");
+    fs::write(scans.join("line.xy"), "0 0\n10 0\n20 0\n30 0\n40 0\n").expect("write");
+    let output = ridgeline(&["scans", "-o", "out", "-f", "json"], dir.path());
+    let err = stderr(&output);
+    assert!(output.status.success(), "{err}");
+    let out = dir.path().join("out");
+    assert_eq!(entries(&out), [out.join("a.json"), out.join("line.json")]);
+    assert!(
+        err.contains("README.txt: skipped, not a point list")
+            && err.contains("line 1: expected 2 numbers")
+            && err.contains("title.txt: skipped, not a point list: no points in it"),
+        "{err}"
+    );
+    assert!(err.contains("traced 2 of 2 inputs"), "{err}");
+    assert!(!err.contains("error"), "{err}");
+
+    // Named on the command line, the same file is a point list that fails.
+    let output = ridgeline(&["scans/README.txt", "-o", "readme.svg"], dir.path());
+    assert_eq!(output.status.code(), Some(1), "{}", stderr(&output));
+    assert!(stderr(&output).starts_with("error: scans/README.txt: "));
+    assert!(!dir.path().join("readme.svg").exists());
+
+    // A folder of text alone has nothing to trace.
+    let notes = dir.path().join("notes");
+    fs::create_dir(&notes).expect("mkdir");
+    fs::write(notes.join("README.txt"), "nothing here\n").expect("write");
+    let output = ridgeline(&["notes", "-o", "out2"], dir.path());
+    assert_eq!(output.status.code(), Some(1), "{}", stderr(&output));
+    assert!(
+        stderr(&output).contains("nothing to trace"),
+        "{}",
+        stderr(&output)
+    );
+}
+
+#[test]
+fn a_closed_stdout_ends_quietly() {
+    use std::process::{Command, Stdio};
+    let dir = temp_dir();
+    write_strokes_png(&dir.path().join("page.png"));
+    for _ in 0..3 {
+        let mut child = Command::new(env!("CARGO_BIN_EXE_ridgeline"))
+            .args(["page.png", "-o", "-"])
+            .current_dir(dir.path())
+            .stdout(Stdio::piped())
+            .stderr(Stdio::piped())
+            .spawn()
+            .expect("run ridgeline");
+        // The reader goes away before anything is written (`| head -c 0`).
+        drop(child.stdout.take());
+        let output = child.wait_with_output().expect("wait");
+        let err = stderr(&output);
+        assert!(output.status.success(), "{err}");
+        assert!(err.is_empty(), "no error line, nothing else: {err}");
+    }
+}
+
+#[cfg(unix)]
+#[test]
+fn ctrl_c_says_what_was_finished_and_keeps_it() {
+    use std::process::{Command, Stdio};
+    use std::time::{Duration, Instant};
+    let dir = temp_dir();
+    let scans = dir.path().join("scans");
+    fs::create_dir(&scans).expect("mkdir");
+    write_strokes_png(&scans.join("p000.png"));
+    const FILES: usize = 400;
+    for i in 1..FILES {
+        fs::copy(scans.join("p000.png"), scans.join(format!("p{i:03}.png"))).expect("copy");
+    }
+    let out = dir.path().join("out");
+    let child = Command::new(env!("CARGO_BIN_EXE_ridgeline"))
+        .args(["scans", "-o", "out", "--jobs", "1"])
+        .current_dir(dir.path())
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("run ridgeline");
+    let started = Instant::now();
+    while !out.join("p000.svg").exists() {
+        assert!(started.elapsed() < Duration::from_secs(60), "no output");
+        std::thread::sleep(Duration::from_millis(1));
+    }
+    let sent = Command::new("kill")
+        .args(["-INT", &child.id().to_string()])
+        .status()
+        .expect("kill");
+    assert!(sent.success());
+    let output = child.wait_with_output().expect("wait");
+    let err = stderr(&output);
+    assert_eq!(output.status.code(), Some(130), "{err}");
+    let written = entries(&out);
+    let finished = written.len();
+    assert!((1..FILES).contains(&finished), "{finished} written: {err}");
+    assert!(
+        err.contains(&format!(
+            "interrupted after {finished} of {FILES} files; finished outputs kept; not traced: \
+             scans/p{finished:03}.png"
+        )),
+        "{err}"
+    );
+    assert!(
+        err.contains(&format!("and {} more", FILES - finished - 5)),
+        "{err}"
+    );
+    // Every output is whole: no temporary file, every SVG complete.
+    for path in &written {
+        let text = fs::read_to_string(path).expect("read");
+        assert!(text.trim_end().ends_with("</svg>"), "{}", path.display());
+    }
+}

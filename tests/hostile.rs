@@ -201,7 +201,14 @@ fn broken_inputs() -> Vec<(&'static str, Vec<u8>, &'static [&'static str])> {
             b"%PDF-1.4\n1 0 obj\n<< >>\nendobj\n".to_vec(),
             &["not a recognized image format"],
         ),
-        ("bomb.png", bomb_png(), &["10000000000", "--max-pixels"]),
+        (
+            "bomb.png",
+            bomb_png(),
+            &[
+                "image pixels: 10000000000, over the limit of 100000000",
+                "--max-pixels",
+            ],
+        ),
         (
             "nan.txt",
             b"x y\n1 2\nNaN 3\n".to_vec(),
@@ -418,13 +425,21 @@ fn limit_flags_are_obeyed_with_a_clear_message() {
         (
             "--max-pixels",
             "1000",
-            &["image pixels", "4800 > 1000", "--max-pixels"][..],
+            &["image pixels: 4800, over the limit of 1000", "--max-pixels"][..],
         ),
-        ("--max-side", "64", &["image side", "80 > 64", "--max-side"]),
+        (
+            "--max-side",
+            "64",
+            &["image side: 80, over the limit of 64", "--max-side"],
+        ),
         (
             "--max-points",
             "50",
-            &["foreground points", "> 50", "--max-points"],
+            &[
+                "foreground points: ",
+                ", over the limit of 50",
+                "--max-points",
+            ],
         ),
     ] {
         let output = ridgeline(&["page.png", flag, value], dir.path());
@@ -636,29 +651,40 @@ fn empty_and_tiny_point_lists() {
         );
     }
 
-    // The binary: an empty list is a warning, like a blank page; 1 and 2 points trace.
+    // The binary: an empty or header-only list is an error (no empty drawing written); 1 and 2
+    // points trace.
     let dir = temp_dir();
     for (name, text) in [
         ("empty.xy", ""),
         ("header.csv", "x,y\n"),
+        ("comments.txt", "# nothing yet\n\n"),
         ("one.xy", "3 4\n"),
         ("two.xy", "0 0\n4 0\n"),
     ] {
         fs::write(dir.path().join(name), text).expect("write");
         let output = ridgeline(&[name, "-f", "json", "-o", "-"], dir.path());
         let err = stderr(&output);
-        assert!(output.status.success(), "{name}: {err}");
-        let value: serde_json::Value = serde_json::from_slice(&output.stdout).expect("JSON");
         if text.contains(|c: char| c.is_ascii_digit()) {
+            assert!(output.status.success(), "{name}: {err}");
+            let value: serde_json::Value = serde_json::from_slice(&output.stdout).expect("JSON");
             assert_eq!(value["stats"]["components"], 1, "{name}");
         } else {
+            assert_eq!(output.status.code(), Some(1), "{name}: {err}");
             assert!(
-                err.contains("warning") && err.contains("no points"),
+                err.starts_with("error: ") && err.contains(name) && err.contains("no points"),
                 "{name}: {err}"
             );
-            assert_eq!(value["stats"]["vertices"], 0, "{name}");
+            assert!(output.stdout.is_empty(), "{name}: nothing written");
         }
     }
+    // In a batch, the same file fails and the others are written.
+    let output = ridgeline(&["header.csv", "one.xy", "-o", "out/"], dir.path());
+    assert_eq!(output.status.code(), Some(1), "{}", stderr(&output));
+    assert!(stderr(&output).contains("header.csv: the point list has no points"));
+    assert_eq!(
+        entries(&dir.path().join("out")),
+        [dir.path().join("out/one.svg")]
+    );
 }
 
 #[test]

@@ -13,6 +13,7 @@ use std::io::{IsTerminal, Read, Write};
 use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::path::{Component, Path, PathBuf};
 use std::process::ExitCode;
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
 
 use anyhow::{Context, Result};
@@ -737,6 +738,10 @@ enum Kind {
     PointList,
     /// Standard input (`-`): an image when the bytes start like one, else a point list.
     Stdin,
+    /// A file with a point-list extension found in a walked directory: a point list when it
+    /// parses as one with at least one point, else skipped with a warning (a `README.txt` among
+    /// the scans).
+    FoundText,
 }
 
 /// One input file, as found on the command line or in a walked directory.
@@ -960,7 +965,10 @@ fn run_with(cli: &Cli) -> Result<ExitCode> {
         pool = pool.num_threads(usize::from(threads));
     }
     let pool = pool.build().context("cannot start the worker threads")?;
-    let outcomes: Vec<Result<Traced, String>> = pool.install(|| {
+    if jobs.len() > 1 {
+        handle_interrupts(cli.quiet);
+    }
+    let outcomes: Vec<Outcome> = pool.install(|| {
         jobs.par_iter()
             .map(|job| {
                 let outcome = run_job(job, &settings);
@@ -978,9 +986,21 @@ fn run_with(cli: &Cli) -> Result<ExitCode> {
     // Reported in input order after the run, so that the messages are as deterministic as the
     // outputs, whatever the thread count.
     let mut traced = Vec::new();
+    let mut skipped = 0;
+    let mut not_started = Vec::new();
     for (job, outcome) in jobs.iter().zip(outcomes) {
         match outcome {
-            Ok(result) => {
+            Outcome::StdoutClosed => return Ok(ExitCode::SUCCESS),
+            Outcome::NotStarted => not_started.push(job),
+            Outcome::Skipped(reason) => {
+                skipped += 1;
+                warnings.push(format!(
+                    "{}: skipped, {}",
+                    job.input.display(),
+                    NotAPointList(reason)
+                ));
+            }
+            Outcome::Traced(result) => {
                 warnings.extend(
                     result
                         .warnings
@@ -989,7 +1009,7 @@ fn run_with(cli: &Cli) -> Result<ExitCode> {
                 );
                 traced.push((job, result));
             }
-            Err(message) => failures.push(Failure {
+            Outcome::Failed(message) => failures.push(Failure {
                 input: job.input.clone(),
                 message,
             }),
@@ -1000,7 +1020,26 @@ fn run_with(cli: &Cli) -> Result<ExitCode> {
             eprintln!("warning: {warning}");
         }
     }
-    let total = jobs.len() + unreadable_inputs;
+    let total = jobs.len() + unreadable_inputs - skipped;
+    if !not_started.is_empty() {
+        let finished = traced.len() + failures.len() - unreadable_inputs;
+        let failed = match failures.len() {
+            0 => String::new(),
+            n => format!(" ({n} failed)"),
+        };
+        eprintln!(
+            "interrupted after {finished} of {} files{failed}; finished outputs kept; not traced: {}",
+            jobs.len() - skipped,
+            listed(not_started.iter().map(|job| job.input.display().to_string()))
+        );
+        for failure in &failures {
+            eprintln!("  {}: {}", failure.input.display(), failure.message);
+        }
+        return Ok(ExitCode::from(INTERRUPTED_STATUS as u8));
+    }
+    if total == 0 {
+        anyhow::bail!("nothing to trace: every file found was skipped");
+    }
     if total <= 1 {
         if let Some(failure) = failures.first() {
             eprintln!("error: {}: {}", failure.input.display(), failure.message);
@@ -1043,6 +1082,17 @@ fn run_with(cli: &Cli) -> Result<ExitCode> {
     } else {
         ExitCode::FAILURE
     })
+}
+
+/// The first few of `names` and how many more there are.
+fn listed(names: impl ExactSizeIterator<Item = String>) -> String {
+    const SHOWN: usize = 5;
+    let count = names.len();
+    let mut shown: Vec<String> = names.take(SHOWN).collect();
+    if count > SHOWN {
+        shown.push(format!("and {} more", count - SHOWN));
+    }
+    shown.join(", ")
 }
 
 /// "12 vertices, 14 edges, 3 junctions".
@@ -1244,7 +1294,7 @@ fn collect_inputs(
         }
         for path in found {
             let kind = if extension_is(&path, POINT_LIST_EXTENSIONS) {
-                Kind::PointList
+                Kind::FoundText
             } else {
                 Kind::Image
             };
@@ -1577,20 +1627,81 @@ fn with_extension_added(base: PathBuf, extension: &str) -> PathBuf {
 
 /// Runs one job; a panic inside the library becomes this file's failure instead of ending the
 /// batch. Returns what the job gave, or the message of its failure.
-fn run_job(job: &Job, settings: &Settings) -> Result<Traced, String> {
+fn run_job(job: &Job, settings: &Settings) -> Outcome {
+    if INTERRUPTED.load(Ordering::SeqCst) {
+        return Outcome::NotStarted;
+    }
     match catch_unwind(AssertUnwindSafe(|| trace_and_write(job, settings))) {
-        Ok(Ok(traced)) => Ok(traced),
-        Ok(Err(err)) => Err(format!("{err:#}")),
+        Ok(Ok(traced)) => Outcome::Traced(traced),
+        Ok(Err(err)) => {
+            if let Some(NotAPointList(reason)) = err.downcast_ref::<NotAPointList>() {
+                return Outcome::Skipped(reason.clone());
+            }
+            let closed = err.chain().any(|cause| {
+                cause
+                    .downcast_ref::<std::io::Error>()
+                    .is_some_and(|io| io.kind() == std::io::ErrorKind::BrokenPipe)
+            });
+            if closed && job.destination == Destination::Stdout {
+                return Outcome::StdoutClosed;
+            }
+            Outcome::Failed(format!("{err:#}"))
+        }
         Err(panic) => {
             let message = panic
                 .downcast_ref::<&str>()
                 .map(|s| s.to_string())
                 .or_else(|| panic.downcast_ref::<String>().cloned())
                 .unwrap_or_default();
-            Err(format!("internal error, please report it: {message}"))
+            Outcome::Failed(format!("internal error, please report it: {message}"))
         }
     }
 }
+
+/// What became of one job.
+enum Outcome {
+    Traced(Traced),
+    /// A text file found in a directory that is no point list (see [`Kind::FoundText`]).
+    Skipped(String),
+    Failed(String),
+    /// Ctrl-C came before the job started.
+    NotStarted,
+    /// The reader of standard output closed it (`ridgeline in.png -o - | head`): nothing more
+    /// to say to anyone.
+    StdoutClosed,
+}
+
+/// Why a [`Kind::FoundText`] file is not a point list.
+#[derive(Debug)]
+struct NotAPointList(String);
+
+impl fmt::Display for NotAPointList {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "not a point list: {}", self.0)
+    }
+}
+
+impl std::error::Error for NotAPointList {}
+
+/// Set by the first Ctrl-C of a batch: files not yet started are left alone.
+static INTERRUPTED: AtomicBool = AtomicBool::new(false);
+
+/// From the first Ctrl-C on, a batch starts no more files and finishes those being traced (each
+/// output is written whole or not at all); the second ends the process at once. Without a
+/// handler (it could not be installed) Ctrl-C ends the process as usual.
+fn handle_interrupts(quiet: bool) {
+    let _ = ctrlc::set_handler(move || {
+        if INTERRUPTED.swap(true, Ordering::SeqCst) {
+            std::process::exit(INTERRUPTED_STATUS);
+        }
+        if !quiet {
+            eprintln!("interrupted: finishing the files being traced (Ctrl-C again to stop now)");
+        }
+    });
+}
+
+/// The status of a process ended by Ctrl-C (128 + SIGINT), as shells report it.
+const INTERRUPTED_STATUS: i32 = 130;
 
 /// Reads all of standard input, refusing more than [`MAX_STDIN_BYTES`].
 fn read_stdin() -> Result<Vec<u8>> {
@@ -1623,35 +1734,50 @@ fn trace_and_write(job: &Job, settings: &Settings) -> Result<Traced> {
     let params = &settings.params;
     let stdin = match job.kind {
         Kind::Stdin => Some(read_stdin()?),
-        Kind::Image | Kind::PointList => None,
+        Kind::Image | Kind::PointList | Kind::FoundText => None,
     };
     let kind = match &stdin {
         Some(bytes) => sniff(bytes),
         None => job.kind,
     };
-    if kind == Kind::PointList {
+    if kind == Kind::FoundText || kind == Kind::PointList {
         let text = match stdin {
-            Some(bytes) => String::from_utf8(bytes).context("standard input is not text")?,
-            None => fs::read_to_string(&job.input).context("cannot read the file")?,
+            Some(bytes) => String::from_utf8(bytes).context("standard input is not text"),
+            None => fs::read_to_string(&job.input).context("cannot read the file"),
         };
-        let list = ridgeline::point_list::parse(&text)?;
+        let list = text.and_then(|text| Ok(ridgeline::point_list::parse(&text)?));
+        let list = match (kind, list) {
+            (Kind::FoundText, Err(err)) => return Err(NotAPointList(format!("{err:#}")).into()),
+            (Kind::FoundText, Ok(list)) if list.is_empty() => {
+                return Err(NotAPointList("no points in it".into()).into())
+            }
+            (_, list) => list?,
+        };
+        if list.is_empty() {
+            anyhow::bail!(
+                "the point list has no points (only blank lines, comments or a header line)"
+            );
+        }
         let trace = ridgeline::trace_points(&list, params)?;
         let mut warnings = Vec::new();
         if job.debug.is_some() {
             warnings.push("--debug draws pictures of images only; none for a point list".into());
         }
         if trace.graph.vertices.is_empty() {
-            warnings.push(
-                match list.len() {
-                    0 => "the point list has no points; wrote an empty drawing",
-                    _ => "no strokes found; wrote an empty drawing",
-                }
-                .to_string(),
-            );
+            warnings.push("no strokes found; wrote an empty drawing".to_string());
         }
         let meta = JsonMeta::new(params.clone()).with_trace(&trace);
         warnings.extend(trace.warnings.iter().map(|w| w.message.clone()));
-        let text = render(job, settings, kind, &trace, None, meta, None, &mut warnings)?;
+        let text = render(
+            job,
+            settings,
+            Kind::PointList,
+            &trace,
+            None,
+            meta,
+            None,
+            &mut warnings,
+        )?;
         let output = write_output(job, &job.destination, &text)?;
         return Ok(Traced::of(&trace.graph, warnings, output));
     }

@@ -9,7 +9,8 @@ fingerprints) traced into stroke graphs, the centerlines as polylines meeting at
 >>> t.stats["junctions"], t.stats["endpoints"], list(t.vertex_degree).count(4)
 (1, 4, 1)
 
-``trace`` reads a numpy array (uint8 gray levels or a bool ink mask), encoded image bytes, or a
+``trace`` reads a numpy array (uint8 or uint16 gray levels, floats in [0, 1], RGB or RGBA, or a
+bool ink mask), anything with the array interface (a Pillow image), encoded image bytes, or a
 path; ``trace_pages`` every page of a multi-page TIFF; ``trace_points`` an N x 2 point array or a
 point-list file. Every parameter of the library is a keyword of the same name and default
 (:func:`default_params` lists them; docs/json.md explains each), and the result, a :class:`Trace`,
@@ -79,16 +80,29 @@ def trace(
 ) -> Trace:
     """Traces one image into its stroke graph.
 
-    ``image`` is a 2-D numpy array, uint8 gray levels (thresholded and its polarity found as
-    ``threshold`` and ``polarity`` say) or bool (True = ink, traced as it is); or the bytes of an
-    image file (PNG, JPEG, TIFF, BMP, PNM, GIF, WebP; of a multi-page TIFF the first page, see
-    :func:`trace_pages`); or the path of one. An array is read with the GIL released, in place
-    (without a copy) when its layout allows: a uint8 array whose rows have unit column stride and
-    lie a positive stride apart (C order, rows and columns cut from a C-order array, every n-th
-    row), a bool array in C order. Other layouts (Fortran order, every n-th column, flipped or
-    transposed views) are copied into C order first. The :class:`Trace` keeps a reference to the
-    array, not a copy: ``to_svg()`` (and for a mask ``mask`` and ``minutiae``) read it as it is
-    when called.
+    ``image`` is a numpy array, encoded image bytes, or a path:
+
+    - a 2-D uint8 array, gray levels (thresholded and its polarity found as ``threshold`` and
+      ``polarity`` say), read with the GIL released and in place (without a copy) when its
+      layout allows: rows with unit column stride a positive stride apart (C order, rows and
+      columns cut from a C-order array, every n-th row; also rows x columns x 1). Other layouts
+      (Fortran order, every n-th column, flipped or transposed views) are copied into C order;
+    - a 2-D bool array, the ink mask (True = ink), traced as it is (in place in C order);
+    - any other image array, converted once (with the GIL released) to the 8-bit gray image the
+      same pixels saved as PNG give the command line: uint8 or uint16 (scaled by 255 or 65535)
+      or float32/float64 gray levels in [0, 1] (NaN or values outside are refused), as rows x
+      columns (gray) or rows x columns x channels (1 gray, 2 gray and alpha, 3 RGB, 4 RGBA).
+      Colour becomes luminance (Rec. 709 weights); transparent pixels are paper (white, or black
+      behind white ink), as in image files;
+    - an object with the array interface (a Pillow image: modes L, LA, RGB, RGBA, I;16, F as
+      numpy reads them; mode 1 as gray, palette and other modes converted to RGB(A) by Pillow
+      first), read as ``numpy.asarray(image)``;
+    - the bytes of an image file (PNG, JPEG, TIFF, BMP, PNM, GIF, WebP; of a multi-page TIFF the
+      first page, see :func:`trace_pages`), or the path of one.
+
+    The :class:`Trace` of a uint8 or bool array keeps a reference to it, not a copy:
+    ``to_svg()`` (and for a mask ``mask`` and ``minutiae``) read it as it is when called; that
+    of a converted array keeps the converted gray image.
 
     ``source_path`` is recorded as ``source.path`` in the JSON (default: the path traced, as
     given; ``None`` for arrays and bytes). ``threads`` runs the call on that many threads (default:
@@ -102,10 +116,36 @@ def trace(
 
     Raises :class:`ParameterError` (a ``ValueError``) for a parameter out of range,
     :class:`LimitError` for an input beyond ``limits``, :class:`DecodeError` for bytes that are not
-    an image, ``OSError`` for a file that cannot be read, ``TypeError`` for an argument of the
-    wrong type or an unknown keyword.
+    an image, ``OSError`` for a file that cannot be read, ``TypeError`` for an argument of the wrong type (an array of another dtype: integers
+    other than uint8 and uint16, complex) or an unknown keyword, ``ValueError`` for an array
+    whose shape is no image or a float array with NaN or values outside [0, 1].
     """
-    return _ridgeline.trace(image, source_path, threads, params)
+    return _ridgeline.trace(_as_array(image), source_path, threads, params)
+
+
+# Pillow modes numpy reads as the pixels they show (``np.asarray`` of a Pillow image): gray, gray
+# and alpha, RGB, RGBA, 16-bit gray. Mode "1" reads as bool with True = white, the opposite of an
+# ink mask, and palette or other colour models as indices or other channels: those are converted
+# by Pillow itself first.
+_PILLOW_AS_IS = {"L", "LA", "RGB", "RGBA", "I;16", "I;16L", "I;16B", "I;16N", "F"}
+
+
+def _as_array(image: Any) -> Any:
+    """An object with the array interface (a Pillow image, an xarray or dask array, ...) as a
+    numpy array; arrays, bytes and paths as they are."""
+    if isinstance(image, (np.ndarray, bytes, bytearray, memoryview, str, os.PathLike)):
+        return image
+    if type(image).__module__.startswith("PIL.") and hasattr(image, "convert"):
+        mode = getattr(image, "mode", None)
+        if mode == "1":
+            image = image.convert("L")
+        elif mode not in _PILLOW_AS_IS:
+            transparent = "A" in (mode or "") or "transparency" in getattr(image, "info", {})
+            image = image.convert("RGBA" if transparent else "RGB")
+        return np.asarray(image)
+    if any(hasattr(image, name) for name in ("__array_interface__", "__array_struct__", "__array__")):
+        return np.asarray(image)
+    return image
 
 
 def trace_pages(

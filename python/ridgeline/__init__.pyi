@@ -19,7 +19,19 @@ from ._errors import (
 __version__: str
 __all__: List[str]
 
-ImageInput = Union[npt.NDArray[np.uint8], npt.NDArray[np.bool_], bytes, bytearray, memoryview, str, "os.PathLike[str]"]
+ImageInput = Union[
+    npt.NDArray[np.uint8],
+    npt.NDArray[np.uint16],
+    npt.NDArray[np.float32],
+    npt.NDArray[np.float64],
+    npt.NDArray[np.bool_],
+    npt.ArrayLike,  # anything with the array interface, such as a Pillow image
+    bytes,
+    bytearray,
+    memoryview,
+    str,
+    "os.PathLike[str]",
+]
 FileInput = Union[bytes, bytearray, memoryview, str, "os.PathLike[str]"]
 PointsInput = Union[npt.ArrayLike, str, "os.PathLike[str]"]
 
@@ -69,11 +81,15 @@ def trace(
     fingerprint: Any = None,
     # end of parameters
 ) -> Trace:
-    """Traces one image (a 2-D uint8 or bool array, encoded image bytes, or a path) into its
-    stroke graph, with the GIL released. Read in place, without a copy: a uint8 array whose rows
-    have unit column stride (C order, or rows and columns cut from a C-order array, or every
-    n-th row), a C-order bool array; other layouts (Fortran order, column steps, flipped or
-    transposed views) are copied first. Every keyword but source_path and threads is a
+    """Traces one image into its stroke graph, with the GIL released: a numpy array (uint8 or
+    uint16 gray levels, float32/float64 in [0, 1], rows x columns or x 1-4 channels: gray, gray
+    and alpha, RGB, RGBA; or a 2-D bool ink mask), anything with the array interface (a Pillow
+    image), encoded image bytes, or a path. Read in place, without a copy: a 2-D uint8 array
+    whose rows have unit column stride (C order, or rows and columns cut from a C-order array,
+    or every n-th row), a C-order bool array; other uint8 layouts (Fortran order, column steps,
+    flipped or transposed views) are copied first; colour, 16-bit and float arrays are converted
+    once to 8-bit gray as the same pixels saved as PNG are (luminance, transparent pixels as
+    paper). A float array with NaN or values outside [0, 1] is a ValueError. Every keyword but source_path and threads is a
     parameter of the library with the same name and default. Raises ParameterError, LimitError,
     DecodeError (ValueErrors), OSError for an unreadable file, TypeError for a wrong argument."""
 
@@ -271,4 +287,10 @@ class Trace:
         the command line's -o out.ist; dpi default: the image file's, else 500."""
     def to_networkx(self) -> Any:
         """The graph as a networkx.MultiGraph (networkx imported on use)."""
+    def to_dataframe(self) -> Any:
+        """The branch table as a pandas.DataFrame (pandas imported on use), one row per edge in
+        the columns of skan's summarize: skeleton-id, node-id-src, node-id-dst, branch-distance,
+        branch-type (0 end-end, 1 junction-end, 2 junction-junction, 3 cycle), kind (the same in
+        words), image-coord-src-0/-1 and image-coord-dst-0/-1 (row, column), euclidean-distance,
+        degree-src, degree-dst, mean-width."""
     def __repr__(self) -> str: ...

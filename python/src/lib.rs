@@ -4,8 +4,10 @@
 //! this module takes the keyword arguments as one dict.
 //!
 //! Everything that takes time runs inside `Python::detach` (the GIL released): reading the file,
-//! decoding, tracing, chaining strokes. A numpy array is read in place where its layout allows
-//! (`gray_in_place`, and C-order bool masks), else copied there. Threads
+//! decoding, tracing, chaining strokes. A uint8 gray array is read in place where its layout
+//! allows (`gray_in_place`, and C-order bool masks), else copied there; colour, 16-bit and float
+//! arrays are converted there once to 8-bit gray, as the same pixels in a file are
+//! (`gray_of_pixels`). Threads
 //! of one process therefore trace in parallel; `threads=n` runs a call on a pool of `n` threads
 //! (the library otherwise spreads a large page over every core, which is what one call wants and
 //! not what many calls side by side want).
@@ -22,8 +24,10 @@ use std::rc::Rc;
 use std::sync::Arc;
 use std::time::Instant;
 
-use numpy::ndarray::ArrayView2;
-use numpy::{PyArray2, PyArrayMethods, PyUntypedArray, PyUntypedArrayMethods};
+use numpy::ndarray::{ArrayView1, ArrayView2, ArrayViewD, Axis, Ix3};
+use numpy::{
+    PyArray2, PyArray3, PyArrayDyn, PyArrayMethods, PyUntypedArray, PyUntypedArrayMethods,
+};
 use pyo3::exceptions::{PyTypeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyByteArray, PyBytes, PyDict, PyList, PyMemoryView, PyString};
@@ -38,6 +42,8 @@ enum Input<'a> {
     /// A 2-D uint8 array (gray levels) or bool array (ink mask), as a view of its memory.
     Gray(ArrayView2<'a, u8>),
     Mask(ArrayView2<'a, bool>),
+    /// Any other image array (colour, 16 bits, floats), converted once to gray.
+    Pixels(PixelView<'a>),
     /// Encoded image bytes (shared: an SVG shows them as they are).
     Bytes(Arc<Vec<u8>>),
     /// A file to read.
@@ -45,26 +51,50 @@ enum Input<'a> {
 }
 
 /// Reads an array's dtype and shape, or the bytes, or the path, refusing anything else with a
-/// `TypeError` that says what is accepted.
+/// `TypeError` (or, for a shape that is no image, a `ValueError`) that says what is accepted.
 fn classify<'py>(image: &Bound<'py, PyAny>) -> PyResult<Classified<'py>> {
     if let Ok(array) = image.cast::<PyUntypedArray>() {
         let shape = array.shape().to_vec();
         let dtype = array.dtype().to_string();
-        if array.ndim() != 2 {
-            return Err(PyValueError::new_err(format!(
-                "expected a 2-D array (rows x columns) of gray levels or ink flags, got shape {shape:?}; \
-                 convert colour to gray first (for example img.mean(axis=2).astype(numpy.uint8))"
-            )));
-        }
+        let channels = match shape.len() {
+            2 => 1,
+            3 if (1..=4).contains(&shape[2]) => shape[2],
+            _ => {
+                return Err(PyValueError::new_err(format!(
+                    "expected an image array: rows x columns (gray levels or ink flags) or rows x \
+                     columns x 1-4 channels (gray, gray and alpha, RGB, RGBA), got shape {shape:?}"
+                )))
+            }
+        };
         if let Ok(gray) = image.cast::<PyArray2<u8>>() {
             return Ok(Classified::Gray(gray.readonly()));
         }
         if let Ok(mask) = image.cast::<PyArray2<bool>>() {
             return Ok(Classified::Mask(mask.readonly()));
         }
+        if channels == 1 {
+            // rows x columns x 1: the gray levels with a unit axis, read like a 2-D array.
+            if let Ok(gray) = image.cast::<PyArray3<u8>>() {
+                return Ok(Classified::GrayAxis(gray.readonly()));
+            }
+        }
+        let pixels = if let Ok(array) = image.cast::<PyArrayDyn<u8>>() {
+            Some(Pixels::U8(array.readonly()))
+        } else if let Ok(array) = image.cast::<PyArrayDyn<u16>>() {
+            Some(Pixels::U16(array.readonly()))
+        } else if let Ok(array) = image.cast::<PyArrayDyn<f32>>() {
+            Some(Pixels::F32(array.readonly()))
+        } else if let Ok(array) = image.cast::<PyArrayDyn<f64>>() {
+            Some(Pixels::F64(array.readonly()))
+        } else {
+            None
+        };
+        if let Some(pixels) = pixels {
+            return Ok(Classified::Pixels(pixels));
+        }
         return Err(PyTypeError::new_err(format!(
-            "expected a uint8 array (gray levels 0-255) or a bool array (True = ink), got dtype {dtype}; \
-             for example (img * 255).astype(numpy.uint8) for floats in [0, 1]"
+            "expected an image array of dtype uint8 (0-255), uint16 (0-65535), float32 or float64 \
+             (0-1), or bool (True = ink), got dtype {dtype}"
         )));
     }
     if let Ok(bytes) = image.cast::<PyBytes>() {
@@ -86,9 +116,117 @@ fn classify<'py>(image: &Bound<'py, PyAny>) -> PyResult<Classified<'py>> {
         return Ok(Classified::Path(path));
     }
     Err(PyTypeError::new_err(format!(
-        "expected a 2-D numpy array (uint8 or bool), encoded image bytes, or a path, got {}",
+        "expected a numpy array (or an object with the array interface, such as a Pillow image), \
+         encoded image bytes, or a path, got {}",
         image.get_type().name()?
     )))
+}
+
+/// The readonly borrow of an array of another dtype or shape than 2-D uint8, converted once to
+/// the gray image the library traces.
+enum Pixels<'py> {
+    U8(numpy::PyReadonlyArrayDyn<'py, u8>),
+    U16(numpy::PyReadonlyArrayDyn<'py, u16>),
+    F32(numpy::PyReadonlyArrayDyn<'py, f32>),
+    F64(numpy::PyReadonlyArrayDyn<'py, f64>),
+}
+
+/// A view of [`Pixels`].
+enum PixelView<'a> {
+    U8(ArrayViewD<'a, u8>),
+    U16(ArrayViewD<'a, u16>),
+    F32(ArrayViewD<'a, f32>),
+    F64(ArrayViewD<'a, f64>),
+}
+
+impl Pixels<'_> {
+    fn view(&self) -> PixelView<'_> {
+        match self {
+            Pixels::U8(array) => PixelView::U8(array.as_array()),
+            Pixels::U16(array) => PixelView::U16(array.as_array()),
+            Pixels::F32(array) => PixelView::F32(array.as_array()),
+            Pixels::F64(array) => PixelView::F64(array.as_array()),
+        }
+    }
+}
+
+/// The gray image of rows x columns (x channels) pixels, as the same pixels saved as PNG decode
+/// (`ridgeline::raster::gray_from_unit_pixels`: luminance, transparent pixels as paper). Integers
+/// are scaled by their largest value; floats must lie in [0, 1].
+fn gray_of_pixels(view: PixelView<'_>) -> ridgeline::Result<GrayImage> {
+    match view {
+        PixelView::U8(view) => gray_of_unit(view, |v| f32::from(v) / 255.0),
+        PixelView::U16(view) => gray_of_unit(view, |v| f32::from(v) / 65535.0),
+        // `check_floats` refused NaN and values outside [0, 1] before.
+        PixelView::F32(view) => gray_of_unit(view, |v| v),
+        PixelView::F64(view) => gray_of_unit(view, |v| v as f32),
+    }
+}
+
+/// Refuses a float array whose values are not gray levels in [0, 1] with a `ValueError` naming
+/// the first NaN or the range found.
+fn check_floats(pixels: &Pixels<'_>) -> PyResult<()> {
+    match pixels.view() {
+        PixelView::F32(view) => check_unit_range(&view, |&v| f64::from(v)),
+        PixelView::F64(view) => check_unit_range(&view, |&v| v),
+        PixelView::U8(_) | PixelView::U16(_) => Ok(()),
+    }
+}
+
+fn check_unit_range<T>(view: &ArrayViewD<'_, T>, value: impl Fn(&T) -> f64) -> PyResult<()> {
+    let (mut low, mut high) = (f64::INFINITY, f64::NEG_INFINITY);
+    for (index, v) in view.indexed_iter() {
+        let v = value(v);
+        if v.is_nan() {
+            return Err(PyValueError::new_err(format!(
+                "the float image holds NaN (first at row {}, column {}); a float image holds \
+                 gray levels in [0, 1]",
+                index[0], index[1]
+            )));
+        }
+        low = low.min(v);
+        high = high.max(v);
+    }
+    if low < 0.0 || high > 1.0 {
+        return Err(PyValueError::new_err(format!(
+            "a float image holds gray levels in [0, 1], this one from {low} to {high}; scale it \
+             (for example (img - img.min()) / (img.max() - img.min())) or give it as uint8 or uint16"
+        )));
+    }
+    Ok(())
+}
+
+fn gray_of_unit<T: Copy>(
+    view: ArrayViewD<'_, T>,
+    unit: impl Fn(T) -> f32,
+) -> ridgeline::Result<GrayImage> {
+    let view = match view.ndim() {
+        2 => view.insert_axis(Axis(2)),
+        _ => view,
+    };
+    let view = view
+        .into_dimensionality::<Ix3>()
+        .map_err(|err| ridgeline::Error::InvalidParams(format!("image array: {err}")))?;
+    let (rows, columns, channels) = view.dim();
+    let (width, height) = dimensions(&view.index_axis(Axis(2), 0))?;
+    let pixel = |lane: ArrayView1<'_, T>| -> [f32; 4] {
+        let c = |i: usize| unit(lane[i]);
+        match channels {
+            1 => [c(0), c(0), c(0), 1.0],
+            2 => [c(0), c(0), c(0), c(1)],
+            3 => [c(0), c(1), c(2), 1.0],
+            _ => [c(0), c(1), c(2), c(3)],
+        }
+    };
+    let has_alpha = channels == 2 || channels == 4;
+    debug_assert!(rows * columns * channels == view.len());
+    let (gray, _) = ridgeline::raster::gray_from_unit_pixels(
+        width,
+        height,
+        || view.lanes(Axis(2)).into_iter().map(pixel),
+        has_alpha,
+    )?;
+    Ok(gray)
 }
 
 /// A `str` or `os.PathLike` as a path.
@@ -102,6 +240,9 @@ fn path_of(value: &Bound<'_, PyAny>) -> PyResult<Option<PathBuf>> {
 /// [`Input`] with the numpy borrows that keep its views valid.
 enum Classified<'py> {
     Gray(numpy::PyReadonlyArray2<'py, u8>),
+    /// Rows x columns x 1 uint8.
+    GrayAxis(numpy::PyReadonlyArray3<'py, u8>),
+    Pixels(Pixels<'py>),
     Mask(numpy::PyReadonlyArray2<'py, bool>),
     Bytes(Vec<u8>),
     Path(PathBuf),
@@ -112,6 +253,10 @@ impl Classified<'_> {
     fn input(&mut self) -> Input<'_> {
         match self {
             Classified::Gray(array) => Input::Gray(array.as_array()),
+            Classified::GrayAxis(array) => {
+                Input::Gray(array.as_array().index_axis_move(Axis(2), 0))
+            }
+            Classified::Pixels(pixels) => Input::Pixels(pixels.view()),
             Classified::Mask(array) => Input::Mask(array.as_array()),
             Classified::Bytes(bytes) => Input::Bytes(Arc::new(std::mem::take(bytes))),
             Classified::Path(path) => Input::Path(std::mem::take(path)),
@@ -321,6 +466,14 @@ fn trace_input(input: Input<'_>, params: &Params, all: bool) -> ridgeline::Resul
             one.input_copied = Some(copied);
             Ok(vec![one])
         }
+        Input::Pixels(view) => {
+            let gray = gray_of_pixels(view)?;
+            let trace = ridgeline::trace_image(&gray, params)?;
+            let mut one = traced(trace, params, started, Default::default());
+            one.input_copied = Some(true);
+            one.backdrop = Backdrop::Gray(gray);
+            Ok(vec![one])
+        }
         Input::Bytes(bytes) => trace_encoded(bytes, params, all, started),
         Input::Path(path) => {
             let bytes =
@@ -355,10 +508,19 @@ fn trace_any(
     let params = params::from_kwargs(py, params)?;
     let source_path = recorded_path(image, source_path)?;
     let mut classified = classify(image)?;
+    if let Classified::Pixels(pixels) = &classified {
+        check_floats(pixels)?;
+    }
     // The Trace of an array reads it again for `to_svg()`, `mask` and `minutiae` (it keeps no
     // copy of its pixels).
     let array = match &classified {
         Classified::Gray(_) => Some(Backdrop::Array(image.clone().unbind())),
+        Classified::GrayAxis(_) => {
+            // The SVG reads the gray levels as rows x columns: a view without the unit axis.
+            let full = pyo3::types::PySlice::full(py);
+            let plane = image.get_item((full.clone(), full, 0))?;
+            Some(Backdrop::Array(plane.unbind()))
+        }
         Classified::Mask(_) => Some(Backdrop::MaskArray(image.clone().unbind())),
         _ => None,
     };

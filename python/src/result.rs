@@ -629,6 +629,16 @@ impl Trace {
             .call_method1("to_networkx", (slf,))
     }
 
+    /// The branch table as a `pandas.DataFrame` (pandas is imported here, so it is needed only
+    /// for this): one row per edge, in the columns of skan's `summarize` (`skeleton-id`,
+    /// `node-id-src`, `node-id-dst`, `branch-distance`, `branch-type`, `image-coord-*`,
+    /// `euclidean-distance`) and `kind`, `degree-src`, `degree-dst`, `mean-width`.
+    fn to_dataframe<'py>(slf: &Bound<'py, Self>) -> PyResult<Bound<'py, PyAny>> {
+        slf.py()
+            .import("ridgeline._convert")?
+            .call_method1("to_dataframe", (slf,))
+    }
+
     fn __repr__(&self) -> String {
         let graph = self.graph();
         let source = match (&self.source_path, self.traced.page) {

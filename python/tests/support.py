@@ -48,17 +48,22 @@ def run_cli(*args: str, cwd: Optional[Path] = None) -> subprocess.CompletedProce
     return done
 
 
-def write_png(path: Path, gray: np.ndarray) -> Path:
-    """Writes a 2-D uint8 array as an 8-bit grayscale PNG (filter 0 on every row)."""
-    assert gray.dtype == np.uint8 and gray.ndim == 2
-    height, width = gray.shape
-    raw = b"".join(b"\x00" + gray[row].tobytes() for row in range(height))
+def write_png(path: Path, pixels: np.ndarray) -> Path:
+    """Writes a uint8 or uint16 array as a PNG of that bit depth (filter 0 on every row): rows x
+    columns as gray, rows x columns x 2, 3 or 4 as gray and alpha, RGB or RGBA."""
+    assert pixels.dtype in (np.uint8, np.uint16) and pixels.ndim in (2, 3)
+    height, width = pixels.shape[:2]
+    channels = 1 if pixels.ndim == 2 else pixels.shape[2]
+    color_type = {1: 0, 2: 4, 3: 2, 4: 6}[channels]
+    depth = 8 * pixels.dtype.itemsize
+    samples = pixels.astype(pixels.dtype.newbyteorder(">"), copy=False).reshape(height, -1)
+    raw = b"".join(b"\x00" + samples[row].tobytes() for row in range(height))
 
     def chunk(kind: bytes, data: bytes) -> bytes:
         body = kind + data
         return struct.pack(">I", len(data)) + body + struct.pack(">I", zlib.crc32(body) & 0xFFFFFFFF)
 
-    header = struct.pack(">IIBBBBB", width, height, 8, 0, 0, 0, 0)
+    header = struct.pack(">IIBBBBB", width, height, depth, color_type, 0, 0, 0)
     png = b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", header) + chunk(b"IDAT", zlib.compress(raw, 6)) + chunk(b"IEND", b"")
     path.write_bytes(png)
     return path

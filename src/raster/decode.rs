@@ -511,25 +511,33 @@ struct Look {
 }
 
 /// The gray values of [`to_gray`] for any pixel layout: channels scaled to `[0, 1]` (no alpha
-/// channel reads as opaque), luminance, then the composite over the paper. A first pass over the
-/// alpha decides the paper; images without alpha take one pass.
+/// channel reads as opaque), then [`composite_unit`].
 fn composite<P>(image: &ImageBuffer<P, Vec<P::Subpixel>>) -> (Vec<u8>, Look)
 where
     P: Pixel,
     P::Subpixel: Into<f32>,
 {
     let scale = 1.0 / P::Subpixel::DEFAULT_MAX_VALUE.into();
-    let unit = |p: &P| p.to_rgba().0.map(|v| (v.into() * scale).clamp(0.0, 1.0));
+    let unit = move |p: &P| p.to_rgba().0.map(|v| (v.into() * scale).clamp(0.0, 1.0));
+    let has_alpha = P::CHANNEL_COUNT == 2 || P::CHANNEL_COUNT == 4;
+    composite_unit(|| image.pixels().map(unit), has_alpha)
+}
+
+/// Luminance of `[r, g, b, alpha]` pixels in `[0, 1]` composited over the paper, as 8-bit gray. A
+/// first pass over the alpha decides the paper (white, or black behind light ink; see
+/// [`Transparency`]); pixels without alpha (`has_alpha` false) take one pass.
+fn composite_unit<I>(pixels: impl Fn() -> I, has_alpha: bool) -> (Vec<u8>, Look)
+where
+    I: Iterator<Item = [f32; 4]>,
+{
     let luma = |[r, g, b, _]: [f32; 4]| 0.2126 * r + 0.7152 * g + 0.0722 * b;
     let mut look = Look {
         gray: true,
         transparency: None,
     };
-    let has_alpha = P::CHANNEL_COUNT == 2 || P::CHANNEL_COUNT == 4;
     if has_alpha {
         let (mut transparent, mut opaque, mut dark) = (false, 0u64, 0u64);
-        for p in image.pixels() {
-            let rgba = unit(p);
+        for rgba in pixels() {
             transparent |= rgba[3] < 1.0;
             if rgba[3] >= 0.5 {
                 opaque += 1;
@@ -546,10 +554,8 @@ where
         _ => 1.0,
     };
     let mut gray = true;
-    let values = image
-        .pixels()
-        .map(|p| {
-            let rgba = unit(p);
+    let values = pixels()
+        .map(|rgba| {
             gray &= rgba[0] == rgba[1] && rgba[1] == rgba[2];
             let over_paper = luma(rgba) * rgba[3] + paper * (1.0 - rgba[3]);
             (over_paper.clamp(0.0, 1.0) * 255.0).round() as u8
@@ -557,6 +563,31 @@ where
         .collect();
     look.gray = gray;
     (values, look)
+}
+
+/// The 8-bit gray image a file with these pixels decodes to: `pixels()` yields the
+/// `width x height` pixels row by row as `[red, green, blue, alpha]` in `[0, 1]` (gray as equal
+/// red, green and blue; alpha 1 without an alpha channel, and `has_alpha` false), read once, or
+/// twice when `has_alpha`. Luminance with Rec. 709 weights; transparent pixels are paper, as a
+/// file's are (see the module doc). For pixels held elsewhere than in a file (the Python
+/// package's colour, 16-bit and float arrays), so that they trace as the same pixels saved as
+/// PNG do.
+pub fn gray_from_unit_pixels<I>(
+    width: u32,
+    height: u32,
+    pixels: impl Fn() -> I,
+    has_alpha: bool,
+) -> Result<(GrayImage, Option<Transparency>)>
+where
+    I: Iterator<Item = [f32; 4]>,
+{
+    let (values, look) = composite_unit(pixels, has_alpha);
+    let gray = GrayImage::from_raw(width, height, values).ok_or_else(|| {
+        Error::InvalidParams(format!(
+            "{width} x {height} pixels expected, and the pixels given are not as many"
+        ))
+    })?;
+    Ok((gray, look.transparency))
 }
 
 #[cfg(test)]

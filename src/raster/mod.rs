@@ -21,7 +21,7 @@ mod valleys;
 pub use crate::decisions::Ground;
 pub(crate) use binarize::{binarize_deciding, split_polarity};
 pub(crate) use chunks::pixel_chunks;
-pub use decode::{decode_file, Page, Pages, Picture, Transparency};
+pub use decode::{decode_file, gray_from_unit_pixels, Page, Pages, Picture, Transparency};
 pub(crate) use dropout::split as split_dropout;
 pub(crate) use evidence::chords;
 

@@ -180,7 +180,7 @@ pub const STRIP_WIDTH: f64 = 8.0;
 const DENSITY: f64 = 10_000.0 / (FIGURE8_LENGTH * STRIP_WIDTH);
 
 /// Centerline length of the figure 8 ([`figure8`] with `a = 100`), to two decimals.
-const FIGURE8_LENGTH: f64 = 606.20;
+const FIGURE8_LENGTH: f64 = 609.72;
 
 /// Points for a band of `length` x `width` at [`DENSITY`].
 fn count_for(length: f64, width: f64) -> usize {

@@ -169,7 +169,7 @@ pub fn thin(binary: &Binary) -> Result<StrokeGraph> {
     Ok(skeleton::thin(binary))
 }
 
-// The unit tests of `skeleton.rs` draw their inputs under the name the test kit gives the drawing
+// The unit tests of `skeleton/` draw their inputs under the name the test kit gives the drawing
 // helper (`ridgeline_testkit::synth` re-exports `draw`); the test kit itself depends on this crate,
 // so the unit tests cannot use it.
 #[cfg(test)]

@@ -249,15 +249,16 @@ fn print_image(
         });
     }
     let start = Instant::now();
-    // Given, or decided from the image as the automatic polarity decides it (ridges and
-    // valleys are about as wide, so the print's background at the image border decides, and
-    // the prior for dark ink when it does not show).
+    // Given, or decided from the image exactly as the automatic front end decides it for any
+    // other image (its binary is not used: the print is binarized by its enhancement). A plain
+    // Otsu split read two of the real gray prints (docs/fingerprints.md) as light; this reads
+    // all of them as their ridges are.
     let (dark_ridges, confidence) = match params.polarity {
         Polarity::DarkInk => (true, None),
         Polarity::LightInk => (false, None),
         Polarity::Auto => {
-            let (dark, confidence) = raster::split_polarity(gray);
-            (dark, Some(confidence))
+            let (_, decided) = raster::binarize_deciding(gray, params)?;
+            (decided.polarity == "dark", decided.polarity_confidence)
         }
     };
     let (mut analysis, binary) = fingerprint::analyze(gray, print, dark_ridges);

@@ -144,31 +144,6 @@ pub(crate) fn binarize_deciding(
     Ok((binary, decisions))
 }
 
-/// Whether the dark side of `gray` is ink, and how sure (in [0, 1)), by the automatic polarity's
-/// evidence ([`evidence::polarity`]) on the global Otsu split: for a front end that binarizes
-/// otherwise (the fingerprint front end, whose ridges and valleys are about as wide, so the image
-/// border, the print's background, carries the evidence). A uniform image is dark ink with
-/// confidence 0.
-pub(crate) fn split_polarity(gray: GrayView<'_>) -> (bool, f64) {
-    let (width, height) = gray.dimensions();
-    let (w, h) = (width as usize, height as usize);
-    let histogram = histogram(gray);
-    let (Some(min), Some(max)) = (
-        histogram.iter().position(|&c| c > 0),
-        histogram.iter().rposition(|&c| c > 0),
-    ) else {
-        return (true, 0.0);
-    };
-    if min == max {
-        return (true, 0.0);
-    }
-    let level = otsu_level_of(&histogram, w * h);
-    let mut dark = vec![false; w * h];
-    split(gray, &mut dark, |v| v <= level);
-    let evidence = evidence::polarity(&dark, w, h);
-    (evidence.dark_is_ink, evidence.confidence)
-}
-
 fn record_polarity(
     decisions: &mut Decisions,
     dark_ink: bool,

@@ -415,6 +415,19 @@ fn trace_one(points: PointSet, params: &Params, recording: Recording) -> Traced 
     let clock = Instant::now();
     let graph = fit::fit(&refined, &points, params);
     timings.fit = clock.elapsed();
+    finish_one(graph, points, refined, kept, params, timings)
+}
+
+/// The skeleton on one fitted point set (§3.4's graph carried by it), and the point set's trace
+/// with its stages when they were kept.
+fn finish_one(
+    graph: StrokeGraph,
+    points: PointSet,
+    refined: NodeGraph,
+    kept: Option<(Samples, NodeGraph)>,
+    params: &Params,
+    mut timings: Timings,
+) -> Traced {
     let graph = carry_on_skeleton(graph, &points, params, &mut timings);
     Traced {
         graph,
@@ -484,19 +497,7 @@ fn trace_chunks(
             }
             let graph = fit::fit_with_spacing(&refined, &points, params, h);
             timings.fit = clock.elapsed();
-            let graph = carry_on_skeleton(graph, &points, params, &mut timings);
-            let traced = Traced {
-                graph,
-                point_count: points.len(),
-                timings,
-                stages: kept.map(|(samples, node_graph)| Stages {
-                    points,
-                    samples,
-                    node_graph,
-                    refined,
-                }),
-            };
-            (c, traced)
+            (c, finish_one(graph, points, refined, kept, params, timings))
         })
         .collect();
     parts.sort_by_key(|&(c, _)| c);

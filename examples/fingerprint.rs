@@ -238,7 +238,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let mut rescaled = Vec::new();
     for file in &files {
         let bytes = std::fs::read(file)?;
-        let gray = ridgeline::decode(&bytes, &params.limits)?;
+        let gray = ridgeline::decode(&bytes, &params.front_end.limits)?;
         let clock = Instant::now();
         let trace = ridgeline::trace_image(&gray, &params)?;
         let time = clock.elapsed().as_secs_f64();

@@ -107,7 +107,7 @@ fn images_in(dir: &Path) -> Result<Vec<PathBuf>> {
 /// the stage pictures.
 fn show(input: &Path, out_dir: &Path, params: &Params, stage_dir: Option<&Path>) -> Result<()> {
     let bytes = fs::read(input).with_context(|| format!("cannot read {}", input.display()))?;
-    let gray = ridgeline::decode(&bytes, &params.limits)?;
+    let gray = ridgeline::decode(&bytes, &params.front_end.limits)?;
     let clock = Instant::now();
     let trace = ridgeline::trace_image(&gray, params)?;
     let elapsed = clock.elapsed();

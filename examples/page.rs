@@ -572,7 +572,7 @@ fn run_child(path: &Path, repeat: usize) {
         let cpu_start = cpu_seconds();
         let start = Instant::now();
         let bytes = std::fs::read(path).expect("read input");
-        let gray = ridgeline::decode(&bytes, &params.limits).expect("decode");
+        let gray = ridgeline::decode(&bytes, &params.front_end.limits).expect("decode");
         let decode = start.elapsed();
         let trace = ridgeline::trace_image(&gray, &params).expect("trace");
         let clock = Instant::now();

@@ -5,11 +5,47 @@
 use crate::params::Enhancement;
 use serde::Serialize;
 
+/// The side of the threshold traced as ink ([`Decisions::polarity`]), written `"dark"` or
+/// `"light"`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum InkSide {
+    /// Dark strokes on light paper.
+    Dark,
+    /// Light strokes on a dark ground.
+    Light,
+}
+
+impl InkSide {
+    /// [`InkSide::Dark`] when the ink is dark, else [`InkSide::Light`].
+    pub fn of(dark_ink: bool) -> InkSide {
+        if dark_ink {
+            InkSide::Dark
+        } else {
+            InkSide::Light
+        }
+    }
+
+    /// The name the JSON writes: `dark` or `light`.
+    pub fn name(self) -> &'static str {
+        match self {
+            InkSide::Dark => "dark",
+            InkSide::Light => "light",
+        }
+    }
+}
+
+impl std::fmt::Display for InkSide {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
 /// The front end's decisions for one image.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct Decisions {
-    /// The side traced as ink: `dark` or `light`.
-    pub polarity: &'static str,
+    /// The side traced as ink.
+    pub polarity: InkSide,
     /// How sure the polarity is, in [0, 1) (0: a coin toss); `None` when `--polarity` forced it.
     pub polarity_confidence: Option<f64>,
     /// The threshold used.

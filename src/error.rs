@@ -20,9 +20,7 @@ pub enum Error {
     #[error("cannot decode image: {0}")]
     Decode(String),
     /// The image or point set is larger than the configured limits allow.
-    #[error(
-        "{what}: {actual}, over the limit of {limit}; raise it with {flag} if the input is trusted"
-    )]
+    #[error("{what}: {actual}, over the limit of {limit}; raise {field} if the input is trusted")]
     Limit {
         /// What was measured ("image pixels", "points", …).
         what: &'static str,
@@ -30,8 +28,9 @@ pub enum Error {
         actual: u64,
         /// The configured limit.
         limit: u64,
-        /// The command-line flag that raises the limit.
-        flag: &'static str,
+        /// The parameter that raises the limit, named as in the JSON (`limits.max_pixels`, a
+        /// field of [`crate::Limits`]); the command line names its flag, Python its keyword.
+        field: &'static str,
     },
     /// A point-set file has a line that is not two finite numbers.
     #[error("point list line {line}: {message}")]

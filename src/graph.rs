@@ -58,7 +58,7 @@ pub fn build(points: &PointSet, samples: &Samples, params: &Params) -> NodeGraph
         edges,
         owner: owner.clone(),
     };
-    match params.cluster_rule {
+    match params.method.cluster_rule {
         ClusterRule::EqualDistance => color_clusters_as_written(&mut graph, params),
         ClusterRule::NonLinear => color_clusters(&mut graph, points, params),
     }
@@ -67,7 +67,7 @@ pub fn build(points: &PointSet, samples: &Samples, params: &Params) -> NodeGraph
 }
 
 /// Union of non-linear nodes joined by edges shorter than `cluster_link · r_min` (with
-/// [`Params::site_clusters`], only where the segment between them stays on the ink); every
+/// [`ExperimentParams::site_clusters`](crate::ExperimentParams::site_clusters), only where the segment between them stays on the ink); every
 /// non-linear node gets a cluster id (numbered in node order), linear nodes none.
 fn color_clusters(graph: &mut NodeGraph, points: &PointSet, params: &Params) {
     let n = graph.nodes.len();
@@ -77,9 +77,9 @@ fn color_clusters(graph: &mut NodeGraph, points: &PointSet, params: &Params) {
         if na.linear || nb.linear {
             continue;
         }
-        let link = params.cluster_link * 0.5 * (na.r_min + nb.r_min);
+        let link = params.method.cluster_link * 0.5 * (na.r_min + nb.r_min);
         if crate::dist(na.pos, nb.pos) < link
-            && (!params.site_clusters || segment_on_ink(points, na.pos, nb.pos))
+            && (!params.experiments.site_clusters || segment_on_ink(points, na.pos, nb.pos))
         {
             union.union(a, b);
         }
@@ -112,7 +112,7 @@ fn color_clusters_as_written(graph: &mut NodeGraph, params: &Params) {
     for &[a, b] in &graph.edges {
         let (na, nb) = (&graph.nodes[a as usize], &graph.nodes[b as usize]);
         let length = crate::dist(na.pos, nb.pos);
-        let weight = if length < params.cluster_link * 0.5 * (na.r_min + nb.r_min) {
+        let weight = if length < params.method.cluster_link * 0.5 * (na.r_min + nb.r_min) {
             0.0
         } else {
             length

@@ -97,15 +97,16 @@ pub mod strokes;
 pub mod warnings;
 
 pub use binary::{Binary, MaskView};
-pub use decisions::{Decisions, PrintDecisions, ThresholdUsed, Warning, UNEVEN_LIGHT};
+pub use decisions::{Decisions, InkSide, PrintDecisions, ThresholdUsed, Warning, UNEVEN_LIGHT};
 pub use error::{Error, Result};
 pub use geometry::dist;
 pub use gray::GrayView;
 pub use image::GrayImage;
 pub use node_graph::{GraphNode, NodeGraph};
 pub use params::{
-    ClusterRule, Enhancement, FingerprintParams, LaplacianRule, Limits, Params, Polarity, RMinRule,
-    Threshold, DENSE_SPACING, MAX_WEISZFELD_ITERATIONS,
+    ClusterRule, Enhancement, ExperimentParams, FingerprintParams, FinishParams, FitParams,
+    FrontEndParams, LaplacianRule, Limits, MethodParams, Params, Polarity, RMinRule, Threshold,
+    DENSE_SPACING, MAX_WEISZFELD_ITERATIONS,
 };
 pub use pipeline::{FingerprintTrace, Stages, Timings, Trace};
 pub use point_set::{Grid, PointSet};

@@ -28,11 +28,20 @@ pub enum Threshold {
     },
     /// Sauvola's adaptive threshold for unevenly lit scans.
     Sauvola {
-        /// Side of the square window in pixels (odd). Default 31.
+        /// Side of the square window in pixels (odd). Default value:
+        /// [`Threshold::DEFAULT_SAUVOLA_WINDOW`] (31).
         window: u32,
-        /// Sensitivity `k`. Default 0.2.
+        /// Sensitivity `k`. Default value: [`Threshold::DEFAULT_SAUVOLA_K`] (0.2).
         k: f64,
     },
+}
+
+impl Threshold {
+    /// Sauvola's window when none is given (the command line's `--sauvola` without `--window`),
+    /// px.
+    pub const DEFAULT_SAUVOLA_WINDOW: u32 = 31;
+    /// Sauvola's `k` when none is given (`--sauvola` without `--sauvola-k`).
+    pub const DEFAULT_SAUVOLA_K: f64 = 0.2;
 }
 
 /// Which side of the threshold is ink. Written `auto`, `dark` and `light`, as the command line
@@ -52,7 +61,7 @@ pub enum Polarity {
     LightInk,
 }
 
-/// How §3.1 chooses the smallest disk radius `r_min` ([`Params::r_min_rule`]).
+/// How §3.1 chooses the smallest disk radius `r_min` ([`MethodParams::r_min_rule`]).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum RMinRule {
@@ -64,7 +73,7 @@ pub enum RMinRule {
 }
 
 /// Which nodes §3.2 groups into clusters, the non-linear regions that §3.3 merges
-/// ([`Params::cluster_rule`]).
+/// ([`MethodParams::cluster_rule`]).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum ClusterRule {
@@ -76,7 +85,7 @@ pub enum ClusterRule {
     EqualDistance,
 }
 
-/// The smoothness term `L` of Eq. (4) ([`Params::laplacian`]).
+/// The smoothness term `L` of Eq. (4) ([`FitParams::laplacian`]).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum LaplacianRule {
@@ -95,16 +104,19 @@ pub enum LaplacianRule {
 /// 12-megapixel pages, see `docs/bad-input.md`), and `max_points` is checked before any per-point
 /// array is allocated, so the three limits bound the memory of a run.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[non_exhaustive]
 pub struct Limits {
-    /// Largest image, in pixels (width x height), that will be decoded. Default 100 megapixels.
+    /// Largest image, in pixels (width x height), that will be decoded. Default value:
+    /// [`Limits::DEFAULT_MAX_PIXELS`] (100 megapixels).
     pub max_pixels: u64,
-    /// Largest image side in pixels. Default 65 535.
+    /// Largest image side in pixels. Default value: [`Limits::DEFAULT_MAX_SIDE`] (65 535).
     pub max_side: u32,
-    /// Largest number of foreground points traced. Default 50 million.
+    /// Largest number of foreground points traced. Default value:
+    /// [`Limits::DEFAULT_MAX_POINTS`] (50 million).
     pub max_points: u64,
     /// Largest number of pages (image file directories) of a multi-page TIFF; a file with more is
     /// refused before any page is decoded. Pages are decoded one at a time, each within the other
-    /// limits. Default 1000.
+    /// limits. Default value: [`Limits::DEFAULT_MAX_PAGES`] (1000).
     #[serde(default = "default_max_pages")]
     pub max_pages: u64,
 }
@@ -114,21 +126,32 @@ fn default_confirmed_share() -> f64 {
 }
 
 fn default_max_pages() -> u64 {
-    Limits::default().max_pages
+    Limits::DEFAULT_MAX_PAGES
+}
+
+impl Limits {
+    /// Default of [`Limits::max_pixels`].
+    pub const DEFAULT_MAX_PIXELS: u64 = 100_000_000;
+    /// Default of [`Limits::max_side`].
+    pub const DEFAULT_MAX_SIDE: u32 = 65_535;
+    /// Default of [`Limits::max_points`].
+    pub const DEFAULT_MAX_POINTS: u64 = 50_000_000;
+    /// Default of [`Limits::max_pages`].
+    pub const DEFAULT_MAX_PAGES: u64 = 1000;
 }
 
 impl Default for Limits {
     fn default() -> Self {
         Limits {
-            max_pixels: 100_000_000,
-            max_side: 65_535,
-            max_points: 50_000_000,
-            max_pages: 1000,
+            max_pixels: Self::DEFAULT_MAX_PIXELS,
+            max_side: Self::DEFAULT_MAX_SIDE,
+            max_points: Self::DEFAULT_MAX_POINTS,
+            max_pages: Self::DEFAULT_MAX_PAGES,
         }
     }
 }
 
-/// Largest [`Params::weiszfeld_iterations`]: more would only cost time (the medians converge in
+/// Largest [`FitParams::weiszfeld_iterations`]: more would only cost time (the medians converge in
 /// far fewer).
 pub const MAX_WEISZFELD_ITERATIONS: usize = 1000;
 
@@ -329,118 +352,34 @@ impl FingerprintParams {
     }
 }
 
-/// Parameters of the whole pipeline.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+/// Parameters of the whole pipeline, grouped by the stage that reads them: the front end
+/// ([`FrontEndParams`]: limits, binarization, the mask and the gray-level refinements), the
+/// method's graph (§3.1-3.3, [`MethodParams`]), the fit (§3.4, [`FitParams`]), what the project
+/// adds after the method ([`FinishParams`]: clean-up and the skeleton), the switched-off
+/// experiments ([`ExperimentParams`]) and the fingerprint front end ([`FingerprintParams`]).
+///
+/// serde flattens the groups: the JSON object (the `parameters` of the output, docs/json.md) and
+/// the Python keywords are one flat set of names, `threshold`, `k`, `smoothness`, ..., in this
+/// order. Build it from [`Params::default`], [`Params::paper`] or [`Params::fingerprint`] and
+/// assign the fields: more may be added.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[non_exhaustive]
 pub struct Params {
-    /// Binarization method. Default [`Threshold::Auto`].
-    pub threshold: Threshold,
-    /// Ink polarity. Default [`Polarity::Auto`].
-    pub polarity: Polarity,
-    /// Size limits. Default [`Limits::default`].
-    pub limits: Limits,
-    /// Dropout mode (docs/design.md, adaptation 2): `None` decides from the image (background
-    /// specks of 3 px or less exceeding `dropout_fraction` of the ink), `Some(b)` forces it.
-    pub dropout: Option<bool>,
-    /// Share of ink pixels that tiny background holes must exceed to switch dropout mode on.
-    /// Default 0.015.
-    pub dropout_fraction: f64,
-    /// Ink components (8-connected) of fewer pixels than this are dropped before tracing, for
-    /// speckled scans (the `speckle` warning suggests a value). Default 0: none dropped.
-    #[serde(default, skip_serializing_if = "is_zero")]
-    pub min_area: usize,
-    /// Whether the centerline of a gray image is placed below the pixel from its gray levels:
-    /// each polyline point moves along its normal (at most 0.75 px, never off the ink) to the
-    /// middle of the stroke's cross-section in the gray (docs/design.md, "The front end"). Bilevel
-    /// images, masks and point lists are not refined. Default `true`; paper `false`.
-    #[serde(default = "yes", skip_serializing_if = "is_yes")]
-    pub subpixel: bool,
-    /// Whether thresholded ink pixels that the gray shows lighter than the ink on both sides of
-    /// them (a crotch between two arms or a gap between two strokes that the blur filled) go back
-    /// to the paper (docs/design.md, "The front end"). Bilevel images and masks are not touched;
-    /// neither is a fixed threshold. Default `true`; paper `false`.
-    #[serde(default = "yes", skip_serializing_if = "is_yes")]
-    pub valleys: bool,
-    /// Whether, with [`Polarity::Auto`], a thick field of ink holding light strokes (white
-    /// letters on a dark banner) is read as a ground: its pixels go to the paper and the strokes
-    /// it encloses become the ink (docs/design.md, "The front end"). Default `true`; paper
-    /// `false`.
-    #[serde(default = "yes", skip_serializing_if = "is_yes")]
-    pub reverse_grounds: bool,
-    /// How `r_min` is chosen (§3.1). Default [`RMinRule::StrokeWidth`]; paper
-    /// [`RMinRule::Spacing`].
-    pub r_min_rule: RMinRule,
-    /// `r_min` factor: with [`RMinRule::StrokeWidth`] `r_min = max(3 Dis_ave, r_min_factor ·
-    /// w_loc)` (β of docs/design.md, adaptation 3, default 1.0); with [`RMinRule::Spacing`]
-    /// `r_min = r_min_factor · Dis_ave` (paper 10).
-    pub r_min_factor: f64,
-    /// `r_max / r_min`. Default 3 (paper: 6).
-    pub r_max_factor: f64,
-    /// Radius growth factor per step of §3.1. Default 1.25.
-    pub r_growth: f64,
-    /// Linearity threshold of Eq. (3): a disk is linear when `l > linearity`. Default 0.9.
-    pub linearity: f64,
-    /// Use the rim "arms" test as well as PCA to detect non-linear nodes (adaptation 5). Default
-    /// true.
-    pub arms_test: bool,
-    /// `k` nearest neighbours for point-set input (§3.2). Default 5.
-    pub k: usize,
-    /// Which nodes form clusters (§3.2). Default [`ClusterRule::NonLinear`]; paper
-    /// [`ClusterRule::EqualDistance`].
-    pub cluster_rule: ClusterRule,
-    /// Cluster link length, in units of `r_min` (§3.2: edges shorter than this join non-linear
-    /// nodes into one cluster). Default 1.5.
-    pub cluster_link: f64,
-    /// Merge groups: degree > 2 nodes of a cluster are merged only when all are within this many
-    /// `r_min` of each other (adaptation 9). Default 2.0; the paper merges whole clusters
-    /// (infinity). JSON has no infinity: serde_json writes it as `null`, which reads back as
-    /// infinity (docs/json.md).
-    #[serde(deserialize_with = "null_is_infinity")]
-    pub merge_span: f64,
-    /// The smoothness term of Eq. (4). Default [`LaplacianRule::Held`]; paper
-    /// [`LaplacianRule::Uniform`].
-    pub laplacian: LaplacianRule,
-    /// Laplacian weight `w` of Eq. (4). Default 1.0.
-    pub smoothness: f64,
-    /// Data weight on junctions and endpoints in the fit (adaptation 12). Default 10 (paper: 1).
-    pub anchor_weight: f64,
-    /// Weiszfeld iterations for the L1 medians of §3.4, at most [`MAX_WEISZFELD_ITERATIONS`].
-    /// Default 20.
-    pub weiszfeld_iterations: usize,
-    /// Node spacing after equalization, in units of the median stroke width, at least 3 px
-    /// (adaptation 12). Default 1.0.
-    pub spacing_factor: f64,
-    /// Clean-up after §3.3 (contract hole-free cycles, prune spurs, collapse short bars) and the
-    /// placement of ends and junctions (adaptations 10, 11, 13, 14). Default true; paper false.
-    pub cleanup: bool,
-    /// Skeleton-carried geometry ([`crate::thin`], docs/quality.md "Fidelity directions"): a
-    /// topology-preserving pixel skeleton carries the polylines and every hole, the method's
-    /// graph decides crossings and spurs and lends its fitted lines where it follows the
-    /// skeleton. Images only, not in dropout mode. Default true; paper false (the node graph's
-    /// own polylines, §3.4).
-    pub skeleton: bool,
-    /// Disks that respect the ink (§3.1 on pixel images): a sampling disk never holds ink hidden
-    /// from its center (ink reached around a hole or across a gap from another stroke), so it
-    /// never wraps around a cell or counter nor spans two strokes. The radius is cut below the
-    /// first hidden point, down to at most `width / 2 + Dis_ave`. Needs a pixel grid; off in
-    /// dropout mode (its ink has holes by nature). Default false; paper false.
-    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
-    pub ink_disks: bool,
-    /// Clusters that never span two junction sites (§3.2): two non-linear nodes are linked only
-    /// when the straight segment between them stays on the ink, so nodes on either side of a
-    /// cell, a counter or a gap between strokes are never one region. Default false; paper
-    /// false.
-    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
-    pub site_clusters: bool,
-    /// Dense re-fit (§3.4): the fitted nodes are spaced [`DENSE_SPACING`] `Dis_ave` apart instead
-    /// of `h`, so each node's Voronoi cell is a thin slice of its stroke and its L1 median lies
-    /// on the stroke's middle. Default false; paper false.
-    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
-    pub dense_fit: bool,
-    /// Junctions on the ink (§3.4, adaptation 14): a junction whose fitted position is off its
-    /// component's ink moves to the nearest ink point of its own cell. Default false; paper
-    /// mode false.
-    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
-    pub junctions_on_ink: bool,
+    /// The front end: from the input to the point set.
+    #[serde(flatten)]
+    pub front_end: FrontEndParams,
+    /// The method's graph (§3.1-3.3).
+    #[serde(flatten)]
+    pub method: MethodParams,
+    /// The fit (§3.4).
+    #[serde(flatten)]
+    pub fit: FitParams,
+    /// The clean-up and the skeleton.
+    #[serde(flatten)]
+    pub finish: FinishParams,
+    /// The switched-off experiments.
+    #[serde(flatten)]
+    pub experiments: ExperimentParams,
     /// The fingerprint front end ([`Params::fingerprint`]): segmentation, orientation field, ridge
     /// period and Gabor enhancement in place of the text binarization, and the fingerprint
     /// minutiae filter (docs/fingerprints.md). Default value: `None` (off).
@@ -448,72 +387,317 @@ pub struct Params {
     pub fingerprint: Option<FingerprintParams>,
 }
 
-/// Node spacing of [`Params::dense_fit`], in `Dis_ave` (px on images).
-pub const DENSE_SPACING: f64 = 2.0;
+/// The front end's parameters ([`Params::front_end`]): what an input may make the library
+/// allocate, how gray levels become ink (docs/design.md, "The front end"), the mask's clean-up
+/// before the points are built, and the gray-level refinements of images. The limits sit here,
+/// before the binarization, because the front end checks them while it decodes the input and
+/// builds its points (and the JSON lists them in that place).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[non_exhaustive]
+pub struct FrontEndParams {
+    /// Binarization method. Default value: [`FrontEndParams::DEFAULT_THRESHOLD`] (automatic).
+    pub threshold: Threshold,
+    /// Ink polarity. Default value: [`FrontEndParams::DEFAULT_POLARITY`] (automatic).
+    pub polarity: Polarity,
+    /// Size limits. Default value: [`Limits::default`].
+    pub limits: Limits,
+    /// Dropout mode (docs/design.md, adaptation 2): `None` decides from the image (background
+    /// specks of 3 px or less exceeding `dropout_fraction` of the ink), `Some(b)` forces it.
+    /// Default value: [`FrontEndParams::DEFAULT_DROPOUT`] (`None`).
+    pub dropout: Option<bool>,
+    /// Share of ink pixels that tiny background holes must exceed to switch dropout mode on.
+    /// Default value: [`FrontEndParams::DEFAULT_DROPOUT_FRACTION`] (0.015).
+    pub dropout_fraction: f64,
+    /// Ink components (8-connected) of fewer pixels than this are dropped before tracing, for
+    /// speckled scans (the `speckle` warning suggests a value). Default value:
+    /// [`FrontEndParams::DEFAULT_MIN_AREA`] (0: none dropped).
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub min_area: usize,
+    /// Whether the centerline of a gray image is placed below the pixel from its gray levels:
+    /// each polyline point moves along its normal (at most 0.75 px, never off the ink) to the
+    /// middle of the stroke's cross-section in the gray (docs/design.md, "The front end"). Bilevel
+    /// images, masks and point lists are not refined. Default value:
+    /// [`FrontEndParams::DEFAULT_SUBPIXEL`] (`true`); paper `false`.
+    #[serde(default = "yes", skip_serializing_if = "is_yes")]
+    pub subpixel: bool,
+    /// Whether thresholded ink pixels that the gray shows lighter than the ink on both sides of
+    /// them (a crotch between two arms or a gap between two strokes that the blur filled) go back
+    /// to the paper (docs/design.md, "The front end"). Bilevel images and masks are not touched;
+    /// neither is a fixed threshold. Default value: [`FrontEndParams::DEFAULT_VALLEYS`] (`true`);
+    /// paper `false`.
+    #[serde(default = "yes", skip_serializing_if = "is_yes")]
+    pub valleys: bool,
+    /// Whether, with [`Polarity::Auto`], a thick field of ink holding light strokes (white
+    /// letters on a dark banner) is read as a ground: its pixels go to the paper and the strokes
+    /// it encloses become the ink (docs/design.md, "The front end"). Default value:
+    /// [`FrontEndParams::DEFAULT_REVERSE_GROUNDS`] (`true`); paper `false`.
+    #[serde(default = "yes", skip_serializing_if = "is_yes")]
+    pub reverse_grounds: bool,
+}
 
-impl Default for Params {
+impl FrontEndParams {
+    /// Default of [`FrontEndParams::threshold`]: Otsu or the local threshold, decided per image.
+    pub const DEFAULT_THRESHOLD: Threshold = Threshold::Auto;
+    /// Default of [`FrontEndParams::polarity`]: decided from stroke evidence.
+    pub const DEFAULT_POLARITY: Polarity = Polarity::Auto;
+    /// Default of [`FrontEndParams::dropout`]: decided from the image.
+    pub const DEFAULT_DROPOUT: Option<bool> = None;
+    /// Default of [`FrontEndParams::dropout_fraction`].
+    pub const DEFAULT_DROPOUT_FRACTION: f64 = 0.015;
+    /// Default of [`FrontEndParams::min_area`]: no component dropped.
+    pub const DEFAULT_MIN_AREA: usize = 0;
+    /// Default of [`FrontEndParams::subpixel`].
+    pub const DEFAULT_SUBPIXEL: bool = true;
+    /// Default of [`FrontEndParams::valleys`].
+    pub const DEFAULT_VALLEYS: bool = true;
+    /// Default of [`FrontEndParams::reverse_grounds`].
+    pub const DEFAULT_REVERSE_GROUNDS: bool = true;
+}
+
+impl Default for FrontEndParams {
     fn default() -> Self {
-        Params {
-            threshold: Threshold::Auto,
-            polarity: Polarity::Auto,
+        FrontEndParams {
+            threshold: Self::DEFAULT_THRESHOLD,
+            polarity: Self::DEFAULT_POLARITY,
             limits: Limits::default(),
-            dropout: None,
-            dropout_fraction: 0.015,
-            min_area: 0,
-            subpixel: true,
-            valleys: true,
-            reverse_grounds: true,
-            r_min_rule: RMinRule::StrokeWidth,
-            r_min_factor: 1.0,
-            r_max_factor: 3.0,
-            r_growth: 1.25,
-            linearity: 0.9,
-            arms_test: true,
-            k: 5,
-            cluster_rule: ClusterRule::NonLinear,
-            cluster_link: 1.5,
-            merge_span: 2.0,
-            laplacian: LaplacianRule::Held,
-            smoothness: 1.0,
-            anchor_weight: 10.0,
-            weiszfeld_iterations: 20,
-            spacing_factor: 1.0,
-            cleanup: true,
-            skeleton: true,
-            ink_disks: false,
-            site_clusters: false,
-            dense_fit: false,
-            junctions_on_ink: false,
-            fingerprint: None,
+            dropout: Self::DEFAULT_DROPOUT,
+            dropout_fraction: Self::DEFAULT_DROPOUT_FRACTION,
+            min_area: Self::DEFAULT_MIN_AREA,
+            subpixel: Self::DEFAULT_SUBPIXEL,
+            valleys: Self::DEFAULT_VALLEYS,
+            reverse_grounds: Self::DEFAULT_REVERSE_GROUNDS,
         }
     }
 }
+
+/// The method's parameters ([`Params::method`]): the sampling disks of §3.1, the node graph and
+/// its clusters of §3.2, the merging of §3.3.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[non_exhaustive]
+pub struct MethodParams {
+    /// How `r_min` is chosen (§3.1). Default value: [`MethodParams::DEFAULT_R_MIN_RULE`]
+    /// ([`RMinRule::StrokeWidth`]); paper [`RMinRule::Spacing`].
+    pub r_min_rule: RMinRule,
+    /// `r_min` factor: with [`RMinRule::StrokeWidth`] `r_min = max(3 Dis_ave, r_min_factor ·
+    /// w_loc)` (β of docs/design.md, adaptation 3); with [`RMinRule::Spacing`] `r_min =
+    /// r_min_factor · Dis_ave`. Default value: [`MethodParams::DEFAULT_R_MIN_FACTOR`] (1.0);
+    /// paper 10.
+    pub r_min_factor: f64,
+    /// `r_max / r_min`. Default value: [`MethodParams::DEFAULT_R_MAX_FACTOR`] (3); paper 6.
+    pub r_max_factor: f64,
+    /// Radius growth factor per step of §3.1. Default value:
+    /// [`MethodParams::DEFAULT_R_GROWTH`] (1.25).
+    pub r_growth: f64,
+    /// Linearity threshold of Eq. (3): a disk is linear when `l > linearity`. Default value:
+    /// [`MethodParams::DEFAULT_LINEARITY`] (0.9).
+    pub linearity: f64,
+    /// Use the rim "arms" test as well as PCA to detect non-linear nodes (adaptation 5). Default
+    /// value: [`MethodParams::DEFAULT_ARMS_TEST`] (`true`); paper `false`.
+    pub arms_test: bool,
+    /// `k` nearest neighbours for point-set input (§3.2). Default value:
+    /// [`MethodParams::DEFAULT_K`] (5).
+    pub k: usize,
+    /// Which nodes form clusters (§3.2). Default value: [`MethodParams::DEFAULT_CLUSTER_RULE`]
+    /// ([`ClusterRule::NonLinear`]); paper [`ClusterRule::EqualDistance`].
+    pub cluster_rule: ClusterRule,
+    /// Cluster link length, in units of `r_min` (§3.2: edges shorter than this join non-linear
+    /// nodes into one cluster). Default value: [`MethodParams::DEFAULT_CLUSTER_LINK`] (1.5).
+    pub cluster_link: f64,
+    /// Merge groups: degree > 2 nodes of a cluster are merged only when all are within this many
+    /// `r_min` of each other (adaptation 9). Default value:
+    /// [`MethodParams::DEFAULT_MERGE_SPAN`] (2.0); the paper merges whole clusters (infinity).
+    /// JSON has no infinity: serde_json writes it as `null`, which reads back as infinity
+    /// (docs/json.md).
+    #[serde(deserialize_with = "null_is_infinity")]
+    pub merge_span: f64,
+}
+
+impl MethodParams {
+    /// Default of [`MethodParams::r_min_rule`].
+    pub const DEFAULT_R_MIN_RULE: RMinRule = RMinRule::StrokeWidth;
+    /// Default of [`MethodParams::r_min_factor`]: one local stroke width.
+    pub const DEFAULT_R_MIN_FACTOR: f64 = 1.0;
+    /// Default of [`MethodParams::r_max_factor`].
+    pub const DEFAULT_R_MAX_FACTOR: f64 = 3.0;
+    /// Default of [`MethodParams::r_growth`].
+    pub const DEFAULT_R_GROWTH: f64 = 1.25;
+    /// Default of [`MethodParams::linearity`].
+    pub const DEFAULT_LINEARITY: f64 = 0.9;
+    /// Default of [`MethodParams::arms_test`].
+    pub const DEFAULT_ARMS_TEST: bool = true;
+    /// Default of [`MethodParams::k`].
+    pub const DEFAULT_K: usize = 5;
+    /// Default of [`MethodParams::cluster_rule`].
+    pub const DEFAULT_CLUSTER_RULE: ClusterRule = ClusterRule::NonLinear;
+    /// Default of [`MethodParams::cluster_link`].
+    pub const DEFAULT_CLUSTER_LINK: f64 = 1.5;
+    /// Default of [`MethodParams::merge_span`].
+    pub const DEFAULT_MERGE_SPAN: f64 = 2.0;
+}
+
+impl Default for MethodParams {
+    fn default() -> Self {
+        MethodParams {
+            r_min_rule: Self::DEFAULT_R_MIN_RULE,
+            r_min_factor: Self::DEFAULT_R_MIN_FACTOR,
+            r_max_factor: Self::DEFAULT_R_MAX_FACTOR,
+            r_growth: Self::DEFAULT_R_GROWTH,
+            linearity: Self::DEFAULT_LINEARITY,
+            arms_test: Self::DEFAULT_ARMS_TEST,
+            k: Self::DEFAULT_K,
+            cluster_rule: Self::DEFAULT_CLUSTER_RULE,
+            cluster_link: Self::DEFAULT_CLUSTER_LINK,
+            merge_span: Self::DEFAULT_MERGE_SPAN,
+        }
+    }
+}
+
+/// The fit's parameters ([`Params::fit`]): the equalized nodes, their L1 medians and the least
+/// squares of Eq. (4) (§3.4).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[non_exhaustive]
+pub struct FitParams {
+    /// The smoothness term of Eq. (4). Default value: [`FitParams::DEFAULT_LAPLACIAN`]
+    /// ([`LaplacianRule::Held`]); paper [`LaplacianRule::Uniform`].
+    pub laplacian: LaplacianRule,
+    /// Laplacian weight `w` of Eq. (4). Default value: [`FitParams::DEFAULT_SMOOTHNESS`] (1.0).
+    pub smoothness: f64,
+    /// Data weight on junctions and endpoints in the fit (adaptation 12). Default value:
+    /// [`FitParams::DEFAULT_ANCHOR_WEIGHT`] (10); paper 1.
+    pub anchor_weight: f64,
+    /// Weiszfeld iterations for the L1 medians of §3.4, at most [`MAX_WEISZFELD_ITERATIONS`].
+    /// Default value: [`FitParams::DEFAULT_WEISZFELD_ITERATIONS`] (20).
+    pub weiszfeld_iterations: usize,
+    /// Node spacing after equalization, in units of the median stroke width, at least 3 px
+    /// (adaptation 12). Default value: [`FitParams::DEFAULT_SPACING_FACTOR`] (1.0).
+    pub spacing_factor: f64,
+}
+
+impl FitParams {
+    /// Default of [`FitParams::laplacian`].
+    pub const DEFAULT_LAPLACIAN: LaplacianRule = LaplacianRule::Held;
+    /// Default of [`FitParams::smoothness`].
+    pub const DEFAULT_SMOOTHNESS: f64 = 1.0;
+    /// Default of [`FitParams::anchor_weight`].
+    pub const DEFAULT_ANCHOR_WEIGHT: f64 = 10.0;
+    /// Default of [`FitParams::weiszfeld_iterations`].
+    pub const DEFAULT_WEISZFELD_ITERATIONS: usize = 20;
+    /// Default of [`FitParams::spacing_factor`].
+    pub const DEFAULT_SPACING_FACTOR: f64 = 1.0;
+}
+
+impl Default for FitParams {
+    fn default() -> Self {
+        FitParams {
+            laplacian: Self::DEFAULT_LAPLACIAN,
+            smoothness: Self::DEFAULT_SMOOTHNESS,
+            anchor_weight: Self::DEFAULT_ANCHOR_WEIGHT,
+            weiszfeld_iterations: Self::DEFAULT_WEISZFELD_ITERATIONS,
+            spacing_factor: Self::DEFAULT_SPACING_FACTOR,
+        }
+    }
+}
+
+/// What the project adds after the method ([`Params::finish`]), both on by default and off in
+/// the paper's preset: the clean-up of the graph and the skeleton that carries its geometry.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[non_exhaustive]
+pub struct FinishParams {
+    /// Clean-up after §3.3 (contract hole-free cycles, prune spurs, collapse short bars) and the
+    /// placement of ends and junctions (adaptations 10, 11, 13, 14). Default value:
+    /// [`FinishParams::DEFAULT_CLEANUP`] (`true`); paper `false`.
+    pub cleanup: bool,
+    /// Skeleton-carried geometry ([`crate::thin`], docs/quality.md "Fidelity directions"): a
+    /// topology-preserving pixel skeleton carries the polylines and every hole, the method's
+    /// graph decides crossings and spurs and lends its fitted lines where it follows the
+    /// skeleton. Images only, not in dropout mode. Default value:
+    /// [`FinishParams::DEFAULT_SKELETON`] (`true`); paper `false` (the node graph's own
+    /// polylines, §3.4).
+    pub skeleton: bool,
+}
+
+impl FinishParams {
+    /// Default of [`FinishParams::cleanup`].
+    pub const DEFAULT_CLEANUP: bool = true;
+    /// Default of [`FinishParams::skeleton`].
+    pub const DEFAULT_SKELETON: bool = true;
+}
+
+impl Default for FinishParams {
+    fn default() -> Self {
+        FinishParams {
+            cleanup: Self::DEFAULT_CLEANUP,
+            skeleton: Self::DEFAULT_SKELETON,
+        }
+    }
+}
+
+/// Experiments that measured no better than the defaults and stay switched off
+/// ([`Params::experiments`]): each is off by default and in the paper's preset, has no
+/// command-line flag, and is written in the JSON only when on.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[non_exhaustive]
+pub struct ExperimentParams {
+    /// Disks that respect the ink (§3.1 on pixel images): a sampling disk never holds ink hidden
+    /// from its center (ink reached around a hole or across a gap from another stroke), so it
+    /// never wraps around a cell or counter nor spans two strokes. The radius is cut below the
+    /// first hidden point, down to at most `width / 2 + Dis_ave`. Needs a pixel grid; off in
+    /// dropout mode (its ink has holes by nature). Default value: `false`.
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub ink_disks: bool,
+    /// Clusters that never span two junction sites (§3.2): two non-linear nodes are linked only
+    /// when the straight segment between them stays on the ink, so nodes on either side of a
+    /// cell, a counter or a gap between strokes are never one region. Default value: `false`.
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub site_clusters: bool,
+    /// Dense re-fit (§3.4): the fitted nodes are spaced [`DENSE_SPACING`] `Dis_ave` apart instead
+    /// of `h`, so each node's Voronoi cell is a thin slice of its stroke and its L1 median lies
+    /// on the stroke's middle. Default value: `false`.
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub dense_fit: bool,
+    /// Junctions on the ink (§3.4, adaptation 14): a junction whose fitted position is off its
+    /// component's ink moves to the nearest ink point of its own cell. Default value: `false`.
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub junctions_on_ink: bool,
+}
+
+/// Node spacing of [`ExperimentParams::dense_fit`], in `Dis_ave` (px on images).
+pub const DENSE_SPACING: f64 = 2.0;
 
 impl Params {
     /// The paper's own rules and values, a preset whose every field can still be changed:
     /// `r_min = 10 Dis_ave`, `r_max = 6 r_min`, `k = 5`, `w = 1`, linearity 0.9, no arms test,
     /// clusters of nodes at equal distance, whole-cluster merging, a uniform Laplacian with
-    /// uniform data weights, no clean-up.
+    /// uniform data weights, no clean-up, no skeleton, no gray-level refinements, the
+    /// experiments off.
     pub fn paper() -> Self {
         Params {
-            r_min_rule: RMinRule::Spacing,
-            r_min_factor: 10.0,
-            r_max_factor: 6.0,
-            arms_test: false,
-            cluster_rule: ClusterRule::EqualDistance,
-            merge_span: f64::INFINITY,
-            laplacian: LaplacianRule::Uniform,
-            anchor_weight: 1.0,
-            cleanup: false,
-            skeleton: false,
-            ink_disks: false,
-            site_clusters: false,
-            dense_fit: false,
-            junctions_on_ink: false,
-            subpixel: false,
-            valleys: false,
-            reverse_grounds: false,
-            ..Params::default()
+            front_end: FrontEndParams {
+                subpixel: false,
+                valleys: false,
+                reverse_grounds: false,
+                ..FrontEndParams::default()
+            },
+            method: MethodParams {
+                r_min_rule: RMinRule::Spacing,
+                r_min_factor: 10.0,
+                r_max_factor: 6.0,
+                arms_test: false,
+                cluster_rule: ClusterRule::EqualDistance,
+                merge_span: f64::INFINITY,
+                ..MethodParams::default()
+            },
+            fit: FitParams {
+                laplacian: LaplacianRule::Uniform,
+                anchor_weight: 1.0,
+                ..FitParams::default()
+            },
+            finish: FinishParams {
+                cleanup: false,
+                skeleton: false,
+            },
+            experiments: ExperimentParams::default(),
+            fingerprint: None,
         }
     }
 
@@ -538,10 +722,10 @@ impl Params {
             Err(crate::Error::InvalidParam { field, reason })
         }
         let positive = [
-            ("r_min_factor", self.r_min_factor),
-            ("spacing_factor", self.spacing_factor),
-            ("anchor_weight", self.anchor_weight),
-            ("cluster_link", self.cluster_link),
+            ("r_min_factor", self.method.r_min_factor),
+            ("spacing_factor", self.fit.spacing_factor),
+            ("anchor_weight", self.fit.anchor_weight),
+            ("cluster_link", self.method.cluster_link),
         ];
         for (field, value) in positive {
             if !(value.is_finite() && value > 0.0) {
@@ -549,52 +733,55 @@ impl Params {
             }
         }
         // Infinity is the paper's whole-cluster merging.
-        if self.merge_span.is_nan() || self.merge_span <= 0.0 {
+        if self.method.merge_span.is_nan() || self.method.merge_span <= 0.0 {
             return fail(
                 "merge_span",
-                format!("must be > 0, got {}", self.merge_span),
+                format!("must be > 0, got {}", self.method.merge_span),
             );
         }
-        if !(self.r_max_factor.is_finite() && self.r_max_factor >= 1.0) {
+        if !(self.method.r_max_factor.is_finite() && self.method.r_max_factor >= 1.0) {
             return fail(
                 "r_max_factor",
-                format!("must be >= 1, got {}", self.r_max_factor),
+                format!("must be >= 1, got {}", self.method.r_max_factor),
             );
         }
-        if !(self.r_growth.is_finite() && self.r_growth > 1.0) {
-            return fail("r_growth", format!("must be > 1, got {}", self.r_growth));
+        if !(self.method.r_growth.is_finite() && self.method.r_growth > 1.0) {
+            return fail(
+                "r_growth",
+                format!("must be > 1, got {}", self.method.r_growth),
+            );
         }
-        if !(self.linearity > 0.5 && self.linearity < 1.0) {
+        if !(self.method.linearity > 0.5 && self.method.linearity < 1.0) {
             return fail(
                 "linearity",
-                format!("must be in (0.5, 1), got {}", self.linearity),
+                format!("must be in (0.5, 1), got {}", self.method.linearity),
             );
         }
-        if !(self.smoothness.is_finite() && self.smoothness >= 0.0) {
+        if !(self.fit.smoothness.is_finite() && self.fit.smoothness >= 0.0) {
             return fail(
                 "smoothness",
-                format!("must be >= 0, got {}", self.smoothness),
+                format!("must be >= 0, got {}", self.fit.smoothness),
             );
         }
-        if !(2..=64).contains(&self.k) {
-            return fail("k", format!("must be in 2-64, got {}", self.k));
+        if !(2..=64).contains(&self.method.k) {
+            return fail("k", format!("must be in 2-64, got {}", self.method.k));
         }
-        if self.weiszfeld_iterations > MAX_WEISZFELD_ITERATIONS {
+        if self.fit.weiszfeld_iterations > MAX_WEISZFELD_ITERATIONS {
             return fail(
                 "weiszfeld_iterations",
                 format!(
                     "must be at most {MAX_WEISZFELD_ITERATIONS}, got {}",
-                    self.weiszfeld_iterations
+                    self.fit.weiszfeld_iterations
                 ),
             );
         }
-        if !(self.dropout_fraction > 0.0 && self.dropout_fraction < 1.0) {
+        if !(self.front_end.dropout_fraction > 0.0 && self.front_end.dropout_fraction < 1.0) {
             return fail(
                 "dropout_fraction",
-                format!("must be in (0, 1), got {}", self.dropout_fraction),
+                format!("must be in (0, 1), got {}", self.front_end.dropout_fraction),
             );
         }
-        if let Threshold::Sauvola { window, k } = self.threshold {
+        if let Threshold::Sauvola { window, k } = self.front_end.threshold {
             if window < 3 || window % 2 == 0 {
                 return fail(
                     "threshold.window",
@@ -606,10 +793,10 @@ impl Params {
             }
         }
         let limits = [
-            ("limits.max_pixels", self.limits.max_pixels),
-            ("limits.max_side", u64::from(self.limits.max_side)),
-            ("limits.max_points", self.limits.max_points),
-            ("limits.max_pages", self.limits.max_pages),
+            ("limits.max_pixels", self.front_end.limits.max_pixels),
+            ("limits.max_side", u64::from(self.front_end.limits.max_side)),
+            ("limits.max_points", self.front_end.limits.max_points),
+            ("limits.max_pages", self.front_end.limits.max_pages),
         ];
         for (field, value) in limits {
             if value == 0 {
@@ -648,12 +835,13 @@ mod tests {
     fn every_preset_round_trips_through_its_json() {
         let mut paper_fingerprint = Params::paper();
         paper_fingerprint.fingerprint = Some(FingerprintParams::default());
-        let sauvola = Params {
-            threshold: Threshold::Sauvola { window: 31, k: 0.2 },
-            min_area: 12,
-            dropout: Some(true),
-            ..Params::default()
+        let mut sauvola = Params::default();
+        sauvola.front_end.threshold = Threshold::Sauvola {
+            window: Threshold::DEFAULT_SAUVOLA_WINDOW,
+            k: Threshold::DEFAULT_SAUVOLA_K,
         };
+        sauvola.front_end.min_area = 12;
+        sauvola.front_end.dropout = Some(true);
         for (name, params) in [
             ("default", Params::default()),
             ("paper", Params::paper()),
@@ -691,10 +879,10 @@ mod tests {
         let mut value = serde_json::to_value(Params::default()).expect("serialize");
         value["merge_span"] = serde_json::json!(3.5);
         let params = Params::deserialize(&value).expect("a number");
-        assert_eq!(params.merge_span, 3.5);
+        assert_eq!(params.method.merge_span, 3.5);
         value["merge_span"] = serde_json::Value::Null;
         assert_eq!(
-            Params::deserialize(&value).expect("null").merge_span,
+            Params::deserialize(&value).expect("null").method.merge_span,
             f64::INFINITY
         );
         value["merge_span"] = serde_json::json!("wide");

@@ -45,7 +45,7 @@ pub struct Timings {
     /// §3.4 fitting and building the stroke graph.
     pub fit: Duration,
     /// The skeleton carrying the geometry (docs/design.md, "Skeleton-carried geometry"; zero
-    /// with [`Params::skeleton`] off).
+    /// with [`FinishParams::skeleton`](crate::FinishParams::skeleton) off).
     pub skeleton: Duration,
 }
 
@@ -194,8 +194,8 @@ pub(crate) fn image(gray: GrayView<'_>, params: &Params, recording: Recording) -
     let (binary, decisions) = raster::binarize_deciding(gray, params)?;
     let binarize_time = start.elapsed();
     let mut trace = trace_mask(binary.view(), params, recording)?;
-    if params.subpixel {
-        let dark_ink = decisions.polarity == "dark";
+    if params.front_end.subpixel {
+        let dark_ink = decisions.polarity == crate::decisions::InkSide::Dark;
         subpixel::center_on_gray(&mut trace.graph, gray, &binary, dark_ink);
     }
     Ok(with_decisions(trace, binary, decisions, binarize_time))
@@ -230,7 +230,7 @@ pub(crate) fn point_list(list: &[[f64; 2]], params: &Params) -> Result<Trace> {
 
 /// The fingerprint path of [`image`]: front end, the mask's pipeline on its binary image, the
 /// prior of ridges along the flow, then the fingerprint minutiae filter. Ridges are dark unless
-/// `params.polarity` says light (a print's ridges and valleys are about as wide, so the stroke
+/// `params.front_end.polarity` says light (a print's ridges and valleys are about as wide, so the stroke
 /// evidence of the text front end cannot tell them apart).
 fn print_image(
     gray: GrayView<'_>,
@@ -240,12 +240,12 @@ fn print_image(
 ) -> Result<Trace> {
     let (width, height) = gray.dimensions();
     let pixels = u64::from(width) * u64::from(height);
-    if pixels > params.limits.max_pixels {
+    if pixels > params.front_end.limits.max_pixels {
         return Err(Error::Limit {
             what: "image pixels",
             actual: pixels,
-            limit: params.limits.max_pixels,
-            flag: "--max-pixels",
+            limit: params.front_end.limits.max_pixels,
+            field: "limits.max_pixels",
         });
     }
     let start = Instant::now();
@@ -253,12 +253,15 @@ fn print_image(
     // other image (its binary is not used: the print is binarized by its enhancement). A plain
     // Otsu split read two of the real gray prints (docs/fingerprints.md) as light; this reads
     // all of them as their ridges are.
-    let (dark_ridges, confidence) = match params.polarity {
+    let (dark_ridges, confidence) = match params.front_end.polarity {
         Polarity::DarkInk => (true, None),
         Polarity::LightInk => (false, None),
         Polarity::Auto => {
             let (_, decided) = raster::binarize_deciding(gray, params)?;
-            (decided.polarity == "dark", decided.polarity_confidence)
+            (
+                decided.polarity == crate::decisions::InkSide::Dark,
+                decided.polarity_confidence,
+            )
         }
     };
     let (mut analysis, binary) = fingerprint::analyze(gray, print, dark_ridges);
@@ -319,11 +322,7 @@ fn print_decisions(
         .collect();
     let chords = raster::chords(&binary.ink, binary.width as usize, binary.height as usize);
     Decisions {
-        polarity: if analysis.dark_ridges {
-            "dark"
-        } else {
-            "light"
-        },
+        polarity: crate::decisions::InkSide::of(analysis.dark_ridges),
         polarity_confidence: analysis.polarity_confidence,
         threshold: ThresholdUsed::Enhanced {
             enhancement: print.enhancement,
@@ -341,17 +340,18 @@ fn print_decisions(
     }
 }
 
-/// The pipeline of a mask: its components of fewer than [`Params::min_area`] pixels dropped,
-/// then [`trace_ink`] with dropout mode as `params.dropout` says (decided here when `None`).
+/// The pipeline of a mask: its components of fewer than [`FrontEndParams::min_area`](crate::FrontEndParams::min_area) pixels dropped,
+/// then [`trace_ink`] with dropout mode as `params.front_end.dropout` says (decided here when `None`).
 fn trace_mask(binary: MaskView<'_>, params: &Params, recording: Recording) -> Result<Trace> {
     let kept;
-    let binary = if params.min_area > 0 {
-        kept = raster::drop_small_components(binary, params.min_area);
+    let binary = if params.front_end.min_area > 0 {
+        kept = raster::drop_small_components(binary, params.front_end.min_area);
         kept.view()
     } else {
         binary
     };
-    let (mut traced, dropout_share) = trace_ink(binary, params, params.dropout, recording)?;
+    let (mut traced, dropout_share) =
+        trace_ink(binary, params, params.front_end.dropout, recording)?;
     traced.graph.width = binary.width;
     traced.graph.height = binary.height;
     Ok(traced.into_trace(Some(dropout_share)))
@@ -528,14 +528,14 @@ fn refine_stages(
 }
 
 /// The fitted `graph` with its geometry carried by the skeleton of `points` when
-/// [`Params::skeleton`] asks for it (docs/design.md, "Skeleton-carried geometry"), timed.
+/// [`FinishParams::skeleton`](crate::FinishParams::skeleton) asks for it (docs/design.md, "Skeleton-carried geometry"), timed.
 fn carry_on_skeleton(
     graph: StrokeGraph,
     points: &PointSet,
     params: &Params,
     timings: &mut Timings,
 ) -> StrokeGraph {
-    if !params.skeleton {
+    if !params.finish.skeleton {
         return graph;
     }
     let clock = Instant::now();

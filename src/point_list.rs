@@ -147,12 +147,12 @@ impl Units {
 
 /// Like [`point_set`], in the pipeline's pixel-like [`Units`], which are returned with it.
 pub(crate) fn point_set_in_units(list: &[[f64; 2]], params: &Params) -> Result<(PointSet, Units)> {
-    if list.len() as u64 > params.limits.max_points {
+    if list.len() as u64 > params.front_end.limits.max_points {
         return Err(Error::Limit {
             what: "points",
             actual: list.len() as u64,
-            limit: params.limits.max_points,
-            flag: "--max-points",
+            limit: params.front_end.limits.max_points,
+            field: "limits.max_points",
         });
     }
     if let Some(i) = list
@@ -214,7 +214,7 @@ pub(crate) fn point_set_in_units(list: &[[f64; 2]], params: &Params) -> Result<(
         .iter()
         .map(|p| [p[0] / coarse, p[1] / coarse])
         .collect();
-    let k = params.k.min(n - 1);
+    let k = params.method.k.min(n - 1);
     let (offsets, neighbors, spacing) = if k == 0 {
         (vec![0; n + 1], Vec::new(), 1.0)
     } else {
@@ -232,7 +232,7 @@ pub(crate) fn point_set_in_units(list: &[[f64; 2]], params: &Params) -> Result<(
     // 3) their widths come from the local PCA of §3.1. The paper's own rule sizes its disks from
     // `Dis_ave` alone and keeps the raster's widths (its node spacing in the fit follows them).
     let mut half_width = half_widths(&local, spacing, params);
-    if params.r_min_rule == RMinRule::StrokeWidth && !on_lattice(&local, spacing) {
+    if params.method.r_min_rule == RMinRule::StrokeWidth && !on_lattice(&local, spacing) {
         strip_half_widths(&local, spacing, &mut half_width);
     }
     let units = Units {
@@ -322,7 +322,7 @@ fn half_widths(points: &[[f64; 2]], spacing: f64, params: &Params) -> Vec<f32> {
     let area = width.saturating_mul(height);
     let cap = DENSE_CELLS_BASE
         .saturating_add(DENSE_CELLS_PER_POINT.saturating_mul(points.len() as u64))
-        .min(params.limits.max_pixels);
+        .min(params.front_end.limits.max_pixels);
     let scale = spacing as f32;
     if extent_cells(points, spacing) > MAX_RASTER_SIDE {
         // Cells this fine cannot be indexed; every point gets the strip's minimum half-width.
@@ -336,8 +336,9 @@ fn half_widths(points: &[[f64; 2]], spacing: f64, params: &Params) -> Vec<f32> {
         }
         // Dropout mode's rule: gaps between unevenly spread samples are closed as in images.
         let occupied = ink.iter().filter(|&&b| b).count();
-        let close = params.dropout.unwrap_or_else(|| {
-            tiny_hole_pixels(&ink, w, h) as f64 > params.dropout_fraction * occupied as f64
+        let close = params.front_end.dropout.unwrap_or_else(|| {
+            tiny_hole_pixels(&ink, w, h) as f64
+                > params.front_end.dropout_fraction * occupied as f64
         });
         if close {
             ink = close3(&ink, w, h);
@@ -600,8 +601,8 @@ mod tests {
                 .collect();
             by_distance.sort_by(|a, b| a.0.total_cmp(&b.0));
             let neighbours = set.neighbors_of(i as u32);
-            assert!(neighbours.len() >= params.k);
-            for &(_, j) in &by_distance[..params.k] {
+            assert!(neighbours.len() >= params.method.k);
+            for &(_, j) in &by_distance[..params.method.k] {
                 assert!(neighbours.contains(&(j as u32)), "point {i} misses {j}");
             }
             // Sorted, no duplicates.
@@ -662,14 +663,8 @@ mod tests {
         assert_eq!(set.points, list);
         assert!((set.spacing - 0.5).abs() < 1e-6);
         assert!(set.half_width.iter().all(|&h| (h - 0.5).abs() < 1e-6));
-        let limits = crate::Limits {
-            max_points: 10,
-            ..crate::Limits::default()
-        };
-        let params = Params {
-            limits,
-            ..Params::default()
-        };
+        let mut params = Params::default();
+        params.front_end.limits.max_points = 10;
         assert!(matches!(
             point_set(&list, &params),
             Err(Error::Limit { .. })
@@ -682,14 +677,9 @@ mod tests {
         let list: Vec<[f64; 2]> = (0..5)
             .flat_map(|y| (0..40).map(move |x| [x as f64 + 0.5, y as f64 + 10.5]))
             .collect();
-        let set = point_set(
-            &list,
-            &Params {
-                dropout: Some(false),
-                ..Params::default()
-            },
-        )
-        .unwrap();
+        let mut params = Params::default();
+        params.front_end.dropout = Some(false);
+        let set = point_set(&list, &params).unwrap();
         let at = |x: usize, y: usize| set.half_width[y * 40 + x];
         assert_eq!(at(20, 2), 3.0);
         assert_eq!(at(20, 0), 1.0);

@@ -482,10 +482,8 @@ mod tests {
                 binary.set(x, y, (seed >> 60) < 7);
             }
         }
-        let params = crate::Params {
-            dropout: Some(false),
-            ..crate::Params::default()
-        };
+        let mut params = crate::Params::default();
+        params.front_end.dropout = Some(false);
         let pixels = crate::raster::points(&binary, &params).expect("points");
         let listed = PointSet {
             grid: None,

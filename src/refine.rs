@@ -22,7 +22,7 @@ use crate::{GraphNode, NodeGraph, Params, PointSet};
 pub fn refine(graph: &NodeGraph, points: &PointSet, params: &Params) -> NodeGraph {
     // Holes guide contraction, merging and clean-up; without clean-up (the paper's rules) they are
     // unknown.
-    let holes = if params.cleanup {
+    let holes = if params.finish.cleanup {
         Holes::find(points, graph)
     } else {
         Holes::Unknown
@@ -31,8 +31,8 @@ pub fn refine(graph: &NodeGraph, points: &PointSet, params: &Params) -> NodeGrap
     work.contract_triangles();
     debug_assert_eq!(work.contractible_triangle_edge(), None);
     let holes = work.holes.clone();
-    work.merge_clusters(params.merge_span, &holes);
-    if params.cleanup {
+    work.merge_clusters(params.method.merge_span, &holes);
+    if params.finish.cleanup {
         for _ in 0..8 {
             let mut changed = work.contract_hole_free_cycles(&holes);
             changed |= work.prune_spurs(points);

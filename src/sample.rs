@@ -122,7 +122,7 @@ struct Sampler<'a> {
     far: BinaryHeap<Reverse<(u32, u32)>>,
     rim: Vec<u32>,
     stack: Vec<u32>,
-    /// [`Params::ink_disks`] is in force (a pixel grid, not dropout mode).
+    /// [`ExperimentParams::ink_disks`](crate::ExperimentParams::ink_disks) is in force (a pixel grid, not dropout mode).
     ink_bound: bool,
     /// Epoch stamps of the points of the current disk seen from its center (see
     /// [`Sampler::sees`]).
@@ -155,8 +155,8 @@ impl<'a> Sampler<'a> {
             far: BinaryHeap::new(),
             rim: Vec::new(),
             stack: Vec::new(),
-            ink_bound: params.ink_disks && points.grid.is_some() && !points.dropout,
-            visible: if params.ink_disks {
+            ink_bound: params.experiments.ink_disks && points.grid.is_some() && !points.dropout,
+            visible: if params.experiments.ink_disks {
                 vec![0; n]
             } else {
                 Vec::new()
@@ -251,7 +251,7 @@ impl<'a> Sampler<'a> {
         }
     }
 
-    /// [`Params::ink_disks`]: whether the disk point at `q` is seen from the center `c`, i.e. the
+    /// [`ExperimentParams::ink_disks`](crate::ExperimentParams::ink_disks): whether the disk point at `q` is seen from the center `c`, i.e. the
     /// pixel one step from `q` toward `c` (one of the two bracketing the straight line) is a
     /// point of this disk seen from `c`. Points nearer the center join the disk first (their
     /// keys are smaller), so one look per point decides along the whole line; the two-pixel
@@ -430,11 +430,11 @@ impl<'a> Sampler<'a> {
             probe = 2.0 * max_dt + spacing;
         }
         let width = (2.0 * max_dt - spacing).max(spacing);
-        let r_min = match self.params.r_min_rule {
-            RMinRule::Spacing => self.params.r_min_factor * spacing,
-            RMinRule::StrokeWidth => (3.0 * spacing).max(self.params.r_min_factor * width),
+        let r_min = match self.params.method.r_min_rule {
+            RMinRule::Spacing => self.params.method.r_min_factor * spacing,
+            RMinRule::StrokeWidth => (3.0 * spacing).max(self.params.method.r_min_factor * width),
         };
-        let r_max = self.params.r_max_factor * r_min;
+        let r_max = self.params.method.r_max_factor * r_min;
 
         // Grow r from r_min by r_growth until the disk is linear (l > threshold) with 1-2 arms.
         let mut r = r_min;
@@ -445,7 +445,7 @@ impl<'a> Sampler<'a> {
         loop {
             self.grow_disk(c, r);
             let count = self.prefix(r);
-            if self.params.arms_test {
+            if self.params.method.arms_test {
                 // The arms test (adaptation 5): the rim `(r - 2, r]` of the disk must cut the ink
                 // in 1 or 2 places. A crossing gives 4 cuts, a T 3, a disk that holds a whole small
                 // part 0.
@@ -459,7 +459,7 @@ impl<'a> Sampler<'a> {
                 }
             }
             let (l, _, _) = self.pca(count);
-            if l > self.params.linearity {
+            if l > self.params.method.linearity {
                 linear = true;
                 break;
             }
@@ -467,7 +467,7 @@ impl<'a> Sampler<'a> {
             if self.queued == 0 && self.overflow.is_empty() {
                 break;
             }
-            r *= self.params.r_growth;
+            r *= self.params.method.r_growth;
             if r > r_max {
                 break;
             }

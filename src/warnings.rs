@@ -36,7 +36,7 @@ pub fn of(graph: &StrokeGraph, decisions: Option<&Decisions>) -> Vec<Warning> {
     if let Some(confidence) = decisions.and_then(|d| d.polarity_confidence) {
         if confidence < LOW_POLARITY_CONFIDENCE {
             let (side, other) = match decisions.map(|d| d.polarity) {
-                Some("light") => ("light", "dark"),
+                Some(crate::decisions::InkSide::Light) => ("light", "dark"),
                 _ => ("dark", "light"),
             };
             out.push(Warning {
@@ -210,7 +210,7 @@ mod tests {
 
     fn decided(confidence: f64) -> Decisions {
         Decisions {
-            polarity: "dark",
+            polarity: crate::decisions::InkSide::Dark,
             polarity_confidence: Some(confidence),
             threshold: ThresholdUsed::Otsu { level: 128 },
             stroke_width: 3.0,
@@ -323,14 +323,9 @@ mod tests {
             binary.set(5 + 7 * k, 35, true);
         }
         let all = crate::trace_binary(&binary, &Params::default()).unwrap();
-        let cleaned = crate::trace_binary(
-            &binary,
-            &Params {
-                min_area: 4,
-                ..Params::default()
-            },
-        )
-        .unwrap();
+        let mut params = Params::default();
+        params.front_end.min_area = 4;
+        let cleaned = crate::trace_binary(&binary, &params).unwrap();
         assert!(all.graph.components() > 1);
         assert_eq!(cleaned.graph.components(), 1);
     }

@@ -207,10 +207,8 @@ fn svg_embeds_the_source_image_over_the_whole_canvas() {
 #[test]
 fn json_round_trips_through_serde_json() {
     let graph = y_graph();
-    let params = Params {
-        k: 7,
-        ..Params::default()
-    };
+    let mut params = Params::default();
+    params.method.k = 7;
     let meta = JsonMeta::new(params.clone()).with_source_path("scans/y.png");
     let text = json::to_string(&graph, &meta);
     assert_eq!(text, json::to_string(&graph, &meta), "deterministic");

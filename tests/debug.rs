@@ -418,17 +418,11 @@ fn json_fields_are_all_documented() {
     }
     let docs = fs::read_to_string(crate::support::repository_root().join("docs/json.md"))
         .expect("docs/json.md");
-    for params in [
-        Params::default(),
-        Params {
-            threshold: ridgeline::Threshold::Sauvola { window: 25, k: 0.2 },
-            ..Params::paper()
-        },
-        Params {
-            threshold: ridgeline::Threshold::Fixed { level: 100 },
-            ..Params::default()
-        },
-    ] {
+    let mut sauvola = Params::paper();
+    sauvola.front_end.threshold = ridgeline::Threshold::Sauvola { window: 25, k: 0.2 };
+    let mut fixed = Params::default();
+    fixed.front_end.threshold = ridgeline::Threshold::Fixed { level: 100 };
+    for params in [Params::default(), sauvola, fixed] {
         let meta = ridgeline::export::json::JsonMeta::new(params).with_source_path("a.png");
         let text = ridgeline::export::json::to_string(&plus_graph(), &meta);
         let value: serde_json::Value = serde_json::from_str(&text).expect("JSON");

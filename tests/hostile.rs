@@ -353,27 +353,23 @@ fn broken_bytes_give_errors_from_the_library() {
 fn the_bomb_is_refused_before_allocating_and_a_raised_limit_still_refuses_bad_data() {
     let limits = Limits::default();
     match ridgeline::decode(&bomb_png(), &limits) {
-        Err(Error::Limit { flag, actual, .. }) => {
-            assert_eq!(flag, "--max-pixels");
+        Err(Error::Limit { field, actual, .. }) => {
+            assert_eq!(field, "limits.max_pixels");
             assert_eq!(actual, 100_000u64 * 100_000);
         }
         other => panic!("expected a limit error, got {other:?}"),
     }
     // Trusting the input (limits raised) must not make the 64 bytes of IDAT a 10 GB image: the
     // side limit still refuses it, and within it the missing data is a decode error.
-    let raised = Limits {
-        max_pixels: u64::MAX,
-        ..Limits::default()
-    };
+    let mut raised = Limits::default();
+    raised.max_pixels = u64::MAX;
     match ridgeline::decode(&bomb_png(), &raised) {
-        Err(Error::Limit { flag, .. }) => assert_eq!(flag, "--max-side"),
+        Err(Error::Limit { field, .. }) => assert_eq!(field, "limits.max_side"),
         other => panic!("expected the side limit, got {other:?}"),
     }
     // Within the side limit but over the pixel limit.
-    let tight = Limits {
-        max_pixels: 1000,
-        ..Limits::default()
-    };
+    let mut tight = Limits::default();
+    tight.max_pixels = 1000;
     let mid = hand_png(40_000, 40_000, [8, 0, 0, 0, 0], &[], &[0; 64]);
     assert!(matches!(
         ridgeline::decode(&mid, &tight),
@@ -890,12 +886,11 @@ fn regressions(target: &str) -> Vec<(PathBuf, Vec<u8>)> {
 #[test]
 fn fuzz_regressions_decode_and_trace() {
     // fuzz/fuzz_targets/decode_trace.rs
-    let limits = Limits {
-        max_pixels: 256 * 256,
-        max_side: 256,
-        max_points: 256 * 256,
-        max_pages: 4,
-    };
+    let mut limits = Limits::default();
+    limits.max_pixels = 256 * 256;
+    limits.max_side = 256;
+    limits.max_points = 256 * 256;
+    limits.max_pages = 4;
     for (path, bytes) in regressions("decode_trace") {
         let Ok(pages) = ridgeline::raster::pages(&bytes, &limits) else {
             continue;
@@ -909,7 +904,8 @@ fn fuzz_regressions_decode_and_trace() {
                 assert_eq!(first.as_ref(), Some(&page.gray), "{path:?}: decode differs");
             }
             for params in [Params::default(), Params::paper()] {
-                let params = Params { limits, ..params };
+                let mut params = params;
+                params.front_end.limits = limits;
                 if let Ok(trace) = trace_image(&page.gray, &params) {
                     trace
                         .graph

@@ -693,10 +693,8 @@ fn pages_are_decoded_one_at_a_time_and_decode_gives_the_first() {
     // decode() of a TIFF with more pages than the limit still gives page 1.
     let many: Vec<TiffPage> = (0..5).map(|k| gray_page(&drawing(k, 20, 20))).collect();
     let bytes = tiff(&many);
-    let limits = Limits {
-        max_pages: 2,
-        ..Limits::default()
-    };
+    let mut limits = Limits::default();
+    limits.max_pages = 2;
     assert!(matches!(
         ridgeline::raster::pages(&bytes, &limits),
         Err(ridgeline::Error::Limit { actual: 5, .. })

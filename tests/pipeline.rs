@@ -371,17 +371,13 @@ fn dense_fit_follows_a_tight_loop_closer_than_the_coarse_fit() {
     // Both on the node graph's own polylines (the skeleton would carry either).
     let strokes = vec![circle([40.0, 40.0], 9.0, 6.0)];
     let binary = render(&strokes, 80, 80);
-    let node_graph = Params {
-        skeleton: false,
-        ..Params::default()
-    };
+    let mut node_graph = Params::default();
+    node_graph.finish.skeleton = false;
     let coarse = trace_binary(&binary, &node_graph)
         .expect("trace succeeds")
         .graph;
-    let dense_params = Params {
-        dense_fit: true,
-        ..node_graph
-    };
+    let mut dense_params = node_graph.clone();
+    dense_params.experiments.dense_fit = true;
     let dense = trace_binary(&binary, &dense_params)
         .expect("trace succeeds")
         .graph;
@@ -413,10 +409,8 @@ fn dense_fit_keeps_crossings_and_t_junctions() {
         line([80.0, 140.0], [80.0, 190.0], 6.0),
     ];
     let binary = render(&strokes, 160, 200);
-    let params = Params {
-        dense_fit: true,
-        ..Params::default()
-    };
+    let mut params = Params::default();
+    params.experiments.dense_fit = true;
     let graph = trace_binary(&binary, &params)
         .expect("trace succeeds")
         .graph;
@@ -449,19 +443,13 @@ fn ink_disks_keep_every_cell_of_a_grid_whose_cells_are_half_a_width() {
     // some of the nine cells; disks cut short of ink hidden behind a cell keep them all.
     let (strokes, size) = grid(6.0, 3.0);
     let binary = render(&strokes, size, size);
-    for params in [
-        Params {
-            ink_disks: true,
-            ..Params::default()
-        },
-        Params {
-            ink_disks: true,
-            site_clusters: true,
-            dense_fit: true,
-            junctions_on_ink: true,
-            ..Params::default()
-        },
-    ] {
+    let mut ink_disks = Params::default();
+    ink_disks.experiments.ink_disks = true;
+    let mut all = ink_disks.clone();
+    all.experiments.site_clusters = true;
+    all.experiments.dense_fit = true;
+    all.experiments.junctions_on_ink = true;
+    for params in [ink_disks, all] {
         let graph = trace_binary(&binary, &params)
             .expect("trace succeeds")
             .graph;

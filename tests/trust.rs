@@ -326,10 +326,8 @@ fn every_stated_range_is_checked_and_names_its_flag() {
     }
     assert_eq!(entries(d), [d.join("x.png")], "nothing written");
     // The library says the same, by field.
-    let params = ridgeline::Params {
-        threshold: ridgeline::Threshold::Sauvola { window: 4, k: 0.2 },
-        ..Default::default()
-    };
+    let mut params = ridgeline::Params::default();
+    params.front_end.threshold = ridgeline::Threshold::Sauvola { window: 4, k: 0.2 };
     let err = ridgeline::trace_points(&[[0.0, 0.0]], &params).expect_err("even window");
     assert!(err.to_string().contains("threshold.window"), "{err}");
 }

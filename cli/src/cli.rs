@@ -32,11 +32,6 @@ use ridgeline::{
     ClusterRule, Enhancement, LaplacianRule, Params, Polarity, RMinRule, StrokeGraph, Threshold,
 };
 
-/// Sauvola window when `--sauvola` is given without `--window` (the value `Threshold` documents).
-const SAUVOLA_WINDOW: u32 = 31;
-/// Sauvola `k` when `--sauvola` is given without `--sauvola-k`.
-const SAUVOLA_K: f64 = 0.2;
-
 /// Extensions read as images (decoded by content, so a wrong extension still decodes).
 const IMAGE_EXTENSIONS: &[&str] = &[
     "png", "jpg", "jpeg", "tif", "tiff", "bmp", "gif", "webp", "pnm", "pbm", "pgm", "ppm",
@@ -604,49 +599,49 @@ impl TryFrom<&Cli> for Params {
             };
         }
         if let Some(method) = cli.binarize {
-            params.threshold = match method {
+            params.front_end.threshold = match method {
                 BinarizeArg::Auto => Threshold::Auto,
                 BinarizeArg::Otsu => Threshold::Otsu,
                 BinarizeArg::Local => Threshold::Local,
             };
         }
         if let Some(level) = cli.threshold {
-            params.threshold = Threshold::Fixed { level };
+            params.front_end.threshold = Threshold::Fixed { level };
         }
         if cli.sauvola {
-            params.threshold = Threshold::Sauvola {
-                window: cli.window.unwrap_or(SAUVOLA_WINDOW),
-                k: cli.sauvola_k.unwrap_or(SAUVOLA_K),
+            params.front_end.threshold = Threshold::Sauvola {
+                window: cli.window.unwrap_or(Threshold::DEFAULT_SAUVOLA_WINDOW),
+                k: cli.sauvola_k.unwrap_or(Threshold::DEFAULT_SAUVOLA_K),
             };
         }
         if let Some(polarity) = cli.polarity {
-            params.polarity = match polarity {
+            params.front_end.polarity = match polarity {
                 PolarityArg::Auto => Polarity::Auto,
                 PolarityArg::Dark => Polarity::DarkInk,
                 PolarityArg::Light => Polarity::LightInk,
             };
         }
         if let Some(dropout) = cli.dropout {
-            params.dropout = match dropout {
+            params.front_end.dropout = match dropout {
                 Dropout::On => Some(true),
                 Dropout::Off => Some(false),
                 Dropout::Auto => None,
             };
         }
         if let Some(rule) = cli.r_min_rule {
-            params.r_min_rule = match rule {
+            params.method.r_min_rule = match rule {
                 RMinRuleArg::Width => RMinRule::StrokeWidth,
                 RMinRuleArg::Spacing => RMinRule::Spacing,
             };
         }
         if let Some(rule) = cli.clusters {
-            params.cluster_rule = match rule {
+            params.method.cluster_rule = match rule {
                 ClusterArg::NonLinear => ClusterRule::NonLinear,
                 ClusterArg::EqualDistance => ClusterRule::EqualDistance,
             };
         }
         if let Some(rule) = cli.laplacian {
-            params.laplacian = match rule {
+            params.fit.laplacian = match rule {
                 LaplacianArg::Held => LaplacianRule::Held,
                 LaplacianArg::Uniform => LaplacianRule::Uniform,
             };
@@ -656,58 +651,61 @@ impl TryFrom<&Cli> for Params {
                 *field = value;
             }
         }
-        set(&mut params.dropout_fraction, cli.dropout_fraction);
-        set(&mut params.min_area, cli.min_area);
-        set(&mut params.r_min_factor, cli.r_min_factor);
-        set(&mut params.r_max_factor, cli.r_max_factor);
-        set(&mut params.r_growth, cli.r_growth);
-        set(&mut params.linearity, cli.linearity);
-        set(&mut params.k, cli.k);
-        set(&mut params.cluster_link, cli.cluster_link);
-        set(&mut params.merge_span, cli.merge_span);
-        set(&mut params.smoothness, cli.smoothness);
-        set(&mut params.anchor_weight, cli.anchor_weight);
-        set(&mut params.weiszfeld_iterations, cli.weiszfeld_iterations);
-        set(&mut params.spacing_factor, cli.spacing_factor);
-        set(&mut params.limits.max_pixels, cli.max_pixels);
-        set(&mut params.limits.max_side, cli.max_side);
-        set(&mut params.limits.max_points, cli.max_points);
-        set(&mut params.limits.max_pages, cli.max_pages);
+        set(&mut params.front_end.dropout_fraction, cli.dropout_fraction);
+        set(&mut params.front_end.min_area, cli.min_area);
+        set(&mut params.method.r_min_factor, cli.r_min_factor);
+        set(&mut params.method.r_max_factor, cli.r_max_factor);
+        set(&mut params.method.r_growth, cli.r_growth);
+        set(&mut params.method.linearity, cli.linearity);
+        set(&mut params.method.k, cli.k);
+        set(&mut params.method.cluster_link, cli.cluster_link);
+        set(&mut params.method.merge_span, cli.merge_span);
+        set(&mut params.fit.smoothness, cli.smoothness);
+        set(&mut params.fit.anchor_weight, cli.anchor_weight);
+        set(
+            &mut params.fit.weiszfeld_iterations,
+            cli.weiszfeld_iterations,
+        );
+        set(&mut params.fit.spacing_factor, cli.spacing_factor);
+        set(&mut params.front_end.limits.max_pixels, cli.max_pixels);
+        set(&mut params.front_end.limits.max_side, cli.max_side);
+        set(&mut params.front_end.limits.max_points, cli.max_points);
+        set(&mut params.front_end.limits.max_pages, cli.max_pages);
         if cli.no_arms_test {
-            params.arms_test = false;
+            params.method.arms_test = false;
         }
         if cli.arms_test {
-            params.arms_test = true;
+            params.method.arms_test = true;
         }
         if cli.no_cleanup {
-            params.cleanup = false;
+            params.finish.cleanup = false;
         }
         if cli.cleanup {
-            params.cleanup = true;
+            params.finish.cleanup = true;
         }
         if cli.no_subpixel {
-            params.subpixel = false;
+            params.front_end.subpixel = false;
         }
         if cli.subpixel {
-            params.subpixel = true;
+            params.front_end.subpixel = true;
         }
         if cli.no_valleys {
-            params.valleys = false;
+            params.front_end.valleys = false;
         }
         if cli.valleys {
-            params.valleys = true;
+            params.front_end.valleys = true;
         }
         if cli.no_reverse_grounds {
-            params.reverse_grounds = false;
+            params.front_end.reverse_grounds = false;
         }
         if cli.reverse_grounds {
-            params.reverse_grounds = true;
+            params.front_end.reverse_grounds = true;
         }
         if cli.no_skeleton {
-            params.skeleton = false;
+            params.finish.skeleton = false;
         }
         if cli.skeleton {
-            params.skeleton = true;
+            params.finish.skeleton = true;
         }
         params.validate().map_err(|err| match err {
             ridgeline::Error::InvalidParam { field, reason } => {
@@ -719,7 +717,8 @@ impl TryFrom<&Cli> for Params {
     }
 }
 
-/// The flag that sets a [`Params`] field, as named by [`Params::validate`]'s errors.
+/// The flag that sets a [`Params`] field, as named by [`Params::validate`]'s errors and by the
+/// library's limit errors.
 fn flag_of(field: &str) -> String {
     match field {
         "threshold.window" => "--window".into(),
@@ -729,6 +728,28 @@ fn flag_of(field: &str) -> String {
             other.trim_start_matches("limits.").replace('_', "-")
         ),
     }
+}
+
+/// `err` as the command line reports it, each cause after the one before as `{err:#}` writes
+/// them, except that a limit of the library, which names its [`Params`] field, names the flag
+/// that raises it.
+fn describe(err: &anyhow::Error) -> String {
+    err.chain()
+        .map(|cause| match cause.downcast_ref::<ridgeline::Error>() {
+            Some(ridgeline::Error::Limit {
+                what,
+                actual,
+                limit,
+                field,
+            }) => format!(
+                "{what}: {actual}, over the limit of {limit}; raise it with {} if the input is \
+                 trusted",
+                flag_of(field)
+            ),
+            _ => cause.to_string(),
+        })
+        .collect::<Vec<_>>()
+        .join(": ")
 }
 
 /// How an input file is read.
@@ -1645,7 +1666,7 @@ fn run_job(job: &Job, settings: &Settings) -> Outcome {
             if closed && job.destination == Destination::Stdout {
                 return Outcome::StdoutClosed;
             }
-            Outcome::Failed(format!("{err:#}"))
+            Outcome::Failed(describe(&err))
         }
         Err(panic) => {
             let message = panic
@@ -1787,7 +1808,8 @@ fn trace_and_write(job: &Job, settings: &Settings) -> Result<Traced> {
     };
     // Only an SVG with its backdrop shows the picture; without one no colour copy is kept.
     let pictures = settings.format == Format::Svg && settings.embed_image;
-    let mut pages = ridgeline::raster::pages(&bytes, &params.limits)?.with_pictures(pictures);
+    let mut pages =
+        ridgeline::raster::pages(&bytes, &params.front_end.limits)?.with_pictures(pictures);
     let count = pages.page_count();
     let file_dpi = pages.resolution();
     if count > 1 && job.destination == Destination::Stdout {
@@ -1837,7 +1859,7 @@ fn trace_and_write(job: &Job, settings: &Settings) -> Result<Traced> {
                 all.junctions += traced.junctions;
                 outputs.push(traced.output);
             }
-            Err(err) => failed.push(format!("page {number}: {err:#}")),
+            Err(err) => failed.push(format!("page {number}: {}", describe(&err))),
         }
     }
     if !failed.is_empty() {
@@ -2219,26 +2241,29 @@ mod tests {
             "a.png",
         ]);
         let params = Params::try_from(&cli).expect("valid");
-        assert_eq!(params.r_min_rule, RMinRule::Spacing);
-        assert_eq!(params.cluster_rule, ClusterRule::EqualDistance);
-        assert_eq!(params.laplacian, LaplacianRule::Uniform);
-        assert_eq!(params.r_min_factor, 7.0);
-        assert_eq!(params.merge_span, 3.0);
-        assert_eq!(params.k, 8);
+        assert_eq!(params.method.r_min_rule, RMinRule::Spacing);
+        assert_eq!(params.method.cluster_rule, ClusterRule::EqualDistance);
+        assert_eq!(params.fit.laplacian, LaplacianRule::Uniform);
+        assert_eq!(params.method.r_min_factor, 7.0);
+        assert_eq!(params.method.merge_span, 3.0);
+        assert_eq!(params.method.k, 8);
         assert_eq!(
-            params.threshold,
+            params.front_end.threshold,
             Threshold::Sauvola {
                 window: 15,
-                k: SAUVOLA_K
+                k: Threshold::DEFAULT_SAUVOLA_K
             }
         );
-        assert_eq!(params.polarity, Polarity::LightInk);
-        assert_eq!(params.dropout, Some(true));
-        assert_eq!(params.limits.max_pixels, 1000);
-        assert!(!params.arms_test);
+        assert_eq!(params.front_end.polarity, Polarity::LightInk);
+        assert_eq!(params.front_end.dropout, Some(true));
+        assert_eq!(params.front_end.limits.max_pixels, 1000);
+        assert!(!params.method.arms_test);
         // Untouched fields keep the paper's values.
-        assert_eq!(params.r_max_factor, Params::paper().r_max_factor);
-        assert_eq!(params.anchor_weight, Params::paper().anchor_weight);
+        assert_eq!(
+            params.method.r_max_factor,
+            Params::paper().method.r_max_factor
+        );
+        assert_eq!(params.fit.anchor_weight, Params::paper().fit.anchor_weight);
     }
 
     #[test]
@@ -2270,21 +2295,21 @@ mod tests {
         .expect("valid");
         assert_eq!(params, Params::default());
         let grid = Params::try_from(&parse(&["--no-subpixel", "a.png"])).expect("valid");
-        assert!(!grid.subpixel);
+        assert!(!grid.front_end.subpixel);
         let filled = Params::try_from(&parse(&["--no-valleys", "a.png"])).expect("valid");
-        assert!(!filled.valleys);
+        assert!(!filled.front_end.valleys);
         let banner = Params::try_from(&parse(&["--no-reverse-grounds", "a.png"])).expect("valid");
-        assert!(!banner.reverse_grounds);
+        assert!(!banner.front_end.reverse_grounds);
         let node_graph = Params::try_from(&parse(&["--no-skeleton", "a.png"])).expect("valid");
-        assert!(!node_graph.skeleton);
+        assert!(!node_graph.finish.skeleton);
         let back = Params::try_from(&parse(&["--no-skeleton", "--skeleton", "a.png"])).expect("ok");
-        assert!(back.skeleton);
+        assert!(back.finish.skeleton);
         // The last of a flag and its negation wins.
         let off = Params::try_from(&parse(&["--cleanup", "--no-cleanup", "a.png"])).expect("valid");
-        assert!(!off.cleanup);
+        assert!(!off.finish.cleanup);
         let on =
             Params::try_from(&parse(&["--no-arms-test", "--arms-test", "a.png"])).expect("valid");
-        assert!(on.arms_test);
+        assert!(on.method.arms_test);
     }
 
     #[test]
@@ -2303,25 +2328,34 @@ mod tests {
         let d = Params::default();
         let p = Params::paper();
         for expected in [
-            format!("default: {}, paper: {}", d.r_min_factor, p.r_min_factor),
-            format!("default: {}, paper: {}", d.r_max_factor, p.r_max_factor),
-            format!("default: {}]", d.r_growth),
-            format!("default: {}]", d.linearity),
-            format!("default: {}]", d.k),
-            format!("default: {}]", d.cluster_link),
-            format!("default: {}, paper: inf", d.merge_span),
-            format!("default: {}]", d.smoothness),
-            format!("default: {}, paper: {}", d.anchor_weight, p.anchor_weight),
-            format!("default: {}]", d.weiszfeld_iterations),
-            format!("default: {}]", d.spacing_factor),
-            format!("default: {}]", d.dropout_fraction),
-            format!("default: {}]", d.min_area),
-            format!("default: {}]", d.limits.max_pixels),
-            format!("default: {}]", d.limits.max_side),
-            format!("default: {}]", d.limits.max_points),
-            format!("default: {}]", d.limits.max_pages),
-            format!("default: {SAUVOLA_WINDOW}]"),
-            format!("default: {SAUVOLA_K}]"),
+            format!(
+                "default: {}, paper: {}",
+                d.method.r_min_factor, p.method.r_min_factor
+            ),
+            format!(
+                "default: {}, paper: {}",
+                d.method.r_max_factor, p.method.r_max_factor
+            ),
+            format!("default: {}]", d.method.r_growth),
+            format!("default: {}]", d.method.linearity),
+            format!("default: {}]", d.method.k),
+            format!("default: {}]", d.method.cluster_link),
+            format!("default: {}, paper: inf", d.method.merge_span),
+            format!("default: {}]", d.fit.smoothness),
+            format!(
+                "default: {}, paper: {}",
+                d.fit.anchor_weight, p.fit.anchor_weight
+            ),
+            format!("default: {}]", d.fit.weiszfeld_iterations),
+            format!("default: {}]", d.fit.spacing_factor),
+            format!("default: {}]", d.front_end.dropout_fraction),
+            format!("default: {}]", d.front_end.min_area),
+            format!("default: {}]", d.front_end.limits.max_pixels),
+            format!("default: {}]", d.front_end.limits.max_side),
+            format!("default: {}]", d.front_end.limits.max_points),
+            format!("default: {}]", d.front_end.limits.max_pages),
+            format!("default: {}]", Threshold::DEFAULT_SAUVOLA_WINDOW),
+            format!("default: {}]", Threshold::DEFAULT_SAUVOLA_K),
             format!("default: {}]", CurveOptions::default().tolerance),
             format!("default: {}]", CurveOptions::default().corner_angle_deg),
         ] {

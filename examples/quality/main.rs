@@ -206,13 +206,11 @@ fn run_method(
     let baseline_mask = || -> anyhow::Result<ridgeline::Binary> {
         Ok(match gray {
             Some(d) => {
-                let params = Params {
-                    polarity: if d.recipe.inverted {
-                        Polarity::LightInk
-                    } else {
-                        Polarity::DarkInk
-                    },
-                    ..Params::default()
+                let mut params = Params::default();
+                params.front_end.polarity = if d.recipe.inverted {
+                    Polarity::LightInk
+                } else {
+                    Polarity::DarkInk
                 };
                 ridgeline::raster::binarize(&d.gray, &params)?
             }
@@ -222,10 +220,11 @@ fn run_method(
     Ok(match method {
         "ridgeline" => trace(&variant_params()?)?,
         "paper" => trace(&Params::paper())?,
-        "node graph" => trace(&Params {
-            skeleton: false,
-            ..Params::default()
-        })?,
+        "node graph" => {
+            let mut params = Params::default();
+            params.finish.skeleton = false;
+            trace(&params)?
+        }
         CLEAN => graph_and_codes(ridgeline::trace_binary(&case.binary, &variant_params()?)?),
         "thinning" => (thinning::trace(&baseline_mask()?), Vec::new()),
         "thinning+pruning" => (thinning::trace_pruned(&baseline_mask()?), Vec::new()),
@@ -663,7 +662,7 @@ fn main() -> anyhow::Result<()> {
                 .iter()
                 .filter(|name| {
                     let d = &captures[name.as_str()];
-                    let expected = if d.recipe.inverted { "light" } else { "dark" };
+                    let expected = ridgeline::InkSide::of(!d.recipe.inverted);
                     ridgeline::trace_image(&d.gray, &Params::default())
                         .ok()
                         .and_then(|t| t.decisions)

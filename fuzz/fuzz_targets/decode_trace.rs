@@ -15,12 +15,11 @@ use ridgeline::raster::Picture;
 use ridgeline::{Limits, Params};
 
 fuzz_target!(|data: &[u8]| {
-    let limits = Limits {
-        max_pixels: 256 * 256,
-        max_side: 256,
-        max_points: 256 * 256,
-        max_pages: 4,
-    };
+    let mut limits = Limits::default();
+    limits.max_pixels = 256 * 256;
+    limits.max_side = 256;
+    limits.max_points = 256 * 256;
+    limits.max_pages = 4;
     let Ok(pages) = ridgeline::raster::pages(data, &limits) else {
         return;
     };
@@ -43,7 +42,8 @@ fuzz_target!(|data: &[u8]| {
             presets.push(Params::paper());
         }
         for params in presets {
-            let params = Params { limits, ..params };
+            let mut params = params;
+            params.front_end.limits = limits;
             let Ok(trace) = ridgeline::trace_image(gray, &params) else {
                 continue;
             };

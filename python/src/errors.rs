@@ -39,17 +39,16 @@ pub fn to_py(py: Python<'_>, err: ridgeline::Error) -> PyErr {
             what,
             actual,
             limit,
-            flag,
+            field,
         } => {
-            // The library names the command-line flag; from Python the same limit is a key of
-            // `limits` (`--max-pixels` is `limits={"max_pixels": ...}`).
-            let key = flag.trim_start_matches('-').replace('-', "_");
-            let message = format!("{message}; from Python: limits={{\"{key}\": ...}}");
-            raise(
-                py,
-                "LimitError",
-                (message, what, actual, limit, format!("limits.{key}")),
-            )
+            // The library names the field (`limits.max_pixels`); from Python it is a key of the
+            // `limits` keyword.
+            let key = field.trim_start_matches("limits.");
+            let message = format!(
+                "{what}: {actual}, over the limit of {limit}; raise it with \
+                 limits={{\"{key}\": ...}} if the input is trusted"
+            );
+            raise(py, "LimitError", (message, what, actual, limit, field))
         }
         ridgeline::Error::PointParse { line, .. } => raise(py, "PointListError", (message, line)),
         ridgeline::Error::InvalidParam { field, .. } => parameter(py, message, field),

@@ -304,7 +304,7 @@ fn dimensions<T>(view: &ArrayView2<'_, T>) -> ridgeline::Result<(u32, u32)> {
             what: "image side",
             actual: rows.max(columns) as u64,
             limit: u64::from(u32::MAX),
-            flag: "--max-side",
+            field: "limits.max_side",
         }),
     }
 }
@@ -398,7 +398,7 @@ fn trace_encoded(
     all: bool,
     started: Instant,
 ) -> ridgeline::Result<Vec<Traced>> {
-    let pages = ridgeline::raster::pages(&bytes, &params.limits)?.with_pictures(true);
+    let pages = ridgeline::raster::pages(&bytes, &params.front_end.limits)?.with_pictures(true);
     let count = pages.page_count();
     let resolution = pages.resolution();
     let mut out = Vec::new();

@@ -2,17 +2,17 @@
 //! hand: a field added to `Params` becomes a keyword with its default without a change here.
 //!
 //! The names are the fields serde deserializes (in declaration order, read from the derived
-//! `Deserialize` by [`field_names`]); the defaults are `Params::default()` serialized, so every
-//! value looks exactly like the `parameters` object of the JSON output (docs/json.md). A field
-//! serde leaves out of the serialized defaults (the booleans written only when true) gets the
-//! value that deserializes back to `Params::default()`.
+//! `Deserialize` of each of `Params`' stage groups by [`field_names`]); the defaults are
+//! `Params::default()` serialized, so every value looks exactly like the `parameters` object of
+//! the JSON output (docs/json.md). A field serde leaves out of the serialized defaults (the
+//! booleans written only when true) gets the value that deserializes back to `Params::default()`.
 
 use std::sync::OnceLock;
 
 use pyo3::exceptions::{PyRuntimeError, PyTypeError};
 use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyDict, PyMapping, PyString};
-use ridgeline::Params;
+use ridgeline::{ExperimentParams, FinishParams, FitParams, FrontEndParams, MethodParams, Params};
 use serde::de::{self, Deserialize, Deserializer, Visitor};
 
 use crate::errors;
@@ -61,10 +61,42 @@ fn field_names<'de, T: Deserialize<'de>>() -> &'static [&'static str] {
     probe.0.unwrap_or(&[])
 }
 
-/// The keyword names, in `Params`' field order.
+/// The keyword names, in `Params`' field order: the fields of its stage groups, which serde
+/// flattens into one object (so `Params`' own `Deserialize` names no fields), then its own field
+/// `fingerprint`.
 pub fn names() -> &'static [&'static str] {
-    static NAMES: OnceLock<&'static [&'static str]> = OnceLock::new();
-    NAMES.get_or_init(field_names::<Params>)
+    static NAMES: OnceLock<Vec<&'static str>> = OnceLock::new();
+    NAMES.get_or_init(|| {
+        [
+            field_names::<FrontEndParams>(),
+            field_names::<MethodParams>(),
+            field_names::<FitParams>(),
+            field_names::<FinishParams>(),
+            field_names::<ExperimentParams>(),
+            &["fingerprint"],
+        ]
+        .concat()
+    })
+}
+
+/// `Params` from the dict of its serde representation. Each stage group is read from the whole
+/// dict as a struct of its own (ignoring the other groups' keys), so each value is read as its
+/// field asks, as for a flat struct: serde's flattening would first buffer every value by its
+/// Python type and refuse what the field reads by conversion (a numpy integer for `k`, an int
+/// for a boolean).
+pub fn from_dict(dict: &Bound<'_, PyDict>) -> Result<Params, pythonize::PythonizeError> {
+    let any = dict.as_any();
+    let mut params = Params::default();
+    params.front_end = pythonize::depythonize(any)?;
+    params.method = pythonize::depythonize(any)?;
+    params.fit = pythonize::depythonize(any)?;
+    params.finish = pythonize::depythonize(any)?;
+    params.experiments = pythonize::depythonize(any)?;
+    params.fingerprint = match dict.get_item("fingerprint")? {
+        Some(value) => pythonize::depythonize(&value)?,
+        None => None,
+    };
+    Ok(params)
 }
 
 /// `params` as the dict of its serde representation, one key per keyword (fields serde skips
@@ -102,7 +134,7 @@ pub fn defaults(py: Python<'_>) -> PyResult<Bound<'_, PyDict>> {
         let with = |candidate: &Bound<'_, PyAny>| -> Option<Params> {
             let trial = dict.copy().ok()?;
             trial.set_item(name, candidate).ok()?;
-            pythonize::depythonize::<Params>(trial.as_any()).ok()
+            from_dict(&trial).ok()
         };
         let reads = |candidate: &Bound<'_, PyAny>| {
             with(candidate).is_some_and(|params| params == Params::default())
@@ -193,7 +225,7 @@ pub fn from_kwargs(py: Python<'_>, kwargs: Option<&Bound<'_, PyDict>>) -> PyResu
         merged.set_item(name, &value)?;
         given.push((name, value, kwargs.get_item(name)?));
     }
-    let params = match pythonize::depythonize::<Params>(merged.as_any()) {
+    let params = match from_dict(&merged) {
         Ok(params) => params,
         Err(err) => return Err(locate(py, &defaults, &given, &err.to_string())),
     };
@@ -225,7 +257,7 @@ fn locate(py: Python<'_>, defaults: &Bound<'_, PyDict>, given: &[Given<'_>], who
             Ok(trial)
         });
         if let Ok(trial) = trial {
-            if let Err(err) = pythonize::depythonize::<Params>(trial.as_any()) {
+            if let Err(err) = from_dict(&trial) {
                 let shown = value
                     .repr()
                     .map_or_else(|_| String::from("?"), |repr| repr.to_string());

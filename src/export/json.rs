@@ -40,7 +40,7 @@ impl Serialize for RoundedDecisions<'_> {
         use serde::ser::SerializeStruct;
         let d = self.0;
         let mut s = serializer.serialize_struct("Decisions", 9)?;
-        s.serialize_field("polarity", d.polarity)?;
+        s.serialize_field("polarity", &d.polarity)?;
         s.serialize_field("polarity_confidence", &d.polarity_confidence.map(Rounded))?;
         s.serialize_field("threshold", &d.threshold)?;
         s.serialize_field("stroke_width", &Rounded(d.stroke_width))?;

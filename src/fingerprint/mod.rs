@@ -52,7 +52,7 @@ pub struct PrintAnalysis {
     #[serde(skip)]
     pub dark_ridges: bool,
     /// How sure that polarity is, in [0, 1), when it was decided from the image; `None` when it
-    /// was given (`Params::polarity`).
+    /// was given (`FrontEndParams::polarity`).
     #[serde(skip)]
     pub polarity_confidence: Option<f64>,
 }

@@ -1,4 +1,4 @@
-//! §3.4 dense re-fit ([`crate::Params::dense_fit`]): every edge re-fitted from the pixels it owns,
+//! §3.4 dense re-fit ([`crate::ExperimentParams::dense_fit`]): every edge re-fitted from the pixels it owns,
 //! one point every [`crate::DENSE_SPACING`] `Dis_ave`.
 //!
 //! The least-squares fit of Eq. (4) places one node per `h` (about one stroke width), so a

@@ -16,9 +16,9 @@
 //!    [`LaplacianRule::Uniform`] it is the uniform graph Laplacian, as the paper writes it (whose
 //!    preset also sets the data weights to 1);
 //! 4. `place` (clean-up only): ends out to where the ink ends, junctions where their arms' lines
-//!    meet (adaptations 13, 14), and with [`Params::junctions_on_ink`] a junction left off the ink
+//!    meet (adaptations 13, 14), and with [`ExperimentParams::junctions_on_ink`](crate::ExperimentParams::junctions_on_ink) a junction left off the ink
 //!    moved onto the nearest point of its cell;
-//! 5. `dense` ([`Params::dense_fit`], off by default): after the junctions are placed, every edge
+//! 5. `dense` ([`ExperimentParams::dense_fit`](crate::ExperimentParams::dense_fit), off by default): after the junctions are placed, every edge
 //!    re-fitted from its own points, one point per slice of `2 Dis_ave` at the median offset of
 //!    the slice's points across the edge, leaving out the stretch next to each junction where
 //!    the arms share ink; ends are then placed on the dense edges;
@@ -71,7 +71,7 @@ pub fn fit_with_spacing(
         return StrokeGraph::default();
     }
     let unit = length_unit(points);
-    let layout = layout::equalize(graph, h, params.cleanup);
+    let layout = layout::equalize(graph, h, params.finish.cleanup);
     let count = layout.pos.len();
 
     let owned = if graph.owner.len() == points.len() {
@@ -99,7 +99,7 @@ pub fn fit_with_spacing(
         &layout.near,
         unit,
     );
-    let iterations = params.weiszfeld_iterations;
+    let iterations = params.fit.weiszfeld_iterations;
     // A ten-thousandth of a pixel (of `Dis_ave` for point lists): far below what the output keeps
     // (0.01 px), and it halves the Weiszfeld work on a page (most cells settle in a few steps).
     let tolerance = MEDIAN_TOLERANCE * unit;
@@ -112,7 +112,7 @@ pub fn fit_with_spacing(
         .collect();
 
     let degrees = layout.degrees();
-    let anchor = params.anchor_weight;
+    let anchor = params.fit.anchor_weight;
     let mut weights = vec![1.0; count];
     let mut targets = layout.pos.clone();
     for i in 0..count {
@@ -128,19 +128,19 @@ pub fn fit_with_spacing(
         }
     }
     let mut polylines: Vec<Vec<u32>> = layout.edges.iter().map(|e| layout.polyline(e)).collect();
-    let smoothness = match params.laplacian {
+    let smoothness = match params.fit.laplacian {
         LaplacianRule::Uniform => uniform_laplacian(&polylines, count),
         LaplacianRule::Held => held_laplacian(&layout, &polylines, &degrees),
     };
-    let mut positions = solve::solve(&targets, &weights, &smoothness, params.smoothness)
+    let mut positions = solve::solve(&targets, &weights, &smoothness, params.fit.smoothness)
         .unwrap_or_else(|| targets.clone());
 
     // The coarse unknown each position stands for (the dense re-fit appends positions).
     let mut parent: Vec<u32> = (0..positions.len() as u32).collect();
     // Dense re-fit needs the clean-up's junction placement first (its slices stop one width
     // short of the junctions), and steady slices: off in dropout mode, whose ink is broken.
-    let dense = params.dense_fit && params.cleanup && !points.dropout;
-    if params.cleanup {
+    let dense = params.experiments.dense_fit && params.finish.cleanup && !points.dropout;
+    if params.finish.cleanup {
         let ink = Ink::new(points, unit, &components);
 
         let placement = Placement {
@@ -164,7 +164,7 @@ pub fn fit_with_spacing(
                 );
             }
         }
-        if params.junctions_on_ink {
+        if params.experiments.junctions_on_ink {
             for (k, &degree) in degrees.iter().enumerate() {
                 let v = layout.vertex_unknown(k);
                 if degree >= 3 {
@@ -211,7 +211,7 @@ pub fn fit_with_spacing(
     })
 }
 
-/// [`Params::dense_fit`]: every edge re-fitted from its own points (see `dense`), leaving out one
+/// [`ExperimentParams::dense_fit`](crate::ExperimentParams::dense_fit): every edge re-fitted from its own points (see `dense`), leaving out one
 /// stroke width at each junction end.
 #[allow(clippy::too_many_arguments)]
 fn refit_densely(
@@ -308,7 +308,7 @@ pub fn node_spacing(graphs: &[&NodeGraph], points: &PointSet, params: &Params) -
     }
     let mid = widths.len() / 2;
     let (_, median, _) = widths.select_nth_unstable_by(mid, f64::total_cmp);
-    (params.spacing_factor * *median).max(floor)
+    (params.fit.spacing_factor * *median).max(floor)
 }
 
 /// The local stroke width at vertex `k`: its graph node's width, or `h` when that is unknown.

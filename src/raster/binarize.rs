@@ -12,7 +12,7 @@ use rayon::prelude::*;
 use super::evidence::{self, PolarityEvidence};
 use super::grounds;
 use super::valleys;
-use crate::decisions::{Decisions, ThresholdUsed, UNEVEN_LIGHT};
+use crate::decisions::{Decisions, InkSide, ThresholdUsed, UNEVEN_LIGHT};
 use crate::{Binary, GrayView, Params, Polarity, Result, Threshold};
 
 /// Sauvola's dynamic range of the standard deviation `R` for 8-bit images.
@@ -27,17 +27,13 @@ pub(crate) fn binarize_deciding(
     let (width, height) = gray.dimensions();
     let (w, h) = (width as usize, height as usize);
     let mut binary = Binary::new(width, height);
-    let forced = match params.polarity {
+    let forced = match params.front_end.polarity {
         Polarity::Auto => None,
         Polarity::DarkInk => Some(true),
         Polarity::LightInk => Some(false),
     };
     let mut decisions = Decisions {
-        polarity: if forced == Some(false) {
-            "light"
-        } else {
-            "dark"
-        },
+        polarity: InkSide::of(forced != Some(false)),
         polarity_confidence: None,
         threshold: ThresholdUsed::Uniform,
         stroke_width: 0.0,
@@ -60,7 +56,7 @@ pub(crate) fn binarize_deciding(
     if min == max {
         return Ok((binary, decisions));
     }
-    let level = match params.threshold {
+    let level = match params.front_end.threshold {
         Threshold::Fixed { level } => level,
         _ => otsu_level_of(&histogram, w * h),
     };
@@ -69,14 +65,17 @@ pub(crate) fn binarize_deciding(
     let mut dark = binary.ink;
     split(gray, &mut dark, |v| v <= level);
     let mut evidence = evidence::polarity(&dark, w, h);
-    decisions.threshold = match params.threshold {
+    decisions.threshold = match params.front_end.threshold {
         Threshold::Fixed { level } => ThresholdUsed::Fixed { level },
         _ => ThresholdUsed::Otsu { level },
     };
     // The local threshold's lighting, where it is the one used.
     let mut local = None;
     // Sauvola's polarity is decided on the split the automatic threshold would make.
-    if !matches!(params.threshold, Threshold::Otsu | Threshold::Fixed { .. }) {
+    if !matches!(
+        params.front_end.threshold,
+        Threshold::Otsu | Threshold::Fixed { .. }
+    ) {
         let dark_ink = forced.unwrap_or(evidence.dark_is_ink);
         if let Some(lighting) = evidence::lighting(gray, evidence.thinner_width, dark_ink) {
             // Where the two splits differ on more than a share of the ink, one global level
@@ -87,7 +86,7 @@ pub(crate) fn binarize_deciding(
             decisions.uneven_light = differ as f64 / ink as f64;
             // A global level that reaches some paper block's own levels specks (or, between
             // close strokes, bridges) that paper however little of the ink it moves.
-            if params.threshold == Threshold::Local
+            if params.front_end.threshold == Threshold::Local
                 || decisions.uneven_light > UNEVEN_LIGHT
                 || evidence::level_reaches_paper(&lighting, level, dark_ink)
             {
@@ -112,7 +111,7 @@ pub(crate) fn binarize_deciding(
     }
     let dark_ink = forced.unwrap_or(evidence.dark_is_ink);
     record_polarity(&mut decisions, dark_ink, forced.is_none(), &evidence);
-    if let Threshold::Sauvola { window, k } = params.threshold {
+    if let Threshold::Sauvola { window, k } = params.front_end.threshold {
         sauvola(gray, window, k, dark_ink, &mut dark);
         decisions.threshold = ThresholdUsed::Sauvola { window, k };
     } else if !dark_ink {
@@ -120,10 +119,10 @@ pub(crate) fn binarize_deciding(
     }
     // A bilevel image has no valley (every ink pixel has the same level).
     let gray_levels = histogram[min + 1..max].iter().any(|&c| c > 0);
-    if params.valleys
+    if params.front_end.valleys
         && gray_levels
         && matches!(
-            params.threshold,
+            params.front_end.threshold,
             Threshold::Auto | Threshold::Otsu | Threshold::Local
         )
     {
@@ -133,7 +132,7 @@ pub(crate) fn binarize_deciding(
         };
         valleys::open(gray, dark_ink, &threshold, &mut dark);
     }
-    if params.reverse_grounds && forced.is_none() {
+    if params.front_end.reverse_grounds && forced.is_none() {
         decisions.reversed_grounds = grounds::reverse(&mut dark, w, h);
         if !decisions.reversed_grounds.is_empty() {
             // The ink is another now: its strokes' width, not the grounds'.
@@ -150,7 +149,7 @@ fn record_polarity(
     automatic: bool,
     evidence: &PolarityEvidence,
 ) {
-    decisions.polarity = if dark_ink { "dark" } else { "light" };
+    decisions.polarity = InkSide::of(dark_ink);
     decisions.polarity_confidence = automatic.then_some(evidence.confidence);
     decisions.stroke_width = if dark_ink == evidence.dark_is_ink {
         evidence.stroke_width
@@ -306,11 +305,10 @@ mod tests {
     use image::Luma;
 
     fn params(threshold: Threshold, polarity: Polarity) -> Params {
-        Params {
-            threshold,
-            polarity,
-            ..Params::default()
-        }
+        let mut params = Params::default();
+        params.front_end.threshold = threshold;
+        params.front_end.polarity = polarity;
+        params
     }
 
     /// Strokes (a cross and a box) on paper; `paper` and `ink` gray levels.
@@ -453,10 +451,7 @@ mod tests {
                 "{decisions:?}"
             );
             assert!(decisions.uneven_light > UNEVEN_LIGHT);
-            assert_eq!(
-                decisions.polarity,
-                if light_strokes { "light" } else { "dark" }
-            );
+            assert_eq!(decisions.polarity, InkSide::of(!light_strokes));
             assert!(
                 decisions.polarity_confidence.unwrap() > 0.5,
                 "{decisions:?}"
@@ -523,7 +518,7 @@ mod tests {
         let (_, decisions) = binarize_deciding((&img).into(), &forced).unwrap();
         assert_eq!(
             (decisions.polarity, decisions.polarity_confidence),
-            ("dark", None)
+            (InkSide::Dark, None)
         );
     }
 
@@ -560,17 +555,13 @@ mod tests {
     fn light_strokes_on_a_dark_banner_are_the_ink_and_are_recorded() {
         let (img, truth) = banner();
         let (binary, decisions) = binarize_deciding((&img).into(), &Params::default()).unwrap();
-        assert_eq!(decisions.polarity, "dark");
+        assert_eq!(decisions.polarity, InkSide::Dark);
         assert_eq!(binary.ink, truth);
         assert_eq!(decisions.reversed_grounds.len(), 1, "{decisions:?}");
         // Without the rule, or with the polarity forced, the banner is ink.
-        for params in [
-            Params {
-                reverse_grounds: false,
-                ..Params::default()
-            },
-            params(Threshold::Auto, Polarity::DarkInk),
-        ] {
+        let mut without = Params::default();
+        without.front_end.reverse_grounds = false;
+        for params in [without, params(Threshold::Auto, Polarity::DarkInk)] {
             let (binary, decisions) = binarize_deciding((&img).into(), &params).unwrap();
             assert!(decisions.reversed_grounds.is_empty());
             assert!(binary.ink[15 * 240 + 15], "the banner stays ink");

@@ -176,13 +176,11 @@ mod tests {
     #[test]
     fn chunks_are_the_point_sets_cut_from_the_whole_page() {
         let binary = page();
-        let params = Params {
-            dropout: Some(false),
-            ..Params::default()
-        };
+        let mut params = Params::default();
+        params.front_end.dropout = Some(false);
         let whole = points(&binary, &params).expect("points");
         for target in [1, 50, 300, 1000] {
-            let chunks = pixel_chunks(binary.view(), &params, params.dropout, target)
+            let chunks = pixel_chunks(binary.view(), &params, params.front_end.dropout, target)
                 .expect("chunks")
                 .expect("more ink than the target");
             let expected = whole.split_components(target);
@@ -209,16 +207,18 @@ mod tests {
         let binary = page();
         let params = Params::default();
         let ink = binary.ink.iter().filter(|&&b| b).count();
-        assert!(pixel_chunks(binary.view(), &params, params.dropout, ink)
-            .expect("ok")
-            .is_none());
-        let forced = Params {
-            dropout: Some(true),
-            ..Params::default()
-        };
-        assert!(pixel_chunks(binary.view(), &forced, forced.dropout, 10)
-            .expect("ok")
-            .is_none());
+        assert!(
+            pixel_chunks(binary.view(), &params, params.front_end.dropout, ink)
+                .expect("ok")
+                .is_none()
+        );
+        let mut forced = Params::default();
+        forced.front_end.dropout = Some(true);
+        assert!(
+            pixel_chunks(binary.view(), &forced, forced.front_end.dropout, 10)
+                .expect("ok")
+                .is_none()
+        );
     }
 
     #[test]
@@ -233,9 +233,11 @@ mod tests {
         }
         let params = Params::default();
         assert!(points(&binary, &params).expect("points").dropout);
-        assert!(pixel_chunks(binary.view(), &params, params.dropout, 10)
-            .expect("ok")
-            .is_none());
+        assert!(
+            pixel_chunks(binary.view(), &params, params.front_end.dropout, 10)
+                .expect("ok")
+                .is_none()
+        );
         // Without the holes the bars are traced in chunks.
         let mut solid = Binary::new(60, 40);
         for y in 2..38 {
@@ -244,16 +246,18 @@ mod tests {
             }
         }
         assert!(!points(&solid, &params).expect("points").dropout);
-        assert!(pixel_chunks(solid.view(), &params, params.dropout, 10)
-            .expect("ok")
-            .is_some());
+        assert!(
+            pixel_chunks(solid.view(), &params, params.front_end.dropout, 10)
+                .expect("ok")
+                .is_some()
+        );
     }
 
     #[test]
     fn too_many_points_are_refused() {
         let binary = page();
         let mut params = Params::default();
-        params.limits.max_points = 10;
-        assert!(pixel_chunks(binary.view(), &params, params.dropout, 5).is_err());
+        params.front_end.limits.max_points = 10;
+        assert!(pixel_chunks(binary.view(), &params, params.front_end.dropout, 5).is_err());
     }
 }

@@ -135,7 +135,7 @@ pub fn pages<'a>(bytes: &'a [u8], limits: &Limits) -> Result<Pages<'a>> {
                 what: "TIFF pages",
                 actual: chain.count,
                 limit: limits.max_pages,
-                flag: "--max-pages",
+                field: "limits.max_pages",
             });
         }
     }
@@ -402,7 +402,7 @@ fn check_size(width: u32, height: u32, limits: &Limits) -> Result<()> {
             what: "image pixels",
             actual: pixels,
             limit: limits.max_pixels,
-            flag: "--max-pixels",
+            field: "limits.max_pixels",
         });
     }
     let side = width.max(height);
@@ -411,7 +411,7 @@ fn check_size(width: u32, height: u32, limits: &Limits) -> Result<()> {
             what: "image side",
             actual: side as u64,
             limit: limits.max_side as u64,
-            flag: "--max-side",
+            field: "limits.max_side",
         });
     }
     Ok(())

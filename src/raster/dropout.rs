@@ -67,7 +67,7 @@ pub(crate) fn split(binary: MaskView<'_>, params: &Params) -> Option<(Binary, Bi
             let count_f = count as f64;
             (loose > MIN_LOOSE && loose as f64 > LOOSE_FRACTION * count_f)
                 || (isolated > MIN_LOOSE && isolated as f64 > ISOLATED_FRACTION * count_f)
-                || (count > 0 && holes as f64 > params.dropout_fraction * count_f)
+                || (count > 0 && holes as f64 > params.front_end.dropout_fraction * count_f)
         })
         .collect();
     let with_ink = |on: bool| stats.iter().zip(&broken).any(|(s, &b)| s[0] > 0 && b == on);

@@ -246,15 +246,15 @@ pub(super) fn build(window: &Window, spacing: f64, dropout: bool) -> Result<Poin
     })
 }
 
-/// Refuses more ink pixels than `params.limits.max_points` (or than `u32` point indices can
+/// Refuses more ink pixels than `params.front_end.limits.max_points` (or than `u32` point indices can
 /// number, `Grid::NONE` reserved) before anything is allocated per point.
 pub(super) fn check_point_count(count: usize, params: &Params) -> Result<()> {
-    if count as u64 > params.limits.max_points || count as u64 >= u32::MAX as u64 {
+    if count as u64 > params.front_end.limits.max_points || count as u64 >= u32::MAX as u64 {
         return Err(Error::Limit {
             what: "foreground points",
             actual: count as u64,
-            limit: params.limits.max_points,
-            flag: "--max-points",
+            limit: params.front_end.limits.max_points,
+            field: "limits.max_points",
         });
     }
     Ok(())
@@ -278,7 +278,7 @@ fn dropout_mode(
         || spacing > DROPOUT_SPACING
         // Adaptation 2: tiny holes above a share of the ink (1.5% by default; 0.5% misfired
         // on script, whose loops leave tiny holes).
-        || holes() as f64 > params.dropout_fraction * count as f64
+        || holes() as f64 > params.front_end.dropout_fraction * count as f64
 }
 
 /// The neighbour graph in CSR form: the ink pixels within Chebyshev distance `reach` (1: the
@@ -326,7 +326,7 @@ fn neighbour_csr(
                 what: "neighbour pairs",
                 actual: total,
                 limit: u32::MAX as u64,
-                flag: "--max-points",
+                field: "limits.max_points",
             });
         }
         *slot = total as u32;
@@ -520,10 +520,8 @@ mod tests {
         let mean = center.iter().sum::<f32>() / center.len() as f32;
         assert!(mean > 4.0, "{mean}");
         // Forced off.
-        let params = Params {
-            dropout: Some(false),
-            ..Params::default()
-        };
+        let mut params = Params::default();
+        params.front_end.dropout = Some(false);
         let set = points(&broken, &params).unwrap();
         assert!(!set.dropout);
         assert!(set.neighbors.len() <= 8 * set.len());
@@ -553,25 +551,19 @@ mod tests {
     }
 
     fn params_forced_off() -> Params {
-        Params {
-            dropout: Some(false),
-            ..Params::default()
-        }
+        let mut params = Params::default();
+        params.front_end.dropout = Some(false);
+        params
     }
 
     #[test]
     fn limits_and_empty_masks() {
         let binary = horizontal_bar(20, 10, 3, 2);
-        let params = Params {
-            limits: crate::Limits {
-                max_points: 10,
-                ..crate::Limits::default()
-            },
-            ..Params::default()
-        };
+        let mut params = Params::default();
+        params.front_end.limits.max_points = 10;
         match points(&binary, &params) {
-            Err(Error::Limit { flag, actual, .. }) => {
-                assert_eq!(flag, "--max-points");
+            Err(Error::Limit { field, actual, .. }) => {
+                assert_eq!(field, "limits.max_points");
                 assert_eq!(actual, 32);
             }
             other => panic!("expected a limit error, got {other:?}"),
@@ -590,10 +582,8 @@ mod tests {
         let mut binary = horizontal_bar(300, 200, 20, 150);
         drop_pixels(&mut binary, 0.3, 11);
         for dropout in [None, Some(true), Some(false)] {
-            let params = Params {
-                dropout,
-                ..Params::default()
-            };
+            let mut params = Params::default();
+            params.front_end.dropout = dropout;
             let run = |threads: usize| {
                 let pool = rayon::ThreadPoolBuilder::new()
                     .num_threads(threads)
@@ -616,10 +606,8 @@ mod tests {
         let mut binary = horizontal_bar(30, 12, 2, 7);
         drop_pixels(&mut binary, 0.3, 3);
         for dropout in [false, true] {
-            let params = Params {
-                dropout: Some(dropout),
-                ..Params::default()
-            };
+            let mut params = Params::default();
+            params.front_end.dropout = Some(dropout);
             let set = points(&binary, &params).unwrap();
             set.validate().unwrap();
             let reach = if dropout { 2.0 } else { 1.0 };

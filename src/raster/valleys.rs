@@ -1,5 +1,5 @@
 //! Crotches and gaps the blur filled, opened again from the gray (docs/design.md, "The front
-//! end"; `Params::valleys`).
+//! end"; `FrontEndParams::valleys`).
 //!
 //! A blurred capture adds the tails of two strokes where they come close: in the acute angle
 //! between two arms of a junction, and in a gap narrower than the blur, the gray gets darker

@@ -1,5 +1,5 @@
 //! Skeleton-carried geometry, method-decided topology: the default geometry carrier
-//! (`Params::skeleton`, on unless `--no-skeleton` or `--paper`; docs/design.md,
+//! (`FinishParams::skeleton`, on unless `--no-skeleton` or `--paper`; docs/design.md,
 //! "Skeleton-carried geometry"). A topology-preserving pixel skeleton of the ink carries the
 //! geometry and every hole, and the stroke graph of the paper's method (§3.1-§3.4) decides what
 //! the pixels alone cannot:
@@ -179,10 +179,9 @@ mod tests {
     use crate::{Params, Vertex};
 
     fn skeleton_params() -> Params {
-        Params {
-            skeleton: true,
-            ..Params::default()
-        }
+        let mut params = Params::default();
+        params.finish.skeleton = true;
+        params
     }
 
     #[test]

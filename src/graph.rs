@@ -67,8 +67,9 @@ pub fn build(points: &PointSet, samples: &Samples, params: &Params) -> NodeGraph
 }
 
 /// Union of non-linear nodes joined by edges shorter than `cluster_link · r_min` (with
-/// [`ExperimentParams::site_clusters`](crate::ExperimentParams::site_clusters), only where the segment between them stays on the ink); every
-/// non-linear node gets a cluster id (numbered in node order), linear nodes none.
+/// [`ExperimentParams::site_clusters`](crate::ExperimentParams::site_clusters), only where the
+/// segment between them stays on the ink); every non-linear node gets a cluster id (numbered in
+/// node order), linear nodes none.
 fn color_clusters(graph: &mut NodeGraph, points: &PointSet, params: &Params) {
     let n = graph.nodes.len();
     let mut union = UnionFind::<u32>::new(n);

@@ -228,10 +228,10 @@ pub(crate) fn point_list(list: &[[f64; 2]], params: &Params) -> Result<Trace> {
     Ok(trace)
 }
 
-/// The fingerprint path of [`image`]: front end, the mask's pipeline on its binary image, the
-/// prior of ridges along the flow, then the fingerprint minutiae filter. Ridges are dark unless
-/// `params.front_end.polarity` says light (a print's ridges and valleys are about as wide, so the stroke
-/// evidence of the text front end cannot tell them apart).
+/// The fingerprint path of [`image`]: front end, the mask's pipeline on its binary image, the prior
+/// of ridges along the flow, then the fingerprint minutiae filter. Ridges are dark unless
+/// `params.front_end.polarity` says light (a print's ridges and valleys are about as wide, so the
+/// stroke evidence of the text front end cannot tell them apart).
 fn print_image(
     gray: GrayView<'_>,
     params: &Params,
@@ -340,8 +340,9 @@ fn print_decisions(
     }
 }
 
-/// The pipeline of a mask: its components of fewer than [`FrontEndParams::min_area`](crate::FrontEndParams::min_area) pixels dropped,
-/// then [`trace_ink`] with dropout mode as `params.front_end.dropout` says (decided here when `None`).
+/// The pipeline of a mask: its components of fewer than
+/// [`FrontEndParams::min_area`](crate::FrontEndParams::min_area) pixels dropped, then [`trace_ink`]
+/// with dropout mode as `params.front_end.dropout` says (decided here when `None`).
 fn trace_mask(binary: MaskView<'_>, params: &Params, recording: Recording) -> Result<Trace> {
     let kept;
     let binary = if params.front_end.min_area > 0 {
@@ -528,7 +529,8 @@ fn refine_stages(
 }
 
 /// The fitted `graph` with its geometry carried by the skeleton of `points` when
-/// [`FinishParams::skeleton`](crate::FinishParams::skeleton) asks for it (docs/design.md, "Skeleton-carried geometry"), timed.
+/// [`FinishParams::skeleton`](crate::FinishParams::skeleton) asks for it (docs/design.md,
+/// "Skeleton-carried geometry"), timed.
 fn carry_on_skeleton(
     graph: StrokeGraph,
     points: &PointSet,

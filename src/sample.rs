@@ -122,7 +122,8 @@ struct Sampler<'a> {
     far: BinaryHeap<Reverse<(u32, u32)>>,
     rim: Vec<u32>,
     stack: Vec<u32>,
-    /// [`ExperimentParams::ink_disks`](crate::ExperimentParams::ink_disks) is in force (a pixel grid, not dropout mode).
+    /// [`ExperimentParams::ink_disks`](crate::ExperimentParams::ink_disks) is in force (a pixel
+    /// grid, not dropout mode).
     ink_bound: bool,
     /// Epoch stamps of the points of the current disk seen from its center (see
     /// [`Sampler::sees`]).
@@ -251,11 +252,11 @@ impl<'a> Sampler<'a> {
         }
     }
 
-    /// [`ExperimentParams::ink_disks`](crate::ExperimentParams::ink_disks): whether the disk point at `q` is seen from the center `c`, i.e. the
-    /// pixel one step from `q` toward `c` (one of the two bracketing the straight line) is a
-    /// point of this disk seen from `c`. Points nearer the center join the disk first (their
-    /// keys are smaller), so one look per point decides along the whole line; the two-pixel
-    /// bracket forgives the staircase of a digitized edge.
+    /// [`ExperimentParams::ink_disks`](crate::ExperimentParams::ink_disks): whether the disk point
+    /// at `q` is seen from the center `c`, i.e. the pixel one step from `q` toward `c` (one of the
+    /// two bracketing the straight line) is a point of this disk seen from `c`. Points nearer the
+    /// center join the disk first (their keys are smaller), so one look per point decides along the
+    /// whole line; the two-pixel bracket forgives the staircase of a digitized edge.
     fn sees(&self, c: [f64; 2], q: [f64; 2]) -> bool {
         let Some(grid) = &self.points.grid else {
             return true;

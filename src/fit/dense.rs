@@ -1,5 +1,5 @@
-//! §3.4 dense re-fit ([`crate::ExperimentParams::dense_fit`]): every edge re-fitted from the pixels it owns,
-//! one point every [`crate::DENSE_SPACING`] `Dis_ave`.
+//! §3.4 dense re-fit ([`crate::ExperimentParams::dense_fit`]): every edge re-fitted from the pixels
+//! it owns, one point every [`crate::DENSE_SPACING`] `Dis_ave`.
 //!
 //! The least-squares fit of Eq. (4) places one node per `h` (about one stroke width), so a
 //! curve tighter than that is cut by chords. Here each edge's own points (the Voronoi cells of its

@@ -16,12 +16,14 @@
 //!    [`LaplacianRule::Uniform`] it is the uniform graph Laplacian, as the paper writes it (whose
 //!    preset also sets the data weights to 1);
 //! 4. `place` (clean-up only): ends out to where the ink ends, junctions where their arms' lines
-//!    meet (adaptations 13, 14), and with [`ExperimentParams::junctions_on_ink`](crate::ExperimentParams::junctions_on_ink) a junction left off the ink
-//!    moved onto the nearest point of its cell;
-//! 5. `dense` ([`ExperimentParams::dense_fit`](crate::ExperimentParams::dense_fit), off by default): after the junctions are placed, every edge
-//!    re-fitted from its own points, one point per slice of `2 Dis_ave` at the median offset of
-//!    the slice's points across the edge, leaving out the stretch next to each junction where
-//!    the arms share ink; ends are then placed on the dense edges;
+//!    meet (adaptations 13, 14), and with
+//!    [`ExperimentParams::junctions_on_ink`](crate::ExperimentParams::junctions_on_ink) a junction
+//!    left off the ink moved onto the nearest point of its cell;
+//! 5. `dense` ([`ExperimentParams::dense_fit`](crate::ExperimentParams::dense_fit), off by
+//!    default): after the junctions are placed, every edge re-fitted from its own points, one point
+//!    per slice of `2 Dis_ave` at the median offset of the slice's points across the edge, leaving
+//!    out the stretch next to each junction where the arms share ink; ends are then placed on the
+//!    dense edges;
 //! 6. widths (`2 x half_width` of the nearest point) and unit tangents along every polyline.
 
 mod assign;
@@ -211,8 +213,8 @@ pub fn fit_with_spacing(
     })
 }
 
-/// [`ExperimentParams::dense_fit`](crate::ExperimentParams::dense_fit): every edge re-fitted from its own points (see `dense`), leaving out one
-/// stroke width at each junction end.
+/// [`ExperimentParams::dense_fit`](crate::ExperimentParams::dense_fit): every edge re-fitted from
+/// its own points (see `dense`), leaving out one stroke width at each junction end.
 #[allow(clippy::too_many_arguments)]
 fn refit_densely(
     layout: &Layout,

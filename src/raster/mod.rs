@@ -105,8 +105,8 @@ pub(crate) fn drop_small_components(binary: MaskView<'_>, min_area: usize) -> Bi
 
 /// Turns the ink pixels into the point set (neighbours, half-widths, dropout mode).
 ///
-/// Refuses more than `params.front_end.limits.max_points` ink pixels before allocating the points. `binary`
-/// is a `&Binary` or a [`MaskView`].
+/// Refuses more than `params.front_end.limits.max_points` ink pixels before allocating the points.
+/// `binary` is a `&Binary` or a [`MaskView`].
 pub fn points<'a>(binary: impl Into<MaskView<'a>>, params: &Params) -> Result<PointSet> {
     points::points(binary.into(), params, params.front_end.dropout)
 }

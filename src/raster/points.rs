@@ -246,8 +246,8 @@ pub(super) fn build(window: &Window, spacing: f64, dropout: bool) -> Result<Poin
     })
 }
 
-/// Refuses more ink pixels than `params.front_end.limits.max_points` (or than `u32` point indices can
-/// number, `Grid::NONE` reserved) before anything is allocated per point.
+/// Refuses more ink pixels than `params.front_end.limits.max_points` (or than `u32` point indices
+/// can number, `Grid::NONE` reserved) before anything is allocated per point.
 pub(super) fn check_point_count(count: usize, params: &Params) -> Result<()> {
     if count as u64 > params.front_end.limits.max_points || count as u64 >= u32::MAX as u64 {
         return Err(Error::Limit {

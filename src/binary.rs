@@ -52,7 +52,7 @@ impl Binary {
 
     /// Refuses a mask whose `ink` is not `width x height` pixels (the fields are public): the
     /// stages index it by pixel.
-    pub(crate) fn check_size(&self) -> crate::Result<()> {
+    pub(crate) fn check_size(&self) -> crate::error::Result<()> {
         self.view().check_size()
     }
 
@@ -91,10 +91,10 @@ impl MaskView<'_> {
     }
 
     /// Refuses a mask whose `ink` is not `width x height` pixels: the stages index it by pixel.
-    pub(crate) fn check_size(&self) -> crate::Result<()> {
+    pub(crate) fn check_size(&self) -> crate::error::Result<()> {
         let (width, height) = (self.width as usize, self.height as usize);
         if width.checked_mul(height) != Some(self.ink.len()) {
-            return Err(crate::Error::InvalidParams(format!(
+            return Err(crate::error::Error::InvalidParams(format!(
                 "mask has {} pixels for a {width}x{height} image",
                 self.ink.len()
             )));

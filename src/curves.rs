@@ -11,7 +11,7 @@
 //! Input: a polyline (image coordinates). Output: `Vec<CubicBezier>`, joined end to start; every
 //! input point lies within the tolerance of the curve at its parameter. Deterministic.
 
-use crate::StrokeGraph;
+use crate::stroke_graph::StrokeGraph;
 use serde::Serialize;
 
 /// One cubic Bézier segment.

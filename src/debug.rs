@@ -31,9 +31,14 @@ use imageproc::drawing::{
 };
 use imageproc::point::Point;
 
+use crate::binary::Binary;
+use crate::decisions::{Decisions, ThresholdUsed};
+use crate::error::{Error, Result};
 use crate::export::svg::{EDGE_COLOR, ENDPOINT_COLOR, JUNCTION_COLOR};
 use crate::fingerprint::PrintAnalysis;
-use crate::{Binary, Decisions, Error, GrayImage, Result, Stages, StrokeGraph, ThresholdUsed};
+use crate::pipeline::Stages;
+use crate::stroke_graph::StrokeGraph;
+use image::GrayImage;
 
 /// Pictures are upscaled until their longer side reaches this many pixels (within the limits
 /// below).
@@ -186,7 +191,7 @@ pub fn decisions_picture(gray: &GrayImage, binary: &Binary, decisions: &Decision
                     color = BLOCK_GRID;
                 }
             }
-            let on_outline = |g: &crate::raster::Ground| {
+            let on_outline = |g: &crate::decisions::Ground| {
                 let (x1, y1) = (g.x + g.width - 1, g.y + g.height - 1);
                 let across = (g.x..=x1).contains(&sx) && (g.y..=y1).contains(&sy);
                 across && (sx == g.x || sx == x1 || sy == g.y || sy == y1)
@@ -662,8 +667,11 @@ mod tests {
                 .collect(),
         )
         .expect("size matches");
-        let (analysis, binary) =
-            crate::fingerprint::analyze((&gray).into(), &crate::FingerprintParams::default(), true);
+        let (analysis, binary) = crate::fingerprint::analyze(
+            (&gray).into(),
+            &crate::params::FingerprintParams::default(),
+            true,
+        );
         let pictures = print_pictures(&gray, &analysis);
         let names: Vec<&str> = pictures.iter().map(|p| p.0).collect();
         assert_eq!(names, PRINT_PICTURE_NAMES);
@@ -741,7 +749,7 @@ mod tests {
 #[cfg(test)]
 mod decisions_tests {
     use super::*;
-    use crate::Params;
+    use crate::params::Params;
 
     #[test]
     fn the_decisions_picture_tints_the_ink_and_draws_the_local_blocks() {

@@ -2,7 +2,7 @@
 //! a [`Binary`]. [`crate::strokes::coverage_iou`] compares a traced graph with its ink this way, and
 //! the test kit (`ridgeline-testkit`) draws its cases with known centerlines with it.
 
-use crate::Binary;
+use crate::binary::Binary;
 
 /// A stroke to draw: a centerline polyline with the stroke width at each point (round caps and
 /// joins). A closed stroke repeats its first point at the end. The test kit's cases carry their

@@ -1,16 +1,48 @@
-//! Plane geometry every stage shares: distances to points and segments, the point-in-polygon test,
-//! the tangents of a polyline, the 2x2 PCA of §3.1 (Eq. (2)-(3) in two dimensions) and a total
+//! Plane geometry every stage shares: distances to points and segments, walking a polyline by arc
+//! length, the point-in-polygon test, the tangents of a polyline, the 2x2 PCA of §3.1 (Eq. (2)-(3) in two dimensions) and a total
 //! order on `f64` for heap keys.
 //!
 //! Ground floor: plain functions on `[f64; 2]`, no stage types. The distances, the polygon test
 //! and the tangents are public, for measuring a [`StrokeGraph`](crate::StrokeGraph) against other
-//! geometry (the test kit's scorer and synthetic cases use them rather than copies); the PCA and
-//! the float order are the stages' own.
+//! geometry (the test kit's scorer and synthetic cases use them rather than copies); the arc-length
+//! walk (§3.4's resampling, the minutiae's arm directions), the PCA and the float order are the
+//! stages' own.
 
 /// Euclidean distance.
 #[inline]
 pub fn dist(a: [f64; 2], b: [f64; 2]) -> f64 {
     (a[0] - b[0]).hypot(a[1] - b[1])
+}
+
+/// Cumulative arc length at each polyline point.
+pub(crate) fn arc_lengths(polyline: &[[f64; 2]]) -> Vec<f64> {
+    let mut s = Vec::with_capacity(polyline.len());
+    let mut total = 0.0;
+    for (i, p) in polyline.iter().enumerate() {
+        if i > 0 {
+            total += dist(polyline[i - 1], *p);
+        }
+        s.push(total);
+    }
+    s
+}
+
+/// The point at arc length `t` along a polyline with cumulative lengths `s`, and the index of the
+/// segment it lies on (clamped to the ends).
+pub(crate) fn point_at(polyline: &[[f64; 2]], s: &[f64], t: f64) -> ([f64; 2], usize) {
+    let n = polyline.len();
+    if n < 2 || t <= 0.0 {
+        return (polyline.first().copied().unwrap_or([0.0, 0.0]), 0);
+    }
+    if t >= s[n - 1] {
+        return (polyline[n - 1], n - 2);
+    }
+    // First point beyond t; the segment before it holds t.
+    let j = s.partition_point(|&x| x <= t).clamp(1, n - 1);
+    let (a, b) = (polyline[j - 1], polyline[j]);
+    let len = s[j] - s[j - 1];
+    let f = if len > 0.0 { (t - s[j - 1]) / len } else { 0.0 };
+    ([a[0] + f * (b[0] - a[0]), a[1] + f * (b[1] - a[1])], j - 1)
 }
 
 /// Euclidean distance from `p` to the segment `a`-`b`.
@@ -150,6 +182,15 @@ mod tests {
             segment_closest([3.0, 4.0], [0.0, 0.0], [0.0, 0.0]),
             (5.0, 0.0)
         );
+    }
+
+    #[test]
+    fn walking_a_polyline_by_arc_length() {
+        let line = [[0.0, 0.0], [3.0, 0.0], [3.0, 4.0]];
+        let s = arc_lengths(&line);
+        assert_eq!(s, vec![0.0, 3.0, 7.0]);
+        assert_eq!(point_at(&line, &s, 5.0), ([3.0, 2.0], 1));
+        assert_eq!(point_at(&line, &s, 9.0).0, [3.0, 4.0]);
     }
 
     #[test]

@@ -15,7 +15,10 @@ use petgraph::algo::dijkstra;
 use petgraph::graph::{NodeIndex, UnGraph};
 use petgraph::unionfind::UnionFind;
 
-use crate::{ClusterRule, GraphNode, NodeGraph, Params, PointSet, Samples};
+use crate::node_graph::{GraphNode, NodeGraph};
+use crate::params::{ClusterRule, Params};
+use crate::point_set::PointSet;
+use crate::samples::Samples;
 
 /// Builds `H` from the sampled nodes and colors its non-linear clusters.
 pub fn build(points: &PointSet, samples: &Samples, params: &Params) -> NodeGraph {
@@ -79,7 +82,7 @@ fn color_clusters(graph: &mut NodeGraph, points: &PointSet, params: &Params) {
             continue;
         }
         let link = params.method.cluster_link * 0.5 * (na.r_min + nb.r_min);
-        if crate::dist(na.pos, nb.pos) < link
+        if crate::geometry::dist(na.pos, nb.pos) < link
             && (!params.experiments.site_clusters || segment_on_ink(points, na.pos, nb.pos))
         {
             union.union(a, b);
@@ -112,7 +115,7 @@ fn color_clusters_as_written(graph: &mut NodeGraph, params: &Params) {
     }
     for &[a, b] in &graph.edges {
         let (na, nb) = (&graph.nodes[a as usize], &graph.nodes[b as usize]);
-        let length = crate::dist(na.pos, nb.pos);
+        let length = crate::geometry::dist(na.pos, nb.pos);
         let weight = if length < params.method.cluster_link * 0.5 * (na.r_min + nb.r_min) {
             0.0
         } else {
@@ -168,7 +171,7 @@ fn segment_on_ink(points: &PointSet, a: [f64; 2], b: [f64; 2]) -> bool {
     if points.dropout {
         return true;
     }
-    let steps = (2.0 * crate::dist(a, b)).ceil().max(1.0) as usize;
+    let steps = (2.0 * crate::geometry::dist(a, b)).ceil().max(1.0) as usize;
     (0..=steps).all(|i| {
         let t = i as f64 / steps as f64;
         let p = [a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1])];

@@ -1,12 +1,75 @@
-//! Operations on foreground masks shared by both front ends (images and point lists): the exact
-//! Euclidean distance transform that gives each point its half-width, the 3x3 closing of dropout
-//! mode, and the count of tiny background holes that switches dropout mode on (docs/design.md,
-//! adaptation 2).
+//! The binary-image toolkit, shared by both front ends (images and point lists), the fingerprint
+//! front end and the test kit's scorer: the exact Euclidean distance transform that gives each
+//! point its half-width (and, on the same pass, the closing by a disk of the minutiae's print
+//! region), the 3x3 morphology (the closing of dropout mode, the fingerprint segmentation's block
+//! flags), the labelling of connected components, and the count of tiny background holes that
+//! switches dropout mode on (docs/design.md, adaptation 2).
 //!
-//! Plain math on row-major `bool` masks; it knows nothing about stages.
+//! Ground floor: plain math on row-major `bool` masks; it knows nothing about stages. Its one
+//! labelling ([`label_components`], [`on_image_edge`]) is public for the test kit's scorer.
 
+use image::{GrayImage, Luma};
+pub use imageproc::region_labelling::Connectivity;
 use petgraph::unionfind::UnionFind;
 use rayon::prelude::*;
+
+/// The connected components of the pixels of `flags` equal to `value`: one label per pixel,
+/// numbered from 1 in raster order of each component's first pixel (0 for the other pixels), and
+/// `sizes[l]` the pixel count of label `l` (`sizes[0]` the other pixels). `flags` holds `width *
+/// height` pixels, row-major.
+///
+/// imageproc's labelling (`region_labelling::connected_components`), except on an image of one
+/// pixel that belongs to a component: there its union-find indexes past its end and panics (unit
+/// test `imageproc_labelling_panics_on_one_pixel`), so that pixel is labelled here.
+///
+/// # Panics
+///
+/// When `flags` does not hold `width * height` pixels.
+pub fn label_components(
+    flags: &[bool],
+    width: usize,
+    height: usize,
+    value: bool,
+    connectivity: Connectivity,
+) -> (Vec<u32>, Vec<usize>) {
+    assert_eq!(flags.len(), width * height, "a {width}x{height} mask");
+    let labels = if flags.len() == 1 {
+        vec![u32::from(flags[0] == value)]
+    } else {
+        let image = GrayImage::from_fn(width as u32, height as u32, |x, y| {
+            Luma([u8::from(flags[y as usize * width + x as usize] == value) * 255])
+        });
+        imageproc::region_labelling::connected_components(&image, connectivity, Luma([0u8]))
+            .into_raw()
+    };
+    let mut sizes = vec![0usize; 1];
+    for &l in &labels {
+        let l = l as usize;
+        if l >= sizes.len() {
+            sizes.resize(l + 1, 0);
+        }
+        sizes[l] += 1;
+    }
+    (labels, sizes)
+}
+
+/// For each label of [`label_components`] (`count` of them, 0 included), whether it holds a pixel
+/// on the image's edge: the components that are no holes.
+pub fn on_image_edge(labels: &[u32], width: usize, height: usize, count: usize) -> Vec<bool> {
+    let mut edge = vec![false; count];
+    if width == 0 || height == 0 {
+        return edge;
+    }
+    for x in 0..width {
+        edge[labels[x] as usize] = true;
+        edge[labels[(height - 1) * width + x] as usize] = true;
+    }
+    for y in 0..height {
+        edge[labels[y * width] as usize] = true;
+        edge[labels[y * width + width - 1] as usize] = true;
+    }
+    edge
+}
 
 /// Squared distance transform values at the ink pixels only, in raster order: entry `i` belongs to
 /// the `i`-th ink pixel of `ink`. Pixels outside the image count as background, so a 1-px line has 1 and
@@ -88,6 +151,73 @@ pub(crate) fn first_seen_labels(
         labels.push(label);
     }
     (labels, sizes)
+}
+
+/// Squared Euclidean distance (between pixel centres) from each pixel to the nearest `site`
+/// pixel, for tests against a radius of at most `reach` px: exact wherever it is at most
+/// `(reach + 1)²`, larger than `(reach + 1)²` (and at most the true value) elsewhere, infinite
+/// when there is no site. Pixels outside the image are never sites. Returns one value per pixel.
+///
+/// The one distance transform above ([`squared_distance_rows`], whose background is the sites
+/// here) on the image padded with a ring of non-sites `ceil(reach) + 1` px wide: the padding's
+/// own outside, which that transform counts as background, is then farther than `reach + 1` from
+/// every pixel of the image. With `reach` beyond the image's width plus height the padding
+/// covers every distance inside the image, and the transform is exact everywhere.
+pub(crate) fn squared_distances_to(
+    sites: &[bool],
+    width: usize,
+    height: usize,
+    reach: f64,
+) -> Vec<f32> {
+    if !sites.iter().any(|&s| s) {
+        return vec![f32::INFINITY; sites.len()];
+    }
+    let reach = if reach.is_nan() { 0.0 } else { reach.max(0.0) };
+    let margin = (reach.ceil().min((width + height) as f64) as usize) + 1;
+    let (pw, ph) = (width + 2 * margin, height + 2 * margin);
+    // The transform's ink: every pixel but the sites.
+    let mut far = vec![true; pw * ph];
+    for y in 0..height {
+        let row = (y + margin) * pw + margin;
+        for (f, &s) in far[row..row + width]
+            .iter_mut()
+            .zip(&sites[y * width..(y + 1) * width])
+        {
+            *f = !s;
+        }
+    }
+    let row_starts = ink_row_starts(&far, pw, ph);
+    let mut d2 = vec![0u64; row_starts[ph]];
+    squared_distance_rows(&far, pw, ph, &row_starts, &mut d2, |d2| d2);
+    let mut out = Vec::with_capacity(width * height);
+    for y in 0..height {
+        // The padding row's far pixels before the image, then the image's own in order.
+        let mut k = row_starts[y + margin] + margin;
+        for &s in &sites[y * width..(y + 1) * width] {
+            if s {
+                out.push(0.0);
+            } else {
+                out.push(d2[k] as f32);
+                k += 1;
+            }
+        }
+    }
+    out
+}
+
+/// The closing of `ink` by a disk of radius `radius` px: dilation, then erosion, both by exact
+/// Euclidean distance between pixel centres, squared distances compared with `radius²` in `f32`.
+/// Pixels outside the image do not erode it, so a shape cut by the image edge keeps its closing
+/// up to that edge.
+pub(crate) fn close_disk(ink: &[bool], width: usize, height: usize, radius: f64) -> Vec<bool> {
+    let r2 = (radius * radius) as f32;
+    // Exact a little beyond the radius, so that no distance that rounds to `r2` in `f32` is cut.
+    let reach = radius.abs() * 1.001 + 1.0;
+    let to_ink = squared_distances_to(ink, width, height, reach);
+    let dilated: Vec<bool> = to_ink.iter().map(|&d| d <= r2).collect();
+    let outside: Vec<bool> = dilated.iter().map(|&d| !d).collect();
+    let to_outside = squared_distances_to(&outside, width, height, reach);
+    to_outside.iter().map(|&d| d > r2).collect()
 }
 
 /// Prefix counts of ink per row: the ink pixels of row `y` are numbers
@@ -336,8 +466,8 @@ pub(crate) fn close3(ink: &[bool], width: usize, height: usize) -> Vec<bool> {
         padded[(y + 1) * pw + 1..(y + 1) * pw + 1 + width]
             .copy_from_slice(&ink[y * width..(y + 1) * width]);
     }
-    let dilated = filter3(&padded, pw, ph, true);
-    let closed = filter3(&dilated, pw, ph, false);
+    let dilated = morph3(&padded, pw, ph, true);
+    let closed = morph3(&dilated, pw, ph, false);
     let mut out = Vec::with_capacity(width * height);
     for y in 0..height {
         out.extend_from_slice(&closed[(y + 1) * pw + 1..(y + 1) * pw + 1 + width]);
@@ -345,8 +475,11 @@ pub(crate) fn close3(ink: &[bool], width: usize, height: usize) -> Vec<bool> {
     out
 }
 
-/// Separable 3x3 max (`dilate`) or min filter over the pixels inside the image.
-fn filter3(mask: &[bool], width: usize, height: usize, dilate: bool) -> Vec<bool> {
+/// Dilation (`dilate`) or erosion by the 3x3 square, as a separable max or min filter over the
+/// pixels inside the image: outside it counts as background for dilation and as ink for erosion,
+/// so the image edge neither grows a mask nor eats it (the fingerprint segmentation's block
+/// flags rely on that; [`close3`] pads the image first when the edge should erode).
+pub(crate) fn morph3(mask: &[bool], width: usize, height: usize, dilate: bool) -> Vec<bool> {
     if width == 0 || height == 0 {
         return Vec::new();
     }
@@ -465,6 +598,183 @@ pub(crate) fn tiny_hole(ink: &[bool], width: usize, height: usize, start: usize)
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Squared distances to the nearest site by trying every site (infinite for none).
+    fn brute_force(sites: &[bool], w: usize, h: usize) -> Vec<f64> {
+        (0..w * h)
+            .map(|p| {
+                let (x, y) = ((p % w) as f64, (p / w) as f64);
+                sites
+                    .iter()
+                    .enumerate()
+                    .filter(|(_, &s)| s)
+                    .map(|(i, _)| ((i % w) as f64 - x).powi(2) + ((i / w) as f64 - y).powi(2))
+                    .fold(f64::INFINITY, f64::min)
+            })
+            .collect()
+    }
+
+    #[test]
+    fn distances_to_sites_are_exact_within_reach_and_beyond_it_when_larger() {
+        let mut seed = 99u64;
+        for (w, h) in [(1, 1), (1, 6), (7, 1), (23, 17), (40, 9)] {
+            for density in [0, 2, 31, 97] {
+                let sites: Vec<bool> = (0..w * h)
+                    .map(|_| {
+                        seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1);
+                        density > 0 && (seed >> 33) % 100 < density
+                    })
+                    .collect();
+                let truth = brute_force(&sites, w, h);
+                for reach in [0.0, 0.7, 2.0, 4.5, 12.0, 1e9, f64::NAN] {
+                    let d = squared_distances_to(&sites, w, h, reach);
+                    let exact_to = if reach.is_nan() {
+                        1.0
+                    } else {
+                        (reach + 1.0).powi(2)
+                    };
+                    for (p, (&d, &t)) in d.iter().zip(&truth).enumerate() {
+                        let d = f64::from(d);
+                        if t <= exact_to {
+                            assert_eq!(d, t, "{w}x{h} reach {reach} at {p}");
+                        } else {
+                            assert!(d > exact_to && d <= t, "{w}x{h} reach {reach} at {p}");
+                        }
+                    }
+                }
+                // Reach beyond the image: the whole transform.
+                let d = squared_distances_to(&sites, w, h, (w + h) as f64);
+                let d: Vec<f64> = d.iter().map(|&v| f64::from(v)).collect();
+                assert_eq!(d, truth);
+            }
+        }
+    }
+
+    #[test]
+    fn the_closing_by_a_disk_is_the_closing_by_definition() {
+        let mut seed = 5u64;
+        for (w, h) in [(1, 1), (3, 1), (19, 13), (30, 22)] {
+            let ink: Vec<bool> = (0..w * h)
+                .map(|_| {
+                    seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1);
+                    (seed >> 33) % 100 < 12
+                })
+                .collect();
+            for radius in [0.0, 1.0, 1.5, 3.2, 6.0, 100.0, f64::NAN, -2.0] {
+                let r2 = (radius * radius) as f32;
+                let to_ink = brute_force(&ink, w, h);
+                let dilated: Vec<bool> = to_ink.iter().map(|&d| d as f32 <= r2).collect();
+                let outside: Vec<bool> = dilated.iter().map(|&d| !d).collect();
+                let expected: Vec<bool> = brute_force(&outside, w, h)
+                    .iter()
+                    .map(|&d| d as f32 > r2)
+                    .collect();
+                assert_eq!(
+                    close_disk(&ink, w, h, radius),
+                    expected,
+                    "{w}x{h} radius {radius}"
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn imageproc_labelling_panics_on_one_pixel() {
+        // The reason `label_components` labels a one-pixel image itself: if this stops panicking,
+        // the special case can go.
+        let one = GrayImage::from_pixel(1, 1, Luma([255u8]));
+        let labelled = std::panic::catch_unwind(|| {
+            imageproc::region_labelling::connected_components(&one, Connectivity::Four, Luma([0u8]))
+        });
+        assert!(labelled.is_err());
+        for connectivity in [Connectivity::Four, Connectivity::Eight] {
+            assert_eq!(
+                label_components(&[true], 1, 1, true, connectivity),
+                (vec![1], vec![0, 1])
+            );
+            assert_eq!(
+                label_components(&[true], 1, 1, false, connectivity),
+                (vec![0], vec![1])
+            );
+        }
+        assert_eq!(
+            label_components(&[], 0, 0, true, Connectivity::Four),
+            (vec![], vec![0])
+        );
+    }
+
+    #[test]
+    fn labels_in_raster_order_of_first_pixel() {
+        let (flags, w, h) = mask(&["#..#", "#.##", "..#.", "#..."]);
+        let (four, sizes) = label_components(&flags, w, h, true, Connectivity::Four);
+        assert_eq!(four, vec![1, 0, 0, 2, 1, 0, 2, 2, 0, 0, 2, 0, 3, 0, 0, 0]);
+        assert_eq!(sizes, vec![9, 2, 4, 1]);
+        let (eight, _) = label_components(&flags, w, h, true, Connectivity::Eight);
+        assert_eq!(eight, four);
+        let (paper, sizes) = label_components(&flags, w, h, false, Connectivity::Four);
+        assert_eq!(paper[1], 1);
+        assert_eq!(sizes.iter().sum::<usize>(), 16);
+        let (diagonal, w, h) = mask(&["#.", ".#"]);
+        let four = label_components(&diagonal, w, h, true, Connectivity::Four);
+        let eight = label_components(&diagonal, w, h, true, Connectivity::Eight);
+        assert_eq!(four, (vec![1, 0, 0, 2], vec![2, 1, 1]));
+        assert_eq!(eight, (vec![1, 0, 0, 1], vec![2, 2]));
+    }
+
+    /// The 3x3 square by definition: every window cell, outside the image `!dilate`.
+    fn morph3_by_definition(flags: &[bool], w: usize, h: usize, dilate: bool) -> Vec<bool> {
+        let at = |x: i64, y: i64| {
+            if x < 0 || y < 0 || x >= w as i64 || y >= h as i64 {
+                !dilate
+            } else {
+                flags[y as usize * w + x as usize]
+            }
+        };
+        let mut out = Vec::with_capacity(w * h);
+        for y in 0..h as i64 {
+            for x in 0..w as i64 {
+                let window = (-1..=1).flat_map(|dy| (-1..=1).map(move |dx| (dx, dy)));
+                let mut values = window.map(|(dx, dy)| at(x + dx, y + dy));
+                out.push(if dilate {
+                    values.any(|v| v)
+                } else {
+                    values.all(|v| v)
+                });
+            }
+        }
+        out
+    }
+
+    #[test]
+    fn morph3_is_the_3x3_square_with_the_edge_neither_growing_nor_eating() {
+        let mut seed = 7u64;
+        for (w, h) in [
+            (1, 1),
+            (1, 5),
+            (5, 1),
+            (2, 2),
+            (2, 7),
+            (3, 3),
+            (9, 4),
+            (16, 11),
+        ] {
+            for _ in 0..20 {
+                let flags: Vec<bool> = (0..w * h)
+                    .map(|_| {
+                        seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1);
+                        (seed >> 40) % 3 != 0
+                    })
+                    .collect();
+                for dilate in [false, true] {
+                    assert_eq!(
+                        morph3(&flags, w, h, dilate),
+                        morph3_by_definition(&flags, w, h, dilate),
+                        "{w}x{h} dilate {dilate}"
+                    );
+                }
+            }
+        }
+    }
 
     fn mask(rows: &[&str]) -> (Vec<bool>, usize, usize) {
         let w = rows[0].len();

@@ -30,9 +30,12 @@
 //! Input: a [`StrokeGraph`] and optionally its foreground mask. Output: `Vec<Minutia>` in vertex
 //! order. Deterministic.
 
+use crate::binary::Binary;
 use crate::fingerprint::PrintAnalysis;
-use crate::fit::math::{arc_lengths, point_at};
-use crate::{dist, Binary, FingerprintParams, StrokeGraph};
+use crate::geometry::dist;
+use crate::geometry::{arc_lengths, point_at};
+use crate::params::FingerprintParams;
+use crate::stroke_graph::StrokeGraph;
 use serde::Serialize;
 
 /// Kind of minutia.
@@ -264,8 +267,8 @@ pub fn fingerprint_minutiae(
             .zip(&region)
             .map(|(&p, &r)| !(p && r))
             .collect();
-        let to_outside = squared_distance_transform(&outside, w, h);
         let margin = params.border_margin;
+        let to_outside = crate::mask::squared_distances_to(&outside, w, h, margin);
         found.retain(|m| {
             let [x, y] = m.pos;
             if !(x >= margin && y >= margin && w as f64 - x >= margin && h as f64 - y >= margin) {
@@ -579,25 +582,14 @@ fn median_width(graph: &StrokeGraph) -> f64 {
         .flat_map(|e| e.widths.iter().copied())
         .filter(|w| w.is_finite())
         .collect();
-    if widths.is_empty() {
-        return 0.0;
-    }
-    let middle = widths.len() / 2;
-    let (_, median, _) = widths.select_nth_unstable_by(middle, f64::total_cmp);
-    *median
+    crate::median::upper_median(&mut widths).unwrap_or(0.0)
 }
 
 /// The print region: the closing of the ink by a disk of radius `radius` (dilate, then erode, both
 /// by exact Euclidean distance). Pixels outside the image do not erode it, so a print cut by the
 /// image edge keeps its region up to that edge.
 fn print_region(mask: &Binary, radius: f64) -> Vec<bool> {
-    let (w, h) = (mask.width as usize, mask.height as usize);
-    let r2 = (radius * radius) as f32;
-    let to_ink = squared_distance_transform(&mask.ink, w, h);
-    let dilated: Vec<bool> = to_ink.iter().map(|&d| d <= r2).collect();
-    let outside: Vec<bool> = dilated.iter().map(|&d| !d).collect();
-    let to_outside = squared_distance_transform(&outside, w, h);
-    to_outside.iter().map(|&d| d > r2).collect()
+    crate::mask::close_disk(&mask.ink, mask.width as usize, mask.height as usize, radius)
 }
 
 /// Whether no pixel outside `region` (and no point outside the image) lies within `margin` of `pos`.
@@ -620,98 +612,6 @@ fn clear_of_border(region: &[bool], width: u32, height: u32, pos: [f64; 2], marg
         }
     }
     true
-}
-
-/// Squared Euclidean distance from each pixel to the nearest `site` pixel (infinite when there is
-/// none): Felzenszwalb and Huttenlocher's lower envelope of parabolas, by columns then rows, O(N).
-fn squared_distance_transform(sites: &[bool], width: usize, height: usize) -> Vec<f32> {
-    let mut out: Vec<f32> = sites
-        .iter()
-        .map(|&s| if s { 0.0 } else { f32::INFINITY })
-        .collect();
-    let longest = width.max(height);
-    let mut line = vec![0.0f64; longest];
-    let mut result = vec![0.0f64; longest];
-    let mut hull = vec![0usize; longest];
-    let mut bounds = vec![0.0f64; longest + 1];
-    for x in 0..width {
-        for y in 0..height {
-            line[y] = f64::from(out[y * width + x]);
-        }
-        lower_envelope(
-            &line[..height],
-            &mut result[..height],
-            &mut hull,
-            &mut bounds,
-        );
-        for y in 0..height {
-            out[y * width + x] = result[y] as f32;
-        }
-    }
-    for y in 0..height {
-        let row = &mut out[y * width..(y + 1) * width];
-        for (l, &v) in line.iter_mut().zip(row.iter()) {
-            *l = f64::from(v);
-        }
-        lower_envelope(&line[..width], &mut result[..width], &mut hull, &mut bounds);
-        for (v, &r) in row.iter_mut().zip(result.iter()) {
-            *v = r as f32;
-        }
-    }
-    out
-}
-
-/// One-dimensional squared distance transform of the sampled function `f` (infinite = no site).
-fn lower_envelope(f: &[f64], d: &mut [f64], hull: &mut [usize], bounds: &mut [f64]) {
-    let n = f.len();
-    let mut k: usize = 0;
-    let mut any = false;
-    for q in 0..n {
-        if !f[q].is_finite() {
-            continue;
-        }
-        if !any {
-            any = true;
-            hull[0] = q;
-            bounds[0] = f64::NEG_INFINITY;
-            bounds[1] = f64::INFINITY;
-            continue;
-        }
-        loop {
-            let p = hull[k];
-            let s =
-                ((f[q] + (q * q) as f64) - (f[p] + (p * p) as f64)) / (2.0 * (q as f64 - p as f64));
-            if s <= bounds[k] && k > 0 {
-                k -= 1;
-                continue;
-            }
-            if s <= bounds[k] {
-                // The new parabola is lower everywhere than the only one on the hull.
-                hull[0] = q;
-                bounds[0] = f64::NEG_INFINITY;
-                bounds[1] = f64::INFINITY;
-                break;
-            }
-            k += 1;
-            hull[k] = q;
-            bounds[k] = s;
-            bounds[k + 1] = f64::INFINITY;
-            break;
-        }
-    }
-    if !any {
-        d.iter_mut().for_each(|v| *v = f64::INFINITY);
-        return;
-    }
-    let mut k = 0;
-    for (q, value) in d.iter_mut().enumerate() {
-        while bounds[k + 1] < q as f64 {
-            k += 1;
-        }
-        let p = hull[k];
-        let offset = q as f64 - p as f64;
-        *value = offset * offset + f[p];
-    }
 }
 
 #[cfg(test)]
@@ -865,26 +765,6 @@ mod tests {
         let m = minutiae(&g, None, &options);
         let kept: Vec<usize> = m.iter().map(|m| m.vertex).collect();
         assert_eq!(kept, vec![0, 3, 4, 5, 6, 7]);
-    }
-
-    #[test]
-    fn distance_transform_matches_brute_force() {
-        let (w, h) = (23, 17);
-        let sites: Vec<bool> = (0..w * h).map(|i| (i * 7919) % 31 == 0).collect();
-        let d = squared_distance_transform(&sites, w, h);
-        for y in 0..h {
-            for x in 0..w {
-                let mut best = f64::INFINITY;
-                for (i, _) in sites.iter().enumerate().filter(|(_, &s)| s) {
-                    let (sx, sy) = ((i % w) as f64, (i / w) as f64);
-                    best = best.min((sx - x as f64).powi(2) + (sy - y as f64).powi(2));
-                }
-                assert_eq!(d[y * w + x] as f64, best, "at {x},{y}");
-            }
-        }
-        assert!(squared_distance_transform(&[false; 6], 3, 2)
-            .iter()
-            .all(|v| v.is_infinite()));
     }
 
     #[test]

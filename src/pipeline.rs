@@ -17,11 +17,18 @@
 
 use std::time::{Duration, Instant};
 
+use crate::binary::{Binary, MaskView};
+use crate::decisions::{Decisions, PrintDecisions, ThresholdUsed, Warning};
+use crate::error::{Error, Result};
+use crate::gray::GrayView;
+use crate::node_graph::NodeGraph;
+use crate::params::{FingerprintParams, Params, Polarity};
+use crate::point_set::{Grid, PointSet};
+use crate::samples::Samples;
+use crate::stroke_graph::StrokeGraph;
 use crate::{
     fingerprint, fit, graph, minutiae, point_list, raster, refine, sample, skeleton, subpixel,
-    warnings, Binary, Decisions, Error, FingerprintParams, GrayView, Grid, MaskView, NodeGraph,
-    Params, PointSet, Polarity, PrintDecisions, Result, Samples, StrokeGraph, ThresholdUsed,
-    Warning,
+    warnings,
 };
 
 /// Points per chunk when a large input is traced in parallel (whole components per chunk).
@@ -335,7 +342,9 @@ fn print_decisions(
         print: Some(PrintDecisions {
             ridge_period: analysis.periods.median_inside(&analysis.segmentation),
             print_share: blocks_inside as f64 / inside.len().max(1) as f64,
-            coherence: f64::from(fingerprint::math::median(&mut coherence)),
+            coherence: f64::from(
+                crate::median::upper_median_by(&mut coherence, f32::total_cmp).unwrap_or(0.0),
+            ),
         }),
     }
 }

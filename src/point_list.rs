@@ -9,8 +9,12 @@ use kiddo::{ImmutableKdTree, SquaredEuclidean};
 use rayon::prelude::*;
 
 use crate::csr::symmetric_neighbours;
+use crate::error::{Error, Result};
 use crate::mask::{close3, ink_row_starts, squared_distance_rows, tiny_hole_pixels};
-use crate::{Error, Params, PointSet, RMinRule, Result, StrokeGraph};
+use crate::median::upper_median_by;
+use crate::params::{Params, RMinRule};
+use crate::point_set::PointSet;
+use crate::stroke_graph::StrokeGraph;
 
 /// Coordinates are translated so the smallest is 0; an extent beyond this would overflow squared
 /// distances.
@@ -467,9 +471,8 @@ fn strip_half_widths(points: &[[f64; 2]], spacing: f64, half_width: &mut [f32]) 
     if ratios.len() * 2 < n {
         return;
     }
-    let mid = ratios.len() / 2;
-    let (_, median, _) = ratios.select_nth_unstable_by(mid, f32::total_cmp);
-    if *median < WIDE_STRIP_RATIO {
+    let median = upper_median_by(&mut ratios, f32::total_cmp).unwrap_or(0.0);
+    if median < WIDE_STRIP_RATIO {
         return;
     }
     for (h, m) in half_width.iter_mut().zip(&measured) {

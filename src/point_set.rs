@@ -472,7 +472,7 @@ mod tests {
     #[test]
     fn component_labels_from_runs_equal_those_from_neighbour_lists() {
         let (w, h) = (61u32, 47u32);
-        let mut binary = crate::Binary::new(w, h);
+        let mut binary = crate::binary::Binary::new(w, h);
         let mut seed = 7u64;
         for y in 0..h as i64 {
             for x in 0..w as i64 {
@@ -482,7 +482,7 @@ mod tests {
                 binary.set(x, y, (seed >> 60) < 7);
             }
         }
-        let mut params = crate::Params::default();
+        let mut params = crate::params::Params::default();
         params.front_end.dropout = Some(false);
         let pixels = crate::raster::points(&binary, &params).expect("points");
         let listed = PointSet {

@@ -16,7 +16,9 @@ use std::cmp::Reverse;
 use std::collections::BinaryHeap;
 
 use crate::geometry::{dist, point_in_polygon, TotalF64};
-use crate::{GraphNode, NodeGraph, Params, PointSet};
+use crate::node_graph::{GraphNode, NodeGraph};
+use crate::params::Params;
+use crate::point_set::PointSet;
 
 /// Refines `H` into a 1-D graph (no triangles; one vertex per crossing).
 pub fn refine(graph: &NodeGraph, points: &PointSet, params: &Params) -> NodeGraph {

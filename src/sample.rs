@@ -17,7 +17,9 @@ use std::cmp::Reverse;
 use std::collections::BinaryHeap;
 
 use crate::geometry::{principal, TotalF64};
-use crate::{Node, Params, PointSet, RMinRule, Samples};
+use crate::params::{Params, RMinRule};
+use crate::point_set::PointSet;
+use crate::samples::{Node, Samples};
 
 /// Marks a point that no node owns yet.
 const UNOWNED: u32 = u32::MAX;

@@ -18,7 +18,9 @@
 //!
 //! Input: a [`StrokeGraph`]. Output: `Vec<Stroke>`, deterministic (ties broken by edge index).
 
-use crate::{dist, Binary, StrokeGraph};
+use crate::binary::Binary;
+use crate::geometry::dist;
+use crate::stroke_graph::StrokeGraph;
 use serde::Serialize;
 
 /// Options for [`strokes`].

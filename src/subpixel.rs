@@ -11,8 +11,10 @@
 
 use rayon::prelude::*;
 
+use crate::binary::Binary;
 use crate::geometry::dist;
-use crate::{Binary, GrayView, StrokeGraph};
+use crate::gray::GrayView;
+use crate::stroke_graph::StrokeGraph;
 
 /// The largest move of a point, px: the refinement corrects where the pixel grid put the
 /// centerline, it does not re-trace.
@@ -140,7 +142,7 @@ fn bilinear(gray: GrayView<'_>, x: f64, y: f64) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::{Edge, Vertex};
+    use crate::stroke_graph::{Edge, Vertex};
     use image::{GrayImage, Luma};
 
     /// A horizontal stroke 4 px wide centered at `y = center`, its edges anti-aliased (each

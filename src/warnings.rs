@@ -7,7 +7,9 @@
 //! (halftone or a photo region); many components no longer than a stroke is wide (speckle); a
 //! vertex where more arms meet than strokes ever cross.
 
-use crate::{Decisions, StrokeGraph, Warning};
+use crate::decisions::{Decisions, Warning};
+use crate::median::upper_median;
+use crate::stroke_graph::StrokeGraph;
 
 /// A polarity confidence below this is reported.
 pub const LOW_POLARITY_CONFIDENCE: f64 = 0.2;
@@ -52,7 +54,8 @@ pub fn of(graph: &StrokeGraph, decisions: Option<&Decisions>) -> Vec<Warning> {
     if graph.edges.iter().any(|e| e.from >= n || e.to >= n) {
         return out;
     }
-    let width = median(graph.edges.iter().map(median_width).collect()).max(1.0);
+    let mut widths: Vec<f64> = graph.edges.iter().map(median_width).collect();
+    let width = upper_median(&mut widths).unwrap_or(0.0).max(1.0);
     // Length, edges and vertices of each component, at its root.
     let root = graph.component_roots();
     let mut length = vec![0.0; n];
@@ -136,23 +139,17 @@ pub fn of(graph: &StrokeGraph, decisions: Option<&Decisions>) -> Vec<Warning> {
     out
 }
 
-fn median_width(edge: &crate::Edge) -> f64 {
-    median(edge.widths.clone())
-}
-
-fn median(mut values: Vec<f64>) -> f64 {
-    if values.is_empty() {
-        return 0.0;
-    }
-    let middle = values.len() / 2;
-    *values.select_nth_unstable_by(middle, f64::total_cmp).1
+fn median_width(edge: &crate::stroke_graph::Edge) -> f64 {
+    upper_median(&mut edge.widths.clone()).unwrap_or(0.0)
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::decisions::ThresholdUsed;
     use crate::draw::{render, Stroke};
-    use crate::{Edge, Params, ThresholdUsed, Vertex};
+    use crate::params::Params;
+    use crate::stroke_graph::{Edge, Vertex};
 
     /// A graph of straight edges `(from, to)` between `positions`, 3 px wide, degrees counted.
     fn graph(positions: &[[f64; 2]], edges: &[(usize, usize)]) -> StrokeGraph {

@@ -5,6 +5,7 @@ mod debug;
 mod features;
 mod golden;
 mod hostile;
+mod house;
 mod inputs;
 mod pipeline;
 mod properties;

@@ -26,8 +26,8 @@
 //! the stem away from a bifurcation's branches), so the record holds ridgeline's direction turned
 //! by half a turn. The finger quality is the mean of the minutiae's qualities.
 
+use crate::error::{Error, Result};
 use crate::minutiae::{Minutia, MinutiaKind};
-use crate::{Error, Result};
 
 /// Largest coordinate a minutia can have (14 bits).
 const MAX_COORDINATE: f64 = 16383.0;

@@ -28,9 +28,11 @@ use serde::Serialize as DeriveSerialize;
 
 use super::Features;
 use crate::curves::CubicBezier;
+use crate::decisions::{Decisions, PrintDecisions, Warning};
 use crate::minutiae::Minutia;
+use crate::params::Params;
+use crate::stroke_graph::{Edge, StrokeGraph, Vertex};
 use crate::strokes::Stroke;
-use crate::{Decisions, Edge, Params, PrintDecisions, StrokeGraph, Vertex, Warning};
 
 /// The decisions with their floats rounded like the graph's.
 struct RoundedDecisions<'a>(&'a Decisions);
@@ -118,7 +120,7 @@ impl JsonMeta {
     }
 
     /// Sets [`JsonMeta::decisions`] and [`JsonMeta::warnings`] from a trace.
-    pub fn with_trace(mut self, trace: &crate::Trace) -> Self {
+    pub fn with_trace(mut self, trace: &crate::pipeline::Trace) -> Self {
         self.decisions = trace.decisions.clone();
         self.warnings = trace.warnings.clone();
         self

@@ -26,7 +26,7 @@ use image::{DynamicImage, GrayImage, ImageFormat};
 use super::{push_number, Features};
 use crate::curves::CubicBezier;
 use crate::minutiae::{Minutia, MinutiaKind};
-use crate::StrokeGraph;
+use crate::stroke_graph::StrokeGraph;
 
 /// Color of the centerlines (and of isolated dots).
 pub const EDGE_COLOR: &str = "#e6194b";
@@ -424,11 +424,7 @@ fn median_vertex_width(graph: &StrokeGraph) -> Option<f64> {
         .map(|v| v.width)
         .filter(|w| w.is_finite())
         .collect();
-    if widths.is_empty() {
-        return None;
-    }
-    widths.sort_by(f64::total_cmp);
-    Some(widths[widths.len() / 2])
+    crate::median::upper_median(&mut widths)
 }
 
 /// One group of filled circles at the vertices whose degree passes `select`; nothing when none
@@ -493,7 +489,7 @@ pub(crate) fn svg_path_data(segments: &[CubicBezier]) -> String {
     let mut data = String::new();
     let mut at: Option<[f64; 2]> = None;
     for s in segments {
-        if at.is_none_or(|p| crate::dist(p, s.p0) > 1e-6) {
+        if at.is_none_or(|p| crate::geometry::dist(p, s.p0) > 1e-6) {
             let separator = if data.is_empty() { "" } else { " " };
             let _ = write!(data, "{separator}M {:.2} {:.2}", s.p0[0], s.p0[1]);
         }

@@ -15,7 +15,7 @@
 //! enhanced [`Plane`].
 
 use super::fields::{OrientationField, Plane, RidgePeriods, Segmentation};
-use crate::FingerprintParams;
+use crate::params::FingerprintParams;
 use rayon::prelude::*;
 use std::f64::consts::TAU;
 

@@ -238,11 +238,7 @@ impl RidgePeriods {
             .filter(|(_, &i)| i)
             .map(|(&p, _)| p)
             .collect();
-        if inside.is_empty() {
-            return 0.0;
-        }
-        let middle = inside.len() / 2;
-        f64::from(*inside.select_nth_unstable_by(middle, f32::total_cmp).1)
+        crate::median::upper_median_by(&mut inside, f32::total_cmp).map_or(0.0, f64::from)
     }
 }
 

@@ -18,8 +18,8 @@
 //! In: the smoothed gray image, [`Segmentation`] and [`OrientationField`]; out: [`RidgePeriods`].
 
 use super::fields::{OrientationField, Plane, RidgePeriods, Segmentation};
-use super::math::median;
-use crate::FingerprintParams;
+use crate::median::upper_median_by;
+use crate::params::FingerprintParams;
 
 /// Fewest candidate distances for a measured period.
 const MIN_DISTANCES: usize = 3;
@@ -86,7 +86,7 @@ pub(crate) fn ridge_periods(
             if distances.len() < MIN_DISTANCES {
                 continue;
             }
-            let m = median(&mut distances);
+            let m = upper_median_by(&mut distances, f32::total_cmp).unwrap_or(0.0);
             let tolerance = (0.2 * m).max(2.0);
             let close: Vec<f32> = distances
                 .iter()

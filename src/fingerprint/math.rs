@@ -1,7 +1,9 @@
 //! Small image operations the fingerprint stages share: a separable Gaussian blur, Sobel
-//! gradients, and morphology and connected components on a grid of block flags.
+//! gradients, and connected components on a grid of block flags (its 3x3 morphology is the
+//! masks' own, `mask::morph3`).
 
 use super::fields::Plane;
+use crate::mask::{label_components, Connectivity};
 
 /// Gaussian blur with standard deviation `sigma` px (radius `ceil(3 sigma)`), borders clamped.
 /// `sigma <= 0` returns a copy.
@@ -72,92 +74,27 @@ pub(crate) fn sobel(plane: &Plane) -> (Plane, Plane) {
     (plane_of(gx), plane_of(gy))
 }
 
-/// Dilation (`grow`) or erosion (`!grow`) of block flags by the 3x3 square; outside the grid
-/// counts as false for dilation and true for erosion (so the image edge does not eat the print).
-pub(crate) fn morph3(flags: &[bool], cols: usize, rows: usize, grow: bool) -> Vec<bool> {
-    let mut out = vec![false; flags.len()];
-    for j in 0..rows {
-        for i in 0..cols {
-            let mut any = false;
-            let mut all = true;
-            for dj in -1i64..=1 {
-                for di in -1i64..=1 {
-                    let (ii, jj) = (i as i64 + di, j as i64 + dj);
-                    let v = if ii < 0 || jj < 0 || ii >= cols as i64 || jj >= rows as i64 {
-                        !grow
-                    } else {
-                        flags[jj as usize * cols + ii as usize]
-                    };
-                    any |= v;
-                    all &= v;
-                }
-            }
-            out[j * cols + i] = if grow { any } else { all };
-        }
-    }
-    out
-}
-
 /// 4-connected component labels of the cells equal to `value` (`usize::MAX` elsewhere), with
-/// each component's size, numbered in raster order of their first cell. Not imageproc's
-/// `connected_components`: its union-find panics on the few-block grids of a tiny image.
+/// each component's size, numbered in raster order of their first cell: the masks' labelling
+/// ([`crate::mask::label_components`]) counted from 0.
 pub(crate) fn components(
     flags: &[bool],
     cols: usize,
     rows: usize,
     value: bool,
 ) -> (Vec<usize>, Vec<usize>) {
-    let mut label = vec![usize::MAX; flags.len()];
-    let mut sizes = Vec::new();
-    let mut stack = Vec::new();
-    for start in 0..flags.len() {
-        if flags[start] != value || label[start] != usize::MAX {
-            continue;
-        }
-        let id = sizes.len();
-        let mut size = 0;
-        label[start] = id;
-        stack.push(start);
-        while let Some(c) = stack.pop() {
-            size += 1;
-            let (i, j) = (c % cols, c / cols);
-            let mut visit = |n: usize| {
-                if flags[n] == value && label[n] == usize::MAX {
-                    label[n] = id;
-                    stack.push(n);
-                }
-            };
-            if i > 0 {
-                visit(c - 1);
-            }
-            if i + 1 < cols {
-                visit(c + 1);
-            }
-            if j > 0 {
-                visit(c - cols);
-            }
-            if j + 1 < rows {
-                visit(c + cols);
-            }
-        }
-        sizes.push(size);
-    }
-    (label, sizes)
-}
-
-/// The median of `values` (0 for none); reorders them.
-pub(crate) fn median(values: &mut [f32]) -> f32 {
-    if values.is_empty() {
-        return 0.0;
-    }
-    let mid = values.len() / 2;
-    let (_, m, _) = values.select_nth_unstable_by(mid, f32::total_cmp);
-    *m
+    let (labels, sizes) = label_components(flags, cols, rows, value, Connectivity::Four);
+    let labels = labels
+        .into_iter()
+        .map(|l| if l == 0 { usize::MAX } else { l as usize - 1 })
+        .collect();
+    (labels, sizes[1..].to_vec())
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::mask::morph3;
 
     #[test]
     fn blur_keeps_a_constant_and_the_mean() {
@@ -210,7 +147,5 @@ mod tests {
         assert_eq!(grown.iter().filter(|&&v| v).count(), 18);
         // Erosion treats outside as print: a full grid stays full.
         assert!(morph3(&[true; 6], 3, 2, false).iter().all(|&v| v));
-        assert_eq!(median(&mut [3.0, 1.0, 2.0]), 2.0);
-        assert_eq!(median(&mut []), 0.0);
     }
 }

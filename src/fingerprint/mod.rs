@@ -21,7 +21,9 @@ pub(crate) mod prior;
 mod segment;
 mod smooth;
 
-use crate::{Binary, Enhancement, FingerprintParams, GrayView};
+use crate::binary::Binary;
+use crate::gray::GrayView;
+use crate::params::{Enhancement, FingerprintParams};
 use fields::{BlockGrid, OrientationField, Plane, RidgePeriods, Segmentation};
 use serde::Serialize;
 
@@ -179,7 +181,7 @@ fn block_contrast(enhanced: &Plane, segmentation: &Segmentation) -> Vec<f32> {
         .filter(|(_, &i)| i)
         .map(|(&r, _)| r)
         .collect();
-    let m = math::median(&mut inside);
+    let m = crate::median::upper_median_by(&mut inside, f32::total_cmp).unwrap_or(0.0);
     if m > 0.0 {
         rms.iter_mut().for_each(|r| *r = (*r / m).min(1.0));
     }
@@ -189,7 +191,7 @@ fn block_contrast(enhanced: &Plane, segmentation: &Segmentation) -> Vec<f32> {
 #[cfg(test)]
 pub(crate) mod tests {
     use super::*;
-    use crate::GrayImage;
+    use image::GrayImage;
     use std::f64::consts::TAU;
 
     /// Every block of `grid` print, with ridge direction `theta` and period `period`.

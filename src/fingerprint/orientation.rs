@@ -14,7 +14,7 @@
 //! In: the gradients and the [`Segmentation`]; out: [`OrientationField`].
 
 use super::fields::{OrientationField, Plane, Segmentation};
-use crate::FingerprintParams;
+use crate::params::FingerprintParams;
 use std::f64::consts::{FRAC_PI_2, PI};
 
 /// The orientation field of the print.

@@ -15,8 +15,8 @@
 //! graph itself, and so the JSON and SVG, follow the ridges.
 
 use super::{orientation_gap, PrintAnalysis};
+use crate::params::FingerprintParams;
 use crate::stroke_graph::{Edge, StrokeGraph};
-use crate::FingerprintParams;
 use std::f64::consts::{FRAC_PI_3, FRAC_PI_4, PI};
 
 /// `graph` with its bars across the flow removed and its touching ridges split apart.

@@ -18,8 +18,10 @@
 //! In: the gradients (then the enhanced image); out: [`Segmentation`].
 
 use super::fields::{BlockGrid, Plane, Segmentation};
-use super::math::{components, median, morph3};
-use crate::FingerprintParams;
+use super::math::components;
+use crate::mask::morph3;
+use crate::median::upper_median_by;
+use crate::params::FingerprintParams;
 
 /// The percentile of the pixels' gradient magnitudes the threshold is a fraction of.
 const PERCENTILE: f64 = 0.95;
@@ -194,7 +196,7 @@ fn percentile(mut values: Vec<f32>, q: f64) -> f32 {
     if v > 0.0 {
         v
     } else {
-        median(&mut values)
+        upper_median_by(&mut values, f32::total_cmp).unwrap_or(0.0)
     }
 }
 

@@ -14,7 +14,7 @@
 //! enhanced [`Plane`], ridges positive, zero outside the print.
 
 use super::fields::{BlockGrid, OrientationField, Plane, RidgePeriods, Segmentation};
-use crate::FingerprintParams;
+use crate::params::FingerprintParams;
 use rayon::prelude::*;
 
 /// The enhanced image: the ridge-wise average minus its across-ridge mean, with the sign that
@@ -39,7 +39,7 @@ pub(crate) fn enhance(
     }
     // The ridge-wise average is needed inside the print and one block around it (the across-ridge
     // mean of a pixel near the border reads it there).
-    let near = super::math::morph3(
+    let near = crate::mask::morph3(
         &segmentation.inside,
         grid.cols as usize,
         grid.rows as usize,

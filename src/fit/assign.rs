@@ -6,7 +6,7 @@
 
 use super::math::distance;
 use crate::csr::Csr;
-use crate::PointSet;
+use crate::point_set::PointSet;
 
 /// Points grouped by an index (old graph nodes or fitted nodes), in CSR form.
 #[derive(Clone, Debug, Default)]

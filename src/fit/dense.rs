@@ -13,8 +13,8 @@
 //! point is taken there: the edge runs straight into the junction placed by `place`.
 
 use super::assign::Groups;
-use super::math::{arc_lengths, point_at};
-use crate::PointSet;
+use crate::geometry::{arc_lengths, point_at};
+use crate::point_set::PointSet;
 
 /// Fewest points a slice needs for its median to count.
 const MIN_SLICE_POINTS: usize = 2;
@@ -75,7 +75,7 @@ pub fn refit(
                     }
                     let t = (((q[0] - a[0]) * d[0] + (q[1] - a[1]) * d[1]) / len2).clamp(0.0, 1.0);
                     let foot = [a[0] + t * d[0], a[1] + t * d[1]];
-                    let gap = crate::dist(q, foot);
+                    let gap = crate::geometry::dist(q, foot);
                     if best.is_none_or(|(g, _, _)| gap < g) {
                         let len = len2.sqrt();
                         let across = ((q[0] - a[0]) * d[1] - (q[1] - a[1]) * d[0]) / len;
@@ -133,7 +133,7 @@ pub fn refit(
             let along = from + (bin as f64 + 0.5) * spacing;
             let (base, k) = point_at(&line, &s, along.min(to));
             let (a, b) = (line[k], line[k + 1]);
-            let len = crate::dist(a, b).max(1e-12);
+            let len = crate::geometry::dist(a, b).max(1e-12);
             // `across` was measured as d × (q - a): positive to the right of the direction.
             let normal = [(b[1] - a[1]) / len, -(b[0] - a[0]) / len];
             positions.push([base[0] + offset * normal[0], base[1] + offset * normal[1]]);
@@ -153,7 +153,7 @@ fn nearest_segment(line: &[[f64; 2]], p: [f64; 2]) -> usize {
         let d = [b[0] - a[0], b[1] - a[1]];
         let len2 = (d[0] * d[0] + d[1] * d[1]).max(1e-12);
         let t = (((p[0] - a[0]) * d[0] + (p[1] - a[1]) * d[1]) / len2).clamp(0.0, 1.0);
-        let gap = crate::dist(p, [a[0] + t * d[0], a[1] + t * d[1]]);
+        let gap = crate::geometry::dist(p, [a[0] + t * d[0], a[1] + t * d[1]]);
         if gap < best.0 {
             best = (gap, k);
         }

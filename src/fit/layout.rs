@@ -2,9 +2,9 @@
 //! to equal node spacing ("splitting the relatively long edges and merging the relatively short
 //! ones", docs/design.md, adaptation 12: spacing `h`).
 
-use super::math::{arc_lengths, point_at};
 use crate::csr::Csr;
-use crate::NodeGraph;
+use crate::geometry::{arc_lengths, point_at};
+use crate::node_graph::NodeGraph;
 
 /// One fitted edge: vertex `from` to vertex `to` through the contiguous interior unknowns
 /// `interior.0..interior.1`.
@@ -134,7 +134,7 @@ fn chains(graph: &NodeGraph, collapse_dots: bool) -> (Vec<u32>, Vec<Chain>) {
                 let length: f64 = nodes
                     .windows(2)
                     .map(|w| {
-                        crate::dist(
+                        crate::geometry::dist(
                             graph.nodes[w[0] as usize].pos,
                             graph.nodes[w[1] as usize].pos,
                         )
@@ -245,7 +245,7 @@ pub fn equalize(graph: &NodeGraph, h: f64, collapse_dots: bool) -> Layout {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::GraphNode;
+    use crate::node_graph::GraphNode;
 
     fn graph(positions: &[[f64; 2]], edges: &[[u32; 2]]) -> NodeGraph {
         let node = |pos| GraphNode {
@@ -306,7 +306,7 @@ mod tests {
         for e in &layout.edges {
             let ids = layout.polyline(e);
             for w in ids.windows(2) {
-                let d = crate::dist(layout.pos[w[0] as usize], layout.pos[w[1] as usize]);
+                let d = crate::geometry::dist(layout.pos[w[0] as usize], layout.pos[w[1] as usize]);
                 assert!((d - 5.0).abs() < 1e-9, "spacing {d}");
             }
         }

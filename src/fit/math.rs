@@ -163,37 +163,6 @@ pub fn line_intersection(lines: &[([f64; 2], [f64; 2])], min_eigen: f64) -> Opti
     Some([(d * rx - b * ry) / det, (a * ry - b * rx) / det])
 }
 
-/// Cumulative arc length at each polyline point.
-pub fn arc_lengths(polyline: &[[f64; 2]]) -> Vec<f64> {
-    let mut s = Vec::with_capacity(polyline.len());
-    let mut total = 0.0;
-    for (i, p) in polyline.iter().enumerate() {
-        if i > 0 {
-            total += crate::dist(polyline[i - 1], *p);
-        }
-        s.push(total);
-    }
-    s
-}
-
-/// The point at arc length `t` along a polyline with cumulative lengths `s`, and the index of the
-/// segment it lies on (clamped to the ends).
-pub fn point_at(polyline: &[[f64; 2]], s: &[f64], t: f64) -> ([f64; 2], usize) {
-    let n = polyline.len();
-    if n < 2 || t <= 0.0 {
-        return (polyline.first().copied().unwrap_or([0.0, 0.0]), 0);
-    }
-    if t >= s[n - 1] {
-        return (polyline[n - 1], n - 2);
-    }
-    // First point beyond t; the segment before it holds t.
-    let j = s.partition_point(|&x| x <= t).clamp(1, n - 1);
-    let (a, b) = (polyline[j - 1], polyline[j]);
-    let len = s[j] - s[j - 1];
-    let f = if len > 0.0 { (t - s[j - 1]) / len } else { 0.0 };
-    ([a[0] + f * (b[0] - a[0]), a[1] + f * (b[1] - a[1])], j - 1)
-}
-
 /// Euclidean distance by `sqrt` (`f64::hypot` guards against overflow that pixel coordinates
 /// cannot reach, and is several times slower in the per-point loops).
 #[inline]
@@ -367,14 +336,5 @@ mod tests {
             "junction least squares, 3e5 sets of 3 lines: closed form {closed:?}, nalgebra \
              (eigenvalues + Cholesky) {dense:?} ({ours} / {theirs} solved)"
         );
-    }
-
-    #[test]
-    fn walking_a_polyline_by_arc_length() {
-        let line = [[0.0, 0.0], [3.0, 0.0], [3.0, 4.0]];
-        let s = arc_lengths(&line);
-        assert_eq!(s, vec![0.0, 3.0, 7.0]);
-        assert_eq!(point_at(&line, &s, 5.0), ([3.0, 2.0], 1));
-        assert_eq!(point_at(&line, &s, 9.0).0, [3.0, 4.0]);
     }
 }

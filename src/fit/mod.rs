@@ -36,7 +36,10 @@ mod solve;
 mod tests;
 
 use crate::csr::Csr;
-use crate::{Edge, LaplacianRule, NodeGraph, Params, PointSet, StrokeGraph, Vertex};
+use crate::node_graph::NodeGraph;
+use crate::params::{LaplacianRule, Params};
+use crate::point_set::PointSet;
+use crate::stroke_graph::{Edge, StrokeGraph, Vertex};
 use assign::Groups;
 use layout::Layout;
 use place::{End, Ink, Placement};
@@ -208,9 +211,13 @@ pub fn fit_with_spacing(
         let on_own = |q: u32| own.is_none_or(|c| components.get(q as usize) == Some(&c));
         width_at(graph, points, &layout, &cells, p, v, on_own)
     };
-    build(&layout, &polylines, &positions, &degrees, |p, i| {
+    let fitted = build(&layout, &polylines, &positions, &degrees, |p, i| {
         width(p, parent[i as usize])
-    })
+    });
+    // The fit's output is a valid stroke graph (ARCHITECTURE.md, "What each boundary
+    // guarantees"); checked in debug builds, as every stage checks its own.
+    debug_assert_eq!(fitted.validate(), Ok(()));
+    fitted
 }
 
 /// [`ExperimentParams::dense_fit`](crate::ExperimentParams::dense_fit): every edge re-fitted from
@@ -236,8 +243,8 @@ fn refit_densely(
         if !at_start {
             arm.reverse();
         }
-        let s = math::arc_lengths(&arm);
-        let (far, _) = math::point_at(&arm, &s, reach.min(s[s.len() - 1]));
+        let s = crate::geometry::arc_lengths(&arm);
+        let (far, _) = crate::geometry::point_at(&arm, &s, reach.min(s[s.len() - 1]));
         math::unit([far[0] - arm[0][0], far[1] - arm[0][1]])
     };
     let mut skips: Vec<[f64; 2]> = vec![[0.0, 0.0]; layout.edges.len()];
@@ -280,7 +287,7 @@ fn refit_densely(
             skip,
         })
         .collect();
-    let spacing = crate::DENSE_SPACING * points.spacing.max(length_unit(points));
+    let spacing = crate::params::DENSE_SPACING * points.spacing.max(length_unit(points));
     dense::refit(edges, positions, parent, cells, points, spacing);
 }
 
@@ -305,12 +312,10 @@ pub fn node_spacing(graphs: &[&NodeGraph], points: &PointSet, params: &Params) -
         .filter(|w| w.is_finite() && *w > 0.0)
         .collect();
     let floor = 3.0 * unit;
-    if widths.is_empty() {
-        return floor;
+    match crate::median::upper_median(&mut widths) {
+        Some(median) => (params.fit.spacing_factor * median).max(floor),
+        None => floor,
     }
-    let mid = widths.len() / 2;
-    let (_, median, _) = widths.select_nth_unstable_by(mid, f64::total_cmp);
-    (params.fit.spacing_factor * *median).max(floor)
 }
 
 /// The local stroke width at vertex `k`: its graph node's width, or `h` when that is unknown.

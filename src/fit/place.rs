@@ -5,8 +5,9 @@
 //! half the cell; the median of a junction's cell is pulled toward the widest arm. Both are fixed
 //! from the ink and the fitted arms rather than from more smoothing.
 
-use super::math::{arc_lengths, line_intersection, point_at, principal_line, unit};
-use crate::{Grid, PointSet};
+use super::math::{line_intersection, principal_line, unit};
+use crate::geometry::{arc_lengths, point_at};
+use crate::point_set::{Grid, PointSet};
 
 /// "Is this position on the ink?": the pixel under it is ink, or (point lists) a point lies within
 /// `radius`.
@@ -100,7 +101,7 @@ impl<'a> Ink<'a> {
                     for y in cy - 1..=cy + 1 {
                         let from = cells.partition_point(|c| (c.0, c.1) < (x, y));
                         for c in cells[from..].iter().take_while(|c| (c.0, c.1) == (x, y)) {
-                            if crate::dist(points[c.2 as usize], p) <= *radius {
+                            if crate::geometry::dist(points[c.2 as usize], p) <= *radius {
                                 return true;
                             }
                         }
@@ -241,7 +242,7 @@ impl Placement<'_> {
         let Some(x) = line_intersection(&lines, 0.01) else {
             return;
         };
-        if crate::dist(x, here) > 1.5 * width || !self.ink.contains(x, component) {
+        if crate::geometry::dist(x, here) > 1.5 * width || !self.ink.contains(x, component) {
             return;
         }
         positions[vertex as usize] = x;
@@ -277,8 +278,8 @@ pub fn onto_ink(
     let here = *position;
     let nearest = cell.iter().copied().min_by(|&a, &b| {
         let (da, db) = (
-            crate::dist(points.points[a as usize], here),
-            crate::dist(points.points[b as usize], here),
+            crate::geometry::dist(points.points[a as usize], here),
+            crate::geometry::dist(points.points[b as usize], here),
         );
         da.total_cmp(&db).then(a.cmp(&b))
     });

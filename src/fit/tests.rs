@@ -3,9 +3,13 @@
 //! deterministic jitter, as refinement would leave it.
 
 use super::fit;
+use crate::binary::Binary;
 use crate::draw::{render, Stroke};
 use crate::geometry::segment_dist;
-use crate::{Binary, GraphNode, Grid, NodeGraph, Params, PointSet, StrokeGraph};
+use crate::node_graph::{GraphNode, NodeGraph};
+use crate::params::Params;
+use crate::point_set::{Grid, PointSet};
+use crate::stroke_graph::StrokeGraph;
 
 /// Points, 8-neighbours, half-widths (distance to the nearest background pixel center) and the
 /// pixel grid of a mask.
@@ -75,12 +79,12 @@ fn jitter(i: usize, amount: f64) -> [f64; 2] {
 
 /// Points every `step` along a polyline (both ends included), jittered.
 fn along(line: &[[f64; 2]], step: f64, amount: f64, seed: usize) -> Vec<[f64; 2]> {
-    let s = super::math::arc_lengths(line);
+    let s = crate::geometry::arc_lengths(line);
     let length = s[s.len() - 1];
     let count = (length / step).round().max(1.0) as usize;
     (0..=count)
         .map(|j| {
-            let (p, _) = super::math::point_at(line, &s, length * j as f64 / count as f64);
+            let (p, _) = crate::geometry::point_at(line, &s, length * j as f64 / count as f64);
             let d = jitter(seed + j, amount);
             [p[0] + d[0], p[1] + d[1]]
         })
@@ -107,7 +111,8 @@ fn node_graph(points: &PointSet, nodes: &[[f64; 2]], edges: &[[u32; 2]], width: 
         .map(|p| {
             (0..nodes.len())
                 .min_by(|&a, &b| {
-                    crate::dist(nodes[a].pos, *p).total_cmp(&crate::dist(nodes[b].pos, *p))
+                    crate::geometry::dist(nodes[a].pos, *p)
+                        .total_cmp(&crate::geometry::dist(nodes[b].pos, *p))
                 })
                 .unwrap() as u32
         })
@@ -139,7 +144,7 @@ fn worst_distance(graph: &StrokeGraph, truth: &[Vec<[f64; 2]>]) -> f64 {
     let mut worst: f64 = 0.0;
     for e in &graph.edges {
         for w in e.points.windows(2) {
-            let steps = (crate::dist(w[0], w[1]) / 0.5).ceil().max(1.0) as usize;
+            let steps = (crate::geometry::dist(w[0], w[1]) / 0.5).ceil().max(1.0) as usize;
             for j in 0..=steps {
                 let t = j as f64 / steps as f64;
                 let p = [
@@ -168,7 +173,7 @@ fn ends_found(graph: &StrokeGraph, ends: &[[f64; 2]], tolerance: f64) -> bool {
     ends.iter().all(|&t| {
         graph
             .endpoints()
-            .any(|v| crate::dist(graph.vertices[v].pos, t) <= tolerance)
+            .any(|v| crate::geometry::dist(graph.vertices[v].pos, t) <= tolerance)
     })
 }
 
@@ -269,7 +274,10 @@ fn t_junction_is_placed_where_the_stem_meets_the_bar() {
     let junctions: Vec<usize> = result.junctions().collect();
     assert_eq!(junctions.len(), 1);
     let junction = result.vertices[junctions[0]].pos;
-    assert!(crate::dist(junction, [50.0, 20.0]) <= 1.5, "{junction:?}");
+    assert!(
+        crate::geometry::dist(junction, [50.0, 20.0]) <= 1.5,
+        "{junction:?}"
+    );
     assert!(
         ends_found(&result, &[[10.0, 20.0], [90.0, 20.0], [50.0, 75.0]], 1.0),
         "{:?}",
@@ -319,7 +327,7 @@ fn a_lone_blob_becomes_an_isolated_vertex() {
     assert!(result.edges.is_empty());
     assert_eq!(result.vertices[0].degree, 0);
     assert!(
-        crate::dist(result.vertices[0].pos, [20.0, 20.0]) < 0.5,
+        crate::geometry::dist(result.vertices[0].pos, [20.0, 20.0]) < 0.5,
         "{:?}",
         result.vertices[0]
     );
@@ -338,7 +346,7 @@ fn a_dot_refined_into_a_short_dash_is_one_vertex() {
     let graph = node_graph(&points, &[[10.0, 9.6], [9.6, 10.4]], &[[0, 1]], 3.0);
     let result = fit_checked(&graph, &points, &Params::default());
     assert_eq!((result.vertices.len(), result.edges.len()), (1, 0));
-    assert!(crate::dist(result.vertices[0].pos, [10.0, 10.0]) < 0.5);
+    assert!(crate::geometry::dist(result.vertices[0].pos, [10.0, 10.0]) < 0.5);
     // Without clean-up the graph is taken as it is.
     let as_is = fit_checked(&graph, &points, &Params::paper());
     assert_eq!((as_is.vertices.len(), as_is.edges.len()), (2, 1));

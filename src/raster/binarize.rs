@@ -12,8 +12,11 @@ use rayon::prelude::*;
 use super::evidence::{self, PolarityEvidence};
 use super::grounds;
 use super::valleys;
+use crate::binary::Binary;
 use crate::decisions::{Decisions, InkSide, ThresholdUsed, UNEVEN_LIGHT};
-use crate::{Binary, GrayView, Params, Polarity, Result, Threshold};
+use crate::error::Result;
+use crate::gray::GrayView;
+use crate::params::{Params, Polarity, Threshold};
 
 /// Sauvola's dynamic range of the standard deviation `R` for 8-bit images.
 const SAUVOLA_R: f64 = 128.0;
@@ -301,7 +304,7 @@ fn sauvola(gray: GrayView<'_>, window: u32, k: f64, dark_ink: bool, ink: &mut [b
 mod tests {
     use super::*;
     use crate::raster::binarize;
-    use crate::GrayImage;
+    use image::GrayImage;
     use image::Luma;
 
     fn params(threshold: Threshold, polarity: Polarity) -> Params {

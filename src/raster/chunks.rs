@@ -12,9 +12,12 @@
 //! the traces are identical too.
 
 use super::points::{build, check_point_count, survey, Survey, Window};
+use crate::binary::MaskView;
 use crate::csr::Csr;
+use crate::error::Result;
 use crate::mask::{ink_row_starts, run_components, Run};
-use crate::{MaskView, Params, PointSet, Result};
+use crate::params::Params;
+use crate::point_set::PointSet;
 
 /// The ink of an image as chunks of whole 8-connected components, in the order of each
 /// component's first pixel, each chunk about `target` points or one component.
@@ -132,8 +135,8 @@ impl PixelChunks {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::binary::Binary;
     use crate::raster::points;
-    use crate::Binary;
 
     /// A page of blobs, rings, touching and nearly touching strokes and a frame, with pixels on
     /// every image edge.

@@ -20,7 +20,9 @@ use image::{
 };
 
 use super::tiff_pages::{self, PatchedReader};
-use crate::{Error, GrayImage, Limits, Result};
+use crate::error::{Error, Result};
+use crate::params::Limits;
+use image::GrayImage;
 
 /// Decoder allocation bound per image pixel: an RGBA image with 16 bits per channel, the widest
 /// layout the enabled codecs produce, plus room for the codec's own buffers.

@@ -7,13 +7,10 @@
 //! one group. Each group is tested as the whole image is ([`super::points`]): pixels hanging on by
 //! a single 8-neighbour, isolated pixels, tiny holes.
 
-use imageproc::distance_transform::Norm;
-use imageproc::morphology::dilate;
-use imageproc::region_labelling::{connected_components, Connectivity};
-
 use super::points::LOOSE_FRACTION;
-use crate::mask::tiny_hole;
-use crate::{Binary, MaskView, Params};
+use crate::binary::{Binary, MaskView};
+use crate::mask::{label_components, morph3, tiny_hole, Connectivity};
+use crate::params::Params;
 
 /// Loose or isolated pixels below this count never switch a group on (a few line ends).
 const MIN_LOOSE: usize = 16;
@@ -28,10 +25,10 @@ pub(crate) fn split(binary: MaskView<'_>, params: &Params) -> Option<(Binary, Bi
     if w < 3 || h < 3 || binary.ink.len() != w * h {
         return None;
     }
-    let grown = dilate(&super::mask_image(binary), Norm::LInf, 1);
-    let labels = connected_components(&grown, Connectivity::Eight, image::Luma([0u8]));
-    let label = |i: usize| labels.as_raw()[i] as usize;
-    let groups = labels.as_raw().iter().copied().max().unwrap_or(0) as usize + 1;
+    let grown = morph3(binary.ink, w, h, true);
+    let (labels, sizes) = label_components(&grown, w, h, true, Connectivity::Eight);
+    let label = |i: usize| labels[i] as usize;
+    let groups = sizes.len();
     // Per group: ink pixels, loose (one 8-neighbour), isolated (none), tiny-hole pixels.
     let mut stats = vec![[0usize; 4]; groups];
     let ink = binary.ink;

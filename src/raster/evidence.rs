@@ -7,7 +7,8 @@
 
 use rayon::prelude::*;
 
-use crate::GrayView;
+use crate::gray::GrayView;
+use crate::median::upper_median_by;
 
 /// Lattice samples the stroke evidence aims for; the step between sampled rows and columns is
 /// chosen to give about this many.
@@ -142,9 +143,8 @@ fn mean_and_median(values: &mut [u32]) -> (f64, f64) {
         return (0.0, 0.0);
     }
     let mean = values.iter().map(|&v| v as f64).sum::<f64>() / values.len() as f64;
-    let middle = values.len() / 2;
-    let (_, median, _) = values.select_nth_unstable(middle);
-    (mean, *median as f64)
+    let median = upper_median_by(values, Ord::cmp).map_or(0.0, f64::from);
+    (mean, median)
 }
 
 /// The polarity evidence of a split into dark and light sides.

@@ -20,11 +20,11 @@
 //! inside it, a letter's counters, becomes paper); its other holes stay paper. Ink strokes that
 //! touch the ground go with it.
 
-use image::{GrayImage, Luma};
-use imageproc::region_labelling::{connected_components, Connectivity};
+use crate::mask::{label_components, on_image_edge, Connectivity};
 
 use super::evidence::run_lengths;
 use crate::decisions::Ground;
+use crate::median::upper_median_by;
 
 /// The narrowest hole that shows a ground, px: thinner light lines are as often cracks, pores
 /// and noise as strokes.
@@ -193,11 +193,7 @@ fn chords(values: &[bool], w: usize, h: usize) -> Vec<u32> {
 }
 
 fn median(values: &mut [u32]) -> f64 {
-    if values.is_empty() {
-        return 0.0;
-    }
-    let middle = values.len() / 2;
-    *values.select_nth_unstable(middle).1 as f64
+    upper_median_by(values, Ord::cmp).map_or(0.0, f64::from)
 }
 
 /// Tests the component of `pixels` (indices into `ink`, inside `region`) as a ground and
@@ -228,20 +224,9 @@ fn reverse_ground(ink: &mut [bool], pixels: &[usize], width: usize, region: &Reg
     }
     // What the component encloses: the parts of the rest of the box (4-connected, the
     // complement of 8-connected ink) that do not reach the frame.
-    let rest = GrayImage::from_fn(w as u32, h as u32, |x, y| {
-        Luma([u8::from(!member[y as usize * w + x as usize]) * 255])
-    });
-    let enclosed = connected_components(&rest, Connectivity::Four, Luma([0u8])).into_raw();
-    let regions = enclosed.iter().copied().max().unwrap_or(0) as usize;
-    let mut reaches_frame = vec![false; regions + 1];
-    for x in 0..w {
-        reaches_frame[enclosed[x] as usize] = true;
-        reaches_frame[enclosed[(h - 1) * w + x] as usize] = true;
-    }
-    for y in 0..h {
-        reaches_frame[enclosed[y * w] as usize] = true;
-        reaches_frame[enclosed[y * w + w - 1] as usize] = true;
-    }
+    let (enclosed, sizes) = label_components(&member, w, h, false, Connectivity::Four);
+    let regions = sizes.len() - 1;
+    let reaches_frame = on_image_edge(&enclosed, w, h, sizes.len());
     // The light pixels' chords, per enclosed region.
     let light: Vec<bool> = (0..w * h)
         .map(|i| at(i % w, i / w).is_some_and(|p| !ink[p]))

@@ -25,7 +25,13 @@ pub use decode::{decode_file, gray_from_unit_pixels, Page, Pages, Picture, Trans
 pub(crate) use dropout::split as split_dropout;
 pub(crate) use evidence::chords;
 
-use crate::{Binary, GrayImage, GrayView, Limits, MaskView, Params, PointSet, Result};
+use crate::binary::{Binary, MaskView};
+use crate::error::Result;
+use crate::gray::GrayView;
+use crate::mask::{label_components, Connectivity};
+use crate::params::{Limits, Params};
+use crate::point_set::PointSet;
+use image::GrayImage;
 
 /// Decodes image bytes to grayscale within `limits`.
 ///
@@ -72,32 +78,18 @@ pub fn binarize<'a>(gray: impl Into<GrayView<'a>>, params: &Params) -> Result<Bi
     Ok(binarize::binarize_deciding(gray.into(), params)?.0)
 }
 
-/// `binary` as a gray image for imageproc's morphology and labelling: ink 255, paper 0.
-pub(crate) fn mask_image(binary: MaskView<'_>) -> GrayImage {
-    GrayImage::from_fn(binary.width, binary.height, |x, y| {
-        image::Luma([if binary.get(x as i64, y as i64) {
-            255
-        } else {
-            0
-        }])
-    })
-}
-
 /// `binary` without its ink components (8-connected) of fewer than `min_area` pixels.
+/// A mask whose `ink` is not `width x height` pixels is returned as it is, for the points to
+/// refuse.
 pub(crate) fn drop_small_components(binary: MaskView<'_>, min_area: usize) -> Binary {
-    use imageproc::region_labelling::{connected_components, Connectivity};
-    let labels = connected_components(&mask_image(binary), Connectivity::Eight, image::Luma([0u8]));
-    let mut sizes: Vec<usize> = Vec::new();
-    for label in labels.pixels() {
-        let l = label.0[0] as usize;
-        if l >= sizes.len() {
-            sizes.resize(l + 1, 0);
-        }
-        sizes[l] += 1;
-    }
     let mut kept = binary.to_binary();
-    for (ink, label) in kept.ink.iter_mut().zip(labels.pixels()) {
-        let l = label.0[0] as usize;
+    if binary.check_size().is_err() {
+        return kept;
+    }
+    let (w, h) = (binary.width as usize, binary.height as usize);
+    let (labels, sizes) = label_components(binary.ink, w, h, true, Connectivity::Eight);
+    for (ink, &label) in kept.ink.iter_mut().zip(&labels) {
+        let l = label as usize;
         *ink = *ink && l > 0 && sizes[l] >= min_area;
     }
     kept

@@ -7,11 +7,14 @@
 
 use rayon::prelude::*;
 
+use crate::binary::MaskView;
+use crate::error::{Error, Result};
 use crate::mask::{
     close3, ink_row_starts, split_by, squared_distance_at, squared_distance_rows, tiny_hole, Mask,
     Run,
 };
-use crate::{Error, Grid, MaskView, Params, PointSet, Result};
+use crate::params::Params;
+use crate::point_set::{Grid, PointSet};
 
 /// `Dis_ave` above this switches dropout mode on (adaptation 2): more than about 5% of the
 /// points have no ink pixel touching them.
@@ -425,8 +428,8 @@ fn isolated_distance(at: &impl Fn(i64, i64) -> bool, x: i64, y: i64) -> Option<f
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::binary::Binary;
     use crate::raster::points;
-    use crate::Binary;
 
     fn mask(rows: &[&str]) -> Binary {
         let mut binary = Binary::new(rows[0].len() as u32, rows.len() as u32);

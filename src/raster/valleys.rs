@@ -18,7 +18,7 @@
 use rayon::prelude::*;
 
 use super::evidence::Surface;
-use crate::GrayView;
+use crate::gray::GrayView;
 
 /// A valley's sides are at least this many gray levels past the threshold into the ink: less is
 /// within the noise of a stroke's edge (on the degraded captures 24-32 measure alike, 40 and 16
@@ -180,7 +180,7 @@ fn neighbours(x: usize, y: usize, w: usize, h: usize) -> impl Iterator<Item = us
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::GrayImage;
+    use image::GrayImage;
     use image::Luma;
 
     /// `ink` (row-major, `w` x `h`) drawn dark on light paper and blurred by a Gaussian of
@@ -285,7 +285,8 @@ mod tests {
         let sharp = GrayImage::from_fn(60, 30, |x, y| {
             Luma([if truth[(y * 60 + x) as usize] { 0 } else { 255 }])
         });
-        let binary = crate::raster::binarize(&sharp, &crate::Params::default()).expect("binarized");
+        let binary =
+            crate::raster::binarize(&sharp, &crate::params::Params::default()).expect("binarized");
         assert_eq!(binary.ink, truth);
     }
 }

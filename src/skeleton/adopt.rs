@@ -4,7 +4,7 @@
 
 use kiddo::{ImmutableKdTree, SquaredEuclidean};
 
-use crate::StrokeGraph;
+use crate::stroke_graph::StrokeGraph;
 
 use super::work::{median, Work};
 use super::MIN_WIDTH_PX;

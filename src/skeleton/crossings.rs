@@ -7,7 +7,7 @@ use kiddo::{ImmutableKdTree, SquaredEuclidean};
 use petgraph::unionfind::UnionFind;
 
 use crate::geometry::dist;
-use crate::{Edge, StrokeGraph, Vertex};
+use crate::stroke_graph::{Edge, StrokeGraph, Vertex};
 
 use super::disk_radius;
 use super::work::{cut_arm, cut_point, median, Work};

@@ -35,9 +35,10 @@ mod spurs;
 mod thin;
 mod work;
 
+use crate::binary::Binary;
 use crate::mask::ink_distances;
 use crate::point_set::{Grid, PointSet};
-use crate::{Binary, StrokeGraph};
+use crate::stroke_graph::StrokeGraph;
 
 use pixel_graph::pixel_graph;
 use thin::{fill_specks, keep_every_component, one_pixel_thick, zhang_suen};
@@ -175,8 +176,9 @@ pub(crate) fn validate(graph: &StrokeGraph) -> Result<(), String> {
 mod tests {
     use super::*;
     use crate::geometry::dist;
+    use crate::params::Params;
+    use crate::stroke_graph::Vertex;
     use crate::synth::{render, Stroke};
-    use crate::{Params, Vertex};
 
     fn skeleton_params() -> Params {
         let mut params = Params::default();
@@ -219,7 +221,7 @@ mod tests {
         }
     }
 
-    fn traced(strokes: &[Stroke], w: u32, h: u32) -> (crate::Binary, StrokeGraph) {
+    fn traced(strokes: &[Stroke], w: u32, h: u32) -> (crate::binary::Binary, StrokeGraph) {
         let binary = render(strokes, w, h);
         let graph = crate::trace_binary(&binary, &skeleton_params())
             .expect("trace")
@@ -238,7 +240,7 @@ mod tests {
             .fold(f64::INFINITY, f64::min)
     }
 
-    fn assert_on_ink(binary: &crate::Binary, graph: &StrokeGraph) {
+    fn assert_on_ink(binary: &crate::binary::Binary, graph: &StrokeGraph) {
         for edge in &graph.edges {
             for s in edge.points.windows(2) {
                 for k in 0..=8 {
@@ -259,7 +261,7 @@ mod tests {
     #[test]
     fn validate_refuses_a_vertex_that_only_joins_two_edges() {
         // An L: two edges meeting at a vertex of degree 2 that is no closed curve's.
-        let edge = |from: usize, to: usize, a: [f64; 2], b: [f64; 2]| crate::Edge {
+        let edge = |from: usize, to: usize, a: [f64; 2], b: [f64; 2]| crate::stroke_graph::Edge {
             from,
             to,
             points: vec![a, b],
@@ -282,7 +284,7 @@ mod tests {
         assert!(validate(&graph).is_err());
         // Joined into one edge, it is valid.
         graph.vertices.remove(1);
-        graph.edges = vec![crate::Edge {
+        graph.edges = vec![crate::stroke_graph::Edge {
             from: 0,
             to: 1,
             points: vec![a, b, c],

@@ -2,7 +2,7 @@
 //! vertex, ends, dots, the pixel paths between them as edges, junction-free cycles as loops.
 
 use crate::geometry::tangents;
-use crate::{Edge, StrokeGraph, Vertex};
+use crate::stroke_graph::{Edge, StrokeGraph, Vertex};
 
 use super::thin::RING;
 use super::MIN_WIDTH_PX;

@@ -3,7 +3,8 @@
 //! arm at a junction's disk, and writing the final [`StrokeGraph`].
 
 use crate::geometry::{dist, tangents};
-use crate::{Edge, StrokeGraph, Vertex};
+use crate::median::upper_median;
+use crate::stroke_graph::{Edge, StrokeGraph, Vertex};
 
 use super::MIN_WIDTH_PX;
 
@@ -194,12 +195,7 @@ impl Work {
 /// The median of a polyline's widths (1 for none): the stroke's width, unmoved by the wider
 /// pixels where it meets another.
 pub(super) fn median(widths: &[f64]) -> f64 {
-    let mut sorted = widths.to_vec();
-    sorted.sort_by(f64::total_cmp);
-    sorted
-        .get(sorted.len() / 2)
-        .copied()
-        .unwrap_or(MIN_WIDTH_PX)
+    upper_median(&mut widths.to_vec()).unwrap_or(MIN_WIDTH_PX)
 }
 
 fn reverse(edge: &mut Edge) {

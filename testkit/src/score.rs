@@ -19,11 +19,13 @@
 use std::cmp::Ordering;
 use std::collections::{BTreeMap, BinaryHeap};
 
+use petgraph::unionfind::UnionFind;
 use serde::Serialize;
 
 use crate::synth::{render, Case};
 use ridgeline::csr::Csr;
 use ridgeline::geometry::point_in_polygon;
+use ridgeline::mask::{label_components, on_image_edge, Connectivity};
 use ridgeline::Binary;
 use ridgeline::{dist, Edge, StrokeGraph, Vertex};
 
@@ -1194,7 +1196,7 @@ impl Net {
             }
         }
         if !anchors.is_empty() {
-            let mut sets = UnionFind::new(self.nodes.len());
+            let mut sets = UnionFind::<usize>::new(self.nodes.len());
             for &(anchor, node) in &anchors {
                 sets.union(anchor, node);
             }
@@ -1202,7 +1204,7 @@ impl Net {
             for &(_, node) in &anchors {
                 anchored[node] = true;
             }
-            self.merge(&mut sets, &anchored, Follow::Snap, None);
+            self.merge(&sets, &anchored, Follow::Snap, None);
         }
         found_any
     }
@@ -1360,7 +1362,7 @@ impl Net {
         requests.sort_unstable();
         requests.dedup();
         let split_nodes = self.split_wires(&requests);
-        let mut sets = UnionFind::new(self.nodes.len());
+        let mut sets = UnionFind::<usize>::new(self.nodes.len());
         let mut anchored = vec![true; self.nodes.len()];
         for &(end, target) in &joins {
             anchored[end] = false;
@@ -1370,7 +1372,7 @@ impl Net {
             };
             sets.union(end, target_node);
         }
-        self.merge(&mut sets, &anchored, Follow::Extend, None);
+        self.merge(&sets, &anchored, Follow::Extend, None);
     }
 
     /// Joins strokes whose inks touch where neither of them ends or crosses the other (a script
@@ -1384,7 +1386,7 @@ impl Net {
     fn join_kisses(&mut self, r_max: f64, holes: &Holes) {
         let samples = Samples::new(self);
         // Which samples the graph connects at all (a pair in two components touches across).
-        let mut parts = UnionFind::new(samples.pos.len());
+        let mut parts = UnionFind::<usize>::new(samples.pos.len());
         for v in 0..samples.pos.len() {
             for &u in samples.links.row(v) {
                 parts.union(v, u as usize);
@@ -1429,7 +1431,7 @@ impl Net {
             // ink far out) needs the whole way round to tell whether it encloses a hole.
             let beyond = touching
                 .iter()
-                .any(|&(_, q)| !search.distance(q).is_finite() && parts.find(q) == parts.find(s));
+                .any(|&(_, q)| !search.distance(q).is_finite() && parts.equiv(q, s));
             if beyond {
                 search.run(&samples, s, f64::INFINITY);
             }
@@ -1467,13 +1469,13 @@ impl Net {
         requests.sort_unstable();
         requests.dedup();
         let split_nodes = self.split_wires(&requests);
-        let mut sets = UnionFind::new(self.nodes.len());
+        let mut sets = UnionFind::<usize>::new(self.nodes.len());
         for &(s, q) in &taken {
             if let (Some(a), Some(b)) = (samples.wire_of(s), samples.wire_of(q)) {
                 sets.union(split_nodes[&a], split_nodes[&b]);
             }
         }
-        self.merge(&mut sets, &vec![true; self.nodes.len()], Follow::Snap, None);
+        self.merge(&sets, &vec![true; self.nodes.len()], Follow::Snap, None);
     }
 
     /// Splits wires at the given (wire, point index) places; returns the vertex at each place.
@@ -1535,7 +1537,7 @@ impl Net {
             .fold(0.0, f64::max);
         let reach = radius(max_width, max_width);
         let grid = PointGrid::new(&pos, reach.max(1.0));
-        let mut sets = UnionFind::new(self.nodes.len());
+        let mut sets = UnionFind::<usize>::new(self.nodes.len());
         let mut near = Vec::new();
         let mut any = false;
         for (a, &v) in junctions.iter().enumerate() {
@@ -1554,7 +1556,7 @@ impl Net {
         }
         if any {
             self.merge(
-                &mut sets,
+                &sets,
                 &vec![true; self.nodes.len()],
                 Follow::Snap,
                 Some(2.0 * reach + 1.0),
@@ -1567,15 +1569,16 @@ impl Net {
     /// set no longer than that are dropped.
     fn merge(
         &mut self,
-        sets: &mut UnionFind,
+        sets: &UnionFind<usize>,
         anchored: &[bool],
         follow: Follow,
         drop_bridges: Option<f64>,
     ) {
         let n = self.nodes.len();
+        let root_of = smallest_members(sets, n);
         let mut sum = vec![([0.0, 0.0], 0usize, [0.0, 0.0], 0usize, 0.0f64, false); n];
         for v in (0..n).filter(|&v| self.nodes[v].alive) {
-            let root = sets.find(v);
+            let root = root_of[v];
             let entry = &mut sum[root];
             let p = self.nodes[v].pos;
             entry.0 = [entry.0[0] + p[0], entry.0[1] + p[1]];
@@ -1591,7 +1594,7 @@ impl Net {
             if !self.nodes[v].alive {
                 continue;
             }
-            if sets.find(v) != v {
+            if root_of[v] != v {
                 self.nodes[v].alive = false;
                 continue;
             }
@@ -1608,7 +1611,7 @@ impl Net {
             };
         }
         for wire in self.wires.iter_mut().filter(|w| w.alive) {
-            let (from, to) = (sets.find(wire.from), sets.find(wire.to));
+            let (from, to) = (root_of[wire.from], root_of[wire.to]);
             if let Some(limit) = drop_bridges {
                 if from == to && wire.from != wire.to && wire.length() <= limit {
                     wire.alive = false;
@@ -1760,7 +1763,7 @@ impl Net {
             .collect();
         order.sort_by(|&a, &b| lengths[a].total_cmp(&lengths[b]).then(a.cmp(&b)));
         let mut consumed = vec![false; self.wires.len()];
-        let mut sets = UnionFind::new(n);
+        let mut sets = UnionFind::<usize>::new(n);
         let mut any = false;
         let mut distance = vec![f64::INFINITY; n];
         let mut via: Vec<Option<usize>> = vec![None; n];
@@ -1868,7 +1871,7 @@ impl Net {
                 wire.alive = false;
             }
         }
-        self.merge(&mut sets, &vec![true; n], Follow::Snap, None);
+        self.merge(&sets, &vec![true; n], Follow::Snap, None);
         self.dissolve();
         true
     }
@@ -2090,46 +2093,18 @@ struct Holes {
 impl Holes {
     fn new(ink: &Binary, max_width: f64) -> Holes {
         let (w, h) = (ink.width as usize, ink.height as usize);
-        let mut seen = vec![false; w * h];
-        let mut stack = Vec::new();
-        let fill = |start: usize, seen: &mut Vec<bool>, stack: &mut Vec<usize>| -> (bool, usize) {
-            // Returns whether the component touches the border, and its size.
-            let mut border = false;
-            let mut size = 0;
-            seen[start] = true;
-            stack.push(start);
-            while let Some(i) = stack.pop() {
-                size += 1;
-                let (x, y) = (i % w, i / w);
-                border |= x == 0 || y == 0 || x + 1 == w || y + 1 == h;
-                let mut visit = |j: usize| {
-                    if !ink.ink[j] && !seen[j] {
-                        seen[j] = true;
-                        stack.push(j);
-                    }
-                };
-                if x > 0 {
-                    visit(i - 1);
-                }
-                if x + 1 < w {
-                    visit(i + 1);
-                }
-                if y > 0 {
-                    visit(i - w);
-                }
-                if y + 1 < h {
-                    visit(i + w);
-                }
-            }
-            (border, size)
-        };
+        let (labels, sizes) = label_components(&ink.ink, w, h, false, Connectivity::Four);
+        let border = on_image_edge(&labels, w, h, sizes.len());
+        // One pixel per hole, its first in raster order (labels are numbered in that order).
         let mut reps = Vec::new();
-        for i in 0..w * h {
-            if ink.ink[i] || seen[i] {
+        let mut next = 1;
+        for (i, &l) in labels.iter().enumerate() {
+            let l = l as usize;
+            if l != next {
                 continue;
             }
-            let (border, size) = fill(i, &mut seen, &mut stack);
-            if !border && size > SPECK {
+            next += 1;
+            if !border[l] && sizes[l] > SPECK {
                 reps.push([(i % w) as f64 + 0.5, (i / w) as f64 + 0.5]);
             }
         }
@@ -2303,31 +2278,13 @@ impl Dijkstra {
     }
 }
 
-struct UnionFind {
-    parent: Vec<usize>,
-}
-
-impl UnionFind {
-    fn new(n: usize) -> Self {
-        UnionFind {
-            parent: (0..n).collect(),
-        }
+/// The smallest member of each element's set: the vertex a merged set keeps, so the result does
+/// not depend on which member the union-find makes its root.
+fn smallest_members(sets: &UnionFind<usize>, n: usize) -> Vec<usize> {
+    let mut smallest = vec![usize::MAX; n];
+    for v in 0..n {
+        let root = sets.find(v);
+        smallest[root] = smallest[root].min(v);
     }
-
-    fn find(&mut self, mut x: usize) -> usize {
-        while self.parent[x] != x {
-            self.parent[x] = self.parent[self.parent[x]];
-            x = self.parent[x];
-        }
-        x
-    }
-
-    /// Unites two sets; the smaller root becomes the representative (deterministic).
-    fn union(&mut self, a: usize, b: usize) {
-        let (a, b) = (self.find(a), self.find(b));
-        if a != b {
-            let (lo, hi) = (a.min(b), a.max(b));
-            self.parent[hi] = lo;
-        }
-    }
+    (0..n).map(|v| smallest[sets.find(v)]).collect()
 }

@@ -112,3 +112,22 @@ pub(crate) fn points_in_mode(
 ) -> Result<PointSet> {
     points::points(binary, params, dropout)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn small_components_go_from_a_one_pixel_mask_too() {
+        // imageproc's labelling panics on a one-pixel image (`mask::label_components` labels it
+        // itself), and a one-pixel mask with `min_area` set once reached it here.
+        let ink = [true];
+        let mask = MaskView {
+            width: 1,
+            height: 1,
+            ink: &ink,
+        };
+        assert_eq!(drop_small_components(mask, 2).ink, vec![false]);
+        assert_eq!(drop_small_components(mask, 1).ink, vec![true]);
+    }
+}

@@ -117,7 +117,7 @@ pub struct FingerprintTrace {
     /// Segmentation, orientation field, ridge periods, the enhanced image and its contrast.
     pub analysis: fingerprint::PrintAnalysis,
     /// The minutiae inside the print, filtered and with qualities
-    /// ([`minutiae::fingerprint_minutiae`]).
+    /// ([`fingerprint::minutiae::fingerprint_minutiae`]).
     pub minutiae: Vec<minutiae::Minutia>,
     /// Time of the front end (segmentation to enhanced binary image).
     pub enhance: Duration,
@@ -273,7 +273,7 @@ fn print_image(
     );
     let decisions = print_decisions(&analysis, &binary, print);
     let mut trace = with_decisions(trace, binary, decisions, enhance);
-    let minutiae = minutiae::fingerprint_minutiae(&trace.graph, &analysis, print);
+    let minutiae = fingerprint::minutiae::fingerprint_minutiae(&trace.graph, &analysis, print);
     trace.fingerprint = Some(Box::new(FingerprintTrace {
         analysis,
         minutiae,

@@ -250,14 +250,16 @@ fn print_image(
     }
     let start = Instant::now();
     // Given, or decided from the image exactly as the automatic front end decides it for any
-    // other image (its binary is not used: the print is binarized by its enhancement). A plain
+    // other image, up to the decision only (its binary would not be used: the print is
+    // binarized by its enhancement, and the steps after the decision, such as opening the
+    // valleys and reversing grounds, cost as much as the decision again). A plain
     // Otsu split read two of the real gray prints (docs/fingerprints.md) as light; this reads
     // all of them as their ridges are.
     let (dark_ridges, confidence) = match params.polarity {
         Polarity::DarkInk => (true, None),
         Polarity::LightInk => (false, None),
         Polarity::Auto => {
-            let (_, decided) = raster::binarize_deciding(gray, params)?;
+            let decided = raster::decide_polarity(gray, params)?;
             (decided.polarity == "dark", decided.polarity_confidence)
         }
     };

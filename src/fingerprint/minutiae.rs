@@ -19,8 +19,9 @@ use crate::{dist, Binary, FingerprintParams, StrokeGraph};
 /// shows to be false, each with a quality from `print`. Lengths are in ridge periods `T` of the
 /// block where they are measured:
 ///
-/// - border: within `border_margin` px of the print's border (the segmentation mask, and the
-///   closing of the enhanced ridges by one ridge period) or the image's;
+/// - border: within `border_margin` px or `border_periods · T`, whichever is more, of the
+///   print's border (the segmentation mask, and the closing of the enhanced ridges by one
+///   ridge period) or the image's;
 /// - fragments and islands: an edge with two free ends shorter than `fragment_periods · T`
 ///   (both ends go), or whose ends come within `T` of each other around at least `3 T` of ridge
 ///   (a ring broken once);
@@ -125,7 +126,8 @@ pub fn fingerprint_minutiae(
     // the last ridges by up to a block and its smoothing, and the ridges cut by the outline
     // end there, not at minutiae.
     let grid = print.segmentation.grid;
-    if params.border_margin > 0.0 && !grid.is_empty() {
+    let margin = params.border_margin.max(params.border_periods * typical);
+    if margin > 0.0 && !grid.is_empty() {
         let (w, h) = (grid.width as usize, grid.height as usize);
         let region = print_region(&print.ridges, typical.max(4.0));
         let outside: Vec<bool> = print
@@ -136,7 +138,6 @@ pub fn fingerprint_minutiae(
             .map(|(&p, &r)| !(p && r))
             .collect();
         let to_outside = squared_distance_transform(&outside, w, h);
-        let margin = params.border_margin;
         found.retain(|m| {
             let [x, y] = m.pos;
             if !(x >= margin && y >= margin && w as f64 - x >= margin && h as f64 - y >= margin) {

@@ -124,7 +124,7 @@ pub struct FingerprintTrace {
     /// Segmentation, orientation field, ridge periods, the enhanced image and its contrast.
     pub analysis: fingerprint::PrintAnalysis,
     /// The minutiae inside the print, filtered and with qualities
-    /// ([`minutiae::fingerprint_minutiae`]).
+    /// ([`fingerprint::minutiae::fingerprint_minutiae`]).
     pub minutiae: Vec<minutiae::Minutia>,
     /// Time of the front end (segmentation to enhanced binary image).
     pub enhance: Duration,
@@ -257,14 +257,16 @@ fn print_image(
     }
     let start = Instant::now();
     // Given, or decided from the image exactly as the automatic front end decides it for any
-    // other image (its binary is not used: the print is binarized by its enhancement). A plain
+    // other image, up to the decision only (its binary would not be used: the print is
+    // binarized by its enhancement, and the steps after the decision, such as opening the
+    // valleys and reversing grounds, cost as much as the decision again). A plain
     // Otsu split read two of the real gray prints (docs/fingerprints.md) as light; this reads
     // all of them as their ridges are.
     let (dark_ridges, confidence) = match params.front_end.polarity {
         Polarity::DarkInk => (true, None),
         Polarity::LightInk => (false, None),
         Polarity::Auto => {
-            let (_, decided) = raster::binarize_deciding(gray, params)?;
+            let decided = raster::decide_polarity(gray, params)?;
             (
                 decided.polarity == crate::decisions::InkSide::Dark,
                 decided.polarity_confidence,
@@ -283,7 +285,7 @@ fn print_image(
     );
     let decisions = print_decisions(&analysis, &binary, print);
     let mut trace = with_decisions(trace, binary, decisions, enhance);
-    let minutiae = minutiae::fingerprint_minutiae(&trace.graph, &analysis, print);
+    let minutiae = fingerprint::minutiae::fingerprint_minutiae(&trace.graph, &analysis, print);
     trace.fingerprint = Some(Box::new(FingerprintTrace {
         analysis,
         minutiae,

@@ -10,12 +10,13 @@
 //! XSFFE frequencies, GBFEN Gabor enhancement), at 500 dpi. `lib.rs` runs [`analyze`] in place of
 //! the text front end (`raster::binarize`) when [`crate::Params::fingerprint`] is set, then the
 //! normal pipeline on the binary image, then the fingerprint minutiae filter
-//! ([`crate::minutiae::fingerprint_minutiae`]).
+//! ([`minutiae::fingerprint_minutiae`]).
 
 mod enhance;
 pub mod fields;
 mod frequency;
 pub(crate) mod math;
+pub mod minutiae;
 mod orientation;
 pub(crate) mod prior;
 mod segment;

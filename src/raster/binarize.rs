@@ -27,6 +27,20 @@ pub(crate) fn binarize_deciding(
     gray: GrayView<'_>,
     params: &Params,
 ) -> Result<(Binary, Decisions)> {
+    binarize_until(gray, params, false)
+}
+
+/// The polarity [`binarize_deciding`] decides (`polarity`, `polarity_confidence` and the stroke
+/// width of the [`Decisions`]), without the steps after it that only shape its binary.
+pub(crate) fn decide_polarity(gray: GrayView<'_>, params: &Params) -> Result<Decisions> {
+    Ok(binarize_until(gray, params, true)?.1)
+}
+
+fn binarize_until(
+    gray: GrayView<'_>,
+    params: &Params,
+    polarity_only: bool,
+) -> Result<(Binary, Decisions)> {
     let (width, height) = gray.dimensions();
     let (w, h) = (width as usize, height as usize);
     let mut binary = Binary::new(width, height);
@@ -114,6 +128,10 @@ pub(crate) fn binarize_deciding(
     }
     let dark_ink = forced.unwrap_or(evidence.dark_is_ink);
     record_polarity(&mut decisions, dark_ink, forced.is_none(), &evidence);
+    if polarity_only {
+        binary.ink = dark;
+        return Ok((binary, decisions));
+    }
     if let Threshold::Sauvola { window, k } = params.front_end.threshold {
         sauvola(gray, window, k, dark_ink, &mut dark);
         decisions.threshold = ThresholdUsed::Sauvola { window, k };

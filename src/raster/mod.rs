@@ -19,7 +19,7 @@ mod tiff_pages;
 mod valleys;
 
 pub use crate::decisions::Ground;
-pub(crate) use binarize::binarize_deciding;
+pub(crate) use binarize::{binarize_deciding, decide_polarity};
 pub(crate) use chunks::pixel_chunks;
 pub use decode::{decode_file, gray_from_unit_pixels, Page, Pages, Picture, Transparency};
 pub(crate) use dropout::split as split_dropout;

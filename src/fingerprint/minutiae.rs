@@ -1,0 +1,508 @@
+//! The minutiae of a print traced with the fingerprint front end (docs/fingerprints.md,
+//! "Minutiae"): the endings and bifurcations of the traced graph ([`crate::minutiae`] finds them
+//! and holds the conventions), less those the structure of the ridges shows to be false, each
+//! with a quality from the print's analysis ([`PrintAnalysis`]).
+//!
+//! Input: the [`StrokeGraph`] traced from the enhanced binary and the [`PrintAnalysis`] it came
+//! from. Output: `Vec<Minutia>` in vertex order. Deterministic.
+
+use super::PrintAnalysis;
+use crate::binary::Binary;
+use crate::geometry::{arc_lengths, dist, point_at};
+use crate::minutiae::{
+    detect, drop_broken_ridges, print_region, Minutia, MinutiaKind, MinutiaeOptions,
+};
+use crate::params::FingerprintParams;
+use crate::stroke_graph::StrokeGraph;
+
+/// The minutiae of a print traced with the fingerprint front end (docs/fingerprints.md,
+/// "Minutiae"): every ending and bifurcation of `graph`, less those the structure of the ridges
+/// shows to be false, each with a quality from `print`. Lengths are in ridge periods `T` of the
+/// block where they are measured:
+///
+/// - border: within `border_margin` px or `border_periods · T`, whichever is more, of the
+///   print's border (the segmentation mask, and the closing of the enhanced ridges by one
+///   ridge period) or the image's;
+/// - fragments and islands: an edge with two free ends shorter than `fragment_periods · T`
+///   (both ends go), or whose ends come within `T` of each other around at least `3 T` of ridge
+///   (a ring broken once);
+/// - spurs: an edge from a bifurcation to a free end shorter than `spur_periods · T` (both go);
+/// - bridges: an edge between two bifurcations shorter than `bridge_periods · T` that runs across
+///   the flow (more than 45° from the local ridge orientation): a bar between neighbouring ridges;
+/// - lakes and pores: two bifurcations joined by two edges each shorter than
+///   `2 bridge_periods · T` (both go);
+/// - broken ridges: two endings facing each other along the flow within `gap_periods · T`;
+/// - detached branches: a bifurcation of which one arm crosses a valley in the gray image (off
+///   [`PrintAnalysis::ridges`] for at least 1 px, back on them within `0.6 T` of the junction)
+///   while the other two stay on the ridges for `T` is an ending at the arm's tip: a ridge that
+///   stops just short of its neighbour, the shallow valley at its tip filled by the enhancement.
+///
+/// The quality is [`PrintAnalysis::quality_at`]: coherence times contrast, in percent.
+pub fn fingerprint_minutiae(
+    graph: &StrokeGraph,
+    print: &PrintAnalysis,
+    params: &FingerprintParams,
+) -> Vec<Minutia> {
+    let options = MinutiaeOptions::default();
+    let confirmed = confirmed_edges(graph, &print.ridges, params.confirmed_share);
+    let graph = &confirmed;
+    let mut found = detect(graph, &options);
+    let mut false_vertex = vec![false; graph.vertices.len()];
+    let degree = |v: usize| graph.vertices.get(v).map_or(0, |v| v.degree);
+    // Short edges between two bifurcations, by vertex pair, to find lakes.
+    let mut short_bars: Vec<(usize, usize)> = Vec::new();
+    for edge in &graph.edges {
+        let (a, b) = (edge.from, edge.to);
+        if a == b || a >= false_vertex.len() || b >= false_vertex.len() {
+            continue;
+        }
+        let length: f64 = edge.points.windows(2).map(|p| dist(p[0], p[1])).sum();
+        let (Some(first), Some(last)) = (edge.points.first(), edge.points.last()) else {
+            continue;
+        };
+        let middle = [(first[0] + last[0]) / 2.0, (first[1] + last[1]) / 2.0];
+        let period = print.periods.at(middle).max(1.0);
+        let short = |factor: f64| length < factor * period;
+        let remove = match (degree(a), degree(b)) {
+            (1, 1) => {
+                short(params.fragment_periods) || nearly_closed([*first, *last], length, period)
+            }
+            (1, 3) | (3, 1) => short(params.spur_periods),
+            (3, 3) => {
+                if short(2.0 * params.bridge_periods) {
+                    short_bars.push((a.min(b), a.max(b)));
+                }
+                short(params.bridge_periods) && print.across_the_flow(*first, *last)
+            }
+            _ => false,
+        };
+        if remove {
+            false_vertex[a] = true;
+            false_vertex[b] = true;
+        }
+    }
+    short_bars.sort_unstable();
+    for pair in short_bars.windows(2) {
+        if pair[0] == pair[1] {
+            false_vertex[pair[0].0] = true;
+            false_vertex[pair[0].1] = true;
+        }
+    }
+    found.retain(|m| !false_vertex.get(m.vertex).copied().unwrap_or(false));
+    detached_branches(&mut found, graph, print);
+    // Broken ridges, with the gap in periods of the print's median period.
+    let mut periods: Vec<f64> = found.iter().map(|m| print.periods.at(m.pos)).collect();
+    let typical = if periods.is_empty() {
+        params.default_period
+    } else {
+        let middle = periods.len() / 2;
+        *periods.select_nth_unstable_by(middle, f64::total_cmp).1
+    };
+    if params.gap_periods > 0.0 {
+        // Two endings closer than half a period, whichever way they point, are one ridge broken
+        // where it turns too fast for the filter (the apex of a loop's innermost ridge): the
+        // ends of two ridges are at least a valley, about half a period, apart.
+        drop_broken_ridges(
+            &mut found,
+            &MinutiaeOptions {
+                broken_ridge_gap: 0.5 * typical,
+                broken_ridge_angle_deg: 180.0,
+                ..options
+            },
+        );
+        drop_broken_ridges(
+            &mut found,
+            &MinutiaeOptions {
+                broken_ridge_gap: params.gap_periods * typical,
+                ..options
+            },
+        );
+    }
+    if params.cloud_periods > 0.0 {
+        drop_clouds(&mut found, typical * params.cloud_periods);
+    }
+    // The border: distance to the nearest pixel outside the print, which is both inside the
+    // segmentation mask and inside the closing of the enhanced ridges by a disk of one ridge
+    // period (every valley filled, the outline of the ridges kept): the mask's blocks reach past
+    // the last ridges by up to a block and its smoothing, and the ridges cut by the outline
+    // end there, not at minutiae.
+    let grid = print.segmentation.grid;
+    let margin = params.border_margin.max(params.border_periods * typical);
+    if margin > 0.0 && !grid.is_empty() {
+        let (w, h) = (grid.width as usize, grid.height as usize);
+        let region = print_region(&print.ridges, typical.max(4.0));
+        let outside: Vec<bool> = print
+            .segmentation
+            .pixel_mask()
+            .iter()
+            .zip(&region)
+            .map(|(&p, &r)| !(p && r))
+            .collect();
+        let to_outside = crate::mask::squared_distances_to(&outside, w, h, margin);
+        found.retain(|m| {
+            let [x, y] = m.pos;
+            if !(x >= margin && y >= margin && w as f64 - x >= margin && h as f64 - y >= margin) {
+                return false;
+            }
+            let index = (y as usize).min(h - 1) * w + (x as usize).min(w - 1);
+            f64::from(to_outside[index]) >= margin * margin
+        });
+    }
+    for m in &mut found {
+        m.quality = Some(print.quality_at(m.pos));
+    }
+    found
+}
+
+/// Bifurcations of which one arm leaves the junction across a valley the gray image shows: off
+/// [`PrintAnalysis::ridges`] for at least a pixel within one period of the junction, on them
+/// again beyond, while the other two arms stay on the ridges over the same period. The ridge of
+/// that arm ends just short of its neighbour and the enhancement, which smooths along the flow,
+/// filled the shallow valley at its tip: the minutia is an ending at the far side of the gap,
+/// pointing towards the junction.
+fn detached_branches(found: &mut [Minutia], graph: &StrokeGraph, print: &PrintAnalysis) {
+    const STEP: f64 = 0.5;
+    // Per vertex, its arms: the edges leaving it, and whether they start there.
+    let mut arms: Vec<Vec<(usize, bool)>> = vec![Vec::new(); graph.vertices.len()];
+    for (e, edge) in graph.edges.iter().enumerate() {
+        if edge.from == edge.to {
+            continue;
+        }
+        for (v, at_start) in [(edge.from, true), (edge.to, false)] {
+            if let Some(a) = arms.get_mut(v) {
+                a.push((e, at_start));
+            }
+        }
+    }
+    // Samples every `STEP` px of arc from the vertex along an arm, up to `reach` px: on the
+    // ridges, and where.
+    let samples = |(e, at_start): (usize, bool), reach: f64| -> Vec<(bool, [f64; 2])> {
+        let points = &graph.edges[e].points;
+        let s = arc_lengths(points);
+        let total = s.last().copied().unwrap_or(0.0);
+        (0..)
+            .map(|k| f64::from(k) * STEP)
+            .take_while(|&t| t <= reach && t < total)
+            .map(|t| {
+                let (q, _) = point_at(points, &s, if at_start { t } else { total - t });
+                (
+                    print.ridges.get(q[0].floor() as i64, q[1].floor() as i64),
+                    q,
+                )
+            })
+            .collect()
+    };
+    let run = (1.0 / STEP).ceil() as usize;
+    // The far side of the first gap of at least `run` samples, followed by `run` on-ridge
+    // samples.
+    let gap_end = |s: &[(bool, [f64; 2])]| {
+        let mut k = 0;
+        while k < s.len() {
+            if s[k].0 {
+                k += 1;
+                continue;
+            }
+            let start = k;
+            while k < s.len() && !s[k].0 {
+                k += 1;
+            }
+            if k - start >= run && k + run <= s.len() && s[k..k + run].iter().all(|x| x.0) {
+                return Some(k);
+            }
+        }
+        None
+    };
+    for m in found.iter_mut() {
+        let Some(arm) = arms.get(m.vertex) else {
+            continue;
+        };
+        if m.kind != MinutiaKind::Bifurcation || arm.len() != 3 {
+            continue;
+        }
+        let reach = print.periods.at(m.pos).max(4.0);
+        let sampled: Vec<Vec<(bool, [f64; 2])>> = arm.iter().map(|&a| samples(a, reach)).collect();
+        let gaps: Vec<(usize, usize)> = (0..3)
+            .filter_map(|i| gap_end(&sampled[i]).map(|k| (i, k)))
+            .collect();
+        let [(i, k)] = gaps[..] else {
+            continue;
+        };
+        let through_on = (0..3)
+            .filter(|&j| j != i)
+            .all(|j| sampled[j].iter().all(|x| x.0));
+        if !through_on || k as f64 * STEP > 0.6 * reach {
+            continue;
+        }
+        let tip = sampled[i][k].1;
+        let towards = [m.pos[0] - tip[0], m.pos[1] - tip[1]];
+        m.kind = MinutiaKind::Ending;
+        m.pos = tip;
+        m.direction = towards[1].atan2(towards[0]);
+    }
+}
+
+/// Whether a ridge of `length` px whose two `ends` come within one `period` of each other runs
+/// around a loop of at least three periods: a ring broken in one place (the innermost ridge of a
+/// whorl, tighter than the filter resolves), whose two ends are not endings.
+fn nearly_closed(ends: [[f64; 2]; 2], length: f64, period: f64) -> bool {
+    dist(ends[0], ends[1]) < period && length >= 3.0 * period
+}
+
+/// `graph` without the edges of which less than `share` of the length lies on `ridges` (the
+/// ridges the gray image confirms, [`PrintAnalysis::ridges`]), the degrees counted again: the
+/// Gabor filter rings into a ghost ridge where a valley is wider than the period (inside the
+/// innermost recurve of a loop, beyond the print's last ridge), and the ends and forks of a
+/// ghost are not the finger's. A ridge broken by a crease, a pore or a dry patch is confirmed
+/// over the rest of its length and stays.
+fn confirmed_edges(graph: &StrokeGraph, ridges: &Binary, share: f64) -> StrokeGraph {
+    let mut out = StrokeGraph {
+        width: graph.width,
+        height: graph.height,
+        vertices: graph.vertices.clone(),
+        edges: Vec::with_capacity(graph.edges.len()),
+    };
+    if share <= 0.0 || ridges.ink.is_empty() {
+        out.edges = graph.edges.clone();
+        return out;
+    }
+    for v in &mut out.vertices {
+        v.degree = 0;
+    }
+    for edge in &graph.edges {
+        let (mut on, mut total) = (0.0, 0.0);
+        for pair in edge.points.windows(2) {
+            let length = dist(pair[0], pair[1]);
+            let steps = length.ceil().max(1.0) as usize;
+            for k in 0..steps {
+                let t = (k as f64 + 0.5) / steps as f64;
+                let x = pair[0][0] + t * (pair[1][0] - pair[0][0]);
+                let y = pair[0][1] + t * (pair[1][1] - pair[0][1]);
+                total += length / steps as f64;
+                if ridges.get(x.floor() as i64, y.floor() as i64) {
+                    on += length / steps as f64;
+                }
+            }
+        }
+        if total == 0.0 || on >= share * total {
+            for v in [edge.from, edge.to] {
+                if let Some(v) = out.vertices.get_mut(v) {
+                    v.degree += 1;
+                }
+            }
+            out.edges.push(edge.clone());
+        }
+    }
+    out
+}
+
+/// Drops every minutia that has at least two others within `radius`, with those others: a cloud
+/// of minutiae is noise, not ridge structure. Sorted by x, so only a window is compared.
+fn drop_clouds(found: &mut Vec<Minutia>, radius: f64) {
+    let mut by_x: Vec<usize> = (0..found.len()).collect();
+    by_x.sort_by(|&a, &b| found[a].pos[0].total_cmp(&found[b].pos[0]).then(a.cmp(&b)));
+    let mut near: Vec<Vec<usize>> = vec![Vec::new(); found.len()];
+    for (k, &a) in by_x.iter().enumerate() {
+        for &b in &by_x[k + 1..] {
+            if found[b].pos[0] - found[a].pos[0] > radius {
+                break;
+            }
+            if dist(found[a].pos, found[b].pos) < radius {
+                near[a].push(b);
+                near[b].push(a);
+            }
+        }
+    }
+    let mut dropped = vec![false; found.len()];
+    for (a, others) in near.iter().enumerate() {
+        if others.len() >= 2 {
+            dropped[a] = true;
+            for &b in others {
+                dropped[b] = true;
+            }
+        }
+    }
+    let mut index = 0;
+    found.retain(|_| {
+        index += 1;
+        !dropped[index - 1]
+    });
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::stroke_graph::graph_from;
+    use std::f64::consts::PI;
+
+    fn no_filters() -> MinutiaeOptions {
+        MinutiaeOptions {
+            border_margin: 0.0,
+            broken_ridge_gap: 0.0,
+            ..Default::default()
+        }
+    }
+
+    fn angle_close(a: f64, b: f64) -> bool {
+        let d = (a - b).rem_euclid(2.0 * PI);
+        d.min(2.0 * PI - d) < 0.05
+    }
+
+    #[test]
+    fn a_ghost_arm_is_no_ridge_and_its_fork_no_bifurcation() {
+        // A Y whose up-right arm lies in a valley (not on the confirmed ridges): without it the
+        // fork is a bend (degree 2) and the arm's far end no ending.
+        let c = [100.0, 100.0];
+        let g = graph_from(
+            &[c, [150.0, 70.0], [40.0, 100.0], [150.0, 130.0]],
+            &[(0, 1, vec![]), (2, 0, vec![]), (0, 3, vec![])],
+            4.0,
+        );
+        let mut ridges = Binary::new(200, 200);
+        for (k, edge) in g.edges.iter().enumerate() {
+            if k == 0 {
+                continue;
+            }
+            for pair in edge.points.windows(2) {
+                for t in 0..=200 {
+                    let t = f64::from(t) / 200.0;
+                    let x = pair[0][0] + t * (pair[1][0] - pair[0][0]);
+                    let y = pair[0][1] + t * (pair[1][1] - pair[0][1]);
+                    ridges.set(x as i64, y as i64, true);
+                }
+            }
+        }
+        let confirmed = confirmed_edges(&g, &ridges, 0.5);
+        assert_eq!(confirmed.edges.len(), 2);
+        confirmed.validate().expect("degrees match the edges");
+        let degrees: Vec<usize> = confirmed.vertices.iter().map(|v| v.degree).collect();
+        assert_eq!(degrees, vec![2, 0, 1, 1]);
+        let found = detect(&confirmed, &no_filters());
+        assert!(found.iter().all(|m| m.kind == MinutiaKind::Ending));
+        assert_eq!(found.len(), 2);
+        // A share of 0 keeps every edge; a ridge confirmed over 60 % of its length stays.
+        assert_eq!(confirmed_edges(&g, &ridges, 0.0).edges.len(), 3);
+        for x in 120..150 {
+            for y in 60..90 {
+                ridges.set(x, y, true);
+            }
+        }
+        assert_eq!(confirmed_edges(&g, &ridges, 0.5).edges.len(), 3);
+    }
+
+    #[test]
+    fn a_branch_across_a_valley_is_an_ending_and_a_break_further_out_is_not() {
+        use crate::fingerprint::fields::BlockGrid;
+        use crate::fingerprint::tests::uniform_print;
+        // A ridge along y = 20 (ink rows 19-21) and a branch leaving it at (50, 20) up to the
+        // right; period 9. The branch's ink is drawn where its arc from the junction is in
+        // `inked` only.
+        let (c, d) = ([50.0, 20.0], [30.0f64 / 36.06, -20.0 / 36.06]);
+        let g = graph_from(
+            &[c, [10.0, 20.0], [90.0, 20.0], [80.0, 0.0]],
+            &[(1, 0, vec![]), (0, 2, vec![]), (0, 3, vec![])],
+            3.0,
+        );
+        let (segmentation, orientation, periods) =
+            uniform_print(BlockGrid::new(100, 60, 8), 0.0, 9.0);
+        let print_with = |inked: &dyn Fn(f64) -> bool| {
+            let mut ridges = Binary::new(100, 60);
+            for y in 0..60i64 {
+                for x in 0..100i64 {
+                    let (u, v) = (x as f64 + 0.5 - c[0], y as f64 + 0.5 - c[1]);
+                    let along = u * d[0] + v * d[1];
+                    let across = (u * d[1] - v * d[0]).abs();
+                    let branch = along >= 0.0 && across <= 1.5 && inked(along);
+                    ridges.set(x, y, (19..=21).contains(&y) || branch);
+                }
+            }
+            PrintAnalysis {
+                segmentation: segmentation.clone(),
+                orientation: orientation.clone(),
+                periods: periods.clone(),
+                ridges,
+                ..PrintAnalysis::default()
+            }
+        };
+        let fork_of = |print: &PrintAnalysis| {
+            let mut found: Vec<Minutia> = detect(&g, &no_filters())
+                .into_iter()
+                .filter(|m| m.vertex == 0)
+                .collect();
+            detached_branches(&mut found, &g, print);
+            found[0]
+        };
+        // The branch's ink starts 4 px out, past a valley from the ridge's edge: an ending at
+        // the branch's tip, pointing back to the junction.
+        let m = fork_of(&print_with(&|s| s >= 4.0));
+        assert_eq!(m.kind, MinutiaKind::Ending);
+        let tip = [c[0] + 4.0 * d[0], c[1] + 4.0 * d[1]];
+        assert!(dist(m.pos, tip) < 1.0, "{:?}", m.pos);
+        assert!(
+            angle_close(m.direction, (-d[1]).atan2(-d[0])),
+            "{}",
+            m.direction
+        );
+        // Ink all the way, or a break beyond 0.6 period of the junction: a bifurcation.
+        for inked in [&(|_: f64| true) as &dyn Fn(f64) -> bool, &|s| {
+            !(6.0..8.0).contains(&s)
+        }] {
+            assert_eq!(fork_of(&print_with(inked)).kind, MinutiaKind::Bifurcation);
+        }
+    }
+
+    #[test]
+    fn a_ring_broken_once_is_nearly_closed_but_not_a_hook_or_a_dash() {
+        // Whether the polyline `points` is a broken ring, as the filter asks of an edge.
+        let nearly_closed = |points: &[[f64; 2]], period: f64| {
+            let length: f64 = points.windows(2).map(|p| dist(p[0], p[1])).sum();
+            nearly_closed([points[0], points[points.len() - 1]], length, period)
+        };
+        // Arcs of radius 8 around (50, 50) from angle `gap` to 2π: a ring of period 9 broken by
+        // a gap of `gap` radians.
+        let arc = |gap: f64| -> Vec<[f64; 2]> {
+            (0..=64)
+                .map(|k| {
+                    let a = gap + (std::f64::consts::TAU - gap) * f64::from(k) / 64.0;
+                    [50.0 + 8.0 * a.cos(), 50.0 + 8.0 * a.sin()]
+                })
+                .collect()
+        };
+        assert!(
+            nearly_closed(&arc(0.8), 9.0),
+            "ends 6 px apart around 44 px"
+        );
+        assert!(
+            !nearly_closed(&arc(std::f64::consts::PI), 9.0),
+            "a half ring"
+        );
+        // Ends within a period of each other but only 2 periods of ridge: a short hook.
+        let hook = [[0.0, 0.0], [9.0, 0.0], [9.0, 5.0], [0.0, 5.0]];
+        assert!(!nearly_closed(&hook, 9.0));
+        assert!(!nearly_closed(&[[0.0, 0.0]], 9.0));
+    }
+
+    #[test]
+    fn a_cloud_goes_whole_and_a_pair_stays() {
+        let at = |x: f64, y: f64, vertex: usize| Minutia {
+            kind: MinutiaKind::Ending,
+            vertex,
+            pos: [x, y],
+            direction: 0.0,
+            width: 3.0,
+            quality: None,
+        };
+        // Three within 9 px of the first (a cloud), a pair 6 px apart far away, one alone.
+        let mut found = vec![
+            at(50.0, 50.0, 0),
+            at(55.0, 50.0, 1),
+            at(50.0, 56.0, 2),
+            at(58.0, 58.0, 3),
+            at(150.0, 150.0, 4),
+            at(156.0, 150.0, 5),
+            at(100.0, 20.0, 6),
+        ];
+        drop_clouds(&mut found, 9.0);
+        let kept: Vec<usize> = found.iter().map(|m| m.vertex).collect();
+        assert_eq!(kept, vec![4, 5, 6]);
+    }
+}

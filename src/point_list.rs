@@ -6,6 +6,7 @@ use std::collections::{HashMap, HashSet};
 use std::num::NonZero;
 
 use kiddo::{ImmutableKdTree, SquaredEuclidean};
+use petgraph::unionfind::UnionFind;
 use rayon::prelude::*;
 
 use crate::csr::symmetric_neighbours;
@@ -220,6 +221,7 @@ pub(crate) fn point_set_in_units(list: &[[f64; 2]], params: &Params) -> Result<(
     } else {
         nearest_neighbours(&local, k)?
     };
+    let scattered = k > 0 && !on_lattice(&local, spacing);
     // Then `Dis_ave` to about 1 (see `Units`).
     let fine = if k == 0 { 1.0 } else { power_near(spacing) };
     for p in &mut local {
@@ -232,8 +234,8 @@ pub(crate) fn point_set_in_units(list: &[[f64; 2]], params: &Params) -> Result<(
     // 3) their widths come from the local PCA of §3.1. The paper's own rule sizes its disks from
     // `Dis_ave` alone and keeps the raster's widths (its node spacing in the fit follows them).
     let mut half_width = half_widths(&local, spacing, params);
-    if params.r_min_rule == RMinRule::StrokeWidth && !on_lattice(&local, spacing) {
-        strip_half_widths(&local, spacing, &mut half_width);
+    if params.r_min_rule == RMinRule::StrokeWidth && scattered {
+        strip_half_widths(&local, spacing, &offsets, &neighbors, &mut half_width);
     }
     let units = Units {
         origin: min,
@@ -290,6 +292,11 @@ fn nearest_neighbours(points: &[[f64; 2]], k: usize) -> Result<(Vec<u32>, Vec<u3
         })
         .collect();
     let spacing = nearest.iter().sum::<f64>() / n as f64;
+    let bridges = if on_lattice(points, spacing) {
+        Vec::new()
+    } else {
+        island_bridges(points, &tree, &lists, k)
+    };
 
     // The symmetric relation: both directions of every k-nearest pair, mutual pairs once.
     let (offsets, neighbors) = symmetric_neighbours(n, |emit| {
@@ -298,8 +305,68 @@ fn nearest_neighbours(points: &[[f64; 2]], k: usize) -> Result<(Vec<u32>, Vec<u3
                 emit(i as u32, j);
             }
         }
+        for &(i, j) in &bridges {
+            emit(i, j);
+        }
     });
     Ok((offsets, neighbors, spacing))
+}
+
+/// How far, in its own `k`-th neighbour distances, a point of a scattered set reaches for a
+/// point of another component of the `k`-nearest-neighbour graph (see [`island_bridges`]).
+const ISLAND_REACH: f64 = 2.0;
+
+/// Pairs that join the islands of a scattered set to the strip around them. Random points leave
+/// clumps of a few points whose `k` nearest are each other and no outside point's nearest: the
+/// `k`-nearest-neighbour graph (§3.2) cuts them off the strip they lie in, and each becomes a
+/// part of its own (a dot in the middle of a stroke). A point is joined to every point of
+/// another component within [`ISLAND_REACH`] times its `k`-th neighbour distance, the scale of
+/// its own sampling, so parts a few spacings apart join and parts one strip width apart (many
+/// spacings) stay apart. Lattice sets (pixel centers listed as points) keep their graph.
+fn island_bridges(
+    points: &[[f64; 2]],
+    tree: &ImmutableKdTree<f64, 2>,
+    lists: &[u32],
+    k: usize,
+) -> Vec<(u32, u32)> {
+    let n = points.len();
+    let mut sets = UnionFind::<u32>::new(n);
+    for (i, list) in lists.chunks(k).enumerate() {
+        for &j in list.iter().filter(|&&j| j != u32::MAX) {
+            sets.union(i as u32, j);
+        }
+    }
+    let labels = sets.into_labeling();
+    if labels.iter().all(|&l| l == labels[0]) {
+        return Vec::new();
+    }
+    let farthest = |i: usize| -> f64 {
+        lists[i * k..(i + 1) * k]
+            .iter()
+            .filter(|&&j| j != u32::MAX)
+            .map(|&j| {
+                let (p, q) = (points[i], points[j as usize]);
+                (p[0] - q[0]).hypot(p[1] - q[1])
+            })
+            .fold(0.0, f64::max)
+    };
+    let mut bridges: Vec<(u32, u32)> = (0..n)
+        .into_par_iter()
+        .flat_map_iter(|i| {
+            let reach = ISLAND_REACH * farthest(i);
+            let found = tree
+                .query(&points[i])
+                .within::<SquaredEuclidean<f64>>(reach * reach)
+                .execute();
+            let labels = &labels;
+            found
+                .into_iter()
+                .filter(move |r| labels[r.item as usize] != labels[i])
+                .map(move |r| (i as u32, r.item))
+        })
+        .collect();
+    bridges.sort_unstable();
+    bridges
 }
 
 /// Half-widths for points without a pixel grid: rasterize the points onto cells of side `Dis_ave`
@@ -379,20 +446,41 @@ fn on_lattice(points: &[[f64; 2]], spacing: f64) -> bool {
 /// Fewest points in a window for its covariance to say anything about the strip.
 const STRIP_MIN_POINTS: f64 = 12.0;
 
+/// The linearity `l` of Eq. (3) a window must exceed to measure a strip's width: §3.1's own
+/// threshold for a linear disk.
+const STRIP_LINEARITY: f64 = 0.9;
+
 /// Half-widths of a strip of scattered points from the local PCA of §3.1 (Eq. (2)): across a band
 /// of width `w` filled uniformly, the variance is `w^2 / 12`, so the half-width is
 /// `sqrt(3 lambda_min)`. The covariance is taken over windows of 3 x 3 square cells of side `c`
-/// around each point's cell, from per-cell moments, at `c = 2 Dis_ave, 4 Dis_ave, ...`; a point
-/// takes the first window at least twice as wide as the width it measures there (below that the
-/// window is filled and isotropic, and measures its own size). Linear in the number of points per
-/// scale, and the scales stop at the points' extent. Points that never get a window with
-/// [`STRIP_MIN_POINTS`] points in it keep `half_width`'s value, and so does every point unless
-/// the set is a strip at least [`WIDE_STRIP_RATIO`] times wider than the raster says.
-fn strip_half_widths(points: &[[f64; 2]], spacing: f64, half_width: &mut [f32]) {
+/// around each point's cell, from per-cell moments of the point's own part (component of the
+/// neighbour graph), at `c = 2 Dis_ave, 4 Dis_ave, ...`; a point takes the first window that is
+/// linear by Eq. (3) and at least twice as wide as the width it measures there (below that the
+/// window is filled and isotropic, and measures its own size). Points no window measures (in a
+/// junction, a crossing) take the width of the nearest point that has one. Linear in the number
+/// of points per scale, and the scales stop at the points' extent. Points of a part no window
+/// measures keep `half_width`'s value, and so does every point unless the set is a strip at least
+/// [`WIDE_STRIP_RATIO`] times wider than the raster says.
+fn strip_half_widths(
+    points: &[[f64; 2]],
+    spacing: f64,
+    offsets: &[u32],
+    neighbors: &[u32],
+    half_width: &mut [f32],
+) {
     let n = points.len();
     let extent = points.iter().fold(0.0f64, |m, p| m.max(p[0]).max(p[1]));
     let mut decided = vec![false; n];
     let mut measured = vec![f32::NAN; n];
+    // Windows hold only points of the point's own part: a strip one width from another (parallel
+    // strips) must not read the two as one wide strip.
+    let mut sets = UnionFind::<u32>::new(n);
+    for p in 0..n {
+        for &q in &neighbors[offsets[p] as usize..offsets[p + 1] as usize] {
+            sets.union(p as u32, q);
+        }
+    }
+    let part = sets.into_labeling();
     let mut cell = 2.0 * spacing;
     let mut cells: Vec<(i64, i64)> = Vec::with_capacity(n);
     while decided.iter().any(|d| !d) && cell <= 2.0 * extent.max(spacing) {
@@ -404,10 +492,10 @@ fn strip_half_widths(points: &[[f64; 2]], spacing: f64, half_width: &mut [f32]) 
                 .iter()
                 .map(|p| ((p[0] / cell).floor() as i64, (p[1] / cell).floor() as i64)),
         );
-        let mut moments: HashMap<(i64, i64), [f64; 6]> = HashMap::new();
-        for (p, &c) in points.iter().zip(&cells) {
+        let mut moments: HashMap<(u32, i64, i64), [f64; 6]> = HashMap::new();
+        for ((p, &c), &label) in points.iter().zip(&cells).zip(&part) {
             let (x, y) = (p[0] - c.0 as f64 * cell, p[1] - c.1 as f64 * cell);
-            let m = moments.entry(c).or_insert([0.0; 6]);
+            let m = moments.entry((label, c.0, c.1)).or_insert([0.0; 6]);
             m[0] += 1.0;
             m[1] += x;
             m[2] += y;
@@ -424,7 +512,8 @@ fn strip_half_widths(points: &[[f64; 2]], spacing: f64, half_width: &mut [f32]) 
             let mut w = [0.0f64; 6];
             for dy in -1..=1i64 {
                 for dx in -1..=1i64 {
-                    if let Some(m) = moments.get(&(cx.saturating_add(dx), cy.saturating_add(dy))) {
+                    let key = (part[i], cx.saturating_add(dx), cy.saturating_add(dy));
+                    if let Some(m) = moments.get(&key) {
                         let (ox, oy) = (dx as f64 * cell, dy as f64 * cell);
                         w[0] += m[0];
                         w[1] += m[1] + ox * m[0];
@@ -442,12 +531,17 @@ fn strip_half_widths(points: &[[f64; 2]], spacing: f64, half_width: &mut [f32]) 
             let sxx = (w[3] / w[0] - mx * mx).max(0.0);
             let sxy = w[4] / w[0] - mx * my;
             let syy = (w[5] / w[0] - my * my).max(0.0);
-            // Smallest eigenvalue of the 2 x 2 covariance (Eq. (2)).
+            // Eigenvalues of the 2 x 2 covariance (Eq. (2)).
             let half_trace = 0.5 * (sxx + syy);
             let root = (0.25 * (sxx - syy) * (sxx - syy) + sxy * sxy).sqrt();
             let lambda_min = (half_trace - root).max(0.0);
+            let lambda_max = half_trace + root;
             let half = (3.0 * lambda_min).sqrt();
-            if 3.0 * cell >= 4.0 * half {
+            // The window must be a piece of strip: linear by Eq. (3) as §3.1's disks must be. A
+            // crossing, a T or a Y is not linear at any scale (its arms spread both ways), and
+            // its smallest eigenvalue grows with the window: it takes its arms' width below.
+            let linear = lambda_max > STRIP_LINEARITY * (lambda_min + lambda_max);
+            if linear && 3.0 * cell >= 4.0 * half {
                 decided[i] = true;
                 measured[i] = half as f32;
             }
@@ -471,9 +565,33 @@ fn strip_half_widths(points: &[[f64; 2]], spacing: f64, half_width: &mut [f32]) 
     if *median < WIDE_STRIP_RATIO {
         return;
     }
+    spread_to_undecided(offsets, neighbors, &mut measured);
     for (h, m) in half_width.iter_mut().zip(&measured) {
         if m.is_finite() {
             *h = h.max(*m);
+        }
+    }
+}
+
+/// Gives every point without a width of its own (in a junction, a crossing, a sharp bend: no
+/// window around it is linear) the width of the nearest point that has one, nearest by hops over
+/// the neighbour graph: the width of the arms that meet there. Breadth first from every measured
+/// point at once, in index order, so the result does not depend on anything but the set.
+fn spread_to_undecided(offsets: &[u32], neighbors: &[u32], measured: &mut [f32]) {
+    let mut queue: std::collections::VecDeque<u32> = (0..measured.len() as u32)
+        .filter(|&i| measured[i as usize].is_finite())
+        .collect();
+    while let Some(p) = queue.pop_front() {
+        let value = measured[p as usize];
+        let (from, to) = (
+            offsets[p as usize] as usize,
+            offsets[p as usize + 1] as usize,
+        );
+        for &q in &neighbors[from..to] {
+            if !measured[q as usize].is_finite() {
+                measured[q as usize] = value;
+                queue.push_back(q);
+            }
         }
     }
 }

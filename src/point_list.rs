@@ -79,7 +79,7 @@ pub fn parse(text: &str) -> Result<Vec<[f64; 2]>> {
 /// than about 1e38 units, read as infinite); [`crate::trace_points`] runs the
 /// pipeline on the list moved and scaled to pixel-like units instead.
 pub fn point_set(list: &[[f64; 2]], params: &Params) -> Result<PointSet> {
-    let (mut set, units) = point_set_in_units(list, params)?;
+    let (mut set, units, _) = point_set_in_units(list, params)?;
     units.restore_points(&mut set);
     Ok(set)
 }
@@ -147,7 +147,13 @@ impl Units {
 }
 
 /// Like [`point_set`], in the pipeline's pixel-like [`Units`], which are returned with it.
-pub(crate) fn point_set_in_units(list: &[[f64; 2]], params: &Params) -> Result<(PointSet, Units)> {
+///
+/// The third value is `Some(share)` when the set is scattered and not strip-shaped (see
+/// [`NOT_STRIP_SHARE`]): `share` of its points lie in a linear window at some scale.
+pub(crate) fn point_set_in_units(
+    list: &[[f64; 2]],
+    params: &Params,
+) -> Result<(PointSet, Units, Option<f64>)> {
     if list.len() as u64 > params.limits.max_points {
         return Err(Error::Limit {
             what: "points",
@@ -182,7 +188,7 @@ pub(crate) fn point_set_in_units(list: &[[f64; 2]], params: &Params) -> Result<(
             origin: [0.0; 2],
             scale: 1.0,
         };
-        return Ok((set, units));
+        return Ok((set, units, None));
     }
 
     // Work in coordinates translated to the origin: the tree and the raster then see numbers of
@@ -234,8 +240,20 @@ pub(crate) fn point_set_in_units(list: &[[f64; 2]], params: &Params) -> Result<(
     // 3) their widths come from the local PCA of §3.1. The paper's own rule sizes its disks from
     // `Dis_ave` alone and keeps the raster's widths (its node spacing in the fit follows them).
     let mut half_width = half_widths(&local, spacing, params);
-    if params.r_min_rule == RMinRule::StrokeWidth && scattered {
-        strip_half_widths(&local, spacing, &offsets, &neighbors, &mut half_width);
+    let mut not_strip = None;
+    if scattered {
+        let apply = params.r_min_rule == RMinRule::StrokeWidth;
+        let (linear, windowed) = strip_half_widths(
+            &local,
+            spacing,
+            &offsets,
+            &neighbors,
+            &mut half_width,
+            apply,
+        );
+        if windowed > 0 && (linear as f64) < NOT_STRIP_SHARE * windowed as f64 {
+            not_strip = Some(linear as f64 / windowed as f64);
+        }
     }
     let units = Units {
         origin: min,
@@ -250,8 +268,14 @@ pub(crate) fn point_set_in_units(list: &[[f64; 2]], params: &Params) -> Result<(
         dropout: false,
         grid: None,
     };
-    Ok((set, units))
+    Ok((set, units, not_strip))
 }
+
+/// A scattered set is strip-shaped when at least this share of its points (of those whose
+/// window ever held [`STRIP_MIN_POINTS`] points) lie in a window that is linear by Eq. (3) at
+/// some scale: the paper's input (§3, "a strip-shaped point set"). A uniform cloud is isotropic
+/// at every scale and has none; strips have all but their junctions and ends.
+const NOT_STRIP_SHARE: f64 = 0.5;
 
 /// Drops exact repeats, keeping the first occurrence; `-0.0` equals `0.0`. The set only answers
 /// "seen before?", so its iteration order never reaches the output.
@@ -467,10 +491,12 @@ fn strip_half_widths(
     offsets: &[u32],
     neighbors: &[u32],
     half_width: &mut [f32],
-) {
+    apply: bool,
+) -> (usize, usize) {
     let n = points.len();
     let extent = points.iter().fold(0.0f64, |m, p| m.max(p[0]).max(p[1]));
     let mut decided = vec![false; n];
+    let mut windowed = vec![false; n];
     let mut measured = vec![f32::NAN; n];
     // Windows hold only points of the point's own part: a strip one width from another (parallel
     // strips) must not read the two as one wide strip.
@@ -483,6 +509,7 @@ fn strip_half_widths(
     let part = sets.into_labeling();
     let mut cell = 2.0 * spacing;
     let mut cells: Vec<(i64, i64)> = Vec::with_capacity(n);
+    let mut point_slot: Vec<u32> = Vec::with_capacity(n);
     while decided.iter().any(|d| !d) && cell <= 2.0 * extent.max(spacing) {
         // Moments per cell: count, sum x, sum y, sum xx, sum xy, sum yy (relative to the cell's
         // corner, so the sums stay small).
@@ -492,10 +519,20 @@ fn strip_half_widths(
                 .iter()
                 .map(|p| ((p[0] / cell).floor() as i64, (p[1] / cell).floor() as i64)),
         );
-        let mut moments: HashMap<(u32, i64, i64), [f64; 6]> = HashMap::new();
+        // Every point of a cell has the same window, so each occupied cell is measured once.
+        let mut slot_of: HashMap<(u32, i64, i64), u32> = HashMap::new();
+        let mut keys: Vec<(u32, i64, i64)> = Vec::new();
+        let mut moments: Vec<[f64; 6]> = Vec::new();
+        point_slot.clear();
         for ((p, &c), &label) in points.iter().zip(&cells).zip(&part) {
             let (x, y) = (p[0] - c.0 as f64 * cell, p[1] - c.1 as f64 * cell);
-            let m = moments.entry((label, c.0, c.1)).or_insert([0.0; 6]);
+            let slot = *slot_of.entry((label, c.0, c.1)).or_insert_with(|| {
+                keys.push((label, c.0, c.1));
+                moments.push([0.0; 6]);
+                (moments.len() - 1) as u32
+            });
+            point_slot.push(slot);
+            let m = &mut moments[slot as usize];
             m[0] += 1.0;
             m[1] += x;
             m[2] += y;
@@ -503,17 +540,16 @@ fn strip_half_widths(
             m[4] += x * y;
             m[5] += y * y;
         }
-        for i in 0..n {
-            if decided[i] {
-                continue;
-            }
-            let (cx, cy) = cells[i];
-            // The window's moments about the point's cell corner.
+        // Per cell: `None` when its window holds too few points, else the half-width it measures
+        // when it is a piece of strip (NaN when not).
+        let measure = |&(label, cx, cy): &(u32, i64, i64)| -> Option<f32> {
+            // The window's moments about the cell's corner.
             let mut w = [0.0f64; 6];
             for dy in -1..=1i64 {
                 for dx in -1..=1i64 {
-                    let key = (part[i], cx.saturating_add(dx), cy.saturating_add(dy));
-                    if let Some(m) = moments.get(&key) {
+                    let key = (label, cx.saturating_add(dx), cy.saturating_add(dy));
+                    if let Some(&slot) = slot_of.get(&key) {
+                        let m = &moments[slot as usize];
                         let (ox, oy) = (dx as f64 * cell, dy as f64 * cell);
                         w[0] += m[0];
                         w[1] += m[1] + ox * m[0];
@@ -525,7 +561,7 @@ fn strip_half_widths(
                 }
             }
             if w[0] < STRIP_MIN_POINTS {
-                continue;
+                return None;
             }
             let (mx, my) = (w[1] / w[0], w[2] / w[0]);
             let sxx = (w[3] / w[0] - mx * mx).max(0.0);
@@ -541,12 +577,33 @@ fn strip_half_widths(
             // crossing, a T or a Y is not linear at any scale (its arms spread both ways), and
             // its smallest eigenvalue grows with the window: it takes its arms' width below.
             let linear = lambda_max > STRIP_LINEARITY * (lambda_min + lambda_max);
-            if linear && 3.0 * cell >= 4.0 * half {
-                decided[i] = true;
-                measured[i] = half as f32;
+            Some(if linear && 3.0 * cell >= 4.0 * half {
+                half as f32
+            } else {
+                f32::NAN
+            })
+        };
+        let per_cell: Vec<Option<f32>> = keys.iter().map(measure).collect();
+        for i in 0..n {
+            if decided[i] {
+                continue;
+            }
+            if let Some(half) = per_cell[point_slot[i] as usize] {
+                windowed[i] = true;
+                if half.is_finite() {
+                    decided[i] = true;
+                    measured[i] = half;
+                }
             }
         }
         cell *= 2.0;
+    }
+    let counts = (
+        decided.iter().filter(|&&d| d).count(),
+        windowed.iter().filter(|&&w| w).count(),
+    );
+    if !apply {
+        return counts;
     }
     // One decision per set: the PCA widths replace the raster's only where the set is a strip
     // much wider than its spacing (the raster's cells inside it are mostly empty, so its
@@ -558,12 +615,12 @@ fn strip_half_widths(
         .map(|(m, h)| m / h.max(f32::MIN_POSITIVE))
         .collect();
     if ratios.len() * 2 < n {
-        return;
+        return counts;
     }
     let mid = ratios.len() / 2;
     let (_, median, _) = ratios.select_nth_unstable_by(mid, f32::total_cmp);
     if *median < WIDE_STRIP_RATIO {
-        return;
+        return counts;
     }
     spread_to_undecided(offsets, neighbors, &mut measured);
     for (h, m) in half_width.iter_mut().zip(&measured) {
@@ -571,6 +628,7 @@ fn strip_half_widths(
             *h = h.max(*m);
         }
     }
+    counts
 }
 
 /// Gives every point without a width of its own (in a junction, a crossing, a sharp bend: no

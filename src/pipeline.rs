@@ -222,16 +222,31 @@ pub(crate) fn mask(binary: MaskView<'_>, params: &Params, recording: Recording) 
 pub(crate) fn point_list(list: &[[f64; 2]], params: &Params) -> Result<Trace> {
     params.validate()?;
     let start = Instant::now();
-    let (points, units) = point_list::point_set_in_units(list, params)?;
+    let (points, units, not_strip) = point_list::point_set_in_units(list, params)?;
     let points_time = start.elapsed();
     let (width, height) = point_list::extent(list);
+    // A set that is not strip-shaped holds no curve for the method to find (§3): nothing is
+    // traced, in time linear in its size, and the warning says why.
+    let count = points.len();
+    let points = if not_strip.is_some() {
+        PointSet {
+            offsets: vec![0],
+            ..PointSet::default()
+        }
+    } else {
+        points
+    };
     let mut traced = trace_points(points, params, Recording::Off)?;
+    traced.point_count = count;
     traced.graph.width = width;
     traced.graph.height = height;
     traced.timings.points += points_time;
     units.restore_graph(&mut traced.graph);
     let mut trace = traced.into_trace(None);
     trace.warnings = warnings::of(&trace.graph, None);
+    if let Some(share) = not_strip {
+        trace.warnings.push(warnings::not_strip_shaped(share));
+    }
     Ok(trace)
 }
 

@@ -6,6 +6,7 @@ use std::collections::{HashMap, HashSet};
 use std::num::NonZero;
 
 use kiddo::{ImmutableKdTree, SquaredEuclidean};
+use petgraph::unionfind::UnionFind;
 use rayon::prelude::*;
 
 use crate::csr::symmetric_neighbours;
@@ -82,7 +83,7 @@ pub fn parse(text: &str) -> Result<Vec<[f64; 2]>> {
 /// than about 1e38 units, read as infinite); [`crate::trace_points`] runs the
 /// pipeline on the list moved and scaled to pixel-like units instead.
 pub fn point_set(list: &[[f64; 2]], params: &Params) -> Result<PointSet> {
-    let (mut set, units) = point_set_in_units(list, params)?;
+    let (mut set, units, _) = point_set_in_units(list, params)?;
     units.restore_points(&mut set);
     Ok(set)
 }
@@ -150,7 +151,13 @@ impl Units {
 }
 
 /// Like [`point_set`], in the pipeline's pixel-like [`Units`], which are returned with it.
-pub(crate) fn point_set_in_units(list: &[[f64; 2]], params: &Params) -> Result<(PointSet, Units)> {
+///
+/// The third value is `Some(share)` when the set is scattered and not strip-shaped (see
+/// [`NOT_STRIP_SHARE`]): `share` of its points lie in a linear window at some scale.
+pub(crate) fn point_set_in_units(
+    list: &[[f64; 2]],
+    params: &Params,
+) -> Result<(PointSet, Units, Option<f64>)> {
     if list.len() as u64 > params.front_end.limits.max_points {
         return Err(Error::Limit {
             what: "points",
@@ -185,7 +192,7 @@ pub(crate) fn point_set_in_units(list: &[[f64; 2]], params: &Params) -> Result<(
             origin: [0.0; 2],
             scale: 1.0,
         };
-        return Ok((set, units));
+        return Ok((set, units, None));
     }
 
     // Work in coordinates translated to the origin: the tree and the raster then see numbers of
@@ -224,6 +231,7 @@ pub(crate) fn point_set_in_units(list: &[[f64; 2]], params: &Params) -> Result<(
     } else {
         nearest_neighbours(&local, k)?
     };
+    let scattered = k > 0 && !on_lattice(&local, spacing);
     // Then `Dis_ave` to about 1 (see `Units`).
     let fine = if k == 0 { 1.0 } else { power_near(spacing) };
     for p in &mut local {
@@ -236,8 +244,20 @@ pub(crate) fn point_set_in_units(list: &[[f64; 2]], params: &Params) -> Result<(
     // 3) their widths come from the local PCA of §3.1. The paper's own rule sizes its disks from
     // `Dis_ave` alone and keeps the raster's widths (its node spacing in the fit follows them).
     let mut half_width = half_widths(&local, spacing, params);
-    if params.method.r_min_rule == RMinRule::StrokeWidth && !on_lattice(&local, spacing) {
-        strip_half_widths(&local, spacing, &mut half_width);
+    let mut not_strip = None;
+    if scattered {
+        let apply = params.method.r_min_rule == RMinRule::StrokeWidth;
+        let (linear, windowed) = strip_half_widths(
+            &local,
+            spacing,
+            &offsets,
+            &neighbors,
+            &mut half_width,
+            apply,
+        );
+        if windowed > 0 && (linear as f64) < NOT_STRIP_SHARE * windowed as f64 {
+            not_strip = Some(linear as f64 / windowed as f64);
+        }
     }
     let units = Units {
         origin: min,
@@ -252,8 +272,14 @@ pub(crate) fn point_set_in_units(list: &[[f64; 2]], params: &Params) -> Result<(
         dropout: false,
         grid: None,
     };
-    Ok((set, units))
+    Ok((set, units, not_strip))
 }
+
+/// A scattered set is strip-shaped when at least this share of its points (of those whose
+/// window ever held [`STRIP_MIN_POINTS`] points) lie in a window that is linear by Eq. (3) at
+/// some scale: the paper's input (§3, "a strip-shaped point set"). A uniform cloud is isotropic
+/// at every scale and has none; strips have all but their junctions and ends.
+const NOT_STRIP_SHARE: f64 = 0.5;
 
 /// Drops exact repeats, keeping the first occurrence; `-0.0` equals `0.0`. The set only answers
 /// "seen before?", so its iteration order never reaches the output.
@@ -294,6 +320,11 @@ fn nearest_neighbours(points: &[[f64; 2]], k: usize) -> Result<(Vec<u32>, Vec<u3
         })
         .collect();
     let spacing = nearest.iter().sum::<f64>() / n as f64;
+    let bridges = if on_lattice(points, spacing) {
+        Vec::new()
+    } else {
+        island_bridges(points, &tree, &lists, k)
+    };
 
     // The symmetric relation: both directions of every k-nearest pair, mutual pairs once.
     let (offsets, neighbors) = symmetric_neighbours(n, |emit| {
@@ -302,8 +333,68 @@ fn nearest_neighbours(points: &[[f64; 2]], k: usize) -> Result<(Vec<u32>, Vec<u3
                 emit(i as u32, j);
             }
         }
+        for &(i, j) in &bridges {
+            emit(i, j);
+        }
     });
     Ok((offsets, neighbors, spacing))
+}
+
+/// How far, in its own `k`-th neighbour distances, a point of a scattered set reaches for a
+/// point of another component of the `k`-nearest-neighbour graph (see [`island_bridges`]).
+const ISLAND_REACH: f64 = 2.0;
+
+/// Pairs that join the islands of a scattered set to the strip around them. Random points leave
+/// clumps of a few points whose `k` nearest are each other and no outside point's nearest: the
+/// `k`-nearest-neighbour graph (§3.2) cuts them off the strip they lie in, and each becomes a
+/// part of its own (a dot in the middle of a stroke). A point is joined to every point of
+/// another component within [`ISLAND_REACH`] times its `k`-th neighbour distance, the scale of
+/// its own sampling, so parts a few spacings apart join and parts one strip width apart (many
+/// spacings) stay apart. Lattice sets (pixel centers listed as points) keep their graph.
+fn island_bridges(
+    points: &[[f64; 2]],
+    tree: &ImmutableKdTree<f64, 2>,
+    lists: &[u32],
+    k: usize,
+) -> Vec<(u32, u32)> {
+    let n = points.len();
+    let mut sets = UnionFind::<u32>::new(n);
+    for (i, list) in lists.chunks(k).enumerate() {
+        for &j in list.iter().filter(|&&j| j != u32::MAX) {
+            sets.union(i as u32, j);
+        }
+    }
+    let labels = sets.into_labeling();
+    if labels.iter().all(|&l| l == labels[0]) {
+        return Vec::new();
+    }
+    let farthest = |i: usize| -> f64 {
+        lists[i * k..(i + 1) * k]
+            .iter()
+            .filter(|&&j| j != u32::MAX)
+            .map(|&j| {
+                let (p, q) = (points[i], points[j as usize]);
+                (p[0] - q[0]).hypot(p[1] - q[1])
+            })
+            .fold(0.0, f64::max)
+    };
+    let mut bridges: Vec<(u32, u32)> = (0..n)
+        .into_par_iter()
+        .flat_map_iter(|i| {
+            let reach = ISLAND_REACH * farthest(i);
+            let found = tree
+                .query(&points[i])
+                .within::<SquaredEuclidean<f64>>(reach * reach)
+                .execute();
+            let labels = &labels;
+            found
+                .into_iter()
+                .filter(move |r| labels[r.item as usize] != labels[i])
+                .map(move |r| (i as u32, r.item))
+        })
+        .collect();
+    bridges.sort_unstable();
+    bridges
 }
 
 /// Half-widths for points without a pixel grid: rasterize the points onto cells of side `Dis_ave`
@@ -384,22 +475,46 @@ fn on_lattice(points: &[[f64; 2]], spacing: f64) -> bool {
 /// Fewest points in a window for its covariance to say anything about the strip.
 const STRIP_MIN_POINTS: f64 = 12.0;
 
+/// The linearity `l` of Eq. (3) a window must exceed to measure a strip's width: §3.1's own
+/// threshold for a linear disk.
+const STRIP_LINEARITY: f64 = 0.9;
+
 /// Half-widths of a strip of scattered points from the local PCA of §3.1 (Eq. (2)): across a band
 /// of width `w` filled uniformly, the variance is `w^2 / 12`, so the half-width is
 /// `sqrt(3 lambda_min)`. The covariance is taken over windows of 3 x 3 square cells of side `c`
-/// around each point's cell, from per-cell moments, at `c = 2 Dis_ave, 4 Dis_ave, ...`; a point
-/// takes the first window at least twice as wide as the width it measures there (below that the
-/// window is filled and isotropic, and measures its own size). Linear in the number of points per
-/// scale, and the scales stop at the points' extent. Points that never get a window with
-/// [`STRIP_MIN_POINTS`] points in it keep `half_width`'s value, and so does every point unless
-/// the set is a strip at least [`WIDE_STRIP_RATIO`] times wider than the raster says.
-fn strip_half_widths(points: &[[f64; 2]], spacing: f64, half_width: &mut [f32]) {
+/// around each point's cell, from per-cell moments of the point's own part (component of the
+/// neighbour graph), at `c = 2 Dis_ave, 4 Dis_ave, ...`; a point takes the first window that is
+/// linear by Eq. (3) and at least twice as wide as the width it measures there (below that the
+/// window is filled and isotropic, and measures its own size). Points no window measures (in a
+/// junction, a crossing) take the width of the nearest point that has one. Linear in the number
+/// of points per scale, and the scales stop at the points' extent. Points of a part no window
+/// measures keep `half_width`'s value, and so does every point unless the set is a strip at least
+/// [`WIDE_STRIP_RATIO`] times wider than the raster says.
+fn strip_half_widths(
+    points: &[[f64; 2]],
+    spacing: f64,
+    offsets: &[u32],
+    neighbors: &[u32],
+    half_width: &mut [f32],
+    apply: bool,
+) -> (usize, usize) {
     let n = points.len();
     let extent = points.iter().fold(0.0f64, |m, p| m.max(p[0]).max(p[1]));
     let mut decided = vec![false; n];
+    let mut windowed = vec![false; n];
     let mut measured = vec![f32::NAN; n];
+    // Windows hold only points of the point's own part: a strip one width from another (parallel
+    // strips) must not read the two as one wide strip.
+    let mut sets = UnionFind::<u32>::new(n);
+    for p in 0..n {
+        for &q in &neighbors[offsets[p] as usize..offsets[p + 1] as usize] {
+            sets.union(p as u32, q);
+        }
+    }
+    let part = sets.into_labeling();
     let mut cell = 2.0 * spacing;
     let mut cells: Vec<(i64, i64)> = Vec::with_capacity(n);
+    let mut point_slot: Vec<u32> = Vec::with_capacity(n);
     while decided.iter().any(|d| !d) && cell <= 2.0 * extent.max(spacing) {
         // Moments per cell: count, sum x, sum y, sum xx, sum xy, sum yy (relative to the cell's
         // corner, so the sums stay small).
@@ -409,10 +524,20 @@ fn strip_half_widths(points: &[[f64; 2]], spacing: f64, half_width: &mut [f32]) 
                 .iter()
                 .map(|p| ((p[0] / cell).floor() as i64, (p[1] / cell).floor() as i64)),
         );
-        let mut moments: HashMap<(i64, i64), [f64; 6]> = HashMap::new();
-        for (p, &c) in points.iter().zip(&cells) {
+        // Every point of a cell has the same window, so each occupied cell is measured once.
+        let mut slot_of: HashMap<(u32, i64, i64), u32> = HashMap::new();
+        let mut keys: Vec<(u32, i64, i64)> = Vec::new();
+        let mut moments: Vec<[f64; 6]> = Vec::new();
+        point_slot.clear();
+        for ((p, &c), &label) in points.iter().zip(&cells).zip(&part) {
             let (x, y) = (p[0] - c.0 as f64 * cell, p[1] - c.1 as f64 * cell);
-            let m = moments.entry(c).or_insert([0.0; 6]);
+            let slot = *slot_of.entry((label, c.0, c.1)).or_insert_with(|| {
+                keys.push((label, c.0, c.1));
+                moments.push([0.0; 6]);
+                (moments.len() - 1) as u32
+            });
+            point_slot.push(slot);
+            let m = &mut moments[slot as usize];
             m[0] += 1.0;
             m[1] += x;
             m[2] += y;
@@ -420,16 +545,16 @@ fn strip_half_widths(points: &[[f64; 2]], spacing: f64, half_width: &mut [f32]) 
             m[4] += x * y;
             m[5] += y * y;
         }
-        for i in 0..n {
-            if decided[i] {
-                continue;
-            }
-            let (cx, cy) = cells[i];
-            // The window's moments about the point's cell corner.
+        // Per cell: `None` when its window holds too few points, else the half-width it measures
+        // when it is a piece of strip (NaN when not).
+        let measure = |&(label, cx, cy): &(u32, i64, i64)| -> Option<f32> {
+            // The window's moments about the cell's corner.
             let mut w = [0.0f64; 6];
             for dy in -1..=1i64 {
                 for dx in -1..=1i64 {
-                    if let Some(m) = moments.get(&(cx.saturating_add(dx), cy.saturating_add(dy))) {
+                    let key = (label, cx.saturating_add(dx), cy.saturating_add(dy));
+                    if let Some(&slot) = slot_of.get(&key) {
+                        let m = &moments[slot as usize];
                         let (ox, oy) = (dx as f64 * cell, dy as f64 * cell);
                         w[0] += m[0];
                         w[1] += m[1] + ox * m[0];
@@ -441,23 +566,49 @@ fn strip_half_widths(points: &[[f64; 2]], spacing: f64, half_width: &mut [f32]) 
                 }
             }
             if w[0] < STRIP_MIN_POINTS {
-                continue;
+                return None;
             }
             let (mx, my) = (w[1] / w[0], w[2] / w[0]);
             let sxx = (w[3] / w[0] - mx * mx).max(0.0);
             let sxy = w[4] / w[0] - mx * my;
             let syy = (w[5] / w[0] - my * my).max(0.0);
-            // Smallest eigenvalue of the 2 x 2 covariance (Eq. (2)).
+            // Eigenvalues of the 2 x 2 covariance (Eq. (2)).
             let half_trace = 0.5 * (sxx + syy);
             let root = (0.25 * (sxx - syy) * (sxx - syy) + sxy * sxy).sqrt();
             let lambda_min = (half_trace - root).max(0.0);
+            let lambda_max = half_trace + root;
             let half = (3.0 * lambda_min).sqrt();
-            if 3.0 * cell >= 4.0 * half {
-                decided[i] = true;
-                measured[i] = half as f32;
+            // The window must be a piece of strip: linear by Eq. (3) as §3.1's disks must be. A
+            // crossing, a T or a Y is not linear at any scale (its arms spread both ways), and
+            // its smallest eigenvalue grows with the window: it takes its arms' width below.
+            let linear = lambda_max > STRIP_LINEARITY * (lambda_min + lambda_max);
+            Some(if linear && 3.0 * cell >= 4.0 * half {
+                half as f32
+            } else {
+                f32::NAN
+            })
+        };
+        let per_cell: Vec<Option<f32>> = keys.iter().map(measure).collect();
+        for i in 0..n {
+            if decided[i] {
+                continue;
+            }
+            if let Some(half) = per_cell[point_slot[i] as usize] {
+                windowed[i] = true;
+                if half.is_finite() {
+                    decided[i] = true;
+                    measured[i] = half;
+                }
             }
         }
         cell *= 2.0;
+    }
+    let counts = (
+        decided.iter().filter(|&&d| d).count(),
+        windowed.iter().filter(|&&w| w).count(),
+    );
+    if !apply {
+        return counts;
     }
     // One decision per set: the PCA widths replace the raster's only where the set is a strip
     // much wider than its spacing (the raster's cells inside it are mostly empty, so its
@@ -469,15 +620,40 @@ fn strip_half_widths(points: &[[f64; 2]], spacing: f64, half_width: &mut [f32]) 
         .map(|(m, h)| m / h.max(f32::MIN_POSITIVE))
         .collect();
     if ratios.len() * 2 < n {
-        return;
+        return counts;
     }
     let median = upper_median_by(&mut ratios, f32::total_cmp).unwrap_or(0.0);
     if median < WIDE_STRIP_RATIO {
-        return;
+        return counts;
     }
+    spread_to_undecided(offsets, neighbors, &mut measured);
     for (h, m) in half_width.iter_mut().zip(&measured) {
         if m.is_finite() {
             *h = h.max(*m);
+        }
+    }
+    counts
+}
+
+/// Gives every point without a width of its own (in a junction, a crossing, a sharp bend: no
+/// window around it is linear) the width of the nearest point that has one, nearest by hops over
+/// the neighbour graph: the width of the arms that meet there. Breadth first from every measured
+/// point at once, in index order, so the result does not depend on anything but the set.
+fn spread_to_undecided(offsets: &[u32], neighbors: &[u32], measured: &mut [f32]) {
+    let mut queue: std::collections::VecDeque<u32> = (0..measured.len() as u32)
+        .filter(|&i| measured[i as usize].is_finite())
+        .collect();
+    while let Some(p) = queue.pop_front() {
+        let value = measured[p as usize];
+        let (from, to) = (
+            offsets[p as usize] as usize,
+            offsets[p as usize + 1] as usize,
+        );
+        for &q in &neighbors[from..to] {
+            if !measured[q as usize].is_finite() {
+                measured[q as usize] = value;
+                queue.push_back(q);
+            }
         }
     }
 }

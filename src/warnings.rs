@@ -32,6 +32,19 @@ const SPECK_SHARE: f64 = 0.4;
 /// A vertex of this degree or more is reported (three strokes crossing at one point make 6).
 pub const HIGH_DEGREE: usize = 8;
 
+/// The warning for a point list that is not strip-shaped: only `share` of its points lie in a
+/// linear neighbourhood at any scale (§3.1), so nothing was traced.
+pub(crate) fn not_strip_shaped(share: f64) -> Warning {
+    Warning {
+        code: "not_strip_shaped",
+        message: format!(
+            "the points are not strip-shaped: only {:.0}% of them lie along a strip at any scale \
+             (a cloud or a blob, not points around curves), so no curve was traced",
+            100.0 * share
+        ),
+    }
+}
+
 /// The warnings for `graph`, with the front end's `decisions` when the input was an image.
 pub fn of(graph: &StrokeGraph, decisions: Option<&Decisions>) -> Vec<Warning> {
     let mut out = Vec::new();

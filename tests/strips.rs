@@ -74,3 +74,20 @@ fn scaled_strips_give_the_same_graph_scaled() {
         }
     }
 }
+
+/// A uniform cloud is not strip-shaped: no curve is traced and the warning says so (not advice
+/// about polarity); a strip of random points raises no such warning.
+#[test]
+fn a_uniform_cloud_is_reported_as_not_strip_shaped() {
+    let cloud = ridgeline_testkit::synth::uniform_cloud(5_000, 200.0, 3);
+    let trace = ridgeline::trace_points(&cloud, &Params::default()).expect("trace");
+    let codes: Vec<&str> = trace.warnings.iter().map(|w| w.code).collect();
+    assert_eq!(codes, ["not_strip_shaped"], "{:?}", trace.warnings);
+    assert!(trace.graph.edges.is_empty() && trace.graph.vertices.is_empty());
+    assert_eq!(trace.point_count, 5_000);
+    for params in [Params::default(), Params::paper()] {
+        let line = ridgeline::trace_points(&case("line").points, &params).expect("trace");
+        assert!(line.warnings.is_empty(), "{:?}", line.warnings);
+        assert!(!line.graph.edges.is_empty());
+    }
+}

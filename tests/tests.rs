@@ -8,6 +8,7 @@ mod hostile;
 mod inputs;
 mod pipeline;
 mod properties;
+mod readme;
 mod score;
 mod strips;
 mod support;

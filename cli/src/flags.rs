@@ -9,40 +9,142 @@
 use std::path::PathBuf;
 
 use clap::builder::{PossibleValue, PossibleValuesParser, TypedValueParser};
-use clap::{Parser, ValueEnum};
+use clap::{CommandFactory, Parser, ValueEnum};
 
 use ridgeline::{ClusterRule, Enhancement, LaplacianRule, Polarity, RMinRule, Threshold};
 
-const EXAMPLES: &str = "\
+/// The examples under `-h` and `--help` (tests run each one).
+pub const EXAMPLES: &str = "\
 Examples:
-  Scanned page: writes page.svg next to page.png, centerlines over the scan
+  A scanned page: writes page.svg next to page.png, centerlines over the scan
     ridgeline page.png
-  Fingerprint with light ridges on a dark background, unevenly lit, as JSON
-    ridgeline --polarity light --sauvola --window 25 print.png -o print.json
-  Point list (\"x y\" or \"x,y\" per line) with the paper's own parameter values
+  A fingerprint: ridges and minutiae (with a quality each) as JSON, and the minutiae for Bozorth3
+    ridgeline --fingerprint print.png -o print.json
+    ridgeline --fingerprint print.png -o print.xyt
+  A point list (\"x y\" or \"x,y\" per line) with the paper's own parameter values
     ridgeline --paper points.xy -o points.svg
-  Batch: every image and point list under scans/, 4 files at a time, into out/
-    ridgeline scans/ -o out/ --format json --jobs 4
-  Why does a result look wrong? Pictures of every stage into stages/
+  A batch: every image and point list under scans/, 2 files at a time, into out/ as JSON
+    ridgeline scans/ -o out/ --format json --jobs 2
+  A result looks wrong: pictures of every stage into stages/
     ridgeline --debug stages/ page.png
 
+Every flag: --help. The method's parameters in the paper's notation: --help-method.";
+
+/// What `--help` adds after the examples.
+const AFTER_LONG_HELP: &str = "\
 Outputs are written atomically: a failed run never leaves an output half-written or emptied,
 and never writes over an input. Each run ends with one line on stderr (--quiet: none).
 Exit status: 0 on success (a blank page is a warning), 1 if any input failed, 2 on usage errors.";
 
-/// Turns raster images of strokes (scans, handwriting, fingerprints) and point lists into stroke
-/// graphs: centerline polylines meeting at junctions, written as SVG over the image or as JSON.
+/// What `--help-method` says before the method's flags.
+const METHOD: &str = "\
+The method's parameters. ridgeline follows \"Efficient reconstruction of non-simple curves\"
+(docs/design.md): the ink's pixel centres (or a point list's points) are covered by disks
+(§3.1), each grown from r_min by the factor r_growth, at most to r_max, while its points stay
+linear: the linearity l of Eq. (3), from the principal axes of the points in the disk, above a
+threshold. Dis_ave is the mean distance from a point to its nearest neighbour (1 px on an
+image). Disks whose points touch are joined into the node graph H (§3.2), whose non-linear nodes
+form clusters; refinement (§3.3) contracts each cluster into junctions, giving a 1-D graph; the
+fit (§3.4) moves its nodes onto the strokes' centres by least squares (Eq. (4): data terms, a
+Laplacian smoothness term of weight w, L1 medians by Weiszfeld's iterations). By default a pixel
+skeleton then carries the centerlines and the method's graph decides crossings, spurs and bends
+(--no-skeleton keeps the fitted polylines). Defaults are ridgeline's; --paper gives the paper's
+values; any flag given overrides both.";
+
+/// The method's own parameters (§3.1-3.4, in the paper's notation): shown by `--help-method`
+/// only.
+const METHOD_FLAGS: &[&str] = &[
+    "r_min_rule",
+    "r_min_factor",
+    "r_max_factor",
+    "r_growth",
+    "linearity",
+    "no_arms_test",
+    "arms_test",
+    "k",
+    "clusters",
+    "cluster_link",
+    "merge_span",
+    "no_cleanup",
+    "cleanup",
+    "laplacian",
+    "smoothness",
+    "anchor_weight",
+    "weiszfeld_iterations",
+    "spacing_factor",
+];
+
+/// What `-h` shows; every other flag only `--help` (the method's, `--help-method`).
+const SHORT_HELP_FLAGS: &[&str] = &[
+    "inputs",
+    "output",
+    "format",
+    "fingerprint",
+    "paper",
+    "points",
+    "polarity",
+    "binarize",
+    "min_area",
+    "strokes",
+    "minutiae",
+    "curves",
+    "debug",
+    "jobs",
+    "quiet",
+    "help_method",
+];
+
+/// The command line as the tool parses it: [`Cli`] with the method's flags kept for
+/// `--help-method` and `-h` kept short.
+pub fn command() -> clap::Command {
+    Cli::command().mut_args(|arg| {
+        let id = arg.get_id().as_str();
+        if METHOD_FLAGS.contains(&id) {
+            arg.hide(true)
+        } else {
+            let short = SHORT_HELP_FLAGS.contains(&id);
+            arg.hide_short_help(!short)
+        }
+    })
+}
+
+/// `--help-method`: the method's flags, in the paper's notation, with their defaults and the
+/// paper's values.
+pub fn method_help() -> String {
+    Cli::command()
+        .about(METHOD)
+        .after_help("Every other flag: --help.")
+        .mut_args(|arg| {
+            let method = METHOD_FLAGS.contains(&arg.get_id().as_str());
+            arg.hide(!method)
+        })
+        .render_long_help()
+        .to_string()
+}
+
+/// Turns images of strokes (scans, handwriting, fingerprints) and point lists into stroke graphs:
+/// centerlines meeting at junctions, as SVG over the image, JSON, or fingerprint minutiae.
 #[derive(Debug, Parser)]
-#[command(name = "ridgeline", version, after_help = EXAMPLES, max_term_width = 100)]
+#[command(
+    name = "ridgeline",
+    version,
+    after_help = EXAMPLES,
+    after_long_help = format!("{EXAMPLES}\n\n{AFTER_LONG_HELP}"),
+    max_term_width = 100
+)]
 pub struct Cli {
-    /// Image files, point lists, or directories (walked recursively, files sorted by name); '-'
-    /// reads standard input (an image when its bytes start like one, else a point list); every
-    /// page of a multi-page TIFF is traced (see --max-pages)
-    #[arg(required = true, value_name = "INPUT")]
+    /// Images, point lists, or directories; '-' reads standard input
+    ///
+    /// Directories are walked recursively, files sorted by name; standard input is an image when
+    /// its bytes start like one, else a point list; every page of a multi-page TIFF is traced
+    /// (see --max-pages)
+    #[arg(required_unless_present = "help_method", value_name = "INPUT")]
     pub(crate) inputs: Vec<PathBuf>,
 
-    /// Output file (.svg or .json), directory, or '-' for stdout [default: each input's path
-    /// with its extension replaced by .svg or .json; stdout for standard input]
+    /// Output file (.svg .json .xyt .ist), directory, or '-' for stdout [default: beside the input]
+    ///
+    /// By default each input's path with its extension replaced by the format's (.svg, .json,
+    /// .xyt or .ist); stdout for standard input.
     ///
     /// PATH is a directory when there are several inputs or a directory input, when it ends in
     /// '/', or when it is an existing directory; it is created if missing (the folder of an
@@ -54,7 +156,7 @@ pub struct Cli {
     #[arg(short, long, value_name = "PATH", help_heading = "Output")]
     pub(crate) output: Option<PathBuf>,
 
-    /// Output format [default: from the -o extension (.json or .svg), else svg]
+    /// Output format [default: from the -o extension, else svg]
     #[arg(short, long, value_enum, help_heading = "Output")]
     pub(crate) format: Option<Format>,
 
@@ -79,7 +181,7 @@ pub struct Cli {
     #[arg(long, help_heading = "Output")]
     pub(crate) pretty: bool,
 
-    /// Also draw every pipeline stage of each image as a PNG into DIR [default: no pictures]
+    /// Also draw every stage of each image as a PNG into DIR
     ///
     /// DIR is created if missing. The pictures: 1-foreground (the binarized ink), 2-sampling (the
     /// disks: linear blue, non-linear orange), 3-node-graph (graph H, a color per non-linear
@@ -90,8 +192,10 @@ pub struct Cli {
     /// components, the output's groups are traced apart), 6-final is the output.
     #[arg(long, value_name = "DIR", help_heading = "Output")]
     pub(crate) debug: Option<PathBuf>,
-    /// SVG: draw strokes (edges chained straight through crossings, the way a pen drew them), each
-    /// in its own color, instead of edges; JSON always lists the strokes
+    /// SVG: draw pen strokes (edges chained through crossings), each in its own color
+    ///
+    /// Edges chained straight through crossings, the way a pen drew them, instead of edges; the
+    /// JSON always lists the strokes
     #[arg(long, help_heading = "Features")]
     pub(crate) strokes: bool,
 
@@ -100,8 +204,10 @@ pub struct Cli {
     #[arg(long, help_heading = "Features")]
     pub(crate) width: bool,
 
-    /// Fingerprint minutiae: ridge endings and bifurcations with their direction, except near the
-    /// print's border, listed in the JSON and marked in the SVG
+    /// Fingerprint minutiae (ridge endings, bifurcations) in the JSON and SVG; see --fingerprint
+    ///
+    /// Ridge endings and bifurcations with their direction, except near the print's border,
+    /// listed in the JSON and marked in the SVG
     #[arg(long, help_heading = "Features")]
     pub(crate) minutiae: bool,
 
@@ -128,15 +234,17 @@ pub struct Cli {
     )]
     pub(crate) corner_angle: Option<f64>,
 
-    /// Read every named file as a point list, whatever its extension (files ending in .txt, .csv,
-    /// .xy or .pts always are)
+    /// Read every named file as a point list (.txt .csv .xy .pts always are)
+    ///
+    /// Whatever its extension; files ending in .txt, .csv, .xy or .pts always are
     #[arg(long, help_heading = "Input and binarization")]
     pub(crate) points: bool,
 
-    /// How gray becomes ink and paper: auto uses Otsu's global level where it separates ink from
-    /// paper all over the image and the local threshold (halfway between each neighbourhood's ink
+    /// How gray becomes ink and paper [default: auto]
+    ///
+    /// auto uses Otsu's global level where it separates ink from paper all over the image and the local threshold (halfway between each neighbourhood's ink
     /// and paper, blocks of about six stroke widths) where the light or contrast varies; otsu and
-    /// local force one. The JSON's "decisions" say what was used [default: auto]
+    /// local force one. The JSON's "decisions" say what was used
     #[arg(
         long,
         value_parser = one_of(BINARIZE),
@@ -177,11 +285,13 @@ pub struct Cli {
     )]
     pub(crate) sauvola_k: Option<f64>,
 
-    /// Which side of the threshold is ink: auto decides from stroke evidence (ink is the thinner
+    /// Which side of the threshold is ink [default: auto]
+    ///
+    /// auto decides from stroke evidence (ink is the thinner
     /// side, paper fills the border; dark when the evidence is weak, with a warning), and then
     /// per region (a thick field holding light strokes, white letters on a dark banner, is read
     /// as a ground: see --no-reverse-grounds); dark ink on light paper, or light strokes
-    /// (fingerprint ridges) on a dark background, everywhere [default: auto]
+    /// (fingerprint ridges) on a dark background, everywhere
     #[arg(
         long,
         value_parser = one_of(POLARITY),
@@ -205,8 +315,9 @@ pub struct Cli {
     #[arg(long, value_name = "SHARE", help_heading = "Input and binarization")]
     pub(crate) dropout_fraction: Option<f64>,
 
-    /// Drop ink components of fewer than N pixels before tracing (specks of a noisy scan; the
-    /// speckle warning suggests a value) [default: 0]
+    /// Drop ink components of fewer than N pixels (specks; the speckle warning suggests N)
+    ///
+    /// Before tracing, as specks of a noisy scan [default: 0]
     #[arg(long, value_name = "N", help_heading = "Input and binarization")]
     pub(crate) min_area: Option<usize>,
 
@@ -255,14 +366,17 @@ pub struct Cli {
     )]
     pub(crate) reverse_grounds: bool,
 
-    /// Start from the paper's own rules and values (r_min = 10 Dis_ave, r_max = 6 r_min, no arms
+    /// Start from the paper's own rules and values (see --help-method)
+    ///
+    /// r_min = 10 Dis_ave, r_max = 6 r_min, no arms
     /// test, equal-distance clusters, whole-cluster merging, uniform Laplacian and fit weights, no
     /// clean-up); every other flag given still overrides them
     #[arg(long, help_heading = "Method")]
     pub(crate) paper: bool,
 
-    /// Fingerprint preset: segmentation, orientation field, ridge period and Gabor enhancement
-    /// before tracing, and the minutiae inside the print, filtered and with a quality (implies
+    /// Fingerprint: enhance the print first, then minutiae with a quality inside it
+    ///
+    /// Segmentation, orientation field, ridge period and Gabor enhancement before tracing, and the minutiae inside the print, filtered and with a quality (implies
     /// --minutiae); every other flag given still overrides it (ridges dark or light as the image
     /// shows unless --polarity is given)
     #[arg(long, help_heading = "Method")]
@@ -443,6 +557,10 @@ pub struct Cli {
     /// Print errors only: no summary line, no progress bar, no warnings
     #[arg(short, long, help_heading = "Running")]
     pub(crate) quiet: bool,
+
+    /// Print the method's parameters, in the paper's notation (§3.1-3.4), and exit
+    #[arg(long, help_heading = "Running")]
+    pub(crate) help_method: bool,
 }
 
 /// Output format.

@@ -16,7 +16,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
 
 use anyhow::{Context, Result};
-use clap::Parser;
+use clap::FromArgMatches;
 use indicatif::{ProgressBar, ProgressStyle};
 use rayon::prelude::*;
 
@@ -25,7 +25,7 @@ use ridgeline::export::svg::Backdrop;
 use ridgeline::raster::{Page, Picture};
 use ridgeline::StrokeGraph;
 
-use crate::flags::{Cli, Format};
+use crate::flags::{self, Cli, Format};
 use crate::inputs::{collect_inputs, read_stdin, sniff, Failure, Kind};
 use crate::outputs::{
     page_destination, plan, render, write_debug_pictures, write_output, Destination, Job, Reserved,
@@ -44,7 +44,10 @@ struct Traced {
 
 /// Parses the command line and runs it. Usage errors come back as [`UsageError`].
 pub fn run() -> Result<ExitCode> {
-    let cli = match Cli::try_parse() {
+    let parsed = flags::command()
+        .try_get_matches()
+        .and_then(|matches| Cli::from_arg_matches(&matches));
+    let cli = match parsed {
         Ok(cli) => cli,
         Err(err) => {
             // --help and --version are "errors" that print to stdout and exit 0; clap knows the
@@ -53,6 +56,10 @@ pub fn run() -> Result<ExitCode> {
             return Ok(ExitCode::from(err.exit_code().clamp(0, 255) as u8));
         }
     };
+    if cli.help_method {
+        print!("{}", flags::method_help());
+        return Ok(ExitCode::SUCCESS);
+    }
     let started = Instant::now();
     let settings = Settings::try_from(&cli)?;
     run_with(&settings, started)

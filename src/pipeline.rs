@@ -212,7 +212,7 @@ pub(crate) fn image(gray: GrayView<'_>, params: &Params, recording: Recording) -
 pub(crate) fn mask(binary: MaskView<'_>, params: &Params, recording: Recording) -> Result<Trace> {
     params.validate()?;
     let mut trace = trace_mask(binary, params, recording)?;
-    trace.warnings = warnings::of(&trace.graph, None);
+    trace.warnings = warnings::of(&trace.graph, None, Some(binary));
     Ok(trace)
 }
 
@@ -243,7 +243,7 @@ pub(crate) fn point_list(list: &[[f64; 2]], params: &Params) -> Result<Trace> {
     traced.timings.points += points_time;
     units.restore_graph(&mut traced.graph);
     let mut trace = traced.into_trace(None);
-    trace.warnings = warnings::of(&trace.graph, None);
+    trace.warnings = warnings::of(&trace.graph, None, None);
     if let Some(share) = not_strip {
         trace.warnings.push(warnings::not_strip_shaped(share));
     }
@@ -320,7 +320,7 @@ fn with_decisions(
     trace.timings.binarize = binarize_time;
     decisions.dropout = trace.dropout();
     decisions.dropout_share = trace.dropout_share;
-    trace.warnings = warnings::of(&trace.graph, Some(&decisions));
+    trace.warnings = warnings::of(&trace.graph, Some(&decisions), Some(binary.view()));
     trace.decisions = Some(decisions);
     trace.binary = Some(binary);
     trace

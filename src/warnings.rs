@@ -5,9 +5,17 @@
 //! most of the centerline in one component full of cycles (the paper's web between strokes
 //! traced as ink); a dense mesh of junctions joined by edges shorter than the strokes are wide
 //! (halftone or a photo region); many components no longer than a stroke is wide (speckle); a
-//! vertex where more arms meet than strokes ever cross.
+//! vertex where more arms meet than strokes ever cross; ridge texture (parallel centerlines about
+//! two stroke widths apart) over most of the image, a fingerprint traced as a page.
+//!
+//! Advice is given only where following it changes the result as the message says (tests in
+//! this module follow each one): a flag the front end already used, or one that does nothing to
+//! the input (a point list has no threshold, polarity or ink components), is not suggested.
 
-use crate::decisions::{Decisions, Warning};
+use std::collections::BTreeSet;
+
+use crate::binary::MaskView;
+use crate::decisions::{Decisions, InkSide, ThresholdUsed, Warning};
 use crate::median::upper_median;
 use crate::stroke_graph::StrokeGraph;
 
@@ -31,6 +39,18 @@ const SPECK_MIN_COUNT: usize = 50;
 const SPECK_SHARE: f64 = 0.4;
 /// A vertex of this degree or more is reported (three strokes crossing at one point make 6).
 pub const HIGH_DEGREE: usize = 8;
+/// Ridge texture is looked for in square blocks this many stroke widths across ...
+const TEXTURE_BLOCK_WIDTHS: f64 = 6.0;
+/// ... holding at least this much centerline, in block sides (parallel lines at most three
+/// widths apart, as ridges are: ridge and valley about one width each) ...
+const TEXTURE_LINES: f64 = 1.5;
+/// ... running one way: the coherence of their directions (the length of the mean of the
+/// doubled direction angles, 1 for parallel lines, near 0 for every direction) at least this.
+const TEXTURE_COHERENCE: f64 = 0.5;
+/// An image whose ridge-texture blocks are more than this share of its blocks is reported ...
+const TEXTURE_SHARE: f64 = 0.4;
+/// ... when it has at least this many of them (a few blocks of hatching are no print).
+const TEXTURE_MIN_BLOCKS: usize = 16;
 
 /// The warning for a point list that is not strip-shaped: only `share` of its points lie in a
 /// linear neighbourhood at any scale (§3.1), so nothing was traced.
@@ -45,8 +65,13 @@ pub(crate) fn not_strip_shaped(share: f64) -> Warning {
     }
 }
 
-/// The warnings for `graph`, with the front end's `decisions` when the input was an image.
-pub fn of(graph: &StrokeGraph, decisions: Option<&Decisions>) -> Vec<Warning> {
+/// The warnings for `graph`, with the front end's `decisions` when the input was an image and the
+/// `ink` it was traced from (before any component was dropped) when it was an image or a mask.
+pub fn of(
+    graph: &StrokeGraph,
+    decisions: Option<&Decisions>,
+    ink: Option<MaskView<'_>>,
+) -> Vec<Warning> {
     let mut out = Vec::new();
     if let Some(confidence) = decisions.and_then(|d| d.polarity_confidence) {
         if confidence < LOW_POLARITY_CONFIDENCE {
@@ -94,8 +119,9 @@ pub fn of(graph: &StrokeGraph, decisions: Option<&Decisions>) -> Vec<Warning> {
                 code: "one_huge_component",
                 message: format!(
                     "{:.0}% of the centerline is one component with {cycles} cycles: the paper or \
-                     a background may have been traced as ink; try --polarity or --binarize otsu",
-                    100.0 * share
+                     a background may have been traced as ink{}",
+                    100.0 * share,
+                    image_advice(decisions)
                 ),
             });
         }
@@ -113,23 +139,51 @@ pub fn of(graph: &StrokeGraph, decisions: Option<&Decisions>) -> Vec<Warning> {
             code: "mesh",
             message: format!(
                 "{mesh_edges} of {} edges join two junctions within two stroke widths: a halftone \
-                 or photo region, or strokes merged by the threshold; crop to the strokes or try \
-                 --polarity",
-                graph.edges.len()
+                 or photo region, or strokes merged by the threshold; crop to the strokes{}",
+                graph.edges.len(),
+                image_advice(decisions)
             ),
         });
     }
-    let specks = roots
+    let texture = decisions
+        .filter(|d| d.print.is_none())
+        .and_then(|_| ridge_texture(graph, width));
+    if let Some(share) = texture {
+        out.push(Warning {
+            code: "fingerprint_like",
+            message: format!(
+                "parallel ridges about two stroke widths apart cover {:.0}% of the image, like a \
+                 fingerprint: pass --fingerprint to enhance the print before tracing and keep \
+                 its minutiae",
+                100.0 * share
+            ),
+        });
+    }
+    let speck_roots: Vec<usize> = roots
         .iter()
-        .filter(|&&r| length[r] < SPECK_WIDTHS * width)
-        .count();
-    if specks >= SPECK_MIN_COUNT && specks as f64 > SPECK_SHARE * roots.len() as f64 {
-        let area = (width * width).ceil() as usize;
+        .copied()
+        .filter(|&r| length[r] < SPECK_WIDTHS * width)
+        .collect();
+    let specks = speck_roots.len();
+    if texture.is_none()
+        && specks >= SPECK_MIN_COUNT
+        && specks as f64 > SPECK_SHARE * roots.len() as f64
+    {
+        // --min-area drops ink components, so it is suggested from the specks' own areas, and
+        // only where it drops most of them and no component holding more than a speck.
+        let advice = ink
+            .and_then(|ink| min_area_for(graph, &root, &speck_roots, ink))
+            .map(|(area, dropped)| {
+                format!(
+                    ": pass --min-area {area} to drop the {dropped} ink components under {area} \
+                     pixels"
+                )
+            })
+            .unwrap_or_default();
         out.push(Warning {
             code: "speckle",
             message: format!(
-                "{specks} of {} components are specks no longer than a stroke is wide: pass \
-                 --min-area {area} to drop ink components under {area} pixels",
+                "{specks} of {} components are specks no longer than a stroke is wide{advice}",
                 roots.len()
             ),
         });
@@ -154,6 +208,144 @@ pub fn of(graph: &StrokeGraph, decisions: Option<&Decisions>) -> Vec<Warning> {
 
 fn median_width(edge: &crate::stroke_graph::Edge) -> f64 {
     upper_median(&mut edge.widths.clone()).unwrap_or(0.0)
+}
+
+/// What to try when the paper or a background may have been traced as ink: the other side
+/// (`--polarity`), and Otsu's global level where another threshold was used. None for a point
+/// list or a mask, which have neither.
+fn image_advice(decisions: Option<&Decisions>) -> String {
+    let Some(decisions) = decisions else {
+        return String::new();
+    };
+    let other = match decisions.polarity {
+        InkSide::Light => "dark",
+        InkSide::Dark => "light",
+    };
+    let otsu = match decisions.threshold {
+        ThresholdUsed::Otsu { .. } | ThresholdUsed::Uniform => String::new(),
+        _ => " or --binarize otsu".to_string(),
+    };
+    format!("; if the strokes are {other}, pass --polarity {other}{otsu}")
+}
+
+/// The share of the image covered by ridge texture (see [`TEXTURE_COHERENCE`]), when it is more
+/// than [`TEXTURE_SHARE`]; `width` is the median stroke width.
+fn ridge_texture(graph: &StrokeGraph, width: f64) -> Option<f64> {
+    let side = TEXTURE_BLOCK_WIDTHS * width;
+    let columns = (graph.width as f64 / side).floor() as usize;
+    let rows = (graph.height as f64 / side).floor() as usize;
+    if columns * rows < TEXTURE_MIN_BLOCKS {
+        return None;
+    }
+    // Per block: centerline length and the sum of its doubled direction angles, length-weighted.
+    let mut blocks = vec![(0.0, 0.0, 0.0); columns * rows];
+    for edge in &graph.edges {
+        for pair in edge.points.windows(2) {
+            let (dx, dy) = (pair[1][0] - pair[0][0], pair[1][1] - pair[0][1]);
+            let length = dx.hypot(dy);
+            let (x, y) = (
+                (pair[0][0] + pair[1][0]) / 2.0,
+                (pair[0][1] + pair[1][1]) / 2.0,
+            );
+            let (column, row) = ((x / side).floor(), (y / side).floor());
+            if length == 0.0 || column < 0.0 || row < 0.0 {
+                continue;
+            }
+            let (column, row) = (column as usize, row as usize);
+            if column >= columns || row >= rows {
+                continue;
+            }
+            let angle = 2.0 * dy.atan2(dx);
+            let block = &mut blocks[row * columns + column];
+            block.0 += length;
+            block.1 += length * angle.cos();
+            block.2 += length * angle.sin();
+        }
+    }
+    let textured = blocks
+        .iter()
+        .filter(|(length, c, s)| {
+            *length >= TEXTURE_LINES * side && c.hypot(*s) >= TEXTURE_COHERENCE * length
+        })
+        .count();
+    let share = textured as f64 / blocks.len() as f64;
+    (textured >= TEXTURE_MIN_BLOCKS && share > TEXTURE_SHARE).then_some(share)
+}
+
+/// The `--min-area` that drops the specks (graph components rooted at `speck_roots`): one more
+/// than the largest speck's ink component (8-connected, as `--min-area` counts them), and how
+/// many ink components it drops; below the smallest component that is no speck when that is
+/// smaller. None when that drops no more than half of the specks.
+fn min_area_for(
+    graph: &StrokeGraph,
+    root: &[usize],
+    speck_roots: &[usize],
+    ink: MaskView<'_>,
+) -> Option<(usize, usize)> {
+    let (labels, area) = crate::mask::label_components(
+        ink.ink,
+        ink.width as usize,
+        ink.height as usize,
+        true,
+        crate::mask::Connectivity::Eight,
+    );
+    // The ink component under a vertex: the label of an ink pixel at or next to it (a centerline
+    // placed below the pixel may sit on the pixel beside the ink).
+    let label_at = |pos: [f64; 2]| -> Option<usize> {
+        let (x, y) = (pos[0].floor() as i64, pos[1].floor() as i64);
+        [
+            (0, 0),
+            (-1, 0),
+            (1, 0),
+            (0, -1),
+            (0, 1),
+            (-1, -1),
+            (1, -1),
+            (-1, 1),
+            (1, 1),
+        ]
+        .iter()
+        .map(|(dx, dy)| (x + dx, y + dy))
+        .filter(|&(x, y)| ink.get(x, y))
+        .map(|(x, y)| labels[y as usize * ink.width as usize + x as usize] as usize)
+        .find(|&l| l > 0)
+    };
+    let is_speck: Vec<bool> = {
+        let mut marks = vec![false; root.len()];
+        for &r in speck_roots {
+            marks[r] = true;
+        }
+        marks
+    };
+    let mut largest_speck = 0;
+    let mut smallest_other = usize::MAX;
+    for (v, vertex) in graph.vertices.iter().enumerate() {
+        let Some(l) = label_at(vertex.pos) else {
+            continue;
+        };
+        if is_speck[root[v]] {
+            largest_speck = largest_speck.max(area[l]);
+        } else {
+            smallest_other = smallest_other.min(area[l]);
+        }
+    }
+    // Where a component that is no speck is smaller than a speck, the threshold stops below it
+    // and is suggested only if it still drops most of the specks.
+    let min_area = (largest_speck + 1).min(smallest_other);
+    let speck_labels: BTreeSet<usize> = graph
+        .vertices
+        .iter()
+        .enumerate()
+        .filter(|&(v, _)| is_speck[root[v]])
+        .filter_map(|(_, vertex)| label_at(vertex.pos))
+        .collect();
+    let dropped_specks = speck_labels.iter().filter(|&&l| area[l] < min_area).count();
+    let dropped = area
+        .iter()
+        .skip(1)
+        .filter(|&&a| a > 0 && a < min_area)
+        .count();
+    (min_area > 1 && 2 * dropped_specks > speck_labels.len()).then_some((min_area, dropped))
 }
 
 #[cfg(test)]
@@ -215,7 +407,7 @@ mod tests {
     }
 
     fn codes(graph: &StrokeGraph, decisions: Option<&Decisions>) -> Vec<&'static str> {
-        of(graph, decisions).iter().map(|w| w.code).collect()
+        of(graph, decisions, None).iter().map(|w| w.code).collect()
     }
 
     fn decided(confidence: f64) -> Decisions {
@@ -296,11 +488,12 @@ mod tests {
             positions.push([201.0 + 10.0 * (i % 10) as f64, 10.0 * (i / 10) as f64]);
             edges.push((n, n + 1));
         }
-        let warnings = of(&graph(&positions, &edges), None);
+        let warnings = of(&graph(&positions, &edges), None, None);
         assert_eq!(warnings.len(), 1);
         assert_eq!(warnings[0].code, "speckle");
+        // Without the ink (a point list) there are no ink components for --min-area to drop.
         assert!(
-            warnings[0].message.contains("--min-area 9"),
+            !warnings[0].message.contains("--min-area"),
             "{}",
             warnings[0].message
         );
@@ -338,5 +531,154 @@ mod tests {
         let cleaned = crate::trace_binary(&binary, &params).unwrap();
         assert!(all.graph.components() > 1);
         assert_eq!(cleaned.graph.components(), 1);
+    }
+
+    // Each warning's advice, followed, moves the result the way the message says.
+
+    /// A gray image: `ink` dark (30) on light paper (220).
+    fn gray_of(ink: &crate::binary::Binary) -> image::GrayImage {
+        image::GrayImage::from_fn(ink.width, ink.height, |x, y| {
+            image::Luma([if ink.get(x as i64, y as i64) { 30 } else { 220 }])
+        })
+    }
+
+    fn with_code<'a>(trace: &'a crate::pipeline::Trace, code: &str) -> Option<&'a Warning> {
+        trace.warnings.iter().find(|w| w.code == code)
+    }
+
+    #[test]
+    fn the_speckle_advice_drops_the_specks_and_keeps_the_strokes() {
+        let mut ink = render(
+            &[
+                Stroke::new(vec![[10.0, 20.0], [190.0, 20.0]], 5.0),
+                Stroke::new(vec![[10.0, 60.0], [190.0, 90.0]], 5.0),
+                Stroke::new(vec![[100.0, 40.0], [100.0, 190.0]], 5.0),
+            ],
+            200,
+            200,
+        );
+        // 80 specks of 2 x 2 and 3 x 2 pixels on the paper.
+        for k in 0..80i64 {
+            let (x, y) = (8 + 12 * (k % 8), 110 + 10 * (k / 8));
+            for (dx, dy) in [(0, 0), (1, 0), (0, 1), (1, 1)] {
+                ink.set(x + dx, y + dy, true);
+            }
+            if k % 2 == 0 {
+                ink.set(x + 2, y, true);
+                ink.set(x + 2, y + 1, true);
+            }
+        }
+        let gray = gray_of(&ink);
+        let trace = crate::trace_image(&gray, &Params::default()).unwrap();
+        let warning = with_code(&trace, "speckle").expect("a speckle warning");
+        let area: usize = warning
+            .message
+            .split("--min-area ")
+            .nth(1)
+            .and_then(|rest| rest.split(' ').next())
+            .and_then(|n| n.parse().ok())
+            .unwrap_or_else(|| panic!("no --min-area N in {:?}", warning.message));
+        // Every speck has 4 or 6 pixels: the advice drops them all, and nothing else.
+        assert_eq!(area, 7, "{}", warning.message);
+        let cleaned = crate::trace_image(&gray, &{
+            let mut params = Params::default();
+            params.front_end.min_area = area;
+            params
+        })
+        .unwrap();
+        assert!(
+            with_code(&cleaned, "speckle").is_none(),
+            "{:?}",
+            cleaned.warnings
+        );
+        assert_eq!(cleaned.graph.components(), 2);
+        let length =
+            |t: &crate::pipeline::Trace| t.graph.edges.iter().map(|e| e.length()).sum::<f64>();
+        assert!((length(&cleaned) - length(&trace)).abs() < 5.0);
+    }
+
+    #[test]
+    fn ridge_texture_points_to_fingerprint_and_fingerprint_traces_the_print() {
+        // Ridges 4 px wide, 8 px apart, gently curved, over the whole image.
+        let gray = image::GrayImage::from_fn(240, 240, |x, y| {
+            let phase = (x as f64 + 6.0 * (y as f64 / 40.0).sin()) * std::f64::consts::TAU / 8.0;
+            image::Luma([(128.0 + 100.0 * phase.sin()) as u8])
+        });
+        let page = crate::trace_image(&gray, &Params::default()).unwrap();
+        let warning = with_code(&page, "fingerprint_like").expect("a fingerprint warning");
+        assert!(warning.message.contains("--fingerprint"));
+        let print = crate::trace_image(
+            &gray,
+            &Params {
+                fingerprint: Params::fingerprint().fingerprint,
+                ..Params::default()
+            },
+        )
+        .unwrap();
+        assert!(print.fingerprint.is_some(), "the print front end ran");
+        assert!(with_code(&print, "fingerprint_like").is_none());
+        // A page of strokes is no print.
+        let strokes = render(
+            &[
+                Stroke::new(vec![[10.0, 40.0], [230.0, 40.0]], 6.0),
+                Stroke::new(vec![[40.0, 10.0], [40.0, 230.0]], 6.0),
+            ],
+            240,
+            240,
+        );
+        let plain = crate::trace_image(&gray_of(&strokes), &Params::default()).unwrap();
+        assert!(with_code(&plain, "fingerprint_like").is_none());
+    }
+
+    #[test]
+    fn the_huge_component_advice_traces_the_strokes_instead_of_the_paper() {
+        // 25 dark rings on white paper, traced with the wrong side forced as ink.
+        let rings: Vec<Stroke> = (0..25)
+            .map(|k| {
+                let (cx, cy) = (20.0 + 40.0 * (k % 5) as f64, 20.0 + 40.0 * (k / 5) as f64);
+                let points = (0..=24)
+                    .map(|i| {
+                        let a = i as f64 * std::f64::consts::TAU / 24.0;
+                        [cx + 10.0 * a.cos(), cy + 10.0 * a.sin()]
+                    })
+                    .collect();
+                Stroke::new(points, 3.0)
+            })
+            .collect();
+        let gray = gray_of(&render(&rings, 200, 200));
+        let wrong = crate::trace_image(&gray, &{
+            let mut params = Params::default();
+            params.front_end.polarity = crate::params::Polarity::LightInk;
+            params
+        })
+        .unwrap();
+        let warning = with_code(&wrong, "one_huge_component").expect("a huge component");
+        // Otsu's level was used: --binarize otsu would change nothing, so it is not suggested.
+        assert!(
+            warning.message.ends_with("pass --polarity dark"),
+            "{}",
+            warning.message
+        );
+        let right = crate::trace_image(&gray, &{
+            let mut params = Params::default();
+            params.front_end.polarity = crate::params::Polarity::DarkInk;
+            params
+        })
+        .unwrap();
+        assert!(with_code(&right, "one_huge_component").is_none());
+        assert_eq!(right.graph.components(), 25);
+        assert_eq!(right.graph.cycles(), 25);
+    }
+
+    #[test]
+    fn a_point_list_or_a_mask_gets_no_image_advice() {
+        let lattice = lattice(7, 30.0);
+        let warnings = of(&lattice, None, None);
+        assert_eq!(warnings[0].code, "one_huge_component");
+        assert!(
+            !warnings[0].message.contains("--"),
+            "{}",
+            warnings[0].message
+        );
     }
 }

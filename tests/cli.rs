@@ -2,7 +2,7 @@
 
 use std::fs;
 
-use crate::support::{entries, ridgeline, stderr, temp_dir, write_strokes_png};
+use crate::support::{entries, repository_root, ridgeline, stderr, temp_dir, write_strokes_png};
 
 use base64::Engine;
 use ridgeline::export::json::{self, JsonMeta};
@@ -311,7 +311,25 @@ fn help_mentions_every_flag_group_and_flag() {
     let dir = temp_dir();
     let output = ridgeline(&["--help"], dir.path());
     assert!(output.status.success());
-    let help = String::from_utf8_lossy(&output.stdout);
+    let long = String::from_utf8_lossy(&output.stdout).into_owned();
+    let output = ridgeline(&["--help-method"], dir.path());
+    assert!(output.status.success());
+    let method = String::from_utf8_lossy(&output.stdout).into_owned();
+    // The paper's parameters are in the method section only.
+    for flag in [
+        "--r-min-factor",
+        "--linearity",
+        "--merge-span",
+        "--smoothness",
+    ] {
+        assert!(method.contains(flag), "--help-method lacks {flag}");
+        assert!(!long.contains(flag), "--help shows the method's {flag}");
+    }
+    assert!(
+        !method.contains("--no-image"),
+        "--help-method shows --no-image"
+    );
+    let help = format!("{long}{method}");
     for heading in [
         "Output",
         "Input and binarization",
@@ -373,6 +391,70 @@ fn help_mentions_every_flag_group_and_flag() {
             "help lacks the example with {example}"
         );
     }
+}
+
+#[test]
+fn short_help_is_short_and_its_examples_run() {
+    let dir = temp_dir();
+    let output = ridgeline(&["-h"], dir.path());
+    assert!(output.status.success());
+    let help = String::from_utf8_lossy(&output.stdout).into_owned();
+    let lines = help.lines().count();
+    assert!(lines <= 60, "-h is {lines} lines");
+    // The files the examples name: a page, a print, a point list, a folder of scans.
+    let samples = repository_root().join("samples");
+    fs::copy(samples.join("text.png"), dir.path().join("page.png")).expect("copy");
+    fs::copy(
+        samples.join("fingerprint.png"),
+        dir.path().join("print.png"),
+    )
+    .expect("copy");
+    let ring: String = (0..400)
+        .map(|i| {
+            let a = i as f64 * std::f64::consts::TAU / 400.0;
+            format!(
+                "{:.2} {:.2}\n",
+                100.0 + 60.0 * a.cos(),
+                100.0 + 60.0 * a.sin()
+            )
+        })
+        .collect();
+    fs::write(dir.path().join("points.xy"), ring).expect("write");
+    fs::create_dir(dir.path().join("scans")).expect("mkdir");
+    for name in ["t.png", "x30.png"] {
+        fs::copy(samples.join(name), dir.path().join("scans").join(name)).expect("copy");
+    }
+    let examples: Vec<&str> = help
+        .lines()
+        .filter_map(|line| line.trim().strip_prefix("ridgeline "))
+        .collect();
+    assert!(examples.len() >= 5, "{help}");
+    for example in &examples {
+        let args: Vec<&str> = example.split_whitespace().collect();
+        let output = ridgeline(&args, dir.path());
+        assert!(
+            output.status.success(),
+            "ridgeline {example}: {}",
+            stderr(&output)
+        );
+    }
+    for written in [
+        "page.svg",
+        "print.json",
+        "print.xyt",
+        "points.svg",
+        "out/t.json",
+        "out/x30.json",
+        "stages/6-final.png",
+    ] {
+        assert!(dir.path().join(written).is_file(), "no {written}");
+    }
+    // The print example finds minutiae with --fingerprint, as it says.
+    let print = fs::read_to_string(dir.path().join("print.json")).expect("read");
+    assert!(
+        print.contains("\"minutiae\":[{"),
+        "no minutiae in print.json"
+    );
 }
 
 #[test]
@@ -843,7 +925,8 @@ fn fingerprint_minutiae_as_json_xyt_and_iso_records() {
     // The default run writes no quality and no fingerprint parameters.
     crate::support::run_ok(&["print.png", "--minutiae", "-o", "plain.json"], d);
     let plain = fs::read_to_string(d.join("plain.json")).expect("json");
-    assert!(!plain.contains("quality") && !plain.contains("fingerprint"));
+    // (Its warnings may point to --fingerprint: the print is ridge texture over the image.)
+    assert!(!plain.contains("\"quality\"") && !plain.contains("\"fingerprint\""));
     assert!(!plain.contains("\"print\"") && !plain.contains("enhanced"));
     // --debug draws the front end's stages too, and finds the same minutiae.
     crate::support::run_ok(

@@ -9,6 +9,7 @@ mod house;
 mod inputs;
 mod pipeline;
 mod properties;
+mod readme;
 mod score;
 mod strips;
 mod support;

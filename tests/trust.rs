@@ -392,14 +392,30 @@ fn a_point_list_canvas_fits_the_points() {
 fn the_readme_says_how_to_get_the_command_and_what_the_svg_shows() {
     let readme =
         fs::read_to_string(crate::support::repository_root().join("README.md")).expect("README.md");
+    let section = |heading: &str| -> &str {
+        let at = readme
+            .find(heading)
+            .unwrap_or_else(|| panic!("the README has no {heading:?}"));
+        let rest = &readme[at + heading.len()..];
+        &rest[..rest.find("\n## ").unwrap_or(rest.len())]
+    };
+    // A newcomer's first commands come first: trace a sample, run the tests.
     let start = &readme[..readme.find("## ").unwrap_or(readme.len())];
     for words in [
-        "cargo install --path cli",
-        "target/release/ridgeline",
+        "cargo run --release -- samples/",
+        "cargo test",
         "first build compiles",
     ] {
         assert!(start.contains(words), "the README's start lacks {words:?}");
     }
+    let install = section("## Install");
+    for words in ["cargo install --path cli", "target/release/ridgeline"] {
+        assert!(
+            install.contains(words),
+            "the README's Install lacks {words:?}"
+        );
+    }
+    let start = section("## What the output means");
     use ridgeline::export::svg::{EDGE_COLOR, ENDPOINT_COLOR, JUNCTION_COLOR};
     for (color, meaning) in [
         (EDGE_COLOR, "centerlines"),

@@ -116,13 +116,17 @@ def test_repr(crossings):
 
 
 def test_decisions_are_the_front_ends_as_in_the_json():
-    for name, polarity in [("crossings.png", "dark"), ("fingerprint.png", "light")]:
+    for name, polarity, codes in [
+        ("crossings.png", "dark", []),
+        # A print traced as a page: the ridge texture points to --fingerprint.
+        ("fingerprint.png", "light", ["fingerprint_like"]),
+    ]:
         t = ridgeline.trace(SAMPLES / name)
         recorded = json.loads(t.to_json())["decisions"]
         assert t.decisions["polarity"] == polarity == recorded["polarity"]
         assert t.decisions["threshold"] == recorded["threshold"]
         assert t.decisions["polarity_confidence"] == pytest.approx(recorded["polarity_confidence"], abs=5e-4)
-        assert t.warnings == []
+        assert [w["code"] for w in t.warnings] == codes
     forced = ridgeline.trace(SAMPLES / "fingerprint.png", polarity="light")
     assert forced.decisions["polarity_confidence"] is None
     # Masks and point lists are not thresholded: no decisions.

@@ -300,12 +300,13 @@ fn clear_of_border(region: &[bool], width: u32, height: u32, pos: [f64; 2], marg
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
     use crate::stroke_graph::graph_from;
     use std::f64::consts::{FRAC_PI_2, PI};
 
-    fn no_filters() -> MinutiaeOptions {
+    /// Options with the border and broken-ridge filters off, so tests see every minutia.
+    pub(crate) fn no_filters() -> MinutiaeOptions {
         MinutiaeOptions {
             border_margin: 0.0,
             broken_ridge_gap: 0.0,
@@ -313,7 +314,8 @@ mod tests {
         }
     }
 
-    fn angle_close(a: f64, b: f64) -> bool {
+    /// Whether two directions agree within 0.05 rad, whichever way round the circle.
+    pub(crate) fn angle_close(a: f64, b: f64) -> bool {
         let d = (a - b).rem_euclid(2.0 * PI);
         d.min(2.0 * PI - d) < 0.05
     }

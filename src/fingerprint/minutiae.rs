@@ -331,21 +331,8 @@ fn drop_clouds(found: &mut Vec<Minutia>, radius: f64) {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::minutiae::tests::{angle_close, no_filters};
     use crate::stroke_graph::graph_from;
-    use std::f64::consts::PI;
-
-    fn no_filters() -> MinutiaeOptions {
-        MinutiaeOptions {
-            border_margin: 0.0,
-            broken_ridge_gap: 0.0,
-            ..Default::default()
-        }
-    }
-
-    fn angle_close(a: f64, b: f64) -> bool {
-        let d = (a - b).rem_euclid(2.0 * PI);
-        d.min(2.0 * PI - d) < 0.05
-    }
 
     #[test]
     fn a_ghost_arm_is_no_ridge_and_its_fork_no_bifurcation() {

@@ -20,7 +20,7 @@ pub enum Error {
     #[error("cannot decode image: {0}")]
     Decode(String),
     /// The image or point set is larger than the configured limits allow.
-    #[error("{what}: {actual}, over the limit of {limit}; raise {field} if the input is trusted")]
+    #[error("{}", Error::limit_sentence(.what, .actual, .limit, .field))]
     Limit {
         /// What was measured ("image pixels", "points", …).
         what: &'static str,
@@ -62,3 +62,19 @@ pub enum Error {
 
 /// Shorthand for results of this crate.
 pub type Result<T, E = Error> = std::result::Result<T, E>;
+
+impl Error {
+    /// The sentence of an [`Error::Limit`], with `raise` saying how the limit is raised: the
+    /// library names the field (`limits.max_pixels`), the command line its flag and Python its
+    /// keyword, each in this one sentence.
+    pub fn limit_sentence(
+        what: &str,
+        actual: impl std::fmt::Display,
+        limit: impl std::fmt::Display,
+        raise: &str,
+    ) -> String {
+        format!(
+            "{what}: {actual}, over the limit of {limit}; raise {raise} if the input is trusted"
+        )
+    }
+}

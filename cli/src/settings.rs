@@ -250,10 +250,11 @@ pub(crate) fn describe(err: &anyhow::Error) -> String {
                 actual,
                 limit,
                 field,
-            }) => format!(
-                "{what}: {actual}, over the limit of {limit}; raise it with {} if the input is \
-                 trusted",
-                flag_of(field)
+            }) => ridgeline::Error::limit_sentence(
+                what,
+                actual,
+                limit,
+                &format!("it with {}", flag_of(field)),
             ),
             _ => cause.to_string(),
         })

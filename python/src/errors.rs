@@ -44,9 +44,11 @@ pub fn to_py(py: Python<'_>, err: ridgeline::Error) -> PyErr {
             // The library names the field (`limits.max_pixels`); from Python it is a key of the
             // `limits` keyword.
             let key = field.trim_start_matches("limits.");
-            let message = format!(
-                "{what}: {actual}, over the limit of {limit}; raise it with \
-                 limits={{\"{key}\": ...}} if the input is trusted"
+            let message = ridgeline::Error::limit_sentence(
+                what,
+                actual,
+                limit,
+                &format!("it with limits={{\"{key}\": ...}}"),
             );
             raise(py, "LimitError", (message, what, actual, limit, field))
         }

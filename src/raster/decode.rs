@@ -460,7 +460,7 @@ fn decode_error(error: ImageError, format: ImageFormat) -> Error {
         }
         ImageError::IoError(e) => Error::Decode(format!("truncated or corrupt {name} data: {e}")),
         ImageError::Limits(e) => Error::Decode(format!(
-            "the {name} image needs more memory than --max-pixels allows: {e}"
+            "the {name} image needs more memory than limits.max_pixels allows: {e}"
         )),
         ImageError::Unsupported(e) => Error::Decode(format!("unsupported {name} variant: {e}")),
         other => Error::Decode(format!("{name}: {other}")),

@@ -37,20 +37,22 @@ impl Work {
     /// skeleton keeps its own paths wherever the method's graph differs: chords, fused
     /// junctions, lost arms and loops (docs/quality.md, "Fidelity directions").
     pub(super) fn adopt_method_geometry(&mut self, method: &StrokeGraph) {
-        if method.vertices.is_empty() {
-            return;
-        }
-        let positions: Vec<[f64; 2]> = method.vertices.iter().map(|v| v.pos).collect();
-        let Ok(tree) = ImmutableKdTree::<f64, 2>::new_from_slice(&positions) else {
+        let Some(mut partner) = self.match_vertices(method) else {
             return;
         };
-        let mut method_at = vec![Vec::new(); method.vertices.len()];
-        for (f, edge) in method.edges.iter().enumerate() {
-            method_at[edge.from].push(f);
-            if edge.to != edge.from {
-                method_at[edge.to].push(f);
-            }
+        let moved = self.take_method_lines(method, &mut partner);
+        self.move_to_partners(method, &partner, &moved);
+    }
+
+    /// Step 1: each skeleton end and junction's partner among the method's vertices (or
+    /// `usize::MAX`), nearest pairs first, each vertex matched once; `None` when the method
+    /// has no vertex to match.
+    fn match_vertices(&self, method: &StrokeGraph) -> Option<Vec<usize>> {
+        if method.vertices.is_empty() {
+            return None;
         }
+        let positions: Vec<[f64; 2]> = method.vertices.iter().map(|v| v.pos).collect();
+        let tree = ImmutableKdTree::<f64, 2>::new_from_slice(&positions).ok()?;
         let degree = self.degrees();
         let at = self.incidence();
         // The stroke width at a vertex: the widest median of its edges.
@@ -90,26 +92,24 @@ impl Work {
                 taken[m] = true;
             }
         }
+        Some(partner)
+    }
+
+    /// Step 2: each skeleton edge between two partnered vertices (or a ring without a
+    /// junction) takes the closest of the method's edges between their partners that keeps to
+    /// the ink and [`follows`] it; each method edge is taken once. A ring's vertex gets the
+    /// partner of the ring it took. Returns the vertices whose edges took a method line.
+    fn take_method_lines(&mut self, method: &StrokeGraph, partner: &mut [usize]) -> Vec<bool> {
+        let mut method_at = vec![Vec::new(); method.vertices.len()];
+        for (f, edge) in method.edges.iter().enumerate() {
+            method_at[edge.from].push(f);
+            if edge.to != edge.from {
+                method_at[edge.to].push(f);
+            }
+        }
+        let degree = self.degrees();
         let mut used = vec![false; method.edges.len()];
         let mut moved = vec![false; self.vertices.len()];
-        let bbox = |points: &[[f64; 2]]| {
-            points.iter().fold(
-                [
-                    f64::INFINITY,
-                    f64::INFINITY,
-                    f64::NEG_INFINITY,
-                    f64::NEG_INFINITY,
-                ],
-                |b, p| {
-                    [
-                        b[0].min(p[0]),
-                        b[1].min(p[1]),
-                        b[2].max(p[0]),
-                        b[3].max(p[1]),
-                    ]
-                },
-            )
-        };
         // The method's closed curves without a junction (a ring, a closed ridge).
         let method_rings: Vec<(usize, [f64; 4])> = method
             .edges
@@ -190,8 +190,13 @@ impl Work {
                 moved[v] = true;
             }
         }
-        // The vertices whose edges took the method's lines sit where the method put them; the
-        // skeleton edges that meet them there are joined to the new position.
+        moved
+    }
+
+    /// Step 3: the vertices whose edges took the method's lines sit where the method put them;
+    /// the skeleton edges that meet them there are joined to the new position.
+    fn move_to_partners(&mut self, method: &StrokeGraph, partner: &[usize], moved: &[bool]) {
+        let at = self.incidence();
         for v in (0..self.vertices.len()).filter(|&v| moved[v]) {
             let pos = method.vertices[partner[v]].pos;
             self.vertices[v].pos = pos;
@@ -209,6 +214,26 @@ impl Work {
             }
         }
     }
+}
+
+/// The bounding box `[min x, min y, max x, max y]` of a polyline.
+fn bbox(points: &[[f64; 2]]) -> [f64; 4] {
+    points.iter().fold(
+        [
+            f64::INFINITY,
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+            f64::NEG_INFINITY,
+        ],
+        |b, p| {
+            [
+                b[0].min(p[0]),
+                b[1].min(p[1]),
+                b[2].max(p[0]),
+                b[3].max(p[1]),
+            ]
+        },
+    )
 }
 
 /// How closely two polylines follow each other: `None` when a point of either lies farther than

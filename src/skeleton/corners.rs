@@ -53,6 +53,16 @@ const MIN_HALF_ANGLE_SINE: f64 = 0.1;
 /// of the stretch that gives its line.
 type LegStretch<'a> = (&'a [[f64; 2]], (usize, usize));
 
+/// A corner found at a junction: its stub (and the stub's far vertex), each leg with how many
+/// of its points (from the junction) it loses, the bend and the stroke's width.
+struct Corner {
+    stub: usize,
+    tip_vertex: Option<usize>,
+    legs: [(usize, usize); 2],
+    bend: [f64; 2],
+    stroke: f64,
+}
+
 impl Work {
     /// Corners: thinning turns a sharp bend into a Y, the two legs bending together above the
     /// corner and a stub running on into the corner's tip. A degree-3 skeleton junction with one
@@ -76,135 +86,153 @@ impl Work {
             if !self.alive[j] || degree[j] != 3 || at[j].len() != 3 {
                 continue;
             }
-            let far = |e: usize| {
-                self.edges[e]
-                    .as_ref()
-                    .map(|x| if x.from == j { x.to } else { x.from })
-            };
-            if at[j].iter().any(|&e| far(e).is_none_or(|f| f == j)) {
-                continue;
+            if let Some(corner) = self.corner_at(j, &at[j], &degree) {
+                self.bend(j, corner);
+                changed = true;
             }
-            // The stub: the shortest terminal edge (a leg may end too, at the stroke's end).
-            let Some(stub) = at[j]
-                .iter()
-                .copied()
-                .filter(|&e| far(e).is_some_and(|f| degree[f] == 1))
-                .min_by_key(|&e| (self.edges[e].as_ref().map_or(0, |x| x.points.len()), e))
-            else {
-                continue;
-            };
-            let legs: Vec<usize> = at[j].iter().copied().filter(|&e| e != stub).collect();
-            // Every edge's points and widths listed from the junction outwards.
-            let outwards = |e: usize| -> (Vec<[f64; 2]>, Vec<f64>) {
-                let edge = self.edges[e].as_ref().expect("live edge");
-                let (mut points, mut widths) = (edge.points.clone(), edge.widths.clone());
-                if edge.from != j {
-                    points.reverse();
-                    widths.reverse();
-                }
-                (points, widths)
-            };
-            let (stub_points, _) = outwards(stub);
-            let (jp, tip) = (self.vertices[j].pos, stub_points[stub_points.len() - 1]);
-            let stroke = legs
-                .iter()
-                .filter_map(|&e| self.edges[e].as_ref())
-                .map(|e| median(&e.widths))
-                .fold(f64::INFINITY, f64::min);
-            let half = disk_radius(stroke);
-            let reach = dist(jp, tip);
-            let (leg_a, leg_b) = (outwards(legs[0]), outwards(legs[1]));
-            let bold = stroke >= BOLD_CORNER_WIDTH
-                && [&leg_a, &leg_b].iter().all(|(_, widths)| {
-                    widths[0] > BOLD_LEG_WIDENING * stroke + WIDTH_UNCERTAINTY_PX
-                });
-            // Each leg's stretch for its line, pointing towards the corner: from `reach` to
-            // `reach + 2 w` from the junction (where it no longer bends towards the other leg);
-            // for a bold corner whose leg is still wider than a stroke there, from where it is
-            // one stroke wide again, up to `2 w` long.
-            let beyond_reach = |points: &[[f64; 2]]| -> Option<(usize, usize)> {
-                let near = points.iter().position(|&p| dist(p, jp) >= reach)?;
-                let far = points
-                    .iter()
-                    .position(|&p| dist(p, jp) >= reach + LEG_LINE * stroke)
-                    .unwrap_or(points.len() - 1);
-                Some((near, far))
-            };
-            let one_stroke = |(points, widths): &(Vec<[f64; 2]>, Vec<f64>),
-                              reached: (usize, usize)| {
-                let single = |i: usize| widths[i] <= stroke + WIDTH_UNCERTAINTY_PX;
-                if (reached.0..=reached.1).all(single) {
-                    return Some(reached);
-                }
-                let start =
-                    (0..points.len()).find(|&i| single(i) && dist(points[i], jp) >= half)?;
-                let mut end = start;
-                while end + 1 < points.len()
-                    && single(end + 1)
-                    && dist(points[end + 1], points[start]) <= LEG_LINE * stroke
-                {
-                    end += 1;
-                }
-                (dist(points[start], points[end]) >= (MIN_LEG_LINE * stroke).max(MIN_LEG_LINE_PX))
-                    .then_some((start, end))
-            };
-            let (Some(reached_a), Some(reached_b)) =
-                (beyond_reach(&leg_a.0), beyond_reach(&leg_b.0))
-            else {
-                continue;
-            };
-            let corner = |sa: (usize, usize), sb: (usize, usize)| {
-                self.corner_of(
-                    jp,
-                    tip,
-                    &stub_points,
-                    stroke,
-                    bold,
-                    [(&leg_a.0[..], sa), (&leg_b.0[..], sb)],
-                )
-            };
-            // A bold corner tries the one-stroke stretches first, then (where they differ) the
-            // stretches beyond the stub's reach, as every other corner.
-            let first = if bold {
-                one_stroke(&leg_a, reached_a).zip(one_stroke(&leg_b, reached_b))
-            } else {
-                None
-            };
-            let found = match first {
-                Some((sa, sb)) if (sa, sb) != (reached_a, reached_b) => {
-                    corner(sa, sb).or_else(|| corner(reached_a, reached_b))
-                }
-                _ => corner(reached_a, reached_b),
-            };
-            let Some((v, cut_a, cut_b)) = found else {
-                continue;
-            };
-            let tip_vertex = far(stub);
-            for (e, cut) in [(legs[0], cut_a), (legs[1], cut_b)] {
-                let edge = self.edges[e].as_mut().expect("live edge");
-                let forward = edge.from == j;
-                if !forward {
-                    edge.points.reverse();
-                    edge.widths.reverse();
-                }
-                edge.points.drain(..cut);
-                edge.widths.drain(..cut);
-                edge.points.insert(0, v);
-                edge.widths.insert(0, stroke);
-                if !forward {
-                    edge.points.reverse();
-                    edge.widths.reverse();
-                }
-            }
-            if let Some(tip_vertex) = tip_vertex {
-                self.alive[tip_vertex] = false;
-            }
-            self.edges[stub] = None;
-            self.vertices[j].pos = v;
-            self.vertices[j].width = stroke;
-            changed = true;
         }
         changed
+    }
+
+    /// Step 1 of [`Work::dissolve_corners`]: whether the degree-3 junction `j` (its edges `at`)
+    /// is a corner, and if so its bend.
+    fn corner_at(&self, j: usize, at: &[usize], degree: &[usize]) -> Option<Corner> {
+        let far = |e: usize| {
+            self.edges[e]
+                .as_ref()
+                .map(|x| if x.from == j { x.to } else { x.from })
+        };
+        if at.iter().any(|&e| far(e).is_none_or(|f| f == j)) {
+            return None;
+        }
+        // The stub: the shortest terminal edge (a leg may end too, at the stroke's end).
+        let stub = at
+            .iter()
+            .copied()
+            .filter(|&e| far(e).is_some_and(|f| degree[f] == 1))
+            .min_by_key(|&e| (self.edges[e].as_ref().map_or(0, |x| x.points.len()), e))?;
+        let legs: Vec<usize> = at.iter().copied().filter(|&e| e != stub).collect();
+        // Every edge's points and widths listed from the junction outwards.
+        let outwards = |e: usize| -> (Vec<[f64; 2]>, Vec<f64>) {
+            let edge = self.edges[e].as_ref().expect("live edge");
+            let (mut points, mut widths) = (edge.points.clone(), edge.widths.clone());
+            if edge.from != j {
+                points.reverse();
+                widths.reverse();
+            }
+            (points, widths)
+        };
+        let (stub_points, _) = outwards(stub);
+        let (jp, tip) = (self.vertices[j].pos, stub_points[stub_points.len() - 1]);
+        let stroke = legs
+            .iter()
+            .filter_map(|&e| self.edges[e].as_ref())
+            .map(|e| median(&e.widths))
+            .fold(f64::INFINITY, f64::min);
+        let half = disk_radius(stroke);
+        let reach = dist(jp, tip);
+        let (leg_a, leg_b) = (outwards(legs[0]), outwards(legs[1]));
+        let bold = stroke >= BOLD_CORNER_WIDTH
+            && [&leg_a, &leg_b]
+                .iter()
+                .all(|(_, widths)| widths[0] > BOLD_LEG_WIDENING * stroke + WIDTH_UNCERTAINTY_PX);
+        // Each leg's stretch for its line, pointing towards the corner: from `reach` to
+        // `reach + 2 w` from the junction (where it no longer bends towards the other leg);
+        // for a bold corner whose leg is still wider than a stroke there, from where it is
+        // one stroke wide again, up to `2 w` long.
+        let beyond_reach = |points: &[[f64; 2]]| -> Option<(usize, usize)> {
+            let near = points.iter().position(|&p| dist(p, jp) >= reach)?;
+            let far = points
+                .iter()
+                .position(|&p| dist(p, jp) >= reach + LEG_LINE * stroke)
+                .unwrap_or(points.len() - 1);
+            Some((near, far))
+        };
+        let one_stroke = |(points, widths): &(Vec<[f64; 2]>, Vec<f64>), reached: (usize, usize)| {
+            let single = |i: usize| widths[i] <= stroke + WIDTH_UNCERTAINTY_PX;
+            if (reached.0..=reached.1).all(single) {
+                return Some(reached);
+            }
+            let start = (0..points.len()).find(|&i| single(i) && dist(points[i], jp) >= half)?;
+            let mut end = start;
+            while end + 1 < points.len()
+                && single(end + 1)
+                && dist(points[end + 1], points[start]) <= LEG_LINE * stroke
+            {
+                end += 1;
+            }
+            (dist(points[start], points[end]) >= (MIN_LEG_LINE * stroke).max(MIN_LEG_LINE_PX))
+                .then_some((start, end))
+        };
+        let (Some(reached_a), Some(reached_b)) = (beyond_reach(&leg_a.0), beyond_reach(&leg_b.0))
+        else {
+            return None;
+        };
+        let corner = |sa: (usize, usize), sb: (usize, usize)| {
+            self.corner_of(
+                jp,
+                tip,
+                &stub_points,
+                stroke,
+                bold,
+                [(&leg_a.0[..], sa), (&leg_b.0[..], sb)],
+            )
+        };
+        // A bold corner tries the one-stroke stretches first, then (where they differ) the
+        // stretches beyond the stub's reach, as every other corner.
+        let first = if bold {
+            one_stroke(&leg_a, reached_a).zip(one_stroke(&leg_b, reached_b))
+        } else {
+            None
+        };
+        let found = match first {
+            Some((sa, sb)) if (sa, sb) != (reached_a, reached_b) => {
+                corner(sa, sb).or_else(|| corner(reached_a, reached_b))
+            }
+            _ => corner(reached_a, reached_b),
+        };
+        let (v, cut_a, cut_b) = found?;
+        Some(Corner {
+            stub,
+            tip_vertex: far(stub),
+            legs: [(legs[0], cut_a), (legs[1], cut_b)],
+            bend: v,
+            stroke,
+        })
+    }
+
+    /// Step 2 of [`Work::dissolve_corners`]: the stub and the junction go, and both legs run
+    /// straight to the bend.
+    fn bend(&mut self, j: usize, corner: Corner) {
+        let Corner {
+            stub,
+            tip_vertex,
+            legs,
+            bend: v,
+            stroke,
+        } = corner;
+        for (e, cut) in legs {
+            let edge = self.edges[e].as_mut().expect("live edge");
+            let forward = edge.from == j;
+            if !forward {
+                edge.points.reverse();
+                edge.widths.reverse();
+            }
+            edge.points.drain(..cut);
+            edge.widths.drain(..cut);
+            edge.points.insert(0, v);
+            edge.widths.insert(0, stroke);
+            if !forward {
+                edge.points.reverse();
+                edge.widths.reverse();
+            }
+        }
+        if let Some(tip_vertex) = tip_vertex {
+            self.alive[tip_vertex] = false;
+        }
+        self.edges[stub] = None;
+        self.vertices[j].pos = v;
+        self.vertices[j].width = stroke;
     }
 
     /// The bend of a corner at the junction `jp` whose stub ends at `tip` (see

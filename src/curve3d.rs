@@ -51,6 +51,32 @@ pub struct CurveGraph3d {
 }
 
 impl CurveGraph3d {
+    /// A plane graph in space, at `z = 0` (for the 3D writers).
+    pub fn from_plane(graph: &crate::stroke_graph::StrokeGraph) -> CurveGraph3d {
+        let lift = |p: [f64; 2]| [p[0], p[1], 0.0];
+        CurveGraph3d {
+            vertices: graph
+                .vertices
+                .iter()
+                .map(|v| Vertex3d {
+                    pos: lift(v.pos),
+                    degree: v.degree,
+                    width: v.width,
+                })
+                .collect(),
+            edges: graph
+                .edges
+                .iter()
+                .map(|e| Edge3d {
+                    from: e.from,
+                    to: e.to,
+                    points: e.points.iter().map(|&p| lift(p)).collect(),
+                    widths: e.widths.clone(),
+                })
+                .collect(),
+        }
+    }
+
     /// Vertices of degree 1 (curve ends).
     pub fn endpoints(&self) -> impl Iterator<Item = usize> + '_ {
         (0..self.vertices.len()).filter(|&v| self.vertices[v].degree == 1)

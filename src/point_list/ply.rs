@@ -143,7 +143,7 @@ pub(crate) fn read(bytes: &[u8]) -> Result<Vec<[f64; 3]>> {
                     .ok_or_else(|| at("a property before any element"))?;
                 let property = match words.get(1).copied() {
                     Some("list") => {
-                        let (Some(count), Some(item), Some(name)) =
+                        let (Some(count), Some(item), Some(_name)) =
                             (words.get(2), words.get(3), words.get(4))
                         else {
                             return Err(at("expected 'property list <count type> <type> <name>'"));

@@ -96,9 +96,10 @@ pub struct JsonMeta {
     /// What is probably wrong with the result, written as `warnings` (always, possibly empty).
     /// Default value: none.
     pub warnings: Vec<Warning>,
-    /// The kind of input whose defaults were used, written as `parameters.input` when given:
-    /// `points2d` or `points3d` (point sets are traced by the rules for points, docs/design.md,
-    /// "Point sets"); images leave it out. Default value: `None`.
+    /// The kind of input whose rules the parameters were applied by, written as
+    /// `parameters.input` when given: `points2d` (a point list in the plane: widths from the
+    /// PCA of §3.1 rather than a distance transform) or `points3d` (the stages in space,
+    /// docs/design.md, "Point sets in space"); images leave it out. Default value: `None`.
     pub input: Option<&'static str>,
 }
 

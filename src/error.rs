@@ -40,6 +40,10 @@ pub enum Error {
         /// What is wrong with it.
         message: String,
     },
+    /// A point file (PLY, CSV with a header, XYZ) is malformed in a way no line number names:
+    /// its header, its binary body, its columns.
+    #[error("point file: {0}")]
+    PointFile(String),
     /// The parameters contradict each other or are out of range.
     #[error("invalid parameter: {0}")]
     InvalidParams(String),

@@ -66,6 +66,8 @@
 #![warn(missing_docs)]
 
 mod binary;
+mod cloud3d;
+mod curve3d;
 mod decisions;
 mod error;
 mod gray;
@@ -98,6 +100,7 @@ pub mod strokes;
 pub mod warnings;
 
 pub use binary::{Binary, MaskView};
+pub use curve3d::{dist3, CurveGraph3d, Edge3d, Trace3d, Vertex3d};
 pub use decisions::{Decisions, InkSide, PrintDecisions, ThresholdUsed, Warning, UNEVEN_LIGHT};
 pub use error::{Error, Result};
 pub use geometry::dist;
@@ -142,6 +145,14 @@ pub fn trace_binary<'a>(binary: impl Into<MaskView<'a>>, params: &Params) -> Res
 /// Traces a point list (the paper's own setting): the same pipeline, neighbours from a k-d tree.
 pub fn trace_points(list: &[[f64; 2]], params: &Params) -> Result<Trace> {
     pipeline::point_list(list, params)
+}
+
+/// Traces a 3D point list (the paper's Fig. 7): the same four stages with three principal axes
+/// (Eq. (1)-(3)) and the least squares of Eq. (4) in space; the result's polylines carry `z` and
+/// the tube's diameter ([`Trace3d`]). [`point_files::read`] reads `x y z` lines, CSV, PLY and
+/// XYZ files.
+pub fn trace_points3d(list: &[[f64; 3]], params: &Params) -> Result<Trace3d> {
+    pipeline::point_cloud3d(list, params)
 }
 
 /// [`trace_image`], keeping the intermediate stages for pictures ([`Trace::stages`]): the same

@@ -27,8 +27,8 @@ use crate::point_set::{Grid, PointSet};
 use crate::samples::Samples;
 use crate::stroke_graph::StrokeGraph;
 use crate::{
-    fingerprint, fit, graph, minutiae, point_list, raster, refine, sample, skeleton, subpixel,
-    warnings,
+    cloud3d, fingerprint, fit, graph, minutiae, point_list, raster, refine, sample, skeleton,
+    subpixel, warnings,
 };
 
 /// Points per chunk when a large input is traced in parallel (whole components per chunk).
@@ -248,6 +248,24 @@ pub(crate) fn point_list(list: &[[f64; 2]], params: &Params) -> Result<Trace> {
         trace.warnings.push(warnings::not_strip_shaped(share));
     }
     Ok(trace)
+}
+
+/// Traces a 3D point list ([`crate::trace_points3d`]): the stages in space (`cloud3d`), then
+/// the warning for a set that is not tube-shaped.
+pub(crate) fn point_cloud3d(list: &[[f64; 3]], params: &Params) -> Result<crate::curve3d::Trace3d> {
+    params.validate()?;
+    let start = Instant::now();
+    let (graph, point_count, not_tube) = cloud3d::trace(list, params)?;
+    let mut warnings = Vec::new();
+    if let Some(share) = not_tube {
+        warnings.push(warnings::not_strip_shaped(share));
+    }
+    Ok(crate::curve3d::Trace3d {
+        graph,
+        point_count,
+        warnings,
+        time: start.elapsed(),
+    })
 }
 
 /// The fingerprint path of [`image`]: front end, the mask's pipeline on its binary image, the prior

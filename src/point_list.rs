@@ -1,6 +1,9 @@
-//! Point-list input, the paper's own setting: parse `x y` lines or CSV and build the point set with
-//! symmetric k-nearest-neighbour graphs from a k-d tree (§3.2: `k = 5`), `Dis_ave`, and a
-//! half-width from a distance transform on a raster of the points.
+//! Point-list input, the paper's own setting: read `x y` or `x y z` lines, CSV with a header,
+//! PLY and XYZ files ([`read`]), and build the plane's point set with symmetric k-nearest-neighbour
+//! graphs from a k-d tree (§3.2: `k = 5`), `Dis_ave`, and a half-width from a distance transform
+//! on a raster of the points (a set in space goes to [`crate::trace_points3d`]).
+
+mod ply;
 
 use std::collections::{HashMap, HashSet};
 use std::num::NonZero;
@@ -27,6 +30,173 @@ const DENSE_CELLS_BASE: u64 = 1 << 22;
 const MAX_RASTER_SIDE: f64 = 1e15;
 /// Dense raster cells allowed per point.
 const DENSE_CELLS_PER_POINT: u64 = 32;
+
+/// The points of a file: in the plane or in space.
+#[derive(Clone, Debug, PartialEq)]
+pub enum PointData {
+    /// `x y` points.
+    Plane(Vec<[f64; 2]>),
+    /// `x y z` points.
+    Space(Vec<[f64; 3]>),
+}
+
+impl PointData {
+    /// Number of points.
+    pub fn len(&self) -> usize {
+        match self {
+            PointData::Plane(list) => list.len(),
+            PointData::Space(list) => list.len(),
+        }
+    }
+
+    /// Whether there are no points.
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+}
+
+/// Reads a point file, whose kind is told by its content, the file's `extension` (without the
+/// dot) only breaking ties:
+///
+/// - PLY (starts with `ply`): the `vertex` element's `x y z`, ASCII or binary.
+/// - Text with a header line naming its columns (CSV and the like): the columns named `x`, `y`
+///   and, when there is one, `z` (any case, any order, other columns ignored).
+/// - Text of `x y` lines (see [`parse`]) or `x y z` lines, decided by the first point's line;
+///   in a `.xyz` file, the first three numbers of each line (normals or colours after them are
+///   ignored).
+///
+/// Every malformed file is an error naming its line or what is wrong ([`Error::PointParse`],
+/// [`Error::PointFile`]), never a panic.
+pub fn read(bytes: &[u8], extension: Option<&str>) -> Result<PointData> {
+    let extension = extension.map(str::to_ascii_lowercase);
+    if ply::is_ply(bytes) || extension.as_deref() == Some("ply") {
+        return ply::read(bytes).map(PointData::Space);
+    }
+    let text = std::str::from_utf8(bytes)
+        .map_err(|e| Error::PointFile(format!("not text (UTF-8) at byte {}", e.valid_up_to())))?;
+    let text = text.strip_prefix('\u{feff}').unwrap_or(text);
+    let fields_of = |content: &str| -> Vec<String> {
+        content
+            .split(|c: char| c == ',' || c == ';' || c.is_whitespace())
+            .filter(|f| !f.is_empty())
+            .map(|f| f.trim_matches(|c| c == '"' || c == '\'').to_string())
+            .collect()
+    };
+    let first = text
+        .lines()
+        .enumerate()
+        .map(|(i, raw)| (i, raw.split('#').next().unwrap_or("").trim()))
+        .find(|(_, content)| !content.is_empty());
+    let Some((first_line, content)) = first else {
+        return Ok(PointData::Plane(Vec::new()));
+    };
+    let fields = fields_of(content);
+    let is_header = fields.iter().all(|f| f.parse::<f64>().is_err());
+    if is_header {
+        let names: Vec<String> = fields.iter().map(|f| f.to_ascii_lowercase()).collect();
+        let find = |name: &str| names.iter().position(|n| n == name);
+        return match (find("x"), find("y"), find("z")) {
+            (Some(0), Some(1), None) if names.len() == 2 => parse(text).map(PointData::Plane),
+            (Some(x), Some(y), None) => rows(text, first_line, [x, y], None).map(PointData::Plane),
+            (Some(x), Some(y), Some(z)) => {
+                rows(text, first_line, [x, y, z], None).map(PointData::Space)
+            }
+            // A header that names no coordinates: the columns by position.
+            _ => by_count(text, Some(first_line), extension.as_deref()),
+        };
+    }
+    by_count(text, None, extension.as_deref())
+}
+
+/// `x y` or `x y z` lines, decided by the first point's line (`header`: the 0-based line of a
+/// header to skip).
+fn by_count(text: &str, header: Option<usize>, extension: Option<&str>) -> Result<PointData> {
+    let xyz = extension == Some("xyz");
+    let first = text
+        .lines()
+        .enumerate()
+        .filter(|(i, _)| Some(*i) != header)
+        .map(|(i, raw)| (i, raw.split('#').next().unwrap_or("").trim()))
+        .find(|(_, content)| !content.is_empty());
+    let Some((line, content)) = first else {
+        return Ok(PointData::Plane(Vec::new()));
+    };
+    let count = content
+        .split(|c: char| c == ',' || c == ';' || c.is_whitespace())
+        .filter(|f| !f.is_empty())
+        .count();
+    match count {
+        2 if !xyz => parse(text).map(PointData::Plane),
+        3 => rows(text, header.unwrap_or(usize::MAX), [0, 1, 2], Some(3)).map(PointData::Space),
+        n if xyz && n > 3 => {
+            rows(text, header.unwrap_or(usize::MAX), [0, 1, 2], None).map(PointData::Space)
+        }
+        n => Err(Error::PointParse {
+            line: line + 1,
+            message: if xyz {
+                format!("expected 3 numbers (x y z), found {n} values")
+            } else {
+                format!("expected 2 or 3 numbers (x y or x y z), found {n} values")
+            },
+        }),
+    }
+}
+
+/// The numbers in `columns` of every line but blank ones, `#` comments and the 0-based line
+/// `header`; with `exact`, each line must hold exactly that many values, else at least enough
+/// for the columns.
+fn rows<const D: usize>(
+    text: &str,
+    header: usize,
+    columns: [usize; D],
+    exact: Option<usize>,
+) -> Result<Vec<[f64; D]>> {
+    let needed = columns.iter().max().map_or(0, |m| m + 1);
+    let axes = ["x", "y", "z"];
+    let mut list = Vec::new();
+    for (i, raw) in text.lines().enumerate() {
+        let line = i + 1;
+        let content = raw.split('#').next().unwrap_or("").trim();
+        if content.is_empty() || i == header {
+            continue;
+        }
+        let fields: Vec<&str> = content
+            .split(|c: char| c == ',' || c == ';' || c.is_whitespace())
+            .filter(|f| !f.is_empty())
+            .collect();
+        let wrong = match exact {
+            Some(n) => fields.len() != n,
+            None => fields.len() < needed,
+        };
+        if wrong {
+            let want = match exact {
+                Some(n) => format!("expected {n} numbers (x y z)"),
+                None => format!("expected at least {needed} values"),
+            };
+            return Err(Error::PointParse {
+                line,
+                message: format!("{want}, found {} values", fields.len()),
+            });
+        }
+        let mut point = [0.0; D];
+        for (k, &c) in columns.iter().enumerate() {
+            let field = fields[c].trim_matches(|c| c == '"' || c == '\'');
+            let value = field.parse::<f64>().map_err(|_| Error::PointParse {
+                line,
+                message: format!("{} '{field}' is not a number", axes[k]),
+            })?;
+            if !value.is_finite() {
+                return Err(Error::PointParse {
+                    line,
+                    message: format!("coordinate '{field}' is not finite"),
+                });
+            }
+            point[k] = value;
+        }
+        list.push(point);
+    }
+    Ok(list)
+}
 
 /// Parses a point list: one point per line, two numbers separated by spaces, tabs, `,` or `;`.
 /// Blank lines and `#` comments are skipped, and so is one header line (no number in it) before

@@ -974,7 +974,7 @@ fn text_files_among_the_scans_are_skipped_unless_they_are_point_lists() {
     assert_eq!(entries(&out), [out.join("a.json"), out.join("line.json")]);
     assert!(
         err.contains("README.txt: skipped, not a point list")
-            && err.contains("line 1: expected 2 numbers")
+            && err.contains("line 1: expected 2 or 3 numbers")
             && err.contains("title.txt: skipped, not a point list: no points in it"),
         "{err}"
     );

@@ -14,6 +14,7 @@ use std::path::Path;
 const GROUND: &[&str] = &[
     "binary",
     "csr",
+    "curve3d",
     "decisions",
     "draw",
     "error",
@@ -32,6 +33,7 @@ const GROUND: &[&str] = &[
 const STAGES: &[&str] = &[
     "raster",
     "point_list",
+    "cloud3d",
     "sample",
     "graph",
     "refine",

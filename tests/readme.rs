@@ -93,6 +93,8 @@ fn every_shell_example_of_the_readme_runs() {
         "print.ist",
         "ring.svg",
         "ring-paper.svg",
+        "helix.ply",
+        "helix.json",
     ] {
         assert!(
             dir.path().join(written).is_file(),
@@ -123,4 +125,15 @@ fn every_shell_example_of_the_readme_runs() {
             .expect("JSON");
     assert_eq!(ring["stats"]["components"], 1, "{}", ring["stats"]);
     assert_eq!(ring["stats"]["cycles"], 1, "{}", ring["stats"]);
+    // The helix is one curve with two ends, about 8 across, and its PLY reads back.
+    let helix: serde_json::Value =
+        serde_json::from_str(&fs::read_to_string(dir.path().join("helix.json")).expect("read"))
+            .expect("JSON");
+    assert_eq!(helix["stats"]["components"], 1, "{}", helix["stats"]);
+    assert_eq!(helix["stats"]["endpoints"], 2, "{}", helix["stats"]);
+    assert_eq!(helix["stats"]["junctions"], 0, "{}", helix["stats"]);
+    let width = helix["vertices"][0]["width"].as_f64().expect("width");
+    assert!((width / 8.0 - 1.0).abs() < 0.1, "width {width}");
+    let ply = fs::read(dir.path().join("helix.ply")).expect("read");
+    assert!(ridgeline::point_list::read(&ply, Some("ply")).is_ok());
 }

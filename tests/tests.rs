@@ -8,6 +8,7 @@ mod hostile;
 mod house;
 mod inputs;
 mod pipeline;
+mod points3d;
 mod properties;
 mod readme;
 mod score;

@@ -574,6 +574,10 @@ pub enum Format {
     Xyt,
     /// Minutiae as an ISO/IEC 19794-2:2005 finger minutiae record (binary).
     Iso,
+    /// Centerlines as PLY vertices and edges, for 3D viewers (z = 0 for images and 2D points).
+    Ply,
+    /// Centerlines as Wavefront OBJ polylines (v and l lines), for 3D viewers.
+    Obj,
 }
 
 impl Format {
@@ -583,6 +587,8 @@ impl Format {
             Format::Json => "json",
             Format::Xyt => "xyt",
             Format::Iso => "ist",
+            Format::Ply => "ply",
+            Format::Obj => "obj",
         }
     }
 }

@@ -19,7 +19,7 @@ pub(crate) const IMAGE_EXTENSIONS: &[&str] = &[
 pub(crate) const MAX_STDIN_BYTES: u64 = 4 << 30;
 
 /// Extensions read as point lists.
-pub(crate) const POINT_LIST_EXTENSIONS: &[&str] = &["txt", "csv", "xy", "pts"];
+pub(crate) const POINT_LIST_EXTENSIONS: &[&str] = &["txt", "csv", "xy", "pts", "xyz", "ply"];
 
 /// How an input file is read.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -267,9 +267,10 @@ pub(crate) fn read_stdin() -> Result<Vec<u8>> {
 }
 
 /// How bytes from standard input are read: as an image when they start like one (the decoder
-/// sniffs the format the same way for files), else as a point list when they are text.
+/// sniffs the format the same way for files), else as a point list when they are text or PLY.
 pub(crate) fn sniff(bytes: &[u8]) -> Kind {
-    if image::guess_format(bytes).is_err() && std::str::from_utf8(bytes).is_ok() {
+    let ply = bytes.starts_with(b"ply\n") || bytes.starts_with(b"ply\r\n");
+    if ply || (image::guess_format(bytes).is_err() && std::str::from_utf8(bytes).is_ok()) {
         Kind::PointList
     } else {
         Kind::Image

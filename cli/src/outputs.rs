@@ -16,6 +16,7 @@ use ridgeline::export::svg::{self, Backdrop};
 use ridgeline::export::Features;
 use ridgeline::minutiae::{minutiae, MinutiaeOptions};
 use ridgeline::strokes::{strokes, StrokeOptions};
+use ridgeline::CurveGraph3d;
 
 use crate::flags::Format;
 use crate::inputs::{extension_is, InputFile, Kind};
@@ -464,6 +465,12 @@ pub fn render(
                 .with_fit_canvas(kind == Kind::PointList);
             svg::to_string_with(graph, backdrop, &svg_options, &features).into_bytes()
         }
+        Format::Ply => {
+            ridgeline::export::polylines::to_ply(&CurveGraph3d::from_plane(graph)).into_bytes()
+        }
+        Format::Obj => {
+            ridgeline::export::polylines::to_obj(&CurveGraph3d::from_plane(graph)).into_bytes()
+        }
         Format::Json => {
             let meta = meta
                 .with_source_path(job.input.to_string_lossy())
@@ -477,6 +484,23 @@ pub fn render(
             json::to_string_with(graph, &meta, &features).into_bytes()
         }
     })
+}
+
+/// The output document of a point set in space: JSON with `z`, PLY or OBJ polylines (the caller
+/// refuses the plane's formats first).
+pub fn render_space(job: &Job, settings: &Settings, trace: &ridgeline::Trace3d) -> Vec<u8> {
+    use ridgeline::export::polylines::{to_obj, to_ply};
+    match settings.format {
+        Format::Ply => to_ply(&trace.graph).into_bytes(),
+        Format::Obj => to_obj(&trace.graph).into_bytes(),
+        _ => {
+            let meta = JsonMeta::new(settings.params.clone())
+                .with_source_path(job.input.to_string_lossy())
+                .with_pretty(settings.pretty)
+                .with_input("points3d");
+            ridgeline::export::json::to_string_3d(trace, &meta).into_bytes()
+        }
+    }
 }
 
 /// Writes one output document of `job` to stdout or (atomically) to its file; returns where it

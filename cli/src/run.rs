@@ -22,13 +22,15 @@ use rayon::prelude::*;
 
 use ridgeline::export::json::JsonMeta;
 use ridgeline::export::svg::Backdrop;
+use ridgeline::point_list::PointData;
 use ridgeline::raster::{Page, Picture};
 use ridgeline::StrokeGraph;
 
 use crate::flags::{self, Cli, Format};
 use crate::inputs::{collect_inputs, read_stdin, sniff, Failure, Kind};
 use crate::outputs::{
-    page_destination, plan, render, write_debug_pictures, write_output, Destination, Job, Reserved,
+    page_destination, plan, render, render_space, write_debug_pictures, write_output, Destination,
+    Job, Reserved,
 };
 use crate::settings::{describe, Settings};
 
@@ -318,23 +320,28 @@ fn trace_and_write(job: &Job, settings: &Settings, reserved: &Reserved) -> Resul
         None => job.kind,
     };
     if kind == Kind::FoundText || kind == Kind::PointList {
-        let text = match stdin {
-            Some(bytes) => String::from_utf8(bytes).context("standard input is not text"),
-            None => fs::read_to_string(&job.input).context("cannot read the file"),
+        let bytes = match stdin {
+            Some(bytes) => Ok(bytes),
+            None => fs::read(&job.input).context("cannot read the file"),
         };
-        let list = text.and_then(|text| Ok(ridgeline::point_list::parse(&text)?));
-        let list = match (kind, list) {
+        let extension = job.input.extension().and_then(|e| e.to_str());
+        let data = bytes.and_then(|bytes| Ok(ridgeline::point_list::read(&bytes, extension)?));
+        let data = match (kind, data) {
             (Kind::FoundText, Err(err)) => return Err(NotAPointList(format!("{err:#}")).into()),
-            (Kind::FoundText, Ok(list)) if list.is_empty() => {
+            (Kind::FoundText, Ok(data)) if data.is_empty() => {
                 return Err(NotAPointList("no points in it".into()).into())
             }
-            (_, list) => list?,
+            (_, data) => data?,
         };
-        if list.is_empty() {
+        if data.is_empty() {
             anyhow::bail!(
                 "the point list has no points (only blank lines, comments or a header line)"
             );
         }
+        let list = match data {
+            PointData::Plane(list) => list,
+            PointData::Space(list) => return trace_space(job, settings, &list),
+        };
         let trace = ridgeline::trace_points(&list, params)?;
         let mut warnings = Vec::new();
         if job.debug.is_some() {
@@ -343,7 +350,9 @@ fn trace_and_write(job: &Job, settings: &Settings, reserved: &Reserved) -> Resul
         if trace.graph.vertices.is_empty() {
             warnings.push("no strokes found; wrote an empty drawing".to_string());
         }
-        let meta = JsonMeta::new(params.clone()).with_trace(&trace);
+        let meta = JsonMeta::new(params.clone())
+            .with_trace(&trace)
+            .with_input("points2d");
         warnings.extend(trace.warnings.iter().map(|w| w.message.clone()));
         let text = render(
             job,
@@ -434,6 +443,38 @@ fn trace_and_write(job: &Job, settings: &Settings, reserved: &Reserved) -> Resul
         _ => String::new(),
     };
     Ok(all)
+}
+
+/// Traces a point set in space and writes it: JSON with `z`, PLY or OBJ polylines. SVG draws the
+/// plane, and the minutiae formats a print's: for a 3D set they are an error that names what to
+/// write instead.
+fn trace_space(job: &Job, settings: &Settings, list: &[[f64; 3]]) -> Result<Traced> {
+    if matches!(settings.format, Format::Svg | Format::Xyt | Format::Iso) {
+        anyhow::bail!(
+            "the points are in space (x y z), and {} output is for the plane; write JSON, PLY or \
+             OBJ instead (-o NAME.json, -o NAME.ply, -o NAME.obj, or --format json|ply|obj)",
+            settings.format.extension().to_uppercase()
+        );
+    }
+    let trace = ridgeline::trace_points3d(list, &settings.params)?;
+    let mut warnings = Vec::new();
+    if job.debug.is_some() {
+        warnings.push("--debug draws pictures of images only; none for a point list".into());
+    }
+    if trace.graph.vertices.is_empty() {
+        warnings.push("no curves found; wrote an empty graph".to_string());
+    }
+    warnings.extend(trace.warnings.iter().map(|w| w.message.clone()));
+    let text = render_space(job, settings, &trace);
+    let output = write_output(job, &job.destination, &text)?;
+    let graph = &trace.graph;
+    Ok(Traced {
+        warnings,
+        output,
+        vertices: graph.vertices.len(),
+        edges: graph.edges.len(),
+        junctions: graph.junctions().count(),
+    })
 }
 
 impl Traced {

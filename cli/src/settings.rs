@@ -14,8 +14,8 @@ use crate::flags::{Cli, DropoutMode, Format};
 use crate::outputs::names_directory;
 
 /// The formats written, for messages.
-const OUTPUT_FORMATS: &str =
-    "SVG (.svg), JSON (.json), NIST minutiae (.xyt) and ISO/IEC 19794-2 records (.ist, .iso19794)";
+const OUTPUT_FORMATS: &str = "SVG (.svg), JSON (.json), NIST minutiae (.xyt), ISO/IEC 19794-2 \
+     records (.ist, .iso19794) and polylines for 3D viewers (.ply, .obj)";
 
 /// Everything a run needs, decided from the flags once.
 pub struct Settings {
@@ -279,6 +279,8 @@ fn output_format(cli: &Cli) -> Result<Format, UsageError> {
                 "json" => Some(Format::Json),
                 "xyt" => Some(Format::Xyt),
                 "ist" | "iso19794" => Some(Format::Iso),
+                "ply" => Some(Format::Ply),
+                "obj" => Some(Format::Obj),
                 _ => {
                     return Err(UsageError(format!(
                         "-o {}: ridgeline writes {OUTPUT_FORMATS}, not .{lower} (an output \
@@ -332,6 +334,19 @@ fn ignored_flags(cli: &Cli, format: Format) -> Vec<String> {
             .filter_map(|(on, flag)| on.then_some(flag))
             .collect(),
             "change nothing in a minutiae file",
+        ),
+        Format::Ply | Format::Obj => (
+            [
+                (cli.pretty, "--pretty"),
+                (cli.strokes, "--strokes"),
+                (cli.width, "--width"),
+                (cli.curves, "--curves"),
+                (cli.minutiae, "--minutiae"),
+            ]
+            .into_iter()
+            .filter_map(|(on, flag)| on.then_some(flag))
+            .collect(),
+            "change nothing in a polyline file",
         ),
     };
     if given.is_empty() {

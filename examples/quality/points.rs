@@ -16,7 +16,7 @@
 use std::time::Instant;
 
 use ridgeline::{Params, StrokeGraph};
-use ridgeline_testkit::synth::{strip_cases, StripCase};
+use ridgeline_testkit::synth::{strip_cases, tube_cases, StripCase, TubeCase};
 use serde::Serialize;
 
 /// One method on one point-set case.
@@ -51,8 +51,16 @@ fn params(method: &str) -> Params {
     }
 }
 
-/// Runs the group (one case when `only` names it), prints its table and returns the outcomes.
+/// Runs the group, the plane's cases then those in space (one case when `only` names it), prints
+/// their tables and returns the outcomes.
 pub fn run(only: Option<&str>, verbose: bool) -> Vec<PointOutcome> {
+    let mut outcomes = run_plane(only, verbose);
+    outcomes.extend(run_3d(only, verbose));
+    outcomes
+}
+
+/// The plane's cases.
+fn run_plane(only: Option<&str>, verbose: bool) -> Vec<PointOutcome> {
     let cases: Vec<StripCase> = strip_cases()
         .into_iter()
         .filter(|c| only.is_none_or(|n| n == c.name))
@@ -72,75 +80,7 @@ pub fn run(only: Option<&str>, verbose: bool) -> Vec<PointOutcome> {
         "Random points in strips around known curves (band 8 units wide unless named); scores in \
          units of the local width w.\n"
     );
-    println!(
-        "| method | exactly right | junctions right | ends right | components | cycles | F1 @ w/4 | mean dist / w | width ratio | mean time ms | warned |"
-    );
-    println!("|---|---|---|---|---|---|---|---|---|---|---|");
-    for method in METHODS {
-        let mine: Vec<&PointOutcome> = outcomes.iter().filter(|o| o.method == method).collect();
-        let n = mine.len();
-        let count = |f: &dyn Fn(&PointOutcome) -> bool| mine.iter().filter(|o| f(o)).count();
-        let mean = |f: &dyn Fn(&PointOutcome) -> f64| {
-            let v: Vec<f64> = mine
-                .iter()
-                .filter(|o| o.failure.is_none())
-                .map(|o| f(o))
-                .filter(|x| x.is_finite())
-                .collect();
-            v.iter().sum::<f64>() / v.len().max(1) as f64
-        };
-        println!(
-            "| {method} | {}/{n} | {}/{n} | {}/{n} | {}/{n} | {}/{n} | {:.3} | {:.3} | {:.2} | {:.1} | {}/{n} |",
-            count(&|o| o.exactly_right),
-            count(&|o| o.junctions_right),
-            count(&|o| o.ends_right),
-            count(&|o| o.components[0] == o.components[1]),
-            count(&|o| o.cycles[0] == o.cycles[1]),
-            mean(&|o| o.f1),
-            mean(&|o| o.mean_distance_widths),
-            mean(&|o| o.width_ratio),
-            mean(&|o| o.time_ms),
-            count(&|o| !o.warnings.is_empty()),
-        );
-    }
-    if verbose {
-        println!(
-            "\n| case | method | exact | junctions (true / predicted degrees) | ends t/p | comp t/p | cycles t/p | F1 | dist/w | width | ms | warnings |"
-        );
-        println!("|---|---|---|---|---|---|---|---|---|---|---|---|");
-        for o in &outcomes {
-            if let Some(f) = &o.failure {
-                println!("| {} | {} | failed: {f} |", o.case, o.method);
-                continue;
-            }
-            let degrees = |d: &[usize]| {
-                if d.len() > 6 {
-                    format!("{} junctions", d.len())
-                } else {
-                    format!("{d:?}")
-                }
-            };
-            println!(
-                "| {} | {} | {} | {} / {} | {}/{} | {}/{} | {}/{} | {:.3} | {:.3} | {:.2} | {:.1} | {} |",
-                o.case,
-                o.method,
-                if o.exactly_right { "yes" } else { "no" },
-                degrees(&o.true_junctions),
-                degrees(&o.predicted_junctions),
-                o.true_ends,
-                o.predicted_ends,
-                o.components[0],
-                o.components[1],
-                o.cycles[0],
-                o.cycles[1],
-                o.f1,
-                o.mean_distance_widths,
-                o.width_ratio,
-                o.time_ms,
-                o.warnings.join(" "),
-            );
-        }
-    }
+    print_tables(&outcomes, verbose);
     println!("\npoints: {:.1} s", started.elapsed().as_secs_f64());
     outcomes
 }
@@ -303,4 +243,265 @@ fn score(case: &StripCase, graph: &StrokeGraph, o: &mut PointOutcome) {
     o.mean_distance_widths = distance / predicted_samples.len() as f64;
     ratios.sort_by(f64::total_cmp);
     o.width_ratio = ratios.get(ratios.len() / 2).copied().unwrap_or(f64::NAN);
+}
+
+/// The 3D cases (`ridgeline_testkit::synth::tube_cases`), traced with `ridgeline::trace_points3d`
+/// by default and with the paper's preset, scored as the plane's cases are: junctions and ends
+/// matched within the tube's diameter, F1 within a quarter diameter, mean distance in diameters,
+/// width: the median predicted diameter over the true one.
+fn run_3d(only: Option<&str>, verbose: bool) -> Vec<PointOutcome> {
+    let cases: Vec<TubeCase> = tube_cases()
+        .into_iter()
+        .filter(|c| only.is_none_or(|n| n == format!("3d_{}", c.name)))
+        .collect();
+    if cases.is_empty() {
+        return Vec::new();
+    }
+    let started = Instant::now();
+    let mut outcomes = Vec::new();
+    for case in &cases {
+        for method in METHODS {
+            outcomes.push(run_one_3d(case, method));
+        }
+    }
+    println!("\n## points in space ({} cases)\n", cases.len());
+    println!(
+        "Random points filling tubes 8 units in diameter around known space curves; scores in \
+         diameters.\n"
+    );
+    print_tables(&outcomes, verbose);
+    println!(
+        "\npoints in space: {:.1} s",
+        started.elapsed().as_secs_f64()
+    );
+    outcomes
+}
+
+fn run_one_3d(case: &TubeCase, method: &str) -> PointOutcome {
+    let start = Instant::now();
+    let result = ridgeline::trace_points3d(&case.points, &params(method));
+    let time_ms = start.elapsed().as_secs_f64() * 1e3;
+    let mut o = PointOutcome {
+        case: format!("3d_{}", case.name),
+        method: method.to_string(),
+        time_ms,
+        failure: None,
+        true_junctions: case.junctions.iter().map(|j| j.1).collect(),
+        predicted_junctions: Vec::new(),
+        junctions_right: false,
+        true_ends: case.ends.len(),
+        predicted_ends: 0,
+        ends_right: false,
+        components: [case.components, 0],
+        cycles: [case.cycles, 0],
+        exactly_right: false,
+        f1: 0.0,
+        mean_distance_widths: f64::NAN,
+        width_ratio: f64::NAN,
+        warnings: Vec::new(),
+    };
+    let trace = match result {
+        Err(e) => {
+            o.failure = Some(e.to_string());
+            return o;
+        }
+        Ok(trace) => trace,
+    };
+    o.warnings = trace.warnings.iter().map(|w| w.code.to_string()).collect();
+    let graph = &trace.graph;
+    let radius = case.width;
+    let junctions: Vec<usize> = graph.junctions().collect();
+    let predicted: Vec<[f64; 3]> = junctions.iter().map(|&v| graph.vertices[v].pos).collect();
+    let truth: Vec<[f64; 3]> = case.junctions.iter().map(|j| j.0).collect();
+    let matched = match_points3(&truth, &predicted, radius);
+    o.predicted_junctions = junctions
+        .iter()
+        .map(|&v| graph.vertices[v].degree)
+        .collect();
+    o.junctions_right = matched.len() == truth.len()
+        && predicted.len() == truth.len()
+        && matched
+            .iter()
+            .all(|&(i, j)| case.junctions[i].1 == graph.vertices[junctions[j]].degree);
+    let ends: Vec<[f64; 3]> = graph.endpoints().map(|v| graph.vertices[v].pos).collect();
+    o.predicted_ends = ends.len();
+    let matched = match_points3(&case.ends, &ends, radius);
+    o.ends_right = matched.len() == case.ends.len() && ends.len() == case.ends.len();
+    o.components[1] = graph.components();
+    o.cycles[1] = graph.cycles();
+    o.exactly_right = o.junctions_right
+        && o.ends_right
+        && o.components[0] == o.components[1]
+        && o.cycles[0] == o.cycles[1];
+    let step = case.width / 20.0;
+    let mut truth_samples = Vec::new();
+    for c in &case.curves {
+        resample3(&c.points, &c.widths, step, &mut truth_samples);
+    }
+    let mut predicted_samples = Vec::new();
+    for e in &graph.edges {
+        resample3(&e.points, &e.widths, step, &mut predicted_samples);
+    }
+    if predicted_samples.is_empty() {
+        return o;
+    }
+    let truth_points: Vec<[f64; 3]> = truth_samples.iter().map(|s| s.0).collect();
+    let predicted_points: Vec<[f64; 3]> = predicted_samples.iter().map(|s| s.0).collect();
+    let mut close = 0;
+    let mut distance = 0.0;
+    let mut ratios = Vec::new();
+    for &(p, w) in &predicted_samples {
+        let (i, d) = nearest3(p, &truth_points);
+        let local = truth_samples[i].1;
+        if d <= 0.25 * local {
+            close += 1;
+            ratios.push(w / local);
+        }
+        distance += d / local;
+    }
+    let precision = close as f64 / predicted_samples.len() as f64;
+    let found = truth_samples
+        .iter()
+        .filter(|&&(t, w)| nearest3(t, &predicted_points).1 <= 0.25 * w)
+        .count();
+    let recall = found as f64 / truth_samples.len().max(1) as f64;
+    o.f1 = if precision + recall > 0.0 {
+        2.0 * precision * recall / (precision + recall)
+    } else {
+        0.0
+    };
+    o.mean_distance_widths = distance / predicted_samples.len() as f64;
+    ratios.sort_by(f64::total_cmp);
+    o.width_ratio = ratios.get(ratios.len() / 2).copied().unwrap_or(f64::NAN);
+    o
+}
+
+fn resample3(points: &[[f64; 3]], widths: &[f64], step: f64, out: &mut Vec<([f64; 3], f64)>) {
+    for i in 1..points.len() {
+        let (a, b) = (points[i - 1], points[i]);
+        let n = (ridgeline::dist3(a, b) / step).ceil().max(1.0) as usize;
+        for k in 0..n {
+            let t = k as f64 / n as f64;
+            let w = widths[i - 1] * (1.0 - t) + widths[i] * t;
+            out.push((
+                [
+                    a[0] + (b[0] - a[0]) * t,
+                    a[1] + (b[1] - a[1]) * t,
+                    a[2] + (b[2] - a[2]) * t,
+                ],
+                w,
+            ));
+        }
+    }
+    if let (Some(&last), Some(&w)) = (points.last(), widths.last()) {
+        out.push((last, w));
+    }
+}
+
+/// Index of the nearest of `targets` to `p` and its distance (brute force; the sets are small).
+fn nearest3(p: [f64; 3], targets: &[[f64; 3]]) -> (usize, f64) {
+    let mut best = (0, f64::INFINITY);
+    for (i, &t) in targets.iter().enumerate() {
+        let d = ridgeline::dist3(p, t);
+        if d < best.1 {
+            best = (i, d);
+        }
+    }
+    best
+}
+
+fn match_points3(truth: &[[f64; 3]], predicted: &[[f64; 3]], radius: f64) -> Vec<(usize, usize)> {
+    let mut pairs: Vec<(f64, usize, usize)> = Vec::new();
+    for (i, &t) in truth.iter().enumerate() {
+        for (j, &p) in predicted.iter().enumerate() {
+            let d = ridgeline::dist3(t, p);
+            if d <= radius {
+                pairs.push((d, i, j));
+            }
+        }
+    }
+    pairs.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let (mut used_t, mut used_p) = (vec![false; truth.len()], vec![false; predicted.len()]);
+    let mut matched = Vec::new();
+    for (_, i, j) in pairs {
+        if !used_t[i] && !used_p[j] {
+            used_t[i] = true;
+            used_p[j] = true;
+            matched.push((i, j));
+        }
+    }
+    matched
+}
+
+/// The group's summary table per method and, with `verbose`, one row per case.
+fn print_tables(outcomes: &[PointOutcome], verbose: bool) {
+    println!(
+        "| method | exactly right | junctions right | ends right | components | cycles | F1 @ w/4 | mean dist / w | width ratio | mean time ms | warned |"
+    );
+    println!("|---|---|---|---|---|---|---|---|---|---|---|");
+    for method in METHODS {
+        let mine: Vec<&PointOutcome> = outcomes.iter().filter(|o| o.method == method).collect();
+        let n = mine.len();
+        let count = |f: &dyn Fn(&PointOutcome) -> bool| mine.iter().filter(|o| f(o)).count();
+        let mean = |f: &dyn Fn(&PointOutcome) -> f64| {
+            let v: Vec<f64> = mine
+                .iter()
+                .filter(|o| o.failure.is_none())
+                .map(|o| f(o))
+                .filter(|x| x.is_finite())
+                .collect();
+            v.iter().sum::<f64>() / v.len().max(1) as f64
+        };
+        println!(
+            "| {method} | {}/{n} | {}/{n} | {}/{n} | {}/{n} | {}/{n} | {:.3} | {:.3} | {:.2} | {:.1} | {}/{n} |",
+            count(&|o| o.exactly_right),
+            count(&|o| o.junctions_right),
+            count(&|o| o.ends_right),
+            count(&|o| o.components[0] == o.components[1]),
+            count(&|o| o.cycles[0] == o.cycles[1]),
+            mean(&|o| o.f1),
+            mean(&|o| o.mean_distance_widths),
+            mean(&|o| o.width_ratio),
+            mean(&|o| o.time_ms),
+            count(&|o| !o.warnings.is_empty()),
+        );
+    }
+    if verbose {
+        println!(
+            "\n| case | method | exact | junctions (true / predicted degrees) | ends t/p | comp t/p | cycles t/p | F1 | dist/w | width | ms | warnings |"
+        );
+        println!("|---|---|---|---|---|---|---|---|---|---|---|---|");
+        for o in outcomes {
+            if let Some(f) = &o.failure {
+                println!("| {} | {} | failed: {f} |", o.case, o.method);
+                continue;
+            }
+            let degrees = |d: &[usize]| {
+                if d.len() > 6 {
+                    format!("{} junctions", d.len())
+                } else {
+                    format!("{d:?}")
+                }
+            };
+            println!(
+                "| {} | {} | {} | {} / {} | {}/{} | {}/{} | {}/{} | {:.3} | {:.3} | {:.2} | {:.1} | {} |",
+                o.case,
+                o.method,
+                if o.exactly_right { "yes" } else { "no" },
+                degrees(&o.true_junctions),
+                degrees(&o.predicted_junctions),
+                o.true_ends,
+                o.predicted_ends,
+                o.components[0],
+                o.components[1],
+                o.cycles[0],
+                o.cycles[1],
+                o.f1,
+                o.mean_distance_widths,
+                o.width_ratio,
+                o.time_ms,
+                o.warnings.join(" "),
+            );
+        }
+    }
 }

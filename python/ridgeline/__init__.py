@@ -172,13 +172,18 @@ def trace_points(
     **params: Any,
 ) -> Trace:
     """Traces a point set (the paper's own setting): ``xy`` is an N x 2 array-like of (x, y)
-    coordinates, or the path of a point-list file (``x y`` or ``x,y`` per line, read by the same
-    parser as the command line). Keywords as for :func:`trace` (``k`` is the number of nearest
+    coordinates or an N x 3 one of (x, y, z) (a set in space, the paper's Fig. 7), or the path of
+    a point file (``x y`` or ``x y z`` lines, CSV with named columns, PLY, XYZ; read by the same
+    reader as the command line). For a set in space the result's arrays carry the third column
+    (``vertex_xy``, ``point_xy`` and ``point_direction`` have three), ``to_json()`` writes ``z``
+    and ``to_svg()`` raises. Keywords as for :func:`trace` (``k`` is the number of nearest
     neighbours)."""
     if not isinstance(xy, (str, os.PathLike)):
         xy = np.asarray(xy, dtype=np.float64)
-        if xy.ndim != 2 or xy.shape[1] != 2:
-            raise ValueError(f"expected an N x 2 array of (x, y) points, got shape {xy.shape}")
+        if xy.ndim != 2 or xy.shape[1] not in (2, 3):
+            raise ValueError(
+                f"expected an N x 2 or N x 3 array of (x, y) or (x, y, z) points, got shape {xy.shape}"
+            )
     return _ridgeline.trace_points(xy, source_path, threads, params)
 
 

@@ -175,7 +175,8 @@ def trace_points(
     fingerprint: Any = None,
     # end of parameters
 ) -> Trace:
-    """Traces an N x 2 array of (x, y) points, or a point-list file."""
+    """Traces an N x 2 array of (x, y) points or an N x 3 array of (x, y, z) points, or a point
+    file (x y or x y z lines, CSV, PLY, XYZ)."""
 
 class Trace:
     """One traced image or point list: the stroke graph as numpy arrays, as lists of dicts shaped

@@ -31,6 +31,7 @@ use numpy::{
 use pyo3::exceptions::{PyTypeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyByteArray, PyBytes, PyDict, PyList, PyMemoryView, PyString};
+use ridgeline::point_list::PointData;
 use ridgeline::raster::Picture;
 use ridgeline::strokes::{strokes, StrokeOptions};
 use ridgeline::{GrayImage, GrayView, MaskView, Params};
@@ -374,6 +375,7 @@ fn traced(
     Traced {
         print_minutiae: trace.fingerprint.map(|print| print.minutiae),
         resolution: None,
+        space: None,
         decisions: trace.decisions,
         warnings: trace.warnings,
         binary: trace.binary,
@@ -564,7 +566,8 @@ fn trace_pages<'py>(
     PyList::new(py, pages)
 }
 
-/// Point input: an N x 2 float64 array, or a point-list file read by the library's parser.
+/// Point input: an N x 2 or N x 3 float64 array, or a point file read by the library's reader
+/// (`x y` or `x y z` lines, CSV, PLY, XYZ).
 #[pyfunction]
 #[pyo3(signature = (xy, source_path, threads, params))]
 fn trace_points(
@@ -591,7 +594,7 @@ fn trace_points(
             xy.cast::<PyArray2<f64>>()
                 .map_err(|_| {
                     PyTypeError::new_err(
-                        "expected an N x 2 float64 array (ridgeline.trace_points converts array-likes)",
+                        "expected an N x 2 or N x 3 float64 array (ridgeline.trace_points converts array-likes)",
                     )
                 })?
                 .readonly(),
@@ -601,9 +604,9 @@ fn trace_points(
     let points = match &source {
         Source::Array(array) => {
             let view = array.as_array();
-            if view.ncols() != 2 {
+            if view.ncols() != 2 && view.ncols() != 3 {
                 return Err(PyValueError::new_err(format!(
-                    "expected an N x 2 array of (x, y) points, got shape {:?}",
+                    "expected an N x 2 or N x 3 array of (x, y) or (x, y, z) points, got shape {:?}",
                     view.shape()
                 )));
             }
@@ -613,20 +616,51 @@ fn trace_points(
     };
     let mut one = detached(py, threads, || {
         let started = Instant::now();
-        let list = match points {
-            Points::Array(view) => view
-                .rows()
-                .into_iter()
-                .map(|row| [row[0], row[1]])
-                .collect(),
+        let data = match points {
+            Points::Array(view) if view.ncols() == 3 => PointData::Space(
+                view.rows()
+                    .into_iter()
+                    .map(|row| [row[0], row[1], row[2]])
+                    .collect(),
+            ),
+            Points::Array(view) => PointData::Plane(
+                view.rows()
+                    .into_iter()
+                    .map(|row| [row[0], row[1]])
+                    .collect(),
+            ),
             Points::File(path) => {
-                let text = std::fs::read_to_string(&path)
-                    .map_err(|source| ridgeline::Error::Io { path, source })?;
-                ridgeline::point_list::parse(&text)?
+                let bytes = std::fs::read(&path).map_err(|source| ridgeline::Error::Io {
+                    path: path.clone(),
+                    source,
+                })?;
+                let extension = path.extension().and_then(|e| e.to_str());
+                ridgeline::point_list::read(&bytes, extension)?
             }
         };
-        let trace = ridgeline::trace_points(&list, &params)?;
-        Ok(traced(trace, &params, started, Default::default()))
+        match data {
+            PointData::Plane(list) => {
+                let trace = ridgeline::trace_points(&list, &params)?;
+                Ok(traced(trace, &params, started, Default::default()))
+            }
+            PointData::Space(list) => {
+                let space = ridgeline::trace_points3d(&list, &params)?;
+                let plane = ridgeline::Trace {
+                    graph: result::plane_view(&space.graph),
+                    binary: None,
+                    point_count: space.point_count,
+                    stages: None,
+                    timings: Default::default(),
+                    decisions: None,
+                    warnings: space.warnings.clone(),
+                    dropout_share: None,
+                    fingerprint: None,
+                };
+                let mut one = traced(plane, &params, started, Default::default());
+                one.space = Some(space);
+                Ok(one)
+            }
+        }
     })?;
     drop(source);
     one.kind = Kind::Points;

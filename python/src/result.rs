@@ -86,6 +86,79 @@ pub struct Traced {
     pub print_minutiae: Option<Vec<Minutia>>,
     /// The resolution the image file states, dots per inch (encoded input only).
     pub resolution: Option<f64>,
+    /// A point set in space: its trace, whose graph `graph` shows seen from above (z dropped).
+    pub space: Option<ridgeline::Trace3d>,
+}
+
+/// A graph in space seen from above: `z` dropped, directions the chords' in the plane.
+pub fn plane_view(space: &ridgeline::CurveGraph3d) -> StrokeGraph {
+    let flat = |p: [f64; 3]| [p[0], p[1]];
+    StrokeGraph {
+        width: 0,
+        height: 0,
+        vertices: space
+            .vertices
+            .iter()
+            .map(|v| ridgeline::Vertex {
+                pos: flat(v.pos),
+                degree: v.degree,
+                width: v.width,
+            })
+            .collect(),
+        edges: space
+            .edges
+            .iter()
+            .map(|e| {
+                let points: Vec<[f64; 2]> = e.points.iter().map(|&p| flat(p)).collect();
+                let directions = tangents(&e.points)
+                    .into_iter()
+                    .map(|t| {
+                        let n = t[0].hypot(t[1]);
+                        if n > 0.0 {
+                            [t[0] / n, t[1] / n]
+                        } else {
+                            [0.0, 0.0]
+                        }
+                    })
+                    .collect();
+                Edge {
+                    from: e.from,
+                    to: e.to,
+                    points,
+                    widths: e.widths.clone(),
+                    directions,
+                }
+            })
+            .collect(),
+    }
+}
+
+/// Unit tangents along a polyline in space by central differences (one-sided at its ends).
+fn tangents(points: &[[f64; 3]]) -> Vec<[f64; 3]> {
+    let n = points.len();
+    (0..n)
+        .map(|i| {
+            let (a, b) = (points[i.saturating_sub(1)], points[(i + 1).min(n - 1)]);
+            let d = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
+            let length = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
+            if length > 0.0 {
+                d.map(|x| x / length)
+            } else {
+                [0.0; 3]
+            }
+        })
+        .collect()
+}
+
+/// An (n, 3) array of `triples`.
+fn triple_array<'py>(
+    py: Python<'py>,
+    triples: Vec<[f64; 3]>,
+) -> PyResult<Bound<'py, PyArray2<f64>>> {
+    let n = triples.len();
+    let array = Array2::from_shape_vec((n, 3), triples.into_flattened())
+        .map_err(|err| PyRuntimeError::new_err(err.to_string()))?;
+    Ok(array.into_pyarray(py))
 }
 
 /// The result of `ridgeline.trace`, `ridgeline.trace_pages` or `ridgeline.trace_points`.
@@ -150,6 +223,9 @@ impl Trace {
         if let Some((number, count)) = self.traced.page {
             meta = meta.with_page(number, count);
         }
+        if self.traced.kind == Kind::Points {
+            meta = meta.with_input("points2d");
+        }
         meta
     }
 
@@ -160,6 +236,10 @@ impl Trace {
         marks: Option<&[Minutia]>,
         curves: Option<&[Vec<CubicBezier>]>,
     ) -> String {
+        if let Some(space) = &self.traced.space {
+            let meta = self.meta(pretty).with_input("points3d");
+            return json::to_string_3d(space, &meta);
+        }
         let features = Features::default()
             .with_strokes(Some(&self.traced.strokes))
             .with_minutiae(marks)
@@ -291,9 +371,12 @@ impl Trace {
         Ok(dict)
     }
 
-    /// Vertex positions, shape (V, 2), px.
+    /// Vertex positions, shape (V, 2), px; (V, 3) with `z` for a point set in space.
     #[getter]
     fn vertex_xy<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        if let Some(space) = &self.traced.space {
+            return triple_array(py, space.graph.vertices.iter().map(|v| v.pos).collect());
+        }
         pair_array(py, self.graph().vertices.iter().map(|v| v.pos).collect())
     }
 
@@ -343,9 +426,18 @@ impl Trace {
         lengths.into_pyarray(py)
     }
 
-    /// Every edge's polyline points, edge after edge, shape (P, 2), px.
+    /// Every edge's polyline points, edge after edge, shape (P, 2), px; (P, 3) with `z` for a
+    /// point set in space.
     #[getter]
     fn point_xy<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        if let Some(space) = &self.traced.space {
+            let all = space
+                .graph
+                .edges
+                .iter()
+                .flat_map(|e| e.points.iter().copied());
+            return triple_array(py, all.collect());
+        }
         pair_array(py, concatenated(&self.graph().edges, |e| &e.points))
     }
 
@@ -355,9 +447,14 @@ impl Trace {
         concatenated(&self.graph().edges, |e| &e.widths).into_pyarray(py)
     }
 
-    /// Unit tangent at each point of `point_xy` in the edge's direction of travel, shape (P, 2).
+    /// Unit tangent at each point of `point_xy` in the edge's direction of travel, shape (P, 2);
+    /// (P, 3) for a point set in space.
     #[getter]
     fn point_direction<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        if let Some(space) = &self.traced.space {
+            let all = space.graph.edges.iter().flat_map(|e| tangents(&e.points));
+            return triple_array(py, all.collect());
+        }
         pair_array(py, concatenated(&self.graph().edges, |e| &e.directions))
     }
 
@@ -383,7 +480,8 @@ impl Trace {
         self.traced.input_copied
     }
 
-    /// The vertices as dicts `{"id", "x", "y", "degree", "width"}` (the JSON's fields).
+    /// The vertices as dicts `{"id", "x", "y", "degree", "width"}` (the JSON's fields; with
+    /// `"z"` for a point set in space).
     #[getter]
     fn vertices<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyList>> {
         let list = PyList::empty(py);
@@ -392,6 +490,9 @@ impl Trace {
             dict.set_item("id", id)?;
             dict.set_item("x", v.pos[0])?;
             dict.set_item("y", v.pos[1])?;
+            if let Some(space) = &self.traced.space {
+                dict.set_item("z", space.graph.vertices[id].pos[2])?;
+            }
             dict.set_item("degree", v.degree)?;
             dict.set_item("width", v.width)?;
             list.append(dict)?;
@@ -409,9 +510,21 @@ impl Trace {
             dict.set_item("from", e.from)?;
             dict.set_item("to", e.to)?;
             dict.set_item("length", e.length())?;
-            dict.set_item("points", pairs(py, &e.points)?)?;
-            dict.set_item("widths", PyList::new(py, &e.widths)?)?;
-            dict.set_item("directions", pairs(py, &e.directions)?)?;
+            match &self.traced.space {
+                Some(space) => {
+                    let edge = &space.graph.edges[id];
+                    let points = edge.points.iter().map(|p| p.to_vec());
+                    let directions = tangents(&edge.points).into_iter().map(|t| t.to_vec());
+                    dict.set_item("points", PyList::new(py, points)?)?;
+                    dict.set_item("widths", PyList::new(py, &e.widths)?)?;
+                    dict.set_item("directions", PyList::new(py, directions)?)?;
+                }
+                None => {
+                    dict.set_item("points", pairs(py, &e.points)?)?;
+                    dict.set_item("widths", PyList::new(py, &e.widths)?)?;
+                    dict.set_item("directions", pairs(py, &e.directions)?)?;
+                }
+            }
             list.append(dict)?;
         }
         Ok(list)
@@ -563,6 +676,12 @@ impl Trace {
         curve_tolerance: Option<f64>,
         corner_angle: Option<f64>,
     ) -> PyResult<String> {
+        if self.traced.space.is_some() {
+            return Err(PyValueError::new_err(
+                "the points are in space (x y z), and SVG draws the plane: use to_json(), \
+                 or the arrays (point_xy has the z column)",
+            ));
+        }
         let options = curves
             .then(|| curve_options(curve_tolerance, corner_angle))
             .transpose()?;

@@ -183,3 +183,36 @@ def test_point_lists_equal_the_command_lines(tmp_path, monkeypatch):
     assert ridgeline.trace_points(xy.tolist(), source_path="points.txt").to_json() == expected
     svg = cli_output(tmp_path, "points.txt", suffix=".svg")
     assert ridgeline.trace_points("points.txt").to_svg() == svg
+
+
+def test_points_in_space_carry_z_and_equal_the_command_line(tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    # A helix of random points filling a tube 8 units across.
+    rng = np.random.default_rng(3)
+    t = rng.uniform(0, 4 * np.pi, 12000)
+    center = np.column_stack([50 * np.cos(t), 50 * np.sin(t), 60 * t / (2 * np.pi)])
+    tangent = np.column_stack([-50 * np.sin(t), 50 * np.cos(t), np.full_like(t, 60 / (2 * np.pi))])
+    tangent /= np.linalg.norm(tangent, axis=1)[:, None]
+    across = np.cross(tangent, [0.0, 0.0, 1.0])
+    across /= np.linalg.norm(across, axis=1)[:, None]
+    other = np.cross(tangent, across)
+    radius = 4 * np.sqrt(rng.uniform(0, 1, len(t)))
+    angle = rng.uniform(0, 2 * np.pi, len(t))
+    xyz = center + (radius * np.cos(angle))[:, None] * across + (radius * np.sin(angle))[:, None] * other
+    xyz = np.round(xyz, 3)
+    np.savetxt("helix.xyz", xyz, fmt="%.3f")
+    result = ridgeline.trace_points(xyz, source_path="helix.xyz")
+    assert result.vertex_xy.shape == (2, 3)
+    assert list(result.vertex_degree) == [1, 1]
+    assert result.point_xy.shape[1] == 3
+    assert result.point_direction.shape == result.point_xy.shape
+    assert np.allclose(np.linalg.norm(result.point_direction, axis=1), 1.0)
+    assert abs(np.median(result.point_width) / 8.0 - 1) < 0.1
+    assert sorted(result.point_xy[:, 2])[0] < 5 and sorted(result.point_xy[:, 2])[-1] > 115
+    assert "z" in result.vertices[0] and len(result.edges[0]["points"][0]) == 3
+    expected = cli_output(tmp_path, "helix.xyz")
+    assert result.to_json() == expected
+    assert ridgeline.trace_points("helix.xyz").to_json() == expected
+    assert json.loads(expected)["parameters"]["input"] == "points3d"
+    with pytest.raises(ValueError, match="in space"):
+        result.to_svg()

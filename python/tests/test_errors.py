@@ -95,8 +95,8 @@ def test_inputs_of_the_wrong_kind_say_what_is_accepted(image, error, message):
 
 
 def test_bad_point_lists(tmp_path):
-    with pytest.raises(ValueError, match="N x 2"):
-        ridgeline.trace_points(np.zeros((5, 3)))
+    with pytest.raises(ValueError, match="N x 2 or N x 3"):
+        ridgeline.trace_points(np.zeros((5, 4)))
     bad = tmp_path / "bad.txt"
     bad.write_text("1 2\n3 4\n5 six\n")
     with pytest.raises(ridgeline.PointListError, match="line 3") as caught:

@@ -96,6 +96,11 @@ pub struct JsonMeta {
     /// What is probably wrong with the result, written as `warnings` (always, possibly empty).
     /// Default value: none.
     pub warnings: Vec<Warning>,
+    /// The kind of input whose rules the parameters were applied by, written as
+    /// `parameters.input` when given: `points2d` (a point list in the plane: widths from the
+    /// PCA of §3.1 rather than a distance transform) or `points3d` (the stages in space,
+    /// docs/design.md, "Point sets in space"); images leave it out. Default value: `None`.
+    pub input: Option<&'static str>,
 }
 
 impl JsonMeta {
@@ -126,6 +131,12 @@ impl JsonMeta {
         self
     }
 
+    /// Sets [`JsonMeta::input`].
+    pub fn with_input(mut self, input: &'static str) -> Self {
+        self.input = Some(input);
+        self
+    }
+
     /// Sets [`JsonMeta::page`]: page `number` of `count`, recorded when `count` is more than 1.
     pub fn with_page(mut self, number: usize, count: usize) -> Self {
         self.page = (count > 1).then_some((number, count));
@@ -151,7 +162,10 @@ pub fn to_string_with(graph: &StrokeGraph, meta: &JsonMeta, features: &Features)
             width: graph.width,
             height: graph.height,
         },
-        parameters: &meta.params,
+        parameters: ParamsOut {
+            params: &meta.params,
+            input: meta.input,
+        },
         decisions: meta.decisions.as_ref().map(RoundedDecisions),
         warnings: &meta.warnings,
         vertices: Vertices(&graph.vertices),
@@ -173,11 +187,37 @@ pub fn to_string_with(graph: &StrokeGraph, meta: &JsonMeta, features: &Features)
     text
 }
 
+/// The parameters, with the kind of input after them when [`JsonMeta::input`] names one (and
+/// exactly [`Params`]' own serialization when not).
+struct ParamsOut<'a> {
+    params: &'a Params,
+    input: Option<&'static str>,
+}
+
+impl Serialize for ParamsOut<'_> {
+    fn serialize<S: Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+        #[derive(DeriveSerialize)]
+        struct WithInput<'a> {
+            #[serde(flatten)]
+            params: &'a Params,
+            input: &'static str,
+        }
+        match self.input {
+            None => self.params.serialize(serializer),
+            Some(input) => WithInput {
+                params: self.params,
+                input,
+            }
+            .serialize(serializer),
+        }
+    }
+}
+
 #[derive(DeriveSerialize)]
 struct Document<'a> {
     ridgeline: &'static str,
     source: Source<'a>,
-    parameters: &'a Params,
+    parameters: ParamsOut<'a>,
     #[serde(skip_serializing_if = "Option::is_none")]
     decisions: Option<RoundedDecisions<'a>>,
     warnings: &'a [Warning],
@@ -396,4 +436,109 @@ impl Serialize for Singles<'_> {
     fn serialize<S: Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
         serializer.collect_seq(self.0.iter().map(|&w| Rounded(w)))
     }
+}
+
+/// Writes the trace of a 3D point set as a JSON document: the same layout as the plane's, with
+/// `z` on every vertex and every polyline point, the tube's diameter as `width`, and
+/// `parameters.input` set to `points3d`; `source` holds the path alone (a point set has no pixel
+/// extent), and there are no directions, strokes or minutiae.
+///
+/// ```json
+/// {"ridgeline":"0.1.0","source":{"path":"helix.ply"},"parameters":{…,"input":"points3d"},
+///  "warnings":[],"vertices":[{"id":0,"x":60.0,"y":0.0,"z":0.0,"degree":1,"width":8.0}, …],
+///  "edges":[{"id":0,"from":0,"to":1,"length":770.1,"points":[[60.0,0.0,0.0],…],
+///            "widths":[8.0,…]}],
+///  "stats":{"vertices":2,"edges":1,"endpoints":2,"junctions":0,"components":1,"cycles":0}}
+/// ```
+pub fn to_string_3d(trace: &crate::curve3d::Trace3d, meta: &JsonMeta) -> String {
+    use crate::curve3d::CurveGraph3d;
+    #[derive(DeriveSerialize)]
+    struct Source3d<'a> {
+        path: Option<&'a str>,
+    }
+    #[derive(DeriveSerialize)]
+    struct VertexOut {
+        id: usize,
+        x: Rounded,
+        y: Rounded,
+        z: Rounded,
+        degree: usize,
+        width: Rounded,
+    }
+    #[derive(DeriveSerialize)]
+    struct EdgeOut {
+        id: usize,
+        from: usize,
+        to: usize,
+        length: Rounded,
+        points: Vec<[Rounded; 3]>,
+        widths: Vec<Rounded>,
+    }
+    #[derive(DeriveSerialize)]
+    struct Document3d<'a> {
+        ridgeline: &'static str,
+        source: Source3d<'a>,
+        parameters: ParamsOut<'a>,
+        warnings: &'a [Warning],
+        vertices: Vec<VertexOut>,
+        edges: Vec<EdgeOut>,
+        stats: Stats,
+    }
+    let graph: &CurveGraph3d = &trace.graph;
+    let n = graph.vertices.len();
+    let well_formed = graph.edges.iter().all(|e| e.from < n && e.to < n);
+    let components = if well_formed { graph.components() } else { 0 };
+    let document = Document3d {
+        ridgeline: env!("CARGO_PKG_VERSION"),
+        source: Source3d {
+            path: meta.source_path.as_deref(),
+        },
+        parameters: ParamsOut {
+            params: &meta.params,
+            input: Some(meta.input.unwrap_or("points3d")),
+        },
+        warnings: &trace.warnings,
+        vertices: graph
+            .vertices
+            .iter()
+            .enumerate()
+            .map(|(id, v)| VertexOut {
+                id,
+                x: Rounded(v.pos[0]),
+                y: Rounded(v.pos[1]),
+                z: Rounded(v.pos[2]),
+                degree: v.degree,
+                width: Rounded(v.width),
+            })
+            .collect(),
+        edges: graph
+            .edges
+            .iter()
+            .enumerate()
+            .map(|(id, e)| EdgeOut {
+                id,
+                from: e.from,
+                to: e.to,
+                length: Rounded(e.length()),
+                points: e.points.iter().map(|p| p.map(Rounded)).collect(),
+                widths: e.widths.iter().map(|&w| Rounded(w)).collect(),
+            })
+            .collect(),
+        stats: Stats {
+            vertices: n,
+            edges: graph.edges.len(),
+            endpoints: graph.endpoints().count(),
+            junctions: graph.junctions().count(),
+            components,
+            cycles: (graph.edges.len() + components).saturating_sub(n),
+        },
+    };
+    let text = if meta.pretty {
+        serde_json::to_string_pretty(&document)
+    } else {
+        serde_json::to_string(&document)
+    };
+    let mut text = text.unwrap_or_else(|_| String::from("{}"));
+    text.push('\n');
+    text
 }

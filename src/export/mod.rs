@@ -10,6 +10,7 @@
 
 pub mod iso19794;
 pub mod json;
+pub mod polylines;
 pub mod svg;
 pub mod xyt;
 

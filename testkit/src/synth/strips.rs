@@ -482,3 +482,239 @@ mod tests {
         assert!((length - FIGURE8_LENGTH).abs() < 0.5, "{length}");
     }
 }
+
+/// One centerline of a tube case in space: a polyline sampled finely, with the tube's diameter.
+#[derive(Clone, Debug)]
+pub struct TubeCurve {
+    /// Centerline points.
+    pub points: Vec<[f64; 3]>,
+    /// Tube diameter at each point (the truth the width output is measured against).
+    pub widths: Vec<f64>,
+}
+
+/// A 3D point-set case (the paper's Fig. 7): random points filling tubes around known space
+/// curves, with the truth.
+#[derive(Clone, Debug)]
+pub struct TubeCase {
+    /// Unique name, e.g. `helix`.
+    pub name: String,
+    /// The points (unorganized, in the order drawn).
+    pub points: Vec<[f64; 3]>,
+    /// The true centerlines.
+    pub curves: Vec<TubeCurve>,
+    /// True junctions: position and degree.
+    pub junctions: Vec<([f64; 3], usize)>,
+    /// True ends.
+    pub ends: Vec<[f64; 3]>,
+    /// Connected components of the truth.
+    pub components: usize,
+    /// Independent cycles of the truth.
+    pub cycles: usize,
+    /// The tube's diameter (the unit of the scores).
+    pub width: f64,
+}
+
+/// A space curve `f(t)` for `t` in `[t0, t1]`, sampled at `n + 1` points, of constant diameter.
+fn tube(f: impl Fn(f64) -> [f64; 3], t0: f64, t1: f64, n: usize, width: f64) -> TubeCurve {
+    let points: Vec<[f64; 3]> = (0..=n)
+        .map(|i| f(t0 + (t1 - t0) * i as f64 / n as f64))
+        .collect();
+    TubeCurve {
+        widths: vec![width; points.len()],
+        points,
+    }
+}
+
+/// A straight tube from `a` to `b`.
+fn tube_segment(a: [f64; 3], b: [f64; 3], width: f64) -> TubeCurve {
+    tube(
+        |t| {
+            [
+                a[0] + (b[0] - a[0]) * t,
+                a[1] + (b[1] - a[1]) * t,
+                a[2] + (b[2] - a[2]) * t,
+            ]
+        },
+        0.0,
+        1.0,
+        64,
+        width,
+    )
+}
+
+fn length3(a: [f64; 3], b: [f64; 3]) -> f64 {
+    ((b[0] - a[0]).powi(2) + (b[1] - a[1]).powi(2) + (b[2] - a[2]).powi(2)).sqrt()
+}
+
+/// Draws `count` points uniformly in the solid tubes of `curves`: a piece chosen with probability
+/// proportional to its volume, a point along it, and a point uniform in the disk of the tube's
+/// cross-section there; the tubes are cut square at their ends.
+fn draw_tube_points(curves: &[TubeCurve], count: usize, rng: &mut SplitMix64) -> Vec<[f64; 3]> {
+    let mut pieces = Vec::new();
+    let mut cumulative = Vec::new();
+    let mut total = 0.0;
+    for (c, curve) in curves.iter().enumerate() {
+        for i in 1..curve.points.len() {
+            let w = 0.5 * (curve.widths[i - 1] + curve.widths[i]);
+            total += length3(curve.points[i - 1], curve.points[i]) * w * w;
+            pieces.push((c, i));
+            cumulative.push(total);
+        }
+    }
+    let mut out = Vec::with_capacity(count);
+    while out.len() < count {
+        let pick = rng.next_f64() * total;
+        let k = cumulative
+            .partition_point(|&c| c < pick)
+            .min(pieces.len() - 1);
+        let (c, i) = pieces[k];
+        let curve = &curves[c];
+        let (a, b) = (curve.points[i - 1], curve.points[i]);
+        let t = rng.next_f64();
+        let center = [
+            a[0] + (b[0] - a[0]) * t,
+            a[1] + (b[1] - a[1]) * t,
+            a[2] + (b[2] - a[2]) * t,
+        ];
+        let width = curve.widths[i - 1] + (curve.widths[i] - curve.widths[i - 1]) * t;
+        let l = length3(a, b).max(1e-12);
+        let u = [(b[0] - a[0]) / l, (b[1] - a[1]) / l, (b[2] - a[2]) / l];
+        // Two unit vectors across the tangent.
+        let helper = if u[0].abs() < 0.9 {
+            [1.0, 0.0, 0.0]
+        } else {
+            [0.0, 1.0, 0.0]
+        };
+        let cross = |p: [f64; 3], q: [f64; 3]| {
+            [
+                p[1] * q[2] - p[2] * q[1],
+                p[2] * q[0] - p[0] * q[2],
+                p[0] * q[1] - p[1] * q[0],
+            ]
+        };
+        let v = cross(u, helper);
+        let vn = length3([0.0; 3], v);
+        let v = [v[0] / vn, v[1] / vn, v[2] / vn];
+        let n = cross(u, v);
+        let radius = 0.5 * width * rng.next_f64().sqrt();
+        let angle = rng.range(0.0, std::f64::consts::TAU);
+        let (x, y) = (radius * angle.cos(), radius * angle.sin());
+        out.push([
+            center[0] + x * v[0] + y * n[0],
+            center[1] + x * v[1] + y * n[1],
+            center[2] + x * v[2] + y * n[2],
+        ]);
+    }
+    out
+}
+
+/// The tube diameter of the 3D cases.
+pub const TUBE_WIDTH: f64 = 8.0;
+
+/// The 3D cases (the paper's Fig. 7): a helix, a trefoil knot (one closed tube, no junction), two
+/// tubes crossing, a Y in space and two parallel tubes one diameter apart, each 8 units in
+/// diameter and filled with random points about a tenth of the diameter apart (`Dis_ave` about 0.7).
+pub fn tube_cases() -> Vec<TubeCase> {
+    use std::f64::consts::{PI, TAU};
+    let w = TUBE_WIDTH;
+    let mut cases = Vec::new();
+    let mut add = |name: &str,
+                   curves: Vec<TubeCurve>,
+                   junctions: Vec<([f64; 3], usize)>,
+                   ends: Vec<[f64; 3]>,
+                   components: usize,
+                   cycles: usize,
+                   seed: u64| {
+        let volume: f64 = curves
+            .iter()
+            .map(|c| {
+                c.points
+                    .windows(2)
+                    .map(|p| length3(p[0], p[1]))
+                    .sum::<f64>()
+                    * PI
+                    * w
+                    * w
+                    / 4.0
+            })
+            .sum();
+        // Half a point per cubic unit: neighbours about 0.7 units apart in tubes 8 wide.
+        let count = (0.5 * volume) as usize;
+        let mut rng = SplitMix64::new(seed);
+        let points = draw_tube_points(&curves, count, &mut rng);
+        cases.push(TubeCase {
+            name: name.to_string(),
+            points,
+            curves,
+            junctions,
+            ends,
+            components,
+            cycles,
+            width: w,
+        });
+    };
+    let helix = tube(
+        |t| [60.0 * t.cos(), 60.0 * t.sin(), 80.0 * t / TAU],
+        0.0,
+        2.0 * TAU,
+        800,
+        w,
+    );
+    let ends = vec![helix.points[0], helix.points[helix.points.len() - 1]];
+    add("helix", vec![helix], vec![], ends, 1, 0, 31);
+    let trefoil = tube(
+        |t| {
+            [
+                20.0 * (t.sin() + 2.0 * (2.0 * t).sin()),
+                20.0 * (t.cos() - 2.0 * (2.0 * t).cos()),
+                -20.0 * (3.0 * t).sin(),
+            ]
+        },
+        0.0,
+        TAU,
+        1200,
+        w,
+    );
+    add("trefoil", vec![trefoil], vec![], vec![], 1, 1, 32);
+    let (c60, s60) = ((PI / 3.0).cos(), (PI / 3.0).sin());
+    let a = tube_segment([-60.0, 0.0, 0.0], [60.0, 0.0, 0.0], w);
+    let b = tube_segment(
+        [-60.0 * c60, -60.0 * s60, -20.0],
+        [60.0 * c60, 60.0 * s60, 20.0],
+        w,
+    );
+    let ends = vec![a.points[0], a.points[64], b.points[0], b.points[64]];
+    add(
+        "crossing_tubes",
+        vec![a, b],
+        vec![([0.0; 3], 4)],
+        ends,
+        1,
+        0,
+        33,
+    );
+    let arms: Vec<TubeCurve> = [0.0f64, TAU / 3.0, 2.0 * TAU / 3.0]
+        .iter()
+        .map(|&angle| tube_segment([0.0; 3], [60.0 * angle.cos(), 60.0 * angle.sin(), 25.0], w))
+        .collect();
+    let ends = arms.iter().map(|c| c.points[64]).collect();
+    add("y_3d", arms, vec![([0.0; 3], 3)], ends, 1, 0, 34);
+    let parallel: Vec<TubeCurve> = [0.0, 2.0 * w]
+        .iter()
+        .map(|&y| {
+            tube(
+                move |t| [t, y, 12.0 * (t / 25.0).sin()],
+                -80.0,
+                80.0,
+                400,
+                w,
+            )
+        })
+        .collect();
+    let ends = parallel
+        .iter()
+        .flat_map(|c| [c.points[0], c.points[c.points.len() - 1]])
+        .collect();
+    add("parallel_tubes", parallel, vec![], ends, 2, 0, 35);
+    cases
+}

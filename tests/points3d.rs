@@ -169,11 +169,10 @@ fn every_format_reads_the_same_points() {
         .iter()
         .map(|p| format!("{} {} {} 0 0 1\n", p[0], p[1], p[2]))
         .collect();
-    let mut ascii = format!(
-        "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n\
-         property float z\nend_header\n"
-    )
-    .into_bytes();
+    let mut ascii =
+        b"ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n\
+        property float z\nend_header\n"
+            .to_vec();
     ascii.extend(lines.bytes());
     let mut binary = b"ply\nformat binary_little_endian 1.0\nelement vertex 3\n\
         property double x\nproperty double y\nproperty double z\nend_header\n"

@@ -42,9 +42,9 @@ pub(super) fn fit(cloud: &Cloud, refined: &Refined, params: &Params) -> CurveGra
     // Vertices: nodes of degree other than 2, and one node of each closed curve.
     let mut vertex_of = vec![usize::MAX; count];
     let mut vertex_nodes: Vec<u32> = Vec::new();
-    for i in 0..count {
+    for (i, slot) in vertex_of.iter_mut().enumerate() {
         if degree(i) != 2 {
-            vertex_of[i] = vertex_nodes.len();
+            *slot = vertex_nodes.len();
             vertex_nodes.push(i as u32);
         }
     }
@@ -80,8 +80,8 @@ pub(super) fn fit(cloud: &Cloud, refined: &Refined, params: &Params) -> CurveGra
             });
         }
     };
-    for v in 0..vertex_nodes.len() {
-        walk(vertex_nodes[v], &vertex_of, &mut chains, &mut seen_edge);
+    for &start in &vertex_nodes {
+        walk(start, &vertex_of, &mut chains, &mut seen_edge);
     }
     // Closed curves: every node of degree 2, none visited yet.
     for i in 0..count as u32 {
@@ -303,7 +303,7 @@ fn assign(cloud: &Cloud, pos: &[V3], part: &[u32]) -> Vec<Vec<u32>> {
                 .iter()
                 .find(|r| part[r.item as usize] == cloud.part[p])
                 .or(found.first())
-                .map_or(0, |r| r.item as u32)
+                .map_or(0, |r| r.item)
         })
         .collect();
     for (p, &node) in nearest.iter().enumerate() {

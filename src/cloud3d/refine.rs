@@ -422,9 +422,9 @@ pub(super) fn refine(cloud: &Cloud, sampled: &Sampled, params: &Params) -> Refin
     // spur's points to none, then to the nearest live node by the fit's cells).
     let mut number = vec![u32::MAX; count];
     let mut next = 0u32;
-    for i in 0..count {
-        if work.alive[i] {
-            number[i] = next;
+    for (slot, &alive) in number.iter_mut().zip(&work.alive) {
+        if alive {
+            *slot = next;
             next += 1;
         }
     }

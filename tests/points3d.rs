@@ -169,11 +169,10 @@ fn every_format_reads_the_same_points() {
         .iter()
         .map(|p| format!("{} {} {} 0 0 1\n", p[0], p[1], p[2]))
         .collect();
-    let mut ascii = format!(
-        "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n\
-         property float z\nend_header\n"
-    )
-    .into_bytes();
+    let mut ascii =
+        b"ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n\
+        property float z\nend_header\n"
+            .to_vec();
     ascii.extend(lines.bytes());
     let mut binary = b"ply\nformat binary_little_endian 1.0\nelement vertex 3\n\
         property double x\nproperty double y\nproperty double z\nend_header\n"
@@ -292,4 +291,29 @@ fn the_command_line_writes_json_ply_and_obj_that_read_back() {
     let text = stderr(&refused);
     assert!(text.contains("in space") && text.contains(".ply"), "{text}");
     assert!(!text.contains("panicked"), "{text}");
+}
+
+/// Tiny, degenerate and extreme sets in space: a graph or an error, never a panic.
+#[test]
+fn degenerate_sets_in_space_give_a_graph_or_an_error() {
+    let params = Params::default();
+    let one = ridgeline::trace_points3d(&[[1.0, 2.0, 3.0]], &params).expect("one point");
+    assert_eq!((one.graph.vertices.len(), one.graph.edges.len()), (1, 0));
+    let twice = [[1.0, 2.0, 3.0], [1.0, 2.0, 3.0], [4.0, 5.0, 6.0]];
+    let trace = ridgeline::trace_points3d(&twice, &params).expect("repeats");
+    assert_eq!(trace.point_count, 2);
+    let line: Vec<[f64; 3]> = (0..100).map(|i| [i as f64, 0.0, 0.0]).collect();
+    let trace = ridgeline::trace_points3d(&line, &params).expect("a line");
+    trace.graph.validate().expect("valid");
+    assert_eq!(trace.graph.endpoints().count(), 2);
+    let tiny: Vec<[f64; 3]> = line.iter().map(|p| p.map(|x| x * 1e-300)).collect();
+    let trace = ridgeline::trace_points3d(&tiny, &params).expect("subnormal scale");
+    trace.graph.validate().expect("valid");
+    assert!(ridgeline::trace_points3d(&[[0.0; 3], [1e200, 0.0, 0.0]], &params).is_err());
+    assert!(ridgeline::trace_points3d(&[[0.0, f64::NAN, 0.0]], &params).is_err());
+    assert!(ridgeline::trace_points3d(&[], &params)
+        .expect("empty")
+        .graph
+        .vertices
+        .is_empty());
 }

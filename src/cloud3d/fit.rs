@@ -42,9 +42,9 @@ pub(super) fn fit(cloud: &Cloud, refined: &Refined, params: &Params) -> CurveGra
     // Vertices: nodes of degree other than 2, and one node of each closed curve.
     let mut vertex_of = vec![usize::MAX; count];
     let mut vertex_nodes: Vec<u32> = Vec::new();
-    for i in 0..count {
+    for (i, slot) in vertex_of.iter_mut().enumerate() {
         if degree(i) != 2 {
-            vertex_of[i] = vertex_nodes.len();
+            *slot = vertex_nodes.len();
             vertex_nodes.push(i as u32);
         }
     }
@@ -80,8 +80,8 @@ pub(super) fn fit(cloud: &Cloud, refined: &Refined, params: &Params) -> CurveGra
             });
         }
     };
-    for v in 0..vertex_nodes.len() {
-        walk(vertex_nodes[v], &vertex_of, &mut chains, &mut seen_edge);
+    for &start in &vertex_nodes {
+        walk(start, &vertex_of, &mut chains, &mut seen_edge);
     }
     // Closed curves: every node of degree 2, none visited yet.
     for i in 0..count as u32 {
@@ -124,8 +124,10 @@ pub(super) fn fit(cloud: &Cloud, refined: &Refined, params: &Params) -> CurveGra
         let minimum = if chain.from == chain.to { 3 } else { 1 };
         let segments = ((length / h).round() as usize).max(minimum);
         let mut run = vec![chain.from as u32];
-        for s in 1..segments {
-            let (p, w) = along(&line, &node_widths, length * s as f64 / segments as f64);
+        let targets: Vec<f64> = (1..segments)
+            .map(|s| length * s as f64 / segments as f64)
+            .collect();
+        for (p, w) in along(&line, &node_widths, &targets) {
             run.push(pos.len() as u32);
             pos.push(p);
             fallback_width.push(w);
@@ -267,21 +269,33 @@ pub(super) fn fit(cloud: &Cloud, refined: &Refined, params: &Params) -> CurveGra
     graph
 }
 
-/// The point at arc length `s` along `line`, and the width there.
-fn along(line: &[V3], widths: &[f64], s: f64) -> (V3, f64) {
+/// The points at the rising arc lengths `targets` along `line`, and the widths there, in one
+/// walk along it.
+fn along(line: &[V3], widths: &[f64], targets: &[f64]) -> Vec<(V3, f64)> {
+    let mut out = Vec::with_capacity(targets.len());
     let mut walked = 0.0;
-    for (i, w) in line.windows(2).enumerate() {
-        let step = dist2(w[0], w[1]).sqrt();
-        if walked + step >= s && step > 0.0 {
-            let t = ((s - walked) / step).clamp(0.0, 1.0);
-            return (
-                add(w[0], scale(sub(w[1], w[0]), t)),
-                widths[i] + t * (widths[i + 1] - widths[i]),
-            );
+    let mut i = 0;
+    for &s in targets {
+        while i + 1 < line.len() {
+            let step = dist2(line[i], line[i + 1]).sqrt();
+            if walked + step >= s && step > 0.0 {
+                break;
+            }
+            walked += step;
+            i += 1;
         }
-        walked += step;
+        if i + 1 >= line.len() {
+            out.push((line[line.len() - 1], widths[widths.len() - 1]));
+            continue;
+        }
+        let step = dist2(line[i], line[i + 1]).sqrt();
+        let t = ((s - walked) / step).clamp(0.0, 1.0);
+        out.push((
+            add(line[i], scale(sub(line[i + 1], line[i]), t)),
+            widths[i] + t * (widths[i + 1] - widths[i]),
+        ));
     }
-    (line[line.len() - 1], widths[widths.len() - 1])
+    out
 }
 
 /// Each point's nearest fit node of its own part (any part when none is among its few nearest).
@@ -303,7 +317,7 @@ fn assign(cloud: &Cloud, pos: &[V3], part: &[u32]) -> Vec<Vec<u32>> {
                 .iter()
                 .find(|r| part[r.item as usize] == cloud.part[p])
                 .or(found.first())
-                .map_or(0, |r| r.item as u32)
+                .map_or(0, |r| r.item)
         })
         .collect();
     for (p, &node) in nearest.iter().enumerate() {

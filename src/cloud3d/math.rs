@@ -40,8 +40,8 @@ pub(super) struct Moments {
 impl Moments {
     pub fn add(&mut self, p: V3) {
         self.n += 1.0;
-        for k in 0..3 {
-            self.s[k] += p[k];
+        for (s, x) in self.s.iter_mut().zip(p) {
+            *s += x;
         }
         self.ss[0] += p[0] * p[0];
         self.ss[1] += p[0] * p[1];
@@ -110,11 +110,9 @@ pub(super) fn eigen(matrix: [[f64; 3]; 3]) -> ([f64; 3], [V3; 3]) {
                 row[p] = c * x - s * y;
                 row[q] = s * x + c * y;
             }
-            for k in 0..3 {
-                let (x, y) = (a[p][k], a[q][k]);
-                a[p][k] = c * x - s * y;
-                a[q][k] = s * x + c * y;
-            }
+            let (row_p, row_q) = (a[p], a[q]);
+            a[p] = std::array::from_fn(|k| c * row_p[k] - s * row_q[k]);
+            a[q] = std::array::from_fn(|k| s * row_p[k] + c * row_q[k]);
             for row in &mut v {
                 let (x, y) = (row[p], row[q]);
                 row[p] = c * x - s * y;

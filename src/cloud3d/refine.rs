@@ -422,20 +422,37 @@ pub(super) fn refine(cloud: &Cloud, sampled: &Sampled, params: &Params) -> Refin
     // spur's points to none, then to the nearest live node by the fit's cells).
     let mut number = vec![u32::MAX; count];
     let mut next = 0u32;
-    for i in 0..count {
-        if work.alive[i] {
-            number[i] = next;
+    for (slot, &alive) in number.iter_mut().zip(&work.alive) {
+        if alive {
+            *slot = next;
             next += 1;
         }
     }
-    let resolve = |mut i: u32| -> u32 {
-        while i != u32::MAX && !work.alive[i as usize] {
-            i = work.into[i as usize];
+    // The live node each node ended in, once per node with the chains of merges compressed as
+    // they are walked (a node merged many times over would otherwise be walked once per point).
+    let mut last = work.into.clone();
+    for i in 0..count as u32 {
+        let mut end = i;
+        while end != u32::MAX && !work.alive[end as usize] {
+            end = last[end as usize];
         }
-        if i == u32::MAX {
+        let mut at = i;
+        while at != u32::MAX && !work.alive[at as usize] {
+            let next = last[at as usize];
+            last[at as usize] = end;
+            at = next;
+        }
+    }
+    let resolve = |i: u32| -> u32 {
+        let end = if work.alive[i as usize] {
+            i
+        } else {
+            last[i as usize]
+        };
+        if end == u32::MAX {
             u32::MAX
         } else {
-            number[i as usize]
+            number[end as usize]
         }
     };
     let owner: Vec<u32> = sampled.owner.iter().map(|&o| resolve(o)).collect();

@@ -10,8 +10,11 @@ use std::fmt::Write;
 
 use crate::curve3d::CurveGraph3d;
 
+/// The file's points with their widths, and per edge the indices of its polyline.
+type Layout = (Vec<([f64; 3], f64)>, Vec<Vec<usize>>);
+
 /// The file's points and, per edge, the indices of its polyline.
-fn layout(graph: &CurveGraph3d) -> (Vec<([f64; 3], f64)>, Vec<Vec<usize>>) {
+fn layout(graph: &CurveGraph3d) -> Layout {
     let mut points: Vec<([f64; 3], f64)> =
         graph.vertices.iter().map(|v| (v.pos, v.width)).collect();
     let mut lines = Vec::with_capacity(graph.edges.len());

@@ -273,7 +273,7 @@ fn read_binary(
                     Property::List(count, item) => {
                         let start = take(&mut at, count.size(), &element.name)?;
                         let n = count.read(&body[start..], little);
-                        if !(n >= 0.0 && n < 1e12) {
+                        if !(0.0..1e12).contains(&n) {
                             return Err(bad(format!("a list of {n} items in '{}'", element.name)));
                         }
                         take(&mut at, n as usize * item.size(), &element.name)?;
@@ -310,7 +310,7 @@ fn read_binary(
                 Property::List(count, item) => {
                     let start = take(&mut at, count.size(), "vertex")?;
                     let n = count.read(&body[start..], little);
-                    if !(n >= 0.0 && n < 1e12) {
+                    if !(0.0..1e12).contains(&n) {
                         return Err(bad(format!("vertex {}: a list of {n} items", v + 1)));
                     }
                     take(&mut at, n as usize * item.size(), "vertex")?;

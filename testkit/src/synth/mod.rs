@@ -31,8 +31,8 @@ pub use prints::{dense_print_cases, finger_area, print_cases, DENSE_PRINT_SIZE};
 pub use rng::SplitMix64;
 pub use shapes::hard_cases;
 pub use strips::{
-    strip_cases, tube_cases, uniform_cloud, StripCase, StripCurve, TubeCase, TubeCurve,
-    STRIP_WIDTH, TUBE_WIDTH,
+    helix_tube, sine_strip, strip_cases, tube_cases, uniform_cloud, StripCase, StripCurve,
+    TubeCase, TubeCurve, STRIP_WIDTH, TUBE_WIDTH,
 };
 
 pub use ridgeline::draw::{render, Stroke};

@@ -718,3 +718,34 @@ pub fn tube_cases() -> Vec<TubeCase> {
     add("parallel_tubes", parallel, vec![], ends, 2, 0, 35);
     cases
 }
+
+/// `count` random points in a band [`STRIP_WIDTH`] wide around a sine wave whose length grows
+/// with `count`, at the density of the plane's cases: the speed benchmark's strips of any size.
+pub fn sine_strip(count: usize, seed: u64) -> Vec<[f64; 2]> {
+    let w = STRIP_WIDTH;
+    let length = count as f64 / (w * DENSITY);
+    let n = (length / 2.0).ceil().max(2.0) as usize;
+    let wave = curve(|t| [t, 40.0 * (t / 60.0).sin()], 0.0, length, n, w);
+    let mut rng = SplitMix64::new(seed);
+    draw_points(&[wave], count, &mut rng)
+}
+
+/// `count` random points filling a helix tube [`TUBE_WIDTH`] across, as many turns as the density
+/// of the 3D cases asks: the speed benchmark's tubes of any size.
+pub fn helix_tube(count: usize, seed: u64) -> Vec<[f64; 3]> {
+    use std::f64::consts::{PI, TAU};
+    let w = TUBE_WIDTH;
+    let turn = (TAU * 60.0f64).hypot(80.0);
+    let length = count as f64 / (0.5 * PI * w * w / 4.0);
+    let turns = length / turn;
+    let n = (length / 2.0).ceil().max(2.0) as usize;
+    let helix = tube(
+        |t| [60.0 * t.cos(), 60.0 * t.sin(), 80.0 * t / TAU],
+        0.0,
+        turns * TAU,
+        n,
+        w,
+    );
+    let mut rng = SplitMix64::new(seed);
+    draw_tube_points(&[helix], count, &mut rng)
+}

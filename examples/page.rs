@@ -235,11 +235,13 @@ fn main() {
             verdict(large.peak_mb < 300.0),
             verdict(large.wall / small.wall <= 4.5)
         );
-        // docs/performance.md, "Targets": the page's CPU against the floor of reading it.
+        // docs/performance.md, "Targets": the page's CPU against the floor of reading it. The
+        // stage times are wall clocks inside the process, so under load the floor grows with
+        // the load while the CPU time does not: the ratio means something on a quiet machine only.
         let floor = large.stages[0] + large.stages[1];
         println!(
-            "full page: CPU / (decode + binarize) {:.1} (target <= 5: {}), peak {:.0} MB (target \
-             <= 60 MB: {})",
+            "full page: CPU / (decode + binarize) {:.1} (target <= 5: {}; stage wall times, read \
+             it at load ~1 only), peak {:.0} MB (target <= 60 MB: {})",
             large.cpu / floor.max(1e-9),
             verdict(large.cpu <= 5.0 * floor),
             large.peak_mb,

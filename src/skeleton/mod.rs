@@ -41,7 +41,7 @@ use crate::point_set::{Grid, PointSet};
 use crate::stroke_graph::StrokeGraph;
 
 use pixel_graph::pixel_graph;
-use thin::{fill_specks, keep_every_component, one_pixel_thick, zhang_suen};
+use thin::{skeleton_by_component, zhang_suen};
 use work::{Ink, Work};
 
 /// The narrowest a stroke is (px): a skeleton pixel is its own width, so no width, and no
@@ -75,7 +75,8 @@ pub(crate) fn thin(binary: &Binary) -> StrokeGraph {
     for (i, d) in ink_pixels.zip(ink_distances(&binary.ink, w, h)) {
         half[i] = d;
     }
-    pixel_graph(w, h, &skeleton, &half)
+    let pixels: Vec<usize> = (0..w * h).filter(|&i| skeleton[i]).collect();
+    pixel_graph(w, h, &skeleton, &pixels, (w * h, |i| i), |i| half[i])
 }
 
 /// The skeleton-carried graph of `points`' ink with the topology decisions of `method` (see the
@@ -94,24 +95,50 @@ pub fn carry(method: &StrokeGraph, points: &PointSet) -> StrokeGraph {
 }
 
 /// The [`pixel_graph`] of the ink of `points`' grid, specks filled, thinned to one pixel, every
-/// component kept, in image coordinates; and that ink.
+/// component kept, in image coordinates; and that ink. The window is the chunk's bounding box,
+/// many times its ink on a page of text: the thinning runs per component over the component's
+/// own box, and nothing but the ink mask and the skeleton is the window's size.
 fn skeleton_graph(points: &PointSet, grid: &Grid) -> (StrokeGraph, Ink) {
     let (w, h) = (grid.width as usize, grid.height as usize);
-    let ink: Vec<bool> = grid.index.iter().map(|&i| i != Grid::NONE).collect();
-    let half: Vec<f32> = grid
-        .index
+    // Points are pixel centers of the window; their window pixels, and each component's in CSR
+    // form (points in raster order, so each component's pixels rise).
+    // (Pixel centers are not negative: truncating them is their floor.)
+    let pixel_of =
+        |p: &[f64; 2]| (p[1] as i64 - grid.y0) as usize * w + (p[0] as i64 - grid.x0) as usize;
+    let mut ink = vec![false; w * h];
+    for p in &points.points {
+        ink[pixel_of(p)] = true;
+    }
+    let (labels, sizes) = points.component_labels();
+    let mut offsets = Vec::with_capacity(sizes.len() + 1);
+    offsets.push(0usize);
+    for size in &sizes {
+        offsets.push(offsets[offsets.len() - 1] + size);
+    }
+    let mut fill = offsets[..sizes.len()].to_vec();
+    let mut members = vec![0usize; points.len()];
+    for (p, &label) in points.points.iter().zip(&labels) {
+        members[fill[label as usize]] = pixel_of(p);
+        fill[label as usize] += 1;
+    }
+    let half = |i: usize| match grid.index[i] {
+        Grid::NONE => 0.0,
+        p => points.half_width[p as usize],
+    };
+    let (skeleton, pixels) = skeleton_by_component(&mut ink, w, &offsets, &members, half);
+    // The skeleton's pixels numbered by their points, and the few on filled specks (no point)
+    // after them.
+    let specks: Vec<usize> = pixels
         .iter()
-        .map(|&i| match i {
-            Grid::NONE => 0.0,
-            i => points.half_width[i as usize],
-        })
+        .copied()
+        .filter(|&i| grid.index[i] == Grid::NONE)
         .collect();
-    let mut ink = ink;
-    fill_specks(&mut ink, w, h);
-    let mut skeleton = zhang_suen(&ink, w, h);
-    one_pixel_thick(&mut skeleton, w, h);
-    keep_every_component(&ink, &half, w, h, &mut skeleton);
-    let mut s = pixel_graph(w, h, &skeleton, &half);
+    let number = |i: usize| match grid.index[i] {
+        Grid::NONE => points.len() + specks.binary_search(&i).unwrap_or_else(|k| k),
+        p => p as usize,
+    };
+    let ids = (points.len() + specks.len(), number);
+    let mut s = pixel_graph(w, h, &skeleton, &pixels, ids, half);
     let (x0, y0) = (grid.x0 as f64, grid.y0 as f64);
     for v in &mut s.vertices {
         v.pos = [v.pos[0] + x0, v.pos[1] + y0];

@@ -11,12 +11,17 @@ use super::MIN_WIDTH_PX;
 /// than two skeleton neighbours are junction pixels, clustered 8-connected into one vertex each;
 /// pixels with one neighbour are ends, with none dots; the pixel paths between them are edges;
 /// skeleton cycles without a junction become loops. Coordinates are pixel centers of the window;
-/// widths are `2 half_width - 1` (the pixel itself not counted).
+/// widths are `2 half_width - 1` (the pixel itself not counted), `half_width` of a window pixel
+/// (0 off the ink). `pixels` are the skeleton's pixels in raster order, and `number` numbers them
+/// below `ids` (distinct numbers), so that what is kept per pixel is the size of the skeleton's
+/// numbering, not of the window (a chunk's window holds many times its ink).
 pub(super) fn pixel_graph(
     width: usize,
     height: usize,
     skeleton: &[bool],
-    half_width: &[f32],
+    pixels: &[usize],
+    (ids, number): (usize, impl Fn(usize) -> usize),
+    half_width: impl Fn(usize) -> f32,
 ) -> StrokeGraph {
     let (w, h) = (width as i64, height as i64);
     let on = |x: i64, y: i64| x >= 0 && y >= 0 && x < w && y < h && skeleton[(y * w + x) as usize];
@@ -32,47 +37,42 @@ pub(super) fn pixel_graph(
             (p[0].floor() as i64).clamp(0, w - 1),
             (p[1].floor() as i64).clamp(0, h - 1),
         );
-        (2.0 * f64::from(half_width[(y * w + x) as usize]) - 1.0).max(MIN_WIDTH_PX)
+        (2.0 * f64::from(half_width((y * w + x) as usize)) - 1.0).max(MIN_WIDTH_PX)
     };
-    // Neighbour counts (at most 8) and vertex ids, kept small: the window can be a whole page.
-    // The skeleton's pixels, in raster order: every pass below walks these, not the window.
-    let pixels: Vec<usize> = skeleton
-        .iter()
-        .enumerate()
-        .filter_map(|(i, &on)| on.then_some(i))
-        .collect();
-    let mut count = vec![0u8; skeleton.len()];
-    for &i in &pixels {
-        count[i] = neighbours(i).count() as u8;
+    // Neighbour counts (at most 8) and vertex ids, kept small and by `number`: the window can be a
+    // whole page. Every pass below walks the skeleton's pixels, not the window.
+    let mut count = vec![0u8; ids];
+    for &i in pixels {
+        count[number(i)] = neighbours(i).count() as u8;
     }
 
     const NONE: u32 = u32::MAX;
-    let mut vertex_of = vec![NONE; skeleton.len()];
+    let mut vertex_of = vec![NONE; ids];
     let mut vertices: Vec<Vertex> = Vec::new();
     let mut stack = Vec::new();
-    for &i in &pixels {
-        if vertex_of[i] != NONE || count[i] == 2 {
+    for &i in pixels {
+        if vertex_of[number(i)] != NONE || count[number(i)] == 2 {
             continue;
         }
         let id = vertices.len();
         let mut sum = [0.0, 0.0];
         let mut members = 0.0;
-        if count[i] > 2 {
+        if count[number(i)] > 2 {
             stack.push(i);
-            vertex_of[i] = id as u32;
+            vertex_of[number(i)] = id as u32;
             while let Some(j) = stack.pop() {
                 let c = center(j);
                 sum = [sum[0] + c[0], sum[1] + c[1]];
                 members += 1.0;
                 for k in neighbours(j) {
-                    if count[k] > 2 && vertex_of[k] == NONE {
-                        vertex_of[k] = id as u32;
+                    if count[number(k)] > 2 && vertex_of[number(k)] == NONE {
+                        vertex_of[number(k)] = id as u32;
                         stack.push(k);
                     }
                 }
             }
         } else {
-            vertex_of[i] = id as u32;
+            vertex_of[number(i)] = id as u32;
             sum = center(i);
             members = 1.0;
         }
@@ -85,7 +85,7 @@ pub(super) fn pixel_graph(
     }
 
     let mut edges: Vec<Edge> = Vec::new();
-    let mut visited = vec![false; skeleton.len()];
+    let mut visited = vec![false; ids];
     let make_edge = |from: usize, to: usize, points: Vec<[f64; 2]>, edges: &mut Vec<Edge>| {
         let widths = points.iter().map(|&p| width_at(p)).collect();
         edges.push(Edge {
@@ -96,28 +96,33 @@ pub(super) fn pixel_graph(
             directions: Vec::new(),
         });
     };
-    for &a in pixels.iter().filter(|&&i| vertex_of[i] != NONE) {
-        let from = vertex_of[a] as usize;
+    for &a in pixels.iter().filter(|&&i| vertex_of[number(i)] != NONE) {
+        let from = vertex_of[number(a)] as usize;
         for u in neighbours(a) {
-            if vertex_of[u] != NONE {
-                if vertex_of[u] as usize != from && a < u {
-                    let points = vec![vertices[from].pos, vertices[vertex_of[u] as usize].pos];
-                    make_edge(from, vertex_of[u] as usize, points, &mut edges);
+            if vertex_of[number(u)] != NONE {
+                if vertex_of[number(u)] as usize != from && a < u {
+                    let points = vec![
+                        vertices[from].pos,
+                        vertices[vertex_of[number(u)] as usize].pos,
+                    ];
+                    make_edge(from, vertex_of[number(u)] as usize, points, &mut edges);
                 }
                 continue;
             }
-            if visited[u] {
+            if visited[number(u)] {
                 continue;
             }
             let mut points = vec![vertices[from].pos];
             let (mut prev, mut cur) = (a, u);
             let to = loop {
-                visited[cur] = true;
+                visited[number(cur)] = true;
                 points.push(center(cur));
                 let next = neighbours(cur).find(|&k| k != prev);
                 match next {
-                    Some(k) if vertex_of[k] != NONE => break Some(vertex_of[k] as usize),
-                    Some(k) if !visited[k] => {
+                    Some(k) if vertex_of[number(k)] != NONE => {
+                        break Some(vertex_of[number(k)] as usize)
+                    }
+                    Some(k) if !visited[number(k)] => {
                         prev = cur;
                         cur = k;
                     }
@@ -132,8 +137,8 @@ pub(super) fn pixel_graph(
             make_edge(from, to, points, &mut edges);
         }
     }
-    for &s in pixels.iter().filter(|&&i| count[i] == 2) {
-        if visited[s] {
+    for &s in pixels.iter().filter(|&&i| count[number(i)] == 2) {
+        if visited[number(s)] {
             continue;
         }
         let id = vertices.len();
@@ -143,10 +148,10 @@ pub(super) fn pixel_graph(
             width: width_at(center(s)),
         });
         let mut points = vec![center(s)];
-        visited[s] = true;
+        visited[number(s)] = true;
         let (mut prev, mut cur) = (s, neighbours(s).next().unwrap_or(s));
-        while cur != s && !visited[cur] {
-            visited[cur] = true;
+        while cur != s && !visited[number(cur)] {
+            visited[number(cur)] = true;
             points.push(center(cur));
             match neighbours(cur).find(|&k| k != prev) {
                 Some(k) => {

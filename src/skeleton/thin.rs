@@ -1,7 +1,7 @@
 //! Thinning, a raster operation: the ink's specks filled ([`fill_specks`]), Zhang-Suen's
 //! skeleton ([`zhang_suen`]) made one pixel thick ([`one_pixel_thick`]), and a dot put back for
-//! every component thinning erased ([`keep_every_component`]). docs/design.md,
-//! "Skeleton-carried geometry", first point.
+//! every component thinning erased; one component at a time over its own box
+//! ([`skeleton_by_component`]). docs/design.md, "Skeleton-carried geometry", first point.
 
 /// Offsets of the 8 neighbours in the order P2..P9 of Zhang and Suen (N, NE, E, SE, S, SW, W, NW).
 pub(super) const RING: [(i64, i64); 8] = [
@@ -27,7 +27,19 @@ pub(super) fn zhang_suen(ink: &[bool], width: usize, height: usize) -> Vec<bool>
         padded[(y + 1) * pw + 1..(y + 1) * pw + 1 + width]
             .copy_from_slice(&ink[y * width..(y + 1) * width]);
     }
-    let pw = pw as isize;
+    zhang_suen_framed(&mut padded, pw);
+    let mut thin = vec![false; width * height];
+    for y in 0..height {
+        thin[y * width..(y + 1) * width]
+            .copy_from_slice(&padded[(y + 1) * pw + 1..(y + 1) * pw + 1 + width]);
+    }
+    thin
+}
+
+/// [`zhang_suen`] in place on a `width`-wide grid whose first and last rows and columns are
+/// background (so every neighbour of an ink pixel is an index offset).
+fn zhang_suen_framed(padded: &mut [bool], width: usize) {
+    let pw = width as isize;
     let offsets: [isize; 8] = RING.map(|(dx, dy)| dy as isize * pw + dx as isize);
     // The 8 neighbours as the bits of a byte (bit k: RING[k]), and for each sub-iteration a
     // table of the neighbourhoods whose center goes.
@@ -61,7 +73,7 @@ pub(super) fn zhang_suen(ink: &[bool], width: usize, height: usize) -> Vec<bool>
         .iter()
         .enumerate()
         .filter_map(|(i, &on)| on.then_some(i))
-        .filter(|&i| bits(&padded, i) != u8::MAX)
+        .filter(|&i| bits(padded, i) != u8::MAX)
         .collect();
     for &i in &candidates {
         queued[i] = true;
@@ -77,7 +89,7 @@ pub(super) fn zhang_suen(ink: &[bool], width: usize, height: usize) -> Vec<bool>
             candidates
                 .iter()
                 .copied()
-                .filter(|&i| table[step][bits(&padded, i) as usize]),
+                .filter(|&i| table[step][bits(padded, i) as usize]),
         );
         for &i in &marked {
             padded[i] = false;
@@ -108,12 +120,79 @@ pub(super) fn zhang_suen(ink: &[bool], width: usize, height: usize) -> Vec<bool>
         step = 1 - step;
         t += 1;
     }
-    let mut thin = vec![false; width * height];
-    for y in 0..height {
-        thin[y * width..(y + 1) * width]
-            .copy_from_slice(&padded[(y + 1) * pw as usize + 1..(y + 1) * pw as usize + 1 + width]);
+}
+
+/// The one-pixel skeleton of a window's ink, every component kept: [`fill_specks`] (the filled
+/// specks written into `ink`), [`zhang_suen`], [`one_pixel_thick`], and for a component thinning
+/// erased whole (a 2 x 2 block, a short 2-pixel-thick diagonal) its deepest pixel by `half`
+/// (ties: the first in raster order), a dot.
+///
+/// Each step reads a pixel's 8 neighbours only, and two 8-connected components are never
+/// neighbours (a speck's enclosing ink is one component), so each component is thinned alone, in
+/// a copy of its own bounding box with a background frame: the result is the whole window's,
+/// pixel for pixel, in a time that grows with the ink and not with the window (a chunk's window
+/// holds many times its ink on a text page). The components' pixels (window indices, rising) are
+/// given in CSR form: component `c` is `members[offsets[c]..offsets[c + 1]]`. Returns the skeleton
+/// over the window and its pixels in raster order.
+pub(super) fn skeleton_by_component(
+    ink: &mut [bool],
+    width: usize,
+    offsets: &[usize],
+    members: &[usize],
+    half: impl Fn(usize) -> f32,
+) -> (Vec<bool>, Vec<usize>) {
+    let mut skeleton = vec![false; ink.len()];
+    let mut skeleton_pixels = Vec::new();
+    let mut local = Vec::new();
+    for c in offsets.windows(2) {
+        let pixels = &members[c[0]..c[1]];
+        let (Some(&first), Some(&last)) = (pixels.first(), pixels.last()) else {
+            continue;
+        };
+        let (y0, y1) = (first / width, last / width);
+        let (x0, x1) = pixels
+            .iter()
+            .map(|&i| i % width)
+            .fold((usize::MAX, 0), |(lo, hi), x| (lo.min(x), hi.max(x)));
+        // The box with a one-pixel background frame; `to_window` maps its pixels back.
+        let (lw, lh) = (x1 - x0 + 3, y1 - y0 + 3);
+        let to_window = |j: usize| (j / lw + y0 - 1) * width + (j % lw + x0 - 1);
+        local.clear();
+        local.resize(lw * lh, false);
+        for &i in pixels {
+            local[(i / width - y0 + 1) * lw + (i % width - x0 + 1)] = true;
+        }
+        fill_specks(&mut local, lw, lh);
+        let filled = local.clone();
+        zhang_suen_framed(&mut local, lw);
+        one_pixel_thick(&mut local, lw, lh);
+        let mut kept = false;
+        for (j, _) in local.iter().enumerate().filter(|(_, &on)| on) {
+            skeleton[to_window(j)] = true;
+            skeleton_pixels.push(to_window(j));
+            kept = true;
+        }
+        // The component's ink with its specks, in raster order.
+        let component = filled
+            .iter()
+            .enumerate()
+            .filter(|(_, &on)| on)
+            .map(|(j, _)| to_window(j));
+        if !kept {
+            if let Some(deepest) = component
+                .clone()
+                .max_by(|&a, &b| half(a).total_cmp(&half(b)).then(b.cmp(&a)))
+            {
+                skeleton[deepest] = true;
+                skeleton_pixels.push(deepest);
+            }
+        }
+        for i in component {
+            ink[i] = true;
+        }
     }
-    thin
+    skeleton_pixels.sort_unstable();
+    (skeleton, skeleton_pixels)
 }
 
 /// Zhang-Suen can leave runs two pixels thick (a 45 degree staircase, an L-shaped step) whose
@@ -205,56 +284,111 @@ pub(super) fn fill_specks(ink: &mut [bool], w: usize, h: usize) {
     }
 }
 
-/// Zhang-Suen thinning erases some small blobs whole (a 2 x 2 block, a short 2-pixel-thick
-/// diagonal): every component of the ink that lost all its pixels gets back its deepest one, a
-/// dot.
-pub(super) fn keep_every_component(
-    ink: &[bool],
-    half: &[f32],
-    w: usize,
-    h: usize,
-    skeleton: &mut [bool],
-) {
-    let mut seen = vec![false; ink.len()];
-    let mut stack = Vec::new();
-    let mut members = Vec::new();
-    for start in 0..ink.len() {
-        if !ink[start] || seen[start] {
-            continue;
-        }
-        seen[start] = true;
-        stack.push(start);
-        members.clear();
-        while let Some(i) = stack.pop() {
-            members.push(i);
-            let (x, y) = ((i % w) as i64, (i / w) as i64);
-            for (dx, dy) in RING {
-                let (nx, ny) = (x + dx, y + dy);
-                if nx < 0 || ny < 0 || nx >= w as i64 || ny >= h as i64 {
-                    continue;
-                }
-                let j = ny as usize * w + nx as usize;
-                if ink[j] && !seen[j] {
-                    seen[j] = true;
-                    stack.push(j);
-                }
-            }
-        }
-        if members.iter().any(|&i| skeleton[i]) {
-            continue;
-        }
-        if let Some(&deepest) = members
-            .iter()
-            .max_by(|&&a, &&b| half[a].total_cmp(&half[b]).then(b.cmp(&a)))
-        {
-            skeleton[deepest] = true;
-        }
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::draw::{render, Stroke};
+
+    #[test]
+    fn thinning_by_component_equals_thinning_the_whole_window() {
+        // A ring around a dot, an X, a thick bar with specks punched into it, a 2 x 2 block
+        // (erased whole by Zhang-Suen) and a short thick diagonal, in one window: some boxes
+        // overlap others.
+        let ring: Vec<[f64; 2]> = (0..=48)
+            .map(|k| {
+                let a = k as f64 / 48.0 * std::f64::consts::TAU;
+                [30.0 + 18.0 * a.cos(), 30.0 + 18.0 * a.sin()]
+            })
+            .collect();
+        let mut binary = render(
+            &[
+                Stroke::new(ring, 4.0),
+                Stroke::new(vec![[29.0, 29.0], [31.0, 31.0]], 3.0),
+                Stroke::new(vec![[60.0, 10.0], [90.0, 40.0]], 5.0),
+                Stroke::new(vec![[60.0, 40.0], [90.0, 10.0]], 5.0),
+                Stroke::new(vec![[10.0, 70.0], [90.0, 70.0]], 9.0),
+                Stroke::new(vec![[70.0, 85.0], [74.0, 89.0]], 2.0),
+            ],
+            100,
+            100,
+        );
+        let (w, h) = (100usize, 100usize);
+        for (x, y) in [(20, 70), (40, 70), (41, 70), (60, 69), (60, 70)] {
+            binary.ink[y * w + x] = false;
+        }
+        for (x, y) in [(5, 90), (6, 90), (5, 91), (6, 91)] {
+            binary.ink[y * w + x] = true;
+        }
+        // The components (8-connected), each pixel list rising.
+        let mut label = vec![usize::MAX; w * h];
+        let mut components: Vec<Vec<usize>> = Vec::new();
+        for start in 0..w * h {
+            if !binary.ink[start] || label[start] != usize::MAX {
+                continue;
+            }
+            let mut members = vec![start];
+            label[start] = components.len();
+            let mut next = 0;
+            while next < members.len() {
+                let (x, y) = ((members[next] % w) as i64, (members[next] / w) as i64);
+                next += 1;
+                for (dx, dy) in RING {
+                    let (nx, ny) = (x + dx, y + dy);
+                    if nx < 0 || ny < 0 || nx >= w as i64 || ny >= h as i64 {
+                        continue;
+                    }
+                    let j = ny as usize * w + nx as usize;
+                    if binary.ink[j] && label[j] == usize::MAX {
+                        label[j] = components.len();
+                        members.push(j);
+                    }
+                }
+            }
+            members.sort_unstable();
+            components.push(members);
+        }
+        assert!(components.len() >= 5, "{} components", components.len());
+        let half = |i: usize| {
+            if binary.ink[i] {
+                1.0 + (i % 7) as f32
+            } else {
+                0.0
+            }
+        };
+
+        // The whole window: specks, Zhang-Suen, one pixel thick, a dot for an erased component.
+        let mut whole_ink = binary.ink.clone();
+        fill_specks(&mut whole_ink, w, h);
+        let mut whole = zhang_suen(&whole_ink, w, h);
+        one_pixel_thick(&mut whole, w, h);
+        let mut erased = 0;
+        for members in &components {
+            if members.iter().all(|&i| !whole[i]) {
+                let deepest = members
+                    .iter()
+                    .copied()
+                    .max_by(|&a, &b| half(a).total_cmp(&half(b)).then(b.cmp(&a)))
+                    .expect("a component has pixels");
+                whole[deepest] = true;
+                erased += 1;
+            }
+        }
+        assert!(erased >= 1, "the 2 x 2 block is erased by Zhang-Suen");
+        assert_ne!(whole_ink, binary.ink, "specks were filled");
+
+        let mut offsets = vec![0];
+        let mut members = Vec::new();
+        for component in &components {
+            members.extend_from_slice(component);
+            offsets.push(members.len());
+        }
+        let mut ink = binary.ink.clone();
+        let (skeleton, pixels) = skeleton_by_component(&mut ink, w, &offsets, &members, half);
+        assert_eq!(ink, whole_ink);
+        assert_eq!(skeleton, whole);
+        let listed: Vec<usize> = (0..w * h).filter(|&i| whole[i]).collect();
+        assert_eq!(pixels, listed);
+    }
 
     #[test]
     fn a_thick_staircase_thins_to_one_pixel() {

@@ -4,8 +4,8 @@
 //!
 //! The experiment `decide_by_ink` (`ExperimentParams::decide_by_ink`) decides instead by which
 //! of two drawings explains the ink ([`ink_only_arm`]): the junction's strokes with the branch
-//! (the arm kept) or without it (the arm cut), each drawn with the measured widths and a round
-//! pen; the arm is kept when the ink only it explains, less the background it covers, outweighs
+//! (the arm kept) or without it (the arm cut), each drawn with a round pen of each edge's
+//! measured (median) width; the arm is kept when the ink only it explains, less the background it covers, outweighs
 //! the cost of one more part, [`PART_COST`] squared widths.
 
 use crate::geometry::dist;
@@ -82,21 +82,25 @@ impl Work {
                 widths.reverse();
             }
             if by_ink {
-                // The cut hypothesis draws every disk of the junction's other edges that can
-                // reach the branch's disks.
-                let reach = dist(tip_pos, j.pos) + 2.0 * disk_radius(j.width) + 2.0 * stroke;
-                let mut drawn = vec![(j.pos, j.width)];
+                // Each hypothesis is drawn with a round pen of each edge's own width (its median):
+                // the disks the skeleton measures near a junction are inflated by the very ink in
+                // question. The cut hypothesis draws the junction with the narrowest of its
+                // strokes and the other edges' points that can reach the branch's disks.
+                let pen = median(&widths);
+                let reach = dist(tip_pos, j.pos) + disk_radius(pen) + 2.0 * disk_radius(stroke);
+                let mut drawn = vec![(j.pos, stroke)];
                 for other in others() {
+                    let own = median(&other.widths);
                     drawn.extend(
                         other
                             .points
                             .iter()
-                            .copied()
-                            .zip(other.widths.iter().copied())
-                            .filter(|&(q, _)| dist(q, j.pos) <= reach),
+                            .filter(|&&q| dist(q, j.pos) <= reach)
+                            .map(|&q| (q, own)),
                     );
                 }
-                let gain = ink_only_arm(&self.ink, &points, &widths, &drawn);
+                let arm = vec![pen; points.len()];
+                let gain = ink_only_arm(&self.ink, &points, &arm, &drawn);
                 let w = stroke.max(MIN_WIDTH_PX);
                 if gain <= PART_COST * w * w {
                     spurs.push((gain, e, junction, tip));

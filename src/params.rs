@@ -675,6 +675,14 @@ pub struct ExperimentParams {
     /// component's ink moves to the nearest ink point of its own cell. Default value: `false`.
     #[serde(default, skip_serializing_if = "std::ops::Not::not")]
     pub junctions_on_ink: bool,
+    /// Spurs decided by the ink (skeleton stage, docs/design.md, "Skeleton-carried geometry"):
+    /// a terminal branch at a junction is kept when the ink that only it explains (the junction's
+    /// edges drawn with and without it, each with a round pen of its median measured width)
+    /// outweighs the cost of one more part (half a square of the stroke's width), instead of
+    /// when its ink reaches past the junction's disk by more than `max(1.5 px, 0.4 w)`
+    /// (docs/quality.md, "Deciding spurs by the ink"). Default value: `false`.
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub decide_by_ink: bool,
 }
 
 /// Node spacing of [`ExperimentParams::dense_fit`], in `Dis_ave` (px on images).

@@ -585,7 +585,7 @@ fn carry_on_skeleton(
         return graph;
     }
     let clock = Instant::now();
-    let carried = skeleton::carry(&graph, points);
+    let carried = skeleton::carry(&graph, points, &params.experiments);
     timings.skeleton = clock.elapsed();
     carried
 }

@@ -6,14 +6,15 @@
 //!
 //! ```text
 //! cargo run --release --example quality [-- --json PATH] [--group NAME[,NAME...]] [--case NAME]
-//!     [--hanzi-every N] [--pictures DIR] [--verbose]
+//!     [--hanzi-every N] [--pictures DIR] [--why] [--verbose]
 //! ```
 //!
 //! Groups (docs/quality.md says what each one shows): `hard`, `text`, `prints` (the first
 //! benchmark), the Hershey fonts `scriptc`, `cursive`, `gothiceng`, `timesr` and `japanese`, the
 //! generated `cells`, `letters`, `zigzags`, `triples`, `arms`, and `hanzi` (characters of a real
 //! font, read from `../shared/data/hanzi` when present; skipped with a note when not;
-//! `--hanzi-every N` keeps every N-th character for a quicker run), `points` (strip-shaped point
+//! `--hanzi-every N` keeps every N-th character for a quicker run), `degraded`, the graph's
+//! hardest decisions `overhangs`, `loops` and `thin`, `points` (strip-shaped point
 //! sets, the paper's own input, scored in units of the strip width: `points.rs`), then `real`
 //! (below). Without
 //! `--group` every group runs (about a minute and a half on two cores).
@@ -29,6 +30,12 @@
 //! centerline length over background pixels (`ridgeline_testkit::score::off_ink`). The real fingerprints
 //! get their minutiae counts (`ridgeline::minutiae`, endings and bifurcations away from the
 //! print's border).
+//!
+//! Why graphs are not exactly right: with `--why` (or `--verbose`) each group's table is followed
+//! by the share of cases, per method, with a missed junction, an extra junction, a matched junction
+//! of the wrong degree, a missed end, a spurious end, wrong cycles and wrong components
+//! (`ridgeline_testkit::score::Misses`; a case may have several). The JSON always holds them
+//! (`misses`).
 
 mod hanzi;
 mod pictures;
@@ -45,9 +52,10 @@ use ridgeline::minutiae::{minutiae, MinutiaKind, MinutiaeOptions};
 use ridgeline::strokes::coverage_iou;
 use ridgeline::{Limits, Params, Polarity, StrokeGraph};
 use ridgeline_testkit::score::{
-    aggregate, score_with, truth_graph_with, GroupScores, ScoreOptions, Scores,
+    aggregate, miss_shares, score_with, truth_graph_with, GroupScores, MissShares, Misses,
+    ScoreOptions, Scores,
 };
-use ridgeline_testkit::synth::{self, Case, Degraded, CROWDED_GROUPS};
+use ridgeline_testkit::synth::{self, Case, Degraded, CROWDED_GROUPS, GRAPH_GROUPS};
 use serde::Serialize;
 
 /// Command-line arguments.
@@ -57,10 +65,12 @@ struct Args {
     case: Option<String>,
     hanzi_every: usize,
     pictures: Option<PathBuf>,
+    /// Print why graphs are not exactly right after each group's table.
+    why: bool,
     verbose: bool,
 }
 
-const USAGE: &str = "usage: quality [--json PATH] [--group NAME[,NAME...]] [--case NAME] [--hanzi-every N] [--pictures DIR] [--verbose]";
+const USAGE: &str = "usage: quality [--json PATH] [--group NAME[,NAME...]] [--case NAME] [--hanzi-every N] [--pictures DIR] [--why] [--verbose]";
 
 fn parse_args() -> anyhow::Result<Args> {
     let mut args = Args {
@@ -69,6 +79,7 @@ fn parse_args() -> anyhow::Result<Args> {
         case: None,
         hanzi_every: 1,
         pictures: None,
+        why: false,
         verbose: false,
     };
     let mut it = std::env::args().skip(1);
@@ -99,6 +110,7 @@ fn parse_args() -> anyhow::Result<Args> {
                     .context("--hanzi-every needs a whole number, at least 1")?
             }
             "--pictures" => args.pictures = Some(PathBuf::from(value()?)),
+            "--why" => args.why = true,
             "--verbose" | "-v" => args.verbose = true,
             "--help" | "-h" => {
                 println!("{USAGE}\ngroups: {}, points, real", all_groups().join(", "));
@@ -116,6 +128,7 @@ fn all_groups() -> Vec<&'static str> {
     groups.extend(CROWDED_GROUPS);
     groups.push("hanzi");
     groups.push("degraded");
+    groups.extend(GRAPH_GROUPS);
     groups
 }
 
@@ -464,9 +477,19 @@ struct RealImage {
     bifurcations: Option<usize>,
 }
 
+/// Why one method's graphs on one group are not exactly right.
+#[derive(Serialize)]
+struct MissRow {
+    group: String,
+    method: String,
+    shares: MissShares,
+}
+
 #[derive(Serialize)]
 struct Report {
     groups: Vec<GroupRow>,
+    /// Why graphs are not exactly right, per group and method.
+    misses: Vec<MissRow>,
     best_baselines: Vec<BestBaseline>,
     timings: Vec<GroupTiming>,
     truth_checks: Vec<TruthCheck>,
@@ -508,6 +531,7 @@ fn main() -> anyhow::Result<()> {
         .collect();
     let mut report = Report {
         groups: Vec::new(),
+        misses: Vec::new(),
         best_baselines: Vec::new(),
         timings: Vec::new(),
         truth_checks: Vec::new(),
@@ -630,6 +654,14 @@ fn main() -> anyhow::Result<()> {
             println!("{note}\n");
         }
         print_table(&rows, &best);
+        let misses: Vec<MissRow> = group_methods(name)
+            .iter()
+            .map(|&method| miss_row(name, method, &outcomes))
+            .collect();
+        if args.why || args.verbose {
+            print_misses(&misses);
+        }
+        report.misses.extend(misses);
         let warned: Vec<&Outcome> = outcomes
             .iter()
             .filter(|o| o.method == "ridgeline" && !o.warnings.is_empty())
@@ -787,6 +819,41 @@ fn group_row(group: &str, method: &str, outcomes: &[Outcome]) -> GroupRow {
         mean_time_ms: mine.iter().map(|o| o.time_ms).sum::<f64>() / mine.len().max(1) as f64,
         scores: aggregate(&scores),
         mean_iou: (!ious.is_empty()).then(|| ious.iter().sum::<f64>() / ious.len() as f64),
+    }
+}
+
+fn miss_row(group: &str, method: &str, outcomes: &[Outcome]) -> MissRow {
+    let scores: Vec<Scores> = outcomes
+        .iter()
+        .filter(|o| o.method == method)
+        .filter_map(|o| o.scores.clone())
+        .collect();
+    MissRow {
+        group: group.to_string(),
+        method: method.to_string(),
+        shares: miss_shares(&scores),
+    }
+}
+
+/// The compact table of why graphs are not exactly right: per method, the share of cases with
+/// each miss (a case may have several).
+fn print_misses(rows: &[MissRow]) {
+    println!("\nwhy not exactly right (share of cases; a case may have several):\n");
+    println!("| method | not right | {} |", Misses::NAMES.join(" | "));
+    println!("|---|---|{}", "---|".repeat(Misses::NAMES.len()));
+    for r in rows.iter().filter(|r| r.shares.cases > 0) {
+        let cells: Vec<String> = r
+            .shares
+            .shares()
+            .iter()
+            .map(|x| format!("{:.0}%", 100.0 * x))
+            .collect();
+        println!(
+            "| {} | {:.0}% | {} |",
+            r.method,
+            100.0 * r.shares.not_exactly_right,
+            cells.join(" | ")
+        );
     }
 }
 

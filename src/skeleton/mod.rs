@@ -37,6 +37,7 @@ mod work;
 
 use crate::binary::Binary;
 use crate::mask::ink_distances;
+use crate::params::ExperimentParams;
 use crate::point_set::{Grid, PointSet};
 use crate::stroke_graph::StrokeGraph;
 
@@ -81,7 +82,11 @@ pub(crate) fn thin(binary: &Binary) -> StrokeGraph {
 
 /// The skeleton-carried graph of `points`' ink with the topology decisions of `method` (see the
 /// module doc). Returns `method` unchanged for point lists and in dropout mode.
-pub fn carry(method: &StrokeGraph, points: &PointSet) -> StrokeGraph {
+pub fn carry(
+    method: &StrokeGraph,
+    points: &PointSet,
+    experiments: &ExperimentParams,
+) -> StrokeGraph {
     let Some(grid) = &points.grid else {
         return method.clone();
     };
@@ -89,7 +94,7 @@ pub fn carry(method: &StrokeGraph, points: &PointSet) -> StrokeGraph {
         return method.clone();
     }
     let (skeleton, ink) = skeleton_graph(points, grid);
-    let carried = reconcile(Work::new(skeleton, ink), method);
+    let carried = reconcile(Work::new(skeleton, ink), method, experiments);
     debug_assert_eq!(validate(&carried), Ok(()));
     carried
 }
@@ -160,12 +165,13 @@ fn skeleton_graph(points: &PointSet, grid: &Grid) -> (StrokeGraph, Ink) {
 /// The skeleton's graph with the method's decisions, in order: spurs, thinning's split
 /// junctions, crossings, spurs the merged crossings leave, corners, dots, ends, junctions, and
 /// last the method's lines.
-fn reconcile(mut work: Work, method: &StrokeGraph) -> StrokeGraph {
-    work.prune_spurs();
+fn reconcile(mut work: Work, method: &StrokeGraph, experiments: &ExperimentParams) -> StrokeGraph {
+    let by_ink = experiments.decide_by_ink;
+    work.prune_spurs(by_ink);
     work.join_degree_two();
     work.contract_short_links();
     work.merge_crossings(method);
-    work.prune_spurs();
+    work.prune_spurs(by_ink);
     // A dissolved corner lengthens its neighbours' legs (the corners of a small `w` share them):
     // repeated until none is left.
     while work.dissolve_corners() {

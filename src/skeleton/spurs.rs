@@ -1,10 +1,16 @@
 //! Spurs: the arms test (§3.1's idea applied to the skeleton) decides which terminal branches
 //! are the boundary's bumps and go ([`Work::prune_spurs`], [`spur_reach`]). docs/design.md,
 //! "Skeleton-carried geometry".
+//!
+//! The experiment `decide_by_ink` (`ExperimentParams::decide_by_ink`) decides instead by which
+//! of two drawings explains the ink ([`ink_only_arm`]): the junction's strokes with the branch
+//! (the arm kept) or without it (the arm cut), each drawn with a round pen of each edge's
+//! measured (median) width; the arm is kept when the ink only it explains, less the background it covers, outweighs
+//! the cost of one more part, [`PART_COST`] squared widths.
 
 use crate::geometry::dist;
 
-use super::work::{median, Work};
+use super::work::{median, Ink, Work};
 use super::{disk_radius, MIN_WIDTH_PX};
 
 /// A branch whose tip lies farther than this many stroke widths (plus [`SPUR_TIP_MARGIN_PX`])
@@ -25,13 +31,22 @@ const SPUR_REACH: f64 = 0.4;
 /// See [`SPUR_REACH`] (px): a bump of the boundary reaches about a pixel.
 const SPUR_REACH_PX: f64 = 1.5;
 
+/// The cost of one more part (an arm and its end), in squared stroke widths, against which the
+/// ink only the arm explains is weighed (`decide_by_ink`): half a square of the stroke's width.
+/// A round pen's cap is `pi / 8 = 0.39` squared widths: an end's cap sticking out of the
+/// stroke it leaves is no evidence of an arm; an arm half a width longer than its cap is.
+const PART_COST: f64 = 0.5;
+
 impl Work {
     /// Spurs: terminal branches whose ink does not reach beyond their junction's disk by more
     /// than `max(1.5 px, 0.4 w)` ([`SPUR_REACH_PX`], [`SPUR_REACH`]) are removed, least reaching first, while
     /// their junction keeps three edges (of the two stubs of a forked stroke end, the longer
     /// one stays as the stroke's end). A sharp corner's branch reaches about `0.2 w`, a boundary
     /// bump about a pixel; an arm half a width long or more is kept.
-    pub(super) fn prune_spurs(&mut self) {
+    ///
+    /// With `by_ink` (the experiment `decide_by_ink`), a branch is a spur when the ink only it
+    /// explains ([`ink_only_arm`]) is at most [`PART_COST`] squared stroke widths; least first.
+    pub(super) fn prune_spurs(&mut self, by_ink: bool) {
         let mut degree = self.degrees();
         let at = self.incidence();
         // The stroke width an arm leaves: the narrowest median width of the junction's other
@@ -65,6 +80,32 @@ impl Work {
             if !forward {
                 points.reverse();
                 widths.reverse();
+            }
+            if by_ink {
+                // Each hypothesis is drawn with a round pen of each edge's own width (its median):
+                // the disks the skeleton measures near a junction are inflated by the very ink in
+                // question. The cut hypothesis draws the junction with the narrowest of its
+                // strokes and the other edges' points that can reach the branch's disks.
+                let pen = median(&widths);
+                let reach = dist(tip_pos, j.pos) + disk_radius(pen) + 2.0 * disk_radius(stroke);
+                let mut drawn = vec![(j.pos, stroke)];
+                for other in others() {
+                    let own = median(&other.widths);
+                    drawn.extend(
+                        other
+                            .points
+                            .iter()
+                            .filter(|&&q| dist(q, j.pos) <= reach)
+                            .map(|&q| (q, own)),
+                    );
+                }
+                let arm = vec![pen; points.len()];
+                let gain = ink_only_arm(&self.ink, &points, &arm, &drawn);
+                let w = stroke.max(MIN_WIDTH_PX);
+                if gain <= PART_COST * w * w {
+                    spurs.push((gain, e, junction, tip));
+                }
+                continue;
             }
             // The envelope: the junction and its other edges' points near it.
             let mut envelope = vec![(j.pos, j.width)];
@@ -117,9 +158,116 @@ pub(super) fn spur_reach(points: &[[f64; 2]], widths: &[f64], envelope: &[([f64;
         .fold(0.0f64, f64::max)
 }
 
+/// Whether pixel center `c` lies inside the round pen's disk of full width `w` (the pixel itself
+/// counted, as the widths are) at `p`: a skeleton pixel's disk holds exactly the ink pixels
+/// closer to it than the nearest background pixel.
+fn in_disk(c: [f64; 2], p: [f64; 2], w: f64) -> bool {
+    dist(c, p) < disk_radius(w)
+}
+
+/// How much better the drawing with the arm explains the ink than the drawing without it, px:
+/// over the pixels that the branch's disks (`points`, `widths`) cover and none of `drawn`'s (the
+/// junction and its other edges) does, the ink pixels (ink only the arm explains) less the
+/// background pixels (what the arm draws where there is none). Elsewhere the two drawings agree,
+/// so this is the difference of their errors (ink not covered plus covered background).
+pub(super) fn ink_only_arm(
+    ink: &Ink,
+    points: &[[f64; 2]],
+    widths: &[f64],
+    drawn: &[([f64; 2], f64)],
+) -> f64 {
+    let mut min = [f64::INFINITY; 2];
+    let mut max = [f64::NEG_INFINITY; 2];
+    for (&p, &w) in points.iter().zip(widths) {
+        let r = disk_radius(w);
+        for k in 0..2 {
+            min[k] = min[k].min(p[k] - r);
+            max[k] = max[k].max(p[k] + r);
+        }
+    }
+    if !min[0].is_finite() {
+        return 0.0;
+    }
+    // Pixel centers of the window, in image coordinates (pixel `x` of the ink's window covers
+    // `origin + [x, x + 1)`).
+    let to_index = |v: f64, k: usize| (v - ink.origin[k] - 0.5).ceil() as i64;
+    let mut gain = 0.0;
+    for y in to_index(min[1], 1)..=to_index(max[1], 1) {
+        for x in to_index(min[0], 0)..=to_index(max[0], 0) {
+            let c = [
+                ink.origin[0] + x as f64 + 0.5,
+                ink.origin[1] + y as f64 + 0.5,
+            ];
+            let arm = points.iter().zip(widths).any(|(&p, &w)| in_disk(c, p, w));
+            if !arm || drawn.iter().any(|&(q, w)| in_disk(c, q, w)) {
+                continue;
+            }
+            gain += if ink.at(c) { 1.0 } else { -1.0 };
+        }
+    }
+    gain
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    use crate::params::Params;
+    use crate::synth::{render, Stroke};
+
+    /// Junction degrees and the number of ends of the traced stem-on-bar: a bar 8 px wide
+    /// across, a stem from below running `over` px past the bar's centerline, by the ink.
+    fn tee(over: f64) -> (Vec<usize>, usize) {
+        let (w, c) = (8.0, [60.5, 40.5]);
+        let strokes = [
+            Stroke::new(vec![[c[0] - 45.0, c[1]], [c[0] + 45.0, c[1]]], w),
+            Stroke::new(vec![[c[0], c[1] + 35.0], [c[0], c[1] - over]], w),
+        ];
+        let mut params = Params::default();
+        params.experiments.decide_by_ink = true;
+        let graph = crate::trace_binary(&render(&strokes, 121, 90), &params)
+            .expect("trace")
+            .graph;
+        let junctions = graph
+            .junctions()
+            .map(|v| graph.vertices[v].degree)
+            .collect();
+        (junctions, graph.endpoints().count())
+    }
+
+    #[test]
+    fn by_the_ink_a_long_overhang_is_an_arm_and_a_short_one_is_not() {
+        // Two widths past the bar: a crossing with four arms.
+        assert_eq!(tee(16.0), (vec![4], 4));
+        // A quarter width: the stem's cap inside the bar's ink, a T.
+        assert_eq!(tee(2.0), (vec![3], 3));
+    }
+
+    #[test]
+    fn the_ink_only_an_arm_explains_is_its_area_beyond_the_drawn_disks() {
+        // Ink: a 9 px wide bar (rows 10-18) and a 5 px wide stub above it (rows 4-9). The
+        // drawing without the arm covers the bar; the arm's disks cover the stub.
+        let (width, height) = (40, 30);
+        let mask: Vec<bool> = (0..width * height)
+            .map(|i| {
+                let (x, y) = (i % width, i / width);
+                (10..19).contains(&y) || ((18..23).contains(&x) && (4..10).contains(&y))
+            })
+            .collect();
+        let ink = Ink {
+            mask,
+            width,
+            height,
+            origin: [0.0, 0.0],
+        };
+        let drawn: Vec<([f64; 2], f64)> = (0..40).map(|x| ([x as f64 + 0.5, 14.5], 9.0)).collect();
+        let arm = [[20.5, 10.5], [20.5, 8.5], [20.5, 6.5]];
+        let gain = ink_only_arm(&ink, &arm, &[5.0, 5.0, 5.0], &drawn);
+        // The stub's 30 pixels, less the few its round disks miss at the corners; no
+        // background is covered (each disk holds only pixels nearer than its width says).
+        assert!((20.0..=30.0).contains(&gain), "{gain}");
+        assert_eq!(ink_only_arm(&ink, &[[20.5, 14.5]], &[9.0], &drawn), 0.0);
+    }
 
     #[test]
     fn a_short_arm_reaches_beyond_its_junction_and_a_bump_does_not() {

@@ -148,6 +148,144 @@ pub struct Scores {
     pub off_ink: f64,
     /// The distance tolerances of `precision`, `recall` and `f1`, px.
     pub taus: [f64; 3],
+    /// Whether every true junction is matched by a predicted junction of its degree (part of
+    /// [`Scores::exactly_right`]; [`Scores::misses`] reads it). Not serialized: the case's JSON
+    /// stays as it was, [`Misses`] carries it.
+    #[serde(skip)]
+    pub junction_degrees_agree: bool,
+}
+
+/// Why a graph is not exactly right ([`Scores::misses`]): each way [`Scores::exactly_right`]
+/// can fail, any number of them at once. A graph is exactly right when none holds.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
+pub struct Misses {
+    /// A true junction has no predicted junction matched to it.
+    pub missed_junction: bool,
+    /// A predicted junction is matched to no true junction.
+    pub extra_junction: bool,
+    /// A true junction is matched by a predicted junction of another degree.
+    pub wrong_degree: bool,
+    /// A true end has no predicted end matched to it.
+    pub missed_end: bool,
+    /// A predicted end is matched to no true end (a spur, or a stroke broken in two).
+    pub spurious_end: bool,
+    /// The number of independent cycles differs.
+    pub wrong_cycles: bool,
+    /// The number of components differs.
+    pub wrong_components: bool,
+}
+
+impl Misses {
+    /// The names of the misses, in the order of the fields (the columns of the quality
+    /// example's table).
+    pub const NAMES: [&'static str; 7] = [
+        "missed junction",
+        "extra junction",
+        "wrong degree",
+        "missed end",
+        "spurious end",
+        "wrong cycles",
+        "wrong components",
+    ];
+
+    /// The misses as flags in the order of [`Misses::NAMES`].
+    pub fn flags(&self) -> [bool; 7] {
+        [
+            self.missed_junction,
+            self.extra_junction,
+            self.wrong_degree,
+            self.missed_end,
+            self.spurious_end,
+            self.wrong_cycles,
+            self.wrong_components,
+        ]
+    }
+
+    /// Whether any miss holds (exactly when the graph is not [`Scores::exactly_right`]).
+    pub fn any(&self) -> bool {
+        self.flags().iter().any(|&f| f)
+    }
+}
+
+impl Scores {
+    /// Why the graph is not exactly right: read from the counts, so it agrees with
+    /// [`Scores::exactly_right`] (no miss exactly when it is right).
+    pub fn misses(&self) -> Misses {
+        // A matched junction of the wrong degree: the degrees disagree though every true
+        // junction is matched.
+        let all_matched = self.junctions_matched == self.true_junctions;
+        Misses {
+            missed_junction: self.junctions_matched < self.true_junctions,
+            extra_junction: self.predicted_junctions > self.junctions_matched,
+            wrong_degree: all_matched && !self.junction_degrees_agree,
+            missed_end: self.endpoints_found < self.true_endpoints,
+            spurious_end: self.predicted_endpoints > self.endpoints_found,
+            wrong_cycles: !self.cycles_exact,
+            wrong_components: !self.components_exact,
+        }
+    }
+}
+
+/// The share of a group's cases with each miss ([`Misses`]), pooled by [`miss_shares`].
+#[derive(Clone, Debug, Default, PartialEq, Serialize)]
+pub struct MissShares {
+    /// Number of cases.
+    pub cases: usize,
+    /// Share of cases that are not exactly right.
+    pub not_exactly_right: f64,
+    /// Share of cases with a missed junction.
+    pub missed_junction: f64,
+    /// Share of cases with an extra junction.
+    pub extra_junction: f64,
+    /// Share of cases with every junction matched but one of the wrong degree.
+    pub wrong_degree: f64,
+    /// Share of cases with a missed end.
+    pub missed_end: f64,
+    /// Share of cases with a spurious end.
+    pub spurious_end: f64,
+    /// Share of cases with wrong cycles.
+    pub wrong_cycles: f64,
+    /// Share of cases with wrong components.
+    pub wrong_components: f64,
+}
+
+impl MissShares {
+    /// The shares in the order of [`Misses::NAMES`].
+    pub fn shares(&self) -> [f64; 7] {
+        [
+            self.missed_junction,
+            self.extra_junction,
+            self.wrong_degree,
+            self.missed_end,
+            self.spurious_end,
+            self.wrong_cycles,
+            self.wrong_components,
+        ]
+    }
+}
+
+/// The share of `scores`' cases with each [`Misses`] (all zero for no case).
+pub fn miss_shares(scores: &[Scores]) -> MissShares {
+    let n = scores.len();
+    let misses: Vec<Misses> = scores.iter().map(Scores::misses).collect();
+    let share = |f: &dyn Fn(&Misses) -> bool| {
+        if n == 0 {
+            0.0
+        } else {
+            misses.iter().filter(|m| f(m)).count() as f64 / n as f64
+        }
+    };
+    MissShares {
+        cases: n,
+        not_exactly_right: share(&|m| m.any()),
+        missed_junction: share(&|m| m.missed_junction),
+        extra_junction: share(&|m| m.extra_junction),
+        wrong_degree: share(&|m| m.wrong_degree),
+        missed_end: share(&|m| m.missed_end),
+        spurious_end: share(&|m| m.spurious_end),
+        wrong_cycles: share(&|m| m.wrong_cycles),
+        wrong_components: share(&|m| m.wrong_components),
+    }
 }
 
 /// One true crossing and how the prediction did there.
@@ -481,6 +619,7 @@ pub fn score_with(
     s.true_cycles = truth.cycles();
     s.predicted_cycles = norm.cycles();
     s.cycles_exact = s.true_cycles == s.predicted_cycles;
+    s.junction_degrees_agree = junction_degrees_agree;
     s.exactly_right = junction_degrees_agree
         && s.predicted_junctions == s.true_junctions
         && s.endpoints_found == s.true_endpoints
@@ -2287,4 +2426,65 @@ fn smallest_members(sets: &UnionFind<usize>, n: usize) -> Vec<usize> {
         smallest[root] = smallest[root].min(v);
     }
     (0..n).map(|v| smallest[sets.find(v)]).collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::synth::overhang_cases;
+
+    /// `graph` without the edge that ends at its end vertex `end`, nor that vertex.
+    fn without_arm(graph: &StrokeGraph, end: usize) -> StrokeGraph {
+        let mut out = graph.clone();
+        let arm = out
+            .edges
+            .iter()
+            .position(|e| e.from == end || e.to == end)
+            .expect("the arm's edge");
+        let edge = out.edges.remove(arm);
+        let junction = if edge.from == end { edge.to } else { edge.from };
+        out.vertices[junction].degree -= 1;
+        out.vertices.remove(end);
+        for e in &mut out.edges {
+            e.from -= (e.from > end) as usize;
+            e.to -= (e.to > end) as usize;
+        }
+        out
+    }
+
+    #[test]
+    fn misses_say_why_a_graph_is_not_exactly_right() {
+        let case = overhang_cases()
+            .into_iter()
+            .find(|c| c.name == "tee_o2_w8")
+            .expect("the case");
+        let truth = truth_graph(&case);
+        let right = score(&case, &truth, &truth);
+        assert!(right.exactly_right);
+        assert_eq!(right.misses(), Misses::default());
+        // The arm above the bar cut off: its end is missed, and the crossing is a T.
+        let top = truth
+            .endpoints()
+            .min_by(|&a, &b| truth.vertices[a].pos[1].total_cmp(&truth.vertices[b].pos[1]))
+            .expect("an end");
+        let cut = without_arm(&truth, top);
+        let scores = score(&case, &truth, &cut);
+        assert!(!scores.exactly_right);
+        let misses = scores.misses();
+        assert!(misses.any());
+        assert_eq!(
+            misses,
+            Misses {
+                wrong_degree: true,
+                missed_end: true,
+                ..Misses::default()
+            }
+        );
+        let shares = miss_shares(&[right, scores]);
+        assert_eq!(shares.cases, 2);
+        assert_eq!(shares.not_exactly_right, 0.5);
+        assert_eq!(shares.wrong_degree, 0.5);
+        assert_eq!(shares.missed_end, 0.5);
+        assert_eq!(shares.spurious_end, 0.0);
+    }
 }

@@ -7,16 +7,22 @@
 //! (fingerprint-like ridge fields traced as level sets of a phase function). The groups where
 //! strokes crowd (docs/quality.md) come on their own: [`font_cases`] (Hershey script, cursive,
 //! Gothic and Times lines), [`japanese_cases`] (Hershey kana and kanji) and the generated
-//! [`cell_cases`], [`letter_cases`], [`zigzag_cases`], [`triple_cases`] and [`arm_cases`].
+//! [`cell_cases`], [`letter_cases`], [`zigzag_cases`], [`triple_cases`] and [`arm_cases`]; the
+//! groups that score the graph's hardest decisions too ([`GRAPH_GROUPS`]): [`overhang_cases`]
+//! (a stroke running a little past the one it meets), [`loop_cases`] (script loops crossing at
+//! 10-40 degrees) and [`thin_cases`] (one- and two-pixel drawings).
 //! Everything is deterministic: the same call gives the same pixels and the same truth.
 
 mod crowded;
 mod degraded;
 mod hershey;
+mod loops;
+mod overhangs;
 mod prints;
 mod rng;
 mod shapes;
 mod strips;
+mod thin_lines;
 
 pub use crowded::{
     arm_cases, cell_cases, letter_cases, triple_cases, zigzag_cases, ARM_LENGTHS, CELL_SIZES,
@@ -27,6 +33,8 @@ pub use hershey::{
     font_cases, japanese_cases, page, text_cases, text_line, Font, Glyph, FONTS,
     SINGLE_PASS_TOLERANCE,
 };
+pub use loops::{loop_cases, LOOP_ANGLES, LOOP_WIDTHS};
+pub use overhangs::{overhang_cases, OVERHANGS, OVERHANG_WIDTHS};
 pub use prints::{dense_print_cases, finger_area, print_cases, DENSE_PRINT_SIZE};
 pub use rng::SplitMix64;
 pub use shapes::hard_cases;
@@ -34,6 +42,7 @@ pub use strips::{
     helix_tube, sine_strip, strip_cases, tube_cases, uniform_cloud, StripCase, StripCurve,
     TubeCase, TubeCurve, STRIP_WIDTH, TUBE_WIDTH,
 };
+pub use thin_lines::{thin_cases, THIN_WIDTHS};
 
 pub use ridgeline::draw::{render, Stroke};
 use ridgeline::Binary;
@@ -75,8 +84,12 @@ pub const CROWDED_GROUPS: [&str; 10] = [
     "arms",
 ];
 
-/// The cases of one generated group by name: those of [`all_cases`] (`hard`, `text`, `prints`)
-/// and the [`CROWDED_GROUPS`]; `None` for any other name.
+/// The generated groups that score the graph where its decisions are hardest, by name, in the
+/// benchmark's order: [`overhang_cases`], [`loop_cases`], [`thin_cases`].
+pub const GRAPH_GROUPS: [&str; 3] = ["overhangs", "loops", "thin"];
+
+/// The cases of one generated group by name: those of [`all_cases`] (`hard`, `text`, `prints`),
+/// the [`CROWDED_GROUPS`] and the [`GRAPH_GROUPS`]; `None` for any other name.
 pub fn group_cases(group: &str) -> Option<Vec<Case>> {
     Some(match group {
         "hard" => hard_cases(),
@@ -88,6 +101,9 @@ pub fn group_cases(group: &str) -> Option<Vec<Case>> {
         "zigzags" => zigzag_cases(),
         "triples" => triple_cases(),
         "arms" => arm_cases(),
+        "overhangs" => overhang_cases(),
+        "loops" => loop_cases(),
+        "thin" => thin_cases(),
         font if FONTS.contains(&font) => font_cases(font),
         _ => return None,
     })

@@ -139,19 +139,50 @@ pub fn fingerprint_minutiae(
             .map(|(&p, &r)| !(p && r))
             .collect();
         let to_outside = crate::mask::squared_distances_to(&outside, w, h, margin);
-        found.retain(|m| {
+        let at_least = |m: &Minutia, margin: f64| {
             let [x, y] = m.pos;
-            if !(x >= margin && y >= margin && w as f64 - x >= margin && h as f64 - y >= margin) {
-                return false;
-            }
             let index = (y as usize).min(h - 1) * w + (x as usize).min(w - 1);
-            f64::from(to_outside[index]) >= margin * margin
-        });
+            x >= margin
+                && y >= margin
+                && w as f64 - x >= margin
+                && h as f64 - y >= margin
+                && f64::from(to_outside[index]) >= margin * margin
+        };
+        let inward_margin = params.inward_border_periods * typical;
+        if inward_margin > 0.0 && inward_margin < margin {
+            let mut qualities: Vec<u8> = found.iter().map(|m| print.quality_at(m.pos)).collect();
+            let middle = qualities.len() / 2;
+            let median = if qualities.is_empty() {
+                0
+            } else {
+                *qualities.select_nth_unstable(middle).1
+            };
+            let needed = params.inward_border_quality * f64::from(median);
+            found.retain(|m| {
+                at_least(m, margin)
+                    || (at_least(m, inward_margin)
+                        && f64::from(print.quality_at(m.pos)) >= needed
+                        && !points_out(m, &outside, [w, h], margin))
+            });
+        } else {
+            found.retain(|m| at_least(m, margin));
+        }
     }
     for m in &mut found {
         m.quality = Some(print.quality_at(m.pos));
     }
     found
+}
+
+/// Whether `m`'s direction, followed for `reach` px, leaves the print (`outside`, `size` its
+/// width and height) or the image: a ridge cut by the print's outline ends pointing out of it.
+fn points_out(m: &Minutia, outside: &[bool], [w, h]: [usize; 2], reach: f64) -> bool {
+    let (dy, dx) = m.direction.sin_cos();
+    (1..=reach.ceil() as usize).any(|k| {
+        let (x, y) = (m.pos[0] + k as f64 * dx, m.pos[1] + k as f64 * dy);
+        !(x >= 0.0 && y >= 0.0 && x < w as f64 && y < h as f64)
+            || outside[y as usize * w + x as usize]
+    })
 }
 
 /// Bifurcations of which one arm leaves the junction across a valley the gray image shows: off
@@ -466,6 +497,30 @@ mod tests {
         let hook = [[0.0, 0.0], [9.0, 0.0], [9.0, 5.0], [0.0, 5.0]];
         assert!(!nearly_closed(&hook, 9.0));
         assert!(!nearly_closed(&[[0.0, 0.0]], 9.0));
+    }
+
+    #[test]
+    fn a_minutia_points_out_of_the_print_when_its_direction_leaves_it() {
+        // A print of 100 x 60 px whose left 40 columns are outside; minutiae 6 px inside it.
+        let (w, h) = (100usize, 60usize);
+        let outside: Vec<bool> = (0..w * h).map(|i| i % w < 40).collect();
+        let at = |x: f64, y: f64, direction: f64| Minutia {
+            kind: MinutiaKind::Ending,
+            vertex: 0,
+            pos: [x, y],
+            direction,
+            width: 3.0,
+            quality: None,
+        };
+        let out = |m: Minutia| points_out(&m, &outside, [w, h], 12.0);
+        use std::f64::consts::{FRAC_PI_2, PI};
+        assert!(out(at(46.0, 30.0, PI)), "towards the outside");
+        assert!(out(at(46.0, 30.0, 0.8 * PI)), "obliquely towards it");
+        assert!(!out(at(46.0, 30.0, 0.0)), "into the print");
+        assert!(!out(at(46.0, 30.0, FRAC_PI_2)), "along the border");
+        // The image's edge is the print's edge too; beyond `reach` nothing counts.
+        assert!(out(at(70.0, 5.0, -FRAC_PI_2)));
+        assert!(!out(at(70.0, 20.0, -FRAC_PI_2)));
     }
 
     #[test]

@@ -13,6 +13,7 @@
 mod crowded;
 mod degraded;
 mod hershey;
+mod pages;
 mod prints;
 mod rng;
 mod shapes;
@@ -27,6 +28,7 @@ pub use hershey::{
     font_cases, japanese_cases, page, text_cases, text_line, Font, Glyph, FONTS,
     SINGLE_PASS_TOLERANCE,
 };
+pub use pages::{page_cases, PAGE_CASES};
 pub use prints::{dense_print_cases, finger_area, print_cases, DENSE_PRINT_SIZE};
 pub use rng::SplitMix64;
 pub use shapes::hard_cases;

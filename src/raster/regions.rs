@@ -65,6 +65,12 @@ const FRAME_SPAN: f64 = 0.5;
 /// ... and covers at most this share of its own box (a ring of bands, not a field).
 const FRAME_FILL: f64 = 0.5;
 
+/// A region along the image's edge that is not a frame is a page edge when at least this share
+/// of its cells are even dark: dark field, or at least [`PAGE_EDGE_INK`] ink (see [`find`]).
+const PAGE_EDGE_EVEN: f64 = 0.5;
+/// See [`PAGE_EDGE_EVEN`]: a cell this share ink shows no paper between strokes.
+const PAGE_EDGE_INK: f64 = 0.95;
+
 /// What a cell shows.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 enum Cell {
@@ -110,6 +116,21 @@ pub(crate) fn find(
     let mut removed_cells = vec![false; cols * rows];
     for group in photos(groups, cols, rows) {
         let region = describe(&group, cols, rows, cell, width, height);
+        // Beyond a page's edge lies one even dark: cells all ink, or a dark field the threshold
+        // left. Solid ink reaching the image's edge with paper showing through it is as likely an
+        // over-inked part of the drawing (an ink card's smudged ridges): no page edge.
+        if region.kind == RegionKind::PageEdge {
+            let even = group
+                .iter()
+                .filter(|&&c| {
+                    cells[c] == Cell::DarkField
+                        || ink_share(ink, width, height, cell, cols, c) >= PAGE_EDGE_INK
+                })
+                .count();
+            if (even as f64) < PAGE_EDGE_EVEN * group.len() as f64 {
+                continue;
+            }
+        }
         if !keep.contains(&region.kind) {
             for &c in &group {
                 removed_cells[c] = true;
@@ -434,6 +455,21 @@ fn photos(groups: Vec<Vec<usize>>, cols: usize, rows: usize) -> Vec<Vec<usize>> 
     out
 }
 
+/// The share of ink in cell `c` (cut to the image).
+fn ink_share(ink: &[bool], width: usize, height: usize, cell: usize, cols: usize, c: usize) -> f64 {
+    let (x0, y0) = ((c % cols) * cell, (c / cols) * cell);
+    let (x1, y1) = ((x0 + cell).min(width), (y0 + cell).min(height));
+    let count: usize = (y0..y1)
+        .map(|y| {
+            ink[y * width + x0..y * width + x1]
+                .iter()
+                .filter(|&&i| i)
+                .count()
+        })
+        .sum();
+    count as f64 / ((x1 - x0) * (y1 - y0)).max(1) as f64
+}
+
 /// A group's kind and box (its cells' box, cut to the image).
 fn describe(
     group: &[usize],
@@ -642,6 +678,17 @@ mod tests {
         let (kept, decisions) = decide(&gray, &found);
         assert_eq!(kinds(&decisions), found);
         assert!(kept.ink[5 * 480 + 5]);
+    }
+
+    #[test]
+    fn smudged_ridges_reaching_the_edge_are_no_page_edge() {
+        // Bands of ink 10 px thick with 2 px of paper between them, from the text to the
+        // image's right edge: an over-inked print's ridges, solid cells with paper showing.
+        let ridges = |x: u32, y: u32| (x >= 276 && y < 120 && y % 12 < 10).then_some(INK);
+        let gray = page(320, 240, [20, 20, 180, 220], ridges);
+        let (binary, decisions) = decide(&gray, &[]);
+        assert!(decisions.regions.is_empty(), "{:?}", decisions.regions);
+        assert!(binary.ink[5 * 320 + 300], "the ridges stay ink");
     }
 
     #[test]

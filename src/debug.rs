@@ -152,13 +152,16 @@ pub const DECISIONS_PICTURE: &str = "0-decisions.png";
 const DECIDED_INK: Rgb<u8> = Rgb([0, 90, 220]);
 /// Block grid of the local threshold.
 const BLOCK_GRID: Rgb<u8> = Rgb([255, 150, 0]);
+/// The outline of a region that is not strokes (left out of the trace unless kept) in the
+/// decisions picture.
+const REGION_OUTLINE: Rgb<u8> = Rgb([220, 0, 200]);
 /// Outline of a reversed ground.
 const GROUND_OUTLINE: Rgb<u8> = Rgb([0, 170, 60]);
 
 /// The front end's decisions over the gray image it decided on (docs/design.md, "The front end"):
 /// the gray pixels, the side taken as ink tinted blue (so a wrong polarity shows as tinted
 /// paper), with the local threshold its blocks as an orange grid, and the reversed grounds
-/// (polarity per region) outlined in green. Named
+/// (polarity per region) outlined in green, the regions that are not strokes in magenta. Named
 /// [`DECISIONS_PICTURE`] by `--debug`.
 pub fn decisions_picture(gray: &GrayImage, binary: &Binary, decisions: &Decisions) -> RgbImage {
     let (w, h) = gray.dimensions();
@@ -198,6 +201,17 @@ pub fn decisions_picture(gray: &GrayImage, binary: &Binary, decisions: &Decision
             };
             if decisions.reversed_grounds.iter().any(on_outline) {
                 color = GROUND_OUTLINE;
+            }
+            let on_region = |r: &crate::decisions::Region| {
+                on_outline(&crate::decisions::Ground {
+                    x: r.x,
+                    y: r.y,
+                    width: r.width,
+                    height: r.height,
+                })
+            };
+            if decisions.regions.iter().any(on_region) {
+                color = REGION_OUTLINE;
             }
             canvas.image.put_pixel(x, y, color);
         }

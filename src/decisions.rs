@@ -2,7 +2,7 @@
 //! probably wrong (docs/design.md, "The front end"). Both go into the JSON and onto stderr, so a
 //! user can see why a trace looks the way it does and which flag overrides it.
 
-use crate::params::Enhancement;
+use crate::params::{Enhancement, RegionKind};
 use serde::Serialize;
 
 /// The side of the threshold traced as ink ([`Decisions::polarity`]), written `"dark"` or
@@ -68,6 +68,12 @@ pub struct Decisions {
     /// by bounding box; empty (and not written) when there was none.
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub reversed_grounds: Vec<Ground>,
+    /// The regions that are not strokes (halftone photos, frames, page edges), by kind and
+    /// bounding box: left out of the trace unless their kind is in
+    /// [`FrontEndParams::keep_regions`](crate::FrontEndParams::keep_regions); empty (and not
+    /// written) when there was none.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub regions: Vec<Region>,
     /// What the fingerprint front end measured on the print; `None` (and not written) without
     /// `--fingerprint`.
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -140,6 +146,21 @@ pub struct Warning {
 /// A reversed ground's bounding box, px.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
 pub struct Ground {
+    /// Left column.
+    pub x: u32,
+    /// Top row.
+    pub y: u32,
+    /// Width.
+    pub width: u32,
+    /// Height.
+    pub height: u32,
+}
+
+/// A region of an image that is not strokes, px ([`Decisions::regions`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+pub struct Region {
+    /// What it is.
+    pub kind: RegionKind,
     /// Left column.
     pub x: u32,
     /// Top row.

@@ -101,7 +101,9 @@ pub mod warnings;
 
 pub use binary::{Binary, MaskView};
 pub use curve3d::{dist3, CurveGraph3d, Edge3d, Trace3d, Vertex3d};
-pub use decisions::{Decisions, InkSide, PrintDecisions, ThresholdUsed, Warning, UNEVEN_LIGHT};
+pub use decisions::{
+    Decisions, InkSide, PrintDecisions, Region, ThresholdUsed, Warning, UNEVEN_LIGHT,
+};
 pub use error::{Error, Result};
 pub use geometry::dist;
 pub use gray::GrayView;
@@ -109,8 +111,8 @@ pub use image::GrayImage;
 pub use node_graph::{GraphNode, NodeGraph};
 pub use params::{
     ClusterRule, Enhancement, ExperimentParams, FingerprintParams, FinishParams, FitParams,
-    FrontEndParams, LaplacianRule, Limits, MethodParams, Params, Polarity, RMinRule, Threshold,
-    DENSE_SPACING, MAX_WEISZFELD_ITERATIONS,
+    FrontEndParams, LaplacianRule, Limits, MethodParams, Params, Polarity, RMinRule, RegionKind,
+    Threshold, DENSE_SPACING, MAX_WEISZFELD_ITERATIONS,
 };
 pub use pipeline::{FingerprintTrace, Stages, Timings, Trace};
 pub use point_set::{Grid, PointSet};

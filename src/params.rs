@@ -481,6 +481,51 @@ pub struct FrontEndParams {
     /// [`FrontEndParams::DEFAULT_REVERSE_GROUNDS`] (`true`); paper `false`.
     #[serde(default = "yes", skip_serializing_if = "is_yes")]
     pub reverse_grounds: bool,
+    /// The kinds of regions that are not strokes (halftone photos, frames, page edges; docs/design.md,
+    /// "The front end") traced anyway: the front end finds them on images and leaves the others
+    /// out of the trace. Default value: [`FrontEndParams::DEFAULT_KEEP_REGIONS`] (none: every
+    /// region found is left out).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub keep_regions: Vec<RegionKind>,
+}
+
+/// A kind of region that is not strokes ([`FrontEndParams::keep_regions`],
+/// [`crate::Region`]), written in snake case (`halftone`, `frame`, `page_edge`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+#[non_exhaustive]
+pub enum RegionKind {
+    /// A halftone or photo inside the page: solid or dotted ink, no open paper, no strokes of the
+    /// page's width.
+    Halftone,
+    /// A band of thick ink along the image's edge: a scanner's frame, a border.
+    Frame,
+    /// A dark field reaching the image's edge: what lies beyond a page's edge.
+    PageEdge,
+}
+
+impl RegionKind {
+    /// Every kind, in the order above.
+    pub const ALL: [RegionKind; 3] = [
+        RegionKind::Halftone,
+        RegionKind::Frame,
+        RegionKind::PageEdge,
+    ];
+
+    /// The name the JSON and the command line use.
+    pub fn name(self) -> &'static str {
+        match self {
+            RegionKind::Halftone => "halftone",
+            RegionKind::Frame => "frame",
+            RegionKind::PageEdge => "page_edge",
+        }
+    }
+}
+
+impl std::fmt::Display for RegionKind {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
 }
 
 impl FrontEndParams {
@@ -500,6 +545,8 @@ impl FrontEndParams {
     pub const DEFAULT_VALLEYS: bool = true;
     /// Default of [`FrontEndParams::reverse_grounds`].
     pub const DEFAULT_REVERSE_GROUNDS: bool = true;
+    /// Default of [`FrontEndParams::keep_regions`]: none kept.
+    pub const DEFAULT_KEEP_REGIONS: Vec<RegionKind> = Vec::new();
 }
 
 impl Default for FrontEndParams {
@@ -514,6 +561,7 @@ impl Default for FrontEndParams {
             subpixel: Self::DEFAULT_SUBPIXEL,
             valleys: Self::DEFAULT_VALLEYS,
             reverse_grounds: Self::DEFAULT_REVERSE_GROUNDS,
+            keep_regions: Self::DEFAULT_KEEP_REGIONS,
         }
     }
 }

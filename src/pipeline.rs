@@ -374,6 +374,7 @@ fn print_decisions(
         dropout: None,
         dropout_share: None,
         reversed_grounds: Vec::new(),
+        regions: Vec::new(),
         print: Some(PrintDecisions {
             ridge_period: analysis.periods.median_inside(&analysis.segmentation),
             print_share: blocks_inside as f64 / inside.len().max(1) as f64,

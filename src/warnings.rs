@@ -420,6 +420,7 @@ mod tests {
             dropout: Some(false),
             dropout_share: Some(0.0),
             reversed_grounds: Vec::new(),
+            regions: Vec::new(),
             print: None,
         }
     }

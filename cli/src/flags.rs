@@ -366,6 +366,16 @@ pub struct Cli {
     )]
     pub(crate) reverse_grounds: bool,
 
+    /// Trace these regions that are not strokes anyway: halftone, frame, page_edge, or all
+    /// [default: none; the regions found are left out and listed in the JSON's decisions]
+    #[arg(
+        long,
+        value_name = "KIND,...",
+        value_delimiter = ',',
+        help_heading = "Input and binarization"
+    )]
+    pub(crate) keep_regions: Vec<String>,
+
     /// Start from the paper's own rules and values (see --help-method)
     ///
     /// r_min = 10 Dis_ave, r_max = 6 r_min, no arms

@@ -8,7 +8,7 @@ use std::path::{Path, PathBuf};
 
 use ridgeline::curves::CurveOptions;
 use ridgeline::export::svg::SvgOptions;
-use ridgeline::{Params, Threshold};
+use ridgeline::{Params, RegionKind, Threshold};
 
 use crate::flags::{Cli, DropoutMode, Format};
 use crate::outputs::names_directory;
@@ -210,6 +210,28 @@ impl TryFrom<&Cli> for Params {
         if cli.reverse_grounds {
             params.front_end.reverse_grounds = true;
         }
+        for name in &cli.keep_regions {
+            let kinds: Vec<RegionKind> = if name == "all" {
+                RegionKind::ALL.to_vec()
+            } else {
+                match RegionKind::ALL.iter().find(|k| k.name() == name) {
+                    Some(&kind) => vec![kind],
+                    None => {
+                        let names: Vec<&str> = RegionKind::ALL.iter().map(|k| k.name()).collect();
+                        return Err(UsageError(format!(
+                            "--keep-regions: unknown kind '{name}'; use {} or all",
+                            names.join(", ")
+                        )));
+                    }
+                }
+            };
+            for kind in kinds {
+                if !params.front_end.keep_regions.contains(&kind) {
+                    params.front_end.keep_regions.push(kind);
+                }
+            }
+        }
+        params.front_end.keep_regions.sort_unstable();
         if cli.no_skeleton {
             params.finish.skeleton = false;
         }
@@ -475,6 +497,23 @@ mod tests {
         let on =
             Params::try_from(&parse(&["--no-arms-test", "--arms-test", "a.png"])).expect("valid");
         assert!(on.method.arms_test);
+    }
+
+    #[test]
+    fn keep_regions_takes_kinds_and_all_and_refuses_others() {
+        use ridgeline::RegionKind;
+        let none = Params::try_from(&parse(&["a.png"])).expect("valid");
+        assert!(none.front_end.keep_regions.is_empty());
+        let some = Params::try_from(&parse(&["--keep-regions", "frame,halftone", "a.png"]))
+            .expect("valid");
+        assert_eq!(
+            some.front_end.keep_regions,
+            vec![RegionKind::Halftone, RegionKind::Frame]
+        );
+        let all = Params::try_from(&parse(&["--keep-regions", "all", "a.png"])).expect("valid");
+        assert_eq!(all.front_end.keep_regions, RegionKind::ALL.to_vec());
+        let bad = Params::try_from(&parse(&["--keep-regions", "photo", "a.png"]));
+        assert!(bad.is_err_and(|e| e.0.contains("unknown kind 'photo'")));
     }
 
     #[test]

@@ -129,6 +129,7 @@ fn all_groups() -> Vec<&'static str> {
     groups.push("hanzi");
     groups.push("degraded");
     groups.extend(GRAPH_GROUPS);
+    groups.push("pages");
     groups
 }
 
@@ -145,11 +146,19 @@ const METHODS: [&str; 5] = [
 /// the degraded capture is measured against.
 const CLEAN: &str = "ridgeline on clean";
 
-/// The methods of one group's table: [`METHODS`], and for `degraded` also [`CLEAN`].
+/// The extra row of the `pages` group: ridgeline tracing every region that is not strokes
+/// (`--keep-regions all`), as it did before it found them.
+const KEPT: &str = "ridgeline, regions kept";
+
+/// The methods of one group's table: [`METHODS`], for `degraded` and `pages` also [`CLEAN`], for
+/// `pages` also [`KEPT`].
 fn group_methods(group: &str) -> Vec<&'static str> {
     let mut list = METHODS.to_vec();
-    if group == "degraded" {
+    if group == "degraded" || group == "pages" {
         list.insert(1, CLEAN);
+    }
+    if group == "pages" {
+        list.insert(2, KEPT);
     }
     list
 }
@@ -239,6 +248,11 @@ fn run_method(
             trace(&params)?
         }
         CLEAN => graph_and_codes(ridgeline::trace_binary(&case.binary, &variant_params()?)?),
+        KEPT => {
+            let mut params = variant_params()?;
+            params.front_end.keep_regions = ridgeline::RegionKind::ALL.to_vec();
+            trace(&params)?
+        }
         "thinning" => (thinning::trace(&baseline_mask()?), Vec::new()),
         "thinning+pruning" => (thinning::trace_pruned(&baseline_mask()?), Vec::new()),
         other => bail!("unknown method {other}"),
@@ -305,6 +319,27 @@ fn load_group(name: &str, hanzi_every: usize) -> anyhow::Result<Group> {
             note: Some(
                 "text, letters and hard cases drawn anti-aliased, blurred, unevenly lit, noised, \
                  JPEG q70, every third inverted; scored against the clean truth"
+                    .to_string(),
+            ),
+        });
+    }
+    if name == "pages" {
+        let pages = synth::page_cases();
+        return Ok(Group {
+            cases: pages.iter().map(|d| d.case.clone()).collect(),
+            // Scored as the degraded captures are: the scan moves edges by a pixel.
+            options: ScoreOptions {
+                taus: [2.0, 3.0, 4.0],
+                ..ScoreOptions::default()
+            },
+            captures: pages
+                .into_iter()
+                .map(|d| (d.case.name.clone(), d))
+                .collect(),
+            note: Some(
+                "text pages with a halftone photo, a dark frame, rules and a table grid (content, \
+                 in the truth), a grille, show-through, a torn page edge, and photographed; \
+                 off-ink is the traced length outside the text's strokes"
                     .to_string(),
             ),
         });

@@ -11,7 +11,7 @@ use std::sync::OnceLock;
 
 use pyo3::exceptions::{PyRuntimeError, PyTypeError};
 use pyo3::prelude::*;
-use pyo3::types::{PyBool, PyDict, PyMapping, PyString};
+use pyo3::types::{PyBool, PyDict, PyList, PyMapping, PyString};
 use ridgeline::{ExperimentParams, FinishParams, FitParams, FrontEndParams, MethodParams, Params};
 use serde::de::{self, Deserialize, Deserializer, Visitor};
 
@@ -130,7 +130,7 @@ pub fn defaults(py: Python<'_>) -> PyResult<Bound<'_, PyDict>> {
         // Serde skipped the field because its value is the one the skip test passes: find the
         // value that deserializes back to the default. A field that reads 1 and 2 as different
         // values is a number (a boolean field reads any int by its truth, and a Python bool is
-        // an int); the others are tried with booleans, None and the empty string.
+        // an int); the others are tried with booleans, None, the empty string and the empty list.
         let with = |candidate: &Bound<'_, PyAny>| -> Option<Params> {
             let trial = dict.copy().ok()?;
             trial.set_item(name, candidate).ok()?;
@@ -153,6 +153,7 @@ pub fn defaults(py: Python<'_>) -> PyResult<Bound<'_, PyDict>> {
                 PyBool::new(py, true).to_owned().into_any(),
                 py.None().into_bound(py),
                 PyString::new(py, "").into_any(),
+                PyList::empty(py).into_any(),
             ]
         };
         let found = candidates.into_iter().find(|candidate| reads(candidate));

@@ -41,7 +41,7 @@ impl Serialize for RoundedDecisions<'_> {
     fn serialize<S: Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
         use serde::ser::SerializeStruct;
         let d = self.0;
-        let mut s = serializer.serialize_struct("Decisions", 9)?;
+        let mut s = serializer.serialize_struct("Decisions", 10)?;
         s.serialize_field("polarity", &d.polarity)?;
         s.serialize_field("polarity_confidence", &d.polarity_confidence.map(Rounded))?;
         s.serialize_field("threshold", &d.threshold)?;
@@ -53,6 +53,11 @@ impl Serialize for RoundedDecisions<'_> {
             s.skip_field("reversed_grounds")?;
         } else {
             s.serialize_field("reversed_grounds", &d.reversed_grounds)?;
+        }
+        if d.regions.is_empty() {
+            s.skip_field("regions")?;
+        } else {
+            s.serialize_field("regions", &d.regions)?;
         }
         match &d.print {
             Some(print) => s.serialize_field("print", &RoundedPrint(print))?,

@@ -11,6 +11,7 @@ use rayon::prelude::*;
 
 use super::evidence::{self, PolarityEvidence};
 use super::grounds;
+use super::regions;
 use super::valleys;
 use crate::binary::Binary;
 use crate::decisions::{Decisions, InkSide, ThresholdUsed, UNEVEN_LIGHT};
@@ -58,6 +59,7 @@ fn binarize_until(
         dropout: None,
         dropout_share: None,
         reversed_grounds: Vec::new(),
+        regions: Vec::new(),
         print: None,
     };
     // One pass gives the range and Otsu's level (a page is tens of MB of pixels; the histogram is
@@ -160,6 +162,15 @@ fn binarize_until(
             decisions.stroke_width = evidence::chords(&dark, w, h).dark_mode;
         }
     }
+    decisions.regions = regions::find(
+        gray,
+        &mut dark,
+        dark_ink,
+        level,
+        decisions.stroke_width,
+        &decisions.reversed_grounds,
+        &params.front_end.keep_regions,
+    );
     binary.ink = dark;
     Ok((binary, decisions))
 }

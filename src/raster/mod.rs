@@ -14,6 +14,7 @@ mod dropout;
 mod evidence;
 mod grounds;
 mod points;
+mod regions;
 mod resolution;
 mod tiff_pages;
 mod valleys;

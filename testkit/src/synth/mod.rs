@@ -18,6 +18,7 @@ mod degraded;
 mod hershey;
 mod loops;
 mod overhangs;
+mod pages;
 mod prints;
 mod rng;
 mod shapes;
@@ -35,6 +36,7 @@ pub use hershey::{
 };
 pub use loops::{loop_cases, LOOP_ANGLES, LOOP_WIDTHS};
 pub use overhangs::{overhang_cases, OVERHANGS, OVERHANG_WIDTHS};
+pub use pages::{page_cases, PAGE_CASES};
 pub use prints::{dense_print_cases, finger_area, print_cases, DENSE_PRINT_SIZE};
 pub use rng::SplitMix64;
 pub use shapes::hard_cases;

@@ -1,0 +1,711 @@
+//! Regions of a page that are not strokes (docs/design.md, "The front end"): halftone photos,
+//! frames and page edges, found from the ink's own evidence in units of the page's stroke width
+//! `w` (the most common chord of the ink), and left out of the trace unless kept.
+//!
+//! The idea is Leptonica's halftone mask (`pixGenHalftoneMask`: a seed of what is solid at a
+//! coarse scale, opened so that no text survives, filled into what is connected to it), made
+//! stricter for a stroke tool: the coarse scale is a cell of [`CELL_WIDTHS`] `w`, and a cell is
+//!
+//! - **solid** when most of it is thick ink, at least [`THICK_WIDTHS`] `w` across both ways (no
+//!   stroke of the page is that wide; a dark photo, a scanner's frame and the dark beyond a page's
+//!   edge are);
+//! - **dark field** when most of it is on the ink side of the global level while the threshold
+//!   left almost no ink in it (a dark margin beyond the paper that the local threshold read as a
+//!   ground of its own);
+//! - **dense** when it holds ink but no open paper, no paper pixel farther than `w` from ink
+//!   (halftone dots and textures; text leaves paper between its lines).
+//!
+//! A region grows from seeds of [`SEED_CELLS`] x [`SEED_CELLS`] solid or dark-field cells (the
+//! opening: a rule, a table's grid or a bold letter is never that wide), or of [`SEED_CELLS`] such
+//! cells in a row along the image's edge (a frame), through the solid, dark-field and dotted cells
+//! (dense ones where at least [`MIN_DOTS`] pieces of ink begin: a halftone's screen) connected to
+//! them and the dense cells beside those. Dotted cells do not seed: a fingerprint's broken ridges
+//! are dotted too. A region touching the
+//! image's edge is a `frame` when it is a ring of bands around the image and a `page_edge` otherwise; one inside
+//! the page is a `halftone`. Its ink is removed; so are the pieces of ink left wholly within a
+//! cell of it (a photo's last dots, the line a local threshold draws along a dark margin), while a
+//! stroke that touches it and leaves it, such as a letter touching a frame, stays.
+
+use crate::decisions::{Ground, Region};
+use crate::gray::GrayView;
+use crate::mask::{label_components, Connectivity};
+use crate::median::upper_median_by;
+use crate::params::RegionKind;
+
+/// A cell's side, in stroke widths: about a letter's height, less than a line of text.
+const CELL_WIDTHS: f64 = 4.0;
+/// The narrowest cell, px.
+const MIN_CELL: usize = 8;
+/// Ink at least this many stroke widths across in both directions is thick.
+const THICK_WIDTHS: f64 = 3.0;
+/// A cell at least this share thick ink is solid.
+const SOLID_SHARE: f64 = 0.5;
+/// A cell at least this share on the ink side of the global level is dark ...
+const DARK_SHARE: f64 = 0.5;
+/// ... and a dark field when the threshold left less than this share of it ink.
+const DARK_FIELD_INK: f64 = 0.1;
+/// A cell with less than this share of open paper and at least [`DENSE_INK`] ink is dense.
+const OPEN_PAPER: f64 = 0.02;
+/// See [`OPEN_PAPER`].
+const DENSE_INK: f64 = 0.02;
+/// A dark field ends in a step when the gray falls across its border by at least this share of
+/// its fall from the paper.
+const STEP_SHARE: f64 = 0.5;
+/// A dense cell where at least this many pieces of ink (8-connected) begin is a halftone's screen
+/// of dots, which carries a region on (a letter or two begin in a cell of text).
+const MIN_DOTS: u32 = 4;
+/// A dotted cell is at least this share ink: a screen's dots cover a tenth of it and more where
+/// there is any tone, scattered specks on paper much less.
+const DOTS_INK: f64 = 0.1;
+/// A seed is this many cells square, all solid or dark field: three cells, twelve stroke widths.
+const SEED_CELLS: usize = 3;
+/// A region along the image's edge is a frame when it spans at least this share of the image's
+/// width and of its height ...
+const FRAME_SPAN: f64 = 0.5;
+/// ... and covers at most this share of its own box (a ring of bands, not a field).
+const FRAME_FILL: f64 = 0.5;
+
+/// A region along the image's edge that is not a frame is a page edge when at least this share
+/// of its cells are even dark: dark field, or at least [`PAGE_EDGE_INK`] ink (see [`find`]).
+const PAGE_EDGE_EVEN: f64 = 0.5;
+/// See [`PAGE_EDGE_EVEN`]: a cell this share ink shows no paper between strokes.
+const PAGE_EDGE_INK: f64 = 0.95;
+
+/// What a cell shows.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Cell {
+    Stroke,
+    Solid,
+    DarkField,
+    Dense,
+    /// Dense, and holding at least [`MIN_DOTS`] pieces of ink: a halftone's screen.
+    Dots,
+}
+
+/// Finds the regions of `ink` (row-major, the gray's size) that are not strokes, removes the ink
+/// of those whose kind is not in `keep`, and returns them all, in the order a row-major scan of
+/// the cells first meets them.
+///
+/// `gray` is the image the ink came from, `dark_ink` its polarity and `level` the global level
+/// (ink side: at or below it when the ink is dark); `stroke_width` is the page's, px; `grounds`
+/// are the reversed grounds, whose cells are none of a region's.
+pub(crate) fn find(
+    gray: GrayView<'_>,
+    ink: &mut [bool],
+    dark_ink: bool,
+    level: u8,
+    stroke_width: f64,
+    grounds: &[Ground],
+    keep: &[RegionKind],
+) -> Vec<Region> {
+    let (width, height) = (gray.width() as usize, gray.height() as usize);
+    if ink.len() != width * height || stroke_width < 1.0 {
+        return Vec::new();
+    }
+    let cell = ((CELL_WIDTHS * stroke_width).round() as usize).max(MIN_CELL);
+    let (cols, rows) = (width.div_ceil(cell), height.div_ceil(cell));
+    if cols < SEED_CELLS || rows < SEED_CELLS {
+        return Vec::new();
+    }
+    let cells = classify(gray, ink, dark_ink, level, stroke_width, cell, grounds);
+    let groups = grow(&cells, cols, rows);
+    if groups.is_empty() {
+        return Vec::new();
+    }
+    let mut regions = Vec::new();
+    let mut removed_cells = vec![false; cols * rows];
+    for group in photos(groups, cols, rows) {
+        let region = describe(&group, cols, rows, cell, width, height);
+        // Beyond a page's edge lies one even dark: cells all ink, or a dark field the threshold
+        // left. Solid ink reaching the image's edge with paper showing through it is as likely an
+        // over-inked part of the drawing (an ink card's smudged ridges): no page edge.
+        if region.kind == RegionKind::PageEdge {
+            let even = group
+                .iter()
+                .filter(|&&c| {
+                    cells[c] == Cell::DarkField
+                        || ink_share(ink, width, height, cell, cols, c) >= PAGE_EDGE_INK
+                })
+                .count();
+            if (even as f64) < PAGE_EDGE_EVEN * group.len() as f64 {
+                continue;
+            }
+        }
+        if !keep.contains(&region.kind) {
+            for &c in &group {
+                removed_cells[c] = true;
+            }
+        }
+        regions.push(region);
+    }
+    remove(ink, width, height, cell, cols, rows, &removed_cells);
+    regions
+}
+
+/// Every cell's class.
+fn classify(
+    gray: GrayView<'_>,
+    ink: &[bool],
+    dark_ink: bool,
+    level: u8,
+    stroke_width: f64,
+    cell: usize,
+    grounds: &[Ground],
+) -> Vec<Cell> {
+    let (width, height) = (gray.width() as usize, gray.height() as usize);
+    let (cols, rows) = (width.div_ceil(cell), height.div_ceil(cell));
+    // Thick: the whole square of side THICK_WIDTHS w around the pixel is ink.
+    let thick_radius = ((THICK_WIDTHS * stroke_width - 1.0) / 2.0).ceil().max(1.0) as usize;
+    let thick = box_all(ink, width, height, thick_radius);
+    // Open paper: no ink within w (Chebyshev).
+    let paper: Vec<bool> = ink.iter().map(|&i| !i).collect();
+    let open = box_all(&paper, width, height, stroke_width.ceil() as usize);
+    drop(paper);
+    let mut counts = vec![[0u32; 5]; cols * rows];
+    // Where each piece of ink begins (its first pixel in row-major order).
+    let mut starts = vec![0u32; cols * rows];
+    {
+        let (labels, sizes) = label_components(ink, width, height, true, Connectivity::Eight);
+        let mut begun = vec![false; sizes.len()];
+        for (p, &l) in labels.iter().enumerate() {
+            let l = l as usize;
+            if l > 0 && !begun[l] {
+                begun[l] = true;
+                starts[(p / width / cell) * cols + (p % width) / cell] += 1;
+            }
+        }
+    }
+    // The sum and count of the paper's gray levels per cell.
+    let mut paper_gray = vec![(0u64, 0u32); cols * rows];
+    for y in 0..height {
+        let row = gray.row(y);
+        let base = (y / cell) * cols;
+        for x in 0..width {
+            let p = y * width + x;
+            let c = &mut counts[base + x / cell];
+            let dark = if dark_ink {
+                row[x] <= level
+            } else {
+                row[x] > level
+            };
+            c[0] += 1;
+            c[1] += u32::from(ink[p]);
+            c[2] += u32::from(thick[p]);
+            c[3] += u32::from(open[p]);
+            c[4] += u32::from(dark);
+            if !ink[p] {
+                let g = &mut paper_gray[base + x / cell];
+                g.0 += u64::from(row[x]);
+                g.1 += 1;
+            }
+        }
+    }
+    let in_ground = |c: usize| {
+        let (x0, y0) = ((c % cols) * cell, (c / cols) * cell);
+        grounds.iter().any(|g| {
+            let (gx, gy) = (g.x as usize, g.y as usize);
+            x0 < gx + g.width as usize
+                && gx < x0 + cell
+                && y0 < gy + g.height as usize
+                && gy < y0 + cell
+        })
+    };
+    let mut classes: Vec<Cell> = counts
+        .iter()
+        .enumerate()
+        .map(|(c, counts)| {
+            let n = f64::from(counts[0].max(1));
+            let share = |k: usize| f64::from(counts[k]) / n;
+            if in_ground(c) {
+                Cell::Stroke
+            } else if share(2) >= SOLID_SHARE {
+                Cell::Solid
+            } else if share(4) >= DARK_SHARE && share(1) < DARK_FIELD_INK {
+                Cell::DarkField
+            } else if share(3) < OPEN_PAPER && share(1) >= DENSE_INK {
+                if starts[c] >= MIN_DOTS && share(1) >= DOTS_INK {
+                    Cell::Dots
+                } else {
+                    Cell::Dense
+                }
+            } else {
+                Cell::Stroke
+            }
+        })
+        .collect();
+    let paper_gray: Vec<f64> = paper_gray
+        .iter()
+        .map(|&(sum, n)| sum as f64 / f64::from(n.max(1)))
+        .collect();
+    keep_stepped_dark_fields(&mut classes, &paper_gray, cols, rows);
+    classes
+}
+
+/// Demotes the dark fields that do not end in a step: beyond a page's edge the gray falls from
+/// the paper's level to the dark in about a cell, where a shadow or uneven light darkens the
+/// paper gradually. A field (4-connected dark-field cells) stays when the median fall of the
+/// paper's gray across its border, to the stroke cells beside it, is at least [`STEP_SHARE`] of
+/// the fall from the page's paper (the median stroke cell) to the field's median.
+fn keep_stepped_dark_fields(classes: &mut [Cell], paper_gray: &[f64], cols: usize, rows: usize) {
+    let mut stroke: Vec<f64> = (0..classes.len())
+        .filter(|&c| classes[c] == Cell::Stroke)
+        .map(|c| paper_gray[c])
+        .collect();
+    let Some(paper) = upper_median_by(&mut stroke, f64::total_cmp) else {
+        return;
+    };
+    let mut seen = vec![false; classes.len()];
+    for start in 0..classes.len() {
+        if classes[start] != Cell::DarkField || seen[start] {
+            continue;
+        }
+        seen[start] = true;
+        let (mut field, mut stack, mut steps) = (Vec::new(), vec![start], Vec::new());
+        while let Some(c) = stack.pop() {
+            field.push(c);
+            for n in neighbours(c, cols, rows) {
+                match classes[n] {
+                    Cell::DarkField if !seen[n] => {
+                        seen[n] = true;
+                        stack.push(n);
+                    }
+                    Cell::Stroke => steps.push((paper_gray[n] - paper_gray[c]).abs()),
+                    _ => {}
+                }
+            }
+        }
+        let mut grays: Vec<f64> = field.iter().map(|&c| paper_gray[c]).collect();
+        let dark = upper_median_by(&mut grays, f64::total_cmp).unwrap_or(paper);
+        let step = upper_median_by(&mut steps, f64::total_cmp).unwrap_or(0.0);
+        if step < STEP_SHARE * (paper - dark).abs() {
+            for c in field {
+                classes[c] = Cell::Stroke;
+            }
+        }
+    }
+}
+
+/// The 4-neighbours of cell `c`.
+fn neighbours(c: usize, cols: usize, rows: usize) -> impl Iterator<Item = usize> {
+    let (x, y) = (c % cols, c / cols);
+    [
+        (x > 0).then(|| c - 1),
+        (x + 1 < cols).then(|| c + 1),
+        (y > 0).then(|| c - cols),
+        (y + 1 < rows).then(|| c + cols),
+    ]
+    .into_iter()
+    .flatten()
+}
+
+/// Whether the square of side `2 radius + 1` around each pixel, cut to the image, is all `true`
+/// in `mask`: running counts along the rows, then along the columns.
+fn box_all(mask: &[bool], width: usize, height: usize, radius: usize) -> Vec<bool> {
+    let mut across = vec![false; mask.len()];
+    let mut line = Vec::new();
+    for y in 0..height {
+        let row = &mask[y * width..(y + 1) * width];
+        all_within(row.iter().copied(), radius, &mut line);
+        across[y * width..(y + 1) * width].copy_from_slice(&line);
+    }
+    let mut out = vec![false; mask.len()];
+    for x in 0..width {
+        all_within(
+            (0..height).map(|y| across[y * width + x]),
+            radius,
+            &mut line,
+        );
+        for (y, &v) in line.iter().enumerate() {
+            out[y * width + x] = v;
+        }
+    }
+    out
+}
+
+/// `out[i]`: whether every value within `radius` of `i` (cut to the line) is `true`.
+fn all_within(values: impl Iterator<Item = bool>, radius: usize, out: &mut Vec<bool>) {
+    let values: Vec<bool> = values.collect();
+    let n = values.len();
+    out.clear();
+    // The index of the last `false` at or before each position, as a running count.
+    let mut falses = vec![0u32; n + 1];
+    for (i, &v) in values.iter().enumerate() {
+        falses[i + 1] = falses[i] + u32::from(!v);
+    }
+    for i in 0..n {
+        let (a, b) = (i.saturating_sub(radius), (i + radius + 1).min(n));
+        out.push(falses[b] == falses[a]);
+    }
+}
+
+/// The groups of cells (each a list of cell indices) grown from the seeds: solid and dark-field
+/// cells connected (4-connected) to a seed, and the dense cells beside them.
+fn grow(cells: &[Cell], cols: usize, rows: usize) -> Vec<Vec<usize>> {
+    let seedable = |c: usize| matches!(cells[c], Cell::Solid | Cell::DarkField);
+    let carries = |c: usize| seedable(c) || cells[c] == Cell::Dots;
+    let mut seed = vec![false; cells.len()];
+    for y in 0..=rows - SEED_CELLS {
+        for x in 0..=cols - SEED_CELLS {
+            let all = (0..SEED_CELLS)
+                .all(|dy| (0..SEED_CELLS).all(|dx| seedable((y + dy) * cols + x + dx)));
+            if all {
+                for dy in 0..SEED_CELLS {
+                    for dx in 0..SEED_CELLS {
+                        seed[(y + dy) * cols + x + dx] = true;
+                    }
+                }
+            }
+        }
+    }
+    // Along the image's edge a band of SEED_CELLS cells seeds too: a frame is thick ink along
+    // the edge, however far it reaches in.
+    for c in 0..cells.len() {
+        let (x, y) = (c % cols, c / cols);
+        let along_row = (y == 0 || y + 1 == rows) && x + SEED_CELLS <= cols;
+        let along_col = (x == 0 || x + 1 == cols) && y + SEED_CELLS <= rows;
+        if along_row && (0..SEED_CELLS).all(|d| seedable(c + d)) {
+            (0..SEED_CELLS).for_each(|d| seed[c + d] = true);
+        }
+        if along_col && (0..SEED_CELLS).all(|d| seedable(c + d * cols)) {
+            (0..SEED_CELLS).for_each(|d| seed[c + d * cols] = true);
+        }
+    }
+    let mut taken = vec![false; cells.len()];
+    let mut groups = Vec::new();
+    for start in 0..cells.len() {
+        if !seed[start] || taken[start] {
+            continue;
+        }
+        taken[start] = true;
+        let mut group = Vec::new();
+        let mut stack = vec![start];
+        while let Some(c) = stack.pop() {
+            group.push(c);
+            if !carries(c) {
+                // A dense cell joins but does not carry the region further: a line of text
+                // beside a photo is dense too.
+                continue;
+            }
+            for n in neighbours(c, cols, rows) {
+                if !taken[n] && cells[n] != Cell::Stroke {
+                    taken[n] = true;
+                    stack.push(n);
+                }
+            }
+        }
+        group.sort_unstable();
+        groups.push(group);
+    }
+    groups
+}
+
+/// The groups with the halftones (those not on the grid's edge) made whole: a photo's light
+/// parts hold open paper and its dark parts merged dots, so it can come as pieces, and the pieces
+/// whose boxes come within a cell of each other are one photo; a photo inside a page is its box.
+fn photos(groups: Vec<Vec<usize>>, cols: usize, rows: usize) -> Vec<Vec<usize>> {
+    let bounds = |group: &[usize]| {
+        let (mut x0, mut y0, mut x1, mut y1) = (usize::MAX, usize::MAX, 0, 0);
+        for &c in group {
+            let (x, y) = (c % cols, c / cols);
+            (x0, y0, x1, y1) = (x0.min(x), y0.min(y), x1.max(x), y1.max(y));
+        }
+        [x0, y0, x1, y1]
+    };
+    let on_edge = |b: &[usize; 4]| b[0] == 0 || b[1] == 0 || b[2] + 1 == cols || b[3] + 1 == rows;
+    let mut out = Vec::new();
+    let mut boxes: Vec<[usize; 4]> = Vec::new();
+    for group in groups {
+        let b = bounds(&group);
+        if on_edge(&b) {
+            out.push(group);
+        } else {
+            boxes.push(b);
+        }
+    }
+    // Merge boxes within a cell of each other until none are; each merge shrinks the list.
+    let near = |a: &[usize; 4], b: &[usize; 4]| {
+        a[0] <= b[2] + 2 && b[0] <= a[2] + 2 && a[1] <= b[3] + 2 && b[1] <= a[3] + 2
+    };
+    'merging: loop {
+        for i in 0..boxes.len() {
+            for j in i + 1..boxes.len() {
+                if near(&boxes[i], &boxes[j]) {
+                    let b = boxes.remove(j);
+                    let a = &mut boxes[i];
+                    *a = [
+                        a[0].min(b[0]),
+                        a[1].min(b[1]),
+                        a[2].max(b[2]),
+                        a[3].max(b[3]),
+                    ];
+                    continue 'merging;
+                }
+            }
+        }
+        break;
+    }
+    for [x0, y0, x1, y1] in boxes {
+        out.push(
+            (y0..=y1)
+                .flat_map(|y| (x0..=x1).map(move |x| y * cols + x))
+                .collect(),
+        );
+    }
+    out.sort_by_key(|group| group[0]);
+    out
+}
+
+/// The share of ink in cell `c` (cut to the image).
+fn ink_share(ink: &[bool], width: usize, height: usize, cell: usize, cols: usize, c: usize) -> f64 {
+    let (x0, y0) = ((c % cols) * cell, (c / cols) * cell);
+    let (x1, y1) = ((x0 + cell).min(width), (y0 + cell).min(height));
+    let count: usize = (y0..y1)
+        .map(|y| {
+            ink[y * width + x0..y * width + x1]
+                .iter()
+                .filter(|&&i| i)
+                .count()
+        })
+        .sum();
+    count as f64 / ((x1 - x0) * (y1 - y0)).max(1) as f64
+}
+
+/// A group's kind and box (its cells' box, cut to the image).
+fn describe(
+    group: &[usize],
+    cols: usize,
+    rows: usize,
+    cell: usize,
+    width: usize,
+    height: usize,
+) -> Region {
+    let (mut x0, mut y0, mut x1, mut y1) = (cols, rows, 0, 0);
+    for &c in group {
+        let (x, y) = (c % cols, c / cols);
+        (x0, y0, x1, y1) = (x0.min(x), y0.min(y), x1.max(x), y1.max(y));
+    }
+    let on_edge = x0 == 0 || y0 == 0 || x1 + 1 == cols || y1 + 1 == rows;
+    let (span_x, span_y) = (x1 - x0 + 1, y1 - y0 + 1);
+    let fill = group.len() as f64 / (span_x * span_y) as f64;
+    let around =
+        span_x as f64 >= FRAME_SPAN * cols as f64 && span_y as f64 >= FRAME_SPAN * rows as f64;
+    let kind = if !on_edge {
+        RegionKind::Halftone
+    } else if around && fill <= FRAME_FILL {
+        RegionKind::Frame
+    } else {
+        RegionKind::PageEdge
+    };
+    let (px0, py0) = (x0 * cell, y0 * cell);
+    let (px1, py1) = (((x1 + 1) * cell).min(width), ((y1 + 1) * cell).min(height));
+    Region {
+        kind,
+        x: px0 as u32,
+        y: py0 as u32,
+        width: (px1 - px0) as u32,
+        height: (py1 - py0) as u32,
+    }
+}
+
+/// Removes the ink of the `removed` cells, then every piece of ink (8-connected) left wholly
+/// within those cells and the cells beside them.
+fn remove(
+    ink: &mut [bool],
+    width: usize,
+    height: usize,
+    cell: usize,
+    cols: usize,
+    rows: usize,
+    removed: &[bool],
+) {
+    if !removed.iter().any(|&r| r) {
+        return;
+    }
+    let mut near = removed.to_vec();
+    for y in 0..rows {
+        for x in 0..cols {
+            if removed[y * cols + x] {
+                for ny in y.saturating_sub(1)..(y + 2).min(rows) {
+                    for nx in x.saturating_sub(1)..(x + 2).min(cols) {
+                        near[ny * cols + nx] = true;
+                    }
+                }
+            }
+        }
+    }
+    let cell_of = |p: usize| (p / width / cell) * cols + (p % width) / cell;
+    for (p, v) in ink.iter_mut().enumerate() {
+        if removed[cell_of(p)] {
+            *v = false;
+        }
+    }
+    let (labels, sizes) = label_components(ink, width, height, true, Connectivity::Eight);
+    let mut inside = vec![0usize; sizes.len()];
+    for (p, &l) in labels.iter().enumerate() {
+        if l > 0 && near[cell_of(p)] {
+            inside[l as usize] += 1;
+        }
+    }
+    for (v, &l) in ink.iter_mut().zip(&labels) {
+        let l = l as usize;
+        if l > 0 && inside[l] == sizes[l] {
+            *v = false;
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::decisions::Decisions;
+    use crate::params::Params;
+    use image::{GrayImage, Luma};
+
+    const PAPER: u8 = 230;
+    const INK: u8 = 20;
+
+    /// A page of short strokes 3 px wide (letters' worth of bars on lines of text) within
+    /// `[x0, x1) x [y0, y1)`, and whatever `paint` adds.
+    fn page(
+        width: u32,
+        height: u32,
+        text: [u32; 4],
+        paint: impl Fn(u32, u32) -> Option<u8>,
+    ) -> GrayImage {
+        let [x0, y0, x1, y1] = text;
+        GrayImage::from_fn(width, height, |x, y| {
+            if let Some(v) = paint(x, y) {
+                return Luma([v]);
+            }
+            let inside = (x0..x1).contains(&x) && (y0..y1).contains(&y);
+            // Lines 24 px apart; in each, vertical bars 3 px wide 14 px tall every 9 px and a
+            // bar across every fourth.
+            let (lx, ly) = ((x - x0.min(x)) % 9, (y - y0.min(y)) % 24);
+            let bar = lx < 3 && ly < 14;
+            let across = (x - x0.min(x)) % 36 < 12 && (6..9).contains(&ly);
+            Luma([if inside && (bar || across) {
+                INK
+            } else {
+                PAPER
+            }])
+        })
+    }
+
+    fn decide(gray: &GrayImage, keep: &[RegionKind]) -> (crate::binary::Binary, Decisions) {
+        decide_with(gray, keep, crate::params::Polarity::Auto)
+    }
+
+    fn decide_with(
+        gray: &GrayImage,
+        keep: &[RegionKind],
+        polarity: crate::params::Polarity,
+    ) -> (crate::binary::Binary, Decisions) {
+        let mut params = Params::default();
+        params.front_end.polarity = polarity;
+        params.front_end.keep_regions = keep.to_vec();
+        crate::raster::binarize_deciding(gray.into(), &params).expect("binarized")
+    }
+
+    fn kinds(decisions: &Decisions) -> Vec<RegionKind> {
+        decisions.regions.iter().map(|r| r.kind).collect()
+    }
+
+    #[test]
+    fn a_page_of_text_has_no_region() {
+        let gray = page(320, 240, [20, 20, 300, 220], |_, _| None);
+        let (_, decisions) = decide(&gray, &[]);
+        assert!(decisions.regions.is_empty(), "{:?}", decisions.regions);
+    }
+
+    #[test]
+    fn a_halftone_photo_is_found_and_left_out_and_kept_when_asked() {
+        // Dots on a 4 px screen, growing across the photo until they merge.
+        let photo = |x: u32, y: u32| {
+            let inside = (180..300).contains(&x) && (30..210).contains(&y);
+            inside.then(|| {
+                let r = 0.8 + 2.2 * f64::from(x - 180) / 120.0;
+                let (dx, dy) = (f64::from(x % 4) - 1.5, f64::from(y % 4) - 1.5);
+                if dx.hypot(dy) <= r {
+                    INK
+                } else {
+                    PAPER
+                }
+            })
+        };
+        let gray = page(320, 240, [20, 20, 160, 220], photo);
+        let (binary, decisions) = decide(&gray, &[]);
+        assert_eq!(kinds(&decisions), vec![RegionKind::Halftone]);
+        let r = decisions.regions[0];
+        // The photo's dark part at least (its light dots, far from the merged ones, are not
+        // reached: dotted cells carry a region but do not seed one).
+        assert!(r.x <= 250 && r.x + r.width >= 290, "{r:?}");
+        // At most half of the photo's ink left (its dark part gone); the text all there.
+        let ink_in = |b: &crate::binary::Binary, x0: u32, x1: u32| {
+            (0..240)
+                .flat_map(|y| (x0..x1).map(move |x| (x, y)))
+                .filter(|&(x, y)| b.ink[(y * 320 + x) as usize])
+                .count()
+        };
+        let (kept, _) = decide(&gray, &[RegionKind::Halftone]);
+        assert!(ink_in(&binary, 180, 300) * 2 < ink_in(&kept, 180, 300));
+        let clean = decide(&page(320, 240, [20, 20, 160, 220], |_, _| None), &[]).0;
+        assert_eq!(ink_in(&binary, 0, 170), ink_in(&clean, 0, 170));
+        let (_, decisions) = decide(&gray, &[RegionKind::Halftone]);
+        assert_eq!(kinds(&decisions), vec![RegionKind::Halftone]);
+        assert!(ink_in(&kept, 180, 300) > 5000);
+    }
+
+    #[test]
+    fn a_frame_is_found_and_a_stroke_touching_it_stays() {
+        // A dark band 12 px wide around the image (less ink than the text, whose strokes give
+        // the page's width); a bar 3 px wide from the text to the frame.
+        let frame = |x: u32, y: u32| {
+            let d = x.min(y).min(479 - x).min(359 - y);
+            if d < 12 || ((118..121).contains(&y) && x >= 440) {
+                Some(INK)
+            } else {
+                None
+            }
+        };
+        let gray = page(480, 360, [40, 40, 440, 320], frame);
+        let (binary, decisions) = decide(&gray, &[]);
+        let found = kinds(&decisions);
+        assert_eq!(found, vec![RegionKind::Frame], "{:?}", decisions.regions);
+        let at = |x: u32, y: u32| binary.ink[(y * 480 + x) as usize];
+        assert!(!at(5, 5) && !at(475, 120), "the frame is gone");
+        // The bar stays up to within a cell of the frame.
+        assert!((440..450).all(|x| at(x, 119)), "the touching stroke stays");
+        let (kept, decisions) = decide(&gray, &found);
+        assert_eq!(kinds(&decisions), found);
+        assert!(kept.ink[5 * 480 + 5]);
+    }
+
+    #[test]
+    fn smudged_ridges_reaching_the_edge_are_no_page_edge() {
+        // Bands of ink 10 px thick with 2 px of paper between them, from the text to the
+        // image's right edge: an over-inked print's ridges, solid cells with paper showing.
+        let ridges = |x: u32, y: u32| (x >= 276 && y < 120 && y % 12 < 10).then_some(INK);
+        let gray = page(320, 240, [20, 20, 180, 220], ridges);
+        let (binary, decisions) = decide(&gray, &[]);
+        assert!(decisions.regions.is_empty(), "{:?}", decisions.regions);
+        assert!(binary.ink[5 * 320 + 300], "the ridges stay ink");
+    }
+
+    #[test]
+    fn a_dark_field_beyond_a_torn_edge_is_a_page_edge_and_a_shadow_is_none() {
+        let edge = |x: u32, y: u32| (x >= 250 + (y / 7) % 5).then_some(40);
+        let gray = page(320, 240, [20, 20, 220, 220], edge);
+        let (binary, decisions) = decide(&gray, &[]);
+        assert_eq!(kinds(&decisions), vec![RegionKind::PageEdge]);
+        assert!((0..240).all(|y| (262..320).all(|x| !binary.ink[(y * 320 + x) as usize])));
+        // The same darkness reached gradually, as uneven light does, is no edge.
+        let text = page(320, 240, [20, 20, 300, 220], |_, _| None);
+        let gray = GrayImage::from_fn(320, 240, |x, y| {
+            let t = (f64::from(x) / 320.0).powi(2);
+            let base = f64::from(text.get_pixel(x, y).0[0]);
+            Luma([(base * (1.0 - 0.75 * t)).round() as u8])
+        });
+        let (_, decisions) = decide(&gray, &[]);
+        assert!(decisions.regions.is_empty(), "{:?}", decisions.regions);
+    }
+}

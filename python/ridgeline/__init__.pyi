@@ -79,6 +79,7 @@ def trace(
     site_clusters: bool = False,
     dense_fit: bool = False,
     junctions_on_ink: bool = False,
+    decide_by_ink: bool = False,
     fingerprint: Any = None,
     # end of parameters
 ) -> Trace:
@@ -132,6 +133,7 @@ def trace_pages(
     site_clusters: bool = False,
     dense_fit: bool = False,
     junctions_on_ink: bool = False,
+    decide_by_ink: bool = False,
     fingerprint: Any = None,
     # end of parameters
 ) -> List[Trace]:
@@ -175,6 +177,7 @@ def trace_points(
     site_clusters: bool = False,
     dense_fit: bool = False,
     junctions_on_ink: bool = False,
+    decide_by_ink: bool = False,
     fingerprint: Any = None,
     # end of parameters
 ) -> Trace:

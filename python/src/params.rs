@@ -130,7 +130,7 @@ pub fn defaults(py: Python<'_>) -> PyResult<Bound<'_, PyDict>> {
         // Serde skipped the field because its value is the one the skip test passes: find the
         // value that deserializes back to the default. A field that reads 1 and 2 as different
         // values is a number (a boolean field reads any int by its truth, and a Python bool is
-        // an int); the others are tried with booleans, None, the empty string and the empty list.
+        // an int); the others are tried with booleans, None, the empty list and the empty string.
         let with = |candidate: &Bound<'_, PyAny>| -> Option<Params> {
             let trial = dict.copy().ok()?;
             trial.set_item(name, candidate).ok()?;
@@ -152,8 +152,9 @@ pub fn defaults(py: Python<'_>) -> PyResult<Bound<'_, PyDict>> {
                 PyBool::new(py, false).to_owned().into_any(),
                 PyBool::new(py, true).to_owned().into_any(),
                 py.None().into_bound(py),
-                PyString::new(py, "").into_any(),
+                // The list before the string: a list field reads "" too, as an empty sequence.
                 PyList::empty(py).into_any(),
+                PyString::new(py, "").into_any(),
             ]
         };
         let found = candidates.into_iter().find(|candidate| reads(candidate));

@@ -16,7 +16,7 @@ END = "    # end of parameters\n"
 
 
 def rendered() -> str:
-    kinds = {bool: "bool", int: "int", float: "float", str: "str"}
+    kinds = {bool: "bool", int: "int", float: "float", str: "str", list: "list[str]"}
     lines = []
     for name, value in ridgeline.default_params().items():
         if isinstance(value, dict):

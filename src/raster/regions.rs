@@ -357,16 +357,18 @@ fn grow(cells: &[Cell], cols: usize, rows: usize) -> Vec<Vec<usize>> {
             }
         }
     }
-    // Along the image's edge a band of SEED_CELLS cells seeds too: a frame is thick ink along
-    // the edge, however far it reaches in.
+    // Along the image's edge a band of SEED_CELLS solid cells seeds too: a frame is thick ink
+    // along the edge, however far it reaches in. Not dark fields: a band of them is the shade of
+    // uneven light in a corner as often as the dark beyond a page, which is a field.
+    let solid = |c: usize| cells[c] == Cell::Solid;
     for c in 0..cells.len() {
         let (x, y) = (c % cols, c / cols);
         let along_row = (y == 0 || y + 1 == rows) && x + SEED_CELLS <= cols;
         let along_col = (x == 0 || x + 1 == cols) && y + SEED_CELLS <= rows;
-        if along_row && (0..SEED_CELLS).all(|d| seedable(c + d)) {
+        if along_row && (0..SEED_CELLS).all(|d| solid(c + d)) {
             (0..SEED_CELLS).for_each(|d| seed[c + d] = true);
         }
-        if along_col && (0..SEED_CELLS).all(|d| seedable(c + d * cols)) {
+        if along_col && (0..SEED_CELLS).all(|d| solid(c + d * cols)) {
             (0..SEED_CELLS).for_each(|d| seed[c + d * cols] = true);
         }
     }

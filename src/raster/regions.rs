@@ -107,7 +107,7 @@ pub(crate) fn find(
     if cols < SEED_CELLS || rows < SEED_CELLS {
         return Vec::new();
     }
-    let cells = classify(gray, ink, dark_ink, level, stroke_width, cell, grounds);
+    let (cells, ink_shares) = classify(gray, ink, dark_ink, level, stroke_width, cell, grounds);
     let groups = grow(&cells, cols, rows);
     if groups.is_empty() {
         return Vec::new();
@@ -122,10 +122,7 @@ pub(crate) fn find(
         if region.kind == RegionKind::PageEdge {
             let even = group
                 .iter()
-                .filter(|&&c| {
-                    cells[c] == Cell::DarkField
-                        || ink_share(ink, width, height, cell, cols, c) >= PAGE_EDGE_INK
-                })
+                .filter(|&&c| cells[c] == Cell::DarkField || ink_shares[c] >= PAGE_EDGE_INK)
                 .count();
             if (even as f64) < PAGE_EDGE_EVEN * group.len() as f64 {
                 continue;
@@ -142,7 +139,7 @@ pub(crate) fn find(
     regions
 }
 
-/// Every cell's class.
+/// Every cell's class and its share of ink.
 fn classify(
     gray: GrayView<'_>,
     ink: &[bool],
@@ -151,7 +148,7 @@ fn classify(
     stroke_width: f64,
     cell: usize,
     grounds: &[Ground],
-) -> Vec<Cell> {
+) -> (Vec<Cell>, Vec<f64>) {
     let (width, height) = (gray.width() as usize, gray.height() as usize);
     let (cols, rows) = (width.div_ceil(cell), height.div_ceil(cell));
     // Thick: the whole square of side THICK_WIDTHS w around the pixel is ink.
@@ -238,7 +235,11 @@ fn classify(
         .map(|&(sum, n)| sum as f64 / f64::from(n.max(1)))
         .collect();
     keep_stepped_dark_fields(&mut classes, &paper_gray, cols, rows);
-    classes
+    let ink_shares = counts
+        .iter()
+        .map(|c| f64::from(c[1]) / f64::from(c[0].max(1)))
+        .collect();
+    (classes, ink_shares)
 }
 
 /// Demotes the dark fields that do not end in a step: beyond a page's edge the gray falls from
@@ -455,21 +456,6 @@ fn photos(groups: Vec<Vec<usize>>, cols: usize, rows: usize) -> Vec<Vec<usize>> 
     }
     out.sort_by_key(|group| group[0]);
     out
-}
-
-/// The share of ink in cell `c` (cut to the image).
-fn ink_share(ink: &[bool], width: usize, height: usize, cell: usize, cols: usize, c: usize) -> f64 {
-    let (x0, y0) = ((c % cols) * cell, (c / cols) * cell);
-    let (x1, y1) = ((x0 + cell).min(width), (y0 + cell).min(height));
-    let count: usize = (y0..y1)
-        .map(|y| {
-            ink[y * width + x0..y * width + x1]
-                .iter()
-                .filter(|&&i| i)
-                .count()
-        })
-        .sum();
-    count as f64 / ((x1 - x0) * (y1 - y0)).max(1) as f64
 }
 
 /// A group's kind and box (its cells' box, cut to the image).

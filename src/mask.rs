@@ -8,7 +8,6 @@
 //! Ground floor: plain math on row-major `bool` masks; it knows nothing about stages. Its one
 //! labelling ([`label_components`], [`on_image_edge`]) is public for the test kit's scorer.
 
-use image::{GrayImage, Luma};
 pub use imageproc::region_labelling::Connectivity;
 use petgraph::unionfind::UnionFind;
 use rayon::prelude::*;
@@ -18,9 +17,11 @@ use rayon::prelude::*;
 /// `sizes[l]` the pixel count of label `l` (`sizes[0]` the other pixels). `flags` holds `width *
 /// height` pixels, row-major.
 ///
-/// imageproc's labelling (`region_labelling::connected_components`), except on an image of one
-/// pixel that belongs to a component: there its union-find indexes past its end and panics (unit
-/// test `imageproc_labelling_panics_on_one_pixel`), so that pixel is labelled here.
+/// The labels of imageproc's labelling (`region_labelling::connected_components`, unit test
+/// `labels_are_imageproc_labels`), found over the runs of pixels of each row as
+/// [`run_components`] finds them: a union-find over the runs instead of over every pixel, so the
+/// one array of the image's size is the labels returned (imageproc's takes a gray copy, its
+/// provisional labels and a forest of two words per pixel, 24 bytes a pixel beside the result).
 ///
 /// # Panics
 ///
@@ -33,23 +34,34 @@ pub fn label_components(
     connectivity: Connectivity,
 ) -> (Vec<u32>, Vec<usize>) {
     assert_eq!(flags.len(), width * height, "a {width}x{height} mask");
-    let labels = if flags.len() == 1 {
-        vec![u32::from(flags[0] == value)]
-    } else {
-        let image = GrayImage::from_fn(width as u32, height as u32, |x, y| {
-            Luma([u8::from(flags[y as usize * width + x as usize] == value) * 255])
-        });
-        imageproc::region_labelling::connected_components(&image, connectivity, Luma([0u8]))
-            .into_raw()
-    };
-    let mut sizes = vec![0usize; 1];
-    for &l in &labels {
-        let l = l as usize;
-        if l >= sizes.len() {
-            sizes.resize(l + 1, 0);
+    let mut runs = Vec::new();
+    for (y, row) in flags.chunks_exact(width.max(1)).enumerate() {
+        let mut x = 0;
+        while x < width {
+            if row[x] != value {
+                x += 1;
+                continue;
+            }
+            let start = x;
+            while x < width && row[x] == value {
+                x += 1;
+            }
+            runs.push(Run {
+                y: y as u32,
+                x0: start as u32,
+                x1: x as u32,
+            });
         }
-        sizes[l] += 1;
     }
+    let (run_labels, run_sizes) = components_of_runs(&runs, connectivity);
+    let mut labels = vec![0u32; flags.len()];
+    for (run, &label) in runs.iter().zip(&run_labels) {
+        let row = run.y as usize * width;
+        labels[row + run.x0 as usize..row + run.x1 as usize].fill(label + 1);
+    }
+    let mut sizes = Vec::with_capacity(run_sizes.len() + 1);
+    sizes.push(flags.len() - run_sizes.iter().sum::<usize>());
+    sizes.extend(run_sizes);
     (labels, sizes)
 }
 
@@ -102,6 +114,14 @@ impl Run {
 /// pixel count. A run touches the runs of the row above that overlap it or meet it at a corner;
 /// a union-find over the runs.
 pub(crate) fn run_components(runs: &[Run]) -> (Vec<u32>, Vec<usize>) {
+    components_of_runs(runs, Connectivity::Eight)
+}
+
+/// [`run_components`] with either connectivity: with [`Connectivity::Four`] a run touches only
+/// the runs of the row above that share a column with it.
+fn components_of_runs(runs: &[Run], connectivity: Connectivity) -> (Vec<u32>, Vec<usize>) {
+    // Runs `a` above and `b` touch when `a.x0 < b.x1 + reach && b.x0 < a.x1 + reach`.
+    let reach = u32::from(connectivity == Connectivity::Eight);
     let mut sets = UnionFind::<u32>::new(runs.len());
     let mut above = 0..0;
     let mut start = 0;
@@ -112,7 +132,7 @@ pub(crate) fn run_components(runs: &[Run]) -> (Vec<u32>, Vec<usize>) {
             let (mut i, mut j) = (above.start, start);
             while i < above.end && j < end {
                 let (a, b) = (runs[i], runs[j]);
-                if a.x0 <= b.x1 && a.x1 >= b.x0 {
+                if a.x0 < b.x1 + reach && b.x0 < a.x1 + reach {
                     sets.union(i as u32, j as u32);
                 }
                 // The run that ends first cannot touch anything further along the other row.
@@ -598,6 +618,7 @@ pub(crate) fn tiny_hole(ink: &[bool], width: usize, height: usize, start: usize)
 #[cfg(test)]
 mod tests {
     use super::*;
+    use image::{GrayImage, Luma};
 
     /// Squared distances to the nearest site by trying every site (infinite for none).
     fn brute_force(sites: &[bool], w: usize, h: usize) -> Vec<f64> {
@@ -679,14 +700,7 @@ mod tests {
     }
 
     #[test]
-    fn imageproc_labelling_panics_on_one_pixel() {
-        // The reason `label_components` labels a one-pixel image itself: if this stops panicking,
-        // the special case can go.
-        let one = GrayImage::from_pixel(1, 1, Luma([255u8]));
-        let labelled = std::panic::catch_unwind(|| {
-            imageproc::region_labelling::connected_components(&one, Connectivity::Four, Luma([0u8]))
-        });
-        assert!(labelled.is_err());
+    fn one_pixel_and_empty_images() {
         for connectivity in [Connectivity::Four, Connectivity::Eight] {
             assert_eq!(
                 label_components(&[true], 1, 1, true, connectivity),
@@ -701,6 +715,60 @@ mod tests {
             label_components(&[], 0, 0, true, Connectivity::Four),
             (vec![], vec![0])
         );
+        assert_eq!(
+            label_components(&[], 0, 3, true, Connectivity::Eight),
+            (vec![], vec![0])
+        );
+    }
+
+    #[test]
+    fn labels_are_imageproc_labels() {
+        // Random masks of several densities and shapes (one row, one column, wide, tall), both
+        // values and both connectivities, against imageproc's labelling of the same pixels.
+        let mut seed = 99u64;
+        for (w, h) in [
+            (1usize, 7usize),
+            (9, 1),
+            (2, 2),
+            (17, 13),
+            (40, 3),
+            (5, 31),
+            (64, 64),
+        ] {
+            for density in [10u64, 35, 50, 65, 90] {
+                let flags: Vec<bool> = (0..w * h)
+                    .map(|_| {
+                        seed = seed
+                            .wrapping_mul(6364136223846793005)
+                            .wrapping_add(1442695040888963407);
+                        (seed >> 33) % 100 < density
+                    })
+                    .collect();
+                for value in [true, false] {
+                    for connectivity in [Connectivity::Four, Connectivity::Eight] {
+                        let image = GrayImage::from_fn(w as u32, h as u32, |x, y| {
+                            Luma([u8::from(flags[y as usize * w + x as usize] == value) * 255])
+                        });
+                        let expected = imageproc::region_labelling::connected_components(
+                            &image,
+                            connectivity,
+                            Luma([0u8]),
+                        )
+                        .into_raw();
+                        let (labels, sizes) = label_components(&flags, w, h, value, connectivity);
+                        assert_eq!(
+                            labels, expected,
+                            "{w}x{h} {density}% {value} {connectivity:?}"
+                        );
+                        let mut counted = vec![0usize; sizes.len()];
+                        for &l in &labels {
+                            counted[l as usize] += 1;
+                        }
+                        assert_eq!(sizes, counted);
+                    }
+                }
+            }
+        }
     }
 
     #[test]

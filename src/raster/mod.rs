@@ -120,8 +120,8 @@ mod tests {
 
     #[test]
     fn small_components_go_from_a_one_pixel_mask_too() {
-        // imageproc's labelling panics on a one-pixel image (`mask::label_components` labels it
-        // itself), and a one-pixel mask with `min_area` set once reached it here.
+        // A one-pixel mask with `min_area` set once panicked here: imageproc's labelling, which
+        // `mask::label_components` used to call, indexes past its union-find on one pixel.
         let ink = [true];
         let mask = MaskView {
             width: 1,

@@ -13,16 +13,22 @@
 //!   left almost no ink in it (a dark margin beyond the paper that the local threshold read as a
 //!   ground of its own);
 //! - **dense** when it holds ink but no open paper, no paper pixel farther than `w` from ink
-//!   (halftone dots and textures; text leaves paper between its lines).
+//!   (halftone dots and textures; text leaves paper between its lines);
+//! - **texture** when its gray, seen at half a stroke width, holds many pieces or many holes
+//!   ([`TEXTURE_PIECES`]): a halftone's dots, a grille's lattice, whatever the threshold made of
+//!   them.
 //!
-//! A region grows from seeds of [`SEED_CELLS`] x [`SEED_CELLS`] solid or dark-field cells (the
+//! When no block of cells could seed (a cheap look at each cell's ink and dark shares and its
+//! texture, [`seed_possible`]), nothing more is done: a page of text pays for one pass.
+//!
+//! A region grows from seeds of [`SEED_CELLS`] x [`SEED_CELLS`] solid, dark-field or texture cells (the
 //! opening: a rule, a table's grid or a bold letter is never that wide), or of [`SEED_CELLS`] such
 //! cells in a row along the image's edge (a frame), through the solid, dark-field and dotted cells
 //! (dense ones where at least [`MIN_DOTS`] pieces of ink begin: a halftone's screen) connected to
 //! them and the dense cells beside those. Dotted cells do not seed: a fingerprint's broken ridges
 //! are dotted too. A region touching the
 //! image's edge is a `frame` when it is a ring of bands around the image and a `page_edge` otherwise; one inside
-//! the page is a `halftone`. Its ink is removed; so are the pieces of ink left wholly within a
+//! the page, or one of texture cells at least half, is a `halftone`. Its ink is removed; so are the pieces of ink left wholly within a
 //! cell of it (a photo's last dots, the line a local threshold draws along a dark margin), while a
 //! stroke that touches it and leaves it, such as a letter touching a frame, stays.
 
@@ -57,6 +63,12 @@ const MIN_DOTS: u32 = 4;
 /// A dotted cell is at least this share ink: a screen's dots cover a tenth of it and more where
 /// there is any tone, scattered specks on paper much less.
 const DOTS_INK: f64 = 0.1;
+/// A cell is a texture (a halftone's dots, a grille's bars, a pattern's cells) when its gray,
+/// seen at half a stroke width (block means) and cut at two levels either side of the global one,
+/// shows at least this many pieces (or at least this many holes) in both cuts: one per eight
+/// squared stroke widths, where a cell of text shows less than one (a letter, a counter) and
+/// a fingerprint's pores, finer than half a ridge, are gone at that scale.
+const TEXTURE_PIECES: f64 = 2.0;
 /// A seed is this many cells square, all solid or dark field: three cells, twelve stroke widths.
 const SEED_CELLS: usize = 3;
 /// A region along the image's edge is a frame when it spans at least this share of the image's
@@ -64,6 +76,10 @@ const SEED_CELLS: usize = 3;
 const FRAME_SPAN: f64 = 0.5;
 /// ... and covers at most this share of its own box (a ring of bands, not a field).
 const FRAME_FILL: f64 = 0.5;
+
+/// A group at least this share texture cells is a halftone (a photo or a pattern), wherever it
+/// lies.
+const TEXTURED_GROUP: f64 = 0.5;
 
 /// A region along the image's edge that is not a frame is a page edge when at least this share
 /// of its cells are even dark: dark field, or at least [`PAGE_EDGE_INK`] ink (see [`find`]).
@@ -80,6 +96,8 @@ enum Cell {
     Dense,
     /// Dense, and holding at least [`MIN_DOTS`] pieces of ink: a halftone's screen.
     Dots,
+    /// Its gray a fine texture ([`TEXTURE_PIECES`]), whatever the threshold made of it.
+    Texture,
 }
 
 /// Finds the regions of `ink` (row-major, the gray's size) that are not strokes, removes the ink
@@ -107,15 +125,32 @@ pub(crate) fn find(
     if cols < SEED_CELLS || rows < SEED_CELLS {
         return Vec::new();
     }
-    let (cells, ink_shares) = classify(gray, ink, dark_ink, level, stroke_width, cell, grounds);
+    let texture = texture_cells(gray, dark_ink, level, stroke_width, cell);
+    if !seed_possible(gray, ink, dark_ink, level, cell, &texture) {
+        return Vec::new();
+    }
+    let (cells, ink_shares) = classify(
+        gray,
+        ink,
+        dark_ink,
+        level,
+        stroke_width,
+        cell,
+        grounds,
+        &texture,
+    );
     let groups = grow(&cells, cols, rows);
     if groups.is_empty() {
         return Vec::new();
     }
     let mut regions = Vec::new();
     let mut removed_cells = vec![false; cols * rows];
-    for group in photos(groups, cols, rows) {
-        let region = describe(&group, cols, rows, cell, width, height);
+    for group in photos(groups, &cells, cols, rows) {
+        let textured = group.iter().filter(|&&c| cells[c] == Cell::Texture).count();
+        let mut region = describe(&group, cols, rows, cell, width, height);
+        if textured as f64 >= TEXTURED_GROUP * group.len() as f64 {
+            region.kind = RegionKind::Halftone;
+        }
         // Beyond a page's edge lies one even dark: cells all ink, or a dark field the threshold
         // left. Solid ink reaching the image's edge with paper showing through it is as likely an
         // over-inked part of the drawing (an ink card's smudged ridges): no page edge.
@@ -140,6 +175,7 @@ pub(crate) fn find(
 }
 
 /// Every cell's class and its share of ink.
+#[allow(clippy::too_many_arguments)]
 fn classify(
     gray: GrayView<'_>,
     ink: &[bool],
@@ -148,6 +184,7 @@ fn classify(
     stroke_width: f64,
     cell: usize,
     grounds: &[Ground],
+    texture: &[bool],
 ) -> (Vec<Cell>, Vec<f64>) {
     let (width, height) = (gray.width() as usize, gray.height() as usize);
     let (cols, rows) = (width.div_ceil(cell), height.div_ceil(cell));
@@ -219,6 +256,8 @@ fn classify(
                 Cell::Solid
             } else if share(4) >= DARK_SHARE && share(1) < DARK_FIELD_INK {
                 Cell::DarkField
+            } else if texture[c] {
+                Cell::Texture
             } else if share(3) < OPEN_PAPER && share(1) >= DENSE_INK {
                 if starts[c] >= MIN_DOTS && share(1) >= DOTS_INK {
                     Cell::Dots
@@ -240,6 +279,157 @@ fn classify(
         .map(|c| f64::from(c[1]) / f64::from(c[0].max(1)))
         .collect();
     (classes, ink_shares)
+}
+
+/// Whether any seed can be found: a cheap look at each cell's share of ink and of dark before the
+/// costlier tests (thick ink, open paper, the pieces of ink). A solid cell is at least
+/// [`SOLID_SHARE`] ink and a dark field at least [`DARK_SHARE`] dark with little ink; a seed needs
+/// [`SEED_CELLS`] x [`SEED_CELLS`] cells that could be solid, dark fields or textures, or
+/// [`SEED_CELLS`] in a row along the image's edge that could be solid. A page of text has none.
+fn seed_possible(
+    gray: GrayView<'_>,
+    ink: &[bool],
+    dark_ink: bool,
+    level: u8,
+    cell: usize,
+    texture: &[bool],
+) -> bool {
+    let (width, height) = (gray.width() as usize, gray.height() as usize);
+    let (cols, rows) = (width.div_ceil(cell), height.div_ceil(cell));
+    // Ink, dark and all pixels per cell.
+    let mut counts = vec![[0u32; 3]; cols * rows];
+    for y in 0..height {
+        let row = gray.row(y);
+        let base = (y / cell) * cols;
+        let ink_row = &ink[y * width..(y + 1) * width];
+        for (x, (&g, &i)) in row.iter().zip(ink_row).enumerate() {
+            let c = &mut counts[base + x / cell];
+            let dark = if dark_ink { g <= level } else { g > level };
+            c[0] += u32::from(i);
+            c[1] += u32::from(dark);
+            c[2] += 1;
+        }
+    }
+    let share = |c: usize, k: usize| f64::from(counts[c][k]) / f64::from(counts[c][2].max(1));
+    let solid = |c: usize| share(c, 0) >= SOLID_SHARE;
+    let candidate = |c: usize| {
+        solid(c) || (share(c, 1) >= DARK_SHARE && share(c, 0) < DARK_FIELD_INK) || texture[c]
+    };
+    let block = |x: usize, y: usize| {
+        (0..SEED_CELLS).all(|dy| (0..SEED_CELLS).all(|dx| candidate((y + dy) * cols + x + dx)))
+    };
+    let inside = (0..=rows - SEED_CELLS).any(|y| (0..=cols - SEED_CELLS).any(|x| block(x, y)));
+    let along_edge = (0..cols * rows).any(|c| {
+        let (x, y) = (c % cols, c / cols);
+        let along_row = (y == 0 || y + 1 == rows) && x + SEED_CELLS <= cols;
+        let along_col = (x == 0 || x + 1 == cols) && y + SEED_CELLS <= rows;
+        (along_row && (0..SEED_CELLS).all(|d| solid(c + d)))
+            || (along_col && (0..SEED_CELLS).all(|d| solid(c + d * cols)))
+    });
+    inside || along_edge
+}
+
+/// Which cells are textures ([`TEXTURE_PIECES`]). The gray is averaged over blocks of half a
+/// stroke width (a fingerprint's pores and a scan's grain, finer than that, are gone) and cut at
+/// two levels, halfway from the global level to the ink's median gray and halfway to the paper's:
+/// a texture shows its pieces in both cuts, where the noise of a shaded area near the level
+/// shows them in one only. Pieces are counted by the Euler number (pieces of ink, 8-connected,
+/// less their holes) from the 2 x 2 windows of blocks (Gray's bit quads: `4 E = Q1 - Q3 - 2 QD`),
+/// each window counted in the cell of its first block.
+fn texture_cells(
+    gray: GrayView<'_>,
+    dark_ink: bool,
+    level: u8,
+    stroke_width: f64,
+    cell: usize,
+) -> Vec<bool> {
+    let (width, height) = (gray.width() as usize, gray.height() as usize);
+    let (cols, rows) = (width.div_ceil(cell), height.div_ceil(cell));
+    // Gray turned so that the ink is dark: ink at or below `cut`.
+    let turn = |v: u8| if dark_ink { v } else { 255 - v };
+    let cut = if dark_ink {
+        level
+    } else {
+        254u8.saturating_sub(level)
+    };
+    let mut histogram = [0u64; 256];
+    for y in 0..height {
+        for &v in gray.row(y) {
+            histogram[usize::from(turn(v))] += 1;
+        }
+    }
+    let median_of = |range: std::ops::RangeInclusive<usize>| -> Option<f64> {
+        let total: u64 = range.clone().map(|v| histogram[v]).sum();
+        let mut seen = 0;
+        for v in range {
+            seen += histogram[v];
+            if total > 0 && 2 * seen >= total {
+                return Some(v as f64);
+            }
+        }
+        None
+    };
+    let (Some(ink_gray), Some(paper_gray)) = (
+        median_of(0..=usize::from(cut)),
+        median_of(usize::from(cut) + 1..=255),
+    ) else {
+        return vec![false; cols * rows];
+    };
+    let cut = f64::from(cut);
+    let levels = [cut - (cut - ink_gray) / 2.0, cut + (paper_gray - cut) / 2.0];
+    // Block means, each block `side` px square (cut to the image).
+    let side = ((stroke_width / 2.0).floor() as usize).max(1);
+    let (bw, bh) = (width.div_ceil(side), height.div_ceil(side));
+    let mut sums = vec![0u32; bw * bh];
+    let mut sizes = vec![0u32; bw * bh];
+    for y in 0..height {
+        let base = (y / side) * bw;
+        for (x, &v) in gray.row(y).iter().enumerate() {
+            sums[base + x / side] += u32::from(turn(v));
+            sizes[base + x / side] += 1;
+        }
+    }
+    let means: Vec<f64> = sums
+        .iter()
+        .zip(&sizes)
+        .map(|(&s, &n)| f64::from(s) / f64::from(n.max(1)))
+        .collect();
+    let counts = levels.map(|at| {
+        let mask: Vec<bool> = means.iter().map(|&m| m <= at).collect();
+        let mut quads = vec![0i32; cols * rows];
+        // Windows over the blocks padded with paper: (x, y) is one more than the block's position.
+        let get = |x: usize, y: usize| -> u8 {
+            if x == 0 || y == 0 || x > bw || y > bh {
+                0
+            } else {
+                u8::from(mask[(y - 1) * bw + x - 1])
+            }
+        };
+        for y in 0..=bh {
+            let cy = ((y.max(1) - 1) * side / cell).min(rows - 1);
+            for x in 0..=bw {
+                let quad =
+                    get(x, y) | get(x + 1, y) << 1 | get(x, y + 1) << 2 | get(x + 1, y + 1) << 3;
+                let value = match quad.count_ones() {
+                    1 => 1,
+                    3 => -1,
+                    2 if quad == 0b1001 || quad == 0b0110 => -2,
+                    _ => 0,
+                };
+                if value != 0 {
+                    let cx = ((x.max(1) - 1) * side / cell).min(cols - 1);
+                    quads[cy * cols + cx] += value;
+                }
+            }
+        }
+        quads
+    });
+    (0..cols * rows)
+        .map(|c| {
+            let (a, b) = (counts[0][c], counts[1][c]);
+            a.signum() == b.signum() && f64::from(a.abs().min(b.abs())) / 4.0 >= TEXTURE_PIECES
+        })
+        .collect()
 }
 
 /// Demotes the dark fields that do not end in a step: beyond a page's edge the gray falls from
@@ -342,7 +532,7 @@ fn all_within(values: impl Iterator<Item = bool>, radius: usize, out: &mut Vec<b
 /// The groups of cells (each a list of cell indices) grown from the seeds: solid and dark-field
 /// cells connected (4-connected) to a seed, and the dense cells beside them.
 fn grow(cells: &[Cell], cols: usize, rows: usize) -> Vec<Vec<usize>> {
-    let seedable = |c: usize| matches!(cells[c], Cell::Solid | Cell::DarkField);
+    let seedable = |c: usize| matches!(cells[c], Cell::Solid | Cell::DarkField | Cell::Texture);
     let carries = |c: usize| seedable(c) || cells[c] == Cell::Dots;
     let mut seed = vec![false; cells.len()];
     for y in 0..=rows - SEED_CELLS {
@@ -405,7 +595,7 @@ fn grow(cells: &[Cell], cols: usize, rows: usize) -> Vec<Vec<usize>> {
 /// The groups with the halftones (those not on the grid's edge) made whole: a photo's light
 /// parts hold open paper and its dark parts merged dots, so it can come as pieces, and the pieces
 /// whose boxes come within a cell of each other are one photo; a photo inside a page is its box.
-fn photos(groups: Vec<Vec<usize>>, cols: usize, rows: usize) -> Vec<Vec<usize>> {
+fn photos(groups: Vec<Vec<usize>>, cells: &[Cell], cols: usize, rows: usize) -> Vec<Vec<usize>> {
     let bounds = |group: &[usize]| {
         let (mut x0, mut y0, mut x1, mut y1) = (usize::MAX, usize::MAX, 0, 0);
         for &c in group {
@@ -419,7 +609,8 @@ fn photos(groups: Vec<Vec<usize>>, cols: usize, rows: usize) -> Vec<Vec<usize>> 
     let mut boxes: Vec<[usize; 4]> = Vec::new();
     for group in groups {
         let b = bounds(&group);
-        if on_edge(&b) {
+        let textured = group.iter().filter(|&&c| cells[c] == Cell::Texture).count();
+        if on_edge(&b) && (textured as f64) < TEXTURED_GROUP * group.len() as f64 {
             out.push(group);
         } else {
             boxes.push(b);
@@ -641,6 +832,87 @@ mod tests {
         let (_, decisions) = decide(&gray, &[RegionKind::Halftone]);
         assert_eq!(kinds(&decisions), vec![RegionKind::Halftone]);
         assert!(ink_in(&kept, 180, 300) > 5000);
+    }
+
+    /// Ink pixels of `binary` within the columns `[x0, x1)`.
+    fn ink_between(binary: &crate::binary::Binary, x0: u32, x1: u32) -> usize {
+        (0..binary.height)
+            .flat_map(|y| (x0..x1).map(move |x| (x, y)))
+            .filter(|&(x, y)| binary.ink[(y * binary.width + x) as usize])
+            .count()
+    }
+
+    #[test]
+    fn a_grille_behind_the_text_is_found_and_left_out() {
+        // Two families of bars 2 px wide, 5 and 7 px apart, crossing: a lattice of small holes
+        // whose bars are thinner than the text's strokes.
+        let grille = |x: u32, y: u32| {
+            let inside = (180..300).contains(&x) && (20..220).contains(&y);
+            inside.then_some(if (x + y) % 5 < 2 || (x + 480 - y) % 7 < 2 {
+                50
+            } else {
+                PAPER
+            })
+        };
+        let gray = page(320, 240, [20, 20, 160, 220], grille);
+        let (binary, decisions) = decide(&gray, &[]);
+        assert_eq!(
+            kinds(&decisions),
+            vec![RegionKind::Halftone],
+            "{:?}",
+            decisions.regions
+        );
+        let r = decisions.regions[0];
+        assert!(r.x <= 190 && r.x + r.width >= 290, "{r:?}");
+        assert!(ink_between(&binary, 180, 300) < 200, "the grille is gone");
+        // The text is all there.
+        let clean = decide(&page(320, 240, [20, 20, 160, 220], |_, _| None), &[]).0;
+        assert_eq!(ink_between(&binary, 0, 170), ink_between(&clean, 0, 170));
+        let (kept, _) = decide(&gray, &[RegionKind::Halftone]);
+        assert!(ink_between(&kept, 180, 300) > 5000);
+    }
+
+    #[test]
+    fn a_light_halftone_of_separate_dots_is_found() {
+        // Dots 2 px across on a 4 px screen, paper between them: a light tone, no dot merged.
+        let photo = |x: u32, y: u32| {
+            let inside = (180..300).contains(&x) && (30..210).contains(&y);
+            inside.then_some(if x % 4 < 2 && y % 4 < 2 { INK } else { PAPER })
+        };
+        let gray = page(320, 240, [20, 20, 160, 220], photo);
+        let (binary, decisions) = decide(&gray, &[]);
+        assert_eq!(kinds(&decisions), vec![RegionKind::Halftone]);
+        assert!(ink_between(&binary, 180, 300) < 100, "the dots are gone");
+    }
+
+    #[test]
+    fn a_print_with_pores_is_no_texture() {
+        // Ridges 8 px wide 16 px apart over the whole image, each with a pore of 2 x 2 px every
+        // 6 px: many holes per cell, but finer than half a ridge.
+        let gray = GrayImage::from_fn(320, 240, |x, y| {
+            let ridge = (x + y / 3) % 16 < 8;
+            let pore = (x + y / 3) % 16 >= 3 && (x + y / 3) % 16 < 5 && y % 6 < 2;
+            Luma([if ridge && !pore { INK } else { PAPER }])
+        });
+        let (_, decisions) = decide(&gray, &[]);
+        assert!(decisions.regions.is_empty(), "{:?}", decisions.regions);
+    }
+
+    #[test]
+    fn a_page_of_text_ends_the_search_early() {
+        let text = page(320, 240, [20, 20, 300, 220], |_, _| None);
+        let (binary, _) = decide(&text, &[]);
+        let view: GrayView<'_> = (&text).into();
+        let texture = texture_cells(view, true, 128, 3.0, 12);
+        assert!(texture.iter().all(|&t| !t));
+        assert!(!seed_possible(view, &binary.ink, true, 128, 12, &texture));
+        // A dark block 40 px square could seed.
+        let block = page(320, 240, [20, 20, 300, 220], |x, y| {
+            ((100..140).contains(&x) && (100..140).contains(&y)).then_some(INK)
+        });
+        let (binary, _) = decide(&block, &[]);
+        let view: GrayView<'_> = (&block).into();
+        assert!(seed_possible(view, &binary.ink, true, 128, 12, &texture));
     }
 
     #[test]

@@ -75,6 +75,7 @@ mod median;
 mod node_graph;
 mod params;
 mod pipeline;
+mod point_index;
 mod point_set;
 mod samples;
 mod stroke_graph;

@@ -5,10 +5,9 @@
 
 mod ply;
 
-use std::collections::{HashMap, HashSet};
-use std::num::NonZero;
+use std::collections::HashSet;
 
-use kiddo::{ImmutableKdTree, SquaredEuclidean};
+use kiddo::ImmutableKdTree;
 use petgraph::unionfind::UnionFind;
 use rayon::prelude::*;
 
@@ -17,6 +16,7 @@ use crate::error::{Error, Result};
 use crate::mask::{close3, ink_row_starts, squared_distance_rows, tiny_hole_pixels};
 use crate::median::upper_median_by;
 use crate::params::{Params, RMinRule};
+use crate::point_index::{cross_pairs, k_nearest, z_order, Cells};
 use crate::point_set::PointSet;
 use crate::stroke_graph::StrokeGraph;
 
@@ -469,31 +469,13 @@ fn nearest_neighbours(points: &[[f64; 2]], k: usize) -> Result<(Vec<u32>, Vec<u3
     // unsplittable buckets on pixel-like grids).
     let tree: ImmutableKdTree<f64, 2> = ImmutableKdTree::new_from_slice(points)
         .map_err(|e| Error::InvalidParams(format!("cannot index the points: {e:?}")))?;
-    let wanted = NonZero::new(k + 1).unwrap_or(NonZero::<usize>::MIN);
-    let mut lists = vec![u32::MAX; n * k];
-    let nearest: Vec<f64> = lists
-        .par_chunks_mut(k)
-        .enumerate()
-        .map(|(i, list)| {
-            let mut found = tree
-                .query(&points[i])
-                .nearest_n::<SquaredEuclidean<f64>>(wanted)
-                .execute();
-            // Ties at equal distance are ordered by index so the choice never depends on the
-            // tree's layout.
-            found.retain(|r| r.item as usize != i);
-            found.sort_by(|a, b| a.distance.total_cmp(&b.distance).then(a.item.cmp(&b.item)));
-            for (slot, r) in list.iter_mut().zip(&found) {
-                *slot = r.item;
-            }
-            found.first().map_or(0.0, |r| r.distance.sqrt())
-        })
-        .collect();
-    let spacing = nearest.iter().sum::<f64>() / n as f64;
+    let order = z_order(points);
+    let (lists, nearest) = k_nearest(points, &tree, &order, k);
+    let spacing = nearest.iter().map(|d| d.0).sum::<f64>() / n as f64;
     let bridges = if on_lattice(points, spacing) {
         Vec::new()
     } else {
-        island_bridges(points, &tree, &lists, k)
+        island_bridges(points, &tree, &order, &lists, k)
     };
 
     // The symmetric relation: both directions of every k-nearest pair, mutual pairs once.
@@ -524,6 +506,7 @@ const ISLAND_REACH: f64 = 2.0;
 fn island_bridges(
     points: &[[f64; 2]],
     tree: &ImmutableKdTree<f64, 2>,
+    order: &[u32],
     lists: &[u32],
     k: usize,
 ) -> Vec<(u32, u32)> {
@@ -548,23 +531,7 @@ fn island_bridges(
             })
             .fold(0.0, f64::max)
     };
-    let mut bridges: Vec<(u32, u32)> = (0..n)
-        .into_par_iter()
-        .flat_map_iter(|i| {
-            let reach = ISLAND_REACH * farthest(i);
-            let found = tree
-                .query(&points[i])
-                .within::<SquaredEuclidean<f64>>(reach * reach)
-                .execute();
-            let labels = &labels;
-            found
-                .into_iter()
-                .filter(move |r| labels[r.item as usize] != labels[i])
-                .map(move |r| (i as u32, r.item))
-        })
-        .collect();
-    bridges.sort_unstable();
-    bridges
+    cross_pairs(points, tree, order, &labels, |i| ISLAND_REACH * farthest(i))
 }
 
 /// Half-widths for points without a pixel grid: rasterize the points onto cells of side `Dis_ave`
@@ -683,30 +650,20 @@ fn strip_half_widths(
     }
     let part = sets.into_labeling();
     let mut cell = 2.0 * spacing;
-    let mut cells: Vec<(i64, i64)> = Vec::with_capacity(n);
-    let mut point_slot: Vec<u32> = Vec::with_capacity(n);
+    let mut cells: Option<Cells<2>> = None;
+    let mut moments: Vec<[f64; 6]> = Vec::new();
     while decided.iter().any(|d| !d) && cell <= 2.0 * extent.max(spacing) {
+        let grid = match cells.take() {
+            None => Cells::new(points, &part, cell),
+            Some(finer) => finer.coarser(points, &part, 0.5 * cell),
+        };
         // Moments per cell: count, sum x, sum y, sum xx, sum xy, sum yy (relative to the cell's
-        // corner, so the sums stay small).
-        cells.clear();
-        cells.extend(
-            points
-                .iter()
-                .map(|p| ((p[0] / cell).floor() as i64, (p[1] / cell).floor() as i64)),
-        );
-        // Every point of a cell has the same window, so each occupied cell is measured once.
-        let mut slot_of: HashMap<(u32, i64, i64), u32> = HashMap::new();
-        let mut keys: Vec<(u32, i64, i64)> = Vec::new();
-        let mut moments: Vec<[f64; 6]> = Vec::new();
-        point_slot.clear();
-        for ((p, &c), &label) in points.iter().zip(&cells).zip(&part) {
-            let (x, y) = (p[0] - c.0 as f64 * cell, p[1] - c.1 as f64 * cell);
-            let slot = *slot_of.entry((label, c.0, c.1)).or_insert_with(|| {
-                keys.push((label, c.0, c.1));
-                moments.push([0.0; 6]);
-                (moments.len() - 1) as u32
-            });
-            point_slot.push(slot);
+        // corner, so the sums stay small), summed in point order.
+        moments.clear();
+        moments.resize(grid.keys.len(), [0.0; 6]);
+        for (p, &slot) in points.iter().zip(&grid.point_slot) {
+            let c = grid.keys[slot as usize].1;
+            let (x, y) = (p[0] - c[0] as f64 * cell, p[1] - c[1] as f64 * cell);
             let m = &mut moments[slot as usize];
             m[0] += 1.0;
             m[1] += x;
@@ -716,15 +673,16 @@ fn strip_half_widths(
             m[5] += y * y;
         }
         // Per cell: `None` when its window holds too few points, else the half-width it measures
-        // when it is a piece of strip (NaN when not).
-        let measure = |&(label, cx, cy): &(u32, i64, i64)| -> Option<f32> {
+        // when it is a piece of strip (NaN when not). Every point of a cell has the same window,
+        // so each occupied cell is measured once.
+        let measure = |&(label, [cx, cy]): &(u32, [i64; 2])| -> Option<f32> {
             // The window's moments about the cell's corner.
             let mut w = [0.0f64; 6];
             for dy in -1..=1i64 {
                 for dx in -1..=1i64 {
-                    let key = (label, cx.saturating_add(dx), cy.saturating_add(dy));
-                    if let Some(&slot) = slot_of.get(&key) {
-                        let m = &moments[slot as usize];
+                    let key = (label, [cx.saturating_add(dx), cy.saturating_add(dy)]);
+                    if let Some(slot) = grid.slot(&key) {
+                        let m = &moments[slot];
                         let (ox, oy) = (dx as f64 * cell, dy as f64 * cell);
                         w[0] += m[0];
                         w[1] += m[1] + ox * m[0];
@@ -758,12 +716,12 @@ fn strip_half_widths(
                 f32::NAN
             })
         };
-        let per_cell: Vec<Option<f32>> = keys.iter().map(measure).collect();
+        let per_cell: Vec<Option<f32>> = grid.keys.par_iter().map(measure).collect();
         for i in 0..n {
             if decided[i] {
                 continue;
             }
-            if let Some(half) = per_cell[point_slot[i] as usize] {
+            if let Some(half) = per_cell[grid.point_slot[i] as usize] {
                 windowed[i] = true;
                 if half.is_finite() {
                     decided[i] = true;
@@ -771,6 +729,7 @@ fn strip_half_widths(
                 }
             }
         }
+        cells = Some(grid);
         cell *= 2.0;
     }
     let counts = (

@@ -24,6 +24,7 @@ const GROUND: &[&str] = &[
     "median",
     "node_graph",
     "params",
+    "point_index",
     "point_set",
     "samples",
     "stroke_graph",

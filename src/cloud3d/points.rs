@@ -2,10 +2,9 @@
 //! docs/design.md "Hostile input"), symmetric `k`-nearest-neighbour lists (§3.2) from a k-d tree,
 //! the parts of that graph, and each point's local tube diameter from the PCA of §3.1.
 
-use std::collections::{HashMap, HashSet};
-use std::num::NonZero;
+use std::collections::HashSet;
 
-use kiddo::{ImmutableKdTree, SquaredEuclidean};
+use kiddo::ImmutableKdTree;
 use petgraph::unionfind::UnionFind;
 use rayon::prelude::*;
 
@@ -13,6 +12,7 @@ use super::math::{eigen, linearity, tube_diameter, Moments, V3};
 use crate::csr::symmetric_neighbours;
 use crate::error::{Error, Result};
 use crate::params::Params;
+use crate::point_index::{cross_pairs, k_nearest, z_order, Cells};
 
 /// Coordinates are translated so the smallest is 0; an extent beyond this would overflow squared
 /// distances.
@@ -190,28 +190,8 @@ fn nearest_neighbours(points: &[V3], k: usize) -> Result<(Vec<u32>, Vec<u32>, f6
     let n = points.len();
     let tree: ImmutableKdTree<f64, 3> = ImmutableKdTree::new_from_slice(points)
         .map_err(|e| Error::InvalidParams(format!("cannot index the points: {e:?}")))?;
-    let wanted = NonZero::new(k + 1).unwrap_or(NonZero::<usize>::MIN);
-    let mut lists = vec![u32::MAX; n * k];
-    let nearest: Vec<(f64, f64)> = lists
-        .par_chunks_mut(k)
-        .enumerate()
-        .map(|(i, list)| {
-            let mut found = tree
-                .query(&points[i])
-                .nearest_n::<SquaredEuclidean<f64>>(wanted)
-                .execute();
-            // Ties ordered by index, so the choice never depends on the tree's layout.
-            found.retain(|r| r.item as usize != i);
-            found.sort_by(|a, b| a.distance.total_cmp(&b.distance).then(a.item.cmp(&b.item)));
-            for (slot, r) in list.iter_mut().zip(&found) {
-                *slot = r.item;
-            }
-            (
-                found.first().map_or(0.0, |r| r.distance.sqrt()),
-                found.get(k - 1).map_or(0.0, |r| r.distance.sqrt()),
-            )
-        })
-        .collect();
+    let order = z_order(points);
+    let (lists, nearest) = k_nearest(points, &tree, &order, k);
     let spacing = nearest.iter().map(|d| d.0).sum::<f64>() / n as f64;
     // Islands: a point reaches every point of another component within twice its `k`-th
     // neighbour distance.
@@ -225,23 +205,9 @@ fn nearest_neighbours(points: &[V3], k: usize) -> Result<(Vec<u32>, Vec<u32>, f6
     let bridges: Vec<(u32, u32)> = if labels.iter().all(|&l| l == labels[0]) {
         Vec::new()
     } else {
-        let mut bridges: Vec<(u32, u32)> = (0..n)
-            .into_par_iter()
-            .flat_map_iter(|i| {
-                let reach = ISLAND_REACH * nearest[i].1;
-                let found = tree
-                    .query(&points[i])
-                    .within::<SquaredEuclidean<f64>>(reach * reach)
-                    .execute();
-                let labels = &labels;
-                found
-                    .into_iter()
-                    .filter(move |r| labels[r.item as usize] != labels[i])
-                    .map(move |r| (i as u32, r.item))
-            })
-            .collect();
-        bridges.sort_unstable();
-        bridges
+        cross_pairs(points, &tree, &order, &labels, |i| {
+            ISLAND_REACH * nearest[i].1
+        })
     };
     let (offsets, neighbors) = symmetric_neighbours(n, |emit| {
         for (i, list) in lists.chunks(k).enumerate() {
@@ -278,38 +244,37 @@ fn tube_widths(
     let mut measured = vec![f64::NAN; n];
     let mut windowed = vec![false; n];
     let mut cell = 2.0 * spacing;
-    type Key = (u32, i64, i64, i64);
+    let mut cells: Option<Cells<3>> = None;
+    let mut moments: Vec<Moments> = Vec::new();
     while measured.iter().any(|m| m.is_nan()) && cell <= 2.0 * extent.max(spacing) {
-        let mut slot_of: HashMap<Key, u32> = HashMap::new();
-        let mut keys: Vec<Key> = Vec::new();
-        let mut moments: Vec<Moments> = Vec::new();
-        let mut point_slot: Vec<u32> = Vec::with_capacity(n);
-        for (p, &label) in points.iter().zip(part) {
-            let c = p.map(|x| (x / cell).floor() as i64);
-            let key = (label, c[0], c[1], c[2]);
-            let slot = *slot_of.entry(key).or_insert_with(|| {
-                keys.push(key);
-                moments.push(Moments::default());
-                (moments.len() - 1) as u32
-            });
-            point_slot.push(slot);
+        let grid = match cells.take() {
+            None => Cells::new(points, part, cell),
+            Some(finer) => finer.coarser(points, part, 0.5 * cell),
+        };
+        // Moments per cell about its corner, summed in point order.
+        moments.clear();
+        moments.resize(grid.keys.len(), Moments::default());
+        for (p, &slot) in points.iter().zip(&grid.point_slot) {
+            let c = grid.keys[slot as usize].1;
             let corner = [c[0] as f64 * cell, c[1] as f64 * cell, c[2] as f64 * cell];
             moments[slot as usize].add([p[0] - corner[0], p[1] - corner[1], p[2] - corner[2]]);
         }
-        let measure = |&(label, cx, cy, cz): &Key| -> Option<f64> {
+        let measure = |&(label, [cx, cy, cz]): &(u32, [i64; 3])| -> Option<f64> {
             let mut window = Moments::default();
             for dz in -1..=1i64 {
                 for dy in -1..=1i64 {
                     for dx in -1..=1i64 {
                         let key = (
                             label,
-                            cx.saturating_add(dx),
-                            cy.saturating_add(dy),
-                            cz.saturating_add(dz),
+                            [
+                                cx.saturating_add(dx),
+                                cy.saturating_add(dy),
+                                cz.saturating_add(dz),
+                            ],
                         );
-                        if let Some(&slot) = slot_of.get(&key) {
+                        if let Some(slot) = grid.slot(&key) {
                             let offset = [dx as f64 * cell, dy as f64 * cell, dz as f64 * cell];
-                            window.add_shifted(&moments[slot as usize], offset);
+                            window.add_shifted(&moments[slot], offset);
                         }
                     }
                 }
@@ -327,16 +292,17 @@ fn tube_widths(
                 },
             )
         };
-        let per_cell: Vec<Option<f64>> = keys.par_iter().map(measure).collect();
+        let per_cell: Vec<Option<f64>> = grid.keys.par_iter().map(measure).collect();
         for i in 0..n {
             if !measured[i].is_nan() {
                 continue;
             }
-            if let Some(d) = per_cell[point_slot[i] as usize] {
+            if let Some(d) = per_cell[grid.point_slot[i] as usize] {
                 windowed[i] = true;
                 measured[i] = d;
             }
         }
+        cells = Some(grid);
         cell *= 2.0;
     }
     let linear = measured.iter().filter(|m| m.is_finite()).count();

@@ -1,0 +1,313 @@
+//! Spatial indexing shared by point lists in the plane (`point_list`) and in space (`cloud3d`),
+//! generic over the dimension `D`: the `k` nearest neighbours of every point (§3.2), the pairs
+//! that join islands of the `k`-nearest-neighbour graph to the strip around them, and square or
+//! cubic cells of a doubling side holding the moments of the windowed PCA (§3.1, Eq. (2)).
+//!
+//! Every function here gives what a direct loop over the points in index order gives, byte for
+//! byte; the order of the work is chosen for speed only. Queries are run in the points' order
+//! along a Z-order (Morton) curve, so consecutive queries visit the same leaves of the k-d tree
+//! and the time stays near linear in the number of points however the input is ordered (random
+//! points in random order made every query a cache miss).
+
+use std::num::NonZero;
+
+use kiddo::{ImmutableKdTree, SquaredEuclidean};
+use rayon::prelude::*;
+
+/// Points per parallel batch of queries: consecutive along the Z-order curve.
+const QUERY_BATCH: usize = 1024;
+
+/// The indices of `points` in Z-order over their bounding box (ties by index), a permutation.
+pub(crate) fn z_order<const D: usize>(points: &[[f64; D]]) -> Vec<u32> {
+    let mut low = [f64::INFINITY; D];
+    let mut high = [f64::NEG_INFINITY; D];
+    for p in points {
+        for d in 0..D {
+            low[d] = low[d].min(p[d]);
+            high[d] = high[d].max(p[d]);
+        }
+    }
+    let bits = (64 / D).min(21) as u32;
+    let top = ((1u64 << bits) - 1) as f64;
+    let mut codes: Vec<(u64, u32)> = points
+        .par_iter()
+        .enumerate()
+        .map(|(i, p)| {
+            let mut code = 0u64;
+            for d in 0..D {
+                let span = high[d] - low[d];
+                let t = if span > 0.0 {
+                    ((p[d] - low[d]) / span * top).clamp(0.0, top)
+                } else {
+                    0.0
+                };
+                let q = t as u64;
+                for b in 0..bits {
+                    code |= ((q >> b) & 1) << (b as usize * D + d);
+                }
+            }
+            (code, i as u32)
+        })
+        .collect();
+    codes.par_sort_unstable();
+    codes.into_iter().map(|(_, i)| i).collect()
+}
+
+/// The `k` nearest other points of every point, nearest first (ties by index, so the choice
+/// never depends on the tree's layout), as `n * k` slots (`u32::MAX` where there are fewer), and
+/// for each point the distances to its nearest and its `k`-th. Needs `k >= 1` and distinct points.
+pub(crate) fn k_nearest<const D: usize>(
+    points: &[[f64; D]],
+    tree: &ImmutableKdTree<f64, D>,
+    order: &[u32],
+    k: usize,
+) -> (Vec<u32>, Vec<(f64, f64)>) {
+    let n = points.len();
+    let wanted = NonZero::new(k + 1).unwrap_or(NonZero::<usize>::MIN);
+    // Answers in query order, then put back in index order.
+    let mut ordered = vec![u32::MAX; n * k];
+    let mut distances = vec![(0.0, 0.0); n];
+    ordered
+        .par_chunks_mut(k * QUERY_BATCH)
+        .zip(distances.par_chunks_mut(QUERY_BATCH))
+        .zip(order.par_chunks(QUERY_BATCH))
+        .for_each(|((lists, near), batch)| {
+            for ((list, near), &i) in lists.chunks_mut(k).zip(near.iter_mut()).zip(batch) {
+                let mut found = tree
+                    .query(&points[i as usize])
+                    .nearest_n::<SquaredEuclidean<f64>>(wanted)
+                    .execute();
+                found.retain(|r| r.item != i);
+                found.sort_by(|a, b| a.distance.total_cmp(&b.distance).then(a.item.cmp(&b.item)));
+                for (slot, r) in list.iter_mut().zip(&found) {
+                    *slot = r.item;
+                }
+                *near = (
+                    found.first().map_or(0.0, |r| r.distance.sqrt()),
+                    found.get(k - 1).map_or(0.0, |r| r.distance.sqrt()),
+                );
+            }
+        });
+    let mut lists = vec![u32::MAX; n * k];
+    let mut nearest = vec![(0.0, 0.0); n];
+    for (at, &i) in order.iter().enumerate() {
+        let i = i as usize;
+        lists[i * k..(i + 1) * k].copy_from_slice(&ordered[at * k..(at + 1) * k]);
+        nearest[i] = distances[at];
+    }
+    (lists, nearest)
+}
+
+/// Every pair `(i, j)`, sorted, of points in different components (`labels`) with `j` within
+/// `reach(i)` of `i`. A pair always has a point outside the largest component, so only those
+/// points are searched in the whole `tree`; the others search a tree of the points outside it
+/// (islands are few, so the work is about one cheap query per point).
+pub(crate) fn cross_pairs<const D: usize>(
+    points: &[[f64; D]],
+    tree: &ImmutableKdTree<f64, D>,
+    order: &[u32],
+    labels: &[u32],
+    reach: impl Fn(usize) -> f64 + Sync,
+) -> Vec<(u32, u32)> {
+    let mut sizes = vec![0usize; points.len()];
+    for &l in labels {
+        sizes[l as usize] += 1;
+    }
+    // The largest component, the first of equal size.
+    let largest =
+        (0..sizes.len()).fold(0, |best, l| if sizes[l] > sizes[best] { l } else { best }) as u32;
+    let outside: Vec<u32> = (0..points.len() as u32)
+        .filter(|&i| labels[i as usize] != largest)
+        .collect();
+    let outside_points: Vec<[f64; D]> = outside.iter().map(|&i| points[i as usize]).collect();
+    let small = ImmutableKdTree::<f64, D>::new_from_slice(&outside_points).ok();
+    let mut pairs: Vec<(u32, u32)> = order
+        .par_iter()
+        .flat_map_iter(|&i| {
+            let i = i as usize;
+            let radius = reach(i);
+            let found: Vec<(u32, u32)> = match (&small, labels[i] == largest) {
+                (Some(small), true) => small
+                    .query(&points[i])
+                    .within::<SquaredEuclidean<f64>>(radius * radius)
+                    .execute()
+                    .into_iter()
+                    .map(|r| (i as u32, outside[r.item as usize]))
+                    .collect(),
+                _ => tree
+                    .query(&points[i])
+                    .within::<SquaredEuclidean<f64>>(radius * radius)
+                    .execute()
+                    .into_iter()
+                    .filter(|r| labels[r.item as usize] != labels[i])
+                    .map(|r| (i as u32, r.item))
+                    .collect(),
+            };
+            found
+        })
+        .collect();
+    pairs.par_sort_unstable();
+    pairs
+}
+
+/// The occupied cells of side `c` of a point set, per part: cell `(part, floor(p / c))`, sorted,
+/// and each point's cell. [`Cells::coarser`] doubles the side, merging cells, so the cells of
+/// every scale cost their own number, not the points'.
+pub(crate) struct Cells<const D: usize> {
+    /// The occupied cells, sorted: a part label and integer cell coordinates.
+    pub keys: Vec<(u32, [i64; D])>,
+    /// Each point's index in `keys`.
+    pub point_slot: Vec<u32>,
+}
+
+/// Cell coordinates up to which halving the coordinates equals recomputing them from the points
+/// at the doubled side (`floor(x / 2c) = floor(floor(x / c) / 2)`, and `as i64` does not
+/// saturate).
+const EXACT_CELL: i64 = 1 << 52;
+
+impl<const D: usize> Cells<D> {
+    /// The cells of side `cell` (points with nonnegative coordinates).
+    pub fn new(points: &[[f64; D]], part: &[u32], cell: f64) -> Self {
+        let keys: Vec<(u32, [i64; D])> = points
+            .iter()
+            .zip(part)
+            .map(|(p, &label)| (label, p.map(|x| (x / cell).floor() as i64)))
+            .collect();
+        Self::from_point_keys(keys)
+    }
+
+    fn from_point_keys(point_keys: Vec<(u32, [i64; D])>) -> Self {
+        let mut keys = point_keys.clone();
+        keys.par_sort_unstable();
+        keys.dedup();
+        let point_slot = point_keys
+            .par_iter()
+            .map(|key| keys.binary_search(key).unwrap_or(0) as u32)
+            .collect();
+        Cells { keys, point_slot }
+    }
+
+    /// The cells of twice the side, as [`Cells::new`] would give them for `2 * cell`.
+    pub fn coarser(self, points: &[[f64; D]], part: &[u32], cell: f64) -> Self {
+        let exact = self
+            .keys
+            .iter()
+            .all(|(_, c)| c.iter().all(|&x| (0..EXACT_CELL).contains(&x)));
+        if !exact {
+            return Self::new(points, part, 2.0 * cell);
+        }
+        let parents: Vec<(u32, [i64; D])> = self
+            .keys
+            .iter()
+            .map(|&(label, c)| (label, c.map(|x| x >> 1)))
+            .collect();
+        let mut keys = parents.clone();
+        keys.dedup();
+        // Children sorted by (part, coordinates) give parents sorted up to runs; sort to be sure.
+        keys.par_sort_unstable();
+        keys.dedup();
+        let parent_slot: Vec<u32> = parents
+            .iter()
+            .map(|key| keys.binary_search(key).unwrap_or(0) as u32)
+            .collect();
+        let point_slot = self
+            .point_slot
+            .iter()
+            .map(|&s| parent_slot[s as usize])
+            .collect();
+        Cells { keys, point_slot }
+    }
+
+    /// The slot of a cell, if occupied.
+    pub fn slot(&self, key: &(u32, [i64; D])) -> Option<usize> {
+        self.keys.binary_search(key).ok()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn z_order_is_a_permutation() {
+        let points: Vec<[f64; 3]> = (0..500)
+            .map(|i| {
+                let t = i as f64 * 0.37;
+                [t.sin() * 10.0, (t * 1.3).cos(), t]
+            })
+            .collect();
+        let mut order = z_order(&points);
+        order.sort_unstable();
+        assert_eq!(order, (0..500).collect::<Vec<u32>>());
+    }
+
+    #[test]
+    fn coarser_cells_equal_cells_made_at_the_doubled_side() {
+        let points: Vec<[f64; 2]> = (0..2000)
+            .map(|i| {
+                let t = i as f64 * 0.618_033_988_7;
+                [
+                    (t * 7.1).fract() * 300.0,
+                    (t * 3.3).fract() * 40.0 + t * 0.01,
+                ]
+            })
+            .collect();
+        let part: Vec<u32> = (0..2000).map(|i| (i % 3) as u32).collect();
+        let mut cell = 0.75;
+        let mut cells = Cells::new(&points, &part, cell);
+        for _ in 0..12 {
+            cells = cells.coarser(&points, &part, cell);
+            cell *= 2.0;
+            let direct = Cells::new(&points, &part, cell);
+            assert_eq!(cells.keys, direct.keys);
+            assert_eq!(cells.point_slot, direct.point_slot);
+        }
+    }
+
+    #[test]
+    fn knn_and_pairs_match_a_direct_search() {
+        let points: Vec<[f64; 2]> = (0..300)
+            .map(|i| {
+                let t = i as f64;
+                [
+                    (t * 0.7548).fract() * 50.0 + if i < 20 { 200.0 } else { 0.0 },
+                    (t * 0.5698).fract() * 5.0,
+                ]
+            })
+            .collect();
+        let tree = ImmutableKdTree::<f64, 2>::new_from_slice(&points).unwrap();
+        let order = z_order(&points);
+        let k = 5;
+        let (lists, nearest) = k_nearest(&points, &tree, &order, k);
+        let d2 = |a: [f64; 2], b: [f64; 2]| (a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2);
+        for i in 0..points.len() {
+            let mut all: Vec<(f64, usize)> = (0..points.len())
+                .filter(|&j| j != i)
+                .map(|j| (d2(points[i], points[j]), j))
+                .collect();
+            all.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+            // The same distances (the choice among equal ones is the tree's).
+            let got: Vec<f64> = lists[i * k..(i + 1) * k]
+                .iter()
+                .map(|&j| d2(points[i], points[j as usize]))
+                .collect();
+            let want: Vec<f64> = all[..k].iter().map(|&(d, _)| d).collect();
+            assert_eq!(got, want, "point {i}");
+            assert_eq!(nearest[i].0, all[0].0.sqrt());
+            assert_eq!(nearest[i].1, all[k - 1].0.sqrt());
+        }
+        // Two components: the first 20 points and the rest; pairs within 160 units.
+        let labels: Vec<u32> = (0..points.len()).map(|i| u32::from(i >= 20)).collect();
+        let pairs = cross_pairs(&points, &tree, &order, &labels, |_| 160.0);
+        let mut want = Vec::new();
+        for i in 0..points.len() {
+            for j in 0..points.len() {
+                if labels[i] != labels[j] && d2(points[i], points[j]) <= 160.0 * 160.0 {
+                    want.push((i as u32, j as u32));
+                }
+            }
+        }
+        assert!(!want.is_empty());
+        assert_eq!(pairs, want);
+    }
+}

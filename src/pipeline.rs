@@ -586,7 +586,9 @@ fn carry_on_skeleton(
         return graph;
     }
     let clock = Instant::now();
-    let carried = skeleton::carry(&graph, points, &params.experiments);
+    // A print's ridges keep the skeleton's paths (docs/design.md, "Skeleton-carried geometry").
+    let fit_to_ink = params.fingerprint.is_none();
+    let carried = skeleton::carry(&graph, points, &params.experiments, fit_to_ink);
     timings.skeleton = clock.elapsed();
     carried
 }

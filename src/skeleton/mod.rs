@@ -13,7 +13,10 @@
 //! - **corners** ([`corners`]): where the method sees no junction, the Y that thinning makes of
 //!   a sharp bend (two legs and a stub into the corner) is a bend;
 //! - **ends and dots** ([`ends`]); and the method's fitted lines adopted where they follow the
-//!   skeleton ([`adopt`]).
+//!   skeleton ([`adopt`]);
+//! - last, every edge **fitted to its own ink** ([`smooth`]): §3.4's least squares (Eq. (4)) on
+//!   the medial points of the ink's cross-sections, corners kept, and only the points the shape
+//!   needs.
 //!
 //! ```text
 //! PointSet ─thin─> one-pixel skeleton ─pixel_graph─> StrokeGraph ─Work (+ the method's
@@ -21,9 +24,10 @@
 //! ```
 //!
 //! In: the method's [`StrokeGraph`] and the [`PointSet`] with its pixel grid. Out: a
-//! [`StrokeGraph`] whose polylines are the skeleton's pixel paths (smoothing them, even over 3
-//! pixels, measured worse at 1 px tolerance) or the method's lines it adopted, checked by
-//! [`validate`] in debug builds. Point lists and dropout mode (broken strokes, whose skeleton is
+//! [`StrokeGraph`] whose polylines follow the skeleton's pixel paths or the method's lines it
+//! adopted, each fitted to the middle of its ink ([`smooth`]; smoothing the pixel path alone,
+//! without the ink's medial points, measured worse at 1 px tolerance), checked by [`validate`]
+//! in debug builds. Point lists and dropout mode (broken strokes, whose skeleton is
 //! not the stroke's) keep the method's graph.
 
 mod adopt;
@@ -31,6 +35,7 @@ mod corners;
 mod crossings;
 mod ends;
 mod pixel_graph;
+mod smooth;
 mod spurs;
 mod thin;
 mod work;
@@ -81,11 +86,14 @@ pub(crate) fn thin(binary: &Binary) -> StrokeGraph {
 }
 
 /// The skeleton-carried graph of `points`' ink with the topology decisions of `method` (see the
-/// module doc). Returns `method` unchanged for point lists and in dropout mode.
+/// module doc), each edge fitted to its ink when `fit_to_ink` ([`smooth`]; a print's ridges keep
+/// their paths, which the print's prior and minutiae filter were measured on). Returns `method`
+/// unchanged for point lists and in dropout mode.
 pub fn carry(
     method: &StrokeGraph,
     points: &PointSet,
     experiments: &ExperimentParams,
+    fit_to_ink: bool,
 ) -> StrokeGraph {
     let Some(grid) = &points.grid else {
         return method.clone();
@@ -94,7 +102,7 @@ pub fn carry(
         return method.clone();
     }
     let (skeleton, ink) = skeleton_graph(points, grid);
-    let carried = reconcile(Work::new(skeleton, ink), method, experiments);
+    let carried = reconcile(Work::new(skeleton, ink), method, experiments, fit_to_ink);
     debug_assert_eq!(validate(&carried), Ok(()));
     carried
 }
@@ -163,9 +171,14 @@ fn skeleton_graph(points: &PointSet, grid: &Grid) -> (StrokeGraph, Ink) {
 }
 
 /// The skeleton's graph with the method's decisions, in order: spurs, thinning's split
-/// junctions, crossings, spurs the merged crossings leave, corners, dots, ends, junctions, and
-/// last the method's lines.
-fn reconcile(mut work: Work, method: &StrokeGraph, experiments: &ExperimentParams) -> StrokeGraph {
+/// junctions, crossings, spurs the merged crossings leave, corners, dots, ends, junctions, the
+/// method's lines, and last every edge fitted to its ink.
+fn reconcile(
+    mut work: Work,
+    method: &StrokeGraph,
+    experiments: &ExperimentParams,
+    fit_to_ink: bool,
+) -> StrokeGraph {
     let by_ink = experiments.decide_by_ink;
     work.prune_spurs(by_ink);
     work.join_degree_two();
@@ -182,6 +195,9 @@ fn reconcile(mut work: Work, method: &StrokeGraph, experiments: &ExperimentParam
     work.extend_ends();
     work.straighten_junctions();
     work.adopt_method_geometry(method);
+    if fit_to_ink {
+        work.smooth_edges();
+    }
     work.finish(method.width, method.height)
 }
 

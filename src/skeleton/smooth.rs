@@ -1,0 +1,683 @@
+//! Smooth centerlines: every skeleton edge fitted to its own ink ([`Work::smooth_edges`]), the
+//! last step of the reconciliation (docs/design.md, "Skeleton-carried geometry").
+//!
+//! A one-pixel skeleton is a staircase of pixel centers, half a pixel off the stroke's middle
+//! where the stroke is an even number of pixels wide. Each edge is resampled every pixel, each
+//! sample moved to the middle of the ink's cross-section along its normal (the medial point),
+//! and the polyline that stays closest to the medial points while bending least is solved for:
+//! §3.4's least squares (Eq. (4)), data term and smoothness term, with the second difference as
+//! the smoothness (a straight run costs nothing, so straight strokes stay straight and ends are
+//! not pulled in). The smoothing's reach is in units of the stroke's width; it is cut at the
+//! edge's corners, so a corner stays sharp; a point the fit would move off the ink keeps its
+//! skeleton place. Last, the polyline keeps only the points its shape needs: every dropped
+//! point lies within [`SIMPLIFY_PX`] of the line kept, and every segment kept lies on the ink.
+//! The ends stay exactly at their vertices, and the graph does not change.
+//!
+//! The method's lines that the skeleton adopted ([`super::adopt`]) are fitted the same way: §3.4's
+//! nodes lie a stroke width apart and their L1 medians wander by a few tenths of a pixel. A moved
+//! edge that would cross or touch another edge (or itself) away from their vertices keeps its
+//! path from before, so the geometry never adds a crossing to the graph.
+
+use crate::geometry::{arc_lengths, point_at, segment_dist};
+use crate::stroke_graph::Edge;
+
+use super::work::{median, Ink, Work};
+use super::{disk_radius, MIN_WIDTH_PX};
+
+/// The spacing of the fit's samples along an edge (px): about the skeleton's own, one per pixel.
+const SAMPLE_PX: f64 = 1.0;
+
+/// A dropped point lies within this of the simplified polyline (px).
+pub(super) const SIMPLIFY_PX: f64 = 0.1;
+
+/// The smoothing passes shapes longer than this many stroke widths and flattens shorter
+/// wiggles (the wavelength at which Eq. (4)'s second-difference term halves an oscillation):
+/// the pixel staircase is finer than a stroke is wide, the bends of a letter are coarser.
+const CUTOFF_WIDTHS: f64 = 2.0;
+
+/// See [`CUTOFF_WIDTHS`] (px): on a hairline the staircase still has steps of a few pixels.
+const MIN_CUTOFF_PX: f64 = 4.0;
+
+/// A corner turns by more than this (degrees) over a stroke width either side of it, and more
+/// than its neighbours do: the smoothing does not reach across it.
+const CORNER_DEG: f64 = 35.0;
+
+/// A medial point lies at most this far from the skeleton (px): the skeleton is within a pixel
+/// of the middle; a cross-section that says otherwise runs along another stroke.
+const MAX_SHIFT_PX: f64 = 0.75;
+
+/// A cross-section is the stroke's own when it is at most this many local widths long (plus a
+/// pixel): longer, it runs into another stroke where two meet or crowd.
+const CROWDED_WIDTHS: f64 = 1.5;
+
+/// The ink is sampled along a cross-section every quarter pixel (px).
+const SECTION_STEP_PX: f64 = 0.25;
+
+/// Halvings of the step in which a cross-section leaves the ink (to 1/64 px).
+const BISECTIONS: usize = 4;
+
+/// The data weight of an edge's two ends: they stay at their vertices.
+const END_WEIGHT: f64 = 1e8;
+
+impl Work {
+    /// Fits every skeleton edge to its ink and simplifies every edge (see the module's text).
+    pub(super) fn smooth_edges(&mut self) {
+        let degree = self.degrees();
+        let clear = |v: usize| -> f64 {
+            if degree[v] >= 3 {
+                disk_radius(self.vertices[v].width)
+            } else {
+                0.0
+            }
+        };
+        let clears: Vec<f64> = (0..self.vertices.len()).map(clear).collect();
+        let originals = self.edges.clone();
+        // Edges that cross or touch another (or themselves) away from a vertex keep their
+        // geometry: moving them could remove a crossing as well as add one.
+        let all = vec![true; self.edges.len()];
+        let mut moved = vec![false; self.edges.len()];
+        let crossing = crossing_edges(&originals, &all);
+        for (e, edge) in self.edges.iter_mut().enumerate() {
+            let Some(edge) = edge else { continue };
+            if crossing.binary_search(&e).is_ok() {
+                continue;
+            }
+            let clear = [clears[edge.from], clears[edge.to]];
+            if fit_edge(edge, &self.ink, clear) {
+                // The fitted polyline's tangents are written by `finish`.
+                edge.directions.clear();
+            }
+            simplify_edge(edge, &self.ink);
+            moved[e] = originals[e]
+                .as_ref()
+                .is_some_and(|o| o.points != edge.points);
+        }
+        // A moved edge that now crosses or touches another edge, or itself, away from their
+        // shared vertices, or that comes within a pixel of another edge's end (where the end
+        // would read as touching it), takes back its path from before: the graph's topology
+        // is the reconciliation's, and the geometry must not change what it shows.
+        let ends: Vec<([f64; 2], usize)> = self
+            .edges
+            .iter()
+            .enumerate()
+            .filter_map(|(e, edge)| edge.as_ref().map(|edge| (e, edge)))
+            .flat_map(|(e, edge)| [(edge.from, e), (edge.to, e)])
+            .filter(|&(v, _)| degree[v] == 1)
+            .map(|(v, e)| (self.vertices[v].pos, e))
+            .collect();
+        loop {
+            let mut back = crossing_edges(&self.edges, &moved);
+            back.extend(edges_near_ends(&self.edges, &originals, &moved, &ends));
+            if back.is_empty() {
+                break;
+            }
+            for e in back {
+                self.edges[e] = originals[e].clone();
+                moved[e] = false;
+            }
+        }
+    }
+}
+
+/// The moved edges that come within [`MIN_WIDTH_PX`] of the end of another edge (`ends`: each
+/// end's position and its own edge) nearer than their path from before did.
+fn edges_near_ends(
+    edges: &[Option<Edge>],
+    originals: &[Option<Edge>],
+    moved: &[bool],
+    ends: &[([f64; 2], usize)],
+) -> Vec<usize> {
+    let nearest = |edge: &Edge, p: [f64; 2]| {
+        edge.points
+            .windows(2)
+            .map(|s| segment_dist(p, s[0], s[1]))
+            .fold(f64::INFINITY, f64::min)
+    };
+    let mut near = Vec::new();
+    for (e, edge) in edges.iter().enumerate() {
+        let (Some(edge), Some(original)) = (edge, &originals[e]) else {
+            continue;
+        };
+        if !moved[e] {
+            continue;
+        }
+        let (lo, hi) = bounds(&edge.points);
+        let close = ends.iter().any(|&(p, own)| {
+            own != e
+                && p[0] >= lo[0] - MIN_WIDTH_PX
+                && p[0] <= hi[0] + MIN_WIDTH_PX
+                && p[1] >= lo[1] - MIN_WIDTH_PX
+                && p[1] <= hi[1] + MIN_WIDTH_PX
+                && {
+                    let d = nearest(edge, p);
+                    d < MIN_WIDTH_PX && d < nearest(original, p)
+                }
+        });
+        if close {
+            near.push(e);
+        }
+    }
+    near
+}
+
+/// The corners of a polyline's bounding box.
+fn bounds(points: &[[f64; 2]]) -> ([f64; 2], [f64; 2]) {
+    points.iter().fold(
+        ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]),
+        |(lo, hi), p| {
+            (
+                [lo[0].min(p[0]), lo[1].min(p[1])],
+                [hi[0].max(p[0]), hi[1].max(p[1])],
+            )
+        },
+    )
+}
+
+/// The edges among those `moved` whose polylines cross or touch another edge's polyline, or
+/// their own, other than where two segments share an end point; in rising order.
+fn crossing_edges(edges: &[Option<Edge>], moved: &[bool]) -> Vec<usize> {
+    const CELL_PX: f64 = 4.0;
+    let key = |v: f64| (v / CELL_PX).floor() as i64;
+    // Every segment under every cell its box covers, sorted by cell: a cell's segments are one
+    // run of the list.
+    let mut cells: Vec<((i64, i64), (usize, usize))> = Vec::new();
+    for (e, edge) in edges.iter().enumerate() {
+        let Some(edge) = edge else { continue };
+        for (k, s) in edge.points.windows(2).enumerate() {
+            for cx in key(s[0][0].min(s[1][0]))..=key(s[0][0].max(s[1][0])) {
+                for cy in key(s[0][1].min(s[1][1]))..=key(s[0][1].max(s[1][1])) {
+                    cells.push(((cx, cy), (e, k)));
+                }
+            }
+        }
+    }
+    cells.sort_unstable();
+    let segment = |(e, k): (usize, usize)| {
+        let points = &edges[e].as_ref().expect("live edge").points;
+        (points[k], points[k + 1])
+    };
+    let mut crossing = vec![false; edges.len()];
+    for run in cells.chunk_by(|a, b| a.0 == b.0) {
+        for (i, &(_, a)) in run.iter().enumerate() {
+            for &(_, b) in &run[i + 1..] {
+                if !moved[a.0] && !moved[b.0] {
+                    continue;
+                }
+                if crossing[a.0] && crossing[b.0] {
+                    continue;
+                }
+                if a.0 == b.0 && a.1.abs_diff(b.1) <= 1 {
+                    continue;
+                }
+                let ((a0, a1), (b0, b1)) = (segment(a), segment(b));
+                if segments_meet(a0, a1, b0, b1) {
+                    for e in [a.0, b.0] {
+                        if moved[e] {
+                            crossing[e] = true;
+                        }
+                    }
+                }
+            }
+        }
+    }
+    (0..edges.len()).filter(|&e| crossing[e]).collect()
+}
+
+/// Whether the closed segments `a0-a1` and `b0-b1` have a point in common other than an end
+/// point they share.
+fn segments_meet(a0: [f64; 2], a1: [f64; 2], b0: [f64; 2], b1: [f64; 2]) -> bool {
+    let shared = [a0, a1]
+        .iter()
+        .any(|p| [b0, b1].iter().any(|q| p[0] == q[0] && p[1] == q[1]));
+    let r = [a1[0] - a0[0], a1[1] - a0[1]];
+    let s = [b1[0] - b0[0], b1[1] - b0[1]];
+    let denom = r[0] * s[1] - r[1] * s[0];
+    let q = [b0[0] - a0[0], b0[1] - a0[1]];
+    let scale = r[0].hypot(r[1]) * s[0].hypot(s[1]);
+    if denom.abs() <= 1e-12 * scale.max(1e-300) {
+        // Parallel: they meet only when collinear and overlapping beyond a shared end.
+        let across = q[0] * r[1] - q[1] * r[0];
+        if across.abs() > 1e-9 * r[0].hypot(r[1]).max(1e-300) {
+            return false;
+        }
+        let rr = r[0] * r[0] + r[1] * r[1];
+        if rr <= 0.0 {
+            return false;
+        }
+        let t0 = (q[0] * r[0] + q[1] * r[1]) / rr;
+        let t1 = t0 + (s[0] * r[0] + s[1] * r[1]) / rr;
+        let (lo, hi) = (t0.min(t1), t0.max(t1));
+        let overlap = hi.min(1.0) - lo.max(0.0);
+        return if shared {
+            overlap > 1e-9
+        } else {
+            overlap >= -1e-9
+        };
+    }
+    let t = (q[0] * s[1] - q[1] * s[0]) / denom;
+    let u = (q[0] * r[1] - q[1] * r[0]) / denom;
+    let slack = -1e-9..=1.0 + 1e-9;
+    if !(slack.contains(&t) && slack.contains(&u)) {
+        return false;
+    }
+    // Non-parallel segments sharing an end point meet only there.
+    !shared
+}
+
+/// Fits one skeleton edge to the medial points of its ink: resampled, moved, solved (see the
+/// module's text). `clear` is the radius around each end's junction within which the arm is
+/// the straight join [`super::work::cut_arm`] made, kept as it is.
+fn fit_edge(edge: &mut Edge, ink: &Ink, clear: [f64; 2]) -> bool {
+    let s = arc_lengths(&edge.points);
+    let total = s[s.len() - 1];
+    let m = (total / SAMPLE_PX).round() as usize;
+    if edge.points.len() < 3 || m < 3 {
+        return false;
+    }
+    let step = total / m as f64;
+    let width = median(&edge.widths);
+    let mut samples = Vec::with_capacity(m + 1);
+    let mut widths = Vec::with_capacity(m + 1);
+    for j in 0..=m {
+        let (p, k) = point_at(&edge.points, &s, j as f64 * step);
+        let (a, b) = (
+            edge.widths[k],
+            edge.widths[(k + 1).min(edge.widths.len() - 1)],
+        );
+        let len = s[(k + 1).min(s.len() - 1)] - s[k];
+        let f = if len > 0.0 {
+            ((j as f64 * step - s[k]) / len).clamp(0.0, 1.0)
+        } else {
+            0.0
+        };
+        samples.push(p);
+        widths.push(a + f * (b - a));
+    }
+    samples[0] = edge.points[0];
+    samples[m] = edge.points[edge.points.len() - 1];
+
+    // Half a stroke width either side: the chord that gives a sample's direction, and the
+    // reach of the corner test.
+    let half = ((width / 2.0 / step).round() as usize).max(1);
+    let reach = ((width / step).round() as usize).max(2);
+    let chord = |j: usize, k: usize| {
+        let (a, b) = (samples[j.saturating_sub(k)], samples[(j + k).min(m)]);
+        unit([b[0] - a[0], b[1] - a[1]])
+    };
+    let medial: Vec<[f64; 2]> = (0..=m)
+        .map(|j| {
+            let p = samples[j];
+            let t = j as f64 * step;
+            if j == 0 || j == m || t < clear[0] || total - t < clear[1] {
+                return p;
+            }
+            let Some(u) = chord(j, half) else { return p };
+            let normal = [-u[1], u[0]];
+            // A cross-section longer than the stroke is wide runs into another stroke or
+            // along this one: no medial point there.
+            let limit = CROWDED_WIDTHS * widths[j] + 1.0;
+            let (plus, minus) = (
+                section_exit(ink, p, normal, limit),
+                section_exit(ink, p, [-normal[0], -normal[1]], limit),
+            );
+            let shift = (plus - minus) / 2.0;
+            if plus + minus >= limit || shift.abs() > MAX_SHIFT_PX {
+                return p;
+            }
+            [p[0] + shift * normal[0], p[1] + shift * normal[1]]
+        })
+        .collect();
+
+    // Corners: the turn between the chords before and after a sample, over a stroke width,
+    // above CORNER_DEG and the largest within that width.
+    let corner_cos = CORNER_DEG.to_radians().cos();
+    let turn: Vec<f64> = (0..=m)
+        .map(|j| {
+            if j < reach || j + reach > m {
+                return 1.0;
+            }
+            let (a, p, b) = (samples[j - reach], samples[j], samples[j + reach]);
+            match (
+                unit([p[0] - a[0], p[1] - a[1]]),
+                unit([b[0] - p[0], b[1] - p[1]]),
+            ) {
+                (Some(x), Some(y)) => x[0] * y[0] + x[1] * y[1],
+                _ => 1.0,
+            }
+        })
+        .collect();
+    let corner: Vec<bool> = (0..=m)
+        .map(|j| {
+            turn[j] < corner_cos
+                && (j.saturating_sub(reach)..=(j + reach).min(m))
+                    .all(|i| turn[i] > turn[j] || (turn[i] == turn[j] && i >= j))
+        })
+        .collect();
+
+    // Eq. (4): min Σ a_j |q_j - medial_j|² + λ Σ |q_{j-1} - 2 q_j + q_{j+1}|², the second
+    // difference left out at corners; λ from the cutoff wavelength L in samples, the
+    // smoothing's response 1 / (1 + λ (2 sin(π / L))⁴) being 1/2 there.
+    let cutoff = (CUTOFF_WIDTHS * width).max(MIN_CUTOFF_PX) / step;
+    let lambda = 1.0 / (2.0 * (std::f64::consts::PI / cutoff).sin()).powi(4);
+    let data: Vec<f64> = (0..=m)
+        .map(|j| {
+            if j == 0 || j == m || corner[j] {
+                END_WEIGHT
+            } else {
+                1.0
+            }
+        })
+        .collect();
+    let smooth: Vec<bool> = (0..=m).map(|j| j > 0 && j < m && !corner[j]).collect();
+    let fitted = solve_banded(&medial, &data, &smooth, lambda);
+    let mut points = Vec::with_capacity(m + 1);
+    for j in 0..=m {
+        let q = fitted[j];
+        points.push(if j == 0 || j == m || !ink.at(q) {
+            samples[j]
+        } else {
+            q
+        });
+    }
+    edge.points = points;
+    edge.widths = widths;
+    true
+}
+
+/// Where the ink ends going from `from` along the unit vector `u`: the first quarter-pixel
+/// sample off the ink, then halved down to 1/64 px (so a sample on a pixel's edge, which the
+/// floor puts on one side, moves the answer by no more than that); `limit` when the ink has not
+/// ended by then.
+fn section_exit(ink: &Ink, from: [f64; 2], u: [f64; 2], limit: f64) -> f64 {
+    // `Ink::at` without its floors (a call each on the baseline x86-64): a window coordinate
+    // that is not negative truncates to its floor.
+    let (x0, y0) = (from[0] - ink.origin[0], from[1] - ink.origin[1]);
+    let on = |t: f64| {
+        let (x, y) = (x0 + t * u[0], y0 + t * u[1]);
+        x >= 0.0
+            && y >= 0.0
+            && (x as usize) < ink.width
+            && (y as usize) < ink.height
+            && ink.mask[y as usize * ink.width + x as usize]
+    };
+    let mut t = SECTION_STEP_PX;
+    while t < limit {
+        if !on(t) {
+            let (mut inside, mut outside) = (t - SECTION_STEP_PX, t);
+            for _ in 0..BISECTIONS {
+                let mid = (inside + outside) / 2.0;
+                if on(mid) {
+                    inside = mid;
+                } else {
+                    outside = mid;
+                }
+            }
+            return (inside + outside) / 2.0;
+        }
+        t += SECTION_STEP_PX;
+    }
+    limit
+}
+
+fn unit(d: [f64; 2]) -> Option<[f64; 2]> {
+    let len = d[0].hypot(d[1]);
+    (len > 1e-9).then(|| [d[0] / len, d[1] / len])
+}
+
+/// Solves `(A + λ DᵀD) q = A target` per coordinate, `A` the diagonal of `data`, `D` the second
+/// differences at the samples where `smooth` holds: a symmetric positive definite matrix with
+/// two bands either side of the diagonal, by its banded Cholesky factorization (linear in the
+/// samples).
+fn solve_banded(target: &[[f64; 2]], data: &[f64], smooth: &[bool], lambda: f64) -> Vec<[f64; 2]> {
+    let n = target.len();
+    // The matrix's bands: diagonal, first and second off-diagonal.
+    let mut d0 = data.to_vec();
+    let mut d1 = vec![0.0; n];
+    let mut d2 = vec![0.0; n];
+    for j in (1..n.saturating_sub(1)).filter(|&j| smooth[j]) {
+        // The row (1, -2, 1) at j-1, j, j+1: its outer product, scaled by λ.
+        let c = [1.0, -2.0, 1.0];
+        for a in 0..3 {
+            d0[j - 1 + a] += lambda * c[a] * c[a];
+            if a < 2 {
+                d1[j - 1 + a] += lambda * c[a] * c[a + 1];
+            }
+        }
+        d2[j - 1] += lambda * c[0] * c[2];
+    }
+    // Banded Cholesky, L with the same bands: l0 diagonal, l1 and l2 below it.
+    let (mut l0, mut l1, mut l2) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
+    for i in 0..n {
+        if i >= 2 {
+            l2[i - 2] = d2[i - 2] / l0[i - 2];
+        }
+        if i >= 1 {
+            let back = if i >= 2 { l2[i - 2] * l1[i - 2] } else { 0.0 };
+            l1[i - 1] = (d1[i - 1] - back) / l0[i - 1];
+        }
+        let mut diag = d0[i];
+        if i >= 1 {
+            diag -= l1[i - 1] * l1[i - 1];
+        }
+        if i >= 2 {
+            diag -= l2[i - 2] * l2[i - 2];
+        }
+        l0[i] = diag.max(1e-12).sqrt();
+    }
+    let mut out = vec![[0.0; 2]; n];
+    for k in 0..2 {
+        let mut y = vec![0.0; n];
+        for i in 0..n {
+            let mut v = data[i] * target[i][k];
+            if i >= 1 {
+                v -= l1[i - 1] * y[i - 1];
+            }
+            if i >= 2 {
+                v -= l2[i - 2] * y[i - 2];
+            }
+            y[i] = v / l0[i];
+        }
+        for i in (0..n).rev() {
+            let mut v = y[i];
+            if i + 1 < n {
+                v -= l1[i] * out[i + 1][k];
+            }
+            if i + 2 < n {
+                v -= l2[i] * out[i + 2][k];
+            }
+            out[i][k] = v / l0[i];
+        }
+    }
+    out
+}
+
+/// Keeps only the points an edge's shape needs: Douglas-Peucker at [`SIMPLIFY_PX`], a segment
+/// kept only when it lies on the ink; widths and directions (when the edge has them) follow
+/// their points.
+fn simplify_edge(edge: &mut Edge, ink: &Ink) {
+    let n = edge.points.len();
+    if n < 3 {
+        return;
+    }
+    let mut keep = vec![false; n];
+    keep[0] = true;
+    keep[n - 1] = true;
+    let mut stack = vec![(0usize, n - 1)];
+    while let Some((a, b)) = stack.pop() {
+        if b <= a + 1 {
+            continue;
+        }
+        let (pa, pb) = (edge.points[a], edge.points[b]);
+        let (mut worst, mut at) = (-1.0, a + 1);
+        for i in a + 1..b {
+            let d = segment_dist(edge.points[i], pa, pb);
+            if d > worst {
+                (worst, at) = (d, i);
+            }
+        }
+        if worst > SIMPLIFY_PX || !ink.holds(pa, pb) {
+            keep[at] = true;
+            stack.push((at, b));
+            stack.push((a, at));
+        }
+    }
+    retain_kept(&mut edge.points, &keep);
+    retain_kept(&mut edge.widths, &keep);
+    if edge.directions.len() == n {
+        retain_kept(&mut edge.directions, &keep);
+    }
+}
+
+/// Keeps the items whose `keep` flag is set.
+fn retain_kept<T>(items: &mut Vec<T>, keep: &[bool]) {
+    let mut flags = keep.iter();
+    items.retain(|_| flags.next().copied().unwrap_or(true));
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::params::Params;
+    use crate::synth::{render, Stroke};
+
+    #[test]
+    // A dense reference solve reads clearest with its indices.
+    #[allow(clippy::needless_range_loop)]
+    fn the_banded_solve_matches_a_dense_one() {
+        // A zigzag target, a corner in the middle: (A + λ DᵀD) q = A t solved densely by
+        // Gaussian elimination gives the same q.
+        let n = 9;
+        let target: Vec<[f64; 2]> = (0..n)
+            .map(|i| [i as f64, if i % 2 == 0 { 0.5 } else { -0.5 }])
+            .collect();
+        let data: Vec<f64> = (0..n).map(|i| 1.0 + i as f64 * 0.25).collect();
+        let smooth: Vec<bool> = (0..n).map(|i| i > 0 && i < n - 1 && i != 4).collect();
+        let lambda = 3.0;
+        let banded = solve_banded(&target, &data, &smooth, lambda);
+        let mut a = vec![vec![0.0; n]; n];
+        for i in 0..n {
+            a[i][i] = data[i];
+        }
+        for j in (1..n - 1).filter(|&j| smooth[j]) {
+            let row = [(j - 1, 1.0), (j, -2.0), (j + 1, 1.0)];
+            for &(r, x) in &row {
+                for &(c, y) in &row {
+                    a[r][c] += lambda * x * y;
+                }
+            }
+        }
+        for k in 0..2 {
+            let mut m = a.clone();
+            let mut b: Vec<f64> = (0..n).map(|i| data[i] * target[i][k]).collect();
+            for i in 0..n {
+                for r in i + 1..n {
+                    let f = m[r][i] / m[i][i];
+                    for c in i..n {
+                        m[r][c] -= f * m[i][c];
+                    }
+                    b[r] -= f * b[i];
+                }
+            }
+            let mut x = vec![0.0; n];
+            for i in (0..n).rev() {
+                let s: f64 = (i + 1..n).map(|c| m[i][c] * x[c]).sum();
+                x[i] = (b[i] - s) / m[i][i];
+            }
+            for i in 0..n {
+                assert!(
+                    (x[i] - banded[i][k]).abs() < 1e-9,
+                    "{k} {i}: {x:?} {banded:?}"
+                );
+            }
+        }
+    }
+
+    fn traced(strokes: &[Stroke], w: u32, h: u32) -> (crate::binary::Binary, StrokeGraph) {
+        let binary = render(strokes, w, h);
+        let graph = crate::trace_binary(&binary, &Params::default())
+            .expect("trace")
+            .graph;
+        super::super::validate(&graph).expect("valid skeleton graph");
+        (binary, graph)
+    }
+
+    use crate::stroke_graph::StrokeGraph;
+
+    /// The mean and largest distance from a graph's polylines, sampled every quarter pixel, to
+    /// the polyline `truth`, leaving out `skip` px at each end of each edge.
+    fn distance_to(graph: &StrokeGraph, truth: &[[f64; 2]], skip: f64) -> (f64, f64) {
+        let (mut sum, mut count, mut worst) = (0.0, 0usize, 0.0f64);
+        for edge in &graph.edges {
+            let s = arc_lengths(&edge.points);
+            let total = s[s.len() - 1];
+            let mut t = skip;
+            while t <= total - skip {
+                let (p, _) = point_at(&edge.points, &s, t);
+                let d = truth
+                    .windows(2)
+                    .map(|w| segment_dist(p, w[0], w[1]))
+                    .fold(f64::INFINITY, f64::min);
+                sum += d;
+                count += 1;
+                worst = worst.max(d);
+                t += 0.25;
+            }
+        }
+        (sum / count.max(1) as f64, worst)
+    }
+
+    #[test]
+    fn a_slanted_stroke_of_even_width_is_one_straight_centred_line() {
+        // 4 px wide, a slope of 1 in 5: the skeleton is a staircase half a pixel to one side.
+        let line = vec![[10.0, 20.0], [110.0, 40.0]];
+        let (binary, graph) = traced(&[Stroke::new(line.clone(), 4.0)], 120, 60);
+        assert_eq!(graph.edges.len(), 1);
+        let (mean, worst) = distance_to(&graph, &line, 4.0);
+        assert!(mean <= 0.2, "mean {mean:.3} px from the true centerline");
+        assert!(worst <= 0.5, "worst {worst:.3} px");
+        // A straight stroke needs few points.
+        let points = graph.edges[0].points.len();
+        assert!(points <= 12, "{points} points for a straight stroke");
+        for s in graph.edges[0].points.windows(2) {
+            for k in 0..=8 {
+                let t = k as f64 / 8.0;
+                let p = [
+                    s[0][0] + t * (s[1][0] - s[0][0]),
+                    s[0][1] + t * (s[1][1] - s[0][1]),
+                ];
+                assert!(binary.get(p[0].floor() as i64, p[1].floor() as i64));
+            }
+        }
+    }
+
+    #[test]
+    fn a_right_angle_stays_sharp_and_a_circle_round() {
+        let corner = [80.0, 20.0];
+        let l = vec![[15.0, 20.0], corner, [80.0, 85.0]];
+        let (_, graph) = traced(&[Stroke::new(l.clone(), 5.0)], 100, 100);
+        assert_eq!(graph.edges.len(), 1);
+        let (mean, _) = distance_to(&graph, &l, 4.0);
+        assert!(mean <= 0.25, "mean {mean:.3} px from the L");
+        // A round pen's corner is cut by the skeleton; the fit does not cut it further.
+        let nearest = graph.edges[0]
+            .points
+            .windows(2)
+            .map(|s| segment_dist(corner, s[0], s[1]))
+            .fold(f64::INFINITY, f64::min);
+        assert!(
+            nearest <= 3.0,
+            "the corner is {nearest:.2} px from the line"
+        );
+
+        let ring: Vec<[f64; 2]> = (0..=96)
+            .map(|k| {
+                let a = k as f64 / 96.0 * std::f64::consts::TAU;
+                [50.0 + 30.0 * a.cos(), 50.0 + 30.0 * a.sin()]
+            })
+            .collect();
+        let (_, graph) = traced(&[Stroke::new(ring.clone(), 6.0)], 100, 100);
+        let (mean, worst) = distance_to(&graph, &ring, 0.0);
+        assert!(mean <= 0.2, "mean {mean:.3} px from the circle");
+        assert!(worst <= 0.6, "worst {worst:.3} px from the circle");
+    }
+}

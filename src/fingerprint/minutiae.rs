@@ -596,13 +596,13 @@ mod tests {
             }
             arms_confirmed(&g, vertex, &ridges, 18.0)
         };
-        assert!(share(60, 0) > 0.99, "on the ridges all along");
+        assert!(share(61, 0) > 0.99, "on the ridges all along");
         let half = share(9, 0);
         assert!(
             (0.45..0.55).contains(&half),
             "half of the first 18 px: {half}"
         );
-        assert!(share(60, 1) > 0.99, "from the other end too");
+        assert!(share(61, 1) > 0.99, "from the other end too");
         assert!(share(0, 0) < 0.01);
         // A ridge shorter than the reach counts its missing length as off the ridges.
         let short = graph_from(&[[10.0, 20.0], [19.0, 20.0]], &[(0, 1, vec![])], 3.0);

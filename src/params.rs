@@ -223,8 +223,8 @@ pub struct FingerprintParams {
     /// go, in ridge periods. Default value: 2.
     pub gap_periods: f64,
     /// Minutiae with at least two others closer than this are a cloud (noise, a scar, a core
-    /// turning too fast); the whole cloud goes, in ridge periods; 0 keeps clouds.
-    /// Default value: 1.
+    /// turning too fast); the cloud's minutiae of low quality go (`cloud_quality`), in ridge
+    /// periods; 0 keeps clouds. Default value: 1.
     pub cloud_periods: f64,
     /// A traced ridge counts for the minutiae only when at least this share of its length lies
     /// on ridges the gray image confirms (darker than its local mean, for dark ridges): the
@@ -245,12 +245,12 @@ pub struct FingerprintParams {
     /// the print: a ridge the print's outline cuts ends pointing out of the print, while an
     /// ending or a fork that points inward is the finger's even near the outline. Such a
     /// minutia within the border margin is kept when it is at least this far from the border
-    /// and its quality reaches `inward_border_quality`. With 0.75 (and `cloud_periods` 0) a
-    /// matcher does better on every real set measured but the synthetic prints with every
-    /// degradation at once worse (docs/fingerprints.md, "Matching benchmark"). 0 gives every
-    /// minutia the border margin. Default value: 0 (also when a document written before the
-    /// field existed is read back).
-    #[serde(default)]
+    /// and its quality reaches `inward_border_quality` (near the image's edge, its ridges also
+    /// confirmed: `inward_border_confirmed`). A matcher finds more of the finger's minutiae near
+    /// the outline (docs/fingerprints.md, "Matching benchmark"). 0 gives every minutia the
+    /// border margin. Default value: 0.75 (also when a document written before the field
+    /// existed is read back).
+    #[serde(default = "default_inward_border_periods")]
     pub inward_border_periods: f64,
     /// The share of the median quality of the print's minutiae that a minutia pointing into
     /// the print needs to be kept within the border margin (`inward_border_periods`): near the
@@ -259,6 +259,21 @@ pub struct FingerprintParams {
     /// back).
     #[serde(default = "default_inward_border_quality")]
     pub inward_border_quality: f64,
+    /// A minutia kept within the border margin by `inward_border_periods` and near the image's
+    /// edge (within the margin of it) needs at least this share of the first two ridge periods
+    /// of each of its ridges on the ridges the gray image confirms: where the finger's outline
+    /// nears the image's edge, the noise of the bare skin beyond it is traced as short ridges
+    /// the gray image confirms only by chance. 0 asks nothing. Default value: 0.8 (also when a
+    /// document written before the field existed is read back).
+    #[serde(default = "default_inward_border_confirmed")]
+    pub inward_border_confirmed: f64,
+    /// A minutia of a cloud (`cloud_periods`) goes only when its quality is below this share of
+    /// the median quality of the print's minutiae: a cluster of minutiae where the ridges are
+    /// clear and coherent is the finger's (a core, a delta, short ridges), a cluster in noise
+    /// is not. 0 keeps every cloud. Default value: 0.6 (also
+    /// when a document written before the field existed is read back).
+    #[serde(default = "default_cloud_quality")]
+    pub cloud_quality: f64,
 }
 
 impl Default for FingerprintParams {
@@ -285,8 +300,10 @@ impl Default for FingerprintParams {
             cloud_periods: 1.0,
             confirmed_share: 0.5,
             border_periods: default_border_periods(),
-            inward_border_periods: 0.0,
+            inward_border_periods: default_inward_border_periods(),
             inward_border_quality: default_inward_border_quality(),
+            inward_border_confirmed: default_inward_border_confirmed(),
+            cloud_quality: default_cloud_quality(),
         }
     }
 }
@@ -296,6 +313,18 @@ fn default_border_periods() -> f64 {
 }
 
 fn default_inward_border_quality() -> f64 {
+    0.6
+}
+
+fn default_inward_border_periods() -> f64 {
+    0.75
+}
+
+fn default_inward_border_confirmed() -> f64 {
+    0.8
+}
+
+fn default_cloud_quality() -> f64 {
     0.6
 }
 
@@ -345,7 +374,16 @@ impl FingerprintParams {
                 "fingerprint.inward_border_quality",
                 self.inward_border_quality,
             ),
+            ("fingerprint.cloud_quality", self.cloud_quality),
         ];
+        if !(self.inward_border_confirmed.is_finite()
+            && (0.0..=1.0).contains(&self.inward_border_confirmed))
+        {
+            return fail(
+                "fingerprint.inward_border_confirmed",
+                format!("must be 0-1, got {}", self.inward_border_confirmed),
+            );
+        }
         if !(self.confirmed_share.is_finite() && (0.0..=1.0).contains(&self.confirmed_share)) {
             return fail(
                 "fingerprint.confirmed_share",

@@ -22,7 +22,10 @@ use crate::stroke_graph::StrokeGraph;
 ///
 /// - border: within `border_margin` px or `border_periods · T`, whichever is more, of the
 ///   print's border (the segmentation mask, and the closing of the enhanced ridges by one
-///   ridge period) or the image's;
+///   ridge period) or the image's; but a minutia that points into the print, at least
+///   `inward_border_periods · T` from the border, of quality at least `inward_border_quality`
+///   of the print's median and, near the image's edge, with its ridges on the confirmed ridges
+///   for `inward_border_confirmed` of their first `2 T`, stays;
 /// - fragments and islands: an edge with two free ends shorter than `fragment_periods · T`
 ///   (both ends go), or whose ends come within `T` of each other around at least `3 T` of ridge
 ///   (a ring broken once);
@@ -32,6 +35,8 @@ use crate::stroke_graph::StrokeGraph;
 /// - lakes and pores: two bifurcations joined by two edges each shorter than
 ///   `2 bridge_periods · T` (both go);
 /// - broken ridges: two endings facing each other along the flow within `gap_periods · T`;
+/// - clouds: a minutia with two others within `cloud_periods · T`, and those, when their quality
+///   is below `cloud_quality` of the print's median;
 /// - detached branches: a bifurcation of which one arm crosses a valley in the gray image (off
 ///   [`PrintAnalysis::ridges`] for at least 1 px, back on them within `0.6 T` of the junction)
 ///   while the other two stay on the ridges for `T` is an ending at the arm's tip: a ridge that
@@ -119,7 +124,15 @@ pub fn fingerprint_minutiae(
         );
     }
     if params.cloud_periods > 0.0 {
-        drop_clouds(&mut found, typical * params.cloud_periods);
+        // A cloud's minutiae go when their quality is low: noise, a scar. Where the ridges are
+        // clear and coherent a cluster is the finger's (a core, a delta, short ridges).
+        let needed = params.cloud_quality * f64::from(median_quality(&found, print));
+        let cloud = in_clouds(&found, typical * params.cloud_periods);
+        let mut k = 0;
+        found.retain(|m| {
+            k += 1;
+            !cloud[k - 1] || f64::from(print.quality_at(m.pos)) >= needed
+        });
     }
     // The border: distance to the nearest pixel outside the print, which is both inside the
     // segmentation mask and inside the closing of the enhanced ridges by a disk of one ridge
@@ -150,19 +163,24 @@ pub fn fingerprint_minutiae(
         };
         let inward_margin = params.inward_border_periods * typical;
         if inward_margin > 0.0 && inward_margin < margin {
-            let mut qualities: Vec<u8> = found.iter().map(|m| print.quality_at(m.pos)).collect();
-            let middle = qualities.len() / 2;
-            let median = if qualities.is_empty() {
-                0
-            } else {
-                *qualities.select_nth_unstable(middle).1
+            let needed = params.inward_border_quality * f64::from(median_quality(&found, print));
+            let near_image_edge = |m: &Minutia| {
+                let [x, y] = m.pos;
+                x < margin || y < margin || w as f64 - x < margin || h as f64 - y < margin
             };
-            let needed = params.inward_border_quality * f64::from(median);
+            // Near the image's edge the print may end at the finger's outline with bare, noisy
+            // skin beyond it, traced as short ridges the gray image only half confirms.
+            let confirmed_arms = |m: &Minutia| {
+                !near_image_edge(m)
+                    || arms_confirmed(graph, m.vertex, &print.ridges, ARM_PERIODS * typical)
+                        >= params.inward_border_confirmed
+            };
             found.retain(|m| {
                 at_least(m, margin)
                     || (at_least(m, inward_margin)
                         && f64::from(print.quality_at(m.pos)) >= needed
-                        && !points_out(m, &outside, [w, h], margin))
+                        && !points_out(m, &outside, [w, h], margin)
+                        && confirmed_arms(m))
             });
         } else {
             found.retain(|m| at_least(m, margin));
@@ -172,6 +190,53 @@ pub fn fingerprint_minutiae(
         m.quality = Some(print.quality_at(m.pos));
     }
     found
+}
+
+/// How far along each of its ridges a minutia kept within the border margin near the image's
+/// edge must be on the confirmed ridges (`FingerprintParams::inward_border_confirmed`), in ridge
+/// periods.
+const ARM_PERIODS: f64 = 2.0;
+
+/// The median quality ([`PrintAnalysis::quality_at`]) of `found` (0 for none).
+fn median_quality(found: &[Minutia], print: &PrintAnalysis) -> u8 {
+    let mut qualities: Vec<u8> = found.iter().map(|m| print.quality_at(m.pos)).collect();
+    let middle = qualities.len() / 2;
+    if qualities.is_empty() {
+        0
+    } else {
+        *qualities.select_nth_unstable(middle).1
+    }
+}
+
+/// The least share, over the ridges (edges) leaving `vertex`, of their first `reach` px that
+/// lies on `ridges` ([`PrintAnalysis::ridges`]), sampled every half pixel; a ridge shorter than
+/// `reach` counts its missing length as off the ridges.
+fn arms_confirmed(graph: &StrokeGraph, vertex: usize, ridges: &Binary, reach: f64) -> f64 {
+    const STEP: f64 = 0.5;
+    let mut least = 1.0f64;
+    for edge in &graph.edges {
+        for (v, at_start) in [(edge.from, true), (edge.to, false)] {
+            if v != vertex || edge.from == edge.to {
+                continue;
+            }
+            let s = arc_lengths(&edge.points);
+            let total = s.last().copied().unwrap_or(0.0);
+            let (mut on, mut n) = (0usize, 0usize);
+            let mut t = 0.0;
+            while t <= reach {
+                n += 1;
+                if t < total {
+                    let (q, _) = point_at(&edge.points, &s, if at_start { t } else { total - t });
+                    if ridges.get(q[0].floor() as i64, q[1].floor() as i64) {
+                        on += 1;
+                    }
+                }
+                t += STEP;
+            }
+            least = least.min(on as f64 / n.max(1) as f64);
+        }
+    }
+    least
 }
 
 /// Whether `m`'s direction, followed for `reach` px, leaves the print (`outside`, `size` its
@@ -326,9 +391,9 @@ fn confirmed_edges(graph: &StrokeGraph, ridges: &Binary, share: f64) -> StrokeGr
     out
 }
 
-/// Drops every minutia that has at least two others within `radius`, with those others: a cloud
-/// of minutiae is noise, not ridge structure. Sorted by x, so only a window is compared.
-fn drop_clouds(found: &mut Vec<Minutia>, radius: f64) {
+/// Which minutiae are in a cloud: every minutia that has at least two others within `radius`,
+/// and those others. Sorted by x, so only a window is compared.
+fn in_clouds(found: &[Minutia], radius: f64) -> Vec<bool> {
     let mut by_x: Vec<usize> = (0..found.len()).collect();
     by_x.sort_by(|&a, &b| found[a].pos[0].total_cmp(&found[b].pos[0]).then(a.cmp(&b)));
     let mut near: Vec<Vec<usize>> = vec![Vec::new(); found.len()];
@@ -352,11 +417,7 @@ fn drop_clouds(found: &mut Vec<Minutia>, radius: f64) {
             }
         }
     }
-    let mut index = 0;
-    found.retain(|_| {
-        index += 1;
-        !dropped[index - 1]
-    });
+    dropped
 }
 
 #[cfg(test)]
@@ -524,6 +585,36 @@ mod tests {
     }
 
     #[test]
+    fn arms_are_confirmed_by_the_share_of_their_first_periods_on_the_ridges() {
+        // An ending at (10, 20) whose ridge runs right along y = 20 for 60 px; the confirmed
+        // ridges cover x in [10, 10 + covered).
+        let g = graph_from(&[[10.0, 20.0], [70.0, 20.0]], &[(0, 1, vec![])], 3.0);
+        let share = |covered: i64, vertex: usize| {
+            let mut ridges = Binary::new(100, 40);
+            for x in 10..10 + covered {
+                ridges.set(x, 20, true);
+            }
+            arms_confirmed(&g, vertex, &ridges, 18.0)
+        };
+        assert!(share(61, 0) > 0.99, "on the ridges all along");
+        let half = share(9, 0);
+        assert!(
+            (0.45..0.55).contains(&half),
+            "half of the first 18 px: {half}"
+        );
+        assert!(share(61, 1) > 0.99, "from the other end too");
+        assert!(share(0, 0) < 0.01);
+        // A ridge shorter than the reach counts its missing length as off the ridges.
+        let short = graph_from(&[[10.0, 20.0], [19.0, 20.0]], &[(0, 1, vec![])], 3.0);
+        let mut ridges = Binary::new(100, 40);
+        for x in 0..100 {
+            ridges.set(x, 20, true);
+        }
+        let s = arms_confirmed(&short, 0, &ridges, 18.0);
+        assert!((0.45..0.6).contains(&s), "{s}");
+    }
+
+    #[test]
     fn a_cloud_goes_whole_and_a_pair_stays() {
         let at = |x: f64, y: f64, vertex: usize| Minutia {
             kind: MinutiaKind::Ending,
@@ -534,7 +625,7 @@ mod tests {
             quality: None,
         };
         // Three within 9 px of the first (a cloud), a pair 6 px apart far away, one alone.
-        let mut found = vec![
+        let found = vec![
             at(50.0, 50.0, 0),
             at(55.0, 50.0, 1),
             at(50.0, 56.0, 2),
@@ -543,8 +634,7 @@ mod tests {
             at(156.0, 150.0, 5),
             at(100.0, 20.0, 6),
         ];
-        drop_clouds(&mut found, 9.0);
-        let kept: Vec<usize> = found.iter().map(|m| m.vertex).collect();
-        assert_eq!(kept, vec![4, 5, 6]);
+        let cloud = in_clouds(&found, 9.0);
+        assert_eq!(cloud, [true, true, true, true, false, false, false]);
     }
 }

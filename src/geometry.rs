@@ -165,6 +165,97 @@ impl Ord for TotalF64 {
     }
 }
 
+/// The paths among those `moved` that cross or touch another path, or themselves, other than
+/// where two segments share an end point; in rising order. `None` is a removed path.
+pub(crate) fn crossing_paths(paths: &[Option<&[[f64; 2]]>], moved: &[bool]) -> Vec<usize> {
+    const CELL_PX: f64 = 4.0;
+    let key = |v: f64| (v / CELL_PX).floor() as i64;
+    // Every segment under every cell its box covers, sorted by cell: a cell's segments are one
+    // run of the list.
+    let mut cells: Vec<((i64, i64), (usize, usize))> = Vec::new();
+    for (e, path) in paths.iter().enumerate() {
+        let Some(path) = path else { continue };
+        for (k, s) in path.windows(2).enumerate() {
+            for cx in key(s[0][0].min(s[1][0]))..=key(s[0][0].max(s[1][0])) {
+                for cy in key(s[0][1].min(s[1][1]))..=key(s[0][1].max(s[1][1])) {
+                    cells.push(((cx, cy), (e, k)));
+                }
+            }
+        }
+    }
+    cells.sort_unstable();
+    let segment = |(e, k): (usize, usize)| {
+        let points = paths[e].expect("live path");
+        (points[k], points[k + 1])
+    };
+    let mut crossing = vec![false; paths.len()];
+    for run in cells.chunk_by(|a, b| a.0 == b.0) {
+        for (i, &(_, a)) in run.iter().enumerate() {
+            for &(_, b) in &run[i + 1..] {
+                if !moved[a.0] && !moved[b.0] {
+                    continue;
+                }
+                if crossing[a.0] && crossing[b.0] {
+                    continue;
+                }
+                if a.0 == b.0 && a.1.abs_diff(b.1) <= 1 {
+                    continue;
+                }
+                let ((a0, a1), (b0, b1)) = (segment(a), segment(b));
+                if segments_meet(a0, a1, b0, b1) {
+                    for e in [a.0, b.0] {
+                        if moved[e] {
+                            crossing[e] = true;
+                        }
+                    }
+                }
+            }
+        }
+    }
+    (0..paths.len()).filter(|&e| crossing[e]).collect()
+}
+
+/// Whether the closed segments `a0-a1` and `b0-b1` have a point in common other than an end
+/// point they share.
+fn segments_meet(a0: [f64; 2], a1: [f64; 2], b0: [f64; 2], b1: [f64; 2]) -> bool {
+    let shared = [a0, a1]
+        .iter()
+        .any(|p| [b0, b1].iter().any(|q| p[0] == q[0] && p[1] == q[1]));
+    let r = [a1[0] - a0[0], a1[1] - a0[1]];
+    let s = [b1[0] - b0[0], b1[1] - b0[1]];
+    let denom = r[0] * s[1] - r[1] * s[0];
+    let q = [b0[0] - a0[0], b0[1] - a0[1]];
+    let scale = r[0].hypot(r[1]) * s[0].hypot(s[1]);
+    if denom.abs() <= 1e-12 * scale.max(1e-300) {
+        // Parallel: they meet only when collinear and overlapping beyond a shared end.
+        let across = q[0] * r[1] - q[1] * r[0];
+        if across.abs() > 1e-9 * r[0].hypot(r[1]).max(1e-300) {
+            return false;
+        }
+        let rr = r[0] * r[0] + r[1] * r[1];
+        if rr <= 0.0 {
+            return false;
+        }
+        let t0 = (q[0] * r[0] + q[1] * r[1]) / rr;
+        let t1 = t0 + (s[0] * r[0] + s[1] * r[1]) / rr;
+        let (lo, hi) = (t0.min(t1), t0.max(t1));
+        let overlap = hi.min(1.0) - lo.max(0.0);
+        return if shared {
+            overlap > 1e-9
+        } else {
+            overlap >= -1e-9
+        };
+    }
+    let t = (q[0] * s[1] - q[1] * s[0]) / denom;
+    let u = (q[0] * r[1] - q[1] * r[0]) / denom;
+    let slack = -1e-9..=1.0 + 1e-9;
+    if !(slack.contains(&t) && slack.contains(&u)) {
+        return false;
+    }
+    // Non-parallel segments sharing an end point meet only there.
+    !shared
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -7,12 +7,13 @@
 //! Only images with gray levels between their darkest and lightest are refined (a bilevel scan
 //! has no sub-pixel information); vertices stay where the pipeline put them, and so do points
 //! within a stroke width of a junction or an end, whose cross-sections hold the other arms or
-//! the stroke's cap. A point moves at most [`MAX_SHIFT`] px and never off the ink.
+//! the stroke's cap. A point moves at most [`MAX_SHIFT`] px and never off the ink, and an edge
+//! never into a crossing or a touch that its path from before did not have.
 
 use rayon::prelude::*;
 
 use crate::binary::Binary;
-use crate::geometry::dist;
+use crate::geometry::{crossing_paths, dist};
 use crate::gray::GrayView;
 use crate::stroke_graph::StrokeGraph;
 
@@ -33,6 +34,7 @@ pub(crate) fn center_on_gray(
     if !has_intermediate_levels(gray) {
         return;
     }
+    let before: Vec<Vec<[f64; 2]>> = graph.edges.iter().map(|e| e.points.clone()).collect();
     let vertices = &graph.vertices;
     graph.edges.par_iter_mut().for_each(|edge| {
         let n = edge.points.len();
@@ -68,6 +70,30 @@ pub(crate) fn center_on_gray(
             }
         }
     });
+    // An edge moved into a crossing or a touch with another edge, or with itself, takes back
+    // its path from before: the refinement places the graph's lines, it does not change what
+    // the graph shows.
+    let mut moved: Vec<bool> = graph
+        .edges
+        .iter()
+        .zip(&before)
+        .map(|(edge, old)| edge.points != *old)
+        .collect();
+    loop {
+        let paths: Vec<Option<&[[f64; 2]]>> = graph
+            .edges
+            .iter()
+            .map(|e| Some(e.points.as_slice()))
+            .collect();
+        let back = crossing_paths(&paths, &moved);
+        if back.is_empty() {
+            break;
+        }
+        for e in back {
+            graph.edges[e].points.clone_from(&before[e]);
+            moved[e] = false;
+        }
+    }
 }
 
 /// Whether some pixel lies strictly between the image's darkest and lightest levels.

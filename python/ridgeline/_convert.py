@@ -70,8 +70,8 @@ def to_dataframe(trace: Any) -> Any:
     - ``euclidean-distance``: the straight distance between the ends, px;
 
     and ridgeline's own: ``degree-src``, ``degree-dst`` (the ends' degrees: 1 stroke end, 3+
-    junction or crossing, 2 a loop's anchor) and ``mean-width``, the stroke width averaged over
-    the centerline's points, px. A junction is an end of degree 3 or more.
+    junction or crossing, 2 a loop's anchor) and ``mean-width``, the stroke width averaged along
+    the centerline's length (at a junction, the arm's width next to it, not the junction's), px. A junction is an end of degree 3 or more.
     """
     try:
         import pandas
@@ -105,9 +105,26 @@ def to_dataframe(trace: Any) -> Any:
 
     junctions = (degree[src] >= 3).astype(np.int64) + (degree[dst] >= 3).astype(np.int64)
     branch_type = np.where(src == dst, 3, junctions)
-    counts = np.diff(offsets)
-    sums = np.add.reduceat(widths, offsets[:-1]) if len(widths) else np.zeros(len(ends))
-    mean_width = np.where(counts > 0, sums / np.maximum(counts, 1), np.nan)
+    mean_width = np.full(len(ends), np.nan)
+    points = trace.point_xy
+    for e in range(len(ends)):
+        p = points[offsets[e] : offsets[e + 1]]
+        w = widths[offsets[e] : offsets[e + 1]].copy()
+        if len(w) == 0:
+            continue
+        # A junction's disc is wider than the arms that meet in it: an end at a junction
+        # takes the width of its neighbouring point.
+        if len(w) > 1:
+            if degree[src[e]] >= 3:
+                w[0] = w[1]
+            if degree[dst[e]] >= 3:
+                w[-1] = w[-2]
+        # Averaged along the centerline's length (each segment weighs its length), so a
+        # polyline that keeps few points on a straight stretch and many at a bend is not
+        # weighed by where its points happen to be.
+        seg = np.linalg.norm(np.diff(p, axis=0), axis=1)
+        total = seg.sum()
+        mean_width[e] = (seg * (w[:-1] + w[1:]) / 2).sum() / total if total > 0 else w.mean()
     table = {
         "skeleton-id": component.reshape(-1)[src] if len(ends) else np.zeros(0, np.int64),
         "node-id-src": src,

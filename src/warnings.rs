@@ -21,6 +21,11 @@ use crate::stroke_graph::StrokeGraph;
 
 /// A polarity confidence below this is reported.
 pub const LOW_POLARITY_CONFIDENCE: f64 = 0.2;
+/// From this polarity confidence on (half the scale: the evidence for the decided side clearly
+/// outweighs the other), a sign of a background traced as ink is not answered with advice to
+/// trace the other side: on such images the cause is a grid, a texture or strokes merged by
+/// the threshold, and `--polarity` would trace the paper.
+const SURE_POLARITY_CONFIDENCE: f64 = 0.5;
 /// The largest component holding more than this share of the centerline ...
 const HUGE_SHARE: f64 = 0.5;
 /// ... with at least this many independent cycles is reported.
@@ -115,13 +120,23 @@ pub fn of(
         let cycles = (edges[big] + 1).saturating_sub(vertices[big]);
         let share = length[big] / total.max(f64::MIN_POSITIVE);
         if total > 0.0 && share > HUGE_SHARE && cycles >= HUGE_CYCLES {
+            let cause = match (decisions, image_advice(decisions)) {
+                (Some(d), None) => format!(
+                    "a grid, a texture or strokes merged by the threshold (the polarity, {} ink, \
+                     was decided with confidence {:.2})",
+                    side_name(d.polarity),
+                    d.polarity_confidence.unwrap_or(1.0)
+                ),
+                (_, advice) => format!(
+                    "the paper or a background may have been traced as ink{}",
+                    advice.unwrap_or_default()
+                ),
+            };
             out.push(Warning {
                 code: "one_huge_component",
                 message: format!(
-                    "{:.0}% of the centerline is one component with {cycles} cycles: the paper or \
-                     a background may have been traced as ink{}",
+                    "{:.0}% of the centerline is one component with {cycles} cycles: {cause}",
                     100.0 * share,
-                    image_advice(decisions)
                 ),
             });
         }
@@ -141,7 +156,7 @@ pub fn of(
                 "{mesh_edges} of {} edges join two junctions within two stroke widths: a halftone \
                  or photo region, or strokes merged by the threshold; crop to the strokes{}",
                 graph.edges.len(),
-                image_advice(decisions)
+                image_advice(decisions).unwrap_or_default()
             ),
         });
     }
@@ -212,11 +227,16 @@ fn median_width(edge: &crate::stroke_graph::Edge) -> f64 {
 
 /// What to try when the paper or a background may have been traced as ink: the other side
 /// (`--polarity`), and Otsu's global level where another threshold was used. None for a point
-/// list or a mask, which have neither.
-fn image_advice(decisions: Option<&Decisions>) -> String {
-    let Some(decisions) = decisions else {
-        return String::new();
-    };
+/// list or a mask, which have neither, and where the polarity was decided with confidence
+/// [`SURE_POLARITY_CONFIDENCE`] or more (when `--polarity` forced it, the other side is advised).
+fn image_advice(decisions: Option<&Decisions>) -> Option<String> {
+    let decisions = decisions?;
+    if decisions
+        .polarity_confidence
+        .is_some_and(|c| c >= SURE_POLARITY_CONFIDENCE)
+    {
+        return None;
+    }
     let other = match decisions.polarity {
         InkSide::Light => "dark",
         InkSide::Dark => "light",
@@ -225,7 +245,16 @@ fn image_advice(decisions: Option<&Decisions>) -> String {
         ThresholdUsed::Otsu { .. } | ThresholdUsed::Uniform => String::new(),
         _ => " or --binarize otsu".to_string(),
     };
-    format!("; if the strokes are {other}, pass --polarity {other}{otsu}")
+    Some(format!(
+        "; if the strokes are {other}, pass --polarity {other}{otsu}"
+    ))
+}
+
+fn side_name(side: InkSide) -> &'static str {
+    match side {
+        InkSide::Light => "light",
+        InkSide::Dark => "dark",
+    }
 }
 
 /// The share of the image covered by ridge texture (see [`TEXTURE_COHERENCE`]), when it is more
@@ -669,6 +698,44 @@ mod tests {
         assert!(with_code(&right, "one_huge_component").is_none());
         assert_eq!(right.graph.components(), 25);
         assert_eq!(right.graph.cycles(), 25);
+    }
+
+    #[test]
+    fn a_grid_decided_with_confidence_gets_no_polarity_advice() {
+        // A grid of dark bars on white paper, 11 x 11 bars 3 px wide and 30 px apart: one
+        // component of 100 cycles, with the polarity read from the image (dark ink, clearly).
+        let bars: Vec<Stroke> = (0..11)
+            .flat_map(|k| {
+                let t = 10.0 + 30.0 * k as f64;
+                [
+                    Stroke::new(vec![[10.0, t], [310.0, t]], 3.0),
+                    Stroke::new(vec![[t, 10.0], [t, 310.0]], 3.0),
+                ]
+            })
+            .collect();
+        let gray = gray_of(&render(&bars, 320, 320));
+        let auto = crate::trace_image(&gray, &Params::default()).unwrap();
+        let decisions = auto.decisions.as_ref().expect("an image's decisions");
+        assert_eq!(decisions.polarity, InkSide::Dark);
+        assert!(
+            decisions.polarity_confidence.unwrap() >= SURE_POLARITY_CONFIDENCE,
+            "{decisions:?}"
+        );
+        let warning = with_code(&auto, "one_huge_component").expect("a huge component");
+        assert!(
+            !warning.message.contains("--polarity"),
+            "{}",
+            warning.message
+        );
+        assert!(warning.message.contains("a grid"), "{}", warning.message);
+        // The advice it no longer gives would trace the paper: the cells' fields, not the bars.
+        let flipped = crate::trace_image(&gray, &{
+            let mut params = Params::default();
+            params.front_end.polarity = crate::params::Polarity::LightInk;
+            params
+        })
+        .unwrap();
+        assert!(flipped.graph.components() > auto.graph.components());
     }
 
     #[test]

@@ -739,6 +739,56 @@ mod tests {
     }
 
     #[test]
+    fn the_uncertain_polarity_advice_traces_the_drawn_strokes() {
+        // Dark bars 4 px wide drawn 4 px apart from the top edge down (rows 8k to 8k + 3): the
+        // gaps between them are as wide as the bars, so either side could be the ink.
+        let gray = image::GrayImage::from_fn(200, 100, |_, y| {
+            image::Luma([if (y / 4) % 2 == 0 { 40 } else { 200 }])
+        });
+        let auto = crate::trace_image(&gray, &Params::default()).unwrap();
+        let warning = with_code(&auto, "polarity_uncertain").expect("an uncertain polarity");
+        // The side suggested, as the message writes it: "pass --polarity SIDE if ...".
+        let side = warning
+            .message
+            .split("--polarity ")
+            .nth(1)
+            .and_then(|rest| rest.split(' ').next())
+            .unwrap_or_else(|| panic!("no --polarity in {:?}", warning.message));
+        let polarity = match side {
+            "dark" => crate::params::Polarity::DarkInk,
+            "light" => crate::params::Polarity::LightInk,
+            other => panic!("unknown side {other:?} in {:?}", warning.message),
+        };
+        // Whichever side was decided, following the advice when the drawn strokes are on the
+        // side it names traces them: every centerline point on a bar's middle row (8k + 2) for
+        // dark, between the bars (8k + 6) for light.
+        let middle = if side == "dark" { 2.0 } else { 6.0 };
+        let followed = crate::trace_image(&gray, &{
+            let mut params = Params::default();
+            params.front_end.polarity = polarity;
+            params
+        })
+        .unwrap();
+        assert!(with_code(&followed, "polarity_uncertain").is_none());
+        assert!(
+            followed.graph.edges.len() >= 10,
+            "{}",
+            followed.graph.edges.len()
+        );
+        for edge in &followed.graph.edges {
+            for p in &edge.points {
+                let off = (p[1] - middle).rem_euclid(8.0);
+                assert!(
+                    off.min(8.0 - off) < 0.75,
+                    "{p:?} is off the {side} bars' middles"
+                );
+            }
+        }
+        // Here the light side was read as ink, so the advice names the dark bars, as drawn.
+        assert_eq!(side, "dark", "{}", warning.message);
+    }
+
+    #[test]
     fn a_point_list_or_a_mask_gets_no_image_advice() {
         let lattice = lattice(7, 30.0);
         let warnings = of(&lattice, None, None);

@@ -1076,3 +1076,47 @@ fn ctrl_c_says_what_was_finished_and_keeps_it() {
         assert!(text.trim_end().ends_with("</svg>"), "{}", path.display());
     }
 }
+
+#[test]
+fn the_regions_left_out_are_named_and_the_advice_traces_them() {
+    // A generated page of text inside a dark scanner frame: the frame is left out and named.
+    let page = ridgeline_testkit::synth::page_cases()
+        .into_iter()
+        .find(|c| c.case.name == "page_frame")
+        .expect("the framed page");
+    let dir = temp_dir();
+    page.gray.save(dir.path().join("page.png")).expect("png");
+    let plain = ridgeline(&["page.png", "-o", "plain.json"], dir.path());
+    assert!(plain.status.success(), "{}", stderr(&plain));
+    let message = stderr(&plain);
+    let kinds = message
+        .split("pass --keep-regions ")
+        .nth(1)
+        .and_then(|rest| rest.split(' ').next())
+        .unwrap_or_else(|| panic!("no --keep-regions advice in {message:?}"))
+        .to_string();
+    assert!(message.contains("left out"), "{message}");
+    let kept = ridgeline(
+        &["page.png", "--keep-regions", &kinds, "-o", "kept.json"],
+        dir.path(),
+    );
+    assert!(kept.status.success(), "{}", stderr(&kept));
+    assert!(!stderr(&kept).contains("left out"), "{}", stderr(&kept));
+    // Following the advice traces what was left out: more centerline than without it.
+    let length = |name: &str| {
+        let text = fs::read_to_string(dir.path().join(name)).expect(name);
+        let doc: serde_json::Value = serde_json::from_str(&text).expect("JSON");
+        doc["edges"]
+            .as_array()
+            .expect("edges")
+            .iter()
+            .map(|e| e["length"].as_f64().expect("length"))
+            .sum::<f64>()
+    };
+    assert!(
+        length("kept.json") > 1.05 * length("plain.json"),
+        "{} against {}",
+        length("kept.json"),
+        length("plain.json")
+    );
+}

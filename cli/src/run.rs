@@ -489,6 +489,35 @@ impl Traced {
     }
 }
 
+/// What the front end left out of the trace as not strokes (docs/design.md, "The front end"),
+/// with the flag that traces it: "left out 2 regions that are not strokes (halftone, frame): pass
+/// --keep-regions halftone,frame to trace them". None when nothing was left out.
+fn regions_left_out(
+    regions: &[ridgeline::Region],
+    kept: &[ridgeline::RegionKind],
+) -> Option<String> {
+    let out: Vec<ridgeline::RegionKind> = regions
+        .iter()
+        .map(|r| r.kind)
+        .filter(|kind| !kept.contains(kind))
+        .collect();
+    if out.is_empty() {
+        return None;
+    }
+    let mut kinds: Vec<&str> = out.iter().map(|k| k.name()).collect();
+    kinds.sort_unstable();
+    kinds.dedup();
+    let names = kinds.join(",");
+    Some(format!(
+        "left out {} region{} that {} not strokes ({}): pass --keep-regions {names} to trace {}",
+        out.len(),
+        if out.len() == 1 { "" } else { "s" },
+        if out.len() == 1 { "is" } else { "are" },
+        kinds.join(", "),
+        if out.len() == 1 { "it" } else { "them" },
+    ))
+}
+
 /// Traces one page of an image file (`bytes`, of `count` pages) and writes its output: page 1 to
 /// the job's destination, page N to `<stem>.pN.<extension>` beside it.
 fn trace_page(
@@ -541,6 +570,13 @@ fn trace_page(
         .with_page(page.number, count)
         .with_trace(&trace);
     warnings.extend(trace.warnings.iter().map(|w| w.message.clone()));
+    if let Some(notice) = trace
+        .decisions
+        .as_ref()
+        .and_then(|d| regions_left_out(&d.regions, &params.front_end.keep_regions))
+    {
+        warnings.push(notice);
+    }
     let backdrop = settings.embed_image.then_some(backdrop);
     let text = render(
         job,

@@ -73,15 +73,16 @@ pub(crate) fn center_on_gray(
     // An edge moved into a crossing or a touch with another edge, or with itself, takes back
     // its path from before: the refinement places the graph's lines, it does not change what
     // the graph shows. An edge that crossed or touched already before keeps its move.
-    let before_paths: Vec<Option<&[[f64; 2]]>> =
-        before.iter().map(|p| Some(p.as_slice())).collect();
-    let crossed_before = crossing_paths(&before_paths, &vec![true; before.len()]);
     let mut moved: Vec<bool> = graph
         .edges
         .iter()
         .zip(&before)
         .map(|(edge, old)| edge.points != *old)
         .collect();
+    // Only pairs with a moved edge are tested: an unmoved edge's crossings cannot change.
+    let before_paths: Vec<Option<&[[f64; 2]]>> =
+        before.iter().map(|p| Some(p.as_slice())).collect();
+    let crossed_before = crossing_paths(&before_paths, &moved);
     for &e in &crossed_before {
         moved[e] = false;
     }

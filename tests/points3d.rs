@@ -8,7 +8,7 @@ use ridgeline::point_list::{read, PointData};
 use ridgeline::{CurveGraph3d, Params};
 use ridgeline_testkit::synth::{tube_cases, TubeCase};
 
-use crate::support::{ridgeline, run_ok, stderr, temp_dir};
+use crate::support::{median, ridgeline, run_ok, stderr, temp_dir};
 
 fn case(name: &str) -> TubeCase {
     tube_cases()
@@ -18,14 +18,7 @@ fn case(name: &str) -> TubeCase {
 }
 
 fn median_width(graph: &CurveGraph3d) -> f64 {
-    let mut widths: Vec<f64> = graph
-        .edges
-        .iter()
-        .flat_map(|e| e.widths.iter().copied())
-        .collect();
-    assert!(!widths.is_empty(), "no edge");
-    widths.sort_by(f64::total_cmp);
-    widths[widths.len() / 2]
+    median(graph.edges.iter().flat_map(|e| e.widths.iter().copied()))
 }
 
 /// The largest distance from a true centerline sample to the traced polylines' points.

@@ -4,6 +4,8 @@
 use ridgeline::{Params, StrokeGraph};
 use ridgeline_testkit::synth::{strip_cases, StripCase};
 
+use crate::support::median;
+
 fn case(name: &str) -> StripCase {
     strip_cases()
         .into_iter()
@@ -12,14 +14,7 @@ fn case(name: &str) -> StripCase {
 }
 
 fn median_width(graph: &StrokeGraph) -> f64 {
-    let mut widths: Vec<f64> = graph
-        .edges
-        .iter()
-        .flat_map(|e| e.widths.iter().copied())
-        .collect();
-    assert!(!widths.is_empty(), "no edge");
-    widths.sort_by(f64::total_cmp);
-    widths[widths.len() / 2]
+    median(graph.edges.iter().flat_map(|e| e.widths.iter().copied()))
 }
 
 /// §3.1: the local width of a band of random points is read from its PCA, in the band's units.

@@ -78,3 +78,11 @@ pub fn write_strokes_png(path: &Path) {
     ];
     write_mask_png(&render(&strokes, 80, 80), path);
 }
+
+/// The upper median of `values` (the middle one of an odd count); panics on none ("no edge").
+pub fn median(values: impl Iterator<Item = f64>) -> f64 {
+    let mut values: Vec<f64> = values.collect();
+    assert!(!values.is_empty(), "no edge");
+    values.sort_by(f64::total_cmp);
+    values[values.len() / 2]
+}

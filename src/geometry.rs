@@ -119,7 +119,7 @@ pub fn tangents(points: &[[f64; 2]]) -> Vec<[f64; 2]> {
 ///
 /// A closed form rather than nalgebra's `SymmetricEigen` (which the tests check it against): it
 /// runs at every growth step of every disk, and is about 6 times faster (1e6 covariances: 34 ms
-/// against 217 ms in release, `timing_principal_against_nalgebra`).
+/// against 217 ms in a release build, measured when the closed form was written).
 pub(crate) fn principal(cxx: f64, cxy: f64, cyy: f64) -> (f64, [f64; 2]) {
     let trace = cxx + cyy;
     if trace.is_nan() || trace <= 1e-12 {
@@ -339,40 +339,6 @@ mod tests {
                 "{cxx} {cxy} {cyy}"
             );
         }
-    }
-
-    /// Timing, not a check: `cargo test --release --lib timing -- --ignored --nocapture`.
-    #[test]
-    #[ignore]
-    fn timing_principal_against_nalgebra() {
-        use std::hint::black_box;
-        use std::time::Instant;
-        let covariances: Vec<(f64, f64, f64)> = (0..1_000_000)
-            .map(|i| {
-                let t = i as f64 * 0.001;
-                (2.0 + t.sin(), 0.7 * t.cos(), 1.0 + 0.5 * (1.3 * t).sin())
-            })
-            .collect();
-        let start = Instant::now();
-        let mut sum = 0.0;
-        for &(cxx, cxy, cyy) in &covariances {
-            let (l, d) = principal(black_box(cxx), black_box(cxy), black_box(cyy));
-            sum += l + d[0];
-        }
-        let closed = start.elapsed();
-        let start = Instant::now();
-        let mut sum_nalgebra = 0.0;
-        for &(cxx, cxy, cyy) in &covariances {
-            let m = nalgebra::Matrix2::new(cxx, cxy, cxy, cyy);
-            let eigen = black_box(m).symmetric_eigen();
-            let k = usize::from(eigen.eigenvalues[1] > eigen.eigenvalues[0]);
-            sum_nalgebra += eigen.eigenvalues[k] / (cxx + cyy) + eigen.eigenvectors[(0, k)].abs();
-        }
-        let eigen = start.elapsed();
-        println!(
-            "2x2 PCA, 1e6 covariances: closed form {closed:?}, nalgebra SymmetricEigen {eigen:?} \
-             ({sum:.3} / {sum_nalgebra:.3})"
-        );
     }
 
     #[test]

@@ -141,7 +141,7 @@ pub fn principal_line(sample: &[[f64; 2]]) -> Option<([f64; 2], [f64; 2])> {
 ///
 /// The 2x2 system in closed form rather than through nalgebra (eigenvalues, then Cholesky; the
 /// tests check the two agree): about 4 times faster (3e5 junctions of 3 arms: 8.6 ms against
-/// 33.7 ms in release, `timing_line_intersection_against_nalgebra`).
+/// 33.7 ms in a release build, measured when the closed form was written).
 pub fn line_intersection(lines: &[([f64; 2], [f64; 2])], min_eigen: f64) -> Option<[f64; 2]> {
     let (mut a, mut b, mut d, mut rx, mut ry) = (0.0, 0.0, 0.0, 0.0, 0.0);
     for &(c, u) in lines {
@@ -301,40 +301,5 @@ mod tests {
                 assert!(distance(x, y) < 1e-9, "{x:?} {y:?}");
             }
         }
-    }
-
-    /// Timing, not a check: `cargo test --release --lib timing -- --ignored --nocapture`.
-    #[test]
-    #[ignore]
-    fn timing_line_intersection_against_nalgebra() {
-        use std::hint::black_box;
-        use std::time::Instant;
-        let sets: Vec<[([f64; 2], [f64; 2]); 3]> = (0..300_000)
-            .map(|i| {
-                let t = i as f64 * 0.01;
-                let unit = |a: f64| [a.cos(), a.sin()];
-                [
-                    ([t.sin(), 1.0], unit(t)),
-                    ([3.0, t.cos()], unit(t + 2.0)),
-                    ([1.0, 2.0], unit(t + 4.0)),
-                ]
-            })
-            .collect();
-        let start = Instant::now();
-        let ours = sets
-            .iter()
-            .filter_map(|lines| line_intersection(black_box(lines), 1e-3))
-            .count();
-        let closed = start.elapsed();
-        let start = Instant::now();
-        let theirs = sets
-            .iter()
-            .filter_map(|lines| line_intersection_nalgebra(black_box(lines), 1e-3))
-            .count();
-        let dense = start.elapsed();
-        println!(
-            "junction least squares, 3e5 sets of 3 lines: closed form {closed:?}, nalgebra \
-             (eigenvalues + Cholesky) {dense:?} ({ours} / {theirs} solved)"
-        );
     }
 }

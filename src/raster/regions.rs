@@ -28,7 +28,10 @@
 //! them and the dense cells beside those. Dotted cells do not seed: a fingerprint's broken ridges
 //! are dotted too. A region touching the
 //! image's edge is a `frame` when it is a ring of bands around the image and a `page_edge` otherwise; one inside
-//! the page, or one of texture cells at least half, is a `halftone`. Its ink is removed; so are the pieces of ink left wholly within a
+//! the page, or one of texture cells at least half, is a `halftone`; a halftone's box grows by a
+//! row or column of cells while half the side's cells beyond it hold pieces of ink that also lie
+//! within it (the photo's light rim, whose specks and open paper kept those cells out, see
+//! [`grow_box`]). Its ink is removed; so are the pieces of ink left wholly within a
 //! cell of it (a photo's last dots, the line a local threshold draws along a dark margin), while a
 //! stroke that touches it and leaves it, such as a letter touching a frame, stays.
 
@@ -145,11 +148,29 @@ pub(crate) fn find(
     }
     let mut regions = Vec::new();
     let mut removed_cells = vec![false; cols * rows];
-    for group in photos(groups, &cells, cols, rows) {
+    // The pieces of ink, labelled when a photo's box is to be grown.
+    let mut pieces = None;
+    for mut group in photos(groups, &cells, cols, rows) {
         let textured = group.iter().filter(|&&c| cells[c] == Cell::Texture).count();
         let mut region = describe(&group, cols, rows, cell, width, height);
         if textured as f64 >= TEXTURED_GROUP * group.len() as f64 {
             region.kind = RegionKind::Halftone;
+        }
+        if region.kind == RegionKind::Halftone {
+            let (labels, sizes) = pieces.get_or_insert_with(|| {
+                label_components(ink, width, height, true, Connectivity::Eight)
+            });
+            let grid = Grid {
+                width,
+                height,
+                cell,
+                cols,
+                rows,
+            };
+            group = grow_box(&group, labels, sizes.len(), &grid);
+            let kind = region.kind;
+            region = describe(&group, cols, rows, cell, width, height);
+            region.kind = kind;
         }
         // Beyond a page's edge lies one even dark: cells all ink, or a dark field the threshold
         // left. Solid ink reaching the image's edge with paper showing through it is as likely an
@@ -190,11 +211,9 @@ fn classify(
     let (cols, rows) = (width.div_ceil(cell), height.div_ceil(cell));
     // Thick: the whole square of side THICK_WIDTHS w around the pixel is ink.
     let thick_radius = ((THICK_WIDTHS * stroke_width - 1.0) / 2.0).ceil().max(1.0) as usize;
-    let thick = box_all(ink, width, height, thick_radius);
+    let thick = box_all(ink, true, width, height, thick_radius);
     // Open paper: no ink within w (Chebyshev).
-    let paper: Vec<bool> = ink.iter().map(|&i| !i).collect();
-    let open = box_all(&paper, width, height, stroke_width.ceil() as usize);
-    drop(paper);
+    let open = box_all(ink, false, width, height, stroke_width.ceil() as usize);
     let mut counts = vec![[0u32; 5]; cols * rows];
     // Where each piece of ink begins (its first pixel in row-major order).
     let mut starts = vec![0u32; cols * rows];
@@ -211,26 +230,31 @@ fn classify(
     }
     // The sum and count of the paper's gray levels per cell.
     let mut paper_gray = vec![(0u64, 0u32); cols * rows];
+    let is_dark = |v: u8| if dark_ink { v <= level } else { v > level };
+    // Row by row, a cell's width of pixels at a time.
     for y in 0..height {
-        let row = gray.row(y);
+        let span = y * width..(y + 1) * width;
         let base = (y / cell) * cols;
-        for x in 0..width {
-            let p = y * width + x;
-            let c = &mut counts[base + x / cell];
-            let dark = if dark_ink {
-                row[x] <= level
-            } else {
-                row[x] > level
-            };
-            c[0] += 1;
-            c[1] += u32::from(ink[p]);
-            c[2] += u32::from(thick[p]);
-            c[3] += u32::from(open[p]);
-            c[4] += u32::from(dark);
-            if !ink[p] {
-                let g = &mut paper_gray[base + x / cell];
-                g.0 += u64::from(row[x]);
-                g.1 += 1;
+        let pieces = gray
+            .row(y)
+            .chunks(cell)
+            .zip(ink[span.clone()].chunks(cell))
+            .zip(thick[span.clone()].chunks(cell))
+            .zip(open[span].chunks(cell));
+        for (c, (((row, ink), thick), open)) in pieces.enumerate() {
+            let count = |values: &[bool]| values.iter().filter(|&&v| v).count() as u32;
+            let counts = &mut counts[base + c];
+            counts[0] += row.len() as u32;
+            counts[1] += count(ink);
+            counts[2] += count(thick);
+            counts[3] += count(open);
+            counts[4] += row.iter().filter(|&&v| is_dark(v)).count() as u32;
+            let g = &mut paper_gray[base + c];
+            for (&v, &i) in row.iter().zip(ink) {
+                if !i {
+                    g.0 += u64::from(v);
+                    g.1 += 1;
+                }
             }
         }
     }
@@ -296,18 +320,20 @@ fn seed_possible(
 ) -> bool {
     let (width, height) = (gray.width() as usize, gray.height() as usize);
     let (cols, rows) = (width.div_ceil(cell), height.div_ceil(cell));
-    // Ink, dark and all pixels per cell.
+    // Ink, dark and all pixels per cell, a cell's width of pixels at a time.
     let mut counts = vec![[0u32; 3]; cols * rows];
+    let is_dark = |v: u8| if dark_ink { v <= level } else { v > level };
     for y in 0..height {
-        let row = gray.row(y);
         let base = (y / cell) * cols;
-        let ink_row = &ink[y * width..(y + 1) * width];
-        for (x, (&g, &i)) in row.iter().zip(ink_row).enumerate() {
-            let c = &mut counts[base + x / cell];
-            let dark = if dark_ink { g <= level } else { g > level };
-            c[0] += u32::from(i);
-            c[1] += u32::from(dark);
-            c[2] += 1;
+        let pieces = gray
+            .row(y)
+            .chunks(cell)
+            .zip(ink[y * width..(y + 1) * width].chunks(cell));
+        for (c, (row, ink)) in pieces.enumerate() {
+            let counts = &mut counts[base + c];
+            counts[0] += ink.iter().filter(|&&i| i).count() as u32;
+            counts[1] += row.iter().filter(|&&v| is_dark(v)).count() as u32;
+            counts[2] += row.len() as u32;
         }
     }
     let share = |c: usize, k: usize| f64::from(counts[c][k]) / f64::from(counts[c][2].max(1));
@@ -384,9 +410,9 @@ fn texture_cells(
     let mut sizes = vec![0u32; bw * bh];
     for y in 0..height {
         let base = (y / side) * bw;
-        for (x, &v) in gray.row(y).iter().enumerate() {
-            sums[base + x / side] += u32::from(turn(v));
-            sizes[base + x / side] += 1;
+        for (b, block) in gray.row(y).chunks(side).enumerate() {
+            sums[base + b] += block.iter().map(|&v| u32::from(turn(v))).sum::<u32>();
+            sizes[base + b] += block.len() as u32;
         }
     }
     let means: Vec<f64> = sums
@@ -394,22 +420,26 @@ fn texture_cells(
         .zip(&sizes)
         .map(|(&s, &n)| f64::from(s) / f64::from(n.max(1)))
         .collect();
+    // The cell column of each window's first block (x is one more than the block's position).
+    let cell_col: Vec<usize> = (0..=bw)
+        .map(|x| ((x.max(1) - 1) * side / cell).min(cols - 1))
+        .collect();
     let counts = levels.map(|at| {
-        let mask: Vec<bool> = means.iter().map(|&m| m <= at).collect();
-        let mut quads = vec![0i32; cols * rows];
-        // Windows over the blocks padded with paper: (x, y) is one more than the block's position.
-        let get = |x: usize, y: usize| -> u8 {
-            if x == 0 || y == 0 || x > bw || y > bh {
-                0
-            } else {
-                u8::from(mask[(y - 1) * bw + x - 1])
+        // The blocks at or below `at`, padded with a block of paper all round: the window at
+        // (x, y) is the padded blocks (x, y) to (x + 1, y + 1).
+        let pw = bw + 2;
+        let mut padded = vec![0u8; pw * (bh + 2)];
+        for (row, means) in padded[pw..].chunks_mut(pw).zip(means.chunks(bw)) {
+            for (p, &m) in row[1..].iter_mut().zip(means) {
+                *p = u8::from(m <= at);
             }
-        };
+        }
+        let mut quads = vec![0i32; cols * rows];
         for y in 0..=bh {
             let cy = ((y.max(1) - 1) * side / cell).min(rows - 1);
+            let (top, bottom) = (&padded[y * pw..(y + 1) * pw], &padded[(y + 1) * pw..]);
             for x in 0..=bw {
-                let quad =
-                    get(x, y) | get(x + 1, y) << 1 | get(x, y + 1) << 2 | get(x + 1, y + 1) << 3;
+                let quad = top[x] | top[x + 1] << 1 | bottom[x] << 2 | bottom[x + 1] << 3;
                 let value = match quad.count_ones() {
                     1 => 1,
                     3 => -1,
@@ -417,8 +447,7 @@ fn texture_cells(
                     _ => 0,
                 };
                 if value != 0 {
-                    let cx = ((x.max(1) - 1) * side / cell).min(cols - 1);
-                    quads[cy * cols + cx] += value;
+                    quads[cy * cols + cell_col[x]] += value;
                 }
             }
         }
@@ -489,44 +518,50 @@ fn neighbours(c: usize, cols: usize, rows: usize) -> impl Iterator<Item = usize>
     .flatten()
 }
 
-/// Whether the square of side `2 radius + 1` around each pixel, cut to the image, is all `true`
-/// in `mask`: running counts along the rows, then along the columns.
-fn box_all(mask: &[bool], width: usize, height: usize, radius: usize) -> Vec<bool> {
-    let mut across = vec![false; mask.len()];
-    let mut line = Vec::new();
-    for y in 0..height {
-        let row = &mask[y * width..(y + 1) * width];
-        all_within(row.iter().copied(), radius, &mut line);
-        across[y * width..(y + 1) * width].copy_from_slice(&line);
-    }
+/// Whether the square of side `2 radius + 1` around each pixel, cut to the image, is all `value`
+/// in `mask`. One pass down the rows: each row's horizontal test comes from the length of the
+/// run of `value` ending at each pixel (the window `[s, e]` is all `value` when the run ending at
+/// `e` is at least `e - s + 1` long), and each column keeps the length of its run of rows that
+/// passed it, so a row's answer is known once the row `radius` below it is read. No copy of the
+/// mask, no column-wise pass over it.
+fn box_all(mask: &[bool], value: bool, width: usize, height: usize, radius: usize) -> Vec<bool> {
     let mut out = vec![false; mask.len()];
-    for x in 0..width {
-        all_within(
-            (0..height).map(|y| across[y * width + x]),
-            radius,
-            &mut line,
-        );
-        for (y, &v) in line.iter().enumerate() {
-            out[y * width + x] = v;
+    if width == 0 || height == 0 {
+        return out;
+    }
+    // Per column, how many rows up to the current one pass the horizontal test in a row.
+    let mut up = vec![0u32; width];
+    let mut run = vec![0u32; width];
+    // The window of position `i` in a line of `n`, cut to it, as (start, end).
+    let window = |i: usize, n: usize| (i.saturating_sub(radius), (i + radius).min(n - 1));
+    let emit = |out: &mut [bool], up: &[u32], y: usize, e: usize| {
+        let (s, _) = window(y, height);
+        let need = (e - s + 1) as u32;
+        for (o, &u) in out[y * width..(y + 1) * width].iter_mut().zip(up) {
+            *o = u >= need;
+        }
+    };
+    for e in 0..height {
+        let row = &mask[e * width..(e + 1) * width];
+        let mut length = 0u32;
+        for (r, &v) in run.iter_mut().zip(row) {
+            length = if v == value { length + 1 } else { 0 };
+            *r = length;
+        }
+        for (x, u) in up.iter_mut().enumerate() {
+            let (s, end) = window(x, width);
+            let across = run[end] as usize > end - s;
+            *u = if across { *u + 1 } else { 0 };
+        }
+        if e >= radius {
+            emit(&mut out, &up, e - radius, e);
         }
     }
+    // The last rows' windows end at the image's last row.
+    for y in height.saturating_sub(radius)..height {
+        emit(&mut out, &up, y, height - 1);
+    }
     out
-}
-
-/// `out[i]`: whether every value within `radius` of `i` (cut to the line) is `true`.
-fn all_within(values: impl Iterator<Item = bool>, radius: usize, out: &mut Vec<bool>) {
-    let values: Vec<bool> = values.collect();
-    let n = values.len();
-    out.clear();
-    // The index of the last `false` at or before each position, as a running count.
-    let mut falses = vec![0u32; n + 1];
-    for (i, &v) in values.iter().enumerate() {
-        falses[i + 1] = falses[i] + u32::from(!v);
-    }
-    for i in 0..n {
-        let (a, b) = (i.saturating_sub(radius), (i + radius + 1).min(n));
-        out.push(falses[b] == falses[a]);
-    }
 }
 
 /// The groups of cells (each a list of cell indices) grown from the seeds: solid and dark-field
@@ -649,6 +684,95 @@ fn photos(groups: Vec<Vec<usize>>, cells: &[Cell], cols: usize, rows: usize) -> 
     out
 }
 
+/// The pixel image cut into cells.
+struct Grid {
+    width: usize,
+    height: usize,
+    cell: usize,
+    cols: usize,
+    rows: usize,
+}
+
+/// A photo's cells (a box of them) grown by a row or column of cells at a time, while the cells
+/// just outside a side, along at least half of it, hold ink of pieces (8-connected, `labels`)
+/// that also lie within the box: the photo carried on past the cells that were classed as it
+/// (its light parts, where the threshold left a few dots and open paper between them). A line of
+/// text beside a photo does not run into it, and a stroke touching it is one piece at one place
+/// along a side, not half of it.
+fn grow_box(group: &[usize], labels: &[u32], count: usize, grid: &Grid) -> Vec<usize> {
+    let Grid {
+        width,
+        height,
+        cell,
+        cols,
+        rows,
+    } = *grid;
+    let (mut x0, mut y0, mut x1, mut y1) = (cols, rows, 0, 0);
+    for &c in group {
+        let (x, y) = (c % cols, c / cols);
+        (x0, y0, x1, y1) = (x0.min(x), y0.min(y), x1.max(x), y1.max(y));
+    }
+    // Which pieces have a pixel within cells [cx0, cx1] x [cy0, cy1].
+    let mut inside = vec![false; count];
+    let mark = |inside: &mut [bool], [cx0, cy0, cx1, cy1]: [usize; 4]| {
+        for y in cy0 * cell..((cy1 + 1) * cell).min(height) {
+            let row = &labels[y * width..(y + 1) * width];
+            for &l in &row[cx0 * cell..((cx1 + 1) * cell).min(width)] {
+                if l > 0 {
+                    inside[l as usize] = true;
+                }
+            }
+        }
+    };
+    // Whether cell (cx, cy) holds a pixel of a piece inside.
+    let holds = |inside: &[bool], cx: usize, cy: usize| {
+        (cy * cell..((cy + 1) * cell).min(height)).any(|y| {
+            let row = &labels[y * width..(y + 1) * width];
+            row[cx * cell..((cx + 1) * cell).min(width)]
+                .iter()
+                .any(|&l| l > 0 && inside[l as usize])
+        })
+    };
+    mark(&mut inside, [x0, y0, x1, y1]);
+    loop {
+        // The strips just outside each side, as cell boxes, and the side's length.
+        let strips = [
+            (x0 > 0).then(|| [x0 - 1, y0, x0 - 1, y1]),
+            (x1 + 1 < cols).then(|| [x1 + 1, y0, x1 + 1, y1]),
+            (y0 > 0).then(|| [x0, y0 - 1, x1, y0 - 1]),
+            (y1 + 1 < rows).then(|| [x0, y1 + 1, x1, y1 + 1]),
+        ];
+        let mut grown = None;
+        for (side, strip) in strips.iter().enumerate() {
+            let Some([sx0, sy0, sx1, sy1]) = *strip else {
+                continue;
+            };
+            let cells = (sx1 - sx0 + 1) * (sy1 - sy0 + 1);
+            let held = (sy0..=sy1)
+                .flat_map(|cy| (sx0..=sx1).map(move |cx| (cx, cy)))
+                .filter(|&(cx, cy)| holds(&inside, cx, cy))
+                .count();
+            if 2 * held >= cells {
+                grown = Some((side, [sx0, sy0, sx1, sy1]));
+                break;
+            }
+        }
+        let Some((side, strip)) = grown else {
+            break;
+        };
+        match side {
+            0 => x0 -= 1,
+            1 => x1 += 1,
+            2 => y0 -= 1,
+            _ => y1 += 1,
+        }
+        mark(&mut inside, strip);
+    }
+    (y0..=y1)
+        .flat_map(|y| (x0..=x1).map(move |x| y * cols + x))
+        .collect()
+}
+
 /// A group's kind and box (its cells' box, cut to the image).
 fn describe(
     group: &[usize],
@@ -712,17 +836,27 @@ fn remove(
             }
         }
     }
-    let cell_of = |p: usize| (p / width / cell) * cols + (p % width) / cell;
-    for (p, v) in ink.iter_mut().enumerate() {
-        if removed[cell_of(p)] {
-            *v = false;
+    // Row by row, a cell's width of pixels at a time.
+    for (y, row) in ink.chunks_mut(width).enumerate() {
+        let cells = &removed[(y / cell) * cols..(y / cell + 1) * cols];
+        for (pixels, &gone) in row.chunks_mut(cell).zip(cells) {
+            if gone {
+                pixels.fill(false);
+            }
         }
     }
     let (labels, sizes) = label_components(ink, width, height, true, Connectivity::Eight);
     let mut inside = vec![0usize; sizes.len()];
-    for (p, &l) in labels.iter().enumerate() {
-        if l > 0 && near[cell_of(p)] {
-            inside[l as usize] += 1;
+    for (y, row) in labels.chunks(width).enumerate() {
+        let cells = &near[(y / cell) * cols..(y / cell + 1) * cols];
+        for (pixels, &near) in row.chunks(cell).zip(cells) {
+            if near {
+                for &l in pixels {
+                    if l > 0 {
+                        inside[l as usize] += 1;
+                    }
+                }
+            }
         }
     }
     for (v, &l) in ink.iter_mut().zip(&labels) {
@@ -787,6 +921,86 @@ mod tests {
 
     fn kinds(decisions: &Decisions) -> Vec<RegionKind> {
         decisions.regions.iter().map(|r| r.kind).collect()
+    }
+
+    /// The square test as its definition says, pixel by pixel.
+    fn box_all_by_definition(
+        mask: &[bool],
+        value: bool,
+        width: usize,
+        height: usize,
+        radius: usize,
+    ) -> Vec<bool> {
+        (0..width * height)
+            .map(|p| {
+                let (x, y) = (p % width, p / width);
+                let ys = y.saturating_sub(radius)..(y + radius + 1).min(height);
+                ys.flat_map(|v| {
+                    (x.saturating_sub(radius)..(x + radius + 1).min(width)).map(move |u| (u, v))
+                })
+                .all(|(u, v)| mask[v * width + u] == value)
+            })
+            .collect()
+    }
+
+    #[test]
+    fn the_square_test_agrees_with_its_definition() {
+        let mut state = 0x2545_F491_4F6C_DD1Du64;
+        for (width, height) in [(1, 1), (1, 9), (9, 1), (23, 17), (40, 3), (5, 31)] {
+            for density in [0.05, 0.5, 0.9, 0.99] {
+                let mask: Vec<bool> = (0..width * height)
+                    .map(|_| {
+                        state ^= state << 13;
+                        state ^= state >> 7;
+                        state ^= state << 17;
+                        (state >> 11) as f64 / (1u64 << 53) as f64 <= density
+                    })
+                    .collect();
+                for radius in [0, 1, 2, 3, 7, 40] {
+                    for value in [true, false] {
+                        assert_eq!(
+                            box_all(&mask, value, width, height, radius),
+                            box_all_by_definition(&mask, value, width, height, radius),
+                            "{width} x {height}, radius {radius}, value {value}, density {density}"
+                        );
+                    }
+                }
+            }
+        }
+    }
+
+    /// The cells of the box `[x0, x1] x [y0, y1]` of an 8 x 8 grid, row-major.
+    fn box_cells(x0: usize, y0: usize, x1: usize, y1: usize) -> Vec<usize> {
+        (y0..=y1)
+            .flat_map(|y| (x0..=x1).map(move |x| y * 8 + x))
+            .collect()
+    }
+
+    #[test]
+    fn a_photo_box_grows_where_its_pieces_run_on_and_not_for_one_stroke() {
+        // A 64 x 64 image in cells of 8; the photo's box is cells 2..=4 x 2..=5 (x 16..40).
+        let grid = Grid {
+            width: 64,
+            height: 64,
+            cell: 8,
+            cols: 8,
+            rows: 8,
+        };
+        let photo = box_cells(2, 2, 4, 5);
+        let labels_of = |piece: &dyn Fn(usize, usize) -> bool| -> Vec<u32> {
+            (0..64 * 64)
+                .map(|p| u32::from(piece(p % 64, p / 64)))
+                .collect()
+        };
+        // Merged dots running 3 px past the box's right side all along it: one more column.
+        let mesh = labels_of(&|x, y| (20..43).contains(&x) && (16..48).contains(&y));
+        assert_eq!(grow_box(&photo, &mesh, 2, &grid), box_cells(2, 2, 5, 5));
+        // A stroke touching the box at one place along its side (a quarter of it): no growth.
+        let stroke = labels_of(&|x, y| (36..60).contains(&x) && (18..21).contains(&y));
+        assert_eq!(grow_box(&photo, &stroke, 2, &grid), photo);
+        // Ink beside the box that does not enter it (a line of text): no growth.
+        let text = labels_of(&|x, y| (42..60).contains(&x) && (16..48).contains(&y));
+        assert_eq!(grow_box(&photo, &text, 2, &grid), photo);
     }
 
     #[test]

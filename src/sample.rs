@@ -523,7 +523,9 @@ impl<'a> Sampler<'a> {
 
         // Eq. (1) in 2-D: d = |u·(p - q)| + 0.1 / (1 + |v·(p - q)|), u the principal direction.
         let (u, v) = (direction, [-direction[1], direction[0]]);
+        // The points whose `D` this node set, in disk order (reusing the search stack).
         let mut taken = 0;
+        self.stack.clear();
         for i in 0..count {
             let p = self.order[i].1 as usize;
             let s = self.points.points[p];
@@ -538,15 +540,22 @@ impl<'a> Sampler<'a> {
             } else {
                 continue;
             }
+            self.stack.push(p as u32);
         }
         // Only points that border uncovered ink can become centers; coverage only grows, so a
-        // point without uncovered neighbours now never needs to enter the heap.
-        for i in 0..count {
-            let p = self.order[i].1;
+        // point without uncovered neighbours now never needs to enter the heap. Nor does a point
+        // whose `D` this node left as it was: the node that set it pushed it with that key if it
+        // bordered uncovered ink then (else it never will again), and that entry is still in
+        // the heap or was already taken as a center; a second copy of the same entry would
+        // only be popped and dropped.
+        let mut changed = std::mem::take(&mut self.stack);
+        for &p in &changed {
             if self.borders_uncovered(p) {
                 frontier.push((TotalF64(self.distance[p as usize]), Reverse(p)));
             }
         }
+        changed.clear();
+        self.stack = changed;
         let node = Node {
             pos,
             center,

@@ -6,12 +6,13 @@
 //! one thread, and then copied every chunk out of it. Here one parallel pass over the mask finds the
 //! runs of ink in each row and the page-wide figures (`Dis_ave`, the dropout test), a union-find
 //! over the runs finds the 8-connected components, and each chunk's points, pixel index, neighbour
-//! lists and half-widths come from its own window of the mask. The survey and the point-set
-//! builder are the ones the whole image uses (`points.rs`), so the point sets are the ones
-//! [`crate::PointSet::split_components`] cuts from the whole page's, bit for bit (tested below), and
-//! the traces are identical too.
+//! lists and half-widths come from its own runs ([`build_from_runs`]: only the pixel index is the
+//! size of the chunk's window, which holds many times its ink on a page of text). The survey is
+//! the one the whole image uses and the builder gives what the whole image's gives (`points.rs`),
+//! so the point sets are the ones [`crate::PointSet::split_components`] cuts from the whole page's,
+//! bit for bit (tested below), and the traces are identical too.
 
-use super::points::{build, check_point_count, survey, Survey, Window};
+use super::points::{build_from_runs, check_point_count, survey, Survey};
 use crate::binary::MaskView;
 use crate::csr::Csr;
 use crate::error::Result;
@@ -105,8 +106,8 @@ impl PixelChunks {
             .sum()
     }
 
-    /// The point set of chunk `c`: [`build`] over the bounding box of its runs, holding only its
-    /// own ink.
+    /// The point set of chunk `c`: [`build_from_runs`] over the bounding box of its runs, holding
+    /// only its own ink.
     pub(crate) fn part(&self, c: usize) -> Result<PointSet> {
         let runs = &self.runs[self.offsets[c]..self.offsets[c + 1]];
         let (Some(first), Some(last)) = (runs.first(), runs.last()) else {
@@ -115,20 +116,9 @@ impl PixelChunks {
         let (y0, y1) = (first.y as usize, last.y as usize + 1);
         let x0 = runs.iter().map(|r| r.x0).min().unwrap_or(0) as usize;
         let x1 = runs.iter().map(|r| r.x1).max().unwrap_or(0) as usize;
-        let (width, height) = (x1 - x0, y1 - y0);
-        let mut ink = vec![false; width * height];
-        for run in runs {
-            let row = (run.y as usize - y0) * width;
-            ink[row + run.x0 as usize - x0..row + run.x1 as usize - x0].fill(true);
-        }
-        let window = Window {
-            ink: &ink,
-            width,
-            height,
-            x0,
-            y0,
-        };
-        build(&window, self.spacing, false)
+        // The chunk's runs are the page's, each a maximal run of its row, and no run of another
+        // chunk touches them: they are the maximal runs of the window holding this chunk's ink.
+        build_from_runs(runs, (x0, y0), (x1 - x0, y1 - y0), self.spacing)
     }
 }
 

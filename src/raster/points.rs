@@ -11,7 +11,7 @@ use crate::binary::MaskView;
 use crate::error::{Error, Result};
 use crate::mask::{
     close3, ink_row_starts, split_by, squared_distance_at, squared_distance_rows, tiny_hole, Mask,
-    Run,
+    Run, RunEnvelope,
 };
 use crate::params::Params;
 use crate::point_set::{Grid, PointSet};
@@ -155,7 +155,8 @@ pub(super) struct Window<'a> {
     pub(super) y0: usize,
 }
 
-/// The one point-set builder, for a whole image and for each chunk of a large one alike: the ink
+/// The point-set builder of a whole image (chunks of a large one use [`build_from_runs`], which
+/// gives the same from the runs of ink, and only outside dropout mode): the ink
 /// pixels of `window` as points in raster order, its pixel index, the neighbour lists (the
 /// 8-neighbourhood, 5x5 in dropout mode) and the half-widths from the exact distance transform of
 /// the window (pixels beyond it are background: they are not this window's ink), with the page's
@@ -246,6 +247,128 @@ pub(super) fn build(window: &Window, spacing: f64, dropout: bool) -> Result<Poin
         spacing,
         dropout,
         grid: Some(grid),
+    })
+}
+
+/// [`build`] outside dropout mode from the window's runs of ink instead of its mask: `runs` in
+/// raster order, each a maximal run of ink of its row (as the survey finds them), in image
+/// coordinates, inside the window of `width` x `height` pixels at `(x0, y0)`. Only the pixel index
+/// is the window's size (filled run by run); every other pass visits the ink pixels alone, which
+/// matters for a chunk, whose window holds many times its ink on a page of text. The same points,
+/// index, neighbour lists and half-widths as [`build`] on the window's mask (tested below): the
+/// neighbours are read from the index in the same raster order, and the distance transform's
+/// column pass counts each pixel's ink above and below it through the index, its row pass runs
+/// over the same runs.
+pub(super) fn build_from_runs(
+    runs: &[Run],
+    (x0, y0): (usize, usize),
+    (width, height): (usize, usize),
+    spacing: f64,
+) -> Result<PointSet> {
+    let count: usize = runs.iter().map(Run::len).sum();
+    // Window coordinates of each run: row, first and end column.
+    let local = |run: &Run| {
+        (
+            run.y as usize - y0,
+            run.x0 as usize - x0,
+            run.x1 as usize - x0,
+        )
+    };
+    let mut points = Vec::with_capacity(count);
+    let mut index = vec![Grid::NONE; width * height];
+    for run in runs {
+        let (y, a, b) = local(run);
+        let first = points.len() as u32;
+        for (slot, id) in index[y * width + a..y * width + b].iter_mut().zip(first..) {
+            *slot = id;
+        }
+        let row = run.y as f64 + 0.5;
+        points.extend((run.x0..run.x1).map(|x| [x as f64 + 0.5, row]));
+    }
+
+    // The 8-neighbour lists, in raster order of the neighbours (so sorted by point index).
+    let mut offsets = Vec::with_capacity(count + 1);
+    offsets.push(0u32);
+    let mut neighbors = Vec::new();
+    for run in runs {
+        let (y, a, b) = local(run);
+        for x in a..b {
+            for_each_in_window(&index, width, height, 1, x, y, |j| {
+                if j != Grid::NONE {
+                    neighbors.push(j);
+                }
+            });
+            // The CSR arrays index with u32 (`PointSet`).
+            if neighbors.len() > u32::MAX as usize {
+                return Err(Error::Limit {
+                    what: "neighbour pairs",
+                    actual: neighbors.len() as u64,
+                    limit: u32::MAX as u64,
+                    field: "limits.max_points",
+                });
+            }
+            offsets.push(neighbors.len() as u32);
+        }
+    }
+    neighbors.shrink_to_fit();
+
+    // Half-width = distance to the nearest background pixel center (`squared_distance_rows`):
+    // the column pass as the length of each pixel's column of ink down to it and up to it
+    // (virtual background beyond the window), through the index in raster order and back.
+    let mut down = vec![0u32; count];
+    let mut k = 0;
+    for run in runs {
+        let (y, a, b) = local(run);
+        for x in a..b {
+            down[k] = match y.checked_sub(1).map(|v| index[v * width + x]) {
+                Some(above) if above != Grid::NONE => down[above as usize] + 1,
+                _ => 1,
+            };
+            k += 1;
+        }
+    }
+    let mut up = vec![0u32; count];
+    for run in runs.iter().rev() {
+        let (y, a, b) = local(run);
+        for x in (a..b).rev() {
+            k -= 1;
+            let below = (y + 1 < height).then(|| index[(y + 1) * width + x]);
+            up[k] = match below {
+                Some(below) if below != Grid::NONE => up[below as usize] + 1,
+                _ => 1,
+            };
+        }
+    }
+    for (g, &u) in down.iter_mut().zip(&up) {
+        *g = (*g).min(u);
+    }
+    drop(up);
+    let mut half_width = vec![0f32; count];
+    let mut envelope = RunEnvelope::with_capacity(width);
+    let mut k = 0;
+    for run in runs {
+        let len = run.len();
+        let d2 = envelope.squared_distances(&down[k..k + len]);
+        for (out, &d2) in half_width[k..k + len].iter_mut().zip(d2) {
+            *out = (d2 as f64).sqrt() as f32;
+        }
+        k += len;
+    }
+
+    Ok(PointSet {
+        points,
+        half_width,
+        offsets,
+        neighbors,
+        spacing,
+        dropout: false,
+        grid: Some(Grid {
+            width: width as u32,
+            height: height as u32,
+            index,
+            x0: x0 as i64,
+            y0: y0 as i64,
+        }),
     })
 }
 
@@ -601,6 +724,40 @@ mod tests {
             assert_eq!(one.neighbors, three.neighbors);
             assert_eq!(one.spacing.to_bits(), three.spacing.to_bits());
             assert_eq!(one.dropout, three.dropout);
+        }
+    }
+
+    #[test]
+    fn the_build_from_runs_equals_the_build_from_the_mask() {
+        // Thin and thick bars, solid and with holes punched in, pixels on the image's edges.
+        for (thickness, share, seed) in [(1, 0.0, 1), (9, 0.0, 2), (30, 0.05, 3), (38, 0.4, 4)] {
+            let mut binary = horizontal_bar(61, 40, 1, thickness);
+            drop_pixels(&mut binary, share, seed);
+            for y in 0..40 {
+                binary.set(0, y, y % 3 != 1);
+            }
+            let survey = survey(binary.view(), &params_forced_off(), Some(false)).unwrap();
+            let window = Window {
+                ink: &binary.ink,
+                width: 61,
+                height: 40,
+                x0: 0,
+                y0: 0,
+            };
+            let want = build(&window, survey.spacing, false).unwrap();
+            let got = build_from_runs(&survey.runs, (0, 0), (61, 40), survey.spacing).unwrap();
+            got.validate().unwrap();
+            assert!(!got.is_empty());
+            assert_eq!(got.points, want.points, "thickness {thickness}");
+            assert_eq!(got.offsets, want.offsets);
+            assert_eq!(got.neighbors, want.neighbors);
+            assert_eq!(got.half_width, want.half_width);
+            let (g, e) = (got.grid.unwrap(), want.grid.unwrap());
+            assert_eq!(
+                (g.width, g.height, g.x0, g.y0),
+                (e.width, e.height, e.x0, e.y0)
+            );
+            assert_eq!(g.index, e.index);
         }
     }
 

@@ -121,28 +121,33 @@ pub(crate) fn cross_pairs<const D: usize>(
         .collect();
     let outside_points: Vec<[f64; D]> = outside.iter().map(|&i| points[i as usize]).collect();
     let small = ImmutableKdTree::<f64, D>::new_from_slice(&outside_points).ok();
+    // Unsorted visits: the pairs are sorted at the end, so the order a query meets them in
+    // never reaches the output, and no per-query result list is sorted or allocated.
     let mut pairs: Vec<(u32, u32)> = order
-        .par_iter()
-        .flat_map_iter(|&i| {
-            let i = i as usize;
-            let radius = reach(i);
-            let found: Vec<(u32, u32)> = match (&small, labels[i] == largest) {
-                (Some(small), true) => small
-                    .query(&points[i])
-                    .within::<SquaredEuclidean<f64>>(radius * radius)
-                    .execute()
-                    .into_iter()
-                    .map(|r| (i as u32, outside[r.item as usize]))
-                    .collect(),
-                _ => tree
-                    .query(&points[i])
-                    .within::<SquaredEuclidean<f64>>(radius * radius)
-                    .execute()
-                    .into_iter()
-                    .filter(|r| labels[r.item as usize] != labels[i])
-                    .map(|r| (i as u32, r.item))
-                    .collect(),
-            };
+        .par_chunks(QUERY_BATCH)
+        .flat_map_iter(|batch| {
+            let mut found: Vec<(u32, u32)> = Vec::new();
+            for &i in batch {
+                let i = i as usize;
+                let radius = reach(i);
+                let r2 = radius * radius;
+                match (&small, labels[i] == largest) {
+                    (Some(small), true) => small
+                        .query(&points[i])
+                        .within::<SquaredEuclidean<f64>>(r2)
+                        .unsorted()
+                        .visit(|r| found.push((i as u32, outside[r.item as usize]))),
+                    _ => tree
+                        .query(&points[i])
+                        .within::<SquaredEuclidean<f64>>(r2)
+                        .unsorted()
+                        .visit(|r| {
+                            if labels[r.item as usize] != labels[i] {
+                                found.push((i as u32, r.item));
+                            }
+                        }),
+                }
+            }
             found
         })
         .collect();
@@ -177,13 +182,22 @@ impl<const D: usize> Cells<D> {
     }
 
     fn from_point_keys(point_keys: Vec<(u32, [i64; D])>) -> Self {
-        let mut keys = point_keys.clone();
-        keys.par_sort_unstable();
-        keys.dedup();
-        let point_slot = point_keys
-            .par_iter()
-            .map(|key| keys.binary_search(key).unwrap_or(0) as u32)
+        // The points sorted by cell (ties by index), then one walk numbers the distinct cells:
+        // a sort of the points instead of one binary search per point, each a few cache misses.
+        let mut by_key: Vec<((u32, [i64; D]), u32)> = point_keys
+            .into_iter()
+            .enumerate()
+            .map(|(i, key)| (key, i as u32))
             .collect();
+        by_key.par_sort_unstable();
+        let mut keys: Vec<(u32, [i64; D])> = Vec::new();
+        let mut point_slot = vec![0u32; by_key.len()];
+        for &(key, i) in &by_key {
+            if keys.last() != Some(&key) {
+                keys.push(key);
+            }
+            point_slot[i as usize] = (keys.len() - 1) as u32;
+        }
         Cells { keys, point_slot }
     }
 

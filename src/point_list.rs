@@ -797,15 +797,32 @@ fn extent_cells(points: &[[f64; 2]], spacing: f64) -> f64 {
 }
 
 /// The same distances as the dense raster (without closing), by searching square rings around
-/// each cell in a sorted list of the occupied cells.
+/// each cell in a set of the occupied cells (cells are nonnegative; outside is empty). The set
+/// holds 8 x 8 tiles of cells as bit masks in a hash table, so most of a ring's probes read the
+/// center's own tile: on a long strip of 10^6 points the sorted list searched before cost a cache
+/// miss at each of its 20 levels, for each of a ring's 12 probes.
 fn sparse_half_widths(cells: &[(i64, i64)], scale: f32) -> Vec<f32> {
-    let mut occupied: Vec<(i64, i64)> = cells.iter().map(|&(x, y)| (y, x)).collect();
-    occupied.par_sort_unstable();
-    occupied.dedup();
-    let empty = |x: i64, y: i64| x < 0 || y < 0 || occupied.binary_search(&(y, x)).is_err();
+    let occupied = CellSet::new(cells);
     cells
         .par_iter()
         .map(|&(x, y)| {
+            // The last tile read: most probes fall in it.
+            let mut last: Option<((i64, i64), u64)> = None;
+            let mut empty = |x: i64, y: i64| {
+                if x < 0 || y < 0 {
+                    return true;
+                }
+                let tile = (x >> TILE_SHIFT, y >> TILE_SHIFT);
+                let mask = match last {
+                    Some((t, mask)) if t == tile => mask,
+                    _ => {
+                        let mask = occupied.mask(tile);
+                        last = Some((tile, mask));
+                        mask
+                    }
+                };
+                mask & tile_bit(x, y) == 0
+            };
             let mut best = i64::MAX;
             let mut r = 1i64;
             while r * r < best {
@@ -821,6 +838,68 @@ fn sparse_half_widths(cells: &[(i64, i64)], scale: f32) -> Vec<f32> {
             (best as f64).sqrt() as f32 * scale
         })
         .collect()
+}
+
+/// Tiles of `2^TILE_SHIFT` cells a side: 64 cells, one bit each in a `u64`.
+const TILE_SHIFT: u32 = 3;
+
+/// The bit of a nonnegative cell in its tile's mask.
+fn tile_bit(x: i64, y: i64) -> u64 {
+    let side = 1i64 << TILE_SHIFT;
+    1u64 << (((y & (side - 1)) << TILE_SHIFT) | (x & (side - 1)))
+}
+
+/// The occupied tiles of a set of nonnegative cells and the mask of occupied cells in each: open
+/// addressing with linear probing, at most half full. It only answers "which cells of this tile
+/// are occupied?", so no order of it reaches the output.
+struct CellSet {
+    /// `((tx, ty), mask)`, or [`CellSet::VACANT`].
+    slots: Vec<((i64, i64), u64)>,
+    size_mask: usize,
+}
+
+impl CellSet {
+    const VACANT: (i64, i64) = (i64::MIN, i64::MIN);
+
+    fn new(cells: &[(i64, i64)]) -> Self {
+        let mut tiles: Vec<(i64, i64)> = cells
+            .iter()
+            .map(|&(x, y)| (x >> TILE_SHIFT, y >> TILE_SHIFT))
+            .collect();
+        tiles.par_sort_unstable();
+        tiles.dedup();
+        let size = (2 * tiles.len()).max(16).next_power_of_two();
+        let mut set = CellSet {
+            slots: vec![(Self::VACANT, 0); size],
+            size_mask: size - 1,
+        };
+        for &(x, y) in cells {
+            let tile = (x >> TILE_SHIFT, y >> TILE_SHIFT);
+            let at = set.find(tile);
+            set.slots[at].0 = tile;
+            set.slots[at].1 |= tile_bit(x, y);
+        }
+        set
+    }
+
+    /// The slot holding `tile`, or the vacant slot where it would go.
+    fn find(&self, tile: (i64, i64)) -> usize {
+        // A multiplicative mix of both coordinates; the top bits are the best mixed.
+        let h = (tile.0 as u64)
+            .wrapping_mul(0x9E37_79B9_7F4A_7C15)
+            .rotate_left(31)
+            ^ (tile.1 as u64).wrapping_mul(0xC2B2_AE3D_27D4_EB4F);
+        let mut at = (h.wrapping_mul(0x1656_67B1_9E37_79F9) >> 32) as usize & self.size_mask;
+        while self.slots[at].0 != Self::VACANT && self.slots[at].0 != tile {
+            at = (at + 1) & self.size_mask;
+        }
+        at
+    }
+
+    /// The occupied cells of `tile` as bits ([`tile_bit`]); 0 for a tile with none.
+    fn mask(&self, tile: (i64, i64)) -> u64 {
+        self.slots[self.find(tile)].1
+    }
 }
 
 /// Image-like extent (width, height) covering all points.
@@ -998,5 +1077,31 @@ mod tests {
             .map(|p| ((p[0] - 0.5) as i64, (p[1] - 10.5) as i64))
             .collect();
         assert_eq!(sparse_half_widths(&cells, 1.0), set.half_width);
+    }
+
+    #[test]
+    fn sparse_half_widths_equal_the_dense_raster_on_scattered_points() {
+        // Random points in a band 9 units wide and in a few clumps: cells with empty cells at
+        // every distance, some far inside.
+        let mut state = 0x2545_f491_4f6c_dd1du64;
+        let mut next = || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            (state >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let mut list: Vec<[f64; 2]> = (0..3000)
+            .map(|_| [next() * 300.0, 20.0 + next() * 9.0])
+            .collect();
+        list.extend((0..2000).map(|_| [150.0 + next() * 12.0, 30.0 + next() * 12.0]));
+        let mut params = Params::default();
+        params.front_end.dropout = Some(false);
+        let dense = half_widths(&list, 1.0, &params);
+        let cells: Vec<(i64, i64)> = list
+            .iter()
+            .map(|p| ((p[0] + 0.5).floor() as i64, (p[1] + 0.5).floor() as i64))
+            .collect();
+        assert!(dense.iter().any(|&h| h >= 3.0));
+        assert_eq!(sparse_half_widths(&cells, 1.0), dense);
     }
 }

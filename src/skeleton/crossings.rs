@@ -356,3 +356,157 @@ impl Work {
         }
     }
 }
+
+/// A split crossing's arms are measured from this many stroke widths from their junction (beyond
+/// the skeleton's bend into its Y) ...
+const SPLIT_NEAR: f64 = 1.0;
+
+/// ... to this many (or the arm's end): a stretch short enough to be straight on a loop.
+const SPLIT_FAR: f64 = 3.0;
+
+/// An arm's stretch gives a line when at least this long (px).
+const MIN_SPLIT_LINE_PX: f64 = 2.0;
+
+/// One arm's stretch at a junction: its anchors nearest to and farthest from the junction.
+struct ArmLine {
+    near: [f64; 2],
+    far: [f64; 2],
+}
+
+impl Work {
+    /// Split crossings the method did not see: two degree-3 skeleton junctions `a` and `b`
+    /// joined by an edge (the link) are one crossing when their four arms pair up as two straight
+    /// strokes through the link: for each pair (one arm at `a`, one at `b`), the line through
+    /// the two arms' far anchors (`SPLIT_FAR` widths out) passes within half a stroke width of
+    /// both near anchors (`SPLIT_NEAR` widths out) and lies on the ink, and the two lines meet
+    /// on the ink within half a width of the link. Where two strokes cross at a shallow angle,
+    /// thinning puts the Y's about `(w / 2) / sin(θ / 2)` either side of the crossing (5.7 w at
+    /// 10 degrees), beyond the reach of the method's crossing ([`CROSSING_REACH`]) or where the
+    /// method sees none; a bar between two forks ('>-<') has arms whose lines run apart or off
+    /// its ink. The pair becomes one vertex where the lines meet, as [`Work::merge_crossings`]
+    /// merges.
+    pub(super) fn merge_split_crossings(&mut self) {
+        let mut degree = self.degrees();
+        let mut at = self.incidence();
+        for link in 0..self.edges.len() {
+            let Some(edge) = &self.edges[link] else {
+                continue;
+            };
+            let (a, b) = (edge.from, edge.to);
+            if a == b || degree[a] != 3 || degree[b] != 3 || at[a].len() < 2 || at[b].len() < 2 {
+                continue;
+            }
+            let Some(c) = self.split_crossing(link, a, b, &at) else {
+                continue;
+            };
+            let (group, internal) = ([a, b], [link]);
+            let Some(reach) = self.arm_reach(&c, &group, &internal, &at) else {
+                continue;
+            };
+            self.merge_into_hub(&c, &group, &internal, reach, &mut at, &mut degree);
+            degree[a] = 4;
+        }
+    }
+
+    /// The crossing of the link `link` between the junctions `a` and `b` (see
+    /// [`Work::merge_split_crossings`]), or `None`.
+    fn split_crossing(&self, link: usize, a: usize, b: usize, at: &[Vec<usize>]) -> Option<Vertex> {
+        let arms_a = self.arm_lines(a, link, at)?;
+        let arms_b = self.arm_lines(b, link, at)?;
+        let stroke = arms_a
+            .iter()
+            .chain(&arms_b)
+            .map(|(w, _)| *w)
+            .fold(f64::INFINITY, f64::min);
+        let tolerance = disk_radius(stroke);
+        let straight = |p: &ArmLine, q: &ArmLine| {
+            [p.near, q.near]
+                .iter()
+                .all(|&n| line_dist(n, p.far, q.far) <= tolerance)
+                && self.ink.holds(p.far, q.far)
+        };
+        let pairs = [[(0, 0), (1, 1)], [(0, 1), (1, 0)]];
+        let [(i, j), (k, l)] = *pairs.iter().find(|pair| {
+            pair.iter()
+                .all(|&(i, j)| straight(&arms_a[i].1, &arms_b[j].1))
+        })?;
+        let hub = intersection(
+            arms_a[i].1.far,
+            arms_b[j].1.far,
+            arms_a[k].1.far,
+            arms_b[l].1.far,
+        )?;
+        let link_points = &self.edges[link].as_ref()?.points;
+        let near_link = link_points
+            .iter()
+            .map(|&p| dist(p, hub))
+            .fold(f64::INFINITY, f64::min);
+        if near_link > tolerance || !self.ink.at(hub) {
+            return None;
+        }
+        Some(Vertex {
+            pos: hub,
+            degree: 4,
+            width: stroke,
+        })
+    }
+
+    /// The two arms at the degree-3 junction `j` other than `link`: each its median width and
+    /// line; `None` when there are not two or one is too short for a line.
+    fn arm_lines(&self, j: usize, link: usize, at: &[Vec<usize>]) -> Option<Vec<(f64, ArmLine)>> {
+        let jp = self.vertices[j].pos;
+        let mut arms = Vec::new();
+        for &e in at[j].iter().filter(|&&e| e != link) {
+            let edge = self.edges[e].as_ref()?;
+            let w = median(&edge.widths);
+            for (here, forward) in [(edge.from == j, true), (edge.to == j, false)] {
+                if !here {
+                    continue;
+                }
+                let outwards: Vec<[f64; 2]> = if forward {
+                    edge.points.clone()
+                } else {
+                    edge.points.iter().rev().copied().collect()
+                };
+                let at_distance = |d: f64| {
+                    outwards
+                        .iter()
+                        .find(|&&p| dist(p, jp) >= d)
+                        .copied()
+                        .unwrap_or(outwards[outwards.len() - 1])
+                };
+                let (near, far) = (at_distance(SPLIT_NEAR * w), at_distance(SPLIT_FAR * w));
+                if dist(near, far) < MIN_SPLIT_LINE_PX.max(w) {
+                    return None;
+                }
+                arms.push((w, ArmLine { near, far }));
+            }
+        }
+        (arms.len() == 2).then_some(arms)
+    }
+}
+
+/// The distance from `p` to the line through `a` and `b` (infinite when they coincide).
+fn line_dist(p: [f64; 2], a: [f64; 2], b: [f64; 2]) -> f64 {
+    let d = [b[0] - a[0], b[1] - a[1]];
+    let n = d[0].hypot(d[1]);
+    if n == 0.0 {
+        return f64::INFINITY;
+    }
+    ((p[0] - a[0]) * d[1] - (p[1] - a[1]) * d[0]).abs() / n
+}
+
+/// Where the line through `a0`, `a1` meets the line through `b0`, `b1`; `None` when parallel.
+fn intersection(a0: [f64; 2], a1: [f64; 2], b0: [f64; 2], b1: [f64; 2]) -> Option<[f64; 2]> {
+    let (da, db) = (
+        [a1[0] - a0[0], a1[1] - a0[1]],
+        [b1[0] - b0[0], b1[1] - b0[1]],
+    );
+    let cross = da[0] * db[1] - da[1] * db[0];
+    if cross.abs() < 1e-9 * (da[0].hypot(da[1]) * db[0].hypot(db[1])).max(1e-12) {
+        return None;
+    }
+    let (dx, dy) = (b0[0] - a0[0], b0[1] - a0[1]);
+    let s = (dx * db[1] - dy * db[0]) / cross;
+    Some([a0[0] + s * da[0], a0[1] + s * da[1]])
+}

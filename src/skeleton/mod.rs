@@ -7,7 +7,9 @@
 //! - **crossings** ([`crossings`]): skeleton junctions around one of the method's crossings
 //!   (degree >= 4), joined by short skeleton edges that enclose no hole and leaving it by as many
 //!   arms as the crossing has, are one vertex at the method's crossing (thinning splits an X
-//!   into two Y's);
+//!   into two Y's); two Y's joined by an edge whose four arms pair up as two straight strokes on
+//!   the ink are one crossing too, where the method saw none or its crossing is out of reach
+//!   (strokes crossing at a shallow angle);
 //! - **spurs** ([`spurs`]): a terminal skeleton branch is kept when its ink reaches beyond the
 //!   junction's own disk by more than a boundary bump ([`spurs::spur_reach`]);
 //! - **corners** ([`corners`]): where the method sees no junction, the Y that thinning makes of
@@ -171,7 +173,7 @@ fn skeleton_graph(points: &PointSet, grid: &Grid) -> (StrokeGraph, Ink) {
 }
 
 /// The skeleton's graph with the method's decisions, in order: spurs, thinning's split
-/// junctions, crossings, spurs the merged crossings leave, corners, dots, ends, junctions, the
+/// junctions, crossings, spurs the merged crossings leave, split crossings, corners, dots, ends, junctions, the
 /// method's lines, and last every edge fitted to its ink.
 fn reconcile(
     mut work: Work,
@@ -185,6 +187,7 @@ fn reconcile(
     work.contract_short_links();
     work.merge_crossings(method);
     work.prune_spurs(by_ink);
+    work.merge_split_crossings();
     // A dissolved corner lengthens its neighbours' legs (the corners of a small `w` share them):
     // repeated until none is left.
     while work.dissolve_corners() {
@@ -341,6 +344,50 @@ mod tests {
             directions: crate::geometry::tangents(&[a, b, c]),
         }];
         assert_eq!(validate(&graph), Ok(()));
+    }
+
+    /// Two strokes 5 px wide crossing at `angle` degrees at (100, 50), or, with `bar`, two forks
+    /// of that angle joined by a bar `bar` px long ('>-<').
+    fn shallow(angle: f64, bar: f64) -> StrokeGraph {
+        let (c, half, w) = ([100.0, 50.0], angle.to_radians() / 2.0, 5.0);
+        let (dx, dy) = (80.0 * half.cos(), 80.0 * half.sin());
+        let (l, r) = ([c[0] - bar / 2.0, c[1]], [c[0] + bar / 2.0, c[1]]);
+        let strokes = [
+            Stroke::new(
+                vec![[l[0] - dx, c[1] - dy], l, r, [r[0] + dx, c[1] + dy]],
+                w,
+            ),
+            Stroke::new(
+                vec![[l[0] - dx, c[1] + dy], l, r, [r[0] + dx, c[1] - dy]],
+                w,
+            ),
+        ];
+        traced(&strokes, (200.0 + bar) as u32, 100).1
+    }
+
+    fn degrees(graph: &StrokeGraph) -> Vec<usize> {
+        graph
+            .junctions()
+            .map(|v| graph.vertices[v].degree)
+            .collect()
+    }
+
+    #[test]
+    fn a_shallow_crossing_is_one_vertex_and_forks_on_a_bar_stay_two() {
+        // At 12 degrees thinning's Y's lie about 4.8 widths either side of the crossing.
+        for angle in [12.0, 20.0] {
+            let x = shallow(angle, 0.0);
+            assert_eq!(degrees(&x), vec![4], "{angle} degrees");
+            let hub = x.junctions().next().expect("a crossing");
+            let at = x.vertices[hub].pos;
+            // Along the strokes a shallow crossing is known to a pixel over sin(angle / 2): within
+            // a width.
+            assert!(dist(at, [100.0, 50.0]) <= 5.0, "the crossing is at {at:?}");
+            // A bar between the forks long enough that each pair of arms' lines lie two widths
+            // apart (a shorter bar is an X to the ink's eye: its arms' lines lie within it).
+            let bar = 2.0 * 5.0 / (angle / 2.0f64).to_radians().sin();
+            assert_eq!(degrees(&shallow(angle, bar)), vec![3, 3], "{angle} degrees");
+        }
     }
 
     #[test]

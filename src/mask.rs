@@ -591,6 +591,17 @@ pub(crate) fn tiny_hole_pixels(ink: &[bool], width: usize, height: usize) -> usi
 /// The size of the background component of pixel `start` when it has at most 3 pixels, does not
 /// touch the border, and `start` is its first pixel in raster order (so each is counted once).
 pub(crate) fn tiny_hole(ink: &[bool], width: usize, height: usize, start: usize) -> Option<usize> {
+    tiny_hole_pixels_at(ink, width, height, start).map(|(_, len)| len)
+}
+
+/// The pixels of [`tiny_hole`]'s component, `start` first (the first `len` of the array): what
+/// filling the speck sets.
+pub(crate) fn tiny_hole_pixels_at(
+    ink: &[bool],
+    width: usize,
+    height: usize,
+    start: usize,
+) -> Option<([usize; 3], usize)> {
     let mut component = [start; 3];
     let mut len = 1;
     let mut next = 0;
@@ -612,7 +623,7 @@ pub(crate) fn tiny_hole(ink: &[bool], width: usize, height: usize, start: usize)
             len += 1;
         }
     }
-    (component[..len].iter().min() == Some(&start)).then_some(len)
+    (component[..len].iter().min() == Some(&start)).then_some((component, len))
 }
 
 #[cfg(test)]

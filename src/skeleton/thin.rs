@@ -268,19 +268,14 @@ pub(super) fn fill_specks(ink: &mut [bool], w: usize, h: usize) {
     }
     let mut specks = Vec::new();
     for i in w..ink.len() - w {
-        if !ink[i] && ink[i - 1] && crate::mask::tiny_hole(ink, w, h, i).is_some() {
-            specks.push(i);
+        if !ink[i] && ink[i - 1] {
+            if let Some((pixels, len)) = crate::mask::tiny_hole_pixels_at(ink, w, h, i) {
+                specks.extend_from_slice(&pixels[..len]);
+            }
         }
     }
-    for start in specks {
-        let mut stack = vec![start];
-        while let Some(p) = stack.pop() {
-            if ink[p] {
-                continue;
-            }
-            ink[p] = true;
-            stack.extend([p - 1, p + 1, p - w, p + w]);
-        }
+    for p in specks {
+        ink[p] = true;
     }
 }
 

@@ -6,7 +6,7 @@
 use kiddo::{ImmutableKdTree, SquaredEuclidean};
 use petgraph::unionfind::UnionFind;
 
-use crate::geometry::dist;
+use crate::geometry::{dist, line_intersection, unit};
 use crate::stroke_graph::{Edge, StrokeGraph, Vertex};
 
 use super::disk_radius;
@@ -430,12 +430,15 @@ impl Work {
             pair.iter()
                 .all(|&(i, j)| straight(&arms_a[i].1, &arms_b[j].1))
         })?;
-        let hub = intersection(
-            arms_a[i].1.far,
-            arms_b[j].1.far,
-            arms_a[k].1.far,
-            arms_b[l].1.far,
-        )?;
+        // Where the two strokes' lines meet (`None` when parallel).
+        let line = |p: &ArmLine, q: &ArmLine| {
+            unit([q.far[0] - p.far[0], q.far[1] - p.far[1]]).map(|d| (p.far, d))
+        };
+        let lines = [
+            line(&arms_a[i].1, &arms_b[j].1)?,
+            line(&arms_a[k].1, &arms_b[l].1)?,
+        ];
+        let hub = line_intersection(&lines, 0.0)?;
         let link_points = &self.edges[link].as_ref()?.points;
         let near_link = link_points
             .iter()
@@ -494,19 +497,4 @@ fn line_dist(p: [f64; 2], a: [f64; 2], b: [f64; 2]) -> f64 {
         return f64::INFINITY;
     }
     ((p[0] - a[0]) * d[1] - (p[1] - a[1]) * d[0]).abs() / n
-}
-
-/// Where the line through `a0`, `a1` meets the line through `b0`, `b1`; `None` when parallel.
-fn intersection(a0: [f64; 2], a1: [f64; 2], b0: [f64; 2], b1: [f64; 2]) -> Option<[f64; 2]> {
-    let (da, db) = (
-        [a1[0] - a0[0], a1[1] - a0[1]],
-        [b1[0] - b0[0], b1[1] - b0[1]],
-    );
-    let cross = da[0] * db[1] - da[1] * db[0];
-    if cross.abs() < 1e-9 * (da[0].hypot(da[1]) * db[0].hypot(db[1])).max(1e-12) {
-        return None;
-    }
-    let (dx, dy) = (b0[0] - a0[0], b0[1] - a0[1]);
-    let s = (dx * db[1] - dy * db[0]) / cross;
-    Some([a0[0] + s * da[0], a0[1] + s * da[1]])
 }

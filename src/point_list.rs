@@ -5,7 +5,7 @@
 
 mod ply;
 
-use std::collections::HashSet;
+use std::collections::{HashMap, HashSet};
 
 use kiddo::ImmutableKdTree;
 use petgraph::unionfind::UnionFind;
@@ -849,56 +849,23 @@ fn tile_bit(x: i64, y: i64) -> u64 {
     1u64 << (((y & (side - 1)) << TILE_SHIFT) | (x & (side - 1)))
 }
 
-/// The occupied tiles of a set of nonnegative cells and the mask of occupied cells in each: open
-/// addressing with linear probing, at most half full. It only answers "which cells of this tile
-/// are occupied?", so no order of it reaches the output.
-struct CellSet {
-    /// `((tx, ty), mask)`, or [`CellSet::VACANT`].
-    slots: Vec<((i64, i64), u64)>,
-    size_mask: usize,
-}
+/// The occupied cells of a set of nonnegative cells, as the mask ([`tile_bit`]) of each tile
+/// that holds any, keyed by the tile. It only answers "which cells of this tile are occupied?",
+/// so no order of it reaches the output.
+struct CellSet(HashMap<(i64, i64), u64, foldhash::fast::FixedState>);
 
 impl CellSet {
-    const VACANT: (i64, i64) = (i64::MIN, i64::MIN);
-
     fn new(cells: &[(i64, i64)]) -> Self {
-        let mut tiles: Vec<(i64, i64)> = cells
-            .iter()
-            .map(|&(x, y)| (x >> TILE_SHIFT, y >> TILE_SHIFT))
-            .collect();
-        tiles.par_sort_unstable();
-        tiles.dedup();
-        let size = (2 * tiles.len()).max(16).next_power_of_two();
-        let mut set = CellSet {
-            slots: vec![(Self::VACANT, 0); size],
-            size_mask: size - 1,
-        };
+        let mut tiles = HashMap::with_hasher(foldhash::fast::FixedState::default());
         for &(x, y) in cells {
-            let tile = (x >> TILE_SHIFT, y >> TILE_SHIFT);
-            let at = set.find(tile);
-            set.slots[at].0 = tile;
-            set.slots[at].1 |= tile_bit(x, y);
+            *tiles.entry((x >> TILE_SHIFT, y >> TILE_SHIFT)).or_insert(0) |= tile_bit(x, y);
         }
-        set
-    }
-
-    /// The slot holding `tile`, or the vacant slot where it would go.
-    fn find(&self, tile: (i64, i64)) -> usize {
-        // A multiplicative mix of both coordinates; the top bits are the best mixed.
-        let h = (tile.0 as u64)
-            .wrapping_mul(0x9E37_79B9_7F4A_7C15)
-            .rotate_left(31)
-            ^ (tile.1 as u64).wrapping_mul(0xC2B2_AE3D_27D4_EB4F);
-        let mut at = (h.wrapping_mul(0x1656_67B1_9E37_79F9) >> 32) as usize & self.size_mask;
-        while self.slots[at].0 != Self::VACANT && self.slots[at].0 != tile {
-            at = (at + 1) & self.size_mask;
-        }
-        at
+        CellSet(tiles)
     }
 
     /// The occupied cells of `tile` as bits ([`tile_bit`]); 0 for a tile with none.
     fn mask(&self, tile: (i64, i64)) -> u64 {
-        self.slots[self.find(tile)].1
+        self.0.get(&tile).copied().unwrap_or(0)
     }
 }
 

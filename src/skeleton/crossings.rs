@@ -1,6 +1,8 @@
 //! Crossings: the method's crossings decide which skeleton junctions are one vertex
 //! ([`Work::merge_crossings`]); junctions closer than the ink can show apart are one
-//! ([`Work::contract_short_links`]); arms run straight into their junction
+//! ([`Work::contract_short_links`]); crossings the method did not see, of two strokes
+//! ([`Work::merge_split_crossings`]) or more ([`Work::merge_split_stars`]), are found from the
+//! straightness of their arms; arms run straight into their junction
 //! ([`Work::straighten_junctions`]). docs/design.md, "Skeleton-carried geometry".
 
 use kiddo::{ImmutableKdTree, SquaredEuclidean};
@@ -457,36 +459,223 @@ impl Work {
     /// The two arms at the degree-3 junction `j` other than `link`: each its median width and
     /// line; `None` when there are not two or one is too short for a line.
     fn arm_lines(&self, j: usize, link: usize, at: &[Vec<usize>]) -> Option<Vec<(f64, ArmLine)>> {
-        let jp = self.vertices[j].pos;
         let mut arms = Vec::new();
         for &e in at[j].iter().filter(|&&e| e != link) {
             let edge = self.edges[e].as_ref()?;
-            let w = median(&edge.widths);
             for (here, forward) in [(edge.from == j, true), (edge.to == j, false)] {
-                if !here {
-                    continue;
+                if here {
+                    arms.push(self.arm_line(j, edge, forward)?);
                 }
-                let outwards: Vec<[f64; 2]> = if forward {
-                    edge.points.clone()
-                } else {
-                    edge.points.iter().rev().copied().collect()
-                };
-                let at_distance = |d: f64| {
-                    outwards
-                        .iter()
-                        .find(|&&p| dist(p, jp) >= d)
-                        .copied()
-                        .unwrap_or(outwards[outwards.len() - 1])
-                };
-                let (near, far) = (at_distance(SPLIT_NEAR * w), at_distance(SPLIT_FAR * w));
-                if dist(near, far) < MIN_SPLIT_LINE_PX.max(w) {
-                    return None;
-                }
-                arms.push((w, ArmLine { near, far }));
             }
         }
         (arms.len() == 2).then_some(arms)
     }
+
+    /// The stretch of `edge` leaving the junction `j` (from its start when `forward`) from
+    /// [`SPLIT_NEAR`] to [`SPLIT_FAR`] of its median width, with that width; `None` when too
+    /// short for a line.
+    fn arm_line(&self, j: usize, edge: &Edge, forward: bool) -> Option<(f64, ArmLine)> {
+        let jp = self.vertices[j].pos;
+        let w = median(&edge.widths);
+        let outwards: Vec<[f64; 2]> = if forward {
+            edge.points.clone()
+        } else {
+            edge.points.iter().rev().copied().collect()
+        };
+        // The first point of the arm `d` from the junction, on the segment that reaches that
+        // far (an arm an earlier merge joined straight to its junction has long segments).
+        let at_distance = |d: f64| {
+            let Some(k) = outwards.iter().position(|&p| dist(p, jp) >= d) else {
+                return outwards[outwards.len() - 1];
+            };
+            if k == 0 {
+                return outwards[0];
+            }
+            let (a, b) = (outwards[k - 1], outwards[k]);
+            let (da, db) = (dist(a, jp), dist(b, jp));
+            let t = if db > da { (d - da) / (db - da) } else { 1.0 };
+            [a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1])]
+        };
+        let (near, far) = (at_distance(SPLIT_NEAR * w), at_distance(SPLIT_FAR * w));
+        if dist(near, far) < MIN_SPLIT_LINE_PX.max(w) {
+            return None;
+        }
+        Some((w, ArmLine { near, far }))
+    }
+
+    /// Split stars: three or more straight strokes crossing so near one point that their ink
+    /// leaves no hole between the crossings (an asterisk, the centre of a character like 米), which
+    /// thinning splits into a small tree of junctions. Skeleton junctions linked by edges at most
+    /// [`STAR_LINK`] widths long form a group; a group of three or more whose links form a tree
+    /// (a cycle among them goes round a hole: separate crossings) is one vertex when its arms,
+    /// at most [`MAX_STAR_ARMS`], pair up as straight strokes through it (each pair's two arms
+    /// at different junctions, the line through their far anchors within half a stroke width of
+    /// both near anchors and on the ink, as [`Work::merge_split_crossings`] pairs them), and the
+    /// point nearest to all those lines lies on the ink, within half a width of a link and of
+    /// every stroke's line: a point all the strokes' ink covers, which is what leaves no hole.
+    pub(super) fn merge_split_stars(&mut self) {
+        let mut degree = self.degrees();
+        let mut at = self.incidence();
+        let n = self.vertices.len();
+        let mut sets = UnionFind::<usize>::new(n);
+        let mut links = Vec::new();
+        for (e, edge) in self.edges.iter().enumerate() {
+            let Some(edge) = edge else { continue };
+            let (a, b) = (edge.from, edge.to);
+            if a == b || degree[a] < 3 || degree[b] < 3 {
+                continue;
+            }
+            if edge.length() <= STAR_LINK * median(&edge.widths) {
+                sets.union(a, b);
+                links.push(e);
+            }
+        }
+        let mut groups = vec![Vec::new(); n];
+        for v in 0..n {
+            if self.alive[v] && degree[v] >= 3 {
+                groups[sets.find(v)].push(v);
+            }
+        }
+        for group in groups.into_iter().filter(|g| g.len() >= 2) {
+            let internal: Vec<usize> = links
+                .iter()
+                .copied()
+                .filter(|&e| {
+                    self.edges[e]
+                        .as_ref()
+                        .is_some_and(|edge| group.contains(&edge.from))
+                })
+                .collect();
+            if internal.len() + 1 != group.len() {
+                continue;
+            }
+            let Some(c) = self.split_star(&group, &internal, &at) else {
+                continue;
+            };
+            let Some(reach) = self.arm_reach(&c, &group, &internal, &at) else {
+                continue;
+            };
+            self.merge_into_hub(&c, &group, &internal, reach, &mut at, &mut degree);
+            degree[group[0]] = c.degree;
+        }
+    }
+
+    /// The star of the junctions `group` linked by `internal` (see
+    /// [`Work::merge_split_stars`]), or `None`.
+    fn split_star(&self, group: &[usize], internal: &[usize], at: &[Vec<usize>]) -> Option<Vertex> {
+        // Every arm leaving the group: its junction, width and line.
+        let mut arms = Vec::new();
+        for &j in group {
+            for &e in at[j].iter().filter(|e| !internal.contains(e)) {
+                let edge = self.edges[e].as_ref()?;
+                if group.contains(&edge.from) && group.contains(&edge.to) {
+                    // A longer edge back into the group: a loop, not a star's arm.
+                    return None;
+                }
+                let (w, line) = self.arm_line(j, edge, edge.from == j)?;
+                arms.push((j, w, line));
+            }
+        }
+        if arms.len() % 2 != 0 || arms.len() < 6 || arms.len() > MAX_STAR_ARMS {
+            return None;
+        }
+        let stroke = arms.iter().map(|a| a.1).fold(f64::INFINITY, f64::min);
+        let tolerance = disk_radius(stroke);
+        // How far a pair's line misses its near anchors (`None`: not one straight stroke).
+        let miss = |p: &(usize, f64, ArmLine), q: &(usize, f64, ArmLine)| {
+            if !self.ink.holds(p.2.far, q.2.far) {
+                return None;
+            }
+            let worst = [p.2.near, q.2.near]
+                .iter()
+                .map(|&n| line_dist(n, p.2.far, q.2.far))
+                .fold(0.0f64, f64::max);
+            (worst <= tolerance).then_some(worst)
+        };
+        let mut miss_of = vec![vec![None; arms.len()]; arms.len()];
+        for i in 0..arms.len() {
+            for j in i + 1..arms.len() {
+                miss_of[i][j] = miss(&arms[i], &arms[j]);
+            }
+        }
+        let pairs = best_pairing(&miss_of)?;
+        let lines = pairs
+            .iter()
+            .map(|&(i, j)| {
+                let (p, q) = (&arms[i].2, &arms[j].2);
+                unit([q.far[0] - p.far[0], q.far[1] - p.far[1]]).map(|d| (p.far, d))
+            })
+            .collect::<Option<Vec<_>>>()?;
+        let hub = line_intersection(&lines, 0.0)?;
+        // The hub lies among the junctions: none farther from it than the longest link.
+        let longest = internal
+            .iter()
+            .filter_map(|&e| self.edges[e].as_ref())
+            .map(Edge::length)
+            .fold(0.0f64, f64::max);
+        let among = group
+            .iter()
+            .all(|&j| dist(self.vertices[j].pos, hub) <= longest + tolerance);
+        let covered = lines
+            .iter()
+            .all(|&(p, d)| line_dist(hub, p, [p[0] + d[0], p[1] + d[1]]) <= tolerance);
+        if !among || !covered || !self.ink.at(hub) {
+            return None;
+        }
+        Some(Vertex {
+            pos: hub,
+            degree: arms.len(),
+            width: stroke,
+        })
+    }
+}
+
+/// A split star's junctions are linked by edges at most this many widths long: three strokes
+/// whose ink leaves no hole between their crossings cross at most `sqrt(3)` widths apart.
+const STAR_LINK: f64 = 2.0;
+
+/// The most arms a split star is looked for with (every pairing of 8 arms: 105).
+const MAX_STAR_ARMS: usize = 8;
+
+/// The pairing of all arms (`miss[i][j]` for `i < j`: how far the pair misses a straight
+/// stroke, `None` when it is none) with the least summed miss; `None` when there is none.
+fn best_pairing(miss: &[Vec<Option<f64>>]) -> Option<Vec<(usize, usize)>> {
+    fn search(
+        miss: &[Vec<Option<f64>>],
+        used: &mut [bool],
+        pairs: &mut Vec<(usize, usize)>,
+        sum: f64,
+        best: &mut Option<(f64, Vec<(usize, usize)>)>,
+    ) {
+        let Some(i) = used.iter().position(|&u| !u) else {
+            if best.as_ref().is_none_or(|(s, _)| sum < *s) {
+                *best = Some((sum, pairs.clone()));
+            }
+            return;
+        };
+        used[i] = true;
+        for j in i + 1..used.len() {
+            if used[j] {
+                continue;
+            }
+            let Some(m) = miss[i][j] else { continue };
+            used[j] = true;
+            pairs.push((i, j));
+            search(miss, used, pairs, sum + m, best);
+            pairs.pop();
+            used[j] = false;
+        }
+        used[i] = false;
+    }
+    let mut best = None;
+    search(
+        miss,
+        &mut vec![false; miss.len()],
+        &mut Vec::new(),
+        0.0,
+        &mut best,
+    );
+    best.map(|(_, pairs)| pairs)
 }
 
 /// The distance from `p` to the line through `a` and `b` (infinite when they coincide).

@@ -173,7 +173,7 @@ fn skeleton_graph(points: &PointSet, grid: &Grid) -> (StrokeGraph, Ink) {
 }
 
 /// The skeleton's graph with the method's decisions, in order: spurs, thinning's split
-/// junctions, crossings, spurs the merged crossings leave, split crossings, corners, dots, ends, junctions, the
+/// junctions, crossings, spurs the merged crossings leave, split crossings and stars, corners, dots, ends, junctions, the
 /// method's lines, and last every edge fitted to its ink.
 fn reconcile(
     mut work: Work,
@@ -188,6 +188,7 @@ fn reconcile(
     work.merge_crossings(method);
     work.prune_spurs(by_ink);
     work.merge_split_crossings();
+    work.merge_split_stars();
     // A dissolved corner lengthens its neighbours' legs (the corners of a small `w` share them):
     // repeated until none is left.
     while work.dissolve_corners() {
@@ -388,6 +389,43 @@ mod tests {
             let bar = 2.0 * 5.0 / (angle / 2.0f64).to_radians().sin();
             assert_eq!(degrees(&shallow(angle, bar)), vec![3, 3], "{angle} degrees");
         }
+    }
+
+    /// Three strokes `w` px wide at 0, 60 and 120 degrees (plus 10), each passing `offset` px
+    /// from (100, 100), on the sides that make them bound a triangle around it.
+    fn asterisk(w: f64, offset: f64) -> StrokeGraph {
+        let strokes: Vec<Stroke> = [(10.0f64, 1.0), (70.0, -1.0), (130.0, 1.0)]
+            .iter()
+            .map(|&(a, side)| {
+                let d = [a.to_radians().cos(), a.to_radians().sin()];
+                let p = [100.0 - d[1] * side * offset, 100.0 + d[0] * side * offset];
+                Stroke::new(
+                    vec![
+                        [p[0] - 70.0 * d[0], p[1] - 70.0 * d[1]],
+                        [p[0] + 70.0 * d[0], p[1] + 70.0 * d[1]],
+                    ],
+                    w,
+                )
+            })
+            .collect();
+        traced(&strokes, 200, 200).1
+    }
+
+    #[test]
+    fn strokes_whose_ink_covers_one_point_are_one_vertex_and_a_hole_keeps_three() {
+        // Each line half a width from the centre or nearer: all three strokes' ink covers it and
+        // there is no hole among the crossings, whatever the thinning makes of the blob.
+        for (w, offset) in [(8.0, 2.0), (8.0, 4.0), (4.0, 1.0)] {
+            let star = asterisk(w, offset);
+            assert_eq!(degrees(&star), vec![6], "w {w}, offset {offset}");
+            let hub = star.junctions().next().expect("a star");
+            let at = star.vertices[hub].pos;
+            assert!(dist(at, [100.0, 100.0]) <= w / 2.0, "the star is at {at:?}");
+        }
+        // Each line a width from the centre: a triangular hole, three crossings round a cycle.
+        let triangle = asterisk(8.0, 8.0);
+        assert_eq!(degrees(&triangle), vec![4, 4, 4]);
+        assert_eq!(triangle.cycles(), 1);
     }
 
     #[test]

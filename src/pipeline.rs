@@ -504,7 +504,7 @@ fn trace_chunks(
     use rayon::prelude::*;
     type Refined = (
         usize,
-        PointSet,
+        (PointSet, raster::Aside),
         NodeGraph,
         Timings,
         Option<(Samples, NodeGraph)>,
@@ -521,26 +521,23 @@ fn trace_chunks(
                 ..Timings::default()
             };
             let (refined, kept) = refine_stages(&points, params, &mut timings, recording);
-            // The pixel index is the bulk of a chunk's memory; the chunks wait for the others
-            // without it, so the next chunk's index reuses the same memory.
-            if let Some(grid) = &mut points.grid {
-                grid.release();
-            }
-            Ok((c, points, refined, timings, kept))
+            // The points, their pixel index and neighbour lists are the bulk of a chunk's
+            // memory; the chunks wait for the others without them, so the next chunk's reuse
+            // the same memory.
+            let aside = raster::set_aside(&mut points);
+            Ok((c, (points, aside), refined, timings, kept))
         })
         .collect::<Result<_>>()?;
-    let Some((_, first, ..)) = refined.first() else {
+    let Some((_, (first, _), ..)) = refined.first() else {
         return Ok(Traced::join(Vec::new()));
     };
     let graphs: Vec<&NodeGraph> = refined.iter().map(|(_, _, graph, ..)| graph).collect();
     let h = fit::node_spacing(&graphs, first, params);
     let mut parts: Vec<(usize, Traced)> = refined
         .into_par_iter()
-        .map(|(c, mut points, refined, mut timings, kept)| {
+        .map(|(c, (mut points, aside), refined, mut timings, kept)| {
             let clock = Instant::now();
-            if let Some(grid) = &mut points.grid {
-                grid.rebuild(&points.points);
-            }
+            raster::restore(&mut points, aside);
             let graph = fit::fit_with_spacing(&refined, &points, params, h);
             timings.fit = clock.elapsed();
             (c, finish_one(graph, points, refined, kept, params, timings))

@@ -286,31 +286,11 @@ pub(super) fn build_from_runs(
         points.extend((run.x0..run.x1).map(|x| [x as f64 + 0.5, row]));
     }
 
-    // The 8-neighbour lists, in raster order of the neighbours (so sorted by point index).
-    let mut offsets = Vec::with_capacity(count + 1);
-    offsets.push(0u32);
-    let mut neighbors = Vec::new();
-    for run in runs {
+    let pixels = runs.iter().flat_map(|run| {
         let (y, a, b) = local(run);
-        for x in a..b {
-            for_each_in_window(&index, width, height, 1, x, y, |j| {
-                if j != Grid::NONE {
-                    neighbors.push(j);
-                }
-            });
-            // The CSR arrays index with u32 (`PointSet`).
-            if neighbors.len() > u32::MAX as usize {
-                return Err(Error::Limit {
-                    what: "neighbour pairs",
-                    actual: neighbors.len() as u64,
-                    limit: u32::MAX as u64,
-                    field: "limits.max_points",
-                });
-            }
-            offsets.push(neighbors.len() as u32);
-        }
-    }
-    neighbors.shrink_to_fit();
+        (a..b).map(move |x| (x, y))
+    });
+    let (offsets, neighbors) = eight_neighbours(&index, (width, height), count, pixels)?;
 
     // Half-width = distance to the nearest background pixel center (`squared_distance_rows`):
     // the column pass as the length of each pixel's column of ink down to it and up to it
@@ -370,6 +350,122 @@ pub(super) fn build_from_runs(
             y0: y0 as i64,
         }),
     })
+}
+
+/// The 8-neighbour lists in CSR form of the `count` ink pixels `pixels` (window coordinates, in
+/// point order) of a window whose pixel index is `index`: each list in raster order of the
+/// neighbours (so sorted by point index).
+fn eight_neighbours(
+    index: &[u32],
+    (width, height): (usize, usize),
+    count: usize,
+    pixels: impl Iterator<Item = (usize, usize)>,
+) -> Result<(Vec<u32>, Vec<u32>)> {
+    let mut offsets = Vec::with_capacity(count + 1);
+    offsets.push(0u32);
+    let mut neighbors = Vec::new();
+    for (x, y) in pixels {
+        for_each_in_window(index, width, height, 1, x, y, |j| {
+            if j != Grid::NONE {
+                neighbors.push(j);
+            }
+        });
+        // The CSR arrays index with u32 (`PointSet`).
+        if neighbors.len() > u32::MAX as usize {
+            return Err(Error::Limit {
+                what: "neighbour pairs",
+                actual: neighbors.len() as u64,
+                limit: u32::MAX as u64,
+                field: "limits.max_points",
+            });
+        }
+        offsets.push(neighbors.len() as u32);
+    }
+    neighbors.shrink_to_fit();
+    Ok((offsets, neighbors))
+}
+
+/// What [`set_aside`] keeps of a waiting point set's pixels: their runs, in point order (each
+/// about a sixth of the memory of its points on a page of text).
+#[derive(Debug, Default)]
+pub(crate) struct Aside {
+    runs: Vec<Run>,
+}
+
+/// Frees what a point set can rebuild while it waits between stages (a chunk between its
+/// refinement and its fit, ARCHITECTURE.md, "Large inputs"): the pixel index, and for pixels
+/// outside dropout mode the points themselves (kept as their runs) and the 8-neighbour lists,
+/// which are read off the index. All chunks wait at once: this is most of their memory.
+/// [`restore`] makes them again, the same.
+pub(crate) fn set_aside(points: &mut PointSet) -> Aside {
+    let Some(grid) = &mut points.grid else {
+        return Aside::default();
+    };
+    grid.release();
+    if points.dropout {
+        return Aside::default();
+    }
+    // Pixel centers in raster order (`PointSet::validate`), so the runs give them back exactly;
+    // anything else keeps its points.
+    let mut runs: Vec<Run> = Vec::new();
+    for p in &points.points {
+        let (x, y) = (p[0] - 0.5, p[1] - 0.5);
+        if !(x >= 0.0 && y >= 0.0 && x < u32::MAX as f64 && y < u32::MAX as f64)
+            || x.fract() != 0.0
+            || y.fract() != 0.0
+        {
+            return Aside::default();
+        }
+        let (x, y) = (x as u32, y as u32);
+        match runs.last_mut() {
+            Some(run) if run.y == y && run.x1 == x => run.x1 += 1,
+            _ => runs.push(Run {
+                y,
+                x0: x,
+                x1: x + 1,
+            }),
+        }
+    }
+    points.points = Vec::new();
+    points.offsets = Vec::new();
+    points.neighbors = Vec::new();
+    Aside { runs }
+}
+
+/// Rebuilds what [`set_aside`] freed: the points from their runs, the pixel index, then the
+/// 8-neighbour lists from it in the order [`build_from_runs`] makes them.
+pub(crate) fn restore(points: &mut PointSet, aside: Aside) {
+    if !aside.runs.is_empty() {
+        points.points = Vec::with_capacity(points.half_width.len());
+        for run in &aside.runs {
+            let row = run.y as f64 + 0.5;
+            points
+                .points
+                .extend((run.x0..run.x1).map(|x| [x as f64 + 0.5, row]));
+        }
+    }
+    let Some(grid) = &mut points.grid else {
+        return;
+    };
+    grid.rebuild(&points.points);
+    let Some(grid) = &points.grid else {
+        return;
+    };
+    if points.dropout || points.offsets.len() == points.len() + 1 {
+        return;
+    }
+    let (x0, y0) = (grid.x0, grid.y0);
+    // Pixel centers of the window: truncating them is their floor.
+    let pixels = points
+        .points
+        .iter()
+        .map(|p| ((p[0] as i64 - x0) as usize, (p[1] as i64 - y0) as usize));
+    let size = (grid.width as usize, grid.height as usize);
+    // The lists were this long before (the `u32` limit was checked when they were first made).
+    if let Ok((offsets, neighbors)) = eight_neighbours(&grid.index, size, points.len(), pixels) {
+        points.offsets = offsets;
+        points.neighbors = neighbors;
+    }
 }
 
 /// Refuses more ink pixels than `params.front_end.limits.max_points` (or than `u32` point indices
@@ -758,6 +854,34 @@ mod tests {
                 (e.width, e.height, e.x0, e.y0)
             );
             assert_eq!(g.index, e.index);
+        }
+    }
+
+    /// A waiting chunk frees its index and (outside dropout mode) its points and neighbour lists;
+    /// all come back the same, in a window offset from the image's corner.
+    #[test]
+    fn set_aside_and_restored_is_the_same_point_set() {
+        let mut binary = horizontal_bar(45, 30, 3, 11);
+        drop_pixels(&mut binary, 0.2, 7);
+        for dropout in [false, true] {
+            let mut params = Params::default();
+            params.front_end.dropout = Some(dropout);
+            let whole = points(&binary, &params).unwrap();
+            let survey = survey(binary.view(), &params_forced_off(), Some(false)).unwrap();
+            let built = build_from_runs(&survey.runs, (0, 2), (45, 26), survey.spacing).unwrap();
+            for want in [whole, built] {
+                let mut got = want.clone();
+                let aside = set_aside(&mut got);
+                assert!(got.grid.as_ref().unwrap().index.is_empty());
+                assert_eq!(got.neighbors.is_empty(), !got.dropout);
+                assert_eq!(got.points.is_empty(), !got.dropout);
+                restore(&mut got, aside);
+                got.validate().unwrap();
+                assert_eq!(got.points, want.points);
+                assert_eq!(got.offsets, want.offsets);
+                assert_eq!(got.neighbors, want.neighbors);
+                assert_eq!(got.grid.unwrap().index, want.grid.unwrap().index);
+            }
         }
     }
 

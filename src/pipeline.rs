@@ -222,7 +222,12 @@ pub(crate) fn mask(binary: MaskView<'_>, params: &Params, recording: Recording) 
 pub(crate) fn point_list(list: &[[f64; 2]], params: &Params) -> Result<Trace> {
     params.validate()?;
     let start = Instant::now();
-    let (points, units, not_strip) = point_list::point_set_in_units(list, params)?;
+    let point_list::Prepared {
+        set: points,
+        units,
+        not_strip,
+        left_out,
+    } = point_list::point_set_in_units(list, params)?;
     let points_time = start.elapsed();
     let (width, height) = point_list::extent(list);
     // A set that is not strip-shaped holds no curve for the method to find (§3): nothing is
@@ -246,6 +251,11 @@ pub(crate) fn point_list(list: &[[f64; 2]], params: &Params) -> Result<Trace> {
     trace.warnings = warnings::of(&trace.graph, None, None);
     if let Some(share) = not_strip {
         trace.warnings.push(warnings::not_strip_shaped(share));
+    }
+    if left_out > 0 {
+        trace
+            .warnings
+            .push(warnings::sparse_points_left_out(left_out, count + left_out));
     }
     Ok(trace)
 }

@@ -253,7 +253,7 @@ pub fn parse(text: &str) -> Result<Vec<[f64; 2]>> {
 /// than about 1e38 units, read as infinite); [`crate::trace_points`] runs the
 /// pipeline on the list moved and scaled to pixel-like units instead.
 pub fn point_set(list: &[[f64; 2]], params: &Params) -> Result<PointSet> {
-    let (mut set, units, _) = point_set_in_units(list, params)?;
+    let Prepared { mut set, units, .. } = point_set_in_units(list, params)?;
     units.restore_points(&mut set);
     Ok(set)
 }
@@ -320,14 +320,56 @@ impl Units {
     }
 }
 
-/// Like [`point_set`], in the pipeline's pixel-like [`Units`], which are returned with it.
-///
-/// The third value is `Some(share)` when the set is scattered and not strip-shaped (see
-/// [`NOT_STRIP_SHARE`]): `share` of its points lie in a linear window at some scale.
-pub(crate) fn point_set_in_units(
-    list: &[[f64; 2]],
-    params: &Params,
-) -> Result<(PointSet, Units, Option<f64>)> {
+/// A point list made ready for the stages: [`point_set_in_units`]' answer.
+pub(crate) struct Prepared {
+    /// The point set, in pipeline units.
+    pub set: PointSet,
+    /// The pipeline's units.
+    pub units: Units,
+    /// `Some(share)` when the set is scattered and not strip-shaped (see [`NOT_STRIP_SHARE`]):
+    /// `share` of its points lie in a linear window at some scale.
+    pub not_strip: Option<f64>,
+    /// How many distinct points were left out as a sparse cloud around the strips (see
+    /// [`sparse_outliers`]).
+    pub left_out: usize,
+}
+
+/// Like [`point_set`], in the pipeline's pixel-like [`Units`], which are returned with it, after
+/// leaving out the points of a sparse cloud that is no strip at its own scale (see
+/// [`sparse_outliers`]).
+pub(crate) fn point_set_in_units(list: &[[f64; 2]], params: &Params) -> Result<Prepared> {
+    let outliers = match prepare(list, params, true)? {
+        Preparation::Ready(ready) => return Ok(ready),
+        Preparation::LeaveOut(outliers) => outliers,
+    };
+    // The kept points in their list order, traced as if they were the whole list.
+    let points = without_duplicates(list);
+    let kept: Vec<[f64; 2]> = points
+        .iter()
+        .zip(outliers)
+        .filter(|(_, out)| !*out)
+        .map(|(p, _)| *p)
+        .collect();
+    let left_out = points.len() - kept.len();
+    // One look for a cloud: what stays is traced as it is.
+    let Preparation::Ready(mut ready) = prepare(&kept, params, false)? else {
+        return Err(Error::InvalidParams(
+            "points left out twice (an internal error)".to_string(),
+        ));
+    };
+    ready.left_out = left_out;
+    Ok(ready)
+}
+
+/// [`point_set_in_units`] on one list: the prepared set, or which of its distinct points (in
+/// the order of `without_duplicates`) form a sparse cloud to leave out.
+enum Preparation {
+    Ready(Prepared),
+    LeaveOut(Vec<bool>),
+}
+
+/// With `leave_out`, a sparse cloud found ([`sparse_outliers`]) is answered instead of the set.
+fn prepare(list: &[[f64; 2]], params: &Params, leave_out: bool) -> Result<Preparation> {
     if list.len() as u64 > params.front_end.limits.max_points {
         return Err(Error::Limit {
             what: "points",
@@ -362,7 +404,12 @@ pub(crate) fn point_set_in_units(
             origin: [0.0; 2],
             scale: 1.0,
         };
-        return Ok((set, units, None));
+        return Ok(Preparation::Ready(Prepared {
+            set,
+            units,
+            not_strip: None,
+            left_out: 0,
+        }));
     }
 
     // Work in coordinates translated to the origin: the tree and the raster then see numbers of
@@ -396,12 +443,17 @@ pub(crate) fn point_set_in_units(
         .map(|p| [p[0] / coarse, p[1] / coarse])
         .collect();
     let k = params.method.k.min(n - 1);
-    let (offsets, neighbors, spacing) = if k == 0 {
-        (vec![0; n + 1], Vec::new(), 1.0)
+    let (offsets, neighbors, spacing, reach) = if k == 0 {
+        (vec![0; n + 1], Vec::new(), 1.0, Vec::new())
     } else {
         nearest_neighbours(&local, k)?
     };
     let scattered = k > 0 && !on_lattice(&local, spacing);
+    if scattered && leave_out {
+        if let Some(outliers) = sparse_outliers(&local, &reach, k)? {
+            return Ok(Preparation::LeaveOut(outliers));
+        }
+    }
     // Then `Dis_ave` to about 1 (see `Units`).
     let fine = if k == 0 { 1.0 } else { power_near(spacing) };
     for p in &mut local {
@@ -442,7 +494,52 @@ pub(crate) fn point_set_in_units(
         dropout: false,
         grid: None,
     };
-    Ok((set, units, not_strip))
+    Ok(Preparation::Ready(Prepared {
+        set,
+        units,
+        not_strip,
+        left_out: 0,
+    }))
+}
+
+/// A point is sparse when its `k`-th nearest neighbour is more than this many times farther than
+/// the median point's: the set is a hundredfold sparser around it than at the median point. A
+/// strip whose density falls tenfold along it, its ends and its edges stay far below (their
+/// `k`-th neighbours are at most a few times farther).
+const SPARSE_REACH: f64 = 10.0;
+
+/// The points of a sparse cloud around the strips, to leave out (the paper's input is
+/// strip-shaped, §3; uniform outliers around a strip are not): the points far sparser than the
+/// set's own sampling ([`SPARSE_REACH`]), when there are any and, taken alone at their own
+/// spacing, they are not strip-shaped either (the test of [`NOT_STRIP_SHARE`]; too few of them
+/// to fill a window is no strip). A part sampled more sparsely than the rest but shaped as a
+/// strip stays. `reach` holds each point's `k`-th neighbour distance.
+fn sparse_outliers(points: &[[f64; 2]], reach: &[f64], k: usize) -> Result<Option<Vec<bool>>> {
+    let mut sorted = reach.to_vec();
+    let Some(median) = upper_median_by(&mut sorted, f64::total_cmp) else {
+        return Ok(None);
+    };
+    let sparse: Vec<bool> = reach.iter().map(|&r| r > SPARSE_REACH * median).collect();
+    let cloud: Vec<[f64; 2]> = points
+        .iter()
+        .zip(&sparse)
+        .filter(|(_, &s)| s)
+        .map(|(p, _)| *p)
+        .collect();
+    if cloud.is_empty() || cloud.len() == points.len() {
+        return Ok(None);
+    }
+    let k = k.min(cloud.len() - 1);
+    if k > 0 {
+        let (offsets, neighbors, spacing, _) = nearest_neighbours(&cloud, k)?;
+        let mut widths = vec![0.0; cloud.len()];
+        let (linear, windowed) =
+            strip_half_widths(&cloud, spacing, &offsets, &neighbors, &mut widths, false);
+        if windowed > 0 && linear as f64 >= NOT_STRIP_SHARE * windowed as f64 {
+            return Ok(None);
+        }
+    }
+    Ok(Some(sparse))
 }
 
 /// A scattered set is strip-shaped when at least this share of its points (of those whose
@@ -461,9 +558,13 @@ fn without_duplicates(list: &[[f64; 2]]) -> Vec<[f64; 2]> {
         .collect()
 }
 
-/// Symmetric k nearest neighbours (§3.2) as CSR, and `Dis_ave` (mean nearest-neighbour distance).
-/// Needs `1 <= k < points.len()` and distinct points.
-fn nearest_neighbours(points: &[[f64; 2]], k: usize) -> Result<(Vec<u32>, Vec<u32>, f64)> {
+/// Symmetric k nearest neighbours (§3.2) as CSR, `Dis_ave` (mean nearest-neighbour distance) and
+/// each point's `k`-th neighbour distance. Needs `1 <= k < points.len()` and distinct points.
+#[allow(clippy::type_complexity)]
+fn nearest_neighbours(
+    points: &[[f64; 2]],
+    k: usize,
+) -> Result<(Vec<u32>, Vec<u32>, f64, Vec<f64>)> {
     let n = points.len();
     // The immutable tree: the mutable one fails on collinear or repeated coordinates (kiddo 6:
     // unsplittable buckets on pixel-like grids).
@@ -489,7 +590,12 @@ fn nearest_neighbours(points: &[[f64; 2]], k: usize) -> Result<(Vec<u32>, Vec<u3
             emit(i, j);
         }
     });
-    Ok((offsets, neighbors, spacing))
+    Ok((
+        offsets,
+        neighbors,
+        spacing,
+        nearest.iter().map(|d| d.1).collect(),
+    ))
 }
 
 /// How far, in its own `k`-th neighbour distances, a point of a scattered set reaches for a

@@ -70,6 +70,19 @@ pub(crate) fn not_strip_shaped(share: f64) -> Warning {
     }
 }
 
+/// The warning for a point list some of whose points were left out: `count` of its `total`
+/// distinct points lay far sparser than the rest and formed no strip at their own scale (a
+/// sparse cloud of outliers around the strips), so only the others were traced.
+pub(crate) fn sparse_points_left_out(count: usize, total: usize) -> Warning {
+    Warning {
+        code: "sparse_points_left_out",
+        message: format!(
+            "{count} of {total} points were left out: they lie more than a hundredfold sparser \
+             than the rest and form no strip at their own scale (outliers around the strips)"
+        ),
+    }
+}
+
 /// The warnings for `graph`, with the front end's `decisions` when the input was an image and the
 /// `ink` it was traced from (before any component was dropped) when it was an image or a mask.
 pub fn of(

@@ -86,3 +86,54 @@ fn a_uniform_cloud_is_reported_as_not_strip_shaped() {
         assert!(!line.graph.edges.is_empty());
     }
 }
+
+/// Outliers (the figure 8 with 2 % more points drawn uniformly over a box around it): the
+/// outliers, a hundredfold sparser than the strip and no strip themselves, are left out with a
+/// warning that counts them, and add no vertex. A part sampled as sparsely but shaped as a strip
+/// is kept.
+#[test]
+fn sparse_outliers_are_left_out_with_a_warning() {
+    let c = case("outliers2pct");
+    let clean = case("figure8");
+    let extra = c.points.len() - clean.points.len();
+    let trace = ridgeline::trace_points(&c.points, &Params::default()).expect("trace");
+    let g = &trace.graph;
+    let degrees: Vec<usize> = g.junctions().map(|v| g.vertices[v].degree).collect();
+    assert_eq!(degrees, [4], "junctions");
+    assert_eq!(g.endpoints().count(), 0, "ends");
+    assert_eq!((g.components(), g.cycles()), (1, 2));
+    let warning = trace
+        .warnings
+        .iter()
+        .find(|w| w.code == "sparse_points_left_out")
+        .unwrap_or_else(|| panic!("no warning: {:?}", trace.warnings));
+    // Most of the outliers go (those that fell on the strip or next to it stay), no strip point.
+    let traced = trace.point_count;
+    assert!(
+        traced >= clean.points.len() && traced <= clean.points.len() + extra / 4,
+        "{traced} points traced"
+    );
+    let count = c.points.len() - traced;
+    assert!(
+        warning
+            .message
+            .starts_with(&format!("{count} of {} points", c.points.len())),
+        "{}",
+        warning.message
+    );
+    // A clean strip leaves nothing out.
+    let line = case("line");
+    let plain = ridgeline::trace_points(&line.points, &Params::default()).expect("line");
+    assert!(plain.warnings.is_empty(), "{:?}", plain.warnings);
+    assert_eq!(plain.point_count, line.points.len());
+    // A second strip as sparse as the outliers (over a hundredfold sparser than the first), far
+    // from it: a strip at its own scale, so it stays.
+    let mut two = line.points.clone();
+    two.extend((0..80).map(|i| {
+        let t = i as f64;
+        [7.5 * t, 400.0 + 8.0 * ((t * 0.618_034).fract() - 0.5)]
+    }));
+    let trace = ridgeline::trace_points(&two, &Params::default()).expect("two");
+    assert_eq!(trace.point_count, two.len(), "{:?}", trace.warnings);
+    assert!(trace.warnings.is_empty(), "{:?}", trace.warnings);
+}

@@ -208,7 +208,7 @@ pub struct FingerprintParams {
     pub smoothing_along: f64,
     /// Minutiae closer than this to the print's border (or the image's) are dropped, px
     /// (pyfing's SBMEX: 10); the margin is the larger of this and `border_periods` ridge
-    /// periods. Default value: 12.
+    /// periods. Default value: 0 (the margin in periods alone; 12 before `border_periods`).
     pub border_margin: f64,
     /// Ridges with two free ends shorter than this are fragments or islands; both ends are
     /// dropped, in ridge periods. Default value: 1.5.
@@ -235,10 +235,9 @@ pub struct FingerprintParams {
     pub confirmed_share: f64,
     /// Minutiae closer than this to the print's border (or the image's) are dropped, in ridge
     /// periods (the print's median), when that is more than `border_margin`: the ridges are cut
-    /// there, not ended. With 1 and `border_margin` 0 a matcher does better on real prints
-    /// but the synthetic prints' noisy captures worse (docs/fingerprints.md, "Matching
-    /// benchmark"). Default value: 0 (also when a document written before the field existed is
-    /// read back).
+    /// there, not ended: a margin in the print's own scale (docs/fingerprints.md, "Matching
+    /// benchmark", "The border in ridge periods"). Default value: 1.25 (0 when a document
+    /// written before the field existed is read back: its `border_margin` in px alone).
     #[serde(default = "default_border_periods")]
     pub border_periods: f64,
     /// The border margin, in ridge periods (the print's median), for a minutia that points into
@@ -292,14 +291,14 @@ impl Default for FingerprintParams {
             gabor_sigma_along: 5.0 / 12.0,
             enhancement: Enhancement::Gabor,
             smoothing_along: smoothing_along(),
-            border_margin: 12.0,
+            border_margin: 0.0,
             fragment_periods: 1.5,
             spur_periods: 1.0,
             bridge_periods: 1.5,
             gap_periods: 2.0,
             cloud_periods: 1.0,
             confirmed_share: 0.5,
-            border_periods: default_border_periods(),
+            border_periods: 1.25,
             inward_border_periods: default_inward_border_periods(),
             inward_border_quality: default_inward_border_quality(),
             inward_border_confirmed: default_inward_border_confirmed(),

@@ -30,8 +30,8 @@
 //! image's edge is a `frame` when it is a ring of bands around the image and a `page_edge` otherwise; one inside
 //! the page, or one of texture cells at least half, is a `halftone`; a halftone's box grows by a
 //! row or column of cells while half the side's cells beyond it hold pieces of ink that also lie
-//! within it (the photo's light rim, whose specks and open paper kept those cells out, see
-//! [`grow_box`]). Its ink is removed; so are the pieces of ink left wholly within a
+//! within it or are specks, each no larger than `w^2` (the photo's light rim, whose specks and
+//! open paper kept those cells out, see [`grow_box`]). Its ink is removed; so are the pieces of ink left wholly within a
 //! cell of it (a photo's last dots, the line a local threshold draws along a dark margin), while a
 //! stroke that touches it and leaves it, such as a letter touching a frame, stays.
 
@@ -167,7 +167,7 @@ pub(crate) fn find(
                 cols,
                 rows,
             };
-            group = grow_box(&group, labels, sizes.len(), &grid);
+            group = grow_box(&group, labels, sizes, stroke_width, &grid);
             let kind = region.kind;
             region = describe(&group, cols, rows, cell, width, height);
             region.kind = kind;
@@ -699,7 +699,21 @@ struct Grid {
 /// (its light parts, where the threshold left a few dots and open paper between them). A line of
 /// text beside a photo does not run into it, and a stroke touching it is one piece at one place
 /// along a side, not half of it.
-fn grow_box(group: &[usize], labels: &[u32], count: usize, grid: &Grid) -> Vec<usize> {
+///
+/// A cell outside counts too when it is speckled: at least [`MIN_DOTS`] pieces of ink lie in it
+/// that are each no larger than a stroke is wide squared (`w^2` pixels), the screen's last dots
+/// where the photo's tone lightens towards its rim, each cut off from the dots within the box by
+/// paper. A letter is several `w^2` (a stroke at least three widths long); a cell of text holds
+/// at most a dot or two that small (an i's dot, a full stop), a dotted leader two.
+fn grow_box(
+    group: &[usize],
+    labels: &[u32],
+    sizes: &[usize],
+    stroke_width: f64,
+    grid: &Grid,
+) -> Vec<usize> {
+    let count = sizes.len();
+    let speck = stroke_width * stroke_width;
     let Grid {
         width,
         height,
@@ -733,6 +747,19 @@ fn grow_box(group: &[usize], labels: &[u32], count: usize, grid: &Grid) -> Vec<u
                 .any(|&l| l > 0 && inside[l as usize])
         })
     };
+    // Whether cell (cx, cy) holds at least MIN_DOTS specks (pieces of at most w^2 pixels).
+    let speckled = |cx: usize, cy: usize| {
+        let mut specks: Vec<u32> = Vec::new();
+        for y in cy * cell..((cy + 1) * cell).min(height) {
+            let row = &labels[y * width..(y + 1) * width];
+            for &l in &row[cx * cell..((cx + 1) * cell).min(width)] {
+                if l > 0 && sizes[l as usize] as f64 <= speck && !specks.contains(&l) {
+                    specks.push(l);
+                }
+            }
+        }
+        specks.len() >= MIN_DOTS as usize
+    };
     mark(&mut inside, [x0, y0, x1, y1]);
     loop {
         // The strips just outside each side, as cell boxes, and the side's length.
@@ -750,7 +777,7 @@ fn grow_box(group: &[usize], labels: &[u32], count: usize, grid: &Grid) -> Vec<u
             let cells = (sx1 - sx0 + 1) * (sy1 - sy0 + 1);
             let held = (sy0..=sy1)
                 .flat_map(|cy| (sx0..=sx1).map(move |cx| (cx, cy)))
-                .filter(|&(cx, cy)| holds(&inside, cx, cy))
+                .filter(|&(cx, cy)| holds(&inside, cx, cy) || speckled(cx, cy))
                 .count();
             if 2 * held >= cells {
                 grown = Some((side, [sx0, sy0, sx1, sy1]));
@@ -992,15 +1019,52 @@ mod tests {
                 .map(|p| u32::from(piece(p % 64, p / 64)))
                 .collect()
         };
+        let sizes_of = |labels: &[u32]| -> Vec<usize> {
+            let mut sizes = vec![0; *labels.iter().max().unwrap_or(&0) as usize + 1];
+            labels.iter().for_each(|&l| sizes[l as usize] += 1);
+            sizes
+        };
+        let grow = |labels: &[u32]| grow_box(&photo, labels, &sizes_of(labels), 3.0, &grid);
         // Merged dots running 3 px past the box's right side all along it: one more column.
         let mesh = labels_of(&|x, y| (20..43).contains(&x) && (16..48).contains(&y));
-        assert_eq!(grow_box(&photo, &mesh, 2, &grid), box_cells(2, 2, 5, 5));
+        assert_eq!(grow(&mesh), box_cells(2, 2, 5, 5));
         // A stroke touching the box at one place along its side (a quarter of it): no growth.
         let stroke = labels_of(&|x, y| (36..60).contains(&x) && (18..21).contains(&y));
-        assert_eq!(grow_box(&photo, &stroke, 2, &grid), photo);
+        assert_eq!(grow(&stroke), photo);
         // Ink beside the box that does not enter it (a line of text): no growth.
         let text = labels_of(&|x, y| (42..60).contains(&x) && (16..48).contains(&y));
-        assert_eq!(grow_box(&photo, &text, 2, &grid), photo);
+        assert_eq!(grow(&text), photo);
+        // Each its own piece: dots of `dot` px square on a 4 px screen in the column of cells
+        // right of the box, `every` rows of dots out of 4 (the photo's light rim, cut off from
+        // its dots inside by paper).
+        let rim = |dot: usize, every: usize| -> Vec<u32> {
+            (0..64 * 64)
+                .map(|p| {
+                    let (x, y) = (p % 64, p / 64);
+                    let on = (40..48).contains(&x)
+                        && (16..48).contains(&y)
+                        && x % 4 < dot
+                        && y % 4 < dot
+                        && (y / 4) % 4 < every;
+                    if on {
+                        (1 + (y / 4) * 16 + x / 4) as u32
+                    } else {
+                        0
+                    }
+                })
+                .collect()
+        };
+        // Specks of 4 px (under w^2 = 9), four to a cell: one more column.
+        assert_eq!(grow(&rim(2, 4)), box_cells(2, 2, 5, 5));
+        // Two specks to a cell (a dotted leader, an i's dot): no growth.
+        assert_eq!(grow(&rim(2, 1)), photo);
+        // Pieces of 16 px, larger than a speck (letters): no growth.
+        let letters = rim(4, 4)
+            .iter()
+            .enumerate()
+            .map(|(p, &l)| if (p % 64) % 8 < 4 { l } else { 0 })
+            .collect::<Vec<u32>>();
+        assert_eq!(grow(&letters), photo);
     }
 
     #[test]

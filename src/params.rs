@@ -527,7 +527,7 @@ pub struct FrontEndParams {
 }
 
 /// A kind of region that is not strokes ([`FrontEndParams::keep_regions`],
-/// [`crate::Region`]), written in snake case (`halftone`, `frame`, `page_edge`).
+/// [`crate::Region`]), written in snake case (`halftone`, `frame`, `page_edge`, `faint`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 #[non_exhaustive]
@@ -539,14 +539,19 @@ pub enum RegionKind {
     Frame,
     /// A dark field reaching the image's edge: what lies beyond a page's edge.
     PageEdge,
+    /// Ink that never reaches half the contrast of the page's text, away from it: show-through
+    /// from the back of the page, a paper's grain or a cover's cracks that a local threshold
+    /// read as ink.
+    Faint,
 }
 
 impl RegionKind {
     /// Every kind, in the order above.
-    pub const ALL: [RegionKind; 3] = [
+    pub const ALL: [RegionKind; 4] = [
         RegionKind::Halftone,
         RegionKind::Frame,
         RegionKind::PageEdge,
+        RegionKind::Faint,
     ];
 
     /// The name the JSON and the command line use.
@@ -555,6 +560,7 @@ impl RegionKind {
             RegionKind::Halftone => "halftone",
             RegionKind::Frame => "frame",
             RegionKind::PageEdge => "page_edge",
+            RegionKind::Faint => "faint",
         }
     }
 }

@@ -366,7 +366,7 @@ pub struct Cli {
     )]
     pub(crate) reverse_grounds: bool,
 
-    /// Trace these regions that are not strokes anyway: halftone, frame, page_edge, or all
+    /// Trace these regions that are not strokes anyway: halftone, frame, page_edge, faint, or all
     /// [default: none; the regions found are left out and listed in the JSON's decisions]
     #[arg(
         long,

@@ -30,10 +30,13 @@
 //! image's edge is a `frame` when it is a ring of bands around the image and a `page_edge` otherwise; one inside
 //! the page, or one of texture cells at least half, is a `halftone`; a halftone's box grows by a
 //! row or column of cells while half the side's cells beyond it hold pieces of ink that also lie
-//! within it (the photo's light rim, whose specks and open paper kept those cells out, see
-//! [`grow_box`]). Its ink is removed; so are the pieces of ink left wholly within a
+//! within it or are specks, each no larger than `w^2` (the photo's light rim, whose specks and
+//! open paper kept those cells out, see [`grow_box`]). Its ink is removed; so are the pieces of ink left wholly within a
 //! cell of it (a photo's last dots, the line a local threshold draws along a dark margin), while a
 //! stroke that touches it and leaves it, such as a letter touching a frame, stays.
+//!
+//! Last, the faint ink ([`faint`]): pieces that barely reach the text's contrast, left out when
+//! they are most of the ink (a local threshold that read the paper's grain as ink).
 
 use crate::decisions::{Ground, Region};
 use crate::gray::GrayView;
@@ -80,6 +83,19 @@ const FRAME_SPAN: f64 = 0.5;
 /// ... and covers at most this share of its own box (a ring of bands, not a field).
 const FRAME_FILL: f64 = 0.5;
 
+/// Ink is faint when it never reaches this share of the page's text contrast within a stroke
+/// width ([`faint`]): a threshold halfway between paper and ink leaves none of the text's ink
+/// lighter than half its contrast.
+const FAINT_SHARE: f64 = 0.5;
+/// A piece of ink is faint when less than this share of its pixels reach [`FAINT_SHARE`] of the
+/// text's contrast: a stroke's core is most of it, a texture's darkest grains are few.
+const FAINT_CORE: f64 = 0.05;
+/// Faint pieces are left out only when they are at least this share of the ink.
+const FAINT_INK: f64 = 0.5;
+/// The page's text contrast is the darkness this share of the ink stays under: the strokes'
+/// cores even where a texture is most of the ink.
+const TEXT_QUANTILE: f64 = 0.99;
+
 /// A group at least this share texture cells is a halftone (a photo or a pattern), wherever it
 /// lies.
 const TEXTURED_GROUP: f64 = 0.5;
@@ -111,6 +127,29 @@ enum Cell {
 /// (ink side: at or below it when the ink is dark); `stroke_width` is the page's, px; `grounds`
 /// are the reversed grounds, whose cells are none of a region's.
 pub(crate) fn find(
+    gray: GrayView<'_>,
+    ink: &mut [bool],
+    dark_ink: bool,
+    level: u8,
+    stroke_width: f64,
+    grounds: &[Ground],
+    keep: &[RegionKind],
+) -> Vec<Region> {
+    let mut regions = fields(gray, ink, dark_ink, level, stroke_width, grounds, keep);
+    regions.extend(faint(
+        gray,
+        ink,
+        dark_ink,
+        stroke_width,
+        grounds,
+        !keep.contains(&RegionKind::Faint),
+    ));
+    regions
+}
+
+/// The halftones, frames and page edges of [`find`] (the cells' regions), their ink removed
+/// unless kept.
+fn fields(
     gray: GrayView<'_>,
     ink: &mut [bool],
     dark_ink: bool,
@@ -167,7 +206,7 @@ pub(crate) fn find(
                 cols,
                 rows,
             };
-            group = grow_box(&group, labels, sizes.len(), &grid);
+            group = grow_box(&group, labels, sizes, stroke_width, &grid);
             let kind = region.kind;
             region = describe(&group, cols, rows, cell, width, height);
             region.kind = kind;
@@ -193,6 +232,170 @@ pub(crate) fn find(
     }
     remove(ink, width, height, cell, cols, rows, &removed_cells);
     regions
+}
+
+/// The faint ink ([`RegionKind::Faint`]): the pieces of ink (8-connected) of which less than
+/// [`FAINT_CORE`] of the pixels reach [`FAINT_SHARE`] of the page's text contrast, as one region
+/// (the box of their ink), removed when `remove` says so, when together they are at least
+/// [`FAINT_INK`] of the ink; none otherwise.
+///
+/// The darkness of a pixel is how far its gray lies from its cell's paper towards the ink (the
+/// mean gray of the cell's paper pixels, cells of [`CELL_WIDTHS`] `w`; a cell with less than a
+/// quarter paper takes its neighbours'), and the page's text contrast is the darkness the ink
+/// reaches at its [`TEXT_QUANTILE`]: the cores of the strokes, however much more of the ink a
+/// texture is. A threshold that splits ink from paper halfway leaves a stroke of the text
+/// mostly at least half its contrast, so a page of text has no faint piece. Where faint pieces
+/// are most of the ink, a local threshold (which finds ink in every neighbourhood) has read the
+/// paper itself: its grain, a cover's cracks, show-through from the back of the page. Fewer
+/// faint pieces are left: ruled lines drawn fainter than the writing and a print's lighter
+/// ridges are as faint (docs/design.md, "The front end"). A faint net joined to a stroke is one
+/// piece with it and stays.
+fn faint(
+    gray: GrayView<'_>,
+    ink: &mut [bool],
+    dark_ink: bool,
+    stroke_width: f64,
+    grounds: &[Ground],
+    remove: bool,
+) -> Option<Region> {
+    let (width, height) = (gray.width() as usize, gray.height() as usize);
+    if ink.len() != width * height || stroke_width < 1.0 || width == 0 || height == 0 {
+        return None;
+    }
+    let cell = ((CELL_WIDTHS * stroke_width).round() as usize).max(MIN_CELL);
+    let (cols, rows) = (width.div_ceil(cell), height.div_ceil(cell));
+    let turn = |v: u8| i32::from(if dark_ink { v } else { 255 - v });
+    // The paper's mean gray (turned: ink dark) per cell, where a quarter of the cell is paper.
+    let mut sums = vec![(0u64, 0u32, 0u32); cols * rows];
+    for y in 0..height {
+        let base = (y / cell) * cols;
+        let cells = gray
+            .row(y)
+            .chunks(cell)
+            .zip(ink[y * width..(y + 1) * width].chunks(cell));
+        for (c, (row, ink)) in cells.enumerate() {
+            let s = &mut sums[base + c];
+            for (&v, &i) in row.iter().zip(ink) {
+                if !i {
+                    s.0 += turn(v) as u64;
+                    s.1 += 1;
+                }
+            }
+            s.2 += row.len() as u32;
+        }
+    }
+    let mut paper: Vec<Option<i32>> = sums
+        .iter()
+        .map(|&(sum, n, all)| (4 * n >= all && n > 0).then(|| (sum / u64::from(n)) as i32))
+        .collect();
+    // Cells without enough paper take the mean of their known neighbours (8-connected), ring by
+    // ring; none known at all: no paper to measure against.
+    if paper.iter().all(Option::is_none) {
+        return None;
+    }
+    while paper.iter().any(Option::is_none) {
+        let before = paper.clone();
+        for c in 0..cols * rows {
+            if before[c].is_some() {
+                continue;
+            }
+            let (x, y) = (c % cols, c / cols);
+            let (mut sum, mut n) = (0i64, 0i64);
+            for ny in y.saturating_sub(1)..(y + 2).min(rows) {
+                for nx in x.saturating_sub(1)..(x + 2).min(cols) {
+                    if let Some(p) = before[ny * cols + nx] {
+                        sum += i64::from(p);
+                        n += 1;
+                    }
+                }
+            }
+            if n > 0 {
+                paper[c] = Some((sum / n) as i32);
+            }
+        }
+    }
+    let paper: Vec<i32> = paper.into_iter().map(|p| p.unwrap_or(0)).collect();
+    // A reversed ground's strokes are lighter than the ground around them: neither measured nor
+    // left out.
+    let in_ground = |p: usize| {
+        let (x, y) = ((p % width) as u32, (p / width) as u32);
+        grounds
+            .iter()
+            .any(|g| (g.x..g.x + g.width).contains(&x) && (g.y..g.y + g.height).contains(&y))
+    };
+    let measured = |p: usize| ink[p] && (grounds.is_empty() || !in_ground(p));
+    let darkness = |p: usize| {
+        paper[(p / width / cell) * cols + (p % width) / cell] - turn(gray.row(p / width)[p % width])
+    };
+    // The text's contrast: the darkness at TEXT_QUANTILE of the ink, from a histogram.
+    let mut histogram = [0u64; 511];
+    let mut total = 0u64;
+    for p in (0..ink.len()).filter(|&p| measured(p)) {
+        histogram[(darkness(p) + 255) as usize] += 1;
+        total += 1;
+    }
+    if total == 0 {
+        return None;
+    }
+    let rank = (TEXT_QUANTILE * total as f64).ceil() as u64;
+    let mut seen = 0;
+    let contrast = histogram
+        .iter()
+        .position(|&n| {
+            seen += n;
+            seen >= rank
+        })
+        .map_or(0, |d| d as i32 - 255);
+    if contrast <= 0 {
+        return None;
+    }
+    // Per piece of ink (8-connected), its pixels and those that reach the share of the text's
+    // contrast (ink in a ground counts as reaching it, so a ground's strokes stay).
+    let (labels, sizes) = label_components(ink, width, height, true, Connectivity::Eight);
+    let mut reaching = vec![0usize; sizes.len()];
+    for (p, &l) in labels.iter().enumerate() {
+        if l > 0 && (!measured(p) || f64::from(darkness(p)) >= FAINT_SHARE * f64::from(contrast)) {
+            reaching[l as usize] += 1;
+        }
+    }
+    let faint: Vec<bool> = reaching
+        .iter()
+        .zip(&sizes)
+        .enumerate()
+        .map(|(l, (&r, &n))| l > 0 && (r as f64) < FAINT_CORE * n as f64)
+        .collect();
+    // Only where the faint pieces are most of the ink: the threshold has read the paper itself
+    // (its grain, a cover's cracks) as ink. Fewer faint pieces beside the text are as likely
+    // faint content (ruled lines, a print's lighter ridges) as show-through.
+    let faint_ink: usize = faint
+        .iter()
+        .zip(&sizes)
+        .filter(|(&f, _)| f)
+        .map(|(_, &n)| n)
+        .sum();
+    let all_ink: usize = sizes.iter().skip(1).sum();
+    if (faint_ink as f64) < FAINT_INK * all_ink as f64 {
+        return None;
+    }
+    let (mut x0, mut y0, mut x1, mut y1) = (width, height, 0, 0);
+    let mut any = false;
+    for (p, (i, &l)) in ink.iter_mut().zip(&labels).enumerate() {
+        if faint[l as usize] {
+            let (x, y) = (p % width, p / width);
+            (x0, y0, x1, y1) = (x0.min(x), y0.min(y), x1.max(x), y1.max(y));
+            any = true;
+            if remove {
+                *i = false;
+            }
+        }
+    }
+    any.then(|| Region {
+        kind: RegionKind::Faint,
+        x: x0 as u32,
+        y: y0 as u32,
+        width: (x1 - x0 + 1) as u32,
+        height: (y1 - y0 + 1) as u32,
+    })
 }
 
 /// Every cell's class and its share of ink.
@@ -699,7 +902,21 @@ struct Grid {
 /// (its light parts, where the threshold left a few dots and open paper between them). A line of
 /// text beside a photo does not run into it, and a stroke touching it is one piece at one place
 /// along a side, not half of it.
-fn grow_box(group: &[usize], labels: &[u32], count: usize, grid: &Grid) -> Vec<usize> {
+///
+/// A cell outside counts too when it is speckled: at least [`MIN_DOTS`] pieces of ink lie in it
+/// that are each no larger than a stroke is wide squared (`w^2` pixels), the screen's last dots
+/// where the photo's tone lightens towards its rim, each cut off from the dots within the box by
+/// paper. A letter is several `w^2` (a stroke at least three widths long); a cell of text holds
+/// at most a dot or two that small (an i's dot, a full stop), a dotted leader two.
+fn grow_box(
+    group: &[usize],
+    labels: &[u32],
+    sizes: &[usize],
+    stroke_width: f64,
+    grid: &Grid,
+) -> Vec<usize> {
+    let count = sizes.len();
+    let speck = stroke_width * stroke_width;
     let Grid {
         width,
         height,
@@ -733,6 +950,19 @@ fn grow_box(group: &[usize], labels: &[u32], count: usize, grid: &Grid) -> Vec<u
                 .any(|&l| l > 0 && inside[l as usize])
         })
     };
+    // Whether cell (cx, cy) holds at least MIN_DOTS specks (pieces of at most w^2 pixels).
+    let speckled = |cx: usize, cy: usize| {
+        let mut specks: Vec<u32> = Vec::new();
+        for y in cy * cell..((cy + 1) * cell).min(height) {
+            let row = &labels[y * width..(y + 1) * width];
+            for &l in &row[cx * cell..((cx + 1) * cell).min(width)] {
+                if l > 0 && sizes[l as usize] as f64 <= speck && !specks.contains(&l) {
+                    specks.push(l);
+                }
+            }
+        }
+        specks.len() >= MIN_DOTS as usize
+    };
     mark(&mut inside, [x0, y0, x1, y1]);
     loop {
         // The strips just outside each side, as cell boxes, and the side's length.
@@ -750,7 +980,7 @@ fn grow_box(group: &[usize], labels: &[u32], count: usize, grid: &Grid) -> Vec<u
             let cells = (sx1 - sx0 + 1) * (sy1 - sy0 + 1);
             let held = (sy0..=sy1)
                 .flat_map(|cy| (sx0..=sx1).map(move |cx| (cx, cy)))
-                .filter(|&(cx, cy)| holds(&inside, cx, cy))
+                .filter(|&(cx, cy)| holds(&inside, cx, cy) || speckled(cx, cy))
                 .count();
             if 2 * held >= cells {
                 grown = Some((side, [sx0, sy0, sx1, sy1]));
@@ -992,15 +1222,110 @@ mod tests {
                 .map(|p| u32::from(piece(p % 64, p / 64)))
                 .collect()
         };
+        let sizes_of = |labels: &[u32]| -> Vec<usize> {
+            let mut sizes = vec![0; *labels.iter().max().unwrap_or(&0) as usize + 1];
+            labels.iter().for_each(|&l| sizes[l as usize] += 1);
+            sizes
+        };
+        let grow = |labels: &[u32]| grow_box(&photo, labels, &sizes_of(labels), 3.0, &grid);
         // Merged dots running 3 px past the box's right side all along it: one more column.
         let mesh = labels_of(&|x, y| (20..43).contains(&x) && (16..48).contains(&y));
-        assert_eq!(grow_box(&photo, &mesh, 2, &grid), box_cells(2, 2, 5, 5));
+        assert_eq!(grow(&mesh), box_cells(2, 2, 5, 5));
         // A stroke touching the box at one place along its side (a quarter of it): no growth.
         let stroke = labels_of(&|x, y| (36..60).contains(&x) && (18..21).contains(&y));
-        assert_eq!(grow_box(&photo, &stroke, 2, &grid), photo);
+        assert_eq!(grow(&stroke), photo);
         // Ink beside the box that does not enter it (a line of text): no growth.
         let text = labels_of(&|x, y| (42..60).contains(&x) && (16..48).contains(&y));
-        assert_eq!(grow_box(&photo, &text, 2, &grid), photo);
+        assert_eq!(grow(&text), photo);
+        // Each its own piece: dots of `dot` px square on a 4 px screen in the column of cells
+        // right of the box, `every` rows of dots out of 4 (the photo's light rim, cut off from
+        // its dots inside by paper).
+        let rim = |dot: usize, every: usize| -> Vec<u32> {
+            (0..64 * 64)
+                .map(|p| {
+                    let (x, y) = (p % 64, p / 64);
+                    let on = (40..48).contains(&x)
+                        && (16..48).contains(&y)
+                        && x % 4 < dot
+                        && y % 4 < dot
+                        && (y / 4) % 4 < every;
+                    if on {
+                        (1 + (y / 4) * 16 + x / 4) as u32
+                    } else {
+                        0
+                    }
+                })
+                .collect()
+        };
+        // Specks of 4 px (under w^2 = 9), four to a cell: one more column.
+        assert_eq!(grow(&rim(2, 4)), box_cells(2, 2, 5, 5));
+        // Two specks to a cell (a dotted leader, an i's dot): no growth.
+        assert_eq!(grow(&rim(2, 1)), photo);
+        // Pieces of 16 px, larger than a speck (letters): no growth.
+        let letters = rim(4, 4)
+            .iter()
+            .enumerate()
+            .map(|(p, &l)| if (p % 64) % 8 < 4 { l } else { 0 })
+            .collect::<Vec<u32>>();
+        assert_eq!(grow(&letters), photo);
+    }
+
+    /// A page of text (ink 20 on paper 230) left of x = 160 and a net of faint lines (gray 205)
+    /// `every` px apart both ways, 1 px wide, right of it (not touching the text, as a local
+    /// threshold leaves paper around a dark stroke); the ink mask as a local threshold gives it:
+    /// the text and the net.
+    fn page_on_a_net(every: u32) -> (GrayImage, Vec<bool>) {
+        let gray = page(320, 240, [20, 20, 150, 220], |x, y| {
+            (x >= 160 && (x % every == 0 || y % every == 0)).then_some(205)
+        });
+        let text = page(320, 240, [20, 20, 150, 220], |_, _| None);
+        let ink = gray
+            .pixels()
+            .zip(text.pixels())
+            .map(|(g, t)| g.0[0] < 215 || t.0[0] == INK)
+            .collect();
+        (gray, ink)
+    }
+
+    #[test]
+    fn a_net_of_faint_ink_that_is_most_of_the_ink_is_left_out_and_the_text_stays() {
+        let (gray, mut ink) = page_on_a_net(4);
+        let text: Vec<bool> = page(320, 240, [20, 20, 150, 220], |_, _| None)
+            .pixels()
+            .map(|p| p.0[0] == INK)
+            .collect();
+        let net = ink.iter().zip(&text).filter(|(&i, &t)| i && !t).count();
+        let strokes = text.iter().filter(|&&t| t).count();
+        assert!(
+            net > strokes,
+            "the net is most of the ink: {net} vs {strokes}"
+        );
+        let mut kept = ink.clone();
+        let region = faint((&gray).into(), &mut ink, true, 3.0, &[], true);
+        assert_eq!(region.map(|r| r.kind), Some(RegionKind::Faint));
+        // Every stroke pixel stays; of the net, only what touches the strokes.
+        assert!(text.iter().zip(&ink).all(|(&t, &i)| !t || i));
+        let left = ink.iter().zip(&text).filter(|(&i, &t)| i && !t).count();
+        assert!(left * 4 < net, "{left} of the net's {net} px left");
+        // Kept when asked: the region is reported and no ink moves.
+        let before = kept.clone();
+        let region = faint((&gray).into(), &mut kept, true, 3.0, &[], false);
+        assert_eq!(region.map(|r| r.kind), Some(RegionKind::Faint));
+        assert_eq!(kept, before);
+    }
+
+    #[test]
+    fn a_few_faint_lines_beside_the_text_stay() {
+        // Lines 40 px apart: faint, but less of the ink than the text (ruled lines, a print's
+        // lighter ridges).
+        let (gray, mut ink) = page_on_a_net(40);
+        let before = ink.clone();
+        assert_eq!(faint((&gray).into(), &mut ink, true, 3.0, &[], true), None);
+        assert_eq!(ink, before);
+        // A page of text alone: nothing.
+        let text = page(320, 240, [20, 20, 300, 220], |_, _| None);
+        let mut ink: Vec<bool> = text.pixels().map(|p| p.0[0] == INK).collect();
+        assert_eq!(faint((&text).into(), &mut ink, true, 3.0, &[], true), None);
     }
 
     #[test]

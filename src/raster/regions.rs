@@ -606,37 +606,37 @@ fn texture_cells(
     };
     let cut = f64::from(cut);
     let levels = [cut - (cut - ink_gray) / 2.0, cut + (paper_gray - cut) / 2.0];
-    // Block means, each block `side` px square (cut to the image).
+    // Block means, each block `side` px square (cut to the image), at or below each level: the
+    // blocks padded with a block of paper all round, so that the window at (x, y) is the padded
+    // blocks (x, y) to (x + 1, y + 1). The sums are kept for one row of blocks at a time.
     let side = ((stroke_width / 2.0).floor() as usize).max(1);
     let (bw, bh) = (width.div_ceil(side), height.div_ceil(side));
-    let mut sums = vec![0u32; bw * bh];
-    let mut sizes = vec![0u32; bw * bh];
-    for y in 0..height {
-        let base = (y / side) * bw;
-        for (b, block) in gray.row(y).chunks(side).enumerate() {
-            sums[base + b] += block.iter().map(|&v| u32::from(turn(v))).sum::<u32>();
-            sizes[base + b] += block.len() as u32;
+    let pw = bw + 2;
+    let mut padded = [vec![0u8; pw * (bh + 2)], vec![0u8; pw * (bh + 2)]];
+    let mut sums = vec![0u32; bw];
+    for by in 0..bh {
+        sums.fill(0);
+        let ys = by * side..((by + 1) * side).min(height);
+        let block_rows = ys.len();
+        for y in ys {
+            for (sum, block) in sums.iter_mut().zip(gray.row(y).chunks(side)) {
+                *sum += block.iter().map(|&v| u32::from(turn(v))).sum::<u32>();
+            }
+        }
+        let at = (by + 1) * pw + 1;
+        for (b, &sum) in sums.iter().enumerate() {
+            let size = (block_rows * (((b + 1) * side).min(width) - b * side)) as u32;
+            let mean = f64::from(sum) / f64::from(size.max(1));
+            for (padded, level) in padded.iter_mut().zip(levels) {
+                padded[at + b] = u8::from(mean <= level);
+            }
         }
     }
-    let means: Vec<f64> = sums
-        .iter()
-        .zip(&sizes)
-        .map(|(&s, &n)| f64::from(s) / f64::from(n.max(1)))
-        .collect();
     // The cell column of each window's first block (x is one more than the block's position).
     let cell_col: Vec<usize> = (0..=bw)
         .map(|x| ((x.max(1) - 1) * side / cell).min(cols - 1))
         .collect();
-    let counts = levels.map(|at| {
-        // The blocks at or below `at`, padded with a block of paper all round: the window at
-        // (x, y) is the padded blocks (x, y) to (x + 1, y + 1).
-        let pw = bw + 2;
-        let mut padded = vec![0u8; pw * (bh + 2)];
-        for (row, means) in padded[pw..].chunks_mut(pw).zip(means.chunks(bw)) {
-            for (p, &m) in row[1..].iter_mut().zip(means) {
-                *p = u8::from(m <= at);
-            }
-        }
+    let counts = padded.map(|padded| {
         let mut quads = vec![0i32; cols * rows];
         for y in 0..=bh {
             let cy = ((y.max(1) - 1) * side / cell).min(rows - 1);

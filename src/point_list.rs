@@ -17,7 +17,7 @@ use crate::mask::{close3, ink_row_starts, squared_distance_rows, tiny_hole_pixel
 use crate::median::upper_median_by;
 use crate::params::{Params, RMinRule};
 use crate::point_index::{cross_pairs, k_nearest, z_order, Cells};
-use crate::point_set::PointSet;
+use crate::point_set::{on_lattice, PointSet};
 use crate::stroke_graph::StrokeGraph;
 
 /// Coordinates are translated so the smallest is 0; an extent beyond this would overflow squared
@@ -702,17 +702,6 @@ fn half_widths(points: &[[f64; 2]], spacing: f64, params: &Params) -> Vec<f32> {
     } else {
         sparse_half_widths(&cells, scale)
     }
-}
-
-/// Whether every point lies on the square lattice of step `spacing` through the origin (pixel
-/// centers listed as points; the coordinates are translated to their minimum and scaled by powers
-/// of two, so lattice points stay exactly on it).
-fn on_lattice(points: &[[f64; 2]], spacing: f64) -> bool {
-    let off = |x: f64| {
-        let t = x / spacing;
-        (t - t.round()).abs() > 1e-6
-    };
-    !points.iter().any(|p| off(p[0]) || off(p[1]))
 }
 
 /// Fewest points in a window for its covariance to say anything about the strip.

@@ -96,6 +96,22 @@ impl Grid {
     }
 }
 
+/// Whether every point lies on the square lattice of step `spacing` through the first point
+/// (pixel centers listed as points, or a pixel grid's points; a point list's coordinates are
+/// translated to their minimum and scaled by powers of two, so lattice points stay exactly on it).
+pub(crate) fn on_lattice(points: &[[f64; 2]], spacing: f64) -> bool {
+    let Some(&first) = points.first() else {
+        return true;
+    };
+    let off = |x: f64, x0: f64| {
+        let t = (x - x0) / spacing;
+        (t - t.round()).abs() > 1e-6
+    };
+    !points
+        .iter()
+        .any(|p| off(p[0], first[0]) || off(p[1], first[1]))
+}
+
 /// Chunks of whole components of a point set (see [`PointSet::split_components`]).
 pub(crate) struct ComponentChunks {
     /// CSR offsets into `members`, one chunk after the other.

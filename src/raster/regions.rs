@@ -349,12 +349,24 @@ fn faint(
     if contrast <= 0 {
         return None;
     }
+    let reaches = |p: usize| f64::from(darkness(p)) >= FAINT_SHARE * f64::from(contrast);
+    // A faint piece of n pixels has more than (1 - FAINT_CORE) n measured pixels that do not
+    // reach the share, so all faint pieces together are fewer than those pixels over
+    // (1 - FAINT_CORE): when that bound is under FAINT_INK of the ink (a page of text), there is
+    // nothing to leave out, and the page need not be labelled.
+    let short = (0..ink.len())
+        .filter(|&p| measured(p) && !reaches(p))
+        .count();
+    let all_ink = ink.iter().filter(|&&i| i).count();
+    if (short as f64) < (1.0 - FAINT_CORE) * FAINT_INK * all_ink as f64 {
+        return None;
+    }
     // Per piece of ink (8-connected), its pixels and those that reach the share of the text's
     // contrast (ink in a ground counts as reaching it, so a ground's strokes stay).
     let (labels, sizes) = label_components(ink, width, height, true, Connectivity::Eight);
     let mut reaching = vec![0usize; sizes.len()];
     for (p, &l) in labels.iter().enumerate() {
-        if l > 0 && (!measured(p) || f64::from(darkness(p)) >= FAINT_SHARE * f64::from(contrast)) {
+        if l > 0 && (!measured(p) || reaches(p)) {
             reaching[l as usize] += 1;
         }
     }
@@ -373,7 +385,6 @@ fn faint(
         .filter(|(&f, _)| f)
         .map(|(_, &n)| n)
         .sum();
-    let all_ink: usize = sizes.iter().skip(1).sum();
     if (faint_ink as f64) < FAINT_INK * all_ink as f64 {
         return None;
     }

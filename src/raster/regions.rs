@@ -354,9 +354,13 @@ fn faint(
     // reach the share, so all faint pieces together are fewer than those pixels over
     // (1 - FAINT_CORE): when that bound is under FAINT_INK of the ink (a page of text), there is
     // nothing to leave out, and the page need not be labelled.
-    let short = (0..ink.len())
-        .filter(|&p| measured(p) && !reaches(p))
-        .count();
+    // The measured pixels short of the share, read off the histogram.
+    let short: u64 = histogram
+        .iter()
+        .enumerate()
+        .filter(|&(d, _)| f64::from(d as i32 - 255) < FAINT_SHARE * f64::from(contrast))
+        .map(|(_, &n)| n)
+        .sum();
     let all_ink = ink.iter().filter(|&&i| i).count();
     if (short as f64) < (1.0 - FAINT_CORE) * FAINT_INK * all_ink as f64 {
         return None;

@@ -421,24 +421,17 @@ impl Work {
             .map(|(w, _)| *w)
             .fold(f64::INFINITY, f64::min);
         let tolerance = disk_radius(stroke);
-        let straight = |p: &ArmLine, q: &ArmLine| {
-            [p.near, q.near]
-                .iter()
-                .all(|&n| line_dist(n, p.far, q.far) <= tolerance)
-                && self.ink.holds(p.far, q.far)
-        };
         let pairs = [[(0, 0), (1, 1)], [(0, 1), (1, 0)]];
         let [(i, j), (k, l)] = *pairs.iter().find(|pair| {
-            pair.iter()
-                .all(|&(i, j)| straight(&arms_a[i].1, &arms_b[j].1))
+            pair.iter().all(|&(i, j)| {
+                self.stroke_miss(&arms_a[i].1, &arms_b[j].1, tolerance)
+                    .is_some()
+            })
         })?;
         // Where the two strokes' lines meet (`None` when parallel).
-        let line = |p: &ArmLine, q: &ArmLine| {
-            unit([q.far[0] - p.far[0], q.far[1] - p.far[1]]).map(|d| (p.far, d))
-        };
         let lines = [
-            line(&arms_a[i].1, &arms_b[j].1)?,
-            line(&arms_a[k].1, &arms_b[l].1)?,
+            stroke_line(&arms_a[i].1, &arms_b[j].1)?,
+            stroke_line(&arms_a[k].1, &arms_b[l].1)?,
         ];
         let hub = line_intersection(&lines, 0.0)?;
         let link_points = &self.edges[link].as_ref()?.points;
@@ -454,6 +447,17 @@ impl Work {
             degree: 4,
             width: stroke,
         })
+    }
+
+    /// Whether the arms `p` and `q` are one straight stroke: the line through their far anchors
+    /// lies on the ink and passes within `tolerance` of both near anchors. How far it misses the
+    /// farther of them; `None` when they are not.
+    fn stroke_miss(&self, p: &ArmLine, q: &ArmLine, tolerance: f64) -> Option<f64> {
+        let worst = [p.near, q.near]
+            .iter()
+            .map(|&n| line_dist(n, p.far, q.far))
+            .fold(0.0f64, f64::max);
+        (worst <= tolerance && self.ink.holds(p.far, q.far)).then_some(worst)
     }
 
     /// The two arms at the degree-3 junction `j` other than `link`: each its median width and
@@ -527,26 +531,23 @@ impl Work {
             }
             if edge.length() <= STAR_LINK * median(&edge.widths) {
                 sets.union(a, b);
-                links.push(e);
+                links.push((e, a));
             }
         }
+        // Each group's junctions and its links, by the group's root.
         let mut groups = vec![Vec::new(); n];
         for v in 0..n {
             if self.alive[v] && degree[v] >= 3 {
                 groups[sets.find(v)].push(v);
             }
         }
-        for group in groups.into_iter().filter(|g| g.len() >= 2) {
-            let internal: Vec<usize> = links
-                .iter()
-                .copied()
-                .filter(|&e| {
-                    self.edges[e]
-                        .as_ref()
-                        .is_some_and(|edge| group.contains(&edge.from))
-                })
-                .collect();
-            if internal.len() + 1 != group.len() {
+        let mut internal_of = vec![Vec::new(); n];
+        for (e, a) in links {
+            internal_of[sets.find(a)].push(e);
+        }
+        for (group, internal) in groups.into_iter().zip(internal_of) {
+            // One junction alone, or a cycle among them (a hole): no star.
+            if group.len() < 2 || internal.len() + 1 != group.len() {
                 continue;
             }
             let Some(c) = self.split_star(&group, &internal, &at) else {
@@ -582,29 +583,16 @@ impl Work {
         let stroke = arms.iter().map(|a| a.1).fold(f64::INFINITY, f64::min);
         let tolerance = disk_radius(stroke);
         // How far a pair's line misses its near anchors (`None`: not one straight stroke).
-        let miss = |p: &(usize, f64, ArmLine), q: &(usize, f64, ArmLine)| {
-            if !self.ink.holds(p.2.far, q.2.far) {
-                return None;
-            }
-            let worst = [p.2.near, q.2.near]
-                .iter()
-                .map(|&n| line_dist(n, p.2.far, q.2.far))
-                .fold(0.0f64, f64::max);
-            (worst <= tolerance).then_some(worst)
-        };
         let mut miss_of = vec![vec![None; arms.len()]; arms.len()];
         for i in 0..arms.len() {
             for j in i + 1..arms.len() {
-                miss_of[i][j] = miss(&arms[i], &arms[j]);
+                miss_of[i][j] = self.stroke_miss(&arms[i].2, &arms[j].2, tolerance);
             }
         }
         let pairs = best_pairing(&miss_of)?;
         let lines = pairs
             .iter()
-            .map(|&(i, j)| {
-                let (p, q) = (&arms[i].2, &arms[j].2);
-                unit([q.far[0] - p.far[0], q.far[1] - p.far[1]]).map(|d| (p.far, d))
-            })
+            .map(|&(i, j)| stroke_line(&arms[i].2, &arms[j].2))
             .collect::<Option<Vec<_>>>()?;
         let hub = line_intersection(&lines, 0.0)?;
         // The hub lies among the junctions: none farther from it than the longest link.
@@ -676,6 +664,12 @@ fn best_pairing(miss: &[Vec<Option<f64>>]) -> Option<Vec<(usize, usize)>> {
         &mut best,
     );
     best.map(|(_, pairs)| pairs)
+}
+
+/// The line of the stroke whose two arms are `p` and `q`, through their far anchors (a point and
+/// a unit direction); `None` when the anchors coincide.
+fn stroke_line(p: &ArmLine, q: &ArmLine) -> Option<([f64; 2], [f64; 2])> {
+    unit([q.far[0] - p.far[0], q.far[1] - p.far[1]]).map(|d| (p.far, d))
 }
 
 /// The distance from `p` to the line through `a` and `b` (infinite when they coincide).

@@ -2,7 +2,9 @@
 
 use std::fs;
 
-use crate::support::{entries, repository_root, ridgeline, stderr, temp_dir, write_strokes_png};
+use crate::support::{
+    entries, repository_root, ridgeline, run_ok, stderr, temp_dir, write_strokes_png,
+};
 
 use base64::Engine;
 use ridgeline::export::json::{self, JsonMeta};
@@ -391,6 +393,45 @@ fn help_mentions_every_flag_group_and_flag() {
             "help lacks the example with {example}"
         );
     }
+}
+
+#[test]
+fn timings_are_written_only_when_asked_and_leave_the_graph_alone() {
+    let dir = temp_dir();
+    write_strokes_png(&dir.path().join("page.png"));
+    let line: String = (0..60).map(|i| format!("{} {}\n", i, i % 2)).collect();
+    fs::write(dir.path().join("line.xy"), line).unwrap();
+    let mut stages = [
+        "decode", "binarize", "points", "sampling", "graph", "refine", "fit", "skeleton", "wall",
+    ];
+    stages.sort_unstable();
+    for input in ["page.png", "line.xy"] {
+        let read = |name: &str| -> serde_json::Value {
+            serde_json::from_slice(&fs::read(dir.path().join(name)).unwrap()).unwrap()
+        };
+        run_ok(&[input, "-o", "plain.json"], dir.path());
+        run_ok(&[input, "--timings", "-o", "timed.json"], dir.path());
+        let (plain, timed) = (read("plain.json"), read("timed.json"));
+        assert!(
+            plain.get("timings").is_none(),
+            "{input}: no times unless asked"
+        );
+        let timings = timed["timings"].as_object().expect("timings");
+        let mut keys: Vec<&str> = timings.keys().map(String::as_str).collect();
+        keys.sort_unstable();
+        assert_eq!(keys, stages, "{input}");
+        assert!(timings
+            .values()
+            .all(|t| t.as_f64().is_some_and(|t| t >= 0.0)));
+        assert!(timings["wall"].as_f64().unwrap() > 0.0, "{input}");
+        // Everything else is the document without times.
+        let mut untimed = timed.clone();
+        untimed.as_object_mut().unwrap().remove("timings");
+        assert_eq!(untimed, plain, "{input}");
+    }
+    // The SVG has no place for times: the flag is named as doing nothing there.
+    let output = run_ok(&["page.png", "--timings", "-o", "page.svg"], dir.path());
+    assert!(stderr(&output).contains("--timings changes only the JSON"));
 }
 
 #[test]

@@ -234,6 +234,15 @@ fn the_command_line_writes_json_ply_and_obj_that_read_back() {
     assert_eq!(json["parameters"]["input"], "points3d");
     assert_eq!(json["stats"]["junctions"], 1);
     assert_eq!(json["stats"]["endpoints"], 3);
+    assert!(json.get("timings").is_none(), "no times unless asked");
+    // `--timings`: a set in space records its wall time only, and the graph is the same.
+    run_ok(&["y.ply", "--timings", "-o", "timed.json"], dir.path());
+    let timed: serde_json::Value =
+        serde_json::from_slice(&fs::read(dir.path().join("timed.json")).unwrap()).unwrap();
+    let timings = timed["timings"].as_object().expect("timings");
+    assert_eq!(timings.keys().collect::<Vec<_>>(), ["wall"]);
+    assert!(timings["wall"].as_f64().unwrap() > 0.0);
+    assert_eq!(timed["edges"], json["edges"]);
     let vertices = json["vertices"].as_array().unwrap();
     assert!(vertices.iter().all(|v| v["z"].is_number()));
     let edge = &json["edges"][0];

@@ -181,6 +181,16 @@ pub struct Cli {
     #[arg(long, help_heading = "Output")]
     pub(crate) pretty: bool,
 
+    /// JSON: add the seconds each stage took, as `timings`
+    ///
+    /// Seconds per stage (decode, binarize, points, sampling, graph, refine, fit, skeleton; a
+    /// large page is traced in parts at once, and each stage's time is summed over its parts) and
+    /// `wall`, the wall-clock time of decoding and tracing the file. Times differ from run to
+    /// run: with --timings the same input no longer gives the same bytes. A point list in space
+    /// records the wall time only.
+    #[arg(long, help_heading = "Output")]
+    pub(crate) timings: bool,
+
     /// Also draw every stage of each image as a PNG into DIR
     ///
     /// DIR is created if missing. The pictures: 1-foreground (the binarized ink), 2-sampling (the

@@ -488,16 +488,24 @@ pub fn render(
 
 /// The output document of a point set in space: JSON with `z`, PLY or OBJ polylines (the caller
 /// refuses the plane's formats first).
-pub fn render_space(job: &Job, settings: &Settings, trace: &ridgeline::Trace3d) -> Vec<u8> {
+pub fn render_space(
+    job: &Job,
+    settings: &Settings,
+    trace: &ridgeline::Trace3d,
+    wall: std::time::Duration,
+) -> Vec<u8> {
     use ridgeline::export::polylines::{to_obj, to_ply};
     match settings.format {
         Format::Ply => to_ply(&trace.graph).into_bytes(),
         Format::Obj => to_obj(&trace.graph).into_bytes(),
         _ => {
-            let meta = JsonMeta::new(settings.params.clone())
+            let mut meta = JsonMeta::new(settings.params.clone())
                 .with_source_path(job.input.to_string_lossy())
                 .with_pretty(settings.pretty)
                 .with_input("points3d");
+            if settings.timings {
+                meta = meta.with_timings(None, wall);
+            }
             ridgeline::export::json::to_string_3d(trace, &meta).into_bytes()
         }
     }

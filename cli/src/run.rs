@@ -325,7 +325,9 @@ fn trace_and_write(job: &Job, settings: &Settings, reserved: &Reserved) -> Resul
             None => fs::read(&job.input).context("cannot read the file"),
         };
         let extension = job.input.extension().and_then(|e| e.to_str());
+        let clock = Instant::now();
         let data = bytes.and_then(|bytes| Ok(ridgeline::point_list::read(&bytes, extension)?));
+        let parse = clock.elapsed();
         let data = match (kind, data) {
             (Kind::FoundText, Err(err)) => return Err(NotAPointList(format!("{err:#}")).into()),
             (Kind::FoundText, Ok(data)) if data.is_empty() => {
@@ -340,9 +342,10 @@ fn trace_and_write(job: &Job, settings: &Settings, reserved: &Reserved) -> Resul
         }
         let list = match data {
             PointData::Plane(list) => list,
-            PointData::Space(list) => return trace_space(job, settings, &list),
+            PointData::Space(list) => return trace_space(job, settings, &list, clock),
         };
-        let trace = ridgeline::trace_points(&list, params)?;
+        let mut trace = ridgeline::trace_points(&list, params)?;
+        trace.timings.decode = parse;
         let mut warnings = Vec::new();
         if job.debug.is_some() {
             warnings.push("--debug draws pictures of images only; none for a point list".into());
@@ -350,9 +353,12 @@ fn trace_and_write(job: &Job, settings: &Settings, reserved: &Reserved) -> Resul
         if trace.graph.vertices.is_empty() {
             warnings.push("no strokes found; wrote an empty drawing".to_string());
         }
-        let meta = JsonMeta::new(params.clone())
+        let mut meta = JsonMeta::new(params.clone())
             .with_trace(&trace)
             .with_input("points2d");
+        if settings.timings {
+            meta = meta.with_timings(Some(trace.timings), clock.elapsed());
+        }
         warnings.extend(trace.warnings.iter().map(|w| w.message.clone()));
         let text = render(
             job,
@@ -373,6 +379,7 @@ fn trace_and_write(job: &Job, settings: &Settings, reserved: &Reserved) -> Resul
     };
     // Only an SVG with its backdrop shows the picture; without one no colour copy is kept.
     let pictures = settings.format == Format::Svg && settings.embed_image;
+    let clock = Instant::now();
     let mut pages =
         ridgeline::raster::pages(&bytes, &params.front_end.limits)?.with_pictures(pictures);
     let count = pages.page_count();
@@ -392,13 +399,19 @@ fn trace_and_write(job: &Job, settings: &Settings, reserved: &Reserved) -> Resul
     }
     if count == 1 {
         let page = pages.next().context("the file holds no image")??;
+        let file = FileOf {
+            count,
+            file_dpi,
+            started: clock,
+            decode: clock.elapsed(),
+        };
         // While the page is traced, the file's bytes are kept only if they are its picture.
         drop(pages);
         let bytes = match page.picture {
             Picture::Original { .. } => bytes,
             _ => Vec::new(),
         };
-        let mut traced = trace_page(job, settings, reserved, &bytes, &page, count, file_dpi)?;
+        let mut traced = trace_page(job, settings, reserved, &bytes, &page, &file)?;
         warnings.append(&mut traced.warnings);
         traced.warnings = warnings;
         return Ok(traced);
@@ -406,11 +419,18 @@ fn trace_and_write(job: &Job, settings: &Settings, reserved: &Reserved) -> Resul
     let mut failed = Vec::new();
     let mut all = Traced::of(&StrokeGraph::default(), warnings, String::new());
     let mut outputs = Vec::new();
-    for (index, page) in pages.enumerate() {
-        let number = index + 1;
+    for number in 1..=count {
+        let started = Instant::now();
+        let Some(page) = pages.next() else { break };
+        let file = FileOf {
+            count,
+            file_dpi,
+            started,
+            decode: started.elapsed(),
+        };
         let traced = page
             .map_err(anyhow::Error::from)
-            .and_then(|page| trace_page(job, settings, reserved, &bytes, &page, count, file_dpi));
+            .and_then(|page| trace_page(job, settings, reserved, &bytes, &page, &file));
         match traced {
             Ok(traced) => {
                 all.warnings.extend(
@@ -448,7 +468,12 @@ fn trace_and_write(job: &Job, settings: &Settings, reserved: &Reserved) -> Resul
 /// Traces a point set in space and writes it: JSON with `z`, PLY or OBJ polylines. SVG draws the
 /// plane, and the minutiae formats a print's: for a 3D set they are an error that names what to
 /// write instead.
-fn trace_space(job: &Job, settings: &Settings, list: &[[f64; 3]]) -> Result<Traced> {
+fn trace_space(
+    job: &Job,
+    settings: &Settings,
+    list: &[[f64; 3]],
+    clock: Instant,
+) -> Result<Traced> {
     if matches!(settings.format, Format::Svg | Format::Xyt | Format::Iso) {
         anyhow::bail!(
             "the points are in space (x y z), and {} output is for the plane; write JSON, PLY or \
@@ -465,7 +490,7 @@ fn trace_space(job: &Job, settings: &Settings, list: &[[f64; 3]]) -> Result<Trac
         warnings.push("no curves found; wrote an empty graph".to_string());
     }
     warnings.extend(trace.warnings.iter().map(|w| w.message.clone()));
-    let text = render_space(job, settings, &trace);
+    let text = render_space(job, settings, &trace, clock.elapsed());
     let output = write_output(job, &job.destination, &text)?;
     let graph = &trace.graph;
     Ok(Traced {
@@ -518,23 +543,35 @@ fn regions_left_out(
     ))
 }
 
-/// Traces one page of an image file (`bytes`, of `count` pages) and writes its output: page 1 to
-/// the job's destination, page N to `<stem>.pN.<extension>` beside it.
+/// What a page's trace needs to know of its file, and when its decoding started.
+struct FileOf {
+    /// The file's page count.
+    count: usize,
+    /// The resolution the file records, if any.
+    file_dpi: Option<f64>,
+    /// When the page's decoding started (the file's, for a single image).
+    started: Instant,
+    /// How long the page took to decode.
+    decode: std::time::Duration,
+}
+
+/// Traces one page of an image file (`bytes`, of `file.count` pages) and writes its output: page 1
+/// to the job's destination, page N to `<stem>.pN.<extension>` beside it.
 fn trace_page(
     job: &Job,
     settings: &Settings,
     reserved: &Reserved,
     bytes: &[u8],
     page: &Page,
-    count: usize,
-    file_dpi: Option<f64>,
+    file: &FileOf,
 ) -> Result<Traced> {
+    let (count, file_dpi) = (file.count, file.file_dpi);
     let params = &settings.params;
     let debug = job.debug.as_ref().map(|dir| match page.number {
         1 => dir.clone(),
         n => dir.join(format!("p{n}")),
     });
-    let trace = match &debug {
+    let mut trace = match &debug {
         Some(dir) => {
             // Traced once, keeping the stages of the output's own trace for the pictures.
             let mut trace = ridgeline::trace_image_with_stages(&page.gray, params)?;
@@ -566,9 +603,13 @@ fn trace_page(
         Picture::Color(image) => Backdrop::Color(image),
         Picture::Gray => Backdrop::Gray(&page.gray),
     };
-    let meta = JsonMeta::new(params.clone())
+    trace.timings.decode = file.decode;
+    let mut meta = JsonMeta::new(params.clone())
         .with_page(page.number, count)
         .with_trace(&trace);
+    if settings.timings {
+        meta = meta.with_timings(Some(trace.timings), file.started.elapsed());
+    }
     warnings.extend(trace.warnings.iter().map(|w| w.message.clone()));
     if let Some(notice) = trace
         .decisions

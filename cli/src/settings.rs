@@ -34,6 +34,8 @@ pub struct Settings {
     pub embed_image: bool,
     /// `--pretty`.
     pub pretty: bool,
+    /// `--timings`: seconds per stage in the JSON.
+    pub timings: bool,
     /// `--strokes`.
     pub strokes: bool,
     /// `--minutiae` (or `--fingerprint`, `--enhance`).
@@ -95,6 +97,7 @@ impl TryFrom<&Cli> for Settings {
                 .with_show_widths(cli.width),
             embed_image: !cli.no_image,
             pretty: cli.pretty,
+            timings: cli.timings,
             strokes: cli.strokes,
             minutiae: cli.minutiae || cli.fingerprint || cli.enhance.is_some(),
             dpi: cli.dpi,
@@ -342,12 +345,16 @@ fn ignored_flags(cli: &Cli, format: Format) -> Vec<String> {
             "change only the SVG (the JSON always holds every width and the strokes)",
         ),
         Format::Svg => (
-            cli.pretty.then_some("--pretty").into_iter().collect(),
-            "changes only the JSON",
+            [(cli.pretty, "--pretty"), (cli.timings, "--timings")]
+                .into_iter()
+                .filter_map(|(on, flag)| on.then_some(flag))
+                .collect(),
+            "change only the JSON",
         ),
         Format::Xyt | Format::Iso => (
             [
                 (cli.pretty, "--pretty"),
+                (cli.timings, "--timings"),
                 (cli.strokes, "--strokes"),
                 (cli.width, "--width"),
                 (cli.curves, "--curves"),
@@ -360,6 +367,7 @@ fn ignored_flags(cli: &Cli, format: Format) -> Vec<String> {
         Format::Ply | Format::Obj => (
             [
                 (cli.pretty, "--pretty"),
+                (cli.timings, "--timings"),
                 (cli.strokes, "--strokes"),
                 (cli.width, "--width"),
                 (cli.curves, "--curves"),

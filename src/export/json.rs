@@ -25,12 +25,14 @@
 
 use serde::ser::{Serialize, SerializeSeq, Serializer};
 use serde::Serialize as DeriveSerialize;
+use std::time::Duration;
 
 use super::Features;
 use crate::curves::CubicBezier;
 use crate::decisions::{Decisions, PrintDecisions, Warning};
 use crate::minutiae::Minutia;
 use crate::params::Params;
+use crate::pipeline::Timings;
 use crate::stroke_graph::{Edge, StrokeGraph, Vertex};
 use crate::strokes::Stroke;
 
@@ -106,6 +108,14 @@ pub struct JsonMeta {
     /// PCA of §3.1 rather than a distance transform) or `points3d` (the stages in space,
     /// docs/design.md, "Point sets in space"); images leave it out. Default value: `None`.
     pub input: Option<&'static str>,
+    /// Seconds per stage, written as `timings` after `stats` when given (each stage summed over
+    /// the parts traced in parallel, so their sum can exceed the wall-clock time). Times differ
+    /// from run to run: a document with them is no longer the same bytes for the same input.
+    /// Default value: `None`.
+    pub timings: Option<Timings>,
+    /// Wall-clock seconds of the whole trace (decoding included when the caller timed it),
+    /// written as `timings.wall` when given. Default value: `None`.
+    pub wall: Option<Duration>,
 }
 
 impl JsonMeta {
@@ -139,6 +149,13 @@ impl JsonMeta {
     /// Sets [`JsonMeta::input`].
     pub fn with_input(mut self, input: &'static str) -> Self {
         self.input = Some(input);
+        self
+    }
+
+    /// Sets [`JsonMeta::timings`] and [`JsonMeta::wall`].
+    pub fn with_timings(mut self, timings: Option<Timings>, wall: Duration) -> Self {
+        self.timings = timings;
+        self.wall = Some(wall);
         self
     }
 
@@ -179,6 +196,7 @@ pub fn to_string_with(graph: &StrokeGraph, meta: &JsonMeta, features: &Features)
         minutiae: features.minutiae.map(Minutiae),
         curves: features.curves.map(Curves),
         stats: Stats::of(graph),
+        timings: TimingsOut::of(meta),
     };
     // Serializing plain structs, numbers and strings into memory cannot fail; the fallback only
     // keeps this function free of panics.
@@ -235,6 +253,52 @@ struct Document<'a> {
     #[serde(skip_serializing_if = "Option::is_none")]
     curves: Option<Curves<'a>>,
     stats: Stats,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    timings: Option<TimingsOut>,
+}
+
+/// Seconds per stage and of the whole trace, to the microsecond; absent stages (a point set in
+/// space records none) are left out.
+#[derive(DeriveSerialize)]
+struct TimingsOut {
+    #[serde(flatten, skip_serializing_if = "Option::is_none")]
+    stages: Option<StagesOut>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    wall: Option<f64>,
+}
+
+#[derive(DeriveSerialize)]
+struct StagesOut {
+    decode: f64,
+    binarize: f64,
+    points: f64,
+    sampling: f64,
+    graph: f64,
+    refine: f64,
+    fit: f64,
+    skeleton: f64,
+}
+
+impl TimingsOut {
+    fn of(meta: &JsonMeta) -> Option<TimingsOut> {
+        let seconds = |d: Duration| (d.as_secs_f64() * 1e6).round() / 1e6;
+        if meta.timings.is_none() && meta.wall.is_none() {
+            return None;
+        }
+        Some(TimingsOut {
+            stages: meta.timings.map(|t| StagesOut {
+                decode: seconds(t.decode),
+                binarize: seconds(t.binarize),
+                points: seconds(t.points),
+                sampling: seconds(t.sampling),
+                graph: seconds(t.graph),
+                refine: seconds(t.refine),
+                fit: seconds(t.fit),
+                skeleton: seconds(t.skeleton),
+            }),
+            wall: meta.wall.map(seconds),
+        })
+    }
 }
 
 /// Cubic Béziers per edge: each segment as its four points `[p0, p1, p2, p3]`.
@@ -488,6 +552,8 @@ pub fn to_string_3d(trace: &crate::curve3d::Trace3d, meta: &JsonMeta) -> String 
         vertices: Vec<VertexOut>,
         edges: Vec<EdgeOut>,
         stats: Stats,
+        #[serde(skip_serializing_if = "Option::is_none")]
+        timings: Option<TimingsOut>,
     }
     let graph: &CurveGraph3d = &trace.graph;
     let n = graph.vertices.len();
@@ -537,6 +603,7 @@ pub fn to_string_3d(trace: &crate::curve3d::Trace3d, meta: &JsonMeta) -> String 
             components,
             cycles: (graph.edges.len() + components).saturating_sub(n),
         },
+        timings: TimingsOut::of(meta),
     };
     let text = if meta.pretty {
         serde_json::to_string_pretty(&document)

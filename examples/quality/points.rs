@@ -12,12 +12,23 @@
 //! - centerline F1 within a quarter of the local width (both curves sampled every `w / 20`);
 //! - mean distance of the predicted centerline to the truth, in local widths;
 //! - width: the median of the predicted widths over the median true width (1 is right).
+//!
+//! Beside them, what a user without a point-cloud tool does with a 2D set (`raster+thinning`):
+//! rasterize it at its own point spacing (one pixel per spacing, the spacing `1 / sqrt(density)`
+//! estimated as twice the median distance to the nearest other point, as for random points),
+//! close the gaps between the points (a closing by a 5 x 5 square: gaps of up to two spacings;
+//! at half the spacing or with a 3 x 3 closing it makes a mesh of every case), thin and extract the
+//! pixel graph as the thinning baseline does, pruning terminal branches shorter than the stroke
+//! width, and map the graph back to the set's units. There is no such baseline in space (no voxel
+//! thinning here).
 
 use std::time::Instant;
 
-use ridgeline::{Params, StrokeGraph};
+use ridgeline::{Binary, Params, StrokeGraph};
 use ridgeline_testkit::synth::{strip_cases, tube_cases, StripCase, TubeCase};
 use serde::Serialize;
+
+use crate::thinning;
 
 /// One method on one point-set case.
 #[derive(Serialize)]
@@ -43,6 +54,9 @@ pub struct PointOutcome {
 
 /// The methods compared.
 const METHODS: [&str; 2] = ["ridgeline", "paper"];
+
+/// The rasterize-and-thin baseline of the plane (module docs).
+const RASTER: &str = "raster+thinning";
 
 fn params(method: &str) -> Params {
     match method {
@@ -74,6 +88,7 @@ fn run_plane(only: Option<&str>, verbose: bool) -> Vec<PointOutcome> {
         for method in METHODS {
             outcomes.push(run_one(case, method));
         }
+        outcomes.push(run_raster(case));
     }
     println!("\n## points ({} cases)\n", cases.len());
     println!(
@@ -89,10 +104,24 @@ fn run_one(case: &StripCase, method: &str) -> PointOutcome {
     let start = Instant::now();
     let result = ridgeline::trace_points(&case.points, &params(method));
     let time_ms = start.elapsed().as_secs_f64() * 1e3;
-    let mut outcome = PointOutcome {
+    let mut outcome = run_one_empty(case, method);
+    outcome.time_ms = time_ms;
+    match result {
+        Err(e) => outcome.failure = Some(e.to_string()),
+        Ok(trace) => {
+            outcome.warnings = trace.warnings.iter().map(|w| w.code.to_string()).collect();
+            score(case, &trace.graph, &mut outcome);
+        }
+    }
+    outcome
+}
+
+/// The outcome of `method` on `case` before it is scored.
+fn run_one_empty(case: &StripCase, method: &str) -> PointOutcome {
+    PointOutcome {
         case: case.name.clone(),
         method: method.to_string(),
-        time_ms,
+        time_ms: 0.0,
         failure: None,
         true_junctions: case.junctions.iter().map(|j| j.1).collect(),
         predicted_junctions: Vec::new(),
@@ -107,15 +136,146 @@ fn run_one(case: &StripCase, method: &str) -> PointOutcome {
         mean_distance_widths: f64::NAN,
         width_ratio: f64::NAN,
         warnings: Vec::new(),
+    }
+}
+
+/// The rasterize-and-thin baseline on one case (module docs).
+fn run_raster(case: &StripCase) -> PointOutcome {
+    let start = Instant::now();
+    let graph = raster_thinning(&case.points);
+    let mut outcome = run_one_empty(case, RASTER);
+    outcome.time_ms = start.elapsed().as_secs_f64() * 1e3;
+    score(case, &graph, &mut outcome);
+    outcome
+}
+
+/// Rasterizes `points` at their own spacing, closes the gaps, thins, prunes and maps the graph
+/// back to the points' units.
+fn raster_thinning(points: &[[f64; 2]]) -> StrokeGraph {
+    let Some(nearest) = nearest_spacing(points) else {
+        return StrokeGraph::default();
     };
-    match result {
-        Err(e) => outcome.failure = Some(e.to_string()),
-        Ok(trace) => {
-            outcome.warnings = trace.warnings.iter().map(|w| w.code.to_string()).collect();
-            score(case, &trace.graph, &mut outcome);
+    let spacing = 2.0 * nearest;
+    let (mut lo, mut hi) = ([f64::MAX; 2], [f64::MIN; 2]);
+    for p in points {
+        for k in 0..2 {
+            lo[k] = lo[k].min(p[k]);
+            hi[k] = hi[k].max(p[k]);
         }
     }
-    outcome
+    // A margin of three pixels keeps the closing off the image's edge.
+    let pad = 3.0;
+    let side = |k: usize| ((hi[k] - lo[k]) / spacing).floor() as u32 + 1 + 2 * pad as u32;
+    let (width, height) = (side(0), side(1));
+    if u64::from(width) * u64::from(height) > 64_000_000 {
+        return StrokeGraph::default();
+    }
+    let mut binary = Binary::new(width, height);
+    for p in points {
+        let x = ((p[0] - lo[0]) / spacing).floor() + pad;
+        let y = ((p[1] - lo[1]) / spacing).floor() + pad;
+        binary.set(x as i64, y as i64, true);
+    }
+    let closed = erode(&erode(&dilate(&dilate(&binary))));
+    let mut graph = thinning::trace_pruned(&closed);
+    let to_units = |q: [f64; 2]| {
+        [
+            lo[0] + (q[0] - pad) * spacing,
+            lo[1] + (q[1] - pad) * spacing,
+        ]
+    };
+    for v in &mut graph.vertices {
+        v.pos = to_units(v.pos);
+        v.width *= spacing;
+    }
+    for e in &mut graph.edges {
+        for q in &mut e.points {
+            *q = to_units(*q);
+        }
+        for w in &mut e.widths {
+            *w *= spacing;
+        }
+    }
+    graph
+}
+
+/// The median distance from a point to its nearest other point (None for fewer than two distinct
+/// points), found through a grid of cells about one spacing wide.
+fn nearest_spacing(points: &[[f64; 2]]) -> Option<f64> {
+    if points.len() < 2 {
+        return None;
+    }
+    let (mut lo, mut hi) = ([f64::MAX; 2], [f64::MIN; 2]);
+    for p in points {
+        for k in 0..2 {
+            lo[k] = lo[k].min(p[k]);
+            hi[k] = hi[k].max(p[k]);
+        }
+    }
+    let area = ((hi[0] - lo[0]) * (hi[1] - lo[1])).max(f64::MIN_POSITIVE);
+    let cell = (area / points.len() as f64).sqrt().max(1e-12);
+    let cols = ((hi[0] - lo[0]) / cell) as usize + 1;
+    let key = |p: [f64; 2]| {
+        (
+            ((p[0] - lo[0]) / cell) as usize,
+            ((p[1] - lo[1]) / cell) as usize,
+        )
+    };
+    let mut grid: std::collections::HashMap<usize, Vec<usize>> = Default::default();
+    for (i, &p) in points.iter().enumerate() {
+        let (cx, cy) = key(p);
+        grid.entry(cy * cols + cx).or_default().push(i);
+    }
+    let mut nearest = Vec::with_capacity(points.len());
+    for (i, &p) in points.iter().enumerate() {
+        let (cx, cy) = key(p);
+        // Widen the search ring until a neighbour is found and the ring is past it.
+        let mut best = f64::INFINITY;
+        for ring in 1usize.. {
+            for y in cy.saturating_sub(ring)..=cy + ring {
+                for x in cx.saturating_sub(ring)..=(cx + ring).min(cols - 1) {
+                    for &j in grid.get(&(y * cols + x)).into_iter().flatten() {
+                        let d = (points[j][0] - p[0]).hypot(points[j][1] - p[1]);
+                        if j != i && d > 0.0 {
+                            best = best.min(d);
+                        }
+                    }
+                }
+            }
+            if best <= (ring as f64) * cell || ring > cols.max(points.len()) {
+                break;
+            }
+        }
+        if best.is_finite() {
+            nearest.push(best);
+        }
+    }
+    nearest.sort_by(f64::total_cmp);
+    nearest.get(nearest.len() / 2).copied()
+}
+
+/// 3 x 3 dilation of a mask.
+fn dilate(b: &Binary) -> Binary {
+    let mut out = Binary::new(b.width, b.height);
+    for y in 0..b.height as i64 {
+        for x in 0..b.width as i64 {
+            let any = (-1..=1).any(|dy| (-1..=1).any(|dx| b.get(x + dx, y + dy)));
+            out.set(x, y, any);
+        }
+    }
+    out
+}
+
+/// 3 x 3 erosion of a mask (outside the image is background).
+fn erode(b: &Binary) -> Binary {
+    let mut out = Binary::new(b.width, b.height);
+    for y in 0..b.height as i64 {
+        for x in 0..b.width as i64 {
+            let all = (-1..=1).all(|dy| (-1..=1).all(|dx| b.get(x + dx, y + dy)));
+            out.set(x, y, all);
+        }
+    }
+    out
 }
 
 /// A centerline sampled every `step`: positions, and for the truth the local width.
@@ -439,9 +599,12 @@ fn print_tables(outcomes: &[PointOutcome], verbose: bool) {
         "| method | exactly right | junctions right | ends right | components | cycles | F1 @ w/4 | mean dist / w | width ratio | mean time ms | warned |"
     );
     println!("|---|---|---|---|---|---|---|---|---|---|---|");
-    for method in METHODS {
+    for method in METHODS.into_iter().chain([RASTER]) {
         let mine: Vec<&PointOutcome> = outcomes.iter().filter(|o| o.method == method).collect();
         let n = mine.len();
+        if n == 0 {
+            continue;
+        }
         let count = |f: &dyn Fn(&PointOutcome) -> bool| mine.iter().filter(|o| f(o)).count();
         let mean = |f: &dyn Fn(&PointOutcome) -> f64| {
             let v: Vec<f64> = mine

@@ -8,7 +8,10 @@
 //!
 //! `--batch N` (N = 20 when not given) instead measures the command line's batch speed-up: N generated pages traced with
 //! `ridgeline --jobs 1` and `--jobs 2` (needs `cargo build --release` for the binary), outputs
-//! compared byte for byte.
+//! compared byte for byte, with the cores each run kept busy (CPU / wall: a `--jobs 2` run that
+//! the machine gave fewer than two cores cannot show the speed-up) and the threads it kept
+//! runnable (running or waiting for a core, from `/proc/PID/task/*/schedstat`: the parallelism
+//! the program offers, whatever the load).
 //!
 //! `--keep DIR` writes the generated pages into DIR (kept) instead of a temporary directory.
 //!
@@ -302,32 +305,48 @@ fn run_batch(count: usize, repeat: usize) {
         load_average()
     );
     let mut times: [Vec<f64>; 2] = [Vec::new(), Vec::new()];
+    // CPU seconds over wall seconds of each run: the cores the machine gave it. On a shared
+    // machine (the kernel's autogroup scheduling gives each busy session about one share,
+    // docs/performance.md) `--jobs 2` may get little more than one core whatever the program
+    // does, and its speed-up then says nothing about the program.
+    let mut cores: [Vec<f64>; 2] = [Vec::new(), Vec::new()];
+    // The threads the run kept runnable on average (on a CPU or waiting in a run queue, from the
+    // scheduler's own accounting): the parallelism the program offers, which the load does not
+    // change. A `--jobs 2` run that keeps two threads runnable throughout would take half the
+    // time of `--jobs 1` on two free cores.
+    let mut demand: [Vec<f64>; 2] = [Vec::new(), Vec::new()];
     for _ in 0..repeat {
         for (slot, jobs) in [1, 2].into_iter().enumerate() {
             let out = dir.path().join(format!("out{jobs}"));
             let cpu_before = children_cpu_seconds();
             let clock = Instant::now();
-            let status = Command::new(&cli)
-                .arg(&pages)
-                .arg("-o")
-                .arg(&out)
-                .arg("--jobs")
-                .arg(jobs.to_string())
-                .arg("--quiet")
-                .status()
-                .expect("run ridgeline");
+            let (status, runnable) = run_with_demand(
+                Command::new(&cli)
+                    .arg(&pages)
+                    .arg("-o")
+                    .arg(&out)
+                    .arg("--jobs")
+                    .arg(jobs.to_string())
+                    .arg("--quiet"),
+            );
             let seconds = clock.elapsed().as_secs_f64();
             let cpu = children_cpu_seconds() - cpu_before;
             assert!(status.success(), "ridgeline --jobs {jobs} failed");
             println!(
-                "  --jobs {jobs}: {seconds:.3} s wall, {cpu:.2} s CPU (load average {})",
+                "  --jobs {jobs}: {seconds:.3} s wall, {cpu:.2} s CPU, {:.2} cores busy, {:.2} \
+                 threads runnable (load average {})",
+                cpu / seconds,
+                runnable / seconds,
                 load_average()
             );
             times[slot].push(seconds);
+            cores[slot].push(cpu / seconds);
+            demand[slot].push(runnable / seconds);
         }
     }
     let one = median(&mut times[0]).unwrap_or(0.0);
     let two = median(&mut times[1]).unwrap_or(0.0);
+    let busy = median(&mut cores[1]).unwrap_or(0.0);
     let mut identical = true;
     for k in 0..count {
         let name = format!("page{k:03}.svg");
@@ -342,6 +361,55 @@ fn run_batch(count: usize, repeat: usize) {
         verdict(one / two >= 1.8),
         load_average()
     );
+    let offered = [
+        median(&mut demand[0]).unwrap_or(0.0),
+        median(&mut demand[1]).unwrap_or(0.0),
+    ];
+    println!(
+        "threads runnable on average (running or waiting for a core): --jobs 1 {:.2}, --jobs 2 \
+         {:.2}, ratio {:.2}",
+        offered[0],
+        offered[1],
+        offered[1] / offered[0].max(1e-9)
+    );
+    if busy < 1.8 {
+        println!(
+            "  --jobs 2 kept only {busy:.2} cores busy: the machine did not give it two, so the \
+             speed-up above measures the load, not the program"
+        );
+    }
+}
+
+/// Runs `command` to its end, reading its threads' scheduler statistics every 20 ms
+/// (`/proc/PID/task/*/schedstat`: nanoseconds on a core, nanoseconds waiting in a run queue);
+/// returns its exit status and the seconds its threads were running or runnable, summed, as of
+/// the last reading (each thread's last 20 ms may be missing). Linux only; 0 elsewhere.
+fn run_with_demand(command: &mut Command) -> (std::process::ExitStatus, f64) {
+    let mut child = command.spawn().expect("run ridgeline");
+    let mut threads: std::collections::HashMap<std::ffi::OsString, f64> =
+        std::collections::HashMap::new();
+    let status = loop {
+        if let Some(status) = child.try_wait().expect("wait for ridgeline") {
+            break status;
+        }
+        if let Ok(tasks) = std::fs::read_dir(format!("/proc/{}/task", child.id())) {
+            for task in tasks.flatten() {
+                let Ok(text) = std::fs::read_to_string(task.path().join("schedstat")) else {
+                    continue;
+                };
+                let nanos: Vec<f64> = text
+                    .split_whitespace()
+                    .take(2)
+                    .filter_map(|v| v.parse().ok())
+                    .collect();
+                if let [running, waiting] = nanos[..] {
+                    threads.insert(task.file_name(), (running + waiting) * 1e-9);
+                }
+            }
+        }
+        std::thread::sleep(Duration::from_millis(20));
+    };
+    (status, threads.values().sum())
 }
 
 /// What the automatic front end's choices cost on a gray A4 page: each capture traced with the

@@ -128,7 +128,7 @@ struct Sampler<'a> {
     /// grid, not dropout mode).
     ink_bound: bool,
     /// Epoch stamps of the points of the current disk seen from its center (see
-    /// [`Sampler::sees`]).
+    /// [`sees`]).
     visible: Vec<u32>,
     /// Smallest key of a disk point hidden from the center (`u32::MAX` when none yet).
     first_hidden: u32,
@@ -204,83 +204,97 @@ impl<'a> Sampler<'a> {
                 }
             }
         }
-        while self.queued > 0 {
+        // Every bucket a key admitted to the queue can need, so that the search below queues
+        // without growing `heads`; keys of `BUCKET_KEYS` or more go to the far heap.
+        let admitted = self.limit;
+        let buckets = (admitted as usize + 1).min(BUCKET_KEYS as usize);
+        if self.heads.len() < buckets {
+            self.heads.resize(buckets, NIL);
+        }
+        // The search's state as locals: its loop reads and writes them for every point reached,
+        // and fields behind `self` are read again after every store.
+        let points = self.points;
+        let epoch = self.epoch;
+        let ink_bound = self.ink_bound;
+        let Sampler {
+            seen,
+            next,
+            heads,
+            used,
+            cursor,
+            queued,
+            overflow,
+            far,
+            order,
+            moments,
+            visible,
+            first_hidden,
+            ..
+        } = self;
+        let mut last = moments.last().copied().unwrap_or([0.0; 6]);
+        while *queued > 0 {
             // Buckets first, then (hostile input) the far heap, whose keys are all larger.
-            let (key, p) = if self.cursor < self.used && self.cursor as u32 <= limit {
-                let p = self.heads[self.cursor];
+            let (key, p) = if *cursor < *used && *cursor as u32 <= limit {
+                let p = heads[*cursor];
                 if p == NIL {
-                    self.cursor += 1;
+                    *cursor += 1;
                     continue;
                 }
-                self.heads[self.cursor] = self.next[p as usize];
-                (self.cursor as u32, p)
+                heads[*cursor] = next[p as usize];
+                (*cursor as u32, p)
             } else {
-                match self.far.peek() {
-                    Some(&Reverse((key, p))) if key <= limit && self.cursor >= self.used => {
-                        self.far.pop();
+                match far.peek() {
+                    Some(&Reverse((key, p))) if key <= limit && *cursor >= *used => {
+                        far.pop();
                         (key, p)
                     }
                     _ => break,
                 }
             };
-            self.queued -= 1;
-            let q = self.points.points[p as usize];
+            *queued -= 1;
+            let q = points.points[p as usize];
             let (dx, dy) = (q[0] - center[0], q[1] - center[1]);
-            let last = self.moments.last().copied().unwrap_or([0.0; 6]);
-            self.moments.push([
+            last = [
                 last[0] + 1.0,
                 last[1] + dx,
                 last[2] + dy,
                 last[3] + dx * dx,
                 last[4] + dx * dy,
                 last[5] + dy * dy,
-            ]);
-            self.order.push((key, p));
-            if self.ink_bound {
-                if self.sees(center, q) {
-                    self.visible[p as usize] = self.epoch;
-                } else if key < self.first_hidden {
-                    self.first_hidden = key;
+            ];
+            moments.push(last);
+            order.push((key, p));
+            if ink_bound {
+                if sees(points, visible, epoch, center, q) {
+                    visible[p as usize] = epoch;
+                } else if key < *first_hidden {
+                    *first_hidden = key;
                 }
             }
-            for &r in self.points.neighbors_of(p) {
-                if self.seen[r as usize] != self.epoch {
-                    self.seen[r as usize] = self.epoch;
-                    let s = self.points.points[r as usize];
-                    let d2 = (s[0] - center[0]).powi(2) + (s[1] - center[1]).powi(2);
-                    self.enqueue(quantize(d2).max(key), r);
+            for &r in points.neighbors_of(p) {
+                let mark = &mut seen[r as usize];
+                if *mark == epoch {
+                    continue;
+                }
+                *mark = epoch;
+                let s = points.points[r as usize];
+                let d2 = (s[0] - center[0]).powi(2) + (s[1] - center[1]).powi(2);
+                let key = quantize(d2).max(key);
+                // `enqueue`, its common case inline: a key the queue admits, in a bucket.
+                if key <= admitted && key < BUCKET_KEYS {
+                    let k = key as usize;
+                    next[r as usize] = heads[k];
+                    heads[k] = r;
+                    *queued += 1;
+                    *used = (*used).max(k + 1);
+                } else if key > admitted {
+                    overflow.push((key, r));
+                } else {
+                    far.push(Reverse((key, r)));
+                    *queued += 1;
                 }
             }
         }
-    }
-
-    /// [`ExperimentParams::ink_disks`](crate::ExperimentParams::ink_disks): whether the disk point
-    /// at `q` is seen from the center `c`, i.e. the pixel one step from `q` toward `c` (one of the
-    /// two bracketing the straight line) is a point of this disk seen from `c`. Points nearer the
-    /// center join the disk first (their keys are smaller), so one look per point decides along the
-    /// whole line; the two-pixel bracket forgives the staircase of a digitized edge.
-    fn sees(&self, c: [f64; 2], q: [f64; 2]) -> bool {
-        let Some(grid) = &self.points.grid else {
-            return true;
-        };
-        let (dx, dy) = (c[0] - q[0], c[1] - q[1]);
-        let m = dx.abs().max(dy.abs());
-        // The center and its neighbours see each other.
-        if m <= 1.0 + 1e-9 {
-            return true;
-        }
-        let step = [q[0] + dx / m, q[1] + dy / m];
-        let pixels = if dx.abs() >= dy.abs() {
-            let (x, y) = (step[0].floor() as i64, (step[1] - 0.5).floor() as i64);
-            [(x, y), (x, y + 1)]
-        } else {
-            let (x, y) = ((step[0] - 0.5).floor() as i64, step[1].floor() as i64);
-            [(x, y), (x + 1, y)]
-        };
-        pixels.iter().any(|&(x, y)| {
-            grid.point_at(x, y)
-                .is_some_and(|p| self.visible[p as usize] == self.epoch)
-        })
     }
 
     fn enqueue(&mut self, key: u32, p: u32) {
@@ -353,23 +367,29 @@ impl<'a> Sampler<'a> {
         }
         // Rim points are marked with the current epoch in `rim_seen`; components counted by DFS.
         self.epoch_rim_mark();
+        let (points, epoch) = (self.points, self.epoch);
+        let Sampler {
+            rim,
+            rim_seen,
+            stack,
+            ..
+        } = self;
         let mut cuts = 0;
-        for i in 0..self.rim.len() {
-            let start = self.rim[i];
-            if self.rim_seen[start as usize] != self.epoch {
+        for &start in rim.iter() {
+            if rim_seen[start as usize] != epoch {
                 continue;
             }
             cuts += 1;
             if cuts > 2 {
                 return cuts;
             }
-            self.rim_seen[start as usize] = self.epoch.wrapping_sub(1);
-            self.stack.push(start);
-            while let Some(p) = self.stack.pop() {
-                for &q in self.points.neighbors_of(p) {
-                    if self.rim_seen[q as usize] == self.epoch {
-                        self.rim_seen[q as usize] = self.epoch.wrapping_sub(1);
-                        self.stack.push(q);
+            rim_seen[start as usize] = epoch.wrapping_sub(1);
+            stack.push(start);
+            while let Some(p) = stack.pop() {
+                for &q in points.neighbors_of(p) {
+                    if rim_seen[q as usize] == epoch {
+                        rim_seen[q as usize] = epoch.wrapping_sub(1);
+                        stack.push(q);
                     }
                 }
             }
@@ -569,6 +589,35 @@ impl<'a> Sampler<'a> {
         };
         (node, taken)
     }
+}
+
+/// [`ExperimentParams::ink_disks`](crate::ExperimentParams::ink_disks): whether the disk point
+/// at `q` is seen from the center `c`, i.e. the pixel one step from `q` toward `c` (one of the
+/// two bracketing the straight line) is a point of this disk seen from `c`. Points nearer the
+/// center join the disk first (their keys are smaller), so one look per point decides along the
+/// whole line; the two-pixel bracket forgives the staircase of a digitized edge.
+fn sees(points: &PointSet, visible: &[u32], epoch: u32, c: [f64; 2], q: [f64; 2]) -> bool {
+    let Some(grid) = &points.grid else {
+        return true;
+    };
+    let (dx, dy) = (c[0] - q[0], c[1] - q[1]);
+    let m = dx.abs().max(dy.abs());
+    // The center and its neighbours see each other.
+    if m <= 1.0 + 1e-9 {
+        return true;
+    }
+    let step = [q[0] + dx / m, q[1] + dy / m];
+    let pixels = if dx.abs() >= dy.abs() {
+        let (x, y) = (step[0].floor() as i64, (step[1] - 0.5).floor() as i64);
+        [(x, y), (x, y + 1)]
+    } else {
+        let (x, y) = ((step[0] - 0.5).floor() as i64, step[1].floor() as i64);
+        [(x, y), (x + 1, y)]
+    };
+    pixels.iter().any(|&(x, y)| {
+        grid.point_at(x, y)
+            .is_some_and(|p| visible[p as usize] == epoch)
+    })
 }
 
 /// Squared distances in quarter units: exact for pixel centers (integer squared distances).

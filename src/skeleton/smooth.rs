@@ -18,7 +18,7 @@
 //! edge that would cross or touch another edge (or itself) away from their vertices keeps its
 //! path from before, so the geometry never adds a crossing to the graph.
 
-use crate::geometry::{arc_lengths, crossing_paths, point_at, segment_dist};
+use crate::geometry::{arc_lengths, crossing_paths, point_at, segment_dist, segment_dist2};
 use crate::stroke_graph::Edge;
 
 use super::work::{median, Ink, Work};
@@ -383,29 +383,32 @@ fn solve_banded(target: &[[f64; 2]], data: &[f64], smooth: &[bool], lambda: f64)
         }
         l0[i] = diag.max(1e-12).sqrt();
     }
+    // Both coordinates in one sweep each way (the same operations on each as two solves).
     let mut out = vec![[0.0; 2]; n];
-    for k in 0..2 {
-        let mut y = vec![0.0; n];
-        for i in 0..n {
-            let mut v = data[i] * target[i][k];
-            if i >= 1 {
-                v -= l1[i - 1] * y[i - 1];
-            }
-            if i >= 2 {
-                v -= l2[i - 2] * y[i - 2];
-            }
-            y[i] = v / l0[i];
+    for i in 0..n {
+        let mut v = [data[i] * target[i][0], data[i] * target[i][1]];
+        if i >= 1 {
+            let y = out[i - 1];
+            v = [v[0] - l1[i - 1] * y[0], v[1] - l1[i - 1] * y[1]];
         }
-        for i in (0..n).rev() {
-            let mut v = y[i];
-            if i + 1 < n {
-                v -= l1[i] * out[i + 1][k];
-            }
-            if i + 2 < n {
-                v -= l2[i] * out[i + 2][k];
-            }
-            out[i][k] = v / l0[i];
+        if i >= 2 {
+            let y = out[i - 2];
+            v = [v[0] - l2[i - 2] * y[0], v[1] - l2[i - 2] * y[1]];
         }
+        out[i] = [v[0] / l0[i], v[1] / l0[i]];
+    }
+    // Back substitution in place: `out[i]` still holds the forward sweep's value.
+    for i in (0..n).rev() {
+        let mut v = out[i];
+        if i + 1 < n {
+            let q = out[i + 1];
+            v = [v[0] - l1[i] * q[0], v[1] - l1[i] * q[1]];
+        }
+        if i + 2 < n {
+            let q = out[i + 2];
+            v = [v[0] - l2[i] * q[0], v[1] - l2[i] * q[1]];
+        }
+        out[i] = [v[0] / l0[i], v[1] / l0[i]];
     }
     out
 }
@@ -422,13 +425,24 @@ fn simplify_edge(edge: &mut Edge, ink: &Ink) {
     keep[0] = true;
     keep[n - 1] = true;
     let mut stack = vec![(0usize, n - 1)];
+    let mut squares = Vec::new();
     while let Some((a, b)) = stack.pop() {
         if b <= a + 1 {
             continue;
         }
         let (pa, pb) = (edge.points[a], edge.points[b]);
+        // The farthest point by its squared distance, then the distance itself (`hypot`) only
+        // for the points whose squares come within rounding of the largest: the same point (the
+        // first of the farthest) and the same distance as measuring every point, at one square
+        // root per candidate instead of per point.
+        squares.clear();
+        squares.extend((a + 1..b).map(|i| segment_dist2(edge.points[i], pa, pb)));
+        let near_far2 = squares.iter().copied().fold(0.0, f64::max) * (1.0 - 1e-9);
         let (mut worst, mut at) = (-1.0, a + 1);
-        for i in a + 1..b {
+        for (i, &d2) in (a + 1..b).zip(&squares) {
+            if d2 < near_far2 {
+                continue;
+            }
             let d = segment_dist(edge.points[i], pa, pb);
             if d > worst {
                 (worst, at) = (d, i);

@@ -51,7 +51,8 @@ impl Work {
     /// them), and leaving by exactly as many arms as the crossing has, become one vertex at the
     /// crossing. A long edge between two of them (the loop of an `8` closing on its waist)
     /// becomes a loop at the crossing. Each arm is cut where it leaves the merged junctions'
-    /// reach and joined straight to the crossing.
+    /// reach and joined straight to the crossing. Two junctions whose arms show two T's on one
+    /// stroke ([`Work::offset_tees`]) stay two.
     pub(super) fn merge_crossings(&mut self, method: &StrokeGraph) {
         let junctions: Vec<&Vertex> = method.vertices.iter().filter(|v| v.degree >= 3).collect();
         if !junctions.iter().any(|v| v.degree >= 4) {
@@ -87,6 +88,11 @@ impl Work {
             let arms: usize = group.iter().map(|&i| degree[i]).sum::<usize>() - 2 * internal.len();
             if arms != c.degree {
                 continue;
+            }
+            if let (&[a, b], &[link]) = (&group[..], &internal[..]) {
+                if self.offset_tees(link, a, b, &at) {
+                    continue;
+                }
             }
             let Some(reach) = self.arm_reach(c, &group, &internal, &at) else {
                 continue;
@@ -369,6 +375,17 @@ const SPLIT_FAR: f64 = 3.0;
 /// An arm's stretch gives a line when at least this long (px).
 const MIN_SPLIT_LINE_PX: f64 = 2.0;
 
+/// Two strokes that meet a third at least this many stroke widths apart are two T's, not one
+/// crossing ([`Work::offset_tees`]): their inks meet the third stroke's side by side, with the
+/// third stroke's own ink between them, where the two halves of one crossing stroke, each
+/// followed straight, meet it at one point, to within the pixel their lines are known to.
+const TEES_APART: f64 = 1.0;
+
+/// An arm followed straight meets a stroke only when it leaves it at more than this sine (30
+/// degrees): a shallower arm's meeting point slides along the stroke with every pixel of its
+/// line.
+const MIN_TEE_SINE: f64 = 0.5;
+
 /// One arm's stretch at a junction: its anchors nearest to and farthest from the junction.
 struct ArmLine {
     near: [f64; 2],
@@ -447,6 +464,59 @@ impl Work {
             degree: 4,
             width: stroke,
         })
+    }
+
+    /// Whether the degree-3 junctions `a` and `b`, joined by the edge `link`, are two T's on one
+    /// stroke rather than the two Y's thinning makes of one crossing (which
+    /// [`Work::merge_crossings`] merges where the method saw a crossing): one arm at `a` and
+    /// one at `b` are one straight stroke through the link ([`Work::stroke_miss`]), the other two
+    /// are not, and those two, each followed straight from its own stretch, meet the straight
+    /// stroke at least [`TEES_APART`] widths apart. The two halves of a crossing stroke meet
+    /// the other stroke at one point, however its Y's lie; a curve crossing a straight stroke
+    /// too. `false` when the arms do not decide (no straight stroke, both pairs straight, an
+    /// arm too short for a line or too shallow to meet the stroke).
+    fn offset_tees(&self, link: usize, a: usize, b: usize, at: &[Vec<usize>]) -> bool {
+        let (Some(arms_a), Some(arms_b)) =
+            (self.arm_lines(a, link, at), self.arm_lines(b, link, at))
+        else {
+            return false;
+        };
+        let stroke = arms_a
+            .iter()
+            .chain(&arms_b)
+            .map(|(w, _)| *w)
+            .fold(f64::INFINITY, f64::min);
+        let tolerance = disk_radius(stroke);
+        let straight = |i: usize, j: usize| {
+            self.stroke_miss(&arms_a[i].1, &arms_b[j].1, tolerance)
+                .is_some()
+        };
+        if (straight(0, 0) && straight(1, 1)) || (straight(0, 1) && straight(1, 0)) {
+            return false;
+        }
+        for (i, j) in [(0, 0), (0, 1), (1, 0), (1, 1)] {
+            if !straight(i, j) {
+                continue;
+            }
+            let Some((p, d)) = stroke_line(&arms_a[i].1, &arms_b[j].1) else {
+                continue;
+            };
+            // Where an arm, followed straight from its far anchor towards its junction, meets
+            // the straight stroke's line.
+            let meet = |q: &ArmLine| {
+                let u = unit([q.near[0] - q.far[0], q.near[1] - q.far[1]])?;
+                let sine = (u[0] * d[1] - u[1] * d[0]).abs();
+                (sine > MIN_TEE_SINE)
+                    .then(|| line_intersection(&[(p, d), (q.far, u)], 0.0))
+                    .flatten()
+            };
+            if let (Some(at_a), Some(at_b)) = (meet(&arms_a[1 - i].1), meet(&arms_b[1 - j].1)) {
+                if dist(at_a, at_b) >= TEES_APART * stroke {
+                    return true;
+                }
+            }
+        }
+        false
     }
 
     /// Whether the arms `p` and `q` are one straight stroke: the line through their far anchors

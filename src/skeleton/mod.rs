@@ -391,6 +391,36 @@ mod tests {
         }
     }
 
+    #[test]
+    fn two_tees_a_width_and_more_apart_stay_two_junctions() {
+        // A bar 6 px wide, one stroke leaving it upwards and one downwards `offset` px further
+        // along: the method sees one junction of degree 4 there; the ink, two T's.
+        for (w, offset) in [(6.0, 9.0), (6.0, 12.0), (4.0, 8.0)] {
+            let strokes = [
+                Stroke::new(vec![[10.0, 50.0], [110.0, 50.0]], w),
+                Stroke::new(vec![[55.0, 10.0], [55.0, 50.0]], w),
+                Stroke::new(vec![[55.0 + offset, 50.0], [55.0 + offset, 90.0]], w),
+            ];
+            let (binary, graph) = traced(&strokes, 120, 100);
+            assert_eq!(degrees(&graph), vec![3, 3], "w {w}, offset {offset}");
+            for tee in [[55.0, 50.0], [55.0 + offset, 50.0]] {
+                let nearest = graph
+                    .junctions()
+                    .map(|v| dist(graph.vertices[v].pos, tee))
+                    .fold(f64::INFINITY, f64::min);
+                assert!(nearest <= w / 2.0, "a T {nearest:.1} px from {tee:?}");
+            }
+            assert_on_ink(&binary, &graph);
+        }
+        // The two halves of one crossing stroke, offset by less than the width the line is
+        // known to: one crossing.
+        let strokes = [
+            Stroke::new(vec![[10.0, 50.0], [110.0, 50.0]], 6.0),
+            Stroke::new(vec![[55.0, 10.0], [56.0, 50.0], [57.0, 90.0]], 6.0),
+        ];
+        assert_eq!(degrees(&traced(&strokes, 120, 100).1), vec![4]);
+    }
+
     /// Three strokes `w` px wide at 0, 60 and 120 degrees (plus 10), each passing `offset` px
     /// from (100, 100), on the sides that make them bound a triangle around it.
     fn asterisk(w: f64, offset: f64) -> StrokeGraph {

@@ -170,7 +170,7 @@ fn strip_junctions_have_their_degree() {
 /// enough to call one band linear must not take in the other (the width is §3.1's PCA of one
 /// band): the widths along the arms stay those of one band (their mean was 2.4 band widths).
 #[test]
-fn strips_crossing_at_a_small_angle_keep_one_band_width() {
+fn strips_crossing_at_a_small_angle_keep_one_band_width_and_one_crossing() {
     let c = case("cross20");
     let trace = ridgeline::trace_points(&c.points, &Params::default()).expect("trace");
     let widths: Vec<f64> = trace
@@ -184,4 +184,16 @@ fn strips_crossing_at_a_small_angle_keep_one_band_width() {
     assert!(mean <= 1.25 * c.width, "mean width {mean}");
     let w = median_width(&trace.graph);
     assert!((w / c.width - 1.0).abs() <= 0.1, "width {w}");
+    // One crossing, where the bands' centerlines cross (its two halves, found far apart along
+    // the acute crossing, are joined where the strokes cross, not at their centroid).
+    let g = &trace.graph;
+    assert_eq!(junction_degrees(g), [4], "junctions");
+    assert_eq!(g.endpoints().count(), 4, "ends");
+    let crossing = g.junctions().next().map(|v| g.vertices[v].pos);
+    let truth = c.junctions[0].0;
+    let off = crossing.map_or(f64::INFINITY, |p| ridgeline::dist(p, truth));
+    assert!(
+        off <= c.width,
+        "crossing {crossing:?}, {off} from the truth {truth:?}"
+    );
 }

@@ -265,10 +265,16 @@ pub(crate) fn point_list(list: &[[f64; 2]], params: &Params) -> Result<Trace> {
 pub(crate) fn point_cloud3d(list: &[[f64; 3]], params: &Params) -> Result<crate::curve3d::Trace3d> {
     params.validate()?;
     let start = Instant::now();
-    let (graph, point_count, not_tube) = cloud3d::trace(list, params)?;
+    let (graph, point_count, not_tube, left_out) = cloud3d::trace(list, params)?;
     let mut warnings = Vec::new();
     if let Some(share) = not_tube {
         warnings.push(warnings::not_strip_shaped(share));
+    }
+    if left_out > 0 {
+        warnings.push(warnings::sparse_points_left_out(
+            left_out,
+            point_count + left_out,
+        ));
     }
     Ok(crate::curve3d::Trace3d {
         graph,

@@ -711,6 +711,19 @@ const STRIP_MIN_POINTS: f64 = 12.0;
 /// threshold for a linear disk.
 const STRIP_LINEARITY: f64 = 0.9;
 
+/// The linearity `l` of Eq. (3) a window must exceed to measure a strip's width: that of a band
+/// across the smallest window allowed to measure it (a side twice the band's width, see
+/// [`strip_half_widths`]), `l = (2w)^2 / ((2w)^2 + w^2)`. With §3.1's 0.9 a window had to be
+/// three widths long, and the next window of the doubling scales (up to six widths) took in a
+/// strip that runs beside or crosses at a small angle, measuring the two as one.
+const WIDTH_LINEARITY: f64 = 0.8;
+
+/// The share of a band's points (at the density of its own sampling) a window must hold to
+/// measure its width: a window that is linear but hollow (the two sides of a loop, a figure 8's
+/// lobe, two strips apart) is not one band. A uniform band fills its window's band fully (1),
+/// a ring's lobe about a fifth.
+const BAND_FILL: f64 = 0.4;
+
 /// Half-widths of a strip of scattered points from the local PCA of §3.1 (Eq. (2)): across a band
 /// of width `w` filled uniformly, the variance is `w^2 / 12`, so the half-width is
 /// `sqrt(3 lambda_min)`. The covariance is taken over windows of 3 x 3 square cells of side `c`
@@ -734,6 +747,7 @@ fn strip_half_widths(
     let extent = points.iter().fold(0.0f64, |m, p| m.max(p[0]).max(p[1]));
     let mut decided = vec![false; n];
     let mut windowed = vec![false; n];
+    let mut linear = vec![false; n];
     let mut measured = vec![f32::NAN; n];
     // Windows hold only points of the point's own part: a strip one width from another (parallel
     // strips) must not read the two as one wide strip.
@@ -746,8 +760,21 @@ fn strip_half_widths(
     let part = sets.into_labeling();
     let mut cell = 2.0 * spacing;
     let mut cells: Option<Cells<2>> = None;
-    let mut moments: Vec<[f64; 6]> = Vec::new();
-    while decided.iter().any(|d| !d) && cell <= 2.0 * extent.max(spacing) {
+    let mut moments: Vec<[f64; 7]> = Vec::new();
+    // Each point's nearest neighbour distance: the window's own sampling (see [`BAND_FILL`]).
+    let nearest: Vec<f64> = (0..n)
+        .map(|p| {
+            neighbors[offsets[p] as usize..offsets[p + 1] as usize]
+                .iter()
+                .map(|&q| {
+                    let (a, b) = (points[p], points[q as usize]);
+                    (a[0] - b[0]).hypot(a[1] - b[1])
+                })
+                .fold(f64::INFINITY, f64::min)
+        })
+        .collect();
+    while decided.iter().zip(&linear).any(|(&d, &l)| !d || !l) && cell <= 2.0 * extent.max(spacing)
+    {
         let grid = match cells.take() {
             None => Cells::new(points, &part, cell),
             Some(finer) => finer.coarser(points, &part, 0.5 * cell),
@@ -755,8 +782,8 @@ fn strip_half_widths(
         // Moments per cell: count, sum x, sum y, sum xx, sum xy, sum yy (relative to the cell's
         // corner, so the sums stay small), summed in point order.
         moments.clear();
-        moments.resize(grid.keys.len(), [0.0; 6]);
-        for (p, &slot) in points.iter().zip(&grid.point_slot) {
+        moments.resize(grid.keys.len(), [0.0; 7]);
+        for ((p, &slot), &d) in points.iter().zip(&grid.point_slot).zip(&nearest) {
             let c = grid.keys[slot as usize].1;
             let (x, y) = (p[0] - c[0] as f64 * cell, p[1] - c[1] as f64 * cell);
             let m = &mut moments[slot as usize];
@@ -766,13 +793,17 @@ fn strip_half_widths(
             m[3] += x * x;
             m[4] += x * y;
             m[5] += y * y;
+            if d.is_finite() {
+                m[6] += d;
+            }
         }
         // Per cell: `None` when its window holds too few points, else the half-width it measures
-        // when it is a piece of strip (NaN when not). Every point of a cell has the same window,
+        // when it is a piece of strip (NaN when not, see [`WIDTH_LINEARITY`]) and whether it is
+        // linear by §3.1's own threshold (the strip-shape test counts those). Every point of a cell has the same window,
         // so each occupied cell is measured once.
-        let measure = |&(label, [cx, cy]): &(u32, [i64; 2])| -> Option<f32> {
+        let measure = |&(label, [cx, cy]): &(u32, [i64; 2])| -> Option<(f32, bool)> {
             // The window's moments about the cell's corner.
-            let mut w = [0.0f64; 6];
+            let mut w = [0.0f64; 7];
             for dy in -1..=1i64 {
                 for dx in -1..=1i64 {
                     let key = (label, [cx.saturating_add(dx), cy.saturating_add(dy)]);
@@ -785,6 +816,7 @@ fn strip_half_widths(
                         w[3] += m[3] + 2.0 * ox * m[1] + ox * ox * m[0];
                         w[4] += m[4] + ox * m[2] + oy * m[1] + ox * oy * m[0];
                         w[5] += m[5] + 2.0 * oy * m[2] + oy * oy * m[0];
+                        w[6] += m[6];
                     }
                 }
             }
@@ -805,20 +837,29 @@ fn strip_half_widths(
             // crossing, a T or a Y is not linear at any scale (its arms spread both ways), and
             // its smallest eigenvalue grows with the window: it takes its arms' width below.
             let linear = lambda_max > STRIP_LINEARITY * (lambda_min + lambda_max);
-            Some(if linear && 3.0 * cell >= 4.0 * half {
-                half as f32
-            } else {
-                f32::NAN
-            })
+            let wide = 3.0 * cell >= 4.0 * half;
+            // A band of half-width `half` and length `sqrt(12 lambda_max)` filled at the
+            // density its mean nearest-neighbour distance `d` says (`1 / (4 d^2)` for random
+            // points) holds `12 sqrt(lambda_min lambda_max) / (4 d^2)` points.
+            let spread = w[6] / w[0];
+            let band = 3.0 * (lambda_min * lambda_max).sqrt();
+            let filled = w[0] * spread * spread >= BAND_FILL * band;
+            let measures = lambda_max > WIDTH_LINEARITY * (lambda_min + lambda_max) && filled;
+            Some((
+                if measures && wide {
+                    half as f32
+                } else {
+                    f32::NAN
+                },
+                linear && wide,
+            ))
         };
-        let per_cell: Vec<Option<f32>> = grid.keys.par_iter().map(measure).collect();
+        let per_cell: Vec<Option<(f32, bool)>> = grid.keys.par_iter().map(measure).collect();
         for i in 0..n {
-            if decided[i] {
-                continue;
-            }
-            if let Some(half) = per_cell[grid.point_slot[i] as usize] {
+            if let Some((half, strip)) = per_cell[grid.point_slot[i] as usize] {
                 windowed[i] = true;
-                if half.is_finite() {
+                linear[i] |= strip;
+                if !decided[i] && half.is_finite() {
                     decided[i] = true;
                     measured[i] = half;
                 }
@@ -828,7 +869,7 @@ fn strip_half_widths(
         cell *= 2.0;
     }
     let counts = (
-        decided.iter().filter(|&&d| d).count(),
+        linear.iter().filter(|&&l| l).count(),
         windowed.iter().filter(|&&w| w).count(),
     );
     if !apply {

@@ -18,7 +18,7 @@ use std::collections::BinaryHeap;
 use crate::geometry::{dist, point_in_polygon, TotalF64};
 use crate::node_graph::{GraphNode, NodeGraph};
 use crate::params::Params;
-use crate::point_set::PointSet;
+use crate::point_set::{on_lattice, PointSet};
 
 /// Refines `H` into a 1-D graph (no triangles; one vertex per crossing).
 pub fn refine(graph: &NodeGraph, points: &PointSet, params: &Params) -> NodeGraph {
@@ -34,12 +34,15 @@ pub fn refine(graph: &NodeGraph, points: &PointSet, params: &Params) -> NodeGrap
     debug_assert_eq!(work.contractible_triangle_edge(), None);
     let holes = work.holes.clone();
     work.merge_clusters(params.method.merge_span, &holes);
+    // Scattered points (a point list off any lattice) place a Y-bar-Y's crossing where its
+    // strokes cross (see `Work::merge_y_bar_y`); images and lattice points keep their rule.
+    let scattered = points.grid.is_none() && !on_lattice(&points.points, points.spacing);
     if params.finish.cleanup {
         for _ in 0..8 {
             let mut changed = work.contract_hole_free_cycles(&holes);
             changed |= work.prune_spurs(points);
             changed |= work.collapse_short_bars();
-            changed |= work.merge_y_bar_y();
+            changed |= work.merge_y_bar_y(scattered);
             if !changed {
                 break;
             }
@@ -590,6 +593,19 @@ impl Work {
         changed
     }
 
+    /// [`Work::arm_direction`] and the position of the node about `reach` away.
+    fn arm_reach(&self, j: u32, path: &[u32], reach: f64) -> ([f64; 2], [f64; 2]) {
+        let origin = self.nodes[j as usize].pos;
+        let mut target = origin;
+        for &x in path {
+            target = self.nodes[x as usize].pos;
+            if dist(origin, target) >= reach {
+                break;
+            }
+        }
+        (self.arm_direction(j, path, reach), target)
+    }
+
     /// Direction from `j` along an arm, to the node about `reach` away.
     fn arm_direction(&self, j: u32, path: &[u32], reach: f64) -> [f64; 2] {
         let origin = self.nodes[j as usize].pos;
@@ -609,7 +625,12 @@ impl Work {
     /// outer arms open away from the bar and pair up anti-parallel (within 25°), are one crossing
     /// that thinning-like sampling split in two. The bar limit `3 w / sin(θ/2)` grows as the
     /// crossing gets more acute (θ = angle between one Y's outer arms).
-    fn merge_y_bar_y(&mut self) -> bool {
+    ///
+    /// The crossing goes to the centroid of the two Ys, or with `scattered` (random points, whose
+    /// two Ys of an acute crossing lie unevenly far out along it, their masses more uneven still)
+    /// to where the two strokes cross: the lines through the paired arms' nodes about `reach`
+    /// beyond each Y, when they meet within the bar; else the bar's middle.
+    fn merge_y_bar_y(&mut self, scattered: bool) -> bool {
         let mut changed = false;
         let cos25 = 25f64.to_radians().cos();
         for a in self.live() {
@@ -630,44 +651,52 @@ impl Work {
                     let n = d[0].hypot(d[1]).max(1e-12);
                     [d[0] / n, d[1] / n]
                 };
-                let outer_a: Vec<[f64; 2]> = arms_a
+                let outer_a: Vec<([f64; 2], [f64; 2])> = arms_a
                     .iter()
                     .enumerate()
                     .filter(|&(i, _)| i != bar_index)
-                    .map(|(_, (path, _))| self.arm_direction(a, path, reach))
+                    .map(|(_, (path, _))| self.arm_reach(a, path, reach))
                     .collect();
                 let bar_back: Vec<u32> = {
                     let mut back: Vec<u32> = bar[..bar.len() - 1].iter().rev().copied().collect();
                     back.push(a);
                     back
                 };
-                let outer_b: Vec<[f64; 2]> = self
+                let outer_b: Vec<([f64; 2], [f64; 2])> = self
                     .arms(b)
                     .iter()
                     .filter(|(path, _)| path.first() != bar_back.first())
-                    .map(|(path, _)| self.arm_direction(b, path, reach))
+                    .map(|(path, _)| self.arm_reach(b, path, reach))
                     .collect();
                 if outer_a.len() != 2 || outer_b.len() != 2 {
                     continue;
                 }
                 let dot = |u: [f64; 2], v: [f64; 2]| u[0] * v[0] + u[1] * v[1];
-                let opens_away = outer_a.iter().all(|&u| dot(u, bar_dir) < 0.0)
-                    && outer_b.iter().all(|&u| dot(u, bar_dir) > 0.0);
+                let opens_away = outer_a.iter().all(|&(u, _)| dot(u, bar_dir) < 0.0)
+                    && outer_b.iter().all(|&(u, _)| dot(u, bar_dir) > 0.0);
                 if !opens_away {
                     continue;
                 }
                 let anti = |u: [f64; 2], v: [f64; 2]| -dot(u, v) >= cos25;
-                let paired = (anti(outer_a[0], outer_b[0]) && anti(outer_a[1], outer_b[1]))
-                    || (anti(outer_a[0], outer_b[1]) && anti(outer_a[1], outer_b[0]));
-                if !paired {
+                let straight = anti(outer_a[0].0, outer_b[0].0) && anti(outer_a[1].0, outer_b[1].0);
+                let swapped = anti(outer_a[0].0, outer_b[1].0) && anti(outer_a[1].0, outer_b[0].0);
+                if !(straight || swapped) {
                     continue;
                 }
-                let theta = dot(outer_a[0], outer_a[1]).clamp(-1.0, 1.0).acos();
+                let theta = dot(outer_a[0].0, outer_a[1].0).clamp(-1.0, 1.0).acos();
                 let limit = 3.0 * w / (theta / 2.0).sin().max(1e-3);
                 if *bar_length < limit {
                     let mut group = bar.clone();
                     group.push(a);
-                    let pos = self.centroid(&[a, b]);
+                    let pos = if scattered {
+                        let (pa, pb) = (self.nodes[a as usize].pos, self.nodes[b as usize].pos);
+                        let (b0, b1) = if straight { (0, 1) } else { (1, 0) };
+                        let first = (outer_a[0].1, outer_b[b0].1);
+                        let second = (outer_a[1].1, outer_b[b1].1);
+                        stroke_crossing(first, second, pa, pb)
+                    } else {
+                        self.centroid(&[a, b])
+                    };
                     self.merge_all(&group, pos);
                     changed = true;
                     break;
@@ -720,6 +749,41 @@ impl Work {
             edges,
             owner,
         }
+    }
+}
+
+/// Where two strokes cross, each the line through two points (a Y-bar-Y's paired arms, see
+/// `Work::merge_y_bar_y`): their intersection when it lies within the bar from `a` to `b`
+/// (projected, with a margin of a tenth of the bar each side), else the bar's middle.
+fn stroke_crossing(
+    first: ([f64; 2], [f64; 2]),
+    second: ([f64; 2], [f64; 2]),
+    a: [f64; 2],
+    b: [f64; 2],
+) -> [f64; 2] {
+    let middle = [0.5 * (a[0] + b[0]), 0.5 * (a[1] + b[1])];
+    let d1 = [first.1[0] - first.0[0], first.1[1] - first.0[1]];
+    let d2 = [second.1[0] - second.0[0], second.1[1] - second.0[1]];
+    let cross = d1[0] * d2[1] - d1[1] * d2[0];
+    let scale = d1[0].hypot(d1[1]) * d2[0].hypot(d2[1]);
+    // Lines within about a degree of parallel meet nowhere in particular.
+    if cross.is_nan() || cross.abs() <= 0.02 * scale {
+        return middle;
+    }
+    let e = [second.0[0] - first.0[0], second.0[1] - first.0[1]];
+    let t = (e[0] * d2[1] - e[1] * d2[0]) / cross;
+    let x = [first.0[0] + t * d1[0], first.0[1] + t * d1[1]];
+    let bar = [b[0] - a[0], b[1] - a[1]];
+    let length2 = bar[0] * bar[0] + bar[1] * bar[1];
+    if length2.is_nan() || length2 <= 0.0 {
+        return middle;
+    }
+    let along = ((x[0] - a[0]) * bar[0] + (x[1] - a[1]) * bar[1]) / length2;
+    let off = ((x[0] - a[0]) * bar[1] - (x[1] - a[1]) * bar[0]).abs() / length2.sqrt();
+    if (-0.1..=1.1).contains(&along) && off <= 0.5 * length2.sqrt() {
+        x
+    } else {
+        middle
     }
 }
 
@@ -1123,18 +1187,34 @@ mod tests {
         // An acute X sampled as two Y's 4 apart (width 3): the outer arms open away from the bar
         // and pair up anti-parallel, so the bar (under 3 w / sin(θ/2) ≈ 31) is merged.
         let mut w = two_ys(4.0, [-10.0, 4.0], [14.0, 4.0], 3.0);
-        assert!(w.merge_y_bar_y());
+        assert!(w.merge_y_bar_y(false));
         assert_eq!(degrees(&w), [4, 1, 1, 1, 1]);
         assert_eq!(w.nodes[0].pos, [2.0, 0.0]);
         // Arms at right angles to the bar on one side (a stroke passing the end of another) do
         // not open away from it: two junctions stay.
         let mut w = two_ys(4.0, [-10.0, 4.0], [4.0, 10.0], 3.0);
-        assert!(!w.merge_y_bar_y());
+        assert!(!w.merge_y_bar_y(false));
         assert_eq!(degrees(&w), [3, 3, 1, 1, 1, 1]);
         // Arms that open away but do not pair up (a wide and a narrow Y) stay too.
         let mut w = two_ys(4.0, [-10.0, 4.0], [6.0, 10.0], 3.0);
-        assert!(!w.merge_y_bar_y());
+        assert!(!w.merge_y_bar_y(false));
         assert_eq!(degrees(&w), [3, 3, 1, 1, 1, 1]);
+    }
+
+    #[test]
+    fn y_bar_y_on_scattered_points_goes_where_the_strokes_cross() {
+        // The same acute X, its left Y holding nine times the points of the right one: the
+        // centroid leans to the left Y, the strokes still cross at (2, 0).
+        let mut w = two_ys(4.0, [-10.0, 4.0], [14.0, 4.0], 3.0);
+        w.mass[0] = 9.0;
+        assert!(w.merge_y_bar_y(false));
+        assert!(w.nodes[0].pos[0] < 1.0, "{:?}", w.nodes[0].pos);
+        let mut w = two_ys(4.0, [-10.0, 4.0], [14.0, 4.0], 3.0);
+        w.mass[0] = 9.0;
+        assert!(w.merge_y_bar_y(true));
+        assert_eq!(degrees(&w), [4, 1, 1, 1, 1]);
+        let p = w.nodes[0].pos;
+        assert!(dist(p, [2.0, 0.0]) < 1e-9, "{p:?}");
     }
 
     #[test]

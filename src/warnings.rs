@@ -77,8 +77,9 @@ pub(crate) fn sparse_points_left_out(count: usize, total: usize) -> Warning {
     Warning {
         code: "sparse_points_left_out",
         message: format!(
-            "{count} of {total} points were left out: they lie more than a hundredfold sparser \
-             than the rest and form no strip at their own scale (outliers around the strips)"
+            "{count} of {total} points were left out: their neighbours lie more than ten times \
+             farther than the rest's (a hundredfold sparser in the plane, a thousandfold in \
+             space) and they form no strip at their own scale (outliers around the strips)"
         ),
     }
 }

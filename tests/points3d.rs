@@ -319,3 +319,55 @@ fn degenerate_sets_in_space_give_a_graph_or_an_error() {
         .vertices
         .is_empty());
 }
+
+/// Outliers around a tube (a helix with 2 % more points drawn uniformly over a box around it, a
+/// thousandfold sparser): most are left out with a warning that counts them, none of the tube's
+/// points, and the helix stays one part; the helix alone leaves nothing out. (The few outliers
+/// within about ten spacings of the tube stay and may still make a spur.)
+#[test]
+fn sparse_outliers_in_space_are_left_out_with_a_warning() {
+    let c = case("helix");
+    let clean = ridgeline::trace_points3d(&c.points, &Params::default()).expect("clean");
+    assert!(clean.warnings.is_empty(), "{:?}", clean.warnings);
+    let (lo, hi) = c.points.iter().fold(
+        ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]),
+        |(lo, hi), p| {
+            (
+                [lo[0].min(p[0]), lo[1].min(p[1]), lo[2].min(p[2])],
+                [hi[0].max(p[0]), hi[1].max(p[1]), hi[2].max(p[2])],
+            )
+        },
+    );
+    let mut seed = 11u64;
+    let mut next = |axis: usize| {
+        seed = seed
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        let t = (seed >> 11) as f64 / (1u64 << 53) as f64;
+        let margin = 2.0 * c.width;
+        lo[axis] - margin + t * (hi[axis] - lo[axis] + 2.0 * margin)
+    };
+    let extra = c.points.len() / 50;
+    let mut points = c.points.clone();
+    points.extend((0..extra).map(|_| [next(0), next(1), next(2)]));
+    let trace = ridgeline::trace_points3d(&points, &Params::default()).expect("trace");
+    let g = &trace.graph;
+    assert_eq!(g.components(), 1, "{:?}", g.vertices);
+    let warning = trace
+        .warnings
+        .iter()
+        .find(|w| w.code == "sparse_points_left_out")
+        .unwrap_or_else(|| panic!("no warning: {:?}", trace.warnings));
+    let left_out = points.len() - trace.point_count;
+    assert!(
+        left_out >= extra * 3 / 4 && left_out <= extra,
+        "{left_out} of {extra} left out"
+    );
+    assert!(
+        warning
+            .message
+            .starts_with(&format!("{left_out} of {} points", points.len())),
+        "{}",
+        warning.message
+    );
+}

@@ -137,3 +137,63 @@ fn sparse_outliers_are_left_out_with_a_warning() {
     assert_eq!(trace.point_count, two.len(), "{:?}", trace.warnings);
     assert!(trace.warnings.is_empty(), "{:?}", trace.warnings);
 }
+
+fn junction_degrees(graph: &StrokeGraph) -> Vec<usize> {
+    let mut degrees: Vec<usize> = graph
+        .junctions()
+        .map(|v| graph.vertices[v].degree)
+        .collect();
+    degrees.sort_unstable();
+    degrees
+}
+
+/// Junctions of random points in bands: six arms meeting at one point give one vertex of degree 6
+/// and six ends; bands 4 and 12 units wide crossing at right angles, one vertex of degree 4; a
+/// figure 8 (its lobes are linear but hollow windows, no band) one crossing and two loops.
+#[test]
+fn strip_junctions_have_their_degree() {
+    for (name, degrees, ends) in [
+        ("star6", vec![6], 6),
+        ("cross_w4_w12", vec![4], 4),
+        ("figure8", vec![4], 0),
+    ] {
+        let c = case(name);
+        let trace = ridgeline::trace_points(&c.points, &Params::default()).expect("trace");
+        let g = &trace.graph;
+        assert_eq!(junction_degrees(g), degrees, "{name}: junctions");
+        assert_eq!(g.endpoints().count(), ends, "{name}: ends");
+        assert_eq!(g.components(), 1, "{name}: components");
+    }
+}
+
+/// Two bands crossing at 20°: they run side by side over several widths, and a window long
+/// enough to call one band linear must not take in the other (the width is §3.1's PCA of one
+/// band): the widths along the arms stay those of one band (their mean was 2.4 band widths).
+#[test]
+fn strips_crossing_at_a_small_angle_keep_one_band_width_and_one_crossing() {
+    let c = case("cross20");
+    let trace = ridgeline::trace_points(&c.points, &Params::default()).expect("trace");
+    let widths: Vec<f64> = trace
+        .graph
+        .edges
+        .iter()
+        .flat_map(|e| e.widths.iter().copied())
+        .collect();
+    // The crossing itself is wider than one band; it is a small part of the arms.
+    let mean = widths.iter().sum::<f64>() / widths.len() as f64;
+    assert!(mean <= 1.25 * c.width, "mean width {mean}");
+    let w = median_width(&trace.graph);
+    assert!((w / c.width - 1.0).abs() <= 0.1, "width {w}");
+    // One crossing, where the bands' centerlines cross (its two halves, found far apart along
+    // the acute crossing, are joined where the strokes cross, not at their centroid).
+    let g = &trace.graph;
+    assert_eq!(junction_degrees(g), [4], "junctions");
+    assert_eq!(g.endpoints().count(), 4, "ends");
+    let crossing = g.junctions().next().map(|v| g.vertices[v].pos);
+    let truth = c.junctions[0].0;
+    let off = crossing.map_or(f64::INFINITY, |p| ridgeline::dist(p, truth));
+    assert!(
+        off <= c.width,
+        "crossing {crossing:?}, {off} from the truth {truth:?}"
+    );
+}

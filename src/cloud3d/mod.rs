@@ -19,16 +19,17 @@ use crate::curve3d::CurveGraph3d;
 use crate::error::Result;
 use crate::params::Params;
 
-/// What tracing a 3D list gives: the graph in the list's units, the number of distinct points,
-/// and `Some(share)` when the set is not tube-shaped (then the graph is empty).
+/// What tracing a 3D list gives: the graph in the list's units, the number of distinct points
+/// traced, `Some(share)` when the set is not tube-shaped (then the graph is empty) and how many
+/// distinct points were left out as a sparse cloud around the tubes.
 pub(crate) fn trace(
     list: &[[f64; 3]],
     params: &Params,
-) -> Result<(CurveGraph3d, usize, Option<f64>)> {
-    let (cloud, units, not_tube) = points::cloud(list, params)?;
+) -> Result<(CurveGraph3d, usize, Option<f64>, usize)> {
+    let (cloud, units, not_tube, left_out) = points::cloud(list, params)?;
     let count = cloud.len();
     if not_tube.is_some() || count == 0 {
-        return Ok((CurveGraph3d::default(), count, not_tube));
+        return Ok((CurveGraph3d::default(), count, not_tube, left_out));
     }
     let sampled = sample::sample(&cloud, params);
     let refined = refine::refine(&cloud, &sampled, params);
@@ -50,5 +51,5 @@ pub(crate) fn trace(
         e.points[last] = graph.vertices[e.to].pos;
     }
     debug_assert_eq!(graph.validate(), Ok(()));
-    Ok((graph, count, not_tube))
+    Ok((graph, count, not_tube, left_out))
 }

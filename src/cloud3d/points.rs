@@ -74,9 +74,96 @@ impl Units {
     }
 }
 
-/// Builds the cloud of `list` in pipeline units. The third value is `Some(share)` when the set is
-/// not tube-shaped: only `share` of its windowed points lie in a linear window.
-pub(super) fn cloud(list: &[V3], params: &Params) -> Result<(Cloud, Units, Option<f64>)> {
+/// A point is sparse when its `k`-th nearest neighbour is more than this many times farther than
+/// the median point's (the plane's `SPARSE_REACH`: a thousandfold sparser in space).
+const SPARSE_REACH: f64 = 10.0;
+
+/// [`cloud`]'s answer: the cloud in pipeline units, its units, `Some(share)` when the set is not
+/// tube-shaped (only `share` of its windowed points lie in a linear window), and how many
+/// distinct points were left out as a sparse cloud around the tubes.
+pub(super) type Built = (Cloud, Units, Option<f64>, usize);
+
+/// Builds the cloud of `list` in pipeline units, after leaving out the points of a sparse cloud
+/// around the tubes (the plane's rule, `point_list`'s `sparse_outliers`): points far sparser
+/// than the set's own sampling ([`SPARSE_REACH`]) that, taken alone at their own spacing, are
+/// not tube-shaped either. A part sampled as sparsely but shaped as a tube stays.
+pub(super) fn cloud(list: &[V3], params: &Params) -> Result<Built> {
+    match cloud_once(list, params, true)? {
+        Prepared::Ready(built) => Ok(built),
+        Prepared::LeaveOut(kept) => {
+            let left_out = distinct(list).len() - kept.len();
+            match cloud_once(&kept, params, false)? {
+                Prepared::Ready((cloud, units, not_tube, _)) => {
+                    Ok((cloud, units, not_tube, left_out))
+                }
+                Prepared::LeaveOut(_) => Err(Error::InvalidParams(
+                    "points left out twice (an internal error)".to_string(),
+                )),
+            }
+        }
+    }
+}
+
+/// [`cloud_once`]'s answer: the cloud, or the distinct points to trace instead (the sparse
+/// cloud around them left out).
+enum Prepared {
+    Ready(Built),
+    LeaveOut(Vec<V3>),
+}
+
+/// Exact repeats dropped, keeping the first occurrence; `-0.0` equals `0.0`.
+fn distinct(list: &[V3]) -> Vec<V3> {
+    let mut seen = HashSet::with_capacity(list.len());
+    list.iter()
+        .map(|p| [p[0] + 0.0, p[1] + 0.0, p[2] + 0.0])
+        .filter(|p| seen.insert(p.map(f64::to_bits)))
+        .collect()
+}
+
+/// The distinct points' sparse cloud around the tubes, as flags, when there is one (see
+/// [`cloud`]); `local` are the points in any units, `reach` their `k`-th neighbour distances.
+fn sparse_outliers(local: &[V3], reach: &[f64], k: usize) -> Result<Option<Vec<bool>>> {
+    let mut sorted = reach.to_vec();
+    if sorted.is_empty() {
+        return Ok(None);
+    }
+    let middle = sorted.len() / 2;
+    let (_, &mut median, _) = sorted.select_nth_unstable_by(middle, f64::total_cmp);
+    let sparse: Vec<bool> = reach.iter().map(|&r| r > SPARSE_REACH * median).collect();
+    let alone: Vec<V3> = local
+        .iter()
+        .zip(&sparse)
+        .filter(|(_, &s)| s)
+        .map(|(p, _)| *p)
+        .collect();
+    if alone.is_empty() || alone.len() == local.len() {
+        return Ok(None);
+    }
+    let k = k.min(alone.len() - 1);
+    if k > 0 {
+        let (offsets, neighbors, spacing, _) = nearest_neighbours(&alone, k)?;
+        let part = parts(alone.len(), &offsets, &neighbors);
+        let (_, linear, windowed) = tube_widths(&alone, spacing, &part, &offsets, &neighbors);
+        if windowed > 0 && linear as f64 >= NOT_TUBE_SHARE * windowed as f64 {
+            return Ok(None);
+        }
+    }
+    Ok(Some(sparse))
+}
+
+/// The parts (components) of the neighbour graph, as labels.
+fn parts(n: usize, offsets: &[u32], neighbors: &[u32]) -> Vec<u32> {
+    let mut sets = UnionFind::<u32>::new(n);
+    for p in 0..n {
+        for &q in &neighbors[offsets[p] as usize..offsets[p + 1] as usize] {
+            sets.union(p as u32, q);
+        }
+    }
+    sets.into_labeling()
+}
+
+/// [`cloud`] on one list; with `leave_out`, a sparse cloud found is answered instead.
+fn cloud_once(list: &[V3], params: &Params, leave_out: bool) -> Result<Prepared> {
     if list.len() as u64 > params.front_end.limits.max_points {
         return Err(Error::Limit {
             what: "points",
@@ -98,13 +185,7 @@ pub(super) fn cloud(list: &[V3], params: &Params) -> Result<(Cloud, Units, Optio
             ),
         });
     }
-    let mut seen = HashSet::with_capacity(list.len());
-    let points: Vec<V3> = list
-        .iter()
-        .map(|p| [p[0] + 0.0, p[1] + 0.0, p[2] + 0.0])
-        .filter(|p| seen.insert(p.map(f64::to_bits)))
-        .collect();
-    drop(seen);
+    let points = distinct(list);
     let n = points.len();
     if n == 0 {
         let cloud = Cloud {
@@ -116,7 +197,7 @@ pub(super) fn cloud(list: &[V3], params: &Params) -> Result<(Cloud, Units, Optio
             origin: [0.0; 3],
             scale: 1.0,
         };
-        return Ok((cloud, units, None));
+        return Ok(Prepared::Ready((cloud, units, None, 0)));
     }
     let min = points.iter().fold([f64::INFINITY; 3], |m, p| {
         [m[0].min(p[0]), m[1].min(p[1]), m[2].min(p[2])]
@@ -150,23 +231,28 @@ pub(super) fn cloud(list: &[V3], params: &Params) -> Result<(Cloud, Units, Optio
         })
         .collect();
     let k = params.method.k.min(n - 1);
-    let (offsets, neighbors, spacing) = if k == 0 {
-        (vec![0; n + 1], Vec::new(), 1.0)
+    let (offsets, neighbors, spacing, reach) = if k == 0 {
+        (vec![0; n + 1], Vec::new(), 1.0, Vec::new())
     } else {
         nearest_neighbours(&local, k)?
     };
+    if leave_out && k > 0 {
+        if let Some(sparse) = sparse_outliers(&local, &reach, k)? {
+            let kept = points
+                .iter()
+                .zip(&sparse)
+                .filter(|(_, &s)| !s)
+                .map(|(p, _)| *p)
+                .collect();
+            return Ok(Prepared::LeaveOut(kept));
+        }
+    }
     let fine = if k == 0 { 1.0 } else { power_near(spacing) };
     for p in &mut local {
         *p = [p[0] / fine, p[1] / fine, p[2] / fine];
     }
     let spacing = if k == 0 { 1.0 } else { spacing / fine };
-    let mut sets = UnionFind::<u32>::new(n);
-    for p in 0..n {
-        for &q in &neighbors[offsets[p] as usize..offsets[p + 1] as usize] {
-            sets.union(p as u32, q);
-        }
-    }
-    let part = sets.into_labeling();
+    let part = parts(n, &offsets, &neighbors);
     let (width, linear, windowed) = tube_widths(&local, spacing, &part, &offsets, &neighbors);
     let not_tube = (windowed > 0 && (linear as f64) < NOT_TUBE_SHARE * windowed as f64)
         .then(|| linear as f64 / windowed as f64);
@@ -182,11 +268,13 @@ pub(super) fn cloud(list: &[V3], params: &Params) -> Result<(Cloud, Units, Optio
         width,
         part,
     };
-    Ok((cloud, units, not_tube))
+    Ok(Prepared::Ready((cloud, units, not_tube, 0)))
 }
 
-/// Symmetric `k` nearest neighbours (§3.2) as CSR, joined across islands, and `Dis_ave`.
-fn nearest_neighbours(points: &[V3], k: usize) -> Result<(Vec<u32>, Vec<u32>, f64)> {
+/// Symmetric `k` nearest neighbours (§3.2) as CSR, joined across islands, `Dis_ave` and each
+/// point's `k`-th neighbour distance.
+#[allow(clippy::type_complexity)]
+fn nearest_neighbours(points: &[V3], k: usize) -> Result<(Vec<u32>, Vec<u32>, f64, Vec<f64>)> {
     let n = points.len();
     let tree: ImmutableKdTree<f64, 3> = ImmutableKdTree::new_from_slice(points)
         .map_err(|e| Error::InvalidParams(format!("cannot index the points: {e:?}")))?;
@@ -219,7 +307,12 @@ fn nearest_neighbours(points: &[V3], k: usize) -> Result<(Vec<u32>, Vec<u32>, f6
             emit(i, j);
         }
     });
-    Ok((offsets, neighbors, spacing))
+    Ok((
+        offsets,
+        neighbors,
+        spacing,
+        nearest.iter().map(|d| d.1).collect(),
+    ))
 }
 
 /// Local tube diameters from the PCA of §3.1 (Eq. (2)-(3) with three axes): windows of 3 x 3 x 3

@@ -74,8 +74,23 @@ pub(crate) fn sobel(plane: &Plane) -> (Plane, Plane) {
     let (w, h) = (plane.width as i64, plane.height as i64);
     let mut gx = Vec::with_capacity(plane.values.len());
     let mut gy = Vec::with_capacity(plane.values.len());
+    let v = &plane.values;
     for y in 0..h {
         for x in 0..w {
+            if x > 0 && y > 0 && x + 1 < w && y + 1 < h {
+                // Inside: the nine pixels directly (the values `at` gives, the same sums).
+                let (up, mid, down) = (
+                    ((y - 1) * w + x) as usize,
+                    (y * w + x) as usize,
+                    ((y + 1) * w + x) as usize,
+                );
+                let (a, b, c) = (v[up - 1], v[up], v[up + 1]);
+                let (d, f) = (v[mid - 1], v[mid + 1]);
+                let (g, k, m) = (v[down - 1], v[down], v[down + 1]);
+                gx.push((c + 2.0 * f + m) - (a + 2.0 * d + g));
+                gy.push((g + 2.0 * k + m) - (a + 2.0 * b + c));
+                continue;
+            }
             let p = |dx: i64, dy: i64| plane.at(x + dx, y + dy);
             gx.push((p(1, -1) + 2.0 * p(1, 0) + p(1, 1)) - (p(-1, -1) + 2.0 * p(-1, 0) + p(-1, 1)));
             gy.push((p(-1, 1) + 2.0 * p(0, 1) + p(1, 1)) - (p(-1, -1) + 2.0 * p(0, -1) + p(1, -1)));

@@ -311,19 +311,19 @@ fn print_image(
     // valleys and reversing grounds, cost as much as the decision again). A plain
     // Otsu split read two of the real gray prints (docs/fingerprints.md) as light; this reads
     // all of them as their ridges are.
-    let (dark_ridges, confidence) = match params.front_end.polarity {
-        Polarity::DarkInk => (true, None),
-        Polarity::LightInk => (false, None),
+    // The decision runs beside the front end's stages that do not depend on it.
+    let polarity = || match params.front_end.polarity {
+        Polarity::DarkInk => Ok((true, None)),
+        Polarity::LightInk => Ok((false, None)),
         Polarity::Auto => {
             let decided = raster::decide_polarity(gray, params)?;
-            (
+            Ok((
                 decided.polarity == crate::decisions::InkSide::Dark,
                 decided.polarity_confidence,
-            )
+            ))
         }
     };
-    let (mut analysis, binary) = fingerprint::analyze(gray, print, dark_ridges);
-    analysis.polarity_confidence = confidence;
+    let (analysis, binary) = fingerprint::analyze_deciding(gray, print, polarity)?;
     let enhance = start.elapsed();
 
     let mut trace = trace_mask(binary.view(), params, recording)?;

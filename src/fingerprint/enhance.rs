@@ -62,7 +62,7 @@ pub(crate) fn enhance(
         .par_chunks_mut(w * b)
         .enumerate()
         .for_each(|(j, band)| {
-            let (mut kernel, mut rows, mut parts) = (Vec::new(), Vec::new(), Vec::new());
+            let (mut kernel, mut rows, mut parts) = (Vec::new(), RowSums::default(), Vec::new());
             let band_y0 = j * b;
             for i in 0..grid.cols as usize {
                 let index = grid.index(i, j);
@@ -219,6 +219,41 @@ impl SeparableGabor {
         }
     }
 
+    /// The row sums of `N` columns (`window` their taps, `N + 2r` values) in registers: each
+    /// column's sums are added tap by tap as [`SeparableGabor::row_sums_any`] adds them.
+    fn row_sums<const N: usize>(
+        &self,
+        window: &[f32],
+        (sa, sc, sg): (&mut [f32], &mut [f32], &mut [f32]),
+    ) {
+        let (mut a_sums, mut c_sums, mut sums) = ([0.0f32; N], [0.0f32; N], [0.0f32; N]);
+        for (t, (&a, &c)) in self.a.iter().zip(&self.c).enumerate() {
+            let line: &[f32; N] = match window[t..t + N].try_into() {
+                Ok(line) => line,
+                Err(_) => return self.row_sums_any(window, (sa, sc, sg)),
+            };
+            for x in 0..N {
+                a_sums[x] += a * line[x];
+                c_sums[x] += c * line[x];
+                sums[x] += line[x];
+            }
+        }
+        sa.copy_from_slice(&a_sums);
+        sc.copy_from_slice(&c_sums);
+        sg.copy_from_slice(&sums);
+    }
+
+    /// The row sums of any number of columns: Σ A·gray, Σ C·gray and Σ gray over the taps.
+    fn row_sums_any(&self, window: &[f32], (sa, sc, sg): (&mut [f32], &mut [f32], &mut [f32])) {
+        for (t, (&a, &c)) in self.a.iter().zip(&self.c).enumerate() {
+            for (x, &v) in window[t..t + sa.len()].iter().enumerate() {
+                sa[x] += a * v;
+                sc[x] += c * v;
+                sg[x] += v;
+            }
+        }
+    }
+
     /// The response over the block `(x0, x1, y0, y1)` of the image that `padded` holds with
     /// `pad` px around it, times `sign`, into `band` (rows `y0..y1`, image width); `rows` is
     /// scratch space.
@@ -229,37 +264,94 @@ impl SeparableGabor {
         (x0, x1, y0, y1): (usize, usize, usize, usize),
         sign: f32,
         (band, band_y0): (&mut [f32], usize),
-        rows: &mut Vec<[f32; 3]>,
+        rows: &mut RowSums,
     ) {
         let (r, pw) = (self.radius, padded.width as usize);
         let (bw, side) = (x1 - x0, 2 * self.radius + 1);
         let width = pw - 2 * pad;
-        // Per padded row of the window and column of the block: Σ A·gray, Σ C·gray, Σ gray.
-        rows.clear();
-        for yy in y0 + pad - r..y1 + pad + r {
-            for x in x0..x1 {
-                let start = yy * pw + x + pad - r;
-                let line = &padded.values[start..start + side];
-                let mut sums = [0.0f32; 3];
-                for ((&v, &a), &c) in line.iter().zip(&self.a).zip(&self.c) {
-                    sums[0] += a * v;
-                    sums[1] += c * v;
-                    sums[2] += v;
-                }
-                rows.push(sums);
+        let window_rows = y1 - y0 + 2 * r;
+        // Per padded row of the window and column of the block: Σ A·gray, Σ C·gray, Σ gray,
+        // each summed tap by tap in the same order for every column, so that the columns of a
+        // row are summed side by side (vector lanes) and every sum is the one a column alone
+        // would give.
+        for sums in [&mut rows.a, &mut rows.c, &mut rows.g] {
+            sums.clear();
+            sums.resize(window_rows * bw, 0.0);
+        }
+        for k in 0..window_rows {
+            let start = (y0 + pad - r + k) * pw + x0 + pad - r;
+            let span = k * bw..(k + 1) * bw;
+            let sums = (
+                &mut rows.a[span.clone()],
+                &mut rows.c[span.clone()],
+                &mut rows.g[span],
+            );
+            let window = &padded.values[start..start + side - 1 + bw];
+            match bw {
+                8 => self.row_sums::<8>(window, sums),
+                4 => self.row_sums::<4>(window, sums),
+                _ => self.row_sums_any(window, sums),
             }
         }
         for y in y0..y1 {
-            for x in x0..x1 {
-                let mut s = 0.0f32;
-                for (k, (&b, &d)) in self.b.iter().zip(&self.d).enumerate() {
-                    let [ha, hc, h1] = rows[(y - y0 + k) * bw + (x - x0)];
-                    s += b * ha - d * hc - self.mean * h1;
-                }
-                band[(y - band_y0) * width + x] = sign * self.scale * s;
+            let row = (y - band_y0) * width;
+            let out = &mut band[row + x0..row + x1];
+            match bw {
+                8 => self.column_sums::<8>(rows, (y - y0) * bw, sign, out),
+                _ => self.column_sums_any(rows, (y - y0) * bw, sign, out),
             }
         }
     }
+
+    /// One output row of `N` columns from the row sums starting at `first` (the window's top
+    /// row): Σ over the rows of B·ΣA - D·ΣC - m·Σgray, times the scale and `sign`.
+    fn column_sums<const N: usize>(
+        &self,
+        rows: &RowSums,
+        first: usize,
+        sign: f32,
+        out: &mut [f32],
+    ) {
+        let mut s = [0.0f32; N];
+        for (k, (&b, &d)) in self.b.iter().zip(&self.d).enumerate() {
+            let at = first + k * N;
+            let (Ok(ha), Ok(hc), Ok(h1)) = (
+                <&[f32; N]>::try_from(&rows.a[at..at + N]),
+                <&[f32; N]>::try_from(&rows.c[at..at + N]),
+                <&[f32; N]>::try_from(&rows.g[at..at + N]),
+            ) else {
+                return self.column_sums_any(rows, first, sign, out);
+            };
+            for x in 0..N {
+                s[x] += b * ha[x] - d * hc[x] - self.mean * h1[x];
+            }
+        }
+        for (dst, &v) in out.iter_mut().zip(&s) {
+            *dst = sign * self.scale * v;
+        }
+    }
+
+    /// [`SeparableGabor::column_sums`] for any number of columns.
+    fn column_sums_any(&self, rows: &RowSums, first: usize, sign: f32, out: &mut [f32]) {
+        let bw = out.len();
+        for (x, dst) in out.iter_mut().enumerate() {
+            let mut s = 0.0f32;
+            for (k, (&b, &d)) in self.b.iter().zip(&self.d).enumerate() {
+                let at = first + k * bw + x;
+                s += b * rows.a[at] - d * rows.c[at] - self.mean * rows.g[at];
+            }
+            *dst = sign * self.scale * s;
+        }
+    }
+}
+
+/// Scratch space of [`SeparableGabor::apply`]: the row sums of the window, one column of the
+/// block after another within each row.
+#[derive(Default)]
+struct RowSums {
+    a: Vec<f32>,
+    c: Vec<f32>,
+    g: Vec<f32>,
 }
 
 /// Fills `kernel` (row-major, `(2r+1)²`) with the zero-mean, unit-energy even Gabor filter for
@@ -339,7 +431,7 @@ mod tests {
                     (x0, x0 + 8, y0, y0 + 8),
                     -1.0,
                     (&mut band, y0),
-                    &mut Vec::new(),
+                    &mut RowSums::default(),
                 );
                 for y in y0..y0 + 8 {
                     for x in x0..x0 + 8 {

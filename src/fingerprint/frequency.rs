@@ -20,6 +20,7 @@
 use super::fields::{OrientationField, Plane, RidgePeriods, Segmentation};
 use crate::median::upper_median_by;
 use crate::params::FingerprintParams;
+use rayon::prelude::*;
 
 /// Fewest candidate distances for a measured period.
 const MIN_DISTANCES: usize = 3;
@@ -35,79 +36,32 @@ pub(crate) fn ridge_periods(
     let (cols, rows) = (grid.cols as usize, grid.rows as usize);
     let length = params.signature_length.max(4) as usize;
     let across = (2 * grid.block).max(2) as usize;
-    let mut signature = vec![0.0f32; length];
-    let mut distances: Vec<f32> = Vec::with_capacity(length);
-    let mut period = vec![0.0f32; grid.len()];
-    let mut measured = vec![false; grid.len()];
-    let mut halved = vec![false; grid.len()];
-    for j in 0..rows {
-        for i in 0..cols {
-            let b = grid.index(i, j);
-            if !segmentation.inside[b] {
-                continue;
-            }
-            let c = grid.center(i, j);
-            let theta = f64::from(field.angle[b]);
-            let (along, normal) = ([theta.cos(), theta.sin()], [-theta.sin(), theta.cos()]);
-            for (t, s) in signature.iter_mut().enumerate() {
-                let u = t as f64 - length as f64 / 2.0 + 0.5;
-                let mut sum = 0.0f32;
-                for k in 0..across {
-                    let v = k as f64 - across as f64 / 2.0 + 0.5;
-                    sum += smoothed.sample(
-                        c[0] + u * normal[0] + v * along[0],
-                        c[1] + u * normal[1] + v * along[1],
-                    );
+    // Each block's measure is its own (scratch space per thread): the blocks in parallel, the
+    // same values whatever the thread count.
+    let measures: Vec<(f32, bool, bool)> = (0..grid.len())
+        .into_par_iter()
+        .map_init(
+            || (vec![0.0f32; length], Vec::with_capacity(length)),
+            |(signature, distances), b| {
+                if !segmentation.inside[b] {
+                    return (0.0, false, false);
                 }
-                *s = sum / across as f32;
-            }
-            distances.clear();
-            for extremum in [1.0f32, -1.0] {
-                let mut last: Option<usize> = None;
-                for k in 1..length - 1 {
-                    let (p, q, r) = (
-                        extremum * signature[k - 1],
-                        extremum * signature[k],
-                        extremum * signature[k + 1],
-                    );
-                    if q > p && q >= r {
-                        if let Some(l) = last {
-                            let d = (k - l) as f32;
-                            if f64::from(d) >= params.period_min
-                                && f64::from(d) <= params.period_max
-                            {
-                                distances.push(d);
-                            }
-                        }
-                        last = Some(k);
-                    }
-                }
-            }
-            if distances.len() < MIN_DISTANCES {
-                continue;
-            }
-            let m = upper_median_by(&mut distances, f32::total_cmp).unwrap_or(0.0);
-            let tolerance = (0.2 * m).max(2.0);
-            let close: Vec<f32> = distances
-                .iter()
-                .copied()
-                .filter(|d| (d - m).abs() <= tolerance)
-                .collect();
-            if !close.is_empty() {
-                let p = close.iter().sum::<f32>() / close.len() as f32;
-                // Extra shallow extremes inside the ridges (pores, a lighter middle of a wide
-                // ridge) halve the distances; the signature then correlates negatively with
-                // itself one distance away and positively two away.
-                halved[b] = f64::from(2.0 * p) <= params.period_max && {
-                    let mean = signature.iter().sum::<f32>() / length as f32;
-                    correlation(&signature, mean, p) < 0.0
-                        && correlation(&signature, mean, 2.0 * p) > 0.0
-                };
-                period[b] = p;
-                measured[b] = true;
-            }
-        }
-    }
+                let (i, j) = (b % cols, b / cols);
+                block_period(
+                    smoothed,
+                    grid.center(i, j),
+                    field.angle[b],
+                    across,
+                    params,
+                    signature,
+                    distances,
+                )
+            },
+        )
+        .collect();
+    let mut period: Vec<f32> = measures.iter().map(|m| m.0).collect();
+    let measured: Vec<bool> = measures.iter().map(|m| m.1).collect();
+    let halved: Vec<bool> = measures.iter().map(|m| m.2).collect();
     double_halved(&mut period, &measured, &halved, cols, rows);
     let period = fill_and_smooth(period, &measured, cols, rows, params.default_period as f32);
     let (lo, hi) = (params.period_min as f32, params.period_max as f32);
@@ -116,6 +70,77 @@ pub(crate) fn ridge_periods(
         period: period.into_iter().map(|p| p.clamp(lo, hi)).collect(),
         measured,
     }
+}
+
+/// The x-signature's measure of one block centred at `c` with ridge direction `angle`: its
+/// period, whether it was measured, and whether it looks halved (see [`ridge_periods`]);
+/// `signature` and `distances` are scratch space.
+fn block_period(
+    smoothed: &Plane,
+    c: [f64; 2],
+    angle: f32,
+    across: usize,
+    params: &FingerprintParams,
+    signature: &mut [f32],
+    distances: &mut Vec<f32>,
+) -> (f32, bool, bool) {
+    let length = signature.len();
+    let theta = f64::from(angle);
+    let (along, normal) = ([theta.cos(), theta.sin()], [-theta.sin(), theta.cos()]);
+    for (t, s) in signature.iter_mut().enumerate() {
+        let u = t as f64 - length as f64 / 2.0 + 0.5;
+        let mut sum = 0.0f32;
+        for k in 0..across {
+            let v = k as f64 - across as f64 / 2.0 + 0.5;
+            sum += smoothed.sample(
+                c[0] + u * normal[0] + v * along[0],
+                c[1] + u * normal[1] + v * along[1],
+            );
+        }
+        *s = sum / across as f32;
+    }
+    distances.clear();
+    for extremum in [1.0f32, -1.0] {
+        let mut last: Option<usize> = None;
+        for k in 1..length - 1 {
+            let (p, q, r) = (
+                extremum * signature[k - 1],
+                extremum * signature[k],
+                extremum * signature[k + 1],
+            );
+            if q > p && q >= r {
+                if let Some(l) = last {
+                    let d = (k - l) as f32;
+                    if f64::from(d) >= params.period_min && f64::from(d) <= params.period_max {
+                        distances.push(d);
+                    }
+                }
+                last = Some(k);
+            }
+        }
+    }
+    if distances.len() < MIN_DISTANCES {
+        return (0.0, false, false);
+    }
+    let m = upper_median_by(distances, f32::total_cmp).unwrap_or(0.0);
+    let tolerance = (0.2 * m).max(2.0);
+    let close: Vec<f32> = distances
+        .iter()
+        .copied()
+        .filter(|d| (d - m).abs() <= tolerance)
+        .collect();
+    if !close.is_empty() {
+        let p = close.iter().sum::<f32>() / close.len() as f32;
+        // Extra shallow extremes inside the ridges (pores, a lighter middle of a wide
+        // ridge) halve the distances; the signature then correlates negatively with
+        // itself one distance away and positively two away.
+        let halved = f64::from(2.0 * p) <= params.period_max && {
+            let mean = signature.iter().sum::<f32>() / length as f32;
+            correlation(signature, mean, p) < 0.0 && correlation(signature, mean, 2.0 * p) > 0.0
+        };
+        return (p, true, halved);
+    }
+    (0.0, false, false)
 }
 
 /// Doubles the period of every halved block (see [`ridge_periods`]) where at least a third of

@@ -86,11 +86,80 @@ impl PrintAnalysis {
 /// Runs segmentation, orientation field, ridge periods and Gabor enhancement on `gray` and
 /// returns them with the binarization of the enhanced image (ink: positive response inside the
 /// print). `dark_ridges` says whether ridges are darker than valleys.
+#[cfg(test)]
 pub(crate) fn analyze(
     gray: GrayView<'_>,
     params: &FingerprintParams,
     dark_ridges: bool,
 ) -> (PrintAnalysis, Binary) {
+    let given = || Ok::<_, std::convert::Infallible>((dark_ridges, None));
+    match analyze_deciding(gray, params, given) {
+        Ok(analyzed) => analyzed,
+        Err(never) => match never {},
+    }
+}
+
+/// [`analyze`] with the polarity decided by `polarity` (whether ridges are dark, and the
+/// decision's confidence when it was made from the image), run beside the stages that do not
+/// depend on it: segmentation, orientation, periods and the enhancement up to its sign (the
+/// filters are linear, so light ridges only negate the response of dark ones, exactly).
+pub(crate) fn analyze_deciding<E: Send>(
+    gray: GrayView<'_>,
+    params: &FingerprintParams,
+    polarity: impl FnOnce() -> Result<(bool, Option<f64>), E> + Send,
+) -> Result<(PrintAnalysis, Binary), E> {
+    let (decided, front) = rayon::join(polarity, || front_stages(gray, params));
+    let (dark_ridges, polarity_confidence) = decided?;
+    let FrontStages {
+        smoothed,
+        segmentation,
+        orientation,
+        periods,
+        mut enhanced,
+    } = front;
+    if !dark_ridges {
+        enhanced.values.iter_mut().for_each(|v| *v = -*v);
+    }
+    let (width, height) = (enhanced.width, enhanced.height);
+    let segmentation = segment::refine(&segmentation, &enhanced, params.response_threshold);
+    for (value, inside) in enhanced.values.iter_mut().zip(segmentation.pixel_mask()) {
+        if !inside {
+            *value = 0.0;
+        }
+    }
+    let contrast = block_contrast(&enhanced, &segmentation);
+    let mut binary = Binary::new(width, height);
+    for (ink, &r) in binary.ink.iter_mut().zip(&enhanced.values) {
+        *ink = r > 0.0;
+    }
+    let ridges = confirmed_ridges(&smoothed, &binary, &segmentation, &periods, dark_ridges);
+    Ok((
+        PrintAnalysis {
+            segmentation,
+            orientation,
+            periods,
+            enhanced,
+            ridges,
+            contrast,
+            dark_ridges,
+            polarity_confidence,
+        },
+        binary,
+    ))
+}
+
+/// What [`front_stages`] gives: the stages that do not depend on the print's polarity.
+struct FrontStages {
+    smoothed: Plane,
+    segmentation: Segmentation,
+    orientation: OrientationField,
+    periods: RidgePeriods,
+    /// The enhanced image for dark ridges (ridges positive where they are dark).
+    enhanced: Plane,
+}
+
+/// Segmentation, orientation field, ridge periods and the enhancement for dark ridges.
+fn front_stages(gray: GrayView<'_>, params: &FingerprintParams) -> FrontStages {
     let (width, height) = gray.dimensions();
     let plane = Plane {
         width,
@@ -108,39 +177,14 @@ pub(crate) fn analyze(
         Enhancement::Gabor => enhance::enhance,
         Enhancement::Smoothing => smooth::enhance,
     };
-    let mut enhanced = enhance(
-        &plane,
-        &segmentation,
-        &orientation,
-        &periods,
-        params,
-        dark_ridges,
-    );
-    let segmentation = segment::refine(&segmentation, &enhanced, params.response_threshold);
-    for (value, inside) in enhanced.values.iter_mut().zip(segmentation.pixel_mask()) {
-        if !inside {
-            *value = 0.0;
-        }
+    let enhanced = enhance(&plane, &segmentation, &orientation, &periods, params, true);
+    FrontStages {
+        smoothed,
+        segmentation,
+        orientation,
+        periods,
+        enhanced,
     }
-    let contrast = block_contrast(&enhanced, &segmentation);
-    let mut binary = Binary::new(width, height);
-    for (ink, &r) in binary.ink.iter_mut().zip(&enhanced.values) {
-        *ink = r > 0.0;
-    }
-    let ridges = confirmed_ridges(&smoothed, &binary, &segmentation, &periods, dark_ridges);
-    (
-        PrintAnalysis {
-            segmentation,
-            orientation,
-            periods,
-            enhanced,
-            ridges,
-            contrast,
-            dark_ridges,
-            polarity_confidence: None,
-        },
-        binary,
-    )
 }
 
 /// The enhanced ridges (`binary`) where the gray image (`smoothed` as for the gradients, so

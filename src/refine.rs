@@ -595,6 +595,15 @@ impl Work {
 
     /// [`Work::arm_direction`] and the position of the node about `reach` away.
     fn arm_reach(&self, j: u32, path: &[u32], reach: f64) -> ([f64; 2], [f64; 2]) {
+        (
+            self.arm_direction(j, path, reach),
+            self.arm_target(j, path, reach),
+        )
+    }
+
+    /// The position of the first node along an arm from `j` at least `reach` away (the arm's
+    /// last node when none is).
+    fn arm_target(&self, j: u32, path: &[u32], reach: f64) -> [f64; 2] {
         let origin = self.nodes[j as usize].pos;
         let mut target = origin;
         for &x in path {
@@ -603,19 +612,13 @@ impl Work {
                 break;
             }
         }
-        (self.arm_direction(j, path, reach), target)
+        target
     }
 
     /// Direction from `j` along an arm, to the node about `reach` away.
     fn arm_direction(&self, j: u32, path: &[u32], reach: f64) -> [f64; 2] {
         let origin = self.nodes[j as usize].pos;
-        let mut target = origin;
-        for &x in path {
-            target = self.nodes[x as usize].pos;
-            if dist(origin, target) >= reach {
-                break;
-            }
-        }
+        let target = self.arm_target(j, path, reach);
         let d = [target[0] - origin[0], target[1] - origin[1]];
         let norm = d[0].hypot(d[1]).max(1e-12);
         [d[0] / norm, d[1] / norm]

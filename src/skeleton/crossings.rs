@@ -386,6 +386,9 @@ const TEES_APART: f64 = 1.0;
 /// line.
 const MIN_TEE_SINE: f64 = 0.5;
 
+/// The arms of a junction, each with its median width ([`Work::arm_lines`]).
+type Arms = Vec<(f64, ArmLine)>;
+
 /// One arm's stretch at a junction: its anchors nearest to and farthest from the junction.
 struct ArmLine {
     near: [f64; 2],
@@ -430,14 +433,7 @@ impl Work {
     /// The crossing of the link `link` between the junctions `a` and `b` (see
     /// [`Work::merge_split_crossings`]), or `None`.
     fn split_crossing(&self, link: usize, a: usize, b: usize, at: &[Vec<usize>]) -> Option<Vertex> {
-        let arms_a = self.arm_lines(a, link, at)?;
-        let arms_b = self.arm_lines(b, link, at)?;
-        let stroke = arms_a
-            .iter()
-            .chain(&arms_b)
-            .map(|(w, _)| *w)
-            .fold(f64::INFINITY, f64::min);
-        let tolerance = disk_radius(stroke);
+        let (arms_a, arms_b, stroke, tolerance) = self.link_arms(link, a, b, at)?;
         let pairs = [[(0, 0), (1, 1)], [(0, 1), (1, 0)]];
         let [(i, j), (k, l)] = *pairs.iter().find(|pair| {
             pair.iter().all(|&(i, j)| {
@@ -476,17 +472,9 @@ impl Work {
     /// too. `false` when the arms do not decide (no straight stroke, both pairs straight, an
     /// arm too short for a line or too shallow to meet the stroke).
     fn offset_tees(&self, link: usize, a: usize, b: usize, at: &[Vec<usize>]) -> bool {
-        let (Some(arms_a), Some(arms_b)) =
-            (self.arm_lines(a, link, at), self.arm_lines(b, link, at))
-        else {
+        let Some((arms_a, arms_b, stroke, tolerance)) = self.link_arms(link, a, b, at) else {
             return false;
         };
-        let stroke = arms_a
-            .iter()
-            .chain(&arms_b)
-            .map(|(w, _)| *w)
-            .fold(f64::INFINITY, f64::min);
-        let tolerance = disk_radius(stroke);
         let straight = |i: usize, j: usize| {
             self.stroke_miss(&arms_a[i].1, &arms_b[j].1, tolerance)
                 .is_some()
@@ -530,9 +518,29 @@ impl Work {
         (worst <= tolerance && self.ink.holds(p.far, q.far)).then_some(worst)
     }
 
+    /// The two other arms at each end of the link `link` between the junctions `a` and `b`
+    /// ([`Work::arm_lines`]), the narrowest of their widths and the tolerance of that width
+    /// ([`disk_radius`]) a stroke's line may miss by.
+    fn link_arms(
+        &self,
+        link: usize,
+        a: usize,
+        b: usize,
+        at: &[Vec<usize>],
+    ) -> Option<(Arms, Arms, f64, f64)> {
+        let arms_a = self.arm_lines(a, link, at)?;
+        let arms_b = self.arm_lines(b, link, at)?;
+        let stroke = arms_a
+            .iter()
+            .chain(&arms_b)
+            .map(|(w, _)| *w)
+            .fold(f64::INFINITY, f64::min);
+        Some((arms_a, arms_b, stroke, disk_radius(stroke)))
+    }
+
     /// The two arms at the degree-3 junction `j` other than `link`: each its median width and
     /// line; `None` when there are not two or one is too short for a line.
-    fn arm_lines(&self, j: usize, link: usize, at: &[Vec<usize>]) -> Option<Vec<(f64, ArmLine)>> {
+    fn arm_lines(&self, j: usize, link: usize, at: &[Vec<usize>]) -> Option<Arms> {
         let mut arms = Vec::new();
         for &e in at[j].iter().filter(|&&e| e != link) {
             let edge = self.edges[e].as_ref()?;

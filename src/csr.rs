@@ -164,6 +164,20 @@ pub(crate) fn symmetric_neighbours(
     (offsets, neighbors)
 }
 
+/// The components of a neighbour graph given as compressed rows (`neighbors[offsets[p]..
+/// offsets[p + 1]]` the neighbours of point `p`), as one label per point: the parts a point set's
+/// windows and outlier tests keep apart.
+pub(crate) fn parts(offsets: &[u32], neighbors: &[u32]) -> Vec<u32> {
+    let n = offsets.len().saturating_sub(1);
+    let mut sets = petgraph::unionfind::UnionFind::<u32>::new(n);
+    for p in 0..n {
+        for &q in &neighbors[offsets[p] as usize..offsets[p + 1] as usize] {
+            sets.union(p as u32, q);
+        }
+    }
+    sets.into_labeling()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

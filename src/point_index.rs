@@ -238,6 +238,26 @@ impl<const D: usize> Cells<D> {
     }
 }
 
+/// The points far sparser than the set's own sampling: those whose `k`-th neighbour distance
+/// (`reach`) is more than `factor` times the median point's, as flags and as the points
+/// themselves; `None` when there are none, or when every point is (no denser set to compare
+/// with).
+pub(crate) fn sparse_points<const D: usize>(
+    points: &[[f64; D]],
+    reach: &[f64],
+    factor: f64,
+) -> Option<(Vec<bool>, Vec<[f64; D]>)> {
+    let median = crate::median::upper_median_by(&mut reach.to_vec(), f64::total_cmp)?;
+    let sparse: Vec<bool> = reach.iter().map(|&r| r > factor * median).collect();
+    let cloud: Vec<[f64; D]> = points
+        .iter()
+        .zip(&sparse)
+        .filter(|(_, &s)| s)
+        .map(|(p, _)| *p)
+        .collect();
+    (!cloud.is_empty() && cloud.len() < points.len()).then_some((sparse, cloud))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

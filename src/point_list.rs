@@ -11,12 +11,12 @@ use kiddo::ImmutableKdTree;
 use petgraph::unionfind::UnionFind;
 use rayon::prelude::*;
 
-use crate::csr::symmetric_neighbours;
+use crate::csr::{parts, symmetric_neighbours};
 use crate::error::{Error, Result};
 use crate::mask::{close3, ink_row_starts, squared_distance_rows, tiny_hole_pixels};
 use crate::median::upper_median_by;
 use crate::params::{Params, RMinRule};
-use crate::point_index::{cross_pairs, k_nearest, z_order, Cells};
+use crate::point_index::{cross_pairs, k_nearest, sparse_points, z_order, Cells};
 use crate::point_set::{on_lattice, PointSet};
 use crate::stroke_graph::StrokeGraph;
 
@@ -515,20 +515,9 @@ const SPARSE_REACH: f64 = 10.0;
 /// to fill a window is no strip). A part sampled more sparsely than the rest but shaped as a
 /// strip stays. `reach` holds each point's `k`-th neighbour distance.
 fn sparse_outliers(points: &[[f64; 2]], reach: &[f64], k: usize) -> Result<Option<Vec<bool>>> {
-    let mut sorted = reach.to_vec();
-    let Some(median) = upper_median_by(&mut sorted, f64::total_cmp) else {
+    let Some((sparse, cloud)) = sparse_points(points, reach, SPARSE_REACH) else {
         return Ok(None);
     };
-    let sparse: Vec<bool> = reach.iter().map(|&r| r > SPARSE_REACH * median).collect();
-    let cloud: Vec<[f64; 2]> = points
-        .iter()
-        .zip(&sparse)
-        .filter(|(_, &s)| s)
-        .map(|(p, _)| *p)
-        .collect();
-    if cloud.is_empty() || cloud.len() == points.len() {
-        return Ok(None);
-    }
     let k = k.min(cloud.len() - 1);
     if k > 0 {
         let (offsets, neighbors, spacing, _) = nearest_neighbours(&cloud, k)?;
@@ -751,13 +740,7 @@ fn strip_half_widths(
     let mut measured = vec![f32::NAN; n];
     // Windows hold only points of the point's own part: a strip one width from another (parallel
     // strips) must not read the two as one wide strip.
-    let mut sets = UnionFind::<u32>::new(n);
-    for p in 0..n {
-        for &q in &neighbors[offsets[p] as usize..offsets[p + 1] as usize] {
-            sets.union(p as u32, q);
-        }
-    }
-    let part = sets.into_labeling();
+    let part = parts(offsets, neighbors);
     let mut cell = 2.0 * spacing;
     let mut cells: Option<Cells<2>> = None;
     let mut moments: Vec<[f64; 7]> = Vec::new();

@@ -9,10 +9,10 @@ use petgraph::unionfind::UnionFind;
 use rayon::prelude::*;
 
 use super::math::{eigen, linearity, tube_diameter, Moments, V3};
-use crate::csr::symmetric_neighbours;
+use crate::csr::{parts, symmetric_neighbours};
 use crate::error::{Error, Result};
 use crate::params::Params;
-use crate::point_index::{cross_pairs, k_nearest, z_order, Cells};
+use crate::point_index::{cross_pairs, k_nearest, sparse_points, z_order, Cells};
 
 /// Coordinates are translated so the smallest is 0; an extent beyond this would overflow squared
 /// distances.
@@ -123,43 +123,19 @@ fn distinct(list: &[V3]) -> Vec<V3> {
 /// The distinct points' sparse cloud around the tubes, as flags, when there is one (see
 /// [`cloud`]); `local` are the points in any units, `reach` their `k`-th neighbour distances.
 fn sparse_outliers(local: &[V3], reach: &[f64], k: usize) -> Result<Option<Vec<bool>>> {
-    let mut sorted = reach.to_vec();
-    if sorted.is_empty() {
+    let Some((sparse, alone)) = sparse_points(local, reach, SPARSE_REACH) else {
         return Ok(None);
-    }
-    let middle = sorted.len() / 2;
-    let (_, &mut median, _) = sorted.select_nth_unstable_by(middle, f64::total_cmp);
-    let sparse: Vec<bool> = reach.iter().map(|&r| r > SPARSE_REACH * median).collect();
-    let alone: Vec<V3> = local
-        .iter()
-        .zip(&sparse)
-        .filter(|(_, &s)| s)
-        .map(|(p, _)| *p)
-        .collect();
-    if alone.is_empty() || alone.len() == local.len() {
-        return Ok(None);
-    }
+    };
     let k = k.min(alone.len() - 1);
     if k > 0 {
         let (offsets, neighbors, spacing, _) = nearest_neighbours(&alone, k)?;
-        let part = parts(alone.len(), &offsets, &neighbors);
+        let part = parts(&offsets, &neighbors);
         let (_, linear, windowed) = tube_widths(&alone, spacing, &part, &offsets, &neighbors);
         if windowed > 0 && linear as f64 >= NOT_TUBE_SHARE * windowed as f64 {
             return Ok(None);
         }
     }
     Ok(Some(sparse))
-}
-
-/// The parts (components) of the neighbour graph, as labels.
-fn parts(n: usize, offsets: &[u32], neighbors: &[u32]) -> Vec<u32> {
-    let mut sets = UnionFind::<u32>::new(n);
-    for p in 0..n {
-        for &q in &neighbors[offsets[p] as usize..offsets[p + 1] as usize] {
-            sets.union(p as u32, q);
-        }
-    }
-    sets.into_labeling()
 }
 
 /// [`cloud`] on one list; with `leave_out`, a sparse cloud found is answered instead.
@@ -252,7 +228,7 @@ fn cloud_once(list: &[V3], params: &Params, leave_out: bool) -> Result<Prepared>
         *p = [p[0] / fine, p[1] / fine, p[2] / fine];
     }
     let spacing = if k == 0 { 1.0 } else { spacing / fine };
-    let part = parts(n, &offsets, &neighbors);
+    let part = parts(&offsets, &neighbors);
     let (width, linear, windowed) = tube_widths(&local, spacing, &part, &offsets, &neighbors);
     let not_tube = (windowed > 0 && (linear as f64) < NOT_TUBE_SHARE * windowed as f64)
         .then(|| linear as f64 / windowed as f64);

@@ -535,7 +535,8 @@ pub enum RegionKind {
     /// A halftone or photo inside the page: solid or dotted ink, no open paper, no strokes of the
     /// page's width.
     Halftone,
-    /// A band of thick ink along the image's edge: a scanner's frame, a border.
+    /// A band of thick ink along the image's edge (a scanner's frame, a border), or a ring of
+    /// lines around the page's content (a printed border, the edges of a bound book's pages).
     Frame,
     /// A dark field reaching the image's edge: what lies beyond a page's edge.
     PageEdge,

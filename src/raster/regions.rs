@@ -35,6 +35,9 @@
 //! cell of it (a photo's last dots, the line a local threshold draws along a dark margin), while a
 //! stroke that touches it and leaves it, such as a letter touching a frame, stays.
 //!
+//! Then the rings of lines around the page ([`rings`]): a printed border, the edges of a bound
+//! book's pages, one hollow piece around the text, with what runs along it and lies beyond it.
+//!
 //! Last, the faint ink ([`faint`]): pieces that barely reach the text's contrast, left out when
 //! they are most of the ink (a local threshold that read the paper's grain as ink).
 
@@ -96,6 +99,17 @@ const FAINT_INK: f64 = 0.5;
 /// cores even where a texture is most of the ink.
 const TEXT_QUANTILE: f64 = 0.99;
 
+/// A piece of ink is a ring around the page ([`rings`]) when at least this share of its pixels
+/// lie within [`RING_BAND`] of its box's border: a frame of lines, where a table's grid or a
+/// drawing spreads its ink over the inside as well.
+const RING_SHARE: f64 = 0.9;
+/// See [`RING_SHARE`]: the band's width as a share of the box's shorter side.
+const RING_BAND: f64 = 0.125;
+/// A ring is looked for only where some row holds a run of ink at least this share of the
+/// image's width (the long side of a frame of lines, unbroken for half its length): a page of
+/// text has none and is spared the labelling.
+const RING_RUN: f64 = 0.25;
+
 /// A group at least this share texture cells is a halftone (a photo or a pattern), wherever it
 /// lies.
 const TEXTURED_GROUP: f64 = 0.5;
@@ -136,6 +150,15 @@ pub(crate) fn find(
     keep: &[RegionKind],
 ) -> Vec<Region> {
     let mut regions = fields(gray, ink, dark_ink, level, stroke_width, grounds, keep);
+    let found = rings(
+        ink,
+        gray.width() as usize,
+        gray.height() as usize,
+        stroke_width,
+        &regions,
+        !keep.contains(&RegionKind::Frame),
+    );
+    regions.extend(found);
     regions.extend(faint(
         gray,
         ink,
@@ -232,6 +255,238 @@ fn fields(
     }
     remove(ink, width, height, cell, cols, rows, &removed_cells);
     regions
+}
+
+/// The rings of lines around the page ([`RegionKind::Frame`]): pieces of ink (8-connected)
+/// whose box spans at least [`FRAME_SPAN`] of the image's width and of its height and whose
+/// pixels lie in a ring along that box's border ([`RING_SHARE`]): a border printed around a
+/// page, the edges of a bound book's pages that a scan shows around the text. No stroke of a
+/// page is that large and that hollow. Each ring's ink is removed when `remove` says so, with
+/// the pieces left wholly within the cells it crossed and the cells beside them (the specks and
+/// bits of the page edges beside it); a stroke touching the ring keeps what leaves those cells.
+/// A ring within one of the regions `found` before is none of its own.
+fn rings(
+    ink: &mut [bool],
+    width: usize,
+    height: usize,
+    stroke_width: f64,
+    found: &[Region],
+    remove: bool,
+) -> Vec<Region> {
+    if ink.len() != width * height || width == 0 || stroke_width < 1.0 {
+        return Vec::new();
+    }
+    let long_run = ((RING_RUN * width as f64).ceil() as usize).max(1);
+    let has_long_run = ink.chunks(width).any(|row| {
+        let mut run = 0;
+        row.iter().any(|&i| {
+            run = if i { run + 1 } else { 0 };
+            run >= long_run
+        })
+    });
+    if !has_long_run {
+        return Vec::new();
+    }
+    let (labels, sizes) = label_components(ink, width, height, true, Connectivity::Eight);
+    // Each piece's box.
+    let mut boxes = vec![(usize::MAX, usize::MAX, 0usize, 0usize); sizes.len()];
+    for (y, row) in labels.chunks(width).enumerate() {
+        for (x, &l) in row.iter().enumerate() {
+            if l > 0 {
+                let b = &mut boxes[l as usize];
+                *b = (b.0.min(x), b.1.min(y), b.2.max(x), b.3.max(y));
+            }
+        }
+    }
+    let spans = |&(x0, y0, x1, y1): &(usize, usize, usize, usize)| {
+        x0 <= x1
+            && (x1 - x0 + 1) as f64 >= FRAME_SPAN * width as f64
+            && (y1 - y0 + 1) as f64 >= FRAME_SPAN * height as f64
+    };
+    let large: Vec<usize> = (1..sizes.len()).filter(|&l| spans(&boxes[l])).collect();
+    if large.is_empty() {
+        return Vec::new();
+    }
+    let mut in_band = vec![0usize; sizes.len()];
+    for (y, row) in labels.chunks(width).enumerate() {
+        for (x, &l) in row.iter().enumerate() {
+            let (x0, y0, x1, y1) = boxes[l as usize];
+            if l > 0 && spans(&boxes[l as usize]) {
+                let band = RING_BAND * (x1 - x0 + 1).min(y1 - y0 + 1) as f64;
+                let inset = (x - x0).min(x1 - x).min(y - y0).min(y1 - y);
+                if (inset as f64) < band {
+                    in_band[l as usize] += 1;
+                }
+            }
+        }
+    }
+    let rings: Vec<usize> = large
+        .into_iter()
+        .filter(|&l| in_band[l] as f64 >= RING_SHARE * sizes[l] as f64)
+        .collect();
+    if rings.is_empty() {
+        return Vec::new();
+    }
+    // What goes with each ring: the pieces running along its band (the other edges of a stack
+    // of pages) and those beyond its lines, between them and the image's edge.
+    let mut frame = vec![false; sizes.len()];
+    let mut framed = Vec::new();
+    let mut regions = Vec::new();
+    for &l in &rings {
+        let b = boxes[l];
+        let band = RING_BAND * (b.2 - b.0 + 1).min(b.3 - b.1 + 1) as f64;
+        let inset = |x: usize, y: usize| {
+            (x >= b.0 && x <= b.2 && y >= b.1 && y <= b.3)
+                .then(|| (x - b.0).min(b.2 - x).min(y - b.1).min(b.3 - y))
+        };
+        let mut along = vec![0usize; sizes.len()];
+        let mut enclosed = 0;
+        for (y, row) in labels.chunks(width).enumerate() {
+            for (x, &m) in row.iter().enumerate() {
+                match inset(x, y) {
+                    Some(d) if m > 0 && (d as f64) < band => along[m as usize] += 1,
+                    Some(_) if m > 0 && m as usize != l => enclosed += 1,
+                    _ => {}
+                }
+            }
+        }
+        // A frame is around something: a rectangle or a circle drawn on its own is a stroke.
+        // A ring touching all four edges of the image is the image's own margin (the paper,
+        // when the ink is light) or a scanner's frame, which [`fields`] finds when thick. A ring
+        // in a region already found (a frame of bands, kept) is that region.
+        let margin = b.0 == 0 && b.1 == 0 && b.2 + 1 == width && b.3 + 1 == height;
+        let within_found = found.iter().any(|r| {
+            let (rx1, ry1) = ((r.x + r.width) as usize, (r.y + r.height) as usize);
+            b.0 >= r.x as usize && b.1 >= r.y as usize && b.2 < rx1 && b.3 < ry1
+        });
+        if enclosed < sizes[l] || margin || within_found {
+            continue;
+        }
+        framed.push(l);
+        frame[l] = true;
+        for m in 1..sizes.len() {
+            let (x0, y0, x1, y1) = boxes[m];
+            let long = (x1 - x0 + 1) as f64 >= FRAME_SPAN * (b.2 - b.0 + 1) as f64
+                || (y1 - y0 + 1) as f64 >= FRAME_SPAN * (b.3 - b.1 + 1) as f64;
+            if long && along[m] as f64 >= RING_SHARE * sizes[m] as f64 {
+                frame[m] = true;
+            }
+        }
+        regions.push(Region {
+            kind: RegionKind::Frame,
+            x: b.0 as u32,
+            y: b.1 as u32,
+            width: (b.2 - b.0 + 1) as u32,
+            height: (b.3 - b.1 + 1) as u32,
+        });
+    }
+    if !remove || framed.is_empty() {
+        return regions;
+    }
+    let beyond = beyond_frame(&labels, &frame, &boxes, &framed, width, stroke_width);
+    let cell = ((CELL_WIDTHS * stroke_width).round() as usize).max(MIN_CELL);
+    let (cols, rows) = (width.div_ceil(cell), height.div_ceil(cell));
+    let mut crossed = vec![false; cols * rows];
+    for (p, (i, &l)) in ink.iter_mut().zip(&labels).enumerate() {
+        let l = l as usize;
+        if frame[l] || beyond[l] {
+            *i = false;
+        }
+        if frame[l] {
+            crossed[(p / width / cell) * cols + (p % width) / cell] = true;
+        }
+    }
+    remove_enclosed(ink, width, height, cell, cols, rows, &crossed);
+    regions
+}
+
+/// The pieces of ink wholly beyond a frame's lines: each of their pixels lies between the
+/// image's edge and the innermost of the `frame` pieces' pixels on a side of a ring's box that
+/// the frame lines for at least [`FRAME_SPAN`] of its length, that innermost line taken as its
+/// least depth within a cell of [`CELL_WIDTHS`] `w` along the side (a gap in the line lets no
+/// piece through).
+fn beyond_frame(
+    labels: &[u32],
+    frame: &[bool],
+    boxes: &[(usize, usize, usize, usize)],
+    rings: &[usize],
+    width: usize,
+    stroke_width: f64,
+) -> Vec<bool> {
+    let pieces = frame.len();
+    let window = ((CELL_WIDTHS * stroke_width).round() as usize).max(MIN_CELL);
+    let mut beyond = vec![false; pieces];
+    for &l in rings {
+        let mut pixels = vec![0usize; pieces];
+        let mut beyond_pixels = vec![0usize; pieces];
+        let b = boxes[l];
+        let band = (RING_BAND * (b.2 - b.0 + 1).min(b.3 - b.1 + 1) as f64) as usize;
+        // A side as (its length, the (along, depth) of a pixel of the box).
+        type Side = fn((usize, usize), (usize, usize, usize, usize)) -> (usize, usize);
+        let sides: [(usize, Side); 4] = [
+            (b.3 - b.1 + 1, |(x, y), b| (y - b.1, x - b.0)),
+            (b.3 - b.1 + 1, |(x, y), b| (y - b.1, b.2 - x)),
+            (b.2 - b.0 + 1, |(x, y), b| (x - b.0, y - b.1)),
+            (b.2 - b.0 + 1, |(x, y), b| (x - b.0, b.3 - y)),
+        ];
+        let within = |x: usize, y: usize| x >= b.0 && x <= b.2 && y >= b.1 && y <= b.3;
+        let mut inner: Vec<Vec<Option<usize>>> = sides.iter().map(|s| vec![None; s.0]).collect();
+        for (p, &m) in labels.iter().enumerate() {
+            let (x, y) = (p % width, p / width);
+            if m > 0 && frame[m as usize] && within(x, y) {
+                for (s, &(_, side)) in sides.iter().enumerate() {
+                    let (a, d) = side((x, y), b);
+                    if d < band {
+                        let e = &mut inner[s][a];
+                        *e = Some(e.map_or(d, |e: usize| e.max(d)));
+                    }
+                }
+            }
+        }
+        // The innermost line's least depth within a window along the side; sides the frame
+        // does not line are left out.
+        let depths: Vec<Option<Vec<usize>>> = inner
+            .iter()
+            .map(|line| {
+                let lined = line.iter().filter(|d| d.is_some()).count();
+                ((lined as f64) >= FRAME_SPAN * line.len() as f64).then(|| {
+                    (0..line.len())
+                        .map(|a| {
+                            let (lo, hi) =
+                                (a.saturating_sub(window), (a + window + 1).min(line.len()));
+                            line[lo..hi]
+                                .iter()
+                                .map(|d| d.unwrap_or(0))
+                                .min()
+                                .unwrap_or(0)
+                        })
+                        .collect()
+                })
+            })
+            .collect();
+        for (p, &m) in labels.iter().enumerate() {
+            let m = m as usize;
+            if m == 0 || frame[m] {
+                continue;
+            }
+            let (x, y) = (p % width, p / width);
+            pixels[m] += 1;
+            let out = within(x, y)
+                && sides.iter().zip(&depths).any(|(&(_, side), depth)| {
+                    depth.as_ref().is_some_and(|depth| {
+                        let (a, d) = side((x, y), b);
+                        d < depth[a]
+                    })
+                });
+            if out {
+                beyond_pixels[m] += 1;
+            }
+        }
+        for m in 0..pieces {
+            beyond[m] |= pixels[m] > 0 && beyond_pixels[m] == pixels[m];
+        }
+    }
+    beyond
 }
 
 /// The faint ink ([`RegionKind::Faint`]): the pieces of ink (8-connected) of which less than
@@ -1069,6 +1324,29 @@ fn remove(
     if !removed.iter().any(|&r| r) {
         return;
     }
+    // Row by row, a cell's width of pixels at a time.
+    for (y, row) in ink.chunks_mut(width).enumerate() {
+        let cells = &removed[(y / cell) * cols..(y / cell + 1) * cols];
+        for (pixels, &gone) in row.chunks_mut(cell).zip(cells) {
+            if gone {
+                pixels.fill(false);
+            }
+        }
+    }
+    remove_enclosed(ink, width, height, cell, cols, rows, removed);
+}
+
+/// Removes every piece of ink (8-connected) wholly within the `removed` cells and the cells
+/// beside them.
+fn remove_enclosed(
+    ink: &mut [bool],
+    width: usize,
+    height: usize,
+    cell: usize,
+    cols: usize,
+    rows: usize,
+    removed: &[bool],
+) {
     let mut near = removed.to_vec();
     for y in 0..rows {
         for x in 0..cols {
@@ -1078,15 +1356,6 @@ fn remove(
                         near[ny * cols + nx] = true;
                     }
                 }
-            }
-        }
-    }
-    // Row by row, a cell's width of pixels at a time.
-    for (y, row) in ink.chunks_mut(width).enumerate() {
-        let cells = &removed[(y / cell) * cols..(y / cell + 1) * cols];
-        for (pixels, &gone) in row.chunks_mut(cell).zip(cells) {
-            if gone {
-                pixels.fill(false);
             }
         }
     }
@@ -1492,6 +1761,52 @@ mod tests {
         let (kept, decisions) = decide(&gray, &found);
         assert_eq!(kinds(&decisions), found);
         assert!(kept.ink[5 * 480 + 5]);
+    }
+
+    #[test]
+    fn a_ring_of_lines_around_the_text_goes_with_what_lies_along_and_beyond_it() {
+        // The edges of a bound book's pages: a line 2 px wide along the top and another down
+        // the right, joined; a second line along the bottom, apart; a speck between the right
+        // line and the image's edge. The text inside stays whole.
+        let line = |x: u32, y: u32| {
+            let top = (20..22).contains(&y) && x <= 470;
+            let right = (436..438).contains(&x) && (20..=340).contains(&y);
+            let bottom = (330..332).contains(&y) && x <= 400;
+            let speck = (449..452).contains(&x) && (199..202).contains(&y);
+            (top || right || bottom || speck).then_some(INK)
+        };
+        let text = [60, 60, 420, 300];
+        let gray = page(480, 360, text, line);
+        let (binary, decisions) = decide(&gray, &[]);
+        assert_eq!(
+            kinds(&decisions),
+            vec![RegionKind::Frame],
+            "{:?}",
+            decisions.regions
+        );
+        let at = |x: u32, y: u32| binary.ink[(y * 480 + x) as usize];
+        assert!(!at(200, 20) && !at(436, 200), "the ring is gone");
+        assert!(!at(200, 330), "the line along it is gone");
+        assert!(!at(450, 200), "the speck beyond it is gone");
+        let (clean, _) = decide(&page(480, 360, text, |_, _| None), &[]);
+        assert_eq!(binary.ink, clean.ink, "the text is whole");
+        let (kept, decisions) = decide(&gray, &[RegionKind::Frame]);
+        assert_eq!(kinds(&decisions), vec![RegionKind::Frame]);
+        assert!(kept.ink[20 * 480 + 200] && kept.ink[200 * 480 + 450]);
+    }
+
+    #[test]
+    fn a_rectangle_drawn_on_its_own_is_a_stroke() {
+        // A rectangle 3 px wide spanning most of the image, nothing inside: the drawing itself.
+        let gray = GrayImage::from_fn(400, 300, |x, y| {
+            let (dx, dy) = (x.abs_diff(200), y.abs_diff(150));
+            let on =
+                (dx <= 170 && (120..123).contains(&dy)) || (dy <= 122 && (168..171).contains(&dx));
+            Luma([if on { INK } else { PAPER }])
+        });
+        let (binary, decisions) = decide(&gray, &[]);
+        assert!(decisions.regions.is_empty(), "{:?}", decisions.regions);
+        assert!(binary.ink[30 * 400 + 200], "the rectangle stays");
     }
 
     #[test]

@@ -171,14 +171,19 @@ pub(crate) fn crossing_paths(paths: &[Option<&[[f64; 2]]>], moved: &[bool]) -> V
     const CELL_PX: f64 = 4.0;
     let key = |v: f64| (v / CELL_PX).floor() as i64;
     // Every segment under every cell its box covers, sorted by cell: a cell's segments are one
-    // run of the list.
-    let mut cells: Vec<((i64, i64), (usize, usize))> = Vec::new();
+    // run of the list, in the order of their paths and their places along them. One `u64` each:
+    // the cell's two coordinates (16 bits each; a wider page folds far-apart cells together,
+    // which only adds pairs to test) above the segment's number.
+    let mut segments: Vec<(usize, usize)> = Vec::new();
+    let mut cells: Vec<u64> = Vec::new();
     for (e, path) in paths.iter().enumerate() {
         let Some(path) = path else { continue };
         for (k, s) in path.windows(2).enumerate() {
+            let id = segments.len() as u64;
+            segments.push((e, k));
             for cx in key(s[0][0].min(s[1][0]))..=key(s[0][0].max(s[1][0])) {
                 for cy in key(s[0][1].min(s[1][1]))..=key(s[0][1].max(s[1][1])) {
-                    cells.push(((cx, cy), (e, k)));
+                    cells.push(((cx as u16 as u64) << 48) | ((cy as u16 as u64) << 32) | id);
                 }
             }
         }
@@ -188,10 +193,13 @@ pub(crate) fn crossing_paths(paths: &[Option<&[[f64; 2]]>], moved: &[bool]) -> V
         let points = paths[e].expect("live path");
         (points[k], points[k + 1])
     };
+    let id = |cell: u64| segments[(cell & u64::from(u32::MAX)) as usize];
     let mut crossing = vec![false; paths.len()];
-    for run in cells.chunk_by(|a, b| a.0 == b.0) {
-        for (i, &(_, a)) in run.iter().enumerate() {
-            for &(_, b) in &run[i + 1..] {
+    for run in cells.chunk_by(|a, b| a >> 32 == b >> 32) {
+        for (i, &a) in run.iter().enumerate() {
+            let a = id(a);
+            for &b in &run[i + 1..] {
+                let b = id(b);
                 if !moved[a.0] && !moved[b.0] {
                     continue;
                 }

@@ -108,6 +108,18 @@ fn main() {
                 i += 1;
                 child = args.get(i).cloned();
             }
+            "-h" | "--help" => {
+                println!(
+                    "usage: page [--repeat N] [--peer] [--python PATH] [--no-scans] [--keep DIR] \
+                     [--batch [N]] [--front-end] [IMAGE...]\n(see the header of examples/page.rs \
+                     and docs/performance.md)"
+                );
+                return;
+            }
+            other if other.starts_with('-') => {
+                eprintln!("page: unknown option {other}; try --help");
+                std::process::exit(2);
+            }
             other => extra.push(PathBuf::from(other)),
         }
         i += 1;

@@ -473,11 +473,33 @@ fn trace_points(points: PointSet, params: &Params, recording: Recording) -> Resu
 /// §3.1-§3.4 and the skeleton on one point set.
 fn trace_one(points: PointSet, params: &Params, recording: Recording) -> Traced {
     let mut timings = Timings::default();
-    let (refined, kept) = refine_stages(&points, params, &mut timings, recording);
+    let skeleton_only = skeleton_only(&points, params);
+    let (refined, kept) = if skeleton_only && recording == Recording::Off {
+        (NodeGraph::default(), None)
+    } else {
+        refine_stages(&points, params, &mut timings, recording)
+    };
     let clock = Instant::now();
-    let graph = fit::fit(&refined, &points, params);
+    let graph = if skeleton_only {
+        StrokeGraph::default()
+    } else {
+        fit::fit(&refined, &points, params)
+    };
     timings.fit = clock.elapsed();
     finish_one(graph, points, refined, kept, params, timings)
+}
+
+/// Whether the skeleton alone traces `points`: a print's ridges ([`Params::fingerprint`]) whose
+/// skeleton carries the geometry ([`skeleton::carry`]: not in dropout mode, not with
+/// `--no-skeleton`). There the method's graph (§3.1-§3.4) would only lend its crossings, which
+/// ridges do not make, and its end and junction positions, and the prints' minutiae matched no
+/// worse without them, each ridge fitted to its own ink instead (docs/fingerprints.md, "Speed").
+/// The method's stages still run when they are recorded, for their pictures, but decide nothing.
+fn skeleton_only(points: &PointSet, params: &Params) -> bool {
+    params.fingerprint.is_some()
+        && params.finish.skeleton
+        && !points.dropout
+        && points.grid.as_ref().is_some_and(|g| !g.index.is_empty())
 }
 
 /// The skeleton on one fitted point set (§3.4's graph carried by it), and the point set's trace
@@ -520,7 +542,7 @@ fn trace_chunks(
     use rayon::prelude::*;
     type Refined = (
         usize,
-        (PointSet, raster::Aside),
+        (PointSet, Option<raster::Aside>),
         NodeGraph,
         Timings,
         Option<(Samples, NodeGraph)>,
@@ -536,11 +558,16 @@ fn trace_chunks(
                 points: clock.elapsed(),
                 ..Timings::default()
             };
-            let (refined, kept) = refine_stages(&points, params, &mut timings, recording);
+            let skeleton_only = skeleton_only(&points, params);
+            let (refined, kept) = if skeleton_only && recording == Recording::Off {
+                (NodeGraph::default(), None)
+            } else {
+                refine_stages(&points, params, &mut timings, recording)
+            };
             // The points, their pixel index and neighbour lists are the bulk of a chunk's
             // memory; the chunks wait for the others without them, so the next chunk's reuse
-            // the same memory.
-            let aside = raster::set_aside(&mut points);
+            // the same memory. (A chunk the skeleton alone traces has no fit to wait for.)
+            let aside = (!skeleton_only).then(|| raster::set_aside(&mut points));
             Ok((c, (points, aside), refined, timings, kept))
         })
         .collect::<Result<_>>()?;
@@ -553,8 +580,14 @@ fn trace_chunks(
         .into_par_iter()
         .map(|(c, (mut points, aside), refined, mut timings, kept)| {
             let clock = Instant::now();
-            raster::restore(&mut points, aside);
-            let graph = fit::fit_with_spacing(&refined, &points, params, h);
+            if let Some(aside) = aside {
+                raster::restore(&mut points, aside);
+            }
+            let graph = if skeleton_only(&points, params) {
+                StrokeGraph::default()
+            } else {
+                fit::fit_with_spacing(&refined, &points, params, h)
+            };
             timings.fit = clock.elapsed();
             (c, finish_one(graph, points, refined, kept, params, timings))
         })
@@ -599,9 +632,9 @@ fn carry_on_skeleton(
         return graph;
     }
     let clock = Instant::now();
-    // A print's ridges keep the skeleton's paths (docs/design.md, "Skeleton-carried geometry").
-    let fit_to_ink = params.fingerprint.is_none();
-    let carried = skeleton::carry(&graph, points, &params.experiments, fit_to_ink);
+    // Every edge fitted to its ink, a print's ridges too: without the method's lines
+    // ([`skeleton_only`]) the pixel paths alone placed minutiae worse.
+    let carried = skeleton::carry(&graph, points, &params.experiments, true);
     timings.skeleton = clock.elapsed();
     carried
 }

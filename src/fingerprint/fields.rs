@@ -142,6 +142,28 @@ impl Plane {
         let bottom = c * (1.0 - tx) + d * tx;
         top * (1.0 - ty) + bottom * ty
     }
+
+    /// [`Plane::sample`] at a point whose four pixels are all inside the image (`x` and `y` in
+    /// `[0.5, width - 0.5)` and `[0.5, height - 0.5)`): the same value, without the clamping.
+    #[inline]
+    pub(crate) fn sample_inside(&self, x: f64, y: f64) -> f32 {
+        let (fx, fy) = (x - 0.5, y - 0.5);
+        debug_assert!(fx >= 0.0 && fy >= 0.0, "{x} {y} outside");
+        // Not negative: truncation is the floor.
+        let (cx, cy) = (fx as usize, fy as usize);
+        let (tx, ty) = ((fx - cx as f64) as f32, (fy - cy as f64) as f32);
+        let i = cy * self.width as usize + cx;
+        let next = i + self.width as usize;
+        let (a, b, c, d) = (
+            self.values[i],
+            self.values[i + 1],
+            self.values[next],
+            self.values[next + 1],
+        );
+        let top = a * (1.0 - tx) + b * tx;
+        let bottom = c * (1.0 - tx) + d * tx;
+        top * (1.0 - ty) + bottom * ty
+    }
 }
 
 /// `v.floor()` as an integer, without the library call that `f64::floor` is on targets without

@@ -87,15 +87,41 @@ fn block_period(
     let length = signature.len();
     let theta = f64::from(angle);
     let (along, normal) = ([theta.cos(), theta.sin()], [-theta.sin(), theta.cos()]);
+    // The window's sample positions are `c + u normal + v along`, summed in that order.
+    let offset = |k: usize| k as f64 - across as f64 / 2.0 + 0.5;
+    let steps: Vec<[f64; 2]> = (0..across)
+        .map(|k| [offset(k) * along[0], offset(k) * along[1]])
+        .collect();
+    let u_of = |t: usize| t as f64 - length as f64 / 2.0 + 0.5;
+    let row_start = |t: usize| {
+        let u = u_of(t);
+        [c[0] + u * normal[0], c[1] + u * normal[1]]
+    };
+    // The window's corners bound its samples (up to rounding, which a pixel's slack covers):
+    // inside, every sample takes its four pixels directly.
+    let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
+    for t in [0, length - 1] {
+        for k in [0, across - 1] {
+            let (start, step) = (row_start(t), steps[k]);
+            for d in 0..2 {
+                lo[d] = lo[d].min(start[d] + step[d]);
+                hi[d] = hi[d].max(start[d] + step[d]);
+            }
+        }
+    }
+    let (w, h) = (f64::from(smoothed.width), f64::from(smoothed.height));
+    let inside = lo[0] >= 1.5 && lo[1] >= 1.5 && hi[0] <= w - 1.5 && hi[1] <= h - 1.5;
     for (t, s) in signature.iter_mut().enumerate() {
-        let u = t as f64 - length as f64 / 2.0 + 0.5;
+        let start = row_start(t);
         let mut sum = 0.0f32;
-        for k in 0..across {
-            let v = k as f64 - across as f64 / 2.0 + 0.5;
-            sum += smoothed.sample(
-                c[0] + u * normal[0] + v * along[0],
-                c[1] + u * normal[1] + v * along[1],
-            );
+        if inside {
+            for step in &steps {
+                sum += smoothed.sample_inside(start[0] + step[0], start[1] + step[1]);
+            }
+        } else {
+            for step in &steps {
+                sum += smoothed.sample(start[0] + step[0], start[1] + step[1]);
+            }
         }
         *s = sum / across as f32;
     }

@@ -9,9 +9,7 @@
 use super::PrintAnalysis;
 use crate::binary::Binary;
 use crate::geometry::{arc_lengths, dist, point_at};
-use crate::minutiae::{
-    detect, drop_broken_ridges, print_region, Minutia, MinutiaKind, MinutiaeOptions,
-};
+use crate::minutiae::{detect, drop_broken_ridges, Minutia, MinutiaKind, MinutiaeOptions};
 use crate::params::FingerprintParams;
 use crate::stroke_graph::StrokeGraph;
 
@@ -150,7 +148,7 @@ pub fn fingerprint_minutiae(
     let margin = params.border_margin.max(params.border_periods * typical);
     if margin > 0.0 && !grid.is_empty() {
         let (w, h) = (grid.width as usize, grid.height as usize);
-        let region = print_region(&print.ridges, typical.max(4.0));
+        let region = super::math::close_disk(&print.ridges.ink, w, h, typical.max(4.0));
         let outside: Vec<bool> = print
             .segmentation
             .pixel_mask()
@@ -158,7 +156,7 @@ pub fn fingerprint_minutiae(
             .zip(&region)
             .map(|(&p, &r)| !(p && r))
             .collect();
-        let to_outside = crate::mask::squared_distances_to(&outside, w, h, margin);
+        let to_outside = super::math::squared_distances(&outside, w, h);
         let at_least = |m: &Minutia, margin: f64| {
             let [x, y] = m.pos;
             let index = (y as usize).min(h - 1) * w + (x as usize).min(w - 1);

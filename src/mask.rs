@@ -174,54 +174,47 @@ pub(crate) fn first_seen_labels(
 }
 
 /// Squared Euclidean distance (between pixel centres) from each pixel to the nearest `site`
-/// pixel, for tests against a radius of at most `reach` px: exact wherever it is at most
-/// `(reach + 1)²`, larger than `(reach + 1)²` (and at most the true value) elsewhere, infinite
-/// when there is no site. Pixels outside the image are never sites. Returns one value per pixel.
+/// pixel, exact, infinite when there is no site. Pixels outside the image are never sites.
+/// Returns one value per pixel.
 ///
-/// The one distance transform above ([`squared_distance_rows`], whose background is the sites
-/// here) on the image padded with a ring of non-sites `ceil(reach) + 1` px wide: the padding's
-/// own outside, which that transform counts as background, is then farther than `reach + 1` from
-/// every pixel of the image. With `reach` beyond the image's width plus height the padding
-/// covers every distance inside the image, and the transform is exact everywhere.
-pub(crate) fn squared_distances_to(
-    sites: &[bool],
-    width: usize,
-    height: usize,
-    reach: f64,
-) -> Vec<f32> {
+/// The distance transform of Meijster et al. (2000), as [`squared_distance_at`] computes it for
+/// the ink, over the whole image: the distance to a site along each column, then per row the
+/// lower envelope of the parabolas ([`envelope_row`]).
+pub(crate) fn squared_distances(sites: &[bool], width: usize, height: usize) -> Vec<f32> {
     if !sites.iter().any(|&s| s) {
         return vec![f32::INFINITY; sites.len()];
     }
-    let reach = if reach.is_nan() { 0.0 } else { reach.max(0.0) };
-    let margin = (reach.ceil().min((width + height) as f64) as usize) + 1;
-    let (pw, ph) = (width + 2 * margin, height + 2 * margin);
-    // The transform's ink: every pixel but the sites.
-    let mut far = vec![true; pw * ph];
+    // No column distance reaches `far`: the parabola of a column without sites lies above every
+    // real one.
+    let far = (width + height) as u32;
+    let mut g = vec![far; width * height];
     for y in 0..height {
-        let row = (y + margin) * pw + margin;
-        for (f, &s) in far[row..row + width]
-            .iter_mut()
-            .zip(&sites[y * width..(y + 1) * width])
-        {
-            *f = !s;
-        }
-    }
-    let row_starts = ink_row_starts(&far, pw, ph);
-    let mut d2 = vec![0u64; row_starts[ph]];
-    squared_distance_rows(&far, pw, ph, &row_starts, &mut d2, |d2| d2);
-    let mut out = Vec::with_capacity(width * height);
-    for y in 0..height {
-        // The padding row's far pixels before the image, then the image's own in order.
-        let mut k = row_starts[y + margin] + margin;
-        for &s in &sites[y * width..(y + 1) * width] {
-            if s {
-                out.push(0.0);
+        for x in 0..width {
+            let p = y * width + x;
+            g[p] = if sites[p] {
+                0
+            } else if y > 0 {
+                (g[p - width] + 1).min(far)
             } else {
-                out.push(d2[k] as f32);
-                k += 1;
-            }
+                far
+            };
         }
     }
+    for p in (0..width * height.saturating_sub(1)).rev() {
+        g[p] = g[p].min(g[p + width] + 1);
+    }
+    let mut out = vec![0.0f32; width * height];
+    out.par_chunks_mut(width.max(1))
+        .zip(g.par_chunks(width.max(1)))
+        .for_each_init(
+            || (vec![0usize; width], vec![0i64; width], vec![0u64; width]),
+            |(s, t, d2), (out, g)| {
+                envelope_row(g, s, t, d2);
+                for (o, &d) in out.iter_mut().zip(d2.iter()) {
+                    *o = d as f32;
+                }
+            },
+        );
     out
 }
 
@@ -231,12 +224,10 @@ pub(crate) fn squared_distances_to(
 /// up to that edge.
 pub(crate) fn close_disk(ink: &[bool], width: usize, height: usize, radius: f64) -> Vec<bool> {
     let r2 = (radius * radius) as f32;
-    // Exact a little beyond the radius, so that no distance that rounds to `r2` in `f32` is cut.
-    let reach = radius.abs() * 1.001 + 1.0;
-    let to_ink = squared_distances_to(ink, width, height, reach);
+    let to_ink = squared_distances(ink, width, height);
     let dilated: Vec<bool> = to_ink.iter().map(|&d| d <= r2).collect();
     let outside: Vec<bool> = dilated.iter().map(|&d| !d).collect();
-    let to_outside = squared_distances_to(&outside, width, height, reach);
+    let to_outside = squared_distances(&outside, width, height);
     to_outside.iter().map(|&d| d > r2).collect()
 }
 
@@ -647,7 +638,7 @@ mod tests {
     }
 
     #[test]
-    fn distances_to_sites_are_exact_within_reach_and_beyond_it_when_larger() {
+    fn distances_to_sites_are_exact() {
         let mut seed = 99u64;
         for (w, h) in [(1, 1), (1, 6), (7, 1), (23, 17), (40, 9)] {
             for density in [0, 2, 31, 97] {
@@ -657,27 +648,11 @@ mod tests {
                         density > 0 && (seed >> 33) % 100 < density
                     })
                     .collect();
-                let truth = brute_force(&sites, w, h);
-                for reach in [0.0, 0.7, 2.0, 4.5, 12.0, 1e9, f64::NAN] {
-                    let d = squared_distances_to(&sites, w, h, reach);
-                    let exact_to = if reach.is_nan() {
-                        1.0
-                    } else {
-                        (reach + 1.0).powi(2)
-                    };
-                    for (p, (&d, &t)) in d.iter().zip(&truth).enumerate() {
-                        let d = f64::from(d);
-                        if t <= exact_to {
-                            assert_eq!(d, t, "{w}x{h} reach {reach} at {p}");
-                        } else {
-                            assert!(d > exact_to && d <= t, "{w}x{h} reach {reach} at {p}");
-                        }
-                    }
-                }
-                // Reach beyond the image: the whole transform.
-                let d = squared_distances_to(&sites, w, h, (w + h) as f64);
-                let d: Vec<f64> = d.iter().map(|&v| f64::from(v)).collect();
-                assert_eq!(d, truth);
+                let d: Vec<f64> = squared_distances(&sites, w, h)
+                    .iter()
+                    .map(|&v| f64::from(v))
+                    .collect();
+                assert_eq!(d, brute_force(&sites, w, h), "{w}x{h} density {density}");
             }
         }
     }

@@ -5,7 +5,6 @@
 
 use super::fields::Plane;
 use crate::mask::{label_components, Connectivity};
-use std::cmp::Ordering;
 
 /// Gaussian blur with standard deviation `sigma` px (radius `ceil(3 sigma)`), borders clamped.
 /// `sigma <= 0` returns a copy.
@@ -106,108 +105,6 @@ pub(crate) fn sobel(plane: &Plane) -> (Plane, Plane) {
     (plane_of(gx), plane_of(gy))
 }
 
-/// The exact squared Euclidean distance from every pixel centre of a `width` x `height` image to
-/// the nearest of `sites` (0 on a site; `f32::INFINITY` everywhere when there is none). Pixels
-/// outside the image are no sites. Meijster, Roerdink and Hesselink's separable transform: the
-/// distance along each column, then per row the lower envelope of the parabolas
-/// `(x - i)² + g(i)²`, in integers (the same values as [`crate::mask::squared_distances_to`]
-/// wherever that one is exact, without its padding and run envelopes).
-pub(crate) fn squared_distances(sites: &[bool], width: usize, height: usize) -> Vec<f32> {
-    if !sites.iter().any(|&s| s) {
-        return vec![f32::INFINITY; sites.len()];
-    }
-    // No column distance reaches `far`: a pixel's parabola through a column without sites
-    // lies above every real one.
-    let far = (width + height) as i64;
-    let mut g = vec![far; width * height];
-    for y in 0..height {
-        let (done, rest) = g.split_at_mut(y * width);
-        let row = &mut rest[..width];
-        let above = if y > 0 {
-            &done[(y - 1) * width..]
-        } else {
-            &[][..]
-        };
-        for (x, (d, &s)) in row
-            .iter_mut()
-            .zip(&sites[y * width..(y + 1) * width])
-            .enumerate()
-        {
-            *d = if s {
-                0
-            } else if y > 0 {
-                (above[x] + 1).min(far)
-            } else {
-                far
-            };
-        }
-    }
-    for y in (0..height.saturating_sub(1)).rev() {
-        let (head, below) = g.split_at_mut((y + 1) * width);
-        let row = &mut head[y * width..];
-        for (d, &b) in row.iter_mut().zip(&below[..width]) {
-            *d = (*d).min(b + 1);
-        }
-    }
-    let mut out = vec![0.0f32; width * height];
-    // The envelope's parabolas (their columns) and where each starts to be the lowest.
-    let mut column = vec![0usize; width];
-    let mut start = vec![0i64; width];
-    for y in 0..height {
-        let row = &g[y * width..(y + 1) * width];
-        let f = |x: i64, i: usize| (x - i as i64).pow(2) + row[i] * row[i];
-        // Where parabola `u` (right of `i`) starts to lie below parabola `i`.
-        let separation = |i: usize, u: usize| {
-            let (i2, u2) = (i as i64, u as i64);
-            (u2 * u2 - i2 * i2 + row[u] * row[u] - row[i] * row[i]).div_euclid(2 * (u2 - i2))
-        };
-        // `q` + 1 parabolas in the envelope (`q` = -1: none yet).
-        let mut q = 0isize;
-        column[0] = 0;
-        start[0] = 0;
-        for u in 1..width {
-            while q >= 0 && f(start[q as usize], column[q as usize]) > f(start[q as usize], u) {
-                q -= 1;
-            }
-            if q < 0 {
-                q = 0;
-                column[0] = u;
-            } else {
-                let from = 1 + separation(column[q as usize], u);
-                if from < width as i64 {
-                    q += 1;
-                    column[q as usize] = u;
-                    start[q as usize] = from;
-                }
-            }
-        }
-        let out_row = &mut out[y * width..(y + 1) * width];
-        for x in (0..width).rev() {
-            out_row[x] = f(x as i64, column[q as usize]) as f32;
-            if x as i64 == start[q as usize] {
-                q -= 1;
-            }
-        }
-    }
-    out
-}
-
-/// The closing of `ink` by a disk of radius `radius` px (dilate, then erode, both by exact
-/// Euclidean distance): the same pixels as [`crate::mask::close_disk`]. Pixels outside the image
-/// do not erode it, so a print cut by the image edge keeps its region up to that edge.
-pub(crate) fn close_disk(ink: &[bool], width: usize, height: usize, radius: f64) -> Vec<bool> {
-    let r2 = (radius * radius) as f32;
-    let outside: Vec<bool> = squared_distances(ink, width, height)
-        .iter()
-        // Not within the radius (a NaN radius dilates nothing, as the masks' closing).
-        .map(|&d| !matches!(d.partial_cmp(&r2), Some(Ordering::Less | Ordering::Equal)))
-        .collect();
-    squared_distances(&outside, width, height)
-        .iter()
-        .map(|&d| d > r2)
-        .collect()
-}
-
 /// 4-connected component labels of the cells equal to `value` (`usize::MAX` elsewhere), with
 /// each component's size, numbered in raster order of their first cell: the masks' labelling
 /// ([`crate::mask::label_components`]) counted from 0.
@@ -232,57 +129,6 @@ mod tests {
 
     /// Speckled masks with a few blobs and lines (a fixed linear congruential sequence), of
     /// odd sizes, some without ink and one all ink.
-    fn masks() -> Vec<(Vec<bool>, usize, usize)> {
-        let mut state = 12345u64;
-        let mut next = move || {
-            state = state
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            (state >> 33) as usize
-        };
-        let mut out = Vec::new();
-        for (w, h, density) in [
-            (37, 23, 40),
-            (1, 9, 3),
-            (50, 1, 5),
-            (64, 48, 2),
-            (17, 31, 0),
-        ] {
-            let mut ink: Vec<bool> = (0..w * h)
-                .map(|_| density > 0 && next() % 100 < density)
-                .collect();
-            // A bar, so the far side of the image is far from some ink.
-            for y in 0..h / 2 {
-                ink[y * w + w / 3] = density > 0;
-            }
-            out.push((ink, w, h));
-        }
-        out.push((vec![true; 12 * 5], 12, 5));
-        out
-    }
-
-    #[test]
-    fn distances_and_closing_are_the_masks_own() {
-        for (ink, w, h) in masks() {
-            let exact = squared_distances(&ink, w, h);
-            let reference = crate::mask::squared_distances_to(&ink, w, h, (w + h) as f64);
-            assert_eq!(exact, reference, "{w} x {h}");
-            for radius in [0.0, 1.0, 1.5, 2.9, 4.0, 7.5] {
-                assert_eq!(
-                    close_disk(&ink, w, h, radius),
-                    crate::mask::close_disk(&ink, w, h, radius),
-                    "{w} x {h}, radius {radius}"
-                );
-            }
-        }
-        // A single site: the squared distances of the grid.
-        let mut ink = vec![false; 5 * 4];
-        ink[2 * 5 + 1] = true;
-        let d = squared_distances(&ink, 5, 4);
-        assert_eq!(d[0], 5.0);
-        assert_eq!(d[3 * 5 + 4], 10.0);
-    }
-
     #[test]
     fn blur_keeps_a_constant_and_the_mean() {
         let p = Plane {

@@ -148,7 +148,7 @@ pub fn fingerprint_minutiae(
     let margin = params.border_margin.max(params.border_periods * typical);
     if margin > 0.0 && !grid.is_empty() {
         let (w, h) = (grid.width as usize, grid.height as usize);
-        let region = super::math::close_disk(&print.ridges.ink, w, h, typical.max(4.0));
+        let region = crate::mask::close_disk(&print.ridges.ink, w, h, typical.max(4.0));
         let outside: Vec<bool> = print
             .segmentation
             .pixel_mask()
@@ -156,7 +156,7 @@ pub fn fingerprint_minutiae(
             .zip(&region)
             .map(|(&p, &r)| !(p && r))
             .collect();
-        let to_outside = super::math::squared_distances(&outside, w, h);
+        let to_outside = crate::mask::squared_distances(&outside, w, h);
         let at_least = |m: &Minutia, margin: f64| {
             let [x, y] = m.pos;
             let index = (y as usize).min(h - 1) * w + (x as usize).min(w - 1);

@@ -386,6 +386,128 @@ const TEES_APART: f64 = 1.0;
 /// line.
 const MIN_TEE_SINE: f64 = 0.5;
 
+/// A stroke's curve through a split crossing turns no tighter than this many stroke widths of
+/// radius: the curve's own ink would fill a tighter turn.
+const MIN_ARC_RADIUS: f64 = 1.5;
+
+/// A curve is followed in steps of this many pixels to find where it crosses another.
+const ARC_STEP_PX: f64 = 0.25;
+
+/// A skeleton point is known to a pixel (px): a stretch's direction to a pixel over its length.
+const PIXEL_PX: f64 = 1.0;
+
+/// A curved split crossing's link is at most this many stroke widths long
+/// ([`Work::curved_crossing`]): thinning puts the Y's of strokes crossing at `θ` about
+/// `w / sin(θ / 2)` apart, 6 widths at 19 degrees; a longer link between curves is a bar, whose
+/// offset a curve's bend can hide.
+const CURVED_LINK: f64 = 6.0;
+
+/// Three points nearer a line than this (px) are on one: a curve through them is straight.
+const COLLINEAR_PX: f64 = 1e-6;
+
+/// The curve of constant curvature through three points, from the first through the second to
+/// the third: a circle's arc, or a segment where they are collinear.
+enum StrokeArc {
+    Circle {
+        center: [f64; 2],
+        radius: f64,
+        /// The start angle and the signed angle swept to the end.
+        start: f64,
+        sweep: f64,
+    },
+    Line {
+        from: [f64; 2],
+        to: [f64; 2],
+    },
+}
+
+impl StrokeArc {
+    /// The curve through `a`, `m` and `b`; `None` when two of them coincide.
+    fn through(a: [f64; 2], m: [f64; 2], b: [f64; 2]) -> Option<StrokeArc> {
+        if dist(a, m) == 0.0 || dist(m, b) == 0.0 || dist(a, b) == 0.0 {
+            return None;
+        }
+        let (ax, ay) = (a[0] - m[0], a[1] - m[1]);
+        let (bx, by) = (b[0] - m[0], b[1] - m[1]);
+        let cross = ax * by - ay * bx;
+        if cross.abs() <= COLLINEAR_PX * dist(a, b) {
+            return Some(StrokeArc::Line { from: a, to: b });
+        }
+        // The circumcentre, relative to `m`.
+        let (a2, b2) = (ax * ax + ay * ay, bx * bx + by * by);
+        let ux = (by * a2 - ay * b2) / (2.0 * cross);
+        let uy = (ax * b2 - bx * a2) / (2.0 * cross);
+        let center = [m[0] + ux, m[1] + uy];
+        let angle = |p: [f64; 2]| (p[1] - center[1]).atan2(p[0] - center[0]);
+        let tau = std::f64::consts::TAU;
+        let (start, through, end) = (angle(a), angle(m), angle(b));
+        // Counter-clockwise from `a` to `b` when that passes `m`, else clockwise.
+        let ccw = |x: f64| (x - start).rem_euclid(tau);
+        let sweep = if ccw(through) <= ccw(end) {
+            ccw(end)
+        } else {
+            ccw(end) - tau
+        };
+        Some(StrokeArc::Circle {
+            center,
+            radius: ux.hypot(uy),
+            start,
+            sweep,
+        })
+    }
+
+    fn radius(&self) -> f64 {
+        match self {
+            StrokeArc::Circle { radius, .. } => *radius,
+            StrokeArc::Line { .. } => f64::INFINITY,
+        }
+    }
+
+    /// The signed distance from `p` to the curve's circle or line (positive on one side).
+    fn signed(&self, p: [f64; 2]) -> f64 {
+        match self {
+            StrokeArc::Circle { center, radius, .. } => dist(p, *center) - radius,
+            StrokeArc::Line { from, to } => {
+                let d = [to[0] - from[0], to[1] - from[1]];
+                ((p[0] - from[0]) * d[1] - (p[1] - from[1]) * d[0]) / d[0].hypot(d[1])
+            }
+        }
+    }
+
+    fn distance(&self, p: [f64; 2]) -> f64 {
+        self.signed(p).abs()
+    }
+
+    /// Points along the curve from its start to its end, at most `step` px apart.
+    fn samples(&self, step: f64) -> Vec<[f64; 2]> {
+        let (length, at): (f64, Box<dyn Fn(f64) -> [f64; 2] + '_>) = match self {
+            StrokeArc::Circle {
+                center,
+                radius,
+                start,
+                sweep,
+            } => (
+                radius * sweep.abs(),
+                Box::new(move |t| {
+                    let a = start + t * sweep;
+                    [center[0] + radius * a.cos(), center[1] + radius * a.sin()]
+                }),
+            ),
+            StrokeArc::Line { from, to } => (
+                dist(*from, *to),
+                Box::new(move |t| {
+                    [
+                        from[0] + t * (to[0] - from[0]),
+                        from[1] + t * (to[1] - from[1]),
+                    ]
+                }),
+            ),
+        };
+        let n = (length / step).ceil().max(1.0) as usize;
+        (0..=n).map(|k| at(k as f64 / n as f64)).collect()
+    }
+}
+
 /// The arms of a junction, each with its median width ([`Work::arm_lines`]).
 type Arms = Vec<(f64, ArmLine)>;
 
@@ -435,12 +557,14 @@ impl Work {
     fn split_crossing(&self, link: usize, a: usize, b: usize, at: &[Vec<usize>]) -> Option<Vertex> {
         let (arms_a, arms_b, stroke, tolerance) = self.link_arms(link, a, b, at)?;
         let pairs = [[(0, 0), (1, 1)], [(0, 1), (1, 0)]];
-        let [(i, j), (k, l)] = *pairs.iter().find(|pair| {
+        let Some(&[(i, j), (k, l)]) = pairs.iter().find(|pair| {
             pair.iter().all(|&(i, j)| {
                 self.stroke_miss(&arms_a[i].1, &arms_b[j].1, tolerance)
                     .is_some()
             })
-        })?;
+        }) else {
+            return self.curved_crossing(link, &arms_a, &arms_b, stroke, tolerance);
+        };
         // Where the two strokes' lines meet (`None` when parallel).
         let lines = [
             stroke_line(&arms_a[i].1, &arms_b[j].1)?,
@@ -448,6 +572,79 @@ impl Work {
         ];
         let hub = line_intersection(&lines, 0.0)?;
         let link_points = &self.edges[link].as_ref()?.points;
+        let near_link = link_points
+            .iter()
+            .map(|&p| dist(p, hub))
+            .fold(f64::INFINITY, f64::min);
+        if near_link > tolerance || !self.ink.at(hub) {
+            return None;
+        }
+        Some(Vertex {
+            pos: hub,
+            degree: 4,
+            width: stroke,
+        })
+    }
+
+    /// A split crossing of curves (a stroke crossing the loop of a ほ, two strokes of a script
+    /// loop): where no pairing of the link's arms is two straight strokes, each pair may be one
+    /// curve of constant curvature ([`StrokeArc`]: through both far anchors and the middle of
+    /// the near anchors, no tighter than [`MIN_ARC_RADIUS`] widths) passing within half a
+    /// stroke width of both near anchors, on the ink, bending one way at one rate
+    /// ([`one_bend`]: not an S, the offset of two T's or of forks on a bar): as
+    /// [`Work::stroke_miss`] asks of a straight stroke, with the curve's own bend allowed. The
+    /// link is at most [`CURVED_LINK`] widths long. The crossing is where the two curves
+    /// cross, within half a width of the link; two curves that touch without crossing are none.
+    fn curved_crossing(
+        &self,
+        link: usize,
+        arms_a: &Arms,
+        arms_b: &Arms,
+        stroke: f64,
+        tolerance: f64,
+    ) -> Option<Vertex> {
+        let link_points = &self.edges[link].as_ref()?.points;
+        if Edge::length(self.edges[link].as_ref()?) > CURVED_LINK * stroke {
+            return None;
+        }
+        let arc = |p: &ArmLine, q: &ArmLine| -> Option<StrokeArc> {
+            let middle = [(p.near[0] + q.near[0]) / 2.0, (p.near[1] + q.near[1]) / 2.0];
+            let arc = StrokeArc::through(p.far, middle, q.far)?;
+            let fits = arc.radius() >= MIN_ARC_RADIUS * stroke
+                && arc.distance(p.near) <= tolerance
+                && arc.distance(q.near) <= tolerance
+                && one_bend(p, q, tolerance)
+                && self.ink.holds(p.far, p.near)
+                && self.ink.holds(p.near, q.near)
+                && self.ink.holds(q.near, q.far);
+            fits.then_some(arc)
+        };
+        let pairs = [[(0, 0), (1, 1)], [(0, 1), (1, 0)]];
+        let arcs = pairs.iter().find_map(|pair| {
+            let [(i, j), (k, l)] = *pair;
+            Some([
+                arc(&arms_a[i].1, &arms_b[j].1)?,
+                arc(&arms_a[k].1, &arms_b[l].1)?,
+            ])
+        })?;
+        // Where the first curve crosses the second (its signed distance changes sign), the
+        // crossing nearest the link's middle.
+        let middle = link_points[link_points.len() / 2];
+        let samples = arcs[0].samples(ARC_STEP_PX);
+        let hub = samples
+            .windows(2)
+            .filter_map(|s| {
+                let (d0, d1) = (arcs[1].signed(s[0]), arcs[1].signed(s[1]));
+                if (d0 < 0.0) == (d1 < 0.0) {
+                    return None;
+                }
+                let t = d0 / (d0 - d1);
+                Some([
+                    s[0][0] + t * (s[1][0] - s[0][0]),
+                    s[0][1] + t * (s[1][1] - s[0][1]),
+                ])
+            })
+            .min_by(|&p, &q| dist(p, middle).total_cmp(&dist(q, middle)))?;
         let near_link = link_points
             .iter()
             .map(|&p| dist(p, hub))
@@ -742,6 +939,35 @@ fn best_pairing(miss: &[Vec<Option<f64>>]) -> Option<Vec<(usize, usize)>> {
         &mut best,
     );
     best.map(|(_, pairs)| pairs)
+}
+
+/// Whether the arms `p` and `q` (their far-to-near stretches and the chord between their near
+/// anchors) bend as one curve of constant curvature: the curvature from `p`'s stretch to the
+/// chord and from the chord to `q`'s (turn over the distance between the pieces' middles)
+/// differ by less than a curve `tolerance` px off the other over the span of the far anchors
+/// shows (`8 tolerance / span^2`, the sagitta's) plus what a pixel across each piece makes
+/// ([`PIXEL_PX`]). An S, two arms offset either side of one line
+/// (the forks of a '>-<' bar, two T's), turns one way and back.
+fn one_bend(p: &ArmLine, q: &ArmLine, tolerance: f64) -> bool {
+    let pieces = [(p.far, p.near), (p.near, q.near), (q.near, q.far)];
+    // The turn from piece `a` to piece `b` over the distance between their middles, and how
+    // much of that the pixel grid alone can make (a pixel across each piece's length).
+    let turn = |a: ([f64; 2], [f64; 2]), b: ([f64; 2], [f64; 2])| {
+        let (u, v) = (
+            [a.1[0] - a.0[0], a.1[1] - a.0[1]],
+            [b.1[0] - b.0[0], b.1[1] - b.0[1]],
+        );
+        let (la, lb) = (dist(a.0, a.1), dist(b.0, b.1));
+        let angle = (u[0] * v[1] - u[1] * v[0]).atan2(u[0] * v[0] + u[1] * v[1]);
+        let apart = (la + lb) / 2.0;
+        (la > 0.0 && lb > 0.0).then(|| (angle / apart, (PIXEL_PX / la + PIXEL_PX / lb) / apart))
+    };
+    let (Some((k1, n1)), Some((k2, n2))) = (turn(pieces[0], pieces[1]), turn(pieces[1], pieces[2]))
+    else {
+        return false;
+    };
+    let span = dist(p.far, q.far);
+    span > 0.0 && (k1 - k2).abs() <= 8.0 * tolerance / (span * span) + n1 + n2
 }
 
 /// The line of the stroke whose two arms are `p` and `q`, through their far anchors (a point and

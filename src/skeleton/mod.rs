@@ -421,6 +421,46 @@ mod tests {
         assert_eq!(degrees(&traced(&strokes, 120, 100).1), vec![4]);
     }
 
+    /// Two arcs of circles of radius `r`, centres `2 d` apart on a horizontal line, crossing
+    /// at (100, 130 - sqrt(r^2 - d^2)) under `2 asin(d / r)`, strokes `w` px wide.
+    fn crossing_arcs(r: f64, d: f64, w: f64) -> StrokeGraph {
+        let arc = |cx: f64, from: f64, to: f64| {
+            Stroke::new(
+                (0..=48)
+                    .map(|k| {
+                        let t = from + (to - from) * k as f64 / 48.0;
+                        [cx + r * t.sin(), 130.0 - r * t.cos()]
+                    })
+                    .collect(),
+                w,
+            )
+        };
+        traced(
+            &[arc(100.0 - d, -0.5, 1.0), arc(100.0 + d, -1.0, 0.5)],
+            200,
+            140,
+        )
+        .1
+    }
+
+    #[test]
+    fn curves_crossing_at_a_shallow_angle_are_one_crossing() {
+        // 29 and 39 degrees, curves of radius 12 and 8 widths: thinning's Y's lie about two to
+        // three widths apart along the shared ink, and no straight line through the arms' far
+        // anchors stays on it.
+        for (r, d, w) in [(60.0, 15.0, 5.0), (40.0, 13.5, 5.0), (60.0, 15.0, 7.0)] {
+            let graph = crossing_arcs(r, d, w);
+            assert_eq!(degrees(&graph), vec![4], "r {r}, d {d}, w {w}");
+            let hub = graph.junctions().next().expect("a crossing");
+            let at = graph.vertices[hub].pos;
+            let truth = [100.0, 130.0 - (r * r - d * d).sqrt()];
+            assert!(
+                dist(at, truth) <= w,
+                "the crossing is at {at:?}, not {truth:?}"
+            );
+        }
+    }
+
     /// Three strokes `w` px wide at 0, 60 and 120 degrees (plus 10), each passing `offset` px
     /// from (100, 100), on the sides that make them bound a triangle around it.
     fn asterisk(w: f64, offset: f64) -> StrokeGraph {

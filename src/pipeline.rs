@@ -634,7 +634,7 @@ fn carry_on_skeleton(
     let clock = Instant::now();
     // Every edge fitted to its ink, a print's ridges too: without the method's lines
     // ([`skeleton_only`]) the pixel paths alone placed minutiae worse.
-    let carried = skeleton::carry(&graph, points, &params.experiments, true);
+    let carried = skeleton::carry(&graph, points, &params.experiments);
     timings.skeleton = clock.elapsed();
     carried
 }

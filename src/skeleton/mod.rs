@@ -88,14 +88,12 @@ pub(crate) fn thin(binary: &Binary) -> StrokeGraph {
 }
 
 /// The skeleton-carried graph of `points`' ink with the topology decisions of `method` (see the
-/// module doc), each edge fitted to its ink when `fit_to_ink` ([`smooth`]; a print's ridges keep
-/// their paths, which the print's prior and minutiae filter were measured on). Returns `method`
-/// unchanged for point lists and in dropout mode.
+/// module doc), each edge fitted to its ink ([`smooth`]). Returns `method` unchanged for point
+/// lists and in dropout mode.
 pub fn carry(
     method: &StrokeGraph,
     points: &PointSet,
     experiments: &ExperimentParams,
-    fit_to_ink: bool,
 ) -> StrokeGraph {
     let Some(grid) = &points.grid else {
         return method.clone();
@@ -104,7 +102,7 @@ pub fn carry(
         return method.clone();
     }
     let (skeleton, ink) = skeleton_graph(points, grid);
-    let carried = reconcile(Work::new(skeleton, ink), method, experiments, fit_to_ink);
+    let carried = reconcile(Work::new(skeleton, ink), method, experiments);
     debug_assert_eq!(validate(&carried), Ok(()));
     carried
 }
@@ -175,12 +173,7 @@ fn skeleton_graph(points: &PointSet, grid: &Grid) -> (StrokeGraph, Ink) {
 /// The skeleton's graph with the method's decisions, in order: spurs, thinning's split
 /// junctions, crossings, spurs the merged crossings leave, split crossings and stars, corners, dots, ends, junctions, the
 /// method's lines, and last every edge fitted to its ink.
-fn reconcile(
-    mut work: Work,
-    method: &StrokeGraph,
-    experiments: &ExperimentParams,
-    fit_to_ink: bool,
-) -> StrokeGraph {
+fn reconcile(mut work: Work, method: &StrokeGraph, experiments: &ExperimentParams) -> StrokeGraph {
     let by_ink = experiments.decide_by_ink;
     work.prune_spurs(by_ink);
     work.join_degree_two();
@@ -199,9 +192,7 @@ fn reconcile(
     work.extend_ends();
     work.straighten_junctions();
     work.adopt_method_geometry(method);
-    if fit_to_ink {
-        work.smooth_edges();
-    }
+    work.smooth_edges();
     work.finish(method.width, method.height)
 }
 

@@ -222,13 +222,7 @@ fn fields(
             let (labels, sizes) = pieces.get_or_insert_with(|| {
                 label_components(ink, width, height, true, Connectivity::Eight)
             });
-            let grid = Grid {
-                width,
-                height,
-                cell,
-                cols,
-                rows,
-            };
+            let grid = Grid::new(width, height, cell);
             group = grow_box(&group, labels, sizes, stroke_width, &grid);
             let kind = region.kind;
             region = describe(&group, cols, rows, cell, width, height);
@@ -253,7 +247,7 @@ fn fields(
         }
         regions.push(region);
     }
-    remove(ink, width, height, cell, cols, rows, &removed_cells);
+    remove(ink, &Grid::new(width, height, cell), &removed_cells);
     regions
 }
 
@@ -384,19 +378,22 @@ fn rings(
         return regions;
     }
     let beyond = beyond_frame(&labels, &frame, &boxes, &framed, width, stroke_width);
-    let cell = ((CELL_WIDTHS * stroke_width).round() as usize).max(MIN_CELL);
-    let (cols, rows) = (width.div_ceil(cell), height.div_ceil(cell));
-    let mut crossed = vec![false; cols * rows];
+    let grid = Grid::new(
+        width,
+        height,
+        ((CELL_WIDTHS * stroke_width).round() as usize).max(MIN_CELL),
+    );
+    let mut crossed = vec![false; grid.cols * grid.rows];
     for (p, (i, &l)) in ink.iter_mut().zip(&labels).enumerate() {
         let l = l as usize;
         if frame[l] || beyond[l] {
             *i = false;
         }
         if frame[l] {
-            crossed[(p / width / cell) * cols + (p % width) / cell] = true;
+            crossed[(p / width / grid.cell) * grid.cols + (p % width) / grid.cell] = true;
         }
     }
-    remove_enclosed(ink, width, height, cell, cols, rows, &crossed);
+    remove_enclosed(ink, &grid, &crossed);
     regions
 }
 
@@ -1166,6 +1163,19 @@ struct Grid {
     rows: usize,
 }
 
+impl Grid {
+    /// A `width` x `height` image cut into cells of `cell` px.
+    fn new(width: usize, height: usize, cell: usize) -> Grid {
+        Grid {
+            width,
+            height,
+            cell,
+            cols: width.div_ceil(cell),
+            rows: height.div_ceil(cell),
+        }
+    }
+}
+
 /// A photo's cells (a box of them) grown by a row or column of cells at a time, while the cells
 /// just outside a side, along at least half of it, hold ink of pieces (8-connected, `labels`)
 /// that also lie within the box: the photo carried on past the cells that were classed as it
@@ -1312,18 +1322,13 @@ fn describe(
 
 /// Removes the ink of the `removed` cells, then every piece of ink (8-connected) left wholly
 /// within those cells and the cells beside them.
-fn remove(
-    ink: &mut [bool],
-    width: usize,
-    height: usize,
-    cell: usize,
-    cols: usize,
-    rows: usize,
-    removed: &[bool],
-) {
+fn remove(ink: &mut [bool], grid: &Grid, removed: &[bool]) {
     if !removed.iter().any(|&r| r) {
         return;
     }
+    let &Grid {
+        width, cell, cols, ..
+    } = grid;
     // Row by row, a cell's width of pixels at a time.
     for (y, row) in ink.chunks_mut(width).enumerate() {
         let cells = &removed[(y / cell) * cols..(y / cell + 1) * cols];
@@ -1333,20 +1338,19 @@ fn remove(
             }
         }
     }
-    remove_enclosed(ink, width, height, cell, cols, rows, removed);
+    remove_enclosed(ink, grid, removed);
 }
 
 /// Removes every piece of ink (8-connected) wholly within the `removed` cells and the cells
 /// beside them.
-fn remove_enclosed(
-    ink: &mut [bool],
-    width: usize,
-    height: usize,
-    cell: usize,
-    cols: usize,
-    rows: usize,
-    removed: &[bool],
-) {
+fn remove_enclosed(ink: &mut [bool], grid: &Grid, removed: &[bool]) {
+    let &Grid {
+        width,
+        height,
+        cell,
+        cols,
+        rows,
+    } = grid;
     let mut near = removed.to_vec();
     for y in 0..rows {
         for x in 0..cols {
@@ -1493,13 +1497,7 @@ mod tests {
     #[test]
     fn a_photo_box_grows_where_its_pieces_run_on_and_not_for_one_stroke() {
         // A 64 x 64 image in cells of 8; the photo's box is cells 2..=4 x 2..=5 (x 16..40).
-        let grid = Grid {
-            width: 64,
-            height: 64,
-            cell: 8,
-            cols: 8,
-            rows: 8,
-        };
+        let grid = Grid::new(64, 64, 8);
         let photo = box_cells(2, 2, 4, 5);
         let labels_of = |piece: &dyn Fn(usize, usize) -> bool| -> Vec<u32> {
             (0..64 * 64)

@@ -571,8 +571,21 @@ impl Work {
             stroke_line(&arms_a[k].1, &arms_b[l].1)?,
         ];
         let hub = line_intersection(&lines, 0.0)?;
-        let link_points = &self.edges[link].as_ref()?.points;
-        let near_link = link_points
+        self.crossing_at(hub, link, tolerance, stroke)
+    }
+
+    /// The crossing at `hub`, when it lies on the ink within `tolerance` px of the `link` between
+    /// the split crossing's two junctions.
+    fn crossing_at(
+        &self,
+        hub: [f64; 2],
+        link: usize,
+        tolerance: f64,
+        stroke: f64,
+    ) -> Option<Vertex> {
+        let near_link = self.edges[link]
+            .as_ref()?
+            .points
             .iter()
             .map(|&p| dist(p, hub))
             .fold(f64::INFINITY, f64::min);
@@ -645,18 +658,7 @@ impl Work {
                 ])
             })
             .min_by(|&p, &q| dist(p, middle).total_cmp(&dist(q, middle)))?;
-        let near_link = link_points
-            .iter()
-            .map(|&p| dist(p, hub))
-            .fold(f64::INFINITY, f64::min);
-        if near_link > tolerance || !self.ink.at(hub) {
-            return None;
-        }
-        Some(Vertex {
-            pos: hub,
-            degree: 4,
-            width: stroke,
-        })
+        self.crossing_at(hub, link, tolerance, stroke)
     }
 
     /// Whether the degree-3 junctions `a` and `b`, joined by the edge `link`, are two T's on one

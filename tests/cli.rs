@@ -1120,10 +1120,17 @@ fn ctrl_c_says_what_was_finished_and_keeps_it() {
 
 #[test]
 fn the_regions_left_out_are_named_and_the_advice_traces_them() {
-    // A generated page of text inside a dark scanner frame: the frame is left out and named.
+    // Generated pages of text inside a dark scanner frame and inside a book's thin page edges:
+    // the frame is left out and named.
+    for name in ["page_frame", "page_book_edges"] {
+        regions_advice_traces_them(name);
+    }
+}
+
+fn regions_advice_traces_them(name: &str) {
     let page = ridgeline_testkit::synth::page_cases()
         .into_iter()
-        .find(|c| c.case.name == "page_frame")
+        .find(|c| c.case.name == name)
         .expect("the framed page");
     let dir = temp_dir();
     page.gray.save(dir.path().join("page.png")).expect("png");

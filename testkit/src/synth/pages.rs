@@ -1,5 +1,6 @@
 //! Pages: text with what real pages hold besides strokes (a halftone photo, a scanner's dark
-//! frame, a dark field beyond a torn page edge, a textured background, show-through from the back
+//! frame, the thin edges of a bound book's pages around a 1-bit scan, a dark field beyond a torn
+//! page edge, a textured background, show-through from the back
 //! of the sheet, a photograph's uneven light), and a page of rules and a table grid, whose lines
 //! are content. The truth is the text's strokes (and the rules and grid lines where they are
 //! content); the case's binary is those strokes alone, so the quality example's `clean` row is the
@@ -13,7 +14,7 @@ use super::hershey::{Font, CAP_HEIGHT};
 use super::{degrade, render, Case, Degraded, Recipe, SplitMix64, Stroke};
 
 /// The page cases, by name, in order.
-pub const PAGE_CASES: [&str; 8] = [
+pub const PAGE_CASES: [&str; 9] = [
     "page_clean",
     "page_halftone",
     "page_frame",
@@ -22,6 +23,7 @@ pub const PAGE_CASES: [&str; 8] = [
     "page_show_through",
     "page_edge",
     "page_photographed",
+    "page_book_edges",
 ];
 
 /// Page size, px.
@@ -151,6 +153,30 @@ fn page_case(name: &str, seed: u64) -> Degraded {
                 let d = fx.min(fy).min(w - 1.0 - fx).min(h - 1.0 - fy);
                 if d < band {
                     18
+                } else {
+                    g
+                }
+            });
+            (strokes, gray)
+        }
+        "page_book_edges" => {
+            // A bound book on a 1-bit scanner: the edge of the page along the top, the edges of
+            // the pages under it down the right (a thick line and two thin ones, with specks of
+            // dust between them) and along the bottom, apart.
+            let strokes = text_block(&mut rng, 40.0, 40.0, w - 70.0, h - 40.0);
+            let binary = render(&strokes, WIDTH, HEIGHT);
+            let specks: Vec<(u32, u32)> = (0..12)
+                .map(|_| (443 + rng.below(3) as u32, 20 + rng.below(320) as u32))
+                .collect();
+            let gray = page_gray(&binary, |x, y, g| {
+                let top = (14..16).contains(&y) && x <= 452;
+                let right = matches!(x, 439..=441 | 447 | 452) && (14..=350).contains(&y);
+                let bottom = (347..349).contains(&y) && x <= 435;
+                let speck = specks
+                    .iter()
+                    .any(|&(sx, sy)| x == sx && (sy..sy + 2).contains(&y));
+                if top || right || bottom || speck {
+                    INK
                 } else {
                     g
                 }

@@ -154,8 +154,17 @@ fn main() {
         }
         let count = 10usize.pow(exponent);
         let runs = if count <= 100_000 { 3 } else { 1 };
-        let plane = sine_strip(count, options.seed);
-        let space = helix_tube(count, options.seed);
+        // Only the sets that are traced are made.
+        let plane = if wants("plane") {
+            sine_strip(count, options.seed)
+        } else {
+            Vec::new()
+        };
+        let space = if wants("space") {
+            helix_tube(count, options.seed)
+        } else {
+            Vec::new()
+        };
         let mut best = [f64::INFINITY; 2];
         let mut cpu: [Option<f64>; 2] = [None; 2];
         let least = |old: Option<f64>, new: Option<f64>| match (old, new) {

@@ -474,11 +474,7 @@ fn trace_points(points: PointSet, params: &Params, recording: Recording) -> Resu
 fn trace_one(points: PointSet, params: &Params, recording: Recording) -> Traced {
     let mut timings = Timings::default();
     let skeleton_only = skeleton_only(&points, params);
-    let (refined, kept) = if skeleton_only && recording == Recording::Off {
-        (NodeGraph::default(), None)
-    } else {
-        refine_stages(&points, params, &mut timings, recording)
-    };
+    let (refined, kept) = method_stages(&points, params, &mut timings, recording, skeleton_only);
     let clock = Instant::now();
     let graph = if skeleton_only {
         StrokeGraph::default()
@@ -559,11 +555,8 @@ fn trace_chunks(
                 ..Timings::default()
             };
             let skeleton_only = skeleton_only(&points, params);
-            let (refined, kept) = if skeleton_only && recording == Recording::Off {
-                (NodeGraph::default(), None)
-            } else {
-                refine_stages(&points, params, &mut timings, recording)
-            };
+            let (refined, kept) =
+                method_stages(&points, params, &mut timings, recording, skeleton_only);
             // The points, their pixel index and neighbour lists are the bulk of a chunk's
             // memory; the chunks wait for the others without them, so the next chunk's reuse
             // the same memory. (A chunk the skeleton alone traces has no fit to wait for.)
@@ -580,13 +573,13 @@ fn trace_chunks(
         .into_par_iter()
         .map(|(c, (mut points, aside), refined, mut timings, kept)| {
             let clock = Instant::now();
-            if let Some(aside) = aside {
-                raster::restore(&mut points, aside);
-            }
-            let graph = if skeleton_only(&points, params) {
-                StrokeGraph::default()
-            } else {
-                fit::fit_with_spacing(&refined, &points, params, h)
+            // Set aside only when a fit is to come: none where the skeleton alone traces.
+            let graph = match aside {
+                Some(aside) => {
+                    raster::restore(&mut points, aside);
+                    fit::fit_with_spacing(&refined, &points, params, h)
+                }
+                None => StrokeGraph::default(),
             };
             timings.fit = clock.elapsed();
             (c, finish_one(graph, points, refined, kept, params, timings))
@@ -594,6 +587,21 @@ fn trace_chunks(
         .collect();
     parts.sort_by_key(|&(c, _)| c);
     Ok(Traced::join(parts.into_iter().map(|(_, t)| t).collect()))
+}
+
+/// [`refine_stages`], or nothing where the skeleton alone traces `points` ([`skeleton_only`])
+/// and the stages are not recorded for their pictures.
+fn method_stages(
+    points: &PointSet,
+    params: &Params,
+    timings: &mut Timings,
+    recording: Recording,
+    skeleton_only: bool,
+) -> (NodeGraph, Option<(Samples, NodeGraph)>) {
+    if skeleton_only && recording == Recording::Off {
+        return (NodeGraph::default(), None);
+    }
+    refine_stages(points, params, timings, recording)
 }
 
 /// §3.1-§3.3 on one point set, timed into `timings`; the sampling and `H` are kept when

@@ -120,27 +120,30 @@ impl Plane {
         let (cx, cy) = (floor(fx), floor(fy));
         let (tx, ty) = ((fx - cx as f64) as f32, (fy - cy as f64) as f32);
         let (w, h) = (i64::from(self.width), i64::from(self.height));
-        let (a, b, c, d) = if cx >= 0 && cy >= 0 && cx < w - 1 && cy < h - 1 {
+        let four = if cx >= 0 && cy >= 0 && cx < w - 1 && cy < h - 1 {
             // Inside: the four pixels directly (the same values as `at` gives).
-            let i = cy as usize * self.width as usize + cx as usize;
-            let next = i + self.width as usize;
-            (
-                self.values[i],
-                self.values[i + 1],
-                self.values[next],
-                self.values[next + 1],
-            )
+            self.four(cy as usize * self.width as usize + cx as usize)
         } else {
-            (
+            [
                 self.at(cx, cy),
                 self.at(cx + 1, cy),
                 self.at(cx, cy + 1),
                 self.at(cx + 1, cy + 1),
-            )
+            ]
         };
-        let top = a * (1.0 - tx) + b * tx;
-        let bottom = c * (1.0 - tx) + d * tx;
-        top * (1.0 - ty) + bottom * ty
+        bilinear(four, tx, ty)
+    }
+
+    /// The values of the pixel at index `i` and of those right of it, below it and below right.
+    #[inline]
+    fn four(&self, i: usize) -> [f32; 4] {
+        let next = i + self.width as usize;
+        [
+            self.values[i],
+            self.values[i + 1],
+            self.values[next],
+            self.values[next + 1],
+        ]
     }
 
     /// [`Plane::sample`] at a point whose four pixels are all inside the image (`x` and `y` in
@@ -152,18 +155,17 @@ impl Plane {
         // Not negative: truncation is the floor.
         let (cx, cy) = (fx as usize, fy as usize);
         let (tx, ty) = ((fx - cx as f64) as f32, (fy - cy as f64) as f32);
-        let i = cy * self.width as usize + cx;
-        let next = i + self.width as usize;
-        let (a, b, c, d) = (
-            self.values[i],
-            self.values[i + 1],
-            self.values[next],
-            self.values[next + 1],
-        );
-        let top = a * (1.0 - tx) + b * tx;
-        let bottom = c * (1.0 - tx) + d * tx;
-        top * (1.0 - ty) + bottom * ty
+        bilinear(self.four(cy * self.width as usize + cx), tx, ty)
     }
+}
+
+/// The bilinear mix of four pixels' values (top left, top right, bottom left, bottom right) at
+/// the fractions `tx` across and `ty` down.
+#[inline]
+fn bilinear([a, b, c, d]: [f32; 4], tx: f32, ty: f32) -> f32 {
+    let top = a * (1.0 - tx) + b * tx;
+    let bottom = c * (1.0 - tx) + d * tx;
+    top * (1.0 - ty) + bottom * ty
 }
 
 /// `v.floor()` as an integer, without the library call that `f64::floor` is on targets without

@@ -275,62 +275,64 @@ fn rings(
         return Vec::new();
     }
     let (labels, sizes) = label_components(ink, width, height, true, Connectivity::Eight);
-    // Each piece's box.
-    let mut boxes = vec![(usize::MAX, usize::MAX, 0usize, 0usize); sizes.len()];
+    // Each piece's box (none for the paper's label 0).
+    let mut boxes: Vec<Option<PieceBox>> = vec![None; sizes.len()];
     for (y, row) in labels.chunks(width).enumerate() {
         for (x, &l) in row.iter().enumerate() {
             if l > 0 {
-                let b = &mut boxes[l as usize];
-                *b = (b.0.min(x), b.1.min(y), b.2.max(x), b.3.max(y));
+                let b = boxes[l as usize].get_or_insert(PieceBox {
+                    x0: x,
+                    y0: y,
+                    x1: x,
+                    y1: y,
+                });
+                *b = PieceBox {
+                    x0: b.x0.min(x),
+                    y0: b.y0.min(y),
+                    x1: b.x1.max(x),
+                    y1: b.y1.max(y),
+                };
             }
         }
     }
-    let spans = |&(x0, y0, x1, y1): &(usize, usize, usize, usize)| {
-        x0 <= x1
-            && (x1 - x0 + 1) as f64 >= FRAME_SPAN * width as f64
-            && (y1 - y0 + 1) as f64 >= FRAME_SPAN * height as f64
-    };
-    let large: Vec<usize> = (1..sizes.len()).filter(|&l| spans(&boxes[l])).collect();
-    if large.is_empty() {
+    let large: Vec<Option<PieceBox>> = boxes
+        .iter()
+        .map(|b| {
+            b.filter(|b| {
+                b.width() as f64 >= FRAME_SPAN * width as f64
+                    && b.height() as f64 >= FRAME_SPAN * height as f64
+            })
+        })
+        .collect();
+    if large.iter().all(Option::is_none) {
         return Vec::new();
     }
     let mut in_band = vec![0usize; sizes.len()];
     for (y, row) in labels.chunks(width).enumerate() {
         for (x, &l) in row.iter().enumerate() {
-            let (x0, y0, x1, y1) = boxes[l as usize];
-            if l > 0 && spans(&boxes[l as usize]) {
-                let band = RING_BAND * (x1 - x0 + 1).min(y1 - y0 + 1) as f64;
-                let inset = (x - x0).min(x1 - x).min(y - y0).min(y1 - y);
-                if (inset as f64) < band {
+            if let Some(b) = large[l as usize] {
+                if b.inset(x, y).is_some_and(|d| (d as f64) < b.band()) {
                     in_band[l as usize] += 1;
                 }
             }
         }
     }
-    let rings: Vec<usize> = large
-        .into_iter()
-        .filter(|&l| in_band[l] as f64 >= RING_SHARE * sizes[l] as f64)
+    let rings: Vec<usize> = (1..sizes.len())
+        .filter(|&l| large[l].is_some() && in_band[l] as f64 >= RING_SHARE * sizes[l] as f64)
         .collect();
-    if rings.is_empty() {
-        return Vec::new();
-    }
     // What goes with each ring: the pieces running along its band (the other edges of a stack
     // of pages) and those beyond its lines, between them and the image's edge.
     let mut frame = vec![false; sizes.len()];
     let mut framed = Vec::new();
     let mut regions = Vec::new();
     for &l in &rings {
-        let b = boxes[l];
-        let band = RING_BAND * (b.2 - b.0 + 1).min(b.3 - b.1 + 1) as f64;
-        let inset = |x: usize, y: usize| {
-            (x >= b.0 && x <= b.2 && y >= b.1 && y <= b.3)
-                .then(|| (x - b.0).min(b.2 - x).min(y - b.1).min(b.3 - y))
-        };
+        let Some(b) = boxes[l] else { continue };
+        let band = b.band();
         let mut along = vec![0usize; sizes.len()];
         let mut enclosed = 0;
         for (y, row) in labels.chunks(width).enumerate() {
             for (x, &m) in row.iter().enumerate() {
-                match inset(x, y) {
+                match b.inset(x, y) {
                     Some(d) if m > 0 && (d as f64) < band => along[m as usize] += 1,
                     Some(_) if m > 0 && m as usize != l => enclosed += 1,
                     _ => {}
@@ -341,10 +343,10 @@ fn rings(
         // A ring touching all four edges of the image is the image's own margin (the paper,
         // when the ink is light) or a scanner's frame, which [`fields`] finds when thick. A ring
         // in a region already found (a frame of bands, kept) is that region.
-        let margin = b.0 == 0 && b.1 == 0 && b.2 + 1 == width && b.3 + 1 == height;
+        let margin = b.x0 == 0 && b.y0 == 0 && b.x1 + 1 == width && b.y1 + 1 == height;
         let within_found = found.iter().any(|r| {
             let (rx1, ry1) = ((r.x + r.width) as usize, (r.y + r.height) as usize);
-            b.0 >= r.x as usize && b.1 >= r.y as usize && b.2 < rx1 && b.3 < ry1
+            b.x0 >= r.x as usize && b.y0 >= r.y as usize && b.x1 < rx1 && b.y1 < ry1
         });
         if enclosed < sizes[l] || margin || within_found {
             continue;
@@ -352,25 +354,33 @@ fn rings(
         framed.push(l);
         frame[l] = true;
         for m in 1..sizes.len() {
-            let (x0, y0, x1, y1) = boxes[m];
-            let long = (x1 - x0 + 1) as f64 >= FRAME_SPAN * (b.2 - b.0 + 1) as f64
-                || (y1 - y0 + 1) as f64 >= FRAME_SPAN * (b.3 - b.1 + 1) as f64;
+            let Some(piece) = boxes[m] else { continue };
+            let long = piece.width() as f64 >= FRAME_SPAN * b.width() as f64
+                || piece.height() as f64 >= FRAME_SPAN * b.height() as f64;
             if long && along[m] as f64 >= RING_SHARE * sizes[m] as f64 {
                 frame[m] = true;
             }
         }
         regions.push(Region {
             kind: RegionKind::Frame,
-            x: b.0 as u32,
-            y: b.1 as u32,
-            width: (b.2 - b.0 + 1) as u32,
-            height: (b.3 - b.1 + 1) as u32,
+            x: b.x0 as u32,
+            y: b.y0 as u32,
+            width: b.width() as u32,
+            height: b.height() as u32,
         });
     }
     if !remove || framed.is_empty() {
         return regions;
     }
-    let beyond = beyond_frame(&labels, &frame, &boxes, &framed, width, stroke_width);
+    let beyond = beyond_frame(
+        &labels,
+        &sizes,
+        &frame,
+        &boxes,
+        &framed,
+        width,
+        stroke_width,
+    );
     let grid = Grid::new(
         width,
         height,
@@ -388,6 +398,40 @@ fn rings(
     }
     remove_enclosed(ink, &grid, &crossed);
     regions
+}
+
+/// A piece of ink's box, its first and last columns and rows.
+#[derive(Clone, Copy, Debug)]
+struct PieceBox {
+    x0: usize,
+    y0: usize,
+    x1: usize,
+    y1: usize,
+}
+
+impl PieceBox {
+    fn width(&self) -> usize {
+        self.x1 - self.x0 + 1
+    }
+
+    fn height(&self) -> usize {
+        self.y1 - self.y0 + 1
+    }
+
+    /// A ring's band along the box's border ([`RING_BAND`] of its shorter side), px.
+    fn band(&self) -> f64 {
+        RING_BAND * self.width().min(self.height()) as f64
+    }
+
+    /// How far the pixel `(x, y)` lies inside the box from its nearest side; `None` outside.
+    fn inset(&self, x: usize, y: usize) -> Option<usize> {
+        (x >= self.x0 && x <= self.x1 && y >= self.y0 && y <= self.y1).then(|| {
+            (x - self.x0)
+                .min(self.x1 - x)
+                .min(y - self.y0)
+                .min(self.y1 - y)
+        })
+    }
 }
 
 /// Whether `row` holds a run of at least `long` ink pixels. Looked at every `long / 2` pixels
@@ -424,8 +468,9 @@ fn has_run(row: &[bool], long: usize) -> bool {
 /// piece through).
 fn beyond_frame(
     labels: &[u32],
+    sizes: &[usize],
     frame: &[bool],
-    boxes: &[(usize, usize, usize, usize)],
+    boxes: &[Option<PieceBox>],
     rings: &[usize],
     width: usize,
     stroke_width: f64,
@@ -433,27 +478,23 @@ fn beyond_frame(
     let pieces = frame.len();
     let window = ((CELL_WIDTHS * stroke_width).round() as usize).max(MIN_CELL);
     let mut beyond = vec![false; pieces];
-    for &l in rings {
-        let mut pixels = vec![0usize; pieces];
-        let mut beyond_pixels = vec![0usize; pieces];
-        let b = boxes[l];
-        let band = (RING_BAND * (b.2 - b.0 + 1).min(b.3 - b.1 + 1) as f64) as usize;
+    for b in rings.iter().filter_map(|&l| boxes[l]) {
+        let band = b.band();
         // A side as (its length, the (along, depth) of a pixel of the box).
-        type Side = fn((usize, usize), (usize, usize, usize, usize)) -> (usize, usize);
+        type Side = fn((usize, usize), &PieceBox) -> (usize, usize);
         let sides: [(usize, Side); 4] = [
-            (b.3 - b.1 + 1, |(x, y), b| (y - b.1, x - b.0)),
-            (b.3 - b.1 + 1, |(x, y), b| (y - b.1, b.2 - x)),
-            (b.2 - b.0 + 1, |(x, y), b| (x - b.0, y - b.1)),
-            (b.2 - b.0 + 1, |(x, y), b| (x - b.0, b.3 - y)),
+            (b.height(), |(x, y), b| (y - b.y0, x - b.x0)),
+            (b.height(), |(x, y), b| (y - b.y0, b.x1 - x)),
+            (b.width(), |(x, y), b| (x - b.x0, y - b.y0)),
+            (b.width(), |(x, y), b| (x - b.x0, b.y1 - y)),
         ];
-        let within = |x: usize, y: usize| x >= b.0 && x <= b.2 && y >= b.1 && y <= b.3;
         let mut inner: Vec<Vec<Option<usize>>> = sides.iter().map(|s| vec![None; s.0]).collect();
         for (p, &m) in labels.iter().enumerate() {
             let (x, y) = (p % width, p / width);
-            if m > 0 && frame[m as usize] && within(x, y) {
+            if m > 0 && frame[m as usize] && b.inset(x, y).is_some() {
                 for (s, &(_, side)) in sides.iter().enumerate() {
-                    let (a, d) = side((x, y), b);
-                    if d < band {
+                    let (a, d) = side((x, y), &b);
+                    if (d as f64) < band {
                         let e = &mut inner[s][a];
                         *e = Some(e.map_or(d, |e: usize| e.max(d)));
                     }
@@ -481,26 +522,25 @@ fn beyond_frame(
                 })
             })
             .collect();
+        let mut beyond_pixels = vec![0usize; pieces];
         for (p, &m) in labels.iter().enumerate() {
             let m = m as usize;
-            if m == 0 || frame[m] {
+            let (x, y) = (p % width, p / width);
+            if m == 0 || frame[m] || b.inset(x, y).is_none() {
                 continue;
             }
-            let (x, y) = (p % width, p / width);
-            pixels[m] += 1;
-            let out = within(x, y)
-                && sides.iter().zip(&depths).any(|(&(_, side), depth)| {
-                    depth.as_ref().is_some_and(|depth| {
-                        let (a, d) = side((x, y), b);
-                        d < depth[a]
-                    })
-                });
+            let out = sides.iter().zip(&depths).any(|(&(_, side), depth)| {
+                depth.as_ref().is_some_and(|depth| {
+                    let (a, d) = side((x, y), &b);
+                    d < depth[a]
+                })
+            });
             if out {
                 beyond_pixels[m] += 1;
             }
         }
-        for m in 0..pieces {
-            beyond[m] |= pixels[m] > 0 && beyond_pixels[m] == pixels[m];
+        for m in 1..pieces {
+            beyond[m] |= beyond_pixels[m] == sizes[m];
         }
     }
     beyond

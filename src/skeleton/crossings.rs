@@ -478,33 +478,37 @@ impl StrokeArc {
         self.signed(p).abs()
     }
 
-    /// Points along the curve from its start to its end, at most `step` px apart.
-    fn samples(&self, step: f64) -> Vec<[f64; 2]> {
-        let (length, at): (f64, Box<dyn Fn(f64) -> [f64; 2] + '_>) = match self {
+    /// The curve's length, px.
+    fn length(&self) -> f64 {
+        match self {
+            StrokeArc::Circle { radius, sweep, .. } => radius * sweep.abs(),
+            StrokeArc::Line { from, to } => dist(*from, *to),
+        }
+    }
+
+    /// The point at the share `t` of the way from the curve's start to its end.
+    fn at(&self, t: f64) -> [f64; 2] {
+        match self {
             StrokeArc::Circle {
                 center,
                 radius,
                 start,
                 sweep,
-            } => (
-                radius * sweep.abs(),
-                Box::new(move |t| {
-                    let a = start + t * sweep;
-                    [center[0] + radius * a.cos(), center[1] + radius * a.sin()]
-                }),
-            ),
-            StrokeArc::Line { from, to } => (
-                dist(*from, *to),
-                Box::new(move |t| {
-                    [
-                        from[0] + t * (to[0] - from[0]),
-                        from[1] + t * (to[1] - from[1]),
-                    ]
-                }),
-            ),
-        };
-        let n = (length / step).ceil().max(1.0) as usize;
-        (0..=n).map(|k| at(k as f64 / n as f64)).collect()
+            } => {
+                let a = start + t * sweep;
+                [center[0] + radius * a.cos(), center[1] + radius * a.sin()]
+            }
+            StrokeArc::Line { from, to } => [
+                from[0] + t * (to[0] - from[0]),
+                from[1] + t * (to[1] - from[1]),
+            ],
+        }
+    }
+
+    /// Points along the curve from its start to its end, at most `step` px apart.
+    fn samples(&self, step: f64) -> Vec<[f64; 2]> {
+        let n = (self.length() / step).ceil().max(1.0) as usize;
+        (0..=n).map(|k| self.at(k as f64 / n as f64)).collect()
     }
 }
 

@@ -36,7 +36,8 @@
 //! stroke that touches it and leaves it, such as a letter touching a frame, stays.
 //!
 //! Then the rings of lines around the page ([`rings`]): a printed border, the edges of a bound
-//! book's pages, one hollow piece around the text, with what runs along it and lies beyond it.
+//! book's pages, one hollow piece around the text, with what runs along it and lies beyond it, and
+//! the specks in its band outward of the text.
 //!
 //! Last, the faint ink ([`faint`]): pieces that barely reach the text's contrast, left out when
 //! they are most of the ink (a local threshold that read the paper's grain as ink).
@@ -109,6 +110,10 @@ const RING_BAND: f64 = 0.125;
 /// image's width (the long side of a frame of lines, unbroken for half its length): a page of
 /// text has none and is spared the labelling.
 const RING_RUN: f64 = 0.25;
+
+/// A piece of ink smaller than this many squared stroke widths is a speck, smaller than any
+/// letter (a stroke three widths long): a dot, a comma, the dirt along a page's edge.
+const SPECK_AREA: f64 = 3.0;
 
 /// A group at least this share texture cells is a halftone (a photo or a pattern), wherever it
 /// lies.
@@ -423,6 +428,20 @@ impl PieceBox {
         RING_BAND * self.width().min(self.height()) as f64
     }
 
+    /// The gap between two boxes, px: the most of the columns and the rows between them (0
+    /// when they touch or overlap).
+    fn gap(&self, other: &PieceBox) -> usize {
+        let dx = self
+            .x0
+            .saturating_sub(other.x1)
+            .max(other.x0.saturating_sub(self.x1));
+        let dy = self
+            .y0
+            .saturating_sub(other.y1)
+            .max(other.y0.saturating_sub(self.y1));
+        dx.max(dy).saturating_sub(1)
+    }
+
     /// How far the pixel `(x, y)` lies inside the box from its nearest side; `None` outside.
     fn inset(&self, x: usize, y: usize) -> Option<usize> {
         (x >= self.x0 && x <= self.x1 && y >= self.y0 && y <= self.y1).then(|| {
@@ -465,7 +484,12 @@ fn has_run(row: &[bool], long: usize) -> bool {
 /// image's edge and the innermost of the `frame` pieces' pixels on a side of a ring's box that
 /// the frame lines for at least [`FRAME_SPAN`] of its length, that innermost line taken as its
 /// least depth within a cell of [`CELL_WIDTHS`] `w` along the side (a gap in the line lets no
-/// piece through).
+/// piece through). With them goes the dirt along the edge: groups of pieces wholly within the
+/// ring's band on its lined sides, each within a cell of another, none within a cell of the
+/// rest of the page's ink larger than a speck, at least half of them specks ([`SPECK_AREA`]).
+/// A line of text reaching into the band is joined to its letters beyond it (words and lines
+/// are less than a cell apart), a full stop or an i's dot lies within a cell of its letters,
+/// and a page number or a catchword on its own in the band is letters, not specks.
 fn beyond_frame(
     labels: &[u32],
     sizes: &[usize],
@@ -523,24 +547,80 @@ fn beyond_frame(
             })
             .collect();
         let mut beyond_pixels = vec![0usize; pieces];
+        let mut band_pixels = vec![0usize; pieces];
         for (p, &m) in labels.iter().enumerate() {
             let m = m as usize;
             let (x, y) = (p % width, p / width);
             if m == 0 || frame[m] || b.inset(x, y).is_none() {
                 continue;
             }
-            let out = sides.iter().zip(&depths).any(|(&(_, side), depth)| {
-                depth.as_ref().is_some_and(|depth| {
+            let (mut out, mut in_band) = (false, false);
+            for (&(_, side), depth) in sides.iter().zip(&depths) {
+                if let Some(depth) = depth {
                     let (a, d) = side((x, y), &b);
-                    d < depth[a]
-                })
-            });
-            if out {
-                beyond_pixels[m] += 1;
+                    out |= d < depth[a];
+                    in_band |= (d as f64) < band;
+                }
             }
+            beyond_pixels[m] += usize::from(out);
+            band_pixels[m] += usize::from(in_band);
         }
         for m in 1..pieces {
             beyond[m] |= beyond_pixels[m] == sizes[m];
+        }
+        // The dirt along the edge: groups of pieces wholly in the band of lined sides, each
+        // within a cell of another ([`PieceBox::gap`]), none within a cell of the rest of the
+        // page's ink larger than a speck (the text), at least half of them specks.
+        let speck = |m: usize| (sizes[m] as f64) < SPECK_AREA * stroke_width * stroke_width;
+        let loose: Vec<usize> = (1..pieces)
+            .filter(|&m| !frame[m] && !beyond[m] && band_pixels[m] == sizes[m])
+            .collect();
+        if loose.is_empty() {
+            continue;
+        }
+        let mut group: Vec<usize> = (0..loose.len()).collect();
+        fn root(group: &mut [usize], mut i: usize) -> usize {
+            while group[i] != i {
+                group[i] = group[group[i]];
+                i = group[i];
+            }
+            i
+        }
+        let near = |m: usize, n: usize| match (boxes[m], boxes[n]) {
+            (Some(a), Some(c)) => a.gap(&c) <= window,
+            _ => false,
+        };
+        for i in 0..loose.len() {
+            for j in i + 1..loose.len() {
+                if near(loose[i], loose[j]) {
+                    let (ri, rj) = (root(&mut group, i), root(&mut group, j));
+                    group[ri.max(rj)] = ri.min(rj);
+                }
+            }
+        }
+        let is_loose = {
+            let mut is = vec![false; pieces];
+            loose.iter().for_each(|&m| is[m] = true);
+            is
+        };
+        // Per group: joined to the page's other ink, its pieces, its specks.
+        let mut joined = vec![false; loose.len()];
+        let mut counts = vec![(0usize, 0usize); loose.len()];
+        for (i, &m) in loose.iter().enumerate() {
+            let r = root(&mut group, i);
+            if (1..pieces)
+                .any(|n| !is_loose[n] && !frame[n] && !beyond[n] && !speck(n) && near(m, n))
+            {
+                joined[r] = true;
+            }
+            counts[r].0 += 1;
+            counts[r].1 += usize::from(speck(m));
+        }
+        for (i, &m) in loose.iter().enumerate() {
+            let r = root(&mut group, i);
+            if !joined[r] && 2 * counts[r].1 >= counts[r].0 {
+                beyond[m] = true;
+            }
         }
     }
     beyond
@@ -1851,6 +1931,54 @@ mod tests {
         let (kept, decisions) = decide(&gray, &[RegionKind::Frame]);
         assert_eq!(kinds(&decisions), vec![RegionKind::Frame]);
         assert!(kept.ink[20 * 480 + 200] && kept.ink[200 * 480 + 450]);
+    }
+
+    #[test]
+    fn the_specks_between_a_ring_and_the_text_go_and_a_full_stop_stays() {
+        // A ring of lines 2 px wide around the text, 80 px out from it on the right; a column
+        // of specks 2 px square every 10 px, 25 px inside the right line (the dirt along a
+        // book's edge); a full stop 4 px after the text's last stroke.
+        let ring = |x: u32, y: u32| {
+            let (xs, ys) = ((20..=460).contains(&x), (20..=340).contains(&y));
+            let lines = (ys && ((20..22).contains(&x) || (456..458).contains(&x)))
+                || (xs && ((20..22).contains(&y) || (338..340).contains(&y)));
+            let column = (430..432).contains(&x) && (40..320).contains(&y) && y % 10 < 2;
+            let stop = (381..383).contains(&x) && (70..72).contains(&y);
+            (lines || column || stop).then_some(INK)
+        };
+        let text = [60, 60, 380, 300];
+        let gray = page(480, 360, text, ring);
+        let (binary, decisions) = decide(&gray, &[]);
+        assert_eq!(kinds(&decisions), vec![RegionKind::Frame]);
+        let at = |b: &crate::binary::Binary, x: u32, y: u32| b.ink[(y * 480 + x) as usize];
+        assert!(
+            (40..320).all(|y| !at(&binary, 430, y)),
+            "the column of specks is gone"
+        );
+        assert!(at(&binary, 381, 70), "the full stop stays");
+        let (clean, _) = decide(&page(480, 360, text, |_, _| None), &[]);
+        let text_ink = |b: &crate::binary::Binary| ink_between(b, 0, 380);
+        assert_eq!(text_ink(&binary), text_ink(&clean), "the text is whole");
+        // Kept when asked.
+        let (kept, _) = decide(&gray, &[RegionKind::Frame]);
+        assert!(at(&kept, 430, 40) && at(&kept, 430, 310));
+        // Text reaching into the band keeps its strokes and a dot above its last one.
+        let ring_and_dot = |x: u32, y: u32| {
+            let (xs, ys) = ((20..=460).contains(&x), (20..=340).contains(&y));
+            let lines = (ys && ((20..22).contains(&x) || (456..458).contains(&x)))
+                || (xs && ((20..22).contains(&y) || (338..340).contains(&y)));
+            let dot = (438..440).contains(&x) && (56..58).contains(&y);
+            (lines || dot).then_some(INK)
+        };
+        let text = [60, 60, 441, 300];
+        let (binary, decisions) = decide(&page(480, 360, text, ring_and_dot), &[]);
+        assert_eq!(kinds(&decisions), vec![RegionKind::Frame]);
+        let (clean, _) = decide(&page(480, 360, text, |_, _| None), &[]);
+        assert_eq!(
+            ink_between(&binary, 40, 441),
+            ink_between(&clean, 40, 441) + 4
+        );
+        assert!(at(&binary, 438, 56), "the dot stays");
     }
 
     #[test]

@@ -210,9 +210,16 @@ impl Segmentation {
     /// The print as one flag per pixel.
     pub fn pixel_mask(&self) -> Vec<bool> {
         let (w, h) = (self.grid.width as usize, self.grid.height as usize);
+        let b = (self.grid.block as usize).max(1);
         let mut mask = Vec::with_capacity(w * h);
+        // Each row of blocks once, copied to its rows of pixels.
+        let mut row = Vec::with_capacity(w);
         for y in 0..h {
-            mask.extend((0..w).map(|x| self.contains_pixel(x, y)));
+            if y % b == 0 {
+                row.clear();
+                row.extend((0..w).map(|x| self.contains_pixel(x, y)));
+            }
+            mask.extend_from_slice(&row);
         }
         mask
     }

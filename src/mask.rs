@@ -250,7 +250,7 @@ pub(crate) fn close_disk(ink: &[bool], width: usize, height: usize, radius: f64)
 /// the farthest reach of the half-widths seen.
 pub(crate) fn dilate_disk(sites: &[bool], width: usize, height: usize, r2: f32) -> Vec<bool> {
     let mut out = vec![false; width * height];
-    if width == 0 || height == 0 || !(r2 >= 0.0) {
+    if width == 0 || height == 0 || r2.is_nan() || r2 < 0.0 {
         return out;
     }
     // Every squared distance within the image is at most `cap`.

@@ -247,7 +247,7 @@ fn arms_confirmed(graph: &StrokeGraph, vertex: usize, ridges: &Binary, reach: f6
 /// `d2` from `pixel` (between pixel centres): the distance transform of `outside` read at one
 /// pixel, looking only within the distance asked about.
 fn outside_within(outside: &[bool], [w, h]: [usize; 2], [x, y]: [usize; 2], d2: f64) -> bool {
-    if !(d2 > 0.0) {
+    if d2.is_nan() || d2 <= 0.0 {
         return false;
     }
     let reach = d2.sqrt().ceil() as usize;

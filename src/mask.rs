@@ -1,7 +1,7 @@
 //! The binary-image toolkit, shared by both front ends (images and point lists), the fingerprint
 //! front end and the test kit's scorer: the exact Euclidean distance transform that gives each
-//! point its half-width (and, on the same pass, the closing by a disk of the minutiae's print
-//! region), the 3x3 morphology (the closing of dropout mode, the fingerprint segmentation's block
+//! point its half-width, the dilation and closing by a disk (of the minutiae's print region), the
+//! 3x3 morphology (the closing of dropout mode, the fingerprint segmentation's block
 //! flags), the labelling of connected components, and the count of tiny background holes that
 //! switches dropout mode on (docs/design.md, adaptation 2).
 //!
@@ -179,7 +179,8 @@ pub(crate) fn first_seen_labels(
 ///
 /// The distance transform of Meijster et al. (2000), as [`squared_distance_at`] computes it for
 /// the ink, over the whole image: the distance to a site along each column, then per row the
-/// lower envelope of the parabolas ([`envelope_row`]).
+/// lower envelope of the parabolas ([`envelope_row`]). The reference of [`dilate_disk`]'s tests.
+#[cfg(test)]
 pub(crate) fn squared_distances(sites: &[bool], width: usize, height: usize) -> Vec<f32> {
     if !sites.iter().any(|&s| s) {
         return vec![f32::INFINITY; sites.len()];
@@ -222,13 +223,108 @@ pub(crate) fn squared_distances(sites: &[bool], width: usize, height: usize) -> 
 /// Euclidean distance between pixel centres, squared distances compared with `radius²` in `f32`.
 /// Pixels outside the image do not erode it, so a shape cut by the image edge keeps its closing
 /// up to that edge.
+///
+/// Both steps only ask whether a site lies within the radius, so each is a dilation by the disk
+/// ([`dilate_disk`]) rather than a full distance transform: the same sets, a few operations a
+/// pixel. A radius that is not finite closes to nothing (no squared distance exceeds it).
 pub(crate) fn close_disk(ink: &[bool], width: usize, height: usize, radius: f64) -> Vec<bool> {
     let r2 = (radius * radius) as f32;
-    let to_ink = squared_distances(ink, width, height);
-    let dilated: Vec<bool> = to_ink.iter().map(|&d| d <= r2).collect();
+    if !r2.is_finite() {
+        return vec![false; width * height];
+    }
+    let dilated = dilate_disk(ink, width, height, r2);
     let outside: Vec<bool> = dilated.iter().map(|&d| !d).collect();
-    let to_outside = squared_distances(&outside, width, height);
-    to_outside.iter().map(|&d| d > r2).collect()
+    let mut region = dilate_disk(&outside, width, height, r2);
+    for r in &mut region {
+        *r = !*r;
+    }
+    region
+}
+
+/// The pixels within the disk of a site: those whose squared distance (between pixel centres)
+/// to the nearest `site`, as `f32`, is at most `r2` (finite, not negative); pixels outside the
+/// image are never sites. As [`squared_distances`] would say, without computing the distances:
+/// with `g` the distance to a site along each column, pixel `x` of a row is covered when some
+/// column `i` of the row has `(x - i)² + g(i)² <= T`, `T` the largest integer at most `r2`, that
+/// is when `|x - i|` is at most `i`'s half-width `⌊√(T - g(i)²)⌋`: two sweeps of the row carry
+/// the farthest reach of the half-widths seen.
+pub(crate) fn dilate_disk(sites: &[bool], width: usize, height: usize, r2: f32) -> Vec<bool> {
+    let mut out = vec![false; width * height];
+    if width == 0 || height == 0 || r2.is_nan() || r2 < 0.0 {
+        return out;
+    }
+    // Every squared distance within the image is at most `cap`.
+    let cap = ((width - 1) * (width - 1) + (height - 1) * (height - 1)) as u64;
+    let t = if f64::from(r2) >= cap as f64 {
+        cap
+    } else {
+        let mut t = r2 as u64;
+        while ((t + 1) as f32) <= r2 {
+            t += 1;
+        }
+        t
+    };
+    // The largest column distance that still reaches, and the half-width of each up to it.
+    let mut g_max = (t as f64).sqrt() as u64;
+    while g_max * g_max > t {
+        g_max -= 1;
+    }
+    while (g_max + 1) * (g_max + 1) <= t {
+        g_max += 1;
+    }
+    let g_max = g_max.min((width + height) as u64) as u32;
+    let half: Vec<i64> = (0..=u64::from(g_max))
+        .map(|g| {
+            let rest = t - g * g;
+            let mut h = (rest as f64).sqrt() as u64;
+            while h * h > rest {
+                h -= 1;
+            }
+            while (h + 1) * (h + 1) <= rest {
+                h += 1;
+            }
+            h as i64
+        })
+        .collect();
+    // Column distances, capped above `g_max` (such a column reaches no pixel of its row).
+    let far = g_max + 1;
+    let mut g = vec![far; width * height];
+    for y in 0..height {
+        for x in 0..width {
+            let p = y * width + x;
+            g[p] = if sites[p] {
+                0
+            } else if y > 0 {
+                (g[p - width] + 1).min(far)
+            } else {
+                far
+            };
+        }
+    }
+    for p in (0..width * height.saturating_sub(1)).rev() {
+        g[p] = g[p].min(g[p + width] + 1);
+    }
+    out.par_chunks_mut(width)
+        .zip(g.par_chunks(width))
+        .for_each(|(out, g)| {
+            // Rightwards: the farthest right end of the disks of the columns at or before x.
+            let mut reach = -1i64;
+            for (x, (o, &gi)) in out.iter_mut().zip(g).enumerate() {
+                if gi < far {
+                    reach = reach.max(x as i64 + half[gi as usize]);
+                }
+                *o = reach >= x as i64;
+            }
+            // Leftwards: the farthest left end of those at or after x.
+            let mut reach = i64::MAX;
+            for (x, (o, &gi)) in out.iter_mut().zip(g).enumerate().rev() {
+                if gi < far {
+                    reach = reach.min(x as i64 - half[gi as usize]);
+                }
+                *o |= reach <= x as i64;
+            }
+        });
+    out
 }
 
 /// Prefix counts of ink per row: the ink pixels of row `y` are numbers
@@ -653,6 +749,30 @@ mod tests {
                     .map(|&v| f64::from(v))
                     .collect();
                 assert_eq!(d, brute_force(&sites, w, h), "{w}x{h} density {density}");
+            }
+        }
+    }
+
+    #[test]
+    fn the_dilation_by_a_disk_is_the_distance_within_the_radius() {
+        let mut seed = 17u64;
+        for (w, h) in [(1, 1), (5, 1), (1, 4), (21, 14), (33, 25)] {
+            for density in [0, 1, 7, 40] {
+                let sites: Vec<bool> = (0..w * h)
+                    .map(|_| {
+                        seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1);
+                        density > 0 && (seed >> 33) % 100 < density
+                    })
+                    .collect();
+                let d = brute_force(&sites, w, h);
+                for r2 in [0.0f32, 1.0, 1.99, 2.0, 8.5, 25.0, 60.3, 1e4, 1e9] {
+                    let expected: Vec<bool> = d.iter().map(|&d| d as f32 <= r2).collect();
+                    assert_eq!(
+                        dilate_disk(&sites, w, h, r2),
+                        expected,
+                        "{w}x{h} density {density} r2 {r2}"
+                    );
+                }
             }
         }
     }

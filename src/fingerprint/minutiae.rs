@@ -156,15 +156,14 @@ pub fn fingerprint_minutiae(
             .zip(&region)
             .map(|(&p, &r)| !(p && r))
             .collect();
-        let to_outside = crate::mask::squared_distances(&outside, w, h);
         let at_least = |m: &Minutia, margin: f64| {
             let [x, y] = m.pos;
-            let index = (y as usize).min(h - 1) * w + (x as usize).min(w - 1);
+            let pixel = [(x as usize).min(w - 1), (y as usize).min(h - 1)];
             x >= margin
                 && y >= margin
                 && w as f64 - x >= margin
                 && h as f64 - y >= margin
-                && f64::from(to_outside[index]) >= margin * margin
+                && !outside_within(&outside, [w, h], pixel, margin * margin)
         };
         let inward_margin = params.inward_border_periods * typical;
         if inward_margin > 0.0 && inward_margin < margin {
@@ -242,6 +241,25 @@ fn arms_confirmed(graph: &StrokeGraph, vertex: usize, ridges: &Binary, reach: f6
         }
     }
     least
+}
+
+/// Whether a pixel of `outside` (`size` its width and height) lies at a squared distance below
+/// `d2` from `pixel` (between pixel centres): the distance transform of `outside` read at one
+/// pixel, looking only within the distance asked about.
+fn outside_within(outside: &[bool], [w, h]: [usize; 2], [x, y]: [usize; 2], d2: f64) -> bool {
+    if d2.is_nan() || d2 <= 0.0 {
+        return false;
+    }
+    let reach = d2.sqrt().ceil() as usize;
+    let (x0, x1) = (x.saturating_sub(reach), (x + reach).min(w - 1));
+    let (y0, y1) = (y.saturating_sub(reach), (y + reach).min(h - 1));
+    (y0..=y1).any(|qy| {
+        let dy = qy.abs_diff(y) as f64;
+        outside[qy * w + x0..=qy * w + x1]
+            .iter()
+            .enumerate()
+            .any(|(i, &o)| o && (dy * dy + ((x0 + i).abs_diff(x) as f64).powi(2)) < d2)
+    })
 }
 
 /// Whether `m`'s direction, followed for `reach` px, leaves the print (`outside`, `size` its

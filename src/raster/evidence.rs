@@ -8,7 +8,6 @@
 use rayon::prelude::*;
 
 use crate::gray::GrayView;
-use crate::median::upper_median_by;
 
 /// Lattice samples the stroke evidence aims for; the step between sampled rows and columns is
 /// chosen to give about this many.
@@ -49,58 +48,136 @@ pub(crate) fn chords(dark: &[bool], width: usize, height: usize) -> Chords {
         .floor()
         .max(1.0) as usize;
     let (cols, rows) = (width.div_ceil(step), height.div_ceil(step));
-    // Horizontal runs at the lattice points of each sampled row.
-    let horizontal: Vec<Vec<u32>> = (0..rows)
-        .into_par_iter()
-        .map(|r| {
+    // Horizontal runs at the lattice points of each sampled row, row-major.
+    let mut horizontal = vec![0u32; rows * cols];
+    horizontal
+        .par_chunks_mut(cols)
+        .enumerate()
+        .for_each(|(r, out)| {
             let row = &dark[r * step * width..(r * step + 1) * width];
-            let runs = run_lengths(row.iter().copied());
-            (0..cols).map(|c| runs[c * step]).collect()
-        })
-        .collect();
-    // Vertical runs at the lattice points of each sampled column.
-    let vertical: Vec<Vec<u32>> = (0..cols)
-        .into_par_iter()
-        .map(|c| {
-            let column = (0..height).map(|y| dark[y * width + c * step]);
-            let runs = run_lengths(column);
-            (0..rows).map(|r| runs[r * step]).collect()
-        })
-        .collect();
-    let (mut dark_chords, mut light_chords) = (Vec::new(), Vec::new());
+            lattice_runs(row.len(), |x| row[x], step, out);
+        });
+    // Vertical runs at the lattice points of each sampled column, column-major.
+    let mut vertical = vec![0u32; cols * rows];
+    vertical
+        .par_chunks_mut(rows)
+        .enumerate()
+        .for_each(|(c, out)| {
+            lattice_runs(height, |y| dark[y * width + c * step], step, out);
+        });
+    // Each side's chords counted by length (a chord is at most the image's longer side): the
+    // statistics below are those of the sorted chords, read off the counts.
+    let longest = width.max(height);
+    let (mut dark_counts, mut light_counts) =
+        (vec![0usize; longest + 1], vec![0usize; longest + 1]);
     for r in 0..rows {
         for c in 0..cols {
-            let chord = horizontal[r][c].min(vertical[c][r]);
+            let chord = horizontal[r * cols + c].min(vertical[c * rows + r]) as usize;
             if dark[r * step * width + c * step] {
-                dark_chords.push(chord);
+                dark_counts[chord] += 1;
             } else {
-                light_chords.push(chord);
+                light_counts[chord] += 1;
             }
         }
     }
-    let quartile = |chords: &mut Vec<u32>| -> f64 {
-        if chords.is_empty() {
-            return f64::INFINITY;
-        }
-        let k = chords.len() / 4;
-        *chords.select_nth_unstable(k).1 as f64
-    };
-    let thinner_quartile = quartile(&mut dark_chords).min(quartile(&mut light_chords));
-    let (dark_mode, light_mode) = (mode(&dark_chords), mode(&light_chords));
-    let (dark_mean, dark_median) = mean_and_median(&mut dark_chords);
-    let (light_mean, light_median) = mean_and_median(&mut light_chords);
+    let dark_side = Counted::new(&dark_counts);
+    let light_side = Counted::new(&light_counts);
+    let thinner_quartile = dark_side.quartile().min(light_side.quartile());
     Chords {
-        dark_mean,
-        light_mean,
-        dark_median,
-        light_median,
-        dark_mode,
-        light_mode,
+        dark_mean: dark_side.mean(),
+        light_mean: light_side.mean(),
+        dark_median: dark_side.median(),
+        light_median: light_side.median(),
+        dark_mode: dark_side.mode(),
+        light_mode: light_side.mode(),
         thinner_quartile: if thinner_quartile.is_finite() {
             thinner_quartile
         } else {
             0.0
         },
+    }
+}
+
+/// Writes into `out[k]` the length of the run of equal values of the line `value(0..len)` that
+/// holds element `k * step`.
+fn lattice_runs(len: usize, value: impl Fn(usize) -> bool, step: usize, out: &mut [u32]) {
+    let mut start = 0;
+    while start < len {
+        let v = value(start);
+        let mut end = start + 1;
+        while end < len && value(end) == v {
+            end += 1;
+        }
+        // The lattice elements in start..end.
+        for o in &mut out[start.div_ceil(step)..end.div_ceil(step)] {
+            *o = (end - start) as u32;
+        }
+        start = end;
+    }
+}
+
+/// One side's chords as counts by length.
+struct Counted<'a> {
+    counts: &'a [usize],
+    total: usize,
+}
+
+impl<'a> Counted<'a> {
+    fn new(counts: &'a [usize]) -> Self {
+        Counted {
+            counts,
+            total: counts.iter().sum(),
+        }
+    }
+
+    /// The `k`-th smallest chord (from 0), `k` below the total.
+    fn nth(&self, k: usize) -> f64 {
+        let mut seen = 0;
+        for (v, &n) in self.counts.iter().enumerate() {
+            seen += n;
+            if seen > k {
+                return v as f64;
+            }
+        }
+        0.0
+    }
+
+    /// The chord at a quarter of the sorted chords, infinite for none.
+    fn quartile(&self) -> f64 {
+        if self.total == 0 {
+            f64::INFINITY
+        } else {
+            self.nth(self.total / 4)
+        }
+    }
+
+    /// The upper median, 0 for none.
+    fn median(&self) -> f64 {
+        if self.total == 0 {
+            0.0
+        } else {
+            self.nth(self.total / 2)
+        }
+    }
+
+    /// The mean, 0 for none (the sum of whole numbers is exact in `f64`).
+    fn mean(&self) -> f64 {
+        if self.total == 0 {
+            return 0.0;
+        }
+        let sum: usize = self.counts.iter().enumerate().map(|(v, &n)| v * n).sum();
+        sum as f64 / self.total as f64
+    }
+
+    /// The most common chord (the smallest of equally common ones), 0 for none.
+    fn mode(&self) -> f64 {
+        let (mut best, mut best_count) = (0, 0);
+        for (v, &c) in self.counts.iter().enumerate() {
+            if c > best_count {
+                (best, best_count) = (v, c);
+            }
+        }
+        best as f64
     }
 }
 
@@ -117,34 +194,6 @@ pub(super) fn run_lengths(values: impl Iterator<Item = bool>) -> Vec<u32> {
     }
     runs.extend(std::iter::repeat_n((n - start) as u32, n - start));
     runs
-}
-
-/// The most common value (the smallest of equally common ones), 0 for none.
-fn mode(values: &[u32]) -> f64 {
-    let Some(&max) = values.iter().max() else {
-        return 0.0;
-    };
-    let mut counts = vec![0u32; max as usize + 1];
-    for &v in values {
-        counts[v as usize] += 1;
-    }
-    // The first of the largest counts.
-    let (mut best, mut best_count) = (0, 0);
-    for (v, &c) in counts.iter().enumerate() {
-        if c > best_count {
-            (best, best_count) = (v, c);
-        }
-    }
-    best as f64
-}
-
-fn mean_and_median(values: &mut [u32]) -> (f64, f64) {
-    if values.is_empty() {
-        return (0.0, 0.0);
-    }
-    let mean = values.iter().map(|&v| v as f64).sum::<f64>() / values.len() as f64;
-    let median = upper_median_by(values, Ord::cmp).map_or(0.0, f64::from);
-    (mean, median)
 }
 
 /// The polarity evidence of a split into dark and light sides.
@@ -484,5 +533,116 @@ impl Surface<'_> {
         self.columns
             .iter()
             .map(move |&(c0, c1, fx)| row[c0] * (1.0 - fx) + row[c1] * fx)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::median::upper_median_by;
+
+    /// The chords as first written: every lattice point's runs kept, each side's chords sorted.
+    fn chords_by_sorting(dark: &[bool], width: usize, height: usize) -> Chords {
+        let step = ((width * height / LATTICE_SAMPLES) as f64)
+            .sqrt()
+            .floor()
+            .max(1.0) as usize;
+        let (cols, rows) = (width.div_ceil(step), height.div_ceil(step));
+        let (mut dark_chords, mut light_chords) = (Vec::new(), Vec::new());
+        let horizontal: Vec<Vec<u32>> = (0..rows)
+            .map(|r| {
+                run_lengths(
+                    dark[r * step * width..(r * step + 1) * width]
+                        .iter()
+                        .copied(),
+                )
+            })
+            .collect();
+        let vertical: Vec<Vec<u32>> = (0..cols)
+            .map(|c| run_lengths((0..height).map(|y| dark[y * width + c * step])))
+            .collect();
+        for r in 0..rows {
+            for c in 0..cols {
+                let chord = horizontal[r][c * step].min(vertical[c][r * step]);
+                if dark[r * step * width + c * step] {
+                    dark_chords.push(chord);
+                } else {
+                    light_chords.push(chord);
+                }
+            }
+        }
+        let quartile = |chords: &mut Vec<u32>| -> f64 {
+            if chords.is_empty() {
+                return f64::INFINITY;
+            }
+            let k = chords.len() / 4;
+            *chords.select_nth_unstable(k).1 as f64
+        };
+        let thinner_quartile = quartile(&mut dark_chords).min(quartile(&mut light_chords));
+        let (dark_mode, light_mode) = (mode(&dark_chords), mode(&light_chords));
+        let (dark_mean, dark_median) = mean_and_median(&mut dark_chords);
+        let (light_mean, light_median) = mean_and_median(&mut light_chords);
+        Chords {
+            dark_mean,
+            light_mean,
+            dark_median,
+            light_median,
+            dark_mode,
+            light_mode,
+            thinner_quartile: if thinner_quartile.is_finite() {
+                thinner_quartile
+            } else {
+                0.0
+            },
+        }
+    }
+
+    /// The most common value (the smallest of equally common ones), 0 for none.
+    fn mode(values: &[u32]) -> f64 {
+        let Some(&max) = values.iter().max() else {
+            return 0.0;
+        };
+        let mut counts = vec![0u32; max as usize + 1];
+        for &v in values {
+            counts[v as usize] += 1;
+        }
+        // The first of the largest counts.
+        let (mut best, mut best_count) = (0, 0);
+        for (v, &c) in counts.iter().enumerate() {
+            if c > best_count {
+                (best, best_count) = (v, c);
+            }
+        }
+        best as f64
+    }
+
+    fn mean_and_median(values: &mut [u32]) -> (f64, f64) {
+        if values.is_empty() {
+            return (0.0, 0.0);
+        }
+        let mean = values.iter().map(|&v| v as f64).sum::<f64>() / values.len() as f64;
+        let median = upper_median_by(values, Ord::cmp).map_or(0.0, f64::from);
+        (mean, median)
+    }
+
+    #[test]
+    fn chords_counted_are_chords_sorted() {
+        let mut seed = 3u64;
+        for (w, h) in [(1, 1), (1, 9), (13, 1), (40, 31), (97, 60), (700, 400)] {
+            for density in [0, 3, 30, 55, 100] {
+                let dark: Vec<bool> = (0..w * h)
+                    .map(|p| {
+                        seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1);
+                        // Runs of a few pixels, as strokes make.
+                        ((p / 3) % 7 < 3) ^ ((seed >> 33) % 100 < density)
+                    })
+                    .collect();
+                assert_eq!(
+                    chords(&dark, w, h),
+                    chords_by_sorting(&dark, w, h),
+                    "{w}x{h} density {density}"
+                );
+            }
+        }
     }
 }

@@ -276,6 +276,8 @@ pub(crate) fn symmetric_from_lists(
         offsets.push(end as u32);
     }
     values.truncate(end);
+    // The repeats' room given back (the whole buffer was written, so it is resident).
+    values.shrink_to_fit();
     (offsets, values)
 }
 

@@ -226,47 +226,43 @@ const EXACT_CELL: i64 = 1 << 52;
 impl<const D: usize> Cells<D> {
     /// The cells of side `cell` (points with nonnegative coordinates).
     pub fn new(points: &[[f64; D]], part: &[u32], cell: f64) -> Self {
-        let keys: Vec<(u32, [i64; D])> = points
-            .iter()
-            .zip(part)
-            .map(|(p, &label)| (label, p.map(|x| (x / cell).floor() as i64)))
-            .collect();
-        Self::from_point_keys(keys)
+        let n = points.len().min(part.len());
+        let key = |i: usize| (part[i], points[i].map(|x| (x / cell).floor() as i64));
+        // The points sorted by cell (ties by index), then one walk numbers the distinct cells:
+        // a sort of the points instead of one binary search per point, each a few cache misses.
+        let Some(mut packed) = packed_keys(n, &key) else {
+            return Self::from_point_keys((0..n).map(key).collect());
+        };
+        // Each key packed into one `u64` whose order is the keys' order: a sort of 16-byte items
+        // instead of 32-byte ones, the same order, and no list of every point's key.
+        packed.par_sort_unstable();
+        let mut keys: Vec<(u32, [i64; D])> = Vec::new();
+        let mut point_slot = vec![0u32; n];
+        let mut last = None;
+        for &(code, i) in &packed {
+            if last != Some(code) {
+                last = Some(code);
+                keys.push(key(i as usize));
+            }
+            point_slot[i as usize] = (keys.len() - 1) as u32;
+        }
+        Cells { keys, point_slot }
     }
 
     fn from_point_keys(point_keys: Vec<(u32, [i64; D])>) -> Self {
-        // The points sorted by cell (ties by index), then one walk numbers the distinct cells:
-        // a sort of the points instead of one binary search per point, each a few cache misses.
+        let mut by_key: Vec<((u32, [i64; D]), u32)> = point_keys
+            .into_iter()
+            .enumerate()
+            .map(|(i, key)| (key, i as u32))
+            .collect();
+        by_key.par_sort_unstable();
         let mut keys: Vec<(u32, [i64; D])> = Vec::new();
-        let mut point_slot = vec![0u32; point_keys.len()];
-        match packed_keys(&point_keys) {
-            // Each key packed into one `u64` whose order is the keys' order: a sort of 16-byte
-            // items instead of 32-byte ones, the same order.
-            Some(mut packed) => {
-                packed.par_sort_unstable();
-                let mut last = None;
-                for &(code, i) in &packed {
-                    if last != Some(code) {
-                        last = Some(code);
-                        keys.push(point_keys[i as usize]);
-                    }
-                    point_slot[i as usize] = (keys.len() - 1) as u32;
-                }
+        let mut point_slot = vec![0u32; by_key.len()];
+        for &(key, i) in &by_key {
+            if keys.last() != Some(&key) {
+                keys.push(key);
             }
-            None => {
-                let mut by_key: Vec<((u32, [i64; D]), u32)> = point_keys
-                    .into_iter()
-                    .enumerate()
-                    .map(|(i, key)| (key, i as u32))
-                    .collect();
-                by_key.par_sort_unstable();
-                for &(key, i) in &by_key {
-                    if keys.last() != Some(&key) {
-                        keys.push(key);
-                    }
-                    point_slot[i as usize] = (keys.len() - 1) as u32;
-                }
-            }
+            point_slot[i as usize] = (keys.len() - 1) as u32;
         }
         Cells { keys, point_slot }
     }
@@ -400,20 +396,31 @@ const MAX_WINDOW: usize = 27;
 /// Cells per parallel batch of [`Cells::windows`].
 const WINDOW_BATCH: usize = 2048;
 
-/// Each key with its index, packed into one `u64` that sorts as the key (part label, then
-/// coordinates in order), when every coordinate is nonnegative and the bits of the largest
-/// label and coordinates fit in 64; `None` otherwise.
-fn packed_keys<const D: usize>(keys: &[(u32, [i64; D])]) -> Option<Vec<(u64, u32)>> {
-    let mut high = (0u32, [0i64; D]);
-    for (label, c) in keys {
-        high.0 = high.0.max(*label);
-        for d in 0..D {
-            if c[d] < 0 {
-                return None;
-            }
-            high.1[d] = high.1[d].max(c[d]);
-        }
-    }
+/// Each point's key (`key(i)` for `i < n`) with its index, packed into one `u64` that sorts as
+/// the key (part label, then coordinates in order), when every coordinate is nonnegative and the
+/// bits of the largest label and coordinates fit in 64; `None` otherwise.
+fn packed_keys<const D: usize>(
+    n: usize,
+    key: &(impl Fn(usize) -> (u32, [i64; D]) + Sync),
+) -> Option<Vec<(u64, u32)>> {
+    // The largest label and coordinates, `None` at a negative coordinate.
+    let high = (0..n)
+        .into_par_iter()
+        .map(|i| {
+            let (label, c) = key(i);
+            c.iter().all(|&x| x >= 0).then_some((label, c))
+        })
+        .reduce(
+            || Some((0u32, [0i64; D])),
+            |a, b| {
+                let ((la, ca), (lb, cb)) = (a?, b?);
+                let mut c = ca;
+                for d in 0..D {
+                    c[d] = c[d].max(cb[d]);
+                }
+                Some((la.max(lb), c))
+            },
+        )?;
     let bits = |x: u64| 64 - x.leading_zeros();
     let widths: [u32; D] = high.1.map(|x| bits(x as u64));
     let total = bits(u64::from(high.0)) + widths.iter().sum::<u32>();
@@ -421,10 +428,11 @@ fn packed_keys<const D: usize>(keys: &[(u32, [i64; D])]) -> Option<Vec<(u64, u32
         return None;
     }
     Some(
-        keys.par_iter()
-            .enumerate()
-            .map(|(i, (label, c))| {
-                let mut code = u64::from(*label);
+        (0..n)
+            .into_par_iter()
+            .map(|i| {
+                let (label, c) = key(i);
+                let mut code = u64::from(label);
                 for d in 0..D {
                     // A shift by 64 (a width of 0 bits never happens past the first value).
                     code = code.checked_shl(widths[d]).unwrap_or(0) | c[d] as u64;

@@ -346,7 +346,7 @@ pub(crate) struct Prepared {
 /// [`sparse_outliers`]).
 pub(crate) fn point_set_in_units(list: &[[f64; 2]], params: &Params) -> Result<Prepared> {
     let outliers = match prepare(list, params, true)? {
-        Preparation::Ready(ready) => return Ok(ready),
+        Preparation::Ready(ready) => return Ok(*ready),
         Preparation::LeaveOut(outliers) => outliers,
     };
     // The kept points in their list order, traced as if they were the whole list.
@@ -365,13 +365,13 @@ pub(crate) fn point_set_in_units(list: &[[f64; 2]], params: &Params) -> Result<P
         ));
     };
     ready.left_out = left_out;
-    Ok(ready)
+    Ok(*ready)
 }
 
 /// [`point_set_in_units`] on one list: the prepared set, or which of its distinct points (in
 /// the order of `without_duplicates`) form a sparse cloud to leave out.
 enum Preparation {
-    Ready(Prepared),
+    Ready(Box<Prepared>),
     LeaveOut(Vec<bool>),
 }
 
@@ -411,13 +411,13 @@ fn prepare(list: &[[f64; 2]], params: &Params, leave_out: bool) -> Result<Prepar
             origin: [0.0; 2],
             scale: 1.0,
         };
-        return Ok(Preparation::Ready(Prepared {
+        return Ok(Preparation::Ready(Box::new(Prepared {
             set,
             units,
             not_strip: None,
             left_out: 0,
             parts: None,
-        }));
+        })));
     }
 
     // Work in coordinates translated to the origin: the tree and the raster then see numbers of
@@ -514,13 +514,13 @@ fn prepare(list: &[[f64; 2]], params: &Params, leave_out: bool) -> Result<Prepar
         dropout: false,
         grid: None,
     };
-    Ok(Preparation::Ready(Prepared {
+    Ok(Preparation::Ready(Box::new(Prepared {
         set,
         units,
         not_strip,
         left_out: 0,
         parts,
-    }))
+    })))
 }
 
 /// A point is sparse when its `k`-th nearest neighbour is more than this many times farther than

@@ -136,7 +136,10 @@ impl<T> Csr<T> {
 
 /// A symmetric neighbour relation in CSR form with `u32` offsets, as [`crate::PointSet`] holds
 /// it: every pair `(i, j)` that `pairs` hands to its callback joins `i` to `j` and `j` to `i`;
-/// each of the `n` rows is sorted and its repeats (pairs given both ways) dropped.
+/// each of the `n` rows is sorted and its repeats (pairs given both ways) dropped. (The stages
+/// use [`symmetric_from_lists`], its parallel twin for `k`-nearest lists; this one builds the
+/// tests' hand-made sets and checks the twin.)
+#[cfg(test)]
 pub(crate) fn symmetric_neighbours(
     n: usize,
     mut pairs: impl FnMut(&mut dyn FnMut(u32, u32)),
@@ -162,6 +165,120 @@ pub(crate) fn symmetric_neighbours(
         offsets.push(neighbors.len() as u32);
     }
     (offsets, neighbors)
+}
+
+/// [`symmetric_neighbours`] of the pairs `(i, lists[i * k + s])` (slots holding `u32::MAX` are
+/// empty) and `extra`, in parallel: the same rows. The rows are cut into one band of consecutive
+/// rows per thread; each band reads every pair and keeps those that land in its rows, so no two
+/// threads write the same memory. The order a row is filled in does not matter: each row is
+/// sorted and its repeats dropped, and a sorted list of numbers has one order only.
+pub(crate) fn symmetric_from_lists(
+    n: usize,
+    lists: &[u32],
+    k: usize,
+    extra: &[(u32, u32)],
+) -> (Vec<u32>, Vec<u32>) {
+    use rayon::prelude::*;
+    let k = k.max(1);
+    let bands = rayon::current_num_threads().clamp(1, 64);
+    let band_rows = n.div_ceil(bands).max(1);
+    let band = |b: usize| (b * band_rows).min(n)..((b + 1) * band_rows).min(n);
+    // Calls `visit(row, value)` for both directions of every pair whose row lies in `rows`.
+    let each_pair = |rows: std::ops::Range<usize>, visit: &mut dyn FnMut(usize, u32)| {
+        for i in rows.clone() {
+            for &j in lists[i * k..(i + 1) * k]
+                .iter()
+                .filter(|&&j| (j as usize) < n)
+            {
+                visit(i, j);
+            }
+        }
+        for (i, list) in lists.chunks(k).enumerate().take(n) {
+            for &j in list {
+                if rows.contains(&(j as usize)) {
+                    visit(j as usize, i as u32);
+                }
+            }
+        }
+        for &(i, j) in extra {
+            if (i as usize) < n && (j as usize) < n {
+                if rows.contains(&(i as usize)) {
+                    visit(i as usize, j);
+                }
+                if rows.contains(&(j as usize)) {
+                    visit(j as usize, i);
+                }
+            }
+        }
+    };
+    let counts: Vec<Vec<u32>> = (0..bands)
+        .into_par_iter()
+        .map(|b| {
+            let rows = band(b);
+            let mut count = vec![0u32; rows.len()];
+            let first = rows.start;
+            each_pair(rows, &mut |row, _| count[row - first] += 1);
+            count
+        })
+        .collect();
+    let mut starts = Vec::with_capacity(n + 1);
+    starts.push(0usize);
+    for count in &counts {
+        for &c in count {
+            starts.push(starts[starts.len() - 1] + c as usize);
+        }
+    }
+    let mut values = vec![0u32; starts[n]];
+    let mut pieces: Vec<(usize, &mut [u32])> = Vec::with_capacity(bands);
+    let mut rest: &mut [u32] = &mut values;
+    for b in 0..bands {
+        let rows = band(b);
+        let (head, tail) =
+            std::mem::take(&mut rest).split_at_mut(starts[rows.end] - starts[rows.start]);
+        pieces.push((b, head));
+        rest = tail;
+    }
+    // Each band filled, its rows sorted and their repeats dropped in place: the kept length of
+    // each row.
+    let lengths: Vec<Vec<u32>> = pieces
+        .into_par_iter()
+        .map(|(b, piece)| {
+            let rows = band(b);
+            let base = starts[rows.start];
+            let mut next: Vec<usize> = starts[rows.clone()].iter().map(|&s| s - base).collect();
+            let first = rows.start;
+            each_pair(rows.clone(), &mut |row, value| {
+                piece[next[row - first]] = value;
+                next[row - first] += 1;
+            });
+            rows.map(|i| {
+                let row = &mut piece[starts[i] - base..starts[i + 1] - base];
+                row.sort_unstable();
+                let mut kept = 0;
+                for at in 0..row.len() {
+                    if kept == 0 || row[kept - 1] != row[at] {
+                        row[kept] = row[at];
+                        kept += 1;
+                    }
+                }
+                kept as u32
+            })
+            .collect()
+        })
+        .collect();
+    // Rows moved down over the dropped repeats, in place.
+    let mut offsets = Vec::with_capacity(n + 1);
+    offsets.push(0u32);
+    let mut end = 0usize;
+    for (i, &len) in lengths.iter().flatten().enumerate() {
+        values.copy_within(starts[i]..starts[i] + len as usize, end);
+        end += len as usize;
+        offsets.push(end as u32);
+    }
+    values.truncate(end);
+    // The repeats' room given back (the whole buffer was written, so it is resident).
+    values.shrink_to_fit();
+    (offsets, values)
 }
 
 /// The components of a neighbour graph given as compressed rows (`neighbors[offsets[p]..
@@ -209,6 +326,44 @@ mod tests {
         });
         assert_eq!(offsets, [0, 2, 3, 4, 4]);
         assert_eq!(neighbors, [1, 2, 0, 0]);
+    }
+
+    #[test]
+    fn symmetric_from_lists_equals_the_serial_build() {
+        let (n, k) = (9000usize, 5usize);
+        let mut seed = 11u64;
+        let mut next = || {
+            seed = seed
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (seed >> 33) as u32
+        };
+        let lists: Vec<u32> = (0..n * k)
+            .map(|s| {
+                let r = next();
+                if r % 17 == 0 {
+                    u32::MAX
+                } else {
+                    // Mostly near the row, so rows meet their reverse pairs.
+                    ((s / k) as u32 + r % 40).min(n as u32 - 1)
+                }
+            })
+            .collect();
+        let extra: Vec<(u32, u32)> = (0..500)
+            .map(|_| (next() % n as u32, next() % n as u32))
+            .collect();
+        let serial = symmetric_neighbours(n, |emit| {
+            for (i, list) in lists.chunks(k).enumerate() {
+                for &j in list.iter().filter(|&&j| j != u32::MAX) {
+                    emit(i as u32, j);
+                }
+            }
+            for &(i, j) in &extra {
+                emit(i, j);
+            }
+        });
+        assert_eq!(symmetric_from_lists(n, &lists, k, &extra), serial);
+        assert_eq!(symmetric_from_lists(0, &[], k, &[]), (vec![0], vec![]));
     }
 
     #[test]

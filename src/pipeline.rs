@@ -227,6 +227,7 @@ pub(crate) fn point_list(list: &[[f64; 2]], params: &Params) -> Result<Trace> {
         units,
         not_strip,
         left_out,
+        parts,
     } = point_list::point_set_in_units(list, params)?;
     let points_time = start.elapsed();
     let (width, height) = point_list::extent(list);
@@ -241,7 +242,7 @@ pub(crate) fn point_list(list: &[[f64; 2]], params: &Params) -> Result<Trace> {
     } else {
         points
     };
-    let mut traced = trace_points(points, params, Recording::Off)?;
+    let mut traced = trace_points_in_parts(points, parts, params, Recording::Off)?;
     traced.point_count = count;
     traced.graph.width = width;
     traced.graph.height = height;
@@ -462,16 +463,43 @@ fn trace_ink(
 
 /// Traces one point set: whole when small, else in chunks of whole components.
 fn trace_points(points: PointSet, params: &Params, recording: Recording) -> Result<Traced> {
+    trace_points_in_parts(points, None, params, recording)
+}
+
+/// [`trace_points`], given the components of the neighbour graph when they are known (`parts`:
+/// one label per point, shared by a component's points; see
+/// [`PointSet::first_seen`]).
+fn trace_points_in_parts(
+    points: PointSet,
+    parts: Option<Vec<u32>>,
+    params: &Params,
+    recording: Recording,
+) -> Result<Traced> {
     if points.len() <= CHUNK_POINTS {
-        return Ok(trace_one(points, params, recording));
+        return Ok(trace_one(points, params, recording, None));
     }
-    let chunks = points.component_chunks(CHUNK_POINTS);
+    let labels = match parts {
+        Some(parts) if parts.len() == points.len() => PointSet::first_seen(&parts),
+        _ => points.component_labels(),
+    };
+    // One component is one chunk, a copy of the whole set: traced as it is (the chunk's node
+    // spacing is its own, as `trace_chunks` would take it).
+    if labels.1.len() == 1 && points.grid.is_none() {
+        return Ok(trace_one(points, params, recording, Some(labels.0)));
+    }
+    let chunks = PointSet::chunks_of(labels, CHUNK_POINTS);
     let sizes: Vec<usize> = (0..chunks.len()).map(|c| chunks.size(c)).collect();
     trace_chunks(&sizes, |c| Ok(chunks.part(&points, c)), params, recording)
 }
 
-/// §3.1-§3.4 and the skeleton on one point set.
-fn trace_one(points: PointSet, params: &Params, recording: Recording) -> Traced {
+/// §3.1-§3.4 and the skeleton on one point set; `components` are its
+/// [`PointSet::component_labels`] when known.
+fn trace_one(
+    points: PointSet,
+    params: &Params,
+    recording: Recording,
+    components: Option<Vec<u32>>,
+) -> Traced {
     let mut timings = Timings::default();
     let skeleton_only = skeleton_only(&points, params);
     let (refined, kept) = method_stages(&points, params, &mut timings, recording, skeleton_only);
@@ -479,7 +507,8 @@ fn trace_one(points: PointSet, params: &Params, recording: Recording) -> Traced 
     let graph = if skeleton_only {
         StrokeGraph::default()
     } else {
-        fit::fit(&refined, &points, params)
+        let h = fit::node_spacing(&[&refined], &points, params);
+        fit::fit_in_components(&refined, &points, params, h, components)
     };
     timings.fit = clock.elapsed();
     finish_one(graph, points, refined, kept, params, timings)
@@ -822,7 +851,7 @@ mod tests {
         let points = raster::points(&binary, &params).expect("points");
         assert!(points.len() > CHUNK_POINTS, "{} ink pixels", points.len());
         assert!(!points.dropout);
-        let whole = trace_one(points, &params, Recording::Off);
+        let whole = trace_one(points, &params, Recording::Off, None);
         let chunked = mask(binary.view(), &params, Recording::Off).expect("trace");
         assert!(
             raster::pixel_chunks(binary.view(), &params, None, CHUNK_POINTS)

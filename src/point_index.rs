@@ -12,6 +12,7 @@
 use std::num::NonZero;
 
 use kiddo::{ImmutableKdTree, SquaredEuclidean};
+use petgraph::unionfind::UnionFind;
 use rayon::prelude::*;
 
 /// Points per parallel batch of queries: consecutive along the Z-order curve.
@@ -155,6 +156,58 @@ pub(crate) fn cross_pairs<const D: usize>(
     pairs
 }
 
+/// The components of the neighbour graph that joins the pairs whose components are `labels` (any
+/// label per component) and the `bridges` across them: each point's label, a point of its
+/// component, as a union-find over the whole graph would give some label (only which points
+/// share one is read). The bridges join components, so a union-find over them alone does.
+pub(crate) fn joined_parts(labels: Vec<u32>, bridges: &[(u32, u32)]) -> Vec<u32> {
+    if bridges.is_empty() {
+        return labels;
+    }
+    let mut sets = UnionFind::<u32>::new(labels.len());
+    for &(i, j) in bridges {
+        sets.union(labels[i as usize], labels[j as usize]);
+    }
+    let root = sets.into_labeling();
+    labels.into_iter().map(|l| root[l as usize]).collect()
+}
+
+/// The largest of `f(x)` over `xs`, where `f` (`hypot`, a square root) is dear and rises with
+/// `key` (a squared distance): `f` is taken only of the values whose key is within rounding of the
+/// largest key, a faithful `f` being below every such value's for the others. `None` when empty.
+pub(crate) fn dear_max<T: Copy>(
+    xs: impl Iterator<Item = T> + Clone,
+    key: impl Fn(T) -> f64,
+    f: impl Fn(T) -> f64,
+) -> Option<f64> {
+    let top = xs.clone().map(&key).fold(f64::NEG_INFINITY, f64::max);
+    let all = !(NORMAL_KEYS).contains(&top);
+    xs.filter(|&x| all || key(x) >= top * (1.0 - NEAR_KEY))
+        .map(f)
+        .reduce(f64::max)
+}
+
+/// The smallest of `f(x)` over `xs`, as [`dear_max`] the largest.
+pub(crate) fn dear_min<T: Copy>(
+    xs: impl Iterator<Item = T> + Clone,
+    key: impl Fn(T) -> f64,
+    f: impl Fn(T) -> f64,
+) -> Option<f64> {
+    let low = xs.clone().map(&key).fold(f64::INFINITY, f64::min);
+    let all = !(NORMAL_KEYS).contains(&low);
+    xs.filter(|&x| all || key(x) <= low * (1.0 + NEAR_KEY))
+        .map(f)
+        .reduce(f64::min)
+}
+
+/// Relative margin on a squared distance, far above its rounding (a few units in 2^-52) and far
+/// below any gap that matters.
+const NEAR_KEY: f64 = 1e-9;
+
+/// Keys whose rounding is relative (not subnormal, not overflowed): outside, [`dear_max`] and
+/// [`dear_min`] take `f` of every value.
+const NORMAL_KEYS: std::ops::RangeInclusive<f64> = 1e-280..=1e280;
+
 /// The occupied cells of side `c` of a point set, per part: cell `(part, floor(p / c))`, sorted,
 /// and each point's cell. [`Cells::coarser`] doubles the side, merging cells, so the cells of
 /// every scale cost their own number, not the points'.
@@ -173,17 +226,30 @@ const EXACT_CELL: i64 = 1 << 52;
 impl<const D: usize> Cells<D> {
     /// The cells of side `cell` (points with nonnegative coordinates).
     pub fn new(points: &[[f64; D]], part: &[u32], cell: f64) -> Self {
-        let keys: Vec<(u32, [i64; D])> = points
-            .iter()
-            .zip(part)
-            .map(|(p, &label)| (label, p.map(|x| (x / cell).floor() as i64)))
-            .collect();
-        Self::from_point_keys(keys)
+        let n = points.len().min(part.len());
+        let key = |i: usize| (part[i], points[i].map(|x| (x / cell).floor() as i64));
+        // The points sorted by cell (ties by index), then one walk numbers the distinct cells:
+        // a sort of the points instead of one binary search per point, each a few cache misses.
+        let Some(mut packed) = packed_keys(n, &key) else {
+            return Self::from_point_keys((0..n).map(key).collect());
+        };
+        // Each key packed into one `u64` whose order is the keys' order: a sort of 16-byte items
+        // instead of 32-byte ones, the same order, and no list of every point's key.
+        packed.par_sort_unstable();
+        let mut keys: Vec<(u32, [i64; D])> = Vec::new();
+        let mut point_slot = vec![0u32; n];
+        let mut last = None;
+        for &(code, i) in &packed {
+            if last != Some(code) {
+                last = Some(code);
+                keys.push(key(i as usize));
+            }
+            point_slot[i as usize] = (keys.len() - 1) as u32;
+        }
+        Cells { keys, point_slot }
     }
 
     fn from_point_keys(point_keys: Vec<(u32, [i64; D])>) -> Self {
-        // The points sorted by cell (ties by index), then one walk numbers the distinct cells:
-        // a sort of the points instead of one binary search per point, each a few cache misses.
         let mut by_key: Vec<((u32, [i64; D]), u32)> = point_keys
             .into_iter()
             .enumerate()
@@ -236,6 +302,145 @@ impl<const D: usize> Cells<D> {
     pub fn slot(&self, key: &(u32, [i64; D])) -> Option<usize> {
         self.keys.binary_search(key).ok()
     }
+
+    /// `measure(cell, slots)` for every cell, in parallel, in the order of `keys`: `slots` are
+    /// the slots of the `3^D` cells of the cell's window (same part, each coordinate moved by
+    /// -1, 0 or 1; `u32::MAX` where empty), the offset `(d_0, ..., d_{D-1})` at
+    /// `sum (d_i + 1) 3^i` (the first axis fastest). Each cell's neighbours are the same as
+    /// [`Cells::slot`] finds for the coordinates moved by `saturating_add`; the walk finds them
+    /// with one cursor per column of the window moving forward through the sorted cells
+    /// instead of a binary search per neighbour.
+    pub fn windows<T: Send>(
+        &self,
+        measure: impl Fn(&(u32, [i64; D]), &[u32]) -> T + Sync + Send,
+    ) -> Vec<T> {
+        let size = 3usize.pow(D as u32);
+        assert!(size <= MAX_WINDOW, "windows of at most three dimensions");
+        // Away from the ends of `i64` no move saturates, and moving a coordinate keeps the
+        // order of the keys, so the cursors only move forward.
+        let walkable = self.keys.iter().all(|(_, c)| {
+            c.iter()
+                .all(|&x| (i64::MIN + 1..=i64::MAX - 1).contains(&x))
+        });
+        let columns = size / 3;
+        self.keys
+            .par_chunks(WINDOW_BATCH)
+            .flat_map_iter(|cells| {
+                let mut answers = Vec::with_capacity(cells.len());
+                let mut slots = [u32::MAX; MAX_WINDOW];
+                let mut cursor = [0usize; MAX_WINDOW / 3];
+                // The bottom cell of column `col` of the window of `(label, c)`.
+                let bottom = |&(label, c): &(u32, [i64; D]), col: usize| {
+                    let mut at = c;
+                    let mut rest = col;
+                    for x in at.iter_mut().take(D - 1) {
+                        *x = x.saturating_add((rest % 3) as i64 - 1);
+                        rest /= 3;
+                    }
+                    at[D - 1] = at[D - 1].saturating_sub(1);
+                    (label, at)
+                };
+                if walkable {
+                    if let Some(first) = cells.first() {
+                        for (col, cursor) in cursor.iter_mut().enumerate().take(columns) {
+                            let start = bottom(first, col);
+                            *cursor = self.keys.partition_point(|k| k < &start);
+                        }
+                    }
+                }
+                for cell in cells {
+                    for col in 0..columns {
+                        let start = bottom(cell, col);
+                        if walkable {
+                            let mut j = cursor[col];
+                            while j < self.keys.len() && self.keys[j] < start {
+                                j += 1;
+                            }
+                            cursor[col] = j;
+                            for step in 0..3 {
+                                let mut want = start;
+                                want.1[D - 1] += step as i64;
+                                let at = col + step * columns;
+                                if j < self.keys.len() && self.keys[j] == want {
+                                    slots[at] = j as u32;
+                                    j += 1;
+                                } else {
+                                    slots[at] = u32::MAX;
+                                }
+                            }
+                        } else {
+                            for step in 0..3 {
+                                let mut want = (cell.0, cell.1);
+                                let mut rest = col;
+                                for x in want.1.iter_mut().take(D - 1) {
+                                    *x = x.saturating_add((rest % 3) as i64 - 1);
+                                    rest /= 3;
+                                }
+                                want.1[D - 1] = want.1[D - 1].saturating_add(step as i64 - 1);
+                                slots[col + step * columns] =
+                                    self.slot(&want).map_or(u32::MAX, |s| s as u32);
+                            }
+                        }
+                    }
+                    answers.push(measure(cell, &slots[..size]));
+                }
+                answers
+            })
+            .collect()
+    }
+}
+
+/// The most cells in a window ([`Cells::windows`]): three dimensions.
+const MAX_WINDOW: usize = 27;
+
+/// Cells per parallel batch of [`Cells::windows`].
+const WINDOW_BATCH: usize = 2048;
+
+/// Each point's key (`key(i)` for `i < n`) with its index, packed into one `u64` that sorts as
+/// the key (part label, then coordinates in order), when every coordinate is nonnegative and the
+/// bits of the largest label and coordinates fit in 64; `None` otherwise.
+fn packed_keys<const D: usize>(
+    n: usize,
+    key: &(impl Fn(usize) -> (u32, [i64; D]) + Sync),
+) -> Option<Vec<(u64, u32)>> {
+    // The largest label and coordinates, `None` at a negative coordinate.
+    let high = (0..n)
+        .into_par_iter()
+        .map(|i| {
+            let (label, c) = key(i);
+            c.iter().all(|&x| x >= 0).then_some((label, c))
+        })
+        .reduce(
+            || Some((0u32, [0i64; D])),
+            |a, b| {
+                let ((la, ca), (lb, cb)) = (a?, b?);
+                let mut c = ca;
+                for d in 0..D {
+                    c[d] = c[d].max(cb[d]);
+                }
+                Some((la.max(lb), c))
+            },
+        )?;
+    let bits = |x: u64| 64 - x.leading_zeros();
+    let widths: [u32; D] = high.1.map(|x| bits(x as u64));
+    let total = bits(u64::from(high.0)) + widths.iter().sum::<u32>();
+    if total > 64 {
+        return None;
+    }
+    Some(
+        (0..n)
+            .into_par_iter()
+            .map(|i| {
+                let (label, c) = key(i);
+                let mut code = u64::from(label);
+                for d in 0..D {
+                    // A shift by 64 (a width of 0 bits never happens past the first value).
+                    code = code.checked_shl(widths[d]).unwrap_or(0) | c[d] as u64;
+                }
+                (code, i as u32)
+            })
+            .collect(),
+    )
 }
 
 /// The points far sparser than the set's own sampling: those whose `k`-th neighbour distance
@@ -296,6 +501,62 @@ mod tests {
             assert_eq!(cells.keys, direct.keys);
             assert_eq!(cells.point_slot, direct.point_slot);
         }
+    }
+
+    /// Every cell's window from [`Cells::windows`] against a binary search per neighbour.
+    fn windows_match_lookups<const D: usize>(cells: &Cells<D>) {
+        let size = 3usize.pow(D as u32);
+        let got = cells.windows(|_, slots| slots.to_vec());
+        for (cell, slots) in cells.keys.iter().zip(&got) {
+            assert_eq!(slots.len(), size);
+            for (at, &slot) in slots.iter().enumerate() {
+                let mut want = *cell;
+                let mut rest = at;
+                for x in want.1.iter_mut() {
+                    *x = x.saturating_add((rest % 3) as i64 - 1);
+                    rest /= 3;
+                }
+                let direct = cells.slot(&want).map_or(u32::MAX, |s| s as u32);
+                assert_eq!(slot, direct, "cell {cell:?} offset {at}");
+            }
+        }
+    }
+
+    #[test]
+    fn windows_equal_a_lookup_per_neighbour() {
+        let plane: Vec<[f64; 2]> = (0..3000)
+            .map(|i| {
+                let t = i as f64 * 0.618_033_988_7;
+                [(t * 7.1).fract() * 60.0, (t * 3.3).fract() * 9.0]
+            })
+            .collect();
+        let part: Vec<u32> = (0..3000).map(|i| (i % 2) as u32).collect();
+        for cell in [0.5, 1.0, 3.0, 100.0] {
+            windows_match_lookups(&Cells::new(&plane, &part, cell));
+        }
+        let space: Vec<[f64; 3]> = (0..3000)
+            .map(|i| {
+                let t = i as f64 * 0.618_033_988_7;
+                [(t * 7.1).fract() * 20.0, (t * 3.3).fract() * 9.0, t * 0.01]
+            })
+            .collect();
+        for cell in [0.7, 2.0, 50.0] {
+            windows_match_lookups(&Cells::new(&space, &part, cell));
+        }
+        // Coordinates at the ends of `i64`, where moves saturate: the lookups' own answers.
+        let keys = vec![
+            (0, [i64::MIN, 0]),
+            (0, [i64::MIN, 1]),
+            (0, [0, i64::MAX]),
+            (0, [1, i64::MAX - 1]),
+            (0, [1, i64::MAX]),
+            (1, [i64::MAX, i64::MAX]),
+        ];
+        let edges = Cells {
+            point_slot: (0..keys.len() as u32).collect(),
+            keys,
+        };
+        windows_match_lookups(&edges);
     }
 
     #[test]

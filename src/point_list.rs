@@ -7,16 +7,20 @@ mod ply;
 
 use std::collections::{HashMap, HashSet};
 
+use foldhash::fast::FixedState;
+
 use kiddo::ImmutableKdTree;
 use petgraph::unionfind::UnionFind;
 use rayon::prelude::*;
 
-use crate::csr::{parts, symmetric_neighbours};
+use crate::csr::symmetric_from_lists;
 use crate::error::{Error, Result};
 use crate::mask::{close3, ink_row_starts, squared_distance_rows, tiny_hole_pixels};
 use crate::median::upper_median_by;
 use crate::params::{Params, RMinRule};
-use crate::point_index::{cross_pairs, k_nearest, sparse_points, z_order, Cells};
+use crate::point_index::{
+    cross_pairs, dear_max, dear_min, joined_parts, k_nearest, sparse_points, z_order, Cells,
+};
 use crate::point_set::{on_lattice, PointSet};
 use crate::stroke_graph::StrokeGraph;
 
@@ -332,6 +336,9 @@ pub(crate) struct Prepared {
     /// How many distinct points were left out as a sparse cloud around the strips (see
     /// [`sparse_outliers`]).
     pub left_out: usize,
+    /// The components of the set's neighbour graph, when they were found on the way (a
+    /// scattered set): a label per point, shared by the points of a component.
+    pub parts: Option<Vec<u32>>,
 }
 
 /// Like [`point_set`], in the pipeline's pixel-like [`Units`], which are returned with it, after
@@ -339,7 +346,7 @@ pub(crate) struct Prepared {
 /// [`sparse_outliers`]).
 pub(crate) fn point_set_in_units(list: &[[f64; 2]], params: &Params) -> Result<Prepared> {
     let outliers = match prepare(list, params, true)? {
-        Preparation::Ready(ready) => return Ok(ready),
+        Preparation::Ready(ready) => return Ok(*ready),
         Preparation::LeaveOut(outliers) => outliers,
     };
     // The kept points in their list order, traced as if they were the whole list.
@@ -358,13 +365,13 @@ pub(crate) fn point_set_in_units(list: &[[f64; 2]], params: &Params) -> Result<P
         ));
     };
     ready.left_out = left_out;
-    Ok(ready)
+    Ok(*ready)
 }
 
 /// [`point_set_in_units`] on one list: the prepared set, or which of its distinct points (in
 /// the order of `without_duplicates`) form a sparse cloud to leave out.
 enum Preparation {
-    Ready(Prepared),
+    Ready(Box<Prepared>),
     LeaveOut(Vec<bool>),
 }
 
@@ -404,12 +411,13 @@ fn prepare(list: &[[f64; 2]], params: &Params, leave_out: bool) -> Result<Prepar
             origin: [0.0; 2],
             scale: 1.0,
         };
-        return Ok(Preparation::Ready(Prepared {
+        return Ok(Preparation::Ready(Box::new(Prepared {
             set,
             units,
             not_strip: None,
             left_out: 0,
-        }));
+            parts: None,
+        })));
     }
 
     // Work in coordinates translated to the origin: the tree and the raster then see numbers of
@@ -443,8 +451,20 @@ fn prepare(list: &[[f64; 2]], params: &Params, leave_out: bool) -> Result<Prepar
         .map(|p| [p[0] / coarse, p[1] / coarse])
         .collect();
     let k = params.method.k.min(n - 1);
-    let (offsets, neighbors, spacing, reach) = if k == 0 {
-        (vec![0; n + 1], Vec::new(), 1.0, Vec::new())
+    let Neighbours {
+        offsets,
+        neighbors,
+        spacing,
+        reach,
+        parts,
+    } = if k == 0 {
+        Neighbours {
+            offsets: vec![0; n + 1],
+            neighbors: Vec::new(),
+            spacing: 1.0,
+            reach: Vec::new(),
+            parts: None,
+        }
     } else {
         nearest_neighbours(&local, k)?
     };
@@ -467,13 +487,13 @@ fn prepare(list: &[[f64; 2]], params: &Params, leave_out: bool) -> Result<Prepar
     // `Dis_ave` alone and keeps the raster's widths (its node spacing in the fit follows them).
     let mut half_width = half_widths(&local, spacing, params);
     let mut not_strip = None;
-    if scattered {
+    if let (true, Some(part)) = (scattered, &parts) {
         let apply = params.method.r_min_rule == RMinRule::StrokeWidth;
         let (linear, windowed) = strip_half_widths(
             &local,
             spacing,
-            &offsets,
-            &neighbors,
+            (&offsets, &neighbors),
+            part,
             &mut half_width,
             apply,
         );
@@ -494,12 +514,13 @@ fn prepare(list: &[[f64; 2]], params: &Params, leave_out: bool) -> Result<Prepar
         dropout: false,
         grid: None,
     };
-    Ok(Preparation::Ready(Prepared {
+    Ok(Preparation::Ready(Box::new(Prepared {
         set,
         units,
         not_strip,
         left_out: 0,
-    }))
+        parts,
+    })))
 }
 
 /// A point is sparse when its `k`-th nearest neighbour is more than this many times farther than
@@ -520,10 +541,20 @@ fn sparse_outliers(points: &[[f64; 2]], reach: &[f64], k: usize) -> Result<Optio
     };
     let k = k.min(cloud.len() - 1);
     if k > 0 {
-        let (offsets, neighbors, spacing, _) = nearest_neighbours(&cloud, k)?;
+        let found = nearest_neighbours(&cloud, k)?;
+        let part = match found.parts {
+            Some(part) => part,
+            None => crate::csr::parts(&found.offsets, &found.neighbors),
+        };
         let mut widths = vec![0.0; cloud.len()];
-        let (linear, windowed) =
-            strip_half_widths(&cloud, spacing, &offsets, &neighbors, &mut widths, false);
+        let (linear, windowed) = strip_half_widths(
+            &cloud,
+            found.spacing,
+            (&found.offsets, &found.neighbors),
+            &part,
+            &mut widths,
+            false,
+        );
         if windowed > 0 && linear as f64 >= NOT_STRIP_SHARE * windowed as f64 {
             return Ok(None);
         }
@@ -540,20 +571,32 @@ const NOT_STRIP_SHARE: f64 = 0.5;
 /// Drops exact repeats, keeping the first occurrence; `-0.0` equals `0.0`. The set only answers
 /// "seen before?", so its iteration order never reaches the output.
 fn without_duplicates(list: &[[f64; 2]]) -> Vec<[f64; 2]> {
-    let mut seen = HashSet::with_capacity(list.len());
+    let mut seen = HashSet::with_capacity_and_hasher(list.len(), FixedState::default());
     list.iter()
         .map(|p| [p[0] + 0.0, p[1] + 0.0])
         .filter(|p| seen.insert((p[0].to_bits(), p[1].to_bits())))
         .collect()
 }
 
-/// Symmetric k nearest neighbours (§3.2) as CSR, `Dis_ave` (mean nearest-neighbour distance) and
-/// each point's `k`-th neighbour distance. Needs `1 <= k < points.len()` and distinct points.
-#[allow(clippy::type_complexity)]
-fn nearest_neighbours(
-    points: &[[f64; 2]],
-    k: usize,
-) -> Result<(Vec<u32>, Vec<u32>, f64, Vec<f64>)> {
+/// The symmetric `k`-nearest-neighbour graph of [`nearest_neighbours`].
+struct Neighbours {
+    /// CSR offsets into `neighbors`.
+    offsets: Vec<u32>,
+    /// The symmetric lists (§3.2), islands joined.
+    neighbors: Vec<u32>,
+    /// `Dis_ave`.
+    spacing: f64,
+    /// Each point's `k`-th neighbour distance.
+    reach: Vec<f64>,
+    /// For a scattered set (not on the lattice of its spacing), the graph's components, a label
+    /// per point (see [`joined_parts`]).
+    parts: Option<Vec<u32>>,
+}
+
+/// Symmetric k nearest neighbours (§3.2) as CSR, `Dis_ave` (mean nearest-neighbour distance),
+/// each point's `k`-th neighbour distance and, for a scattered set, the graph's components.
+/// Needs `1 <= k < points.len()` and distinct points.
+fn nearest_neighbours(points: &[[f64; 2]], k: usize) -> Result<Neighbours> {
     let n = points.len();
     // The immutable tree: the mutable one fails on collinear or repeated coordinates (kiddo 6:
     // unsplittable buckets on pixel-like grids).
@@ -562,29 +605,23 @@ fn nearest_neighbours(
     let order = z_order(points);
     let (lists, nearest) = k_nearest(points, &tree, &order, k);
     let spacing = nearest.iter().map(|d| d.0).sum::<f64>() / n as f64;
-    let bridges = if on_lattice(points, spacing) {
-        Vec::new()
+    let (bridges, parts) = if on_lattice(points, spacing) {
+        (Vec::new(), None)
     } else {
-        island_bridges(points, &tree, &order, &lists, k)
+        let (bridges, labels) = island_bridges(points, &tree, &order, &lists, k);
+        let parts = joined_parts(labels, &bridges);
+        (bridges, Some(parts))
     };
-
+    drop(tree);
     // The symmetric relation: both directions of every k-nearest pair, mutual pairs once.
-    let (offsets, neighbors) = symmetric_neighbours(n, |emit| {
-        for (i, list) in lists.chunks(k).enumerate() {
-            for &j in list.iter().filter(|&&j| j != u32::MAX) {
-                emit(i as u32, j);
-            }
-        }
-        for &(i, j) in &bridges {
-            emit(i, j);
-        }
-    });
-    Ok((
+    let (offsets, neighbors) = symmetric_from_lists(n, &lists, k, &bridges);
+    Ok(Neighbours {
         offsets,
         neighbors,
         spacing,
-        nearest.iter().map(|d| d.1).collect(),
-    ))
+        reach: nearest.iter().map(|d| d.1).collect(),
+        parts,
+    })
 }
 
 /// How far, in its own `k`-th neighbour distances, a point of a scattered set reaches for a
@@ -604,7 +641,7 @@ fn island_bridges(
     order: &[u32],
     lists: &[u32],
     k: usize,
-) -> Vec<(u32, u32)> {
+) -> (Vec<(u32, u32)>, Vec<u32>) {
     let n = points.len();
     let mut sets = UnionFind::<u32>::new(n);
     for (i, list) in lists.chunks(k).enumerate() {
@@ -614,19 +651,24 @@ fn island_bridges(
     }
     let labels = sets.into_labeling();
     if labels.iter().all(|&l| l == labels[0]) {
-        return Vec::new();
+        return (Vec::new(), labels);
     }
+    // The distance to the farthest of the `k`: `hypot` only near the largest squared distance.
     let farthest = |i: usize| -> f64 {
-        lists[i * k..(i + 1) * k]
+        let p = points[i];
+        let listed = lists[i * k..(i + 1) * k]
             .iter()
             .filter(|&&j| j != u32::MAX)
-            .map(|&j| {
-                let (p, q) = (points[i], points[j as usize]);
-                (p[0] - q[0]).hypot(p[1] - q[1])
-            })
-            .fold(0.0, f64::max)
+            .map(|&j| points[j as usize]);
+        dear_max(
+            listed,
+            |q| (p[0] - q[0]) * (p[0] - q[0]) + (p[1] - q[1]) * (p[1] - q[1]),
+            |q| (p[0] - q[0]).hypot(p[1] - q[1]),
+        )
+        .unwrap_or(0.0)
     };
-    cross_pairs(points, tree, order, &labels, |i| ISLAND_REACH * farthest(i))
+    let bridges = cross_pairs(points, tree, order, &labels, |i| ISLAND_REACH * farthest(i));
+    (bridges, labels)
 }
 
 /// Half-widths for points without a pixel grid: rasterize the points onto cells of side `Dis_ave`
@@ -727,8 +769,8 @@ const BAND_FILL: f64 = 0.4;
 fn strip_half_widths(
     points: &[[f64; 2]],
     spacing: f64,
-    offsets: &[u32],
-    neighbors: &[u32],
+    (offsets, neighbors): (&[u32], &[u32]),
+    part: &[u32],
     half_width: &mut [f32],
     apply: bool,
 ) -> (usize, usize) {
@@ -740,27 +782,31 @@ fn strip_half_widths(
     let mut measured = vec![f32::NAN; n];
     // Windows hold only points of the point's own part: a strip one width from another (parallel
     // strips) must not read the two as one wide strip.
-    let part = parts(offsets, neighbors);
     let mut cell = 2.0 * spacing;
     let mut cells: Option<Cells<2>> = None;
     let mut moments: Vec<[f64; 7]> = Vec::new();
     // Each point's nearest neighbour distance: the window's own sampling (see [`BAND_FILL`]).
+    // (`hypot` only near the smallest squared distance.)
     let nearest: Vec<f64> = (0..n)
+        .into_par_iter()
         .map(|p| {
-            neighbors[offsets[p] as usize..offsets[p + 1] as usize]
+            let a = points[p];
+            let listed = neighbors[offsets[p] as usize..offsets[p + 1] as usize]
                 .iter()
-                .map(|&q| {
-                    let (a, b) = (points[p], points[q as usize]);
-                    (a[0] - b[0]).hypot(a[1] - b[1])
-                })
-                .fold(f64::INFINITY, f64::min)
+                .map(|&q| points[q as usize]);
+            dear_min(
+                listed,
+                |b| (a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]),
+                |b| (a[0] - b[0]).hypot(a[1] - b[1]),
+            )
+            .unwrap_or(f64::INFINITY)
         })
         .collect();
     while decided.iter().zip(&linear).any(|(&d, &l)| !d || !l) && cell <= 2.0 * extent.max(spacing)
     {
         let grid = match cells.take() {
-            None => Cells::new(points, &part, cell),
-            Some(finer) => finer.coarser(points, &part, 0.5 * cell),
+            None => Cells::new(points, part, cell),
+            Some(finer) => finer.coarser(points, part, 0.5 * cell),
         };
         // Moments per cell: count, sum x, sum y, sum xx, sum xy, sum yy (relative to the cell's
         // corner, so the sums stay small), summed in point order.
@@ -784,14 +830,14 @@ fn strip_half_widths(
         // when it is a piece of strip (NaN when not, see [`WIDTH_LINEARITY`]) and whether it is
         // linear by §3.1's own threshold (the strip-shape test counts those). Every point of a cell has the same window,
         // so each occupied cell is measured once.
-        let measure = |&(label, [cx, cy]): &(u32, [i64; 2])| -> Option<(f32, bool)> {
+        let measure = |_: &(u32, [i64; 2]), slots: &[u32]| -> Option<(f32, bool)> {
             // The window's moments about the cell's corner.
             let mut w = [0.0f64; 7];
             for dy in -1..=1i64 {
                 for dx in -1..=1i64 {
-                    let key = (label, [cx.saturating_add(dx), cy.saturating_add(dy)]);
-                    if let Some(slot) = grid.slot(&key) {
-                        let m = &moments[slot];
+                    let slot = slots[(3 * (dy + 1) + dx + 1) as usize];
+                    if slot != u32::MAX {
+                        let m = &moments[slot as usize];
                         let (ox, oy) = (dx as f64 * cell, dy as f64 * cell);
                         w[0] += m[0];
                         w[1] += m[1] + ox * m[0];
@@ -837,7 +883,7 @@ fn strip_half_widths(
                 linear && wide,
             ))
         };
-        let per_cell: Vec<Option<(f32, bool)>> = grid.keys.par_iter().map(measure).collect();
+        let per_cell: Vec<Option<(f32, bool)>> = grid.windows(measure);
         for i in 0..n {
             if let Some((half, strip)) = per_cell[grid.point_slot[i] as usize] {
                 windowed[i] = true;

@@ -2,6 +2,7 @@
 //! a point list), with the neighbour graph every later stage walks and the local half-width.
 
 #[cfg(test)]
+#[cfg(test)]
 use crate::csr::symmetric_neighbours;
 use crate::mask::{first_seen_labels, run_components, Run};
 use petgraph::unionfind::UnionFind;
@@ -215,7 +216,7 @@ impl PointSet {
     /// the same result as tracing the whole set; the chunking does not depend on the thread count.
     #[cfg(test)]
     pub(crate) fn split_components(&self, target: usize) -> Vec<PointSet> {
-        let chunks = self.component_chunks(target);
+        let chunks = Self::chunks_of(self.component_labels(), target);
         (0..chunks.len()).map(|c| chunks.part(self, c)).collect()
     }
 
@@ -240,6 +241,27 @@ impl PointSet {
             }
         }
         first_seen_labels(&mut sets, n, |_| 1)
+    }
+
+    /// [`PointSet::component_labels`] of a set whose components are known: `parts` gives the
+    /// points of a component one label (any label below the point count), the answer numbers the
+    /// components in the order their first points come, as the union-find does.
+    pub(crate) fn first_seen(parts: &[u32]) -> (Vec<u32>, Vec<usize>) {
+        let mut label_of = vec![u32::MAX; parts.len()];
+        let mut sizes: Vec<usize> = Vec::new();
+        let labels = parts
+            .iter()
+            .map(|&part| {
+                let slot = &mut label_of[part as usize];
+                if *slot == u32::MAX {
+                    *slot = sizes.len() as u32;
+                    sizes.push(0);
+                }
+                sizes[*slot as usize] += 1;
+                *slot
+            })
+            .collect();
+        (labels, sizes)
     }
 
     /// [`PointSet::component_labels`] from the runs of pixels, for pixel centers in raster order
@@ -275,10 +297,13 @@ impl PointSet {
 
     /// The chunks of [`PointSet::split_components`] as lists of point indices, so that each chunk's
     /// point set can be built where it is traced (in parallel, and only while it is traced: the
-    /// copies of all chunks never exist at once).
-    pub(crate) fn component_chunks(&self, target: usize) -> ComponentChunks {
-        let (mut label, sizes) = self.component_labels();
-        let n = self.len();
+    /// copies of all chunks never exist at once), from the components `(label, sizes)` as
+    /// [`PointSet::component_labels`] gives them.
+    pub(crate) fn chunks_of(
+        (mut label, sizes): (Vec<u32>, Vec<usize>),
+        target: usize,
+    ) -> ComponentChunks {
+        let n = label.len();
         // Consecutive components fill a chunk up to `target` points.
         let mut chunk_of = Vec::with_capacity(sizes.len());
         let mut chunks = 0u32;

@@ -4,15 +4,16 @@
 
 use std::collections::HashSet;
 
+use foldhash::fast::FixedState;
+
 use kiddo::ImmutableKdTree;
 use petgraph::unionfind::UnionFind;
-use rayon::prelude::*;
 
 use super::math::{eigen, linearity, tube_diameter, Moments, V3};
-use crate::csr::{parts, symmetric_neighbours};
+use crate::csr::symmetric_from_lists;
 use crate::error::{Error, Result};
 use crate::params::Params;
-use crate::point_index::{cross_pairs, k_nearest, sparse_points, z_order, Cells};
+use crate::point_index::{cross_pairs, joined_parts, k_nearest, sparse_points, z_order, Cells};
 
 /// Coordinates are translated so the smallest is 0; an extent beyond this would overflow squared
 /// distances.
@@ -113,7 +114,7 @@ enum Prepared {
 
 /// Exact repeats dropped, keeping the first occurrence; `-0.0` equals `0.0`.
 fn distinct(list: &[V3]) -> Vec<V3> {
-    let mut seen = HashSet::with_capacity(list.len());
+    let mut seen = HashSet::with_capacity_and_hasher(list.len(), FixedState::default());
     list.iter()
         .map(|p| [p[0] + 0.0, p[1] + 0.0, p[2] + 0.0])
         .filter(|p| seen.insert(p.map(f64::to_bits)))
@@ -128,8 +129,7 @@ fn sparse_outliers(local: &[V3], reach: &[f64], k: usize) -> Result<Option<Vec<b
     };
     let k = k.min(alone.len() - 1);
     if k > 0 {
-        let (offsets, neighbors, spacing, _) = nearest_neighbours(&alone, k)?;
-        let part = parts(&offsets, &neighbors);
+        let (offsets, neighbors, spacing, _, part) = nearest_neighbours(&alone, k)?;
         let (_, linear, windowed) = tube_widths(&alone, spacing, &part, &offsets, &neighbors);
         if windowed > 0 && linear as f64 >= NOT_TUBE_SHARE * windowed as f64 {
             return Ok(None);
@@ -207,8 +207,14 @@ fn cloud_once(list: &[V3], params: &Params, leave_out: bool) -> Result<Prepared>
         })
         .collect();
     let k = params.method.k.min(n - 1);
-    let (offsets, neighbors, spacing, reach) = if k == 0 {
-        (vec![0; n + 1], Vec::new(), 1.0, Vec::new())
+    let (offsets, neighbors, spacing, reach, part) = if k == 0 {
+        (
+            vec![0; n + 1],
+            Vec::new(),
+            1.0,
+            Vec::new(),
+            (0..n as u32).collect(),
+        )
     } else {
         nearest_neighbours(&local, k)?
     };
@@ -228,7 +234,6 @@ fn cloud_once(list: &[V3], params: &Params, leave_out: bool) -> Result<Prepared>
         *p = [p[0] / fine, p[1] / fine, p[2] / fine];
     }
     let spacing = if k == 0 { 1.0 } else { spacing / fine };
-    let part = parts(&offsets, &neighbors);
     let (width, linear, windowed) = tube_widths(&local, spacing, &part, &offsets, &neighbors);
     let not_tube = (windowed > 0 && (linear as f64) < NOT_TUBE_SHARE * windowed as f64)
         .then(|| linear as f64 / windowed as f64);
@@ -247,10 +252,13 @@ fn cloud_once(list: &[V3], params: &Params, leave_out: bool) -> Result<Prepared>
     Ok(Prepared::Ready((cloud, units, not_tube, 0)))
 }
 
-/// Symmetric `k` nearest neighbours (§3.2) as CSR, joined across islands, `Dis_ave` and each
-/// point's `k`-th neighbour distance.
+/// Symmetric `k` nearest neighbours (§3.2) as CSR, joined across islands, `Dis_ave`, each
+/// point's `k`-th neighbour distance and the parts (components) of that graph.
 #[allow(clippy::type_complexity)]
-fn nearest_neighbours(points: &[V3], k: usize) -> Result<(Vec<u32>, Vec<u32>, f64, Vec<f64>)> {
+fn nearest_neighbours(
+    points: &[V3],
+    k: usize,
+) -> Result<(Vec<u32>, Vec<u32>, f64, Vec<f64>, Vec<u32>)> {
     let n = points.len();
     let tree: ImmutableKdTree<f64, 3> = ImmutableKdTree::new_from_slice(points)
         .map_err(|e| Error::InvalidParams(format!("cannot index the points: {e:?}")))?;
@@ -273,21 +281,16 @@ fn nearest_neighbours(points: &[V3], k: usize) -> Result<(Vec<u32>, Vec<u32>, f6
             ISLAND_REACH * nearest[i].1
         })
     };
-    let (offsets, neighbors) = symmetric_neighbours(n, |emit| {
-        for (i, list) in lists.chunks(k).enumerate() {
-            for &j in list.iter().filter(|&&j| j != u32::MAX) {
-                emit(i as u32, j);
-            }
-        }
-        for &(i, j) in &bridges {
-            emit(i, j);
-        }
-    });
+    drop(tree);
+    // The parts: the components the bridges join.
+    let part = joined_parts(labels, &bridges);
+    let (offsets, neighbors) = symmetric_from_lists(n, &lists, k, &bridges);
     Ok((
         offsets,
         neighbors,
         spacing,
         nearest.iter().map(|d| d.1).collect(),
+        part,
     ))
 }
 
@@ -328,22 +331,15 @@ fn tube_widths(
             let corner = [c[0] as f64 * cell, c[1] as f64 * cell, c[2] as f64 * cell];
             moments[slot as usize].add([p[0] - corner[0], p[1] - corner[1], p[2] - corner[2]]);
         }
-        let measure = |&(label, [cx, cy, cz]): &(u32, [i64; 3])| -> Option<f64> {
+        let measure = |_: &(u32, [i64; 3]), slots: &[u32]| -> Option<f64> {
             let mut window = Moments::default();
             for dz in -1..=1i64 {
                 for dy in -1..=1i64 {
                     for dx in -1..=1i64 {
-                        let key = (
-                            label,
-                            [
-                                cx.saturating_add(dx),
-                                cy.saturating_add(dy),
-                                cz.saturating_add(dz),
-                            ],
-                        );
-                        if let Some(slot) = grid.slot(&key) {
+                        let slot = slots[(9 * (dz + 1) + 3 * (dy + 1) + dx + 1) as usize];
+                        if slot != u32::MAX {
                             let offset = [dx as f64 * cell, dy as f64 * cell, dz as f64 * cell];
-                            window.add_shifted(&moments[slot], offset);
+                            window.add_shifted(&moments[slot as usize], offset);
                         }
                     }
                 }
@@ -361,7 +357,7 @@ fn tube_widths(
                 },
             )
         };
-        let per_cell: Vec<Option<f64>> = grid.keys.par_iter().map(measure).collect();
+        let per_cell: Vec<Option<f64>> = grid.windows(measure);
         for i in 0..n {
             if !measured[i].is_nan() {
                 continue;

@@ -54,7 +54,7 @@ const BUCKETS: usize = 2048;
 /// One search runs over all sites at once. Ink components never exchange points, and each
 /// component's pushes keep their order in the shared buckets, so every component gets the same
 /// partition (ties included) as a search of its own would give; a large input reaches here cut
-/// into chunks of whole components (`PointSet::component_chunks`), so the working set stays a
+/// into chunks of whole components (`PointSet::chunks_of`), so the working set stays a
 /// chunk's.
 pub fn assign(
     points: &PointSet,

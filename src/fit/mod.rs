@@ -53,17 +53,7 @@ const UNSUPPORTED_WEIGHT: f64 = 1e-3;
 const MEDIAN_TOLERANCE: f64 = 1e-4;
 
 /// Fits the refined graph to the points and builds the stroke graph (image size left at zero for
-/// the caller to set).
-pub fn fit(graph: &NodeGraph, points: &PointSet, params: &Params) -> StrokeGraph {
-    fit_with_spacing(
-        graph,
-        points,
-        params,
-        node_spacing(&[graph], points, params),
-    )
-}
-
-/// [`fit`] with the node spacing `h` given: parts of one image traced apart (chunks of its
+/// the caller to set), nodes spaced `h` apart: parts of one image traced apart (chunks of its
 /// components) share the `h` of the whole image (see [`node_spacing`]), so the result does not
 /// depend on how the image was cut.
 pub fn fit_with_spacing(
@@ -71,6 +61,17 @@ pub fn fit_with_spacing(
     points: &PointSet,
     params: &Params,
     h: f64,
+) -> StrokeGraph {
+    fit_in_components(graph, points, params, h, None)
+}
+
+/// [`fit_with_spacing`], given the points' [`PointSet::component_labels`] when they are known.
+pub(crate) fn fit_in_components(
+    graph: &NodeGraph,
+    points: &PointSet,
+    params: &Params,
+    h: f64,
+    components: Option<Vec<u32>>,
 ) -> StrokeGraph {
     if graph.nodes.is_empty() {
         return StrokeGraph::default();
@@ -86,7 +87,10 @@ pub fn fit_with_spacing(
     };
     // Lookups by pixel (a site's first point, the width under a point) must not land on a
     // neighbouring component's pixel: a whole page holds its neighbours, a chunk may not.
-    let (components, _) = points.component_labels();
+    let components = match components {
+        Some(components) if components.len() == points.len() => components,
+        _ => points.component_labels().0,
+    };
     // The component of each fitted node: that of the points its old graph nodes owned.
     let component_of = |i: usize| -> Option<u32> {
         layout.near[i]

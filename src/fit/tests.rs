@@ -2,7 +2,7 @@
 //! (the raster stage is tested on its own) and the node graph is laid roughly along the truth with
 //! deterministic jitter, as refinement would leave it.
 
-use super::fit;
+use super::{fit_with_spacing, node_spacing};
 use crate::binary::Binary;
 use crate::draw::{render, Stroke};
 use crate::geometry::segment_dist;
@@ -10,6 +10,16 @@ use crate::node_graph::{GraphNode, NodeGraph};
 use crate::params::Params;
 use crate::point_set::{Grid, PointSet};
 use crate::stroke_graph::StrokeGraph;
+
+/// The fit of one whole point set: its own node spacing.
+fn fit(graph: &NodeGraph, points: &PointSet, params: &Params) -> StrokeGraph {
+    fit_with_spacing(
+        graph,
+        points,
+        params,
+        node_spacing(&[graph], points, params),
+    )
+}
 
 /// Points, 8-neighbours, half-widths (distance to the nearest background pixel center) and the
 /// pixel grid of a mask.

@@ -62,10 +62,10 @@ pub(crate) fn pixel_chunks(
     }
 
     // 8-connected components, numbered in order of their first pixel, as
-    // `PointSet::component_chunks` numbers them.
+    // `PointSet::chunks_of` numbers them.
     let (label, sizes) = run_components(&runs);
 
-    // Consecutive components fill a chunk up to `target` points (as `component_chunks` does).
+    // Consecutive components fill a chunk up to `target` points (as `PointSet::chunks_of` does).
     let mut chunk_of = Vec::with_capacity(sizes.len());
     let mut chunks = 0u32;
     let mut filled = 0usize;

@@ -52,7 +52,8 @@ impl Work {
     /// crossing. A long edge between two of them (the loop of an `8` closing on its waist)
     /// becomes a loop at the crossing. Each arm is cut where it leaves the merged junctions'
     /// reach and joined straight to the crossing. Two junctions whose arms show two T's on one
-    /// stroke ([`Work::offset_tees`]) stay two.
+    /// stroke ([`Work::offset_tees`]), or a T whose stem is the link ([`Work::tee_on_a_stroke`]),
+    /// stay two.
     pub(super) fn merge_crossings(&mut self, method: &StrokeGraph) {
         let junctions: Vec<&Vertex> = method.vertices.iter().filter(|v| v.degree >= 3).collect();
         if !junctions.iter().any(|v| v.degree >= 4) {
@@ -90,7 +91,7 @@ impl Work {
                 continue;
             }
             if let (&[a, b], &[link]) = (&group[..], &internal[..]) {
-                if self.offset_tees(link, a, b, &at) {
+                if self.offset_tees(link, a, b, &at) || self.tee_on_a_stroke(link, a, b, &at) {
                     continue;
                 }
             }
@@ -708,6 +709,22 @@ impl Work {
             }
         }
         false
+    }
+
+    /// Whether one of the degree-3 junctions `a` and `b`, joined by the edge `link`, is a T:
+    /// its two other arms are one straight stroke through it ([`Work::stroke_miss`]), and the
+    /// link, the T's stem, runs at least [`TEES_APART`] widths to the other junction. The two
+    /// Y's thinning makes of one crossing each hold one arm of either stroke, on one side of
+    /// the crossing: never a straight stroke through a Y.
+    fn tee_on_a_stroke(&self, link: usize, a: usize, b: usize, at: &[Vec<usize>]) -> bool {
+        let Some((arms_a, arms_b, stroke, tolerance)) = self.link_arms(link, a, b, at) else {
+            return false;
+        };
+        dist(self.vertices[a].pos, self.vertices[b].pos) >= TEES_APART * stroke
+            && [&arms_a, &arms_b].iter().any(|arms| {
+                self.stroke_miss(&arms[0].1, &arms[1].1, tolerance)
+                    .is_some()
+            })
     }
 
     /// Whether the arms `p` and `q` are one straight stroke: the line through their far anchors

@@ -412,6 +412,23 @@ mod tests {
         assert_eq!(degrees(&traced(&strokes, 120, 100).1), vec![4]);
     }
 
+    #[test]
+    fn two_bars_joined_by_a_short_stem_are_two_tees() {
+        // A `工` without its feet: two bars `gap` px apart (1.5 to 2.5 widths), a stem between
+        // them. Each bar runs straight through its junction, so neither junction is one of the
+        // two Y's of a crossing, whatever the method's cluster there sees.
+        for (w, gap) in [(6.0, 9.0), (6.0, 12.0), (6.0, 15.0), (4.0, 8.0)] {
+            let strokes = [
+                Stroke::new(vec![[15.0, 40.0], [105.0, 40.0]], w),
+                Stroke::new(vec![[15.0, 40.0 + gap], [105.0, 40.0 + gap]], w),
+                Stroke::new(vec![[60.0, 40.0], [60.0, 40.0 + gap]], w),
+            ];
+            let (binary, graph) = traced(&strokes, 120, 90);
+            assert_eq!(degrees(&graph), vec![3, 3], "w {w}, gap {gap}");
+            assert_on_ink(&binary, &graph);
+        }
+    }
+
     /// Two arcs of circles of radius `r`, centres `2 d` apart on a horizontal line, crossing
     /// at (100, 130 - sqrt(r^2 - d^2)) under `2 asin(d / r)`, strokes `w` px wide.
     fn crossing_arcs(r: f64, d: f64, w: f64) -> StrokeGraph {

@@ -177,17 +177,9 @@ pub(crate) fn first_seen_labels(
 /// pixel, exact, infinite when there is no site. Pixels outside the image are never sites.
 /// Returns one value per pixel.
 ///
-/// The distance transform of Meijster et al. (2000), as [`squared_distance_at`] computes it for
-/// the ink, over the whole image: the distance to a site along each column, then per row the
-/// lower envelope of the parabolas ([`envelope_row`]). The reference of [`dilate_disk`]'s tests.
-#[cfg(test)]
-pub(crate) fn squared_distances(sites: &[bool], width: usize, height: usize) -> Vec<f32> {
-    if !sites.iter().any(|&s| s) {
-        return vec![f32::INFINITY; sites.len()];
-    }
-    // No column distance reaches `far`: the parabola of a column without sites lies above every
-    // real one.
-    let far = (width + height) as u32;
+/// The first pass of Meijster et al. (2000): each pixel's distance to the nearest site in its own
+/// column, capped at `far` (a column with no site within `far` of the pixel reads `far`).
+fn column_distances(sites: &[bool], width: usize, height: usize, far: u32) -> Vec<u32> {
     let mut g = vec![far; width * height];
     for y in 0..height {
         for x in 0..width {
@@ -204,6 +196,21 @@ pub(crate) fn squared_distances(sites: &[bool], width: usize, height: usize) -> 
     for p in (0..width * height.saturating_sub(1)).rev() {
         g[p] = g[p].min(g[p + width] + 1);
     }
+    g
+}
+
+/// The distance transform of Meijster et al. (2000), as [`squared_distance_at`] computes it for
+/// the ink, over the whole image: the distance to a site along each column, then per row the
+/// lower envelope of the parabolas ([`envelope_row`]). The reference of [`dilate_disk`]'s tests.
+#[cfg(test)]
+pub(crate) fn squared_distances(sites: &[bool], width: usize, height: usize) -> Vec<f32> {
+    if !sites.iter().any(|&s| s) {
+        return vec![f32::INFINITY; sites.len()];
+    }
+    // No column distance reaches `far`: the parabola of a column without sites lies above every
+    // real one.
+    let far = (width + height) as u32;
+    let g = column_distances(sites, width, height, far);
     let mut out = vec![0.0f32; width * height];
     out.par_chunks_mut(width.max(1))
         .zip(g.par_chunks(width.max(1)))
@@ -288,22 +295,7 @@ pub(crate) fn dilate_disk(sites: &[bool], width: usize, height: usize, r2: f32) 
         .collect();
     // Column distances, capped above `g_max` (such a column reaches no pixel of its row).
     let far = g_max + 1;
-    let mut g = vec![far; width * height];
-    for y in 0..height {
-        for x in 0..width {
-            let p = y * width + x;
-            g[p] = if sites[p] {
-                0
-            } else if y > 0 {
-                (g[p - width] + 1).min(far)
-            } else {
-                far
-            };
-        }
-    }
-    for p in (0..width * height.saturating_sub(1)).rev() {
-        g[p] = g[p].min(g[p + width] + 1);
-    }
+    let g = column_distances(sites, width, height, far);
     out.par_chunks_mut(width)
         .zip(g.par_chunks(width))
         .for_each(|(out, g)| {

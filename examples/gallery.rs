@@ -19,6 +19,10 @@
 //! with the minutiae over it (endings red circles, bifurcations blue squares, a line along each
 //! one's direction).
 //!
+//! And `OUTDIR/points-figure8.png`, for the README's point-set section: the test kit's figure 8 of
+//! random points in a strip 8 units wide (`strip_cases`), the points on the left and the traced
+//! graph over them on the right.
+//!
 //! Prints one line per image: size, ink pixels, vertices, edges, endpoints, junctions, time.
 
 use std::fs;
@@ -36,6 +40,9 @@ use ridgeline::{Params, StrokeGraph};
 const MAX_WIDTH: u32 = 1200;
 /// Nor taller than this per panel.
 const MAX_PANEL_HEIGHT: u32 = 1000;
+/// Pixels per unit of the point-set picture's drawing, and its margin around the points (units).
+const POINTS_SCALE: f64 = 2.0;
+const POINTS_MARGIN: f64 = 6.0;
 /// Small images are enlarged at most this much.
 const MAX_UPSCALE: f64 = 4.0;
 /// Enlargement of the detail pictures.
@@ -66,6 +73,7 @@ fn main() -> Result<()> {
     }
 
     show_print(&out_dir)?;
+    show_points(&out_dir)?;
 
     let shared = root.join("../shared/data");
     // Default parameters everywhere: the gallery shows what a first run gives.
@@ -168,6 +176,62 @@ fn show(input: &Path, out_dir: &Path, params: &Params, stage_dir: Option<&Path>)
         }
     }
     Ok(())
+}
+
+/// The README's point-set picture: the figure 8 of random points of the quality example's point
+/// group, drawn as dots at [`POINTS_SCALE`] pixels per unit, and its graph traced from the points
+/// (not from the drawing) over them.
+fn show_points(out_dir: &Path) -> Result<()> {
+    let case = ridgeline_testkit::synth::strip_cases()
+        .into_iter()
+        .find(|c| c.name == "figure8")
+        .ok_or_else(|| anyhow!("the test kit has no figure8 strip case"))?;
+    let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
+    for p in &case.points {
+        for k in 0..2 {
+            lo[k] = lo[k].min(p[k]);
+            hi[k] = hi[k].max(p[k]);
+        }
+    }
+    // Image coordinates: a margin of POINTS_MARGIN units around the points.
+    let at = |p: &[f64; 2]| {
+        [
+            (p[0] - lo[0] + POINTS_MARGIN) * POINTS_SCALE,
+            (p[1] - lo[1] + POINTS_MARGIN) * POINTS_SCALE,
+        ]
+    };
+    let points: Vec<[f64; 2]> = case.points.iter().map(at).collect();
+    let [w, h] = at(&hi).map(|v| (v + POINTS_MARGIN * POINTS_SCALE).ceil() as u32);
+    let mut gray = GrayImage::from_pixel(w, h, image::Luma([255]));
+    for p in &points {
+        let (x, y) = (p[0] as u32, p[1] as u32);
+        if x < w && y < h {
+            gray.put_pixel(x, y, image::Luma([90]));
+        }
+    }
+    let clock = Instant::now();
+    let trace = ridgeline::trace_points(&points, &Params::default())?;
+    // The SVG's canvas is the graph's size, which for a point list is the points' extent: make it
+    // the drawing's, so that the two line up.
+    let mut graph = trace.graph;
+    (graph.width, graph.height) = (w, h);
+    let graph = &graph;
+    println!(
+        "{:<44} {:>11} {:>8} {:>6} {:>6} {:>5} {:>5} {:>8.1}",
+        "figure8 (points)",
+        format!("{w}x{h}"),
+        points.len(),
+        graph.vertices.len(),
+        graph.edges.len(),
+        graph.endpoints().count(),
+        graph.junctions().count(),
+        clock.elapsed().as_secs_f64() * 1e3,
+    );
+    let scale = panel_scale(w, h, (MAX_WIDTH - 3 * GAP) / 2);
+    let tree = svg_tree(graph, &gray, scale)?;
+    fs::create_dir_all(out_dir).with_context(|| format!("cannot create {}", out_dir.display()))?;
+    let picture = side_by_side(&gray, &tree, [0, 0, w, h], scale, false)?;
+    save(&picture, &out_dir.join("points-figure8.png"))
 }
 
 /// The README's fingerprint picture: a degraded synthetic print, its enhanced image, and the traced

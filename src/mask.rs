@@ -725,17 +725,22 @@ mod tests {
             .collect()
     }
 
+    /// `len` sites, each set with `density` % chance, from a linear congruential `seed`.
+    fn random_sites(seed: &mut u64, len: usize, density: u64) -> Vec<bool> {
+        (0..len)
+            .map(|_| {
+                *seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1);
+                density > 0 && (*seed >> 33) % 100 < density
+            })
+            .collect()
+    }
+
     #[test]
     fn distances_to_sites_are_exact() {
         let mut seed = 99u64;
         for (w, h) in [(1, 1), (1, 6), (7, 1), (23, 17), (40, 9)] {
             for density in [0, 2, 31, 97] {
-                let sites: Vec<bool> = (0..w * h)
-                    .map(|_| {
-                        seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1);
-                        density > 0 && (seed >> 33) % 100 < density
-                    })
-                    .collect();
+                let sites = random_sites(&mut seed, w * h, density);
                 let d: Vec<f64> = squared_distances(&sites, w, h)
                     .iter()
                     .map(|&v| f64::from(v))
@@ -750,12 +755,7 @@ mod tests {
         let mut seed = 17u64;
         for (w, h) in [(1, 1), (5, 1), (1, 4), (21, 14), (33, 25)] {
             for density in [0, 1, 7, 40] {
-                let sites: Vec<bool> = (0..w * h)
-                    .map(|_| {
-                        seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1);
-                        density > 0 && (seed >> 33) % 100 < density
-                    })
-                    .collect();
+                let sites = random_sites(&mut seed, w * h, density);
                 let d = brute_force(&sites, w, h);
                 for r2 in [0.0f32, 1.0, 1.99, 2.0, 8.5, 25.0, 60.3, 1e4, 1e9] {
                     let expected: Vec<bool> = d.iter().map(|&d| d as f32 <= r2).collect();

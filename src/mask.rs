@@ -11,6 +11,7 @@
 pub use imageproc::region_labelling::Connectivity;
 use petgraph::unionfind::UnionFind;
 use rayon::prelude::*;
+use std::ops::Range;
 
 /// The connected components of the pixels of `flags` equal to `value`: one label per pixel,
 /// numbered from 1 in raster order of each component's first pixel (0 for the other pixels), and
@@ -244,19 +245,9 @@ pub(crate) fn close_disk(ink: &[bool], width: usize, height: usize, radius: f64)
     if !r2.is_finite() || width == 0 {
         return out;
     }
-    let (mut xs, mut ys) = (usize::MAX..0, usize::MAX..0);
-    for (y, row) in ink.chunks_exact(width).enumerate() {
-        if let (Some(first), Some(last)) = (
-            row.iter().position(|&on| on),
-            row.iter().rposition(|&on| on),
-        ) {
-            xs = xs.start.min(first)..xs.end.max(last + 1);
-            ys = ys.start.min(y)..y + 1;
-        }
-    }
-    if xs.is_empty() {
+    let Some((xs, ys)) = ink_box(ink, width) else {
         return out;
-    }
+    };
     let margin = (f64::from(r2).sqrt().ceil() as usize)
         .saturating_mul(2)
         .saturating_add(2);
@@ -278,6 +269,27 @@ pub(crate) fn close_disk(ink: &[bool], width: usize, height: usize, radius: f64)
         out[y * width + x0..y * width + x1].copy_from_slice(row);
     }
     out
+}
+
+/// The columns and rows of the bounding box of the ink of a `width`-wide mask, `None` without
+/// ink.
+pub(crate) fn ink_box(ink: &[bool], width: usize) -> Option<(Range<usize>, Range<usize>)> {
+    if width == 0 {
+        return None;
+    }
+    let mut found: Option<(Range<usize>, Range<usize>)> = None;
+    for (y, row) in ink.chunks_exact(width).enumerate() {
+        if let (Some(first), Some(last)) = (
+            row.iter().position(|&on| on),
+            row.iter().rposition(|&on| on),
+        ) {
+            found = Some(match found {
+                None => (first..last + 1, y..y + 1),
+                Some((xs, ys)) => (xs.start.min(first)..xs.end.max(last + 1), ys.start..y + 1),
+            });
+        }
+    }
+    found
 }
 
 /// [`close_disk`] over the whole of `ink`, `r2` the squared radius (finite).

@@ -200,17 +200,7 @@ fn confirmed_ridges(
     let period = periods.median_inside(segmentation);
     // Only the enhanced ridges' pixels read the mean: it is blurred over their bounding box
     // (the same value at each of them as the whole image's blur).
-    let width = binary.width as usize;
-    let (mut xs, mut ys) = (usize::MAX..0, usize::MAX..0);
-    for (y, row) in binary.ink.chunks_exact(width.max(1)).enumerate() {
-        if let (Some(first), Some(last)) = (
-            row.iter().position(|&on| on),
-            row.iter().rposition(|&on| on),
-        ) {
-            xs = xs.start.min(first)..xs.end.max(last + 1);
-            ys = ys.start.min(y)..y + 1;
-        }
-    }
+    let (xs, ys) = crate::mask::ink_box(&binary.ink, binary.width as usize).unwrap_or((0..0, 0..0));
     let mean = math::gaussian_blur_within(smoothed, (period / 2.0).max(1.0), xs, ys);
     let mut ridges = binary.clone();
     for ((ink, &g), &m) in ridges

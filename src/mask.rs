@@ -876,7 +876,7 @@ mod tests {
                 );
             }
         }
-        assert_eq!(close_disk(&vec![false; 12], 4, 3, 2.0), vec![false; 12]);
+        assert_eq!(close_disk(&[false; 12], 4, 3, 2.0), vec![false; 12]);
     }
 
     #[test]

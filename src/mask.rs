@@ -11,6 +11,7 @@
 pub use imageproc::region_labelling::Connectivity;
 use petgraph::unionfind::UnionFind;
 use rayon::prelude::*;
+use std::ops::Range;
 
 /// The connected components of the pixels of `flags` equal to `value`: one label per pixel,
 /// numbered from 1 in raster order of each component's first pixel (0 for the other pixels), and
@@ -234,11 +235,65 @@ pub(crate) fn squared_distances(sites: &[bool], width: usize, height: usize) -> 
 /// Both steps only ask whether a site lies within the radius, so each is a dilation by the disk
 /// ([`dilate_disk`]) rather than a full distance transform: the same sets, a few operations a
 /// pixel. A radius that is not finite closes to nothing (no squared distance exceeds it).
+///
+/// The closing holds nothing farther than the radius from the ink's bounding box, and what it
+/// holds there depends on pixels no farther than twice the radius: both steps run over that
+/// box grown by twice the radius (and two pixels), the rest of the image left out.
 pub(crate) fn close_disk(ink: &[bool], width: usize, height: usize, radius: f64) -> Vec<bool> {
     let r2 = (radius * radius) as f32;
-    if !r2.is_finite() {
-        return vec![false; width * height];
+    let mut out = vec![false; width * height];
+    if !r2.is_finite() || width == 0 {
+        return out;
     }
+    let Some((xs, ys)) = ink_box(ink, width) else {
+        return out;
+    };
+    let margin = (f64::from(r2).sqrt().ceil() as usize)
+        .saturating_mul(2)
+        .saturating_add(2);
+    let (x0, x1) = (
+        xs.start.saturating_sub(margin),
+        xs.end.saturating_add(margin).min(width),
+    );
+    let (y0, y1) = (
+        ys.start.saturating_sub(margin),
+        ys.end.saturating_add(margin).min(height),
+    );
+    let cols = x1 - x0;
+    let mut window = Vec::with_capacity(cols * (y1 - y0));
+    for y in y0..y1 {
+        window.extend_from_slice(&ink[y * width + x0..y * width + x1]);
+    }
+    let closed = closing(&window, cols, y1 - y0, r2);
+    for (y, row) in (y0..y1).zip(closed.chunks_exact(cols)) {
+        out[y * width + x0..y * width + x1].copy_from_slice(row);
+    }
+    out
+}
+
+/// The columns and rows of the bounding box of the ink of a `width`-wide mask, `None` without
+/// ink.
+pub(crate) fn ink_box(ink: &[bool], width: usize) -> Option<(Range<usize>, Range<usize>)> {
+    if width == 0 {
+        return None;
+    }
+    let mut found: Option<(Range<usize>, Range<usize>)> = None;
+    for (y, row) in ink.chunks_exact(width).enumerate() {
+        if let (Some(first), Some(last)) = (
+            row.iter().position(|&on| on),
+            row.iter().rposition(|&on| on),
+        ) {
+            found = Some(match found {
+                None => (first..last + 1, y..y + 1),
+                Some((xs, ys)) => (xs.start.min(first)..xs.end.max(last + 1), ys.start..y + 1),
+            });
+        }
+    }
+    found
+}
+
+/// [`close_disk`] over the whole of `ink`, `r2` the squared radius (finite).
+fn closing(ink: &[bool], width: usize, height: usize, r2: f32) -> Vec<bool> {
     let dilated = dilate_disk(ink, width, height, r2);
     let outside: Vec<bool> = dilated.iter().map(|&d| !d).collect();
     let mut region = dilate_disk(&outside, width, height, r2);
@@ -795,6 +850,33 @@ mod tests {
                 );
             }
         }
+    }
+
+    #[test]
+    fn the_closing_of_ink_in_a_corner_of_the_image_is_the_whole_images() {
+        // Ink in a patch (the closing then runs over the patch's box grown by twice the radius),
+        // in the middle, at an edge and at a corner, against the closing over the whole image.
+        let mut seed = 11u64;
+        let (w, h) = (61, 47);
+        for (px, py) in [(25, 20), (0, 10), (50, 0), (52, 40), (3, 36)] {
+            let patch = random_sites(&mut seed, 9 * 7, 35);
+            let mut ink = vec![false; w * h];
+            for (k, &on) in patch.iter().enumerate() {
+                let (x, y) = (px + k % 9, py + k / 9);
+                if x < w && y < h {
+                    ink[y * w + x] = on;
+                }
+            }
+            for radius in [0.0, 1.0, 2.5, 4.0, 9.3, 30.0, 1e3] {
+                let r2 = (radius * radius) as f32;
+                assert_eq!(
+                    close_disk(&ink, w, h, radius),
+                    closing(&ink, w, h, r2),
+                    "patch at {px} {py}, radius {radius}"
+                );
+            }
+        }
+        assert_eq!(close_disk(&[false; 12], 4, 3, 2.0), vec![false; 12]);
     }
 
     #[test]

@@ -150,10 +150,27 @@ fn padded_plane(gray: &Plane, pad: usize) -> Plane {
         gray.width as usize + 2 * pad,
         gray.height as usize + 2 * pad,
     );
+    let (gw, gh) = (gray.width as usize, gray.height as usize);
+    if gw == 0 || gh == 0 || gray.values.len() != gw * gh {
+        let mut values = Vec::with_capacity(w * h);
+        for y in 0..h {
+            let yy = y as i64 - pad as i64;
+            values.extend((0..w).map(|x| gray.at(x as i64 - pad as i64, yy)));
+        }
+        return Plane {
+            width: w as u32,
+            height: h as u32,
+            values,
+        };
+    }
+    // Each row the image's nearest, its first and last pixel repeated either side.
     let mut values = Vec::with_capacity(w * h);
     for y in 0..h {
-        let yy = y as i64 - pad as i64;
-        values.extend((0..w).map(|x| gray.at(x as i64 - pad as i64, yy)));
+        let yy = y.saturating_sub(pad).min(gh - 1);
+        let row = &gray.values[yy * gw..(yy + 1) * gw];
+        values.extend(std::iter::repeat_n(row[0], pad));
+        values.extend_from_slice(row);
+        values.extend(std::iter::repeat_n(row[gw - 1], pad));
     }
     Plane {
         width: w as u32,
@@ -185,12 +202,19 @@ impl SeparableGabor {
         let radius = kernel_radius(sigma) as i64;
         let normal = [-theta.sin(), theta.cos()];
         let (alpha, beta) = (TAU * normal[0] / period, TAU * normal[1] / period);
-        let g = |t: f64| (-t * t / (2.0 * sigma * sigma)).exp();
+        // The envelope's taps, the same for both directions.
+        let envelope: Vec<f64> = (-radius..=radius)
+            .map(|t| {
+                let t = t as f64;
+                (-t * t / (2.0 * sigma * sigma)).exp()
+            })
+            .collect();
         let taps = |k: f64| -> (Vec<f64>, Vec<f64>) {
             (-radius..=radius)
-                .map(|t| {
+                .zip(&envelope)
+                .map(|(t, &g)| {
                     let t = t as f64;
-                    (g(t) * (k * t).cos(), g(t) * (k * t).sin())
+                    (g * (k * t).cos(), g * (k * t).sin())
                 })
                 .unzip()
         };
@@ -392,6 +416,26 @@ mod tests {
     use crate::fingerprint::fields::BlockGrid;
     use crate::fingerprint::tests::{ridge_agreement, ridges_in_disk, uniform_print};
     use std::f64::consts::{FRAC_PI_2, PI};
+
+    #[test]
+    fn the_padded_plane_repeats_the_nearest_pixel() {
+        for (width, height, pad) in [(5u32, 4u32, 3usize), (1, 1, 2), (7, 2, 0), (3, 6, 9)] {
+            let gray = Plane {
+                width,
+                height,
+                values: (0..width * height).map(|v| (v * 7 % 11) as f32).collect(),
+            };
+            let padded = padded_plane(&gray, pad);
+            let (w, h) = (width as usize + 2 * pad, height as usize + 2 * pad);
+            assert_eq!((padded.width as usize, padded.height as usize), (w, h));
+            for y in 0..h {
+                for x in 0..w {
+                    let (dx, dy) = (x as i64 - pad as i64, y as i64 - pad as i64);
+                    assert_eq!(padded.values[y * w + x], gray.at(dx, dy), "{x} {y}");
+                }
+            }
+        }
+    }
 
     #[test]
     fn kernel_is_zero_mean_unit_energy_and_peaks_on_the_ridge() {

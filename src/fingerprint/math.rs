@@ -5,31 +5,58 @@
 
 use super::fields::Plane;
 use crate::mask::{label_components, Connectivity};
+use std::ops::Range;
 
 /// Gaussian blur with standard deviation `sigma` px (radius `ceil(3 sigma)`), borders clamped.
 /// `sigma <= 0` returns a copy.
 pub(crate) fn gaussian_blur(plane: &Plane, sigma: f64) -> Plane {
+    let (w, h) = (plane.width as usize, plane.height as usize);
+    gaussian_blur_within(plane, sigma, 0..w, 0..h)
+}
+
+/// [`gaussian_blur`] at the pixels of the box `xs` x `ys` only: each of them the same sum, term
+/// by term, as the whole image's blur gives (the rows the box's column taps reach are blurred
+/// along the box's columns only), the pixels outside the box zero (`sigma <= 0`: a copy).
+pub(crate) fn gaussian_blur_within(
+    plane: &Plane,
+    sigma: f64,
+    xs: Range<usize>,
+    ys: Range<usize>,
+) -> Plane {
     if sigma.is_nan() || sigma <= 0.0 || plane.values.is_empty() {
         return plane.clone();
     }
     let kernel = gaussian_kernel(sigma);
-    let r = (kernel.len() / 2) as i64;
+    let r = kernel.len() / 2;
     let (w, h) = (plane.width as usize, plane.height as usize);
+    let (xs, ys) = (xs.start..xs.end.min(w), ys.start..ys.end.min(h));
     let mut rows = vec![0.0f32; w * h];
-    for y in 0..h {
+    let mut out = vec![0.0f32; w * h];
+    if xs.is_empty() || ys.is_empty() {
+        return Plane {
+            width: plane.width,
+            height: plane.height,
+            values: out,
+        };
+    }
+    // The rows the column taps of the box's rows reach (clamped at the borders).
+    for y in ys.start.saturating_sub(r)..(ys.end + r).min(h) {
         let line = &plane.values[y * w..(y + 1) * w];
         let row = &mut rows[y * w..(y + 1) * w];
         // Away from the borders, the taps without clamping, tap by tap for all those columns
         // side by side (the same sum for each column, term by term).
-        let r = r as usize;
-        let inner = if w > 2 * r { r..w - r } else { 0..0 };
+        let inner = if w > 2 * r {
+            xs.start.max(r)..xs.end.min(w - r)
+        } else {
+            0..0
+        };
         for (k, &c) in kernel.iter().enumerate().filter(|_| !inner.is_empty()) {
             let taps = &line[inner.start + k - r..];
             for (out, &v) in row[inner.clone()].iter_mut().zip(taps) {
                 *out += c * v;
             }
         }
-        for (x, out) in row.iter_mut().enumerate() {
+        for x in xs.clone() {
             if inner.contains(&x) {
                 continue;
             }
@@ -39,14 +66,16 @@ pub(crate) fn gaussian_blur(plane: &Plane, sigma: f64) -> Plane {
                 let xx = (lo + k as i64).clamp(0, w as i64 - 1) as usize;
                 s += c * line[xx];
             }
-            *out = s;
+            row[x] = s;
         }
     }
-    let mut out = vec![0.0f32; w * h];
-    for y in 0..h {
+    for y in ys {
         for (k, &c) in kernel.iter().enumerate() {
-            let yy = (y as i64 + k as i64 - r).clamp(0, h as i64 - 1) as usize;
-            let (src, dst) = (&rows[yy * w..(yy + 1) * w], &mut out[y * w..(y + 1) * w]);
+            let yy = (y as i64 + k as i64 - r as i64).clamp(0, h as i64 - 1) as usize;
+            let (src, dst) = (
+                &rows[yy * w + xs.start..yy * w + xs.end],
+                &mut out[y * w + xs.start..y * w + xs.end],
+            );
             for (d, &s) in dst.iter_mut().zip(src) {
                 *d += c * s;
             }
@@ -149,6 +178,45 @@ mod tests {
             .values
             .iter()
             .all(|&v| (v - 7.0).abs() < 1e-4));
+    }
+
+    #[test]
+    fn the_blur_within_a_box_is_the_whole_blur_there() {
+        // Pseudo-random planes (a fixed linear congruential sequence), boxes inside, at the
+        // borders and past them, and images narrower than the kernel.
+        let mut state = 12345u64;
+        let mut next = move || {
+            state = state
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (state >> 33) as usize
+        };
+        for (width, height, sigma) in [(37, 29, 1.3), (50, 41, 4.5), (7, 40, 3.0), (40, 5, 2.2)] {
+            let plane = Plane {
+                width,
+                height,
+                values: (0..width * height).map(|_| (next() % 256) as f32).collect(),
+            };
+            let whole = gaussian_blur(&plane, sigma);
+            let (w, h) = (width as usize, height as usize);
+            for _ in 0..12 {
+                let (a, b) = (next() % (w + 3), next() % (w + 3));
+                let (c, d) = (next() % (h + 3), next() % (h + 3));
+                let (xs, ys) = (a.min(b)..a.max(b), c.min(d)..c.max(d));
+                let part = gaussian_blur_within(&plane, sigma, xs.clone(), ys.clone());
+                for y in 0..h {
+                    for x in 0..w {
+                        let i = y * w + x;
+                        let expected = if xs.contains(&x) && ys.contains(&y) {
+                            whole.values[i]
+                        } else {
+                            0.0
+                        };
+                        assert_eq!(part.values[i].to_bits(), expected.to_bits(), "{x} {y}");
+                    }
+                }
+            }
+        }
     }
 
     #[test]

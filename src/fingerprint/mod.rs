@@ -198,7 +198,10 @@ fn confirmed_ridges(
     dark_ridges: bool,
 ) -> Binary {
     let period = periods.median_inside(segmentation);
-    let mean = math::gaussian_blur(smoothed, (period / 2.0).max(1.0));
+    // Only the enhanced ridges' pixels read the mean: it is blurred over their bounding box
+    // (the same value at each of them as the whole image's blur).
+    let (xs, ys) = crate::mask::ink_box(&binary.ink, binary.width as usize).unwrap_or((0..0, 0..0));
+    let mean = math::gaussian_blur_within(smoothed, (period / 2.0).max(1.0), xs, ys);
     let mut ridges = binary.clone();
     for ((ink, &g), &m) in ridges
         .ink

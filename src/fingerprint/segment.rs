@@ -191,8 +191,11 @@ fn percentile(mut values: Vec<f32>, q: f64) -> f32 {
         return 0.0;
     }
     let k = ((values.len() - 1) as f64 * q).round() as usize;
-    let (_, v, _) = values.select_nth_unstable_by(k, f32::total_cmp);
-    let v = *v;
+    let v = if values.len() >= RADIX_SELECT_FROM {
+        nth_smallest(&values, k)
+    } else {
+        *values.select_nth_unstable_by(k, f32::total_cmp).1
+    };
     if v > 0.0 {
         v
     } else {
@@ -200,9 +203,98 @@ fn percentile(mut values: Vec<f32>, q: f64) -> f32 {
     }
 }
 
+/// From this many values on (an image's pixels, not its blocks) [`percentile`] counts instead
+/// of selecting.
+const RADIX_SELECT_FROM: usize = 1 << 16;
+
+/// The `k`-th smallest of `values` (from 0; `k` below their number) in the order of
+/// `f32::total_cmp`: the value `select_nth_unstable_by(k, f32::total_cmp)` puts at `k`, found by
+/// counting the values' sort keys (the bits, ordered as `total_cmp` orders them) by their upper
+/// 16 bits, then those of the upper half found by their lower 16 bits: two passes over the
+/// values, nothing moved.
+fn nth_smallest(values: &[f32], k: usize) -> f32 {
+    let key = |v: f32| {
+        let bits = v.to_bits();
+        bits ^ (((bits as i32 >> 31) as u32) | 0x8000_0000)
+    };
+    // The bin of the `k`-th in `counts` and its rank within the bin.
+    let find = |counts: &[u32], mut k: usize| -> (u32, usize) {
+        for (bin, &n) in counts.iter().enumerate() {
+            if k < n as usize {
+                return (bin as u32, k);
+            }
+            k -= n as usize;
+        }
+        unreachable!("k is below the number of values counted")
+    };
+    let mut counts = vec![0u32; 1 << 16];
+    for &v in values {
+        counts[(key(v) >> 16) as usize] += 1;
+    }
+    let (high, k) = find(&counts, k);
+    counts.iter_mut().for_each(|n| *n = 0);
+    for &v in values {
+        let key = key(v);
+        if key >> 16 == high {
+            counts[(key & 0xFFFF) as usize] += 1;
+        }
+    }
+    let (low, _) = find(&counts, k);
+    let key = high << 16 | low;
+    f32::from_bits(if key & 0x8000_0000 != 0 {
+        key ^ 0x8000_0000
+    } else {
+        !key
+    })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_nth_by_counting_is_the_nth_selected() {
+        // Pseudo-random values (a fixed linear congruential sequence): gradient magnitudes,
+        // values with many ties, both signs, both zeros, infinities and NaNs.
+        let mut state = 4242u64;
+        let mut next = move || {
+            state = state
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (state >> 33) as u32
+        };
+        let special = [
+            0.0f32,
+            -0.0,
+            f32::INFINITY,
+            f32::NEG_INFINITY,
+            f32::NAN,
+            -f32::NAN,
+        ];
+        for kind in 0..4 {
+            let values: Vec<f32> = (0..3000)
+                .map(|_| match kind {
+                    0 => (next() % 100_000) as f32 / 37.0,
+                    1 => (next() % 7) as f32,
+                    2 => f32::from_bits(next() << 1 | next() & 1),
+                    _ => match next() % 4 {
+                        0 => special[next() as usize % special.len()],
+                        _ => (next() % 2000) as f32 - 1000.0,
+                    },
+                })
+                .collect();
+            for k in (0..values.len()).step_by(97).chain([values.len() - 1]) {
+                let mut sorted = values.clone();
+                let selected = *sorted.select_nth_unstable_by(k, f32::total_cmp).1;
+                assert_eq!(
+                    nth_smallest(&values, k).to_bits(),
+                    selected.to_bits(),
+                    "kind {kind}, k {k}"
+                );
+            }
+        }
+    }
+
     use crate::fingerprint::math::sobel;
     use crate::fingerprint::tests::ridges_in_disk;
 

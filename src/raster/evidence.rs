@@ -57,31 +57,61 @@ pub(crate) fn chords(dark: &[bool], width: usize, height: usize) -> Chords {
             let row = &dark[r * step * width..(r * step + 1) * width];
             lattice_runs(row.len(), |x| row[x], step, out);
         });
-    // Vertical runs at the lattice points of each sampled column, column-major.
-    let mut vertical = vec![0u32; cols * rows];
-    vertical
-        .par_chunks_mut(rows)
-        .enumerate()
-        .for_each(|(c, out)| {
-            lattice_runs(height, |y| dark[y * width + c * step], step, out);
-        });
-    // Each side's chords counted by length (a chord is at most the image's longer side): the
-    // statistics below are those of the sorted chords, read off the counts.
-    let longest = width.max(height);
-    let (mut dark_counts, mut light_counts) =
-        (vec![0usize; longest + 1], vec![0usize; longest + 1]);
-    for r in 0..rows {
-        for c in 0..cols {
-            let chord = horizontal[r * cols + c].min(vertical[c * rows + r]) as usize;
-            if dark[r * step * width + c * step] {
-                dark_counts[chord] += 1;
-            } else {
-                light_counts[chord] += 1;
+    // Vertical runs at the lattice points, row-major: the sampled columns' values row by row,
+    // each one's run length so far down the image, then each run's length carried back up
+    // (every row a pass along it, in vector lanes, rather than a walk down each column).
+    let mut values = vec![false; height * cols];
+    for (y, out) in values.chunks_exact_mut(cols).enumerate() {
+        let row = &dark[y * width..(y + 1) * width];
+        if step == 1 {
+            out.copy_from_slice(row);
+        } else {
+            for (o, &v) in out.iter_mut().zip(row.iter().step_by(step)) {
+                *o = v;
             }
         }
     }
-    let dark_side = Counted::new(&dark_counts);
-    let light_side = Counted::new(&light_counts);
+    let mut vertical = vec![1u32; height * cols];
+    for y in 1..height {
+        let (above, below) = vertical.split_at_mut(y * cols);
+        let (above, below) = (&above[(y - 1) * cols..], &mut below[..cols]);
+        let (a, b) = (
+            &values[(y - 1) * cols..y * cols],
+            &values[y * cols..(y + 1) * cols],
+        );
+        for ((out, &up), (&a, &b)) in below.iter_mut().zip(above).zip(a.iter().zip(b)) {
+            *out = if a == b { up + 1 } else { 1 };
+        }
+    }
+    for y in (0..height - 1).rev() {
+        let (above, below) = vertical.split_at_mut((y + 1) * cols);
+        let (above, below) = (&mut above[y * cols..], &below[..cols]);
+        let (a, b) = (
+            &values[y * cols..(y + 1) * cols],
+            &values[(y + 1) * cols..(y + 2) * cols],
+        );
+        for ((out, &down), (&a, &b)) in above.iter_mut().zip(below).zip(a.iter().zip(b)) {
+            *out = if a == b { down } else { *out };
+        }
+    }
+    // Each side's chords counted by length (a chord is at most the image's longer side): the
+    // statistics below are those of the sorted chords, read off the counts.
+    // The light side's counts first, then the dark side's.
+    let longest = width.max(height);
+    let mut counts = vec![0usize; 2 * (longest + 1)];
+    for r in 0..rows {
+        let lattice = r * step * cols..(r * step + 1) * cols;
+        for ((&across, &down), &on) in horizontal[r * cols..(r + 1) * cols]
+            .iter()
+            .zip(&vertical[lattice.clone()])
+            .zip(&values[lattice])
+        {
+            counts[usize::from(on) * (longest + 1) + across.min(down) as usize] += 1;
+        }
+    }
+    let (light_counts, dark_counts) = counts.split_at(longest + 1);
+    let dark_side = Counted::new(dark_counts);
+    let light_side = Counted::new(light_counts);
     let thinner_quartile = dark_side.quartile().min(light_side.quartile());
     Chords {
         dark_mean: dark_side.mean(),

@@ -1,5 +1,5 @@
-//! Thinning, a raster operation: the ink's specks filled ([`fill_specks`]), Zhang-Suen's
-//! skeleton ([`zhang_suen`]) made one pixel thick ([`one_pixel_thick`]), and a dot put back for
+//! Thinning, a raster operation: the ink's specks filled ([`fill_specks_at`]), Zhang-Suen's
+//! skeleton ([`zhang_suen`]) made one pixel thick ([`one_pixel_thick_at`]), and a dot put back for
 //! every component thinning erased; one component at a time over its own box
 //! ([`skeleton_by_component`]). docs/design.md, "Skeleton-carried geometry", first point.
 
@@ -39,6 +39,18 @@ pub(super) fn zhang_suen(ink: &[bool], width: usize, height: usize) -> Vec<bool>
 /// [`zhang_suen`] in place on a `width`-wide grid whose first and last rows and columns are
 /// background (so every neighbour of an ink pixel is an index offset).
 fn zhang_suen_framed(padded: &mut [bool], width: usize) {
+    let ink: Vec<usize> = padded
+        .iter()
+        .enumerate()
+        .filter_map(|(i, &on)| on.then_some(i))
+        .collect();
+    zhang_suen_framed_at(padded, width, &ink);
+}
+
+/// [`zhang_suen_framed`] given the grid's ink pixels (`ink`: every one of them, each once, in
+/// any order), so that nothing but the ink is visited: the deletions of a sub-iteration are
+/// decided together, so the order of the pixels does not change the result.
+fn zhang_suen_framed_at(padded: &mut [bool], width: usize, ink: &[usize]) {
     let pw = width as isize;
     let offsets: [isize; 8] = RING.map(|(dx, dy)| dy as isize * pw + dx as isize);
     // The 8 neighbours as the bits of a byte (bit k: RING[k]), and for each sub-iteration a
@@ -69,10 +81,9 @@ fn zhang_suen_framed(padded: &mut [bool], width: usize) {
     // go until a neighbour goes: `since` is the sub-iteration it was (re)queued in.
     let mut queued = vec![false; padded.len()];
     let mut since = vec![0u32; padded.len()];
-    let mut candidates: Vec<usize> = padded
+    let mut candidates: Vec<usize> = ink
         .iter()
-        .enumerate()
-        .filter_map(|(i, &on)| on.then_some(i))
+        .copied()
         .filter(|&i| bits(padded, i) != u8::MAX)
         .collect();
     for &i in &candidates {
@@ -122,8 +133,8 @@ fn zhang_suen_framed(padded: &mut [bool], width: usize) {
     }
 }
 
-/// The one-pixel skeleton of a window's ink, every component kept: [`fill_specks`] (the filled
-/// specks written into `ink`), [`zhang_suen`], [`one_pixel_thick`], and for a component thinning
+/// The one-pixel skeleton of a window's ink, every component kept: [`fill_specks_at`] (the filled
+/// specks written into `ink`), [`zhang_suen`], [`one_pixel_thick_at`], and for a component thinning
 /// erased whole (a 2 x 2 block, a short 2-pixel-thick diagonal) its deepest pixel by `half`
 /// (ties: the first in raster order), a dot.
 ///
@@ -143,7 +154,7 @@ pub(super) fn skeleton_by_component(
 ) -> (Vec<bool>, Vec<usize>) {
     let mut skeleton = vec![false; ink.len()];
     let mut skeleton_pixels = Vec::new();
-    let mut local = Vec::new();
+    let (mut local, mut filled, mut thin) = (Vec::new(), Vec::new(), Vec::new());
     for c in offsets.windows(2) {
         let pixels = &members[c[0]..c[1]];
         let (Some(&first), Some(&last)) = (pixels.first(), pixels.last()) else {
@@ -157,27 +168,37 @@ pub(super) fn skeleton_by_component(
         // The box with a one-pixel background frame; `to_window` maps its pixels back.
         let (lw, lh) = (x1 - x0 + 3, y1 - y0 + 3);
         let to_window = |j: usize| (j / lw + y0 - 1) * width + (j % lw + x0 - 1);
+        // Each step below visits the component's own pixels (in the box's raster order), not
+        // the whole box, which a long ridge of a print makes many times its ink.
         local.clear();
         local.resize(lw * lh, false);
-        for &i in pixels {
-            local[(i / width - y0 + 1) * lw + (i % width - x0 + 1)] = true;
+        filled.clear();
+        filled.extend(
+            pixels
+                .iter()
+                .map(|&i| (i / width - y0 + 1) * lw + (i % width - x0 + 1)),
+        );
+        for &j in &filled {
+            local[j] = true;
         }
-        fill_specks(&mut local, lw, lh);
-        let filled = local.clone();
-        zhang_suen_framed(&mut local, lw);
-        one_pixel_thick(&mut local, lw, lh);
+        let specks = fill_specks_at(&mut local, lw, lh, &filled);
+        if !specks.is_empty() {
+            filled.extend(specks);
+            filled.sort_unstable();
+            filled.dedup();
+        }
+        zhang_suen_framed_at(&mut local, lw, &filled);
+        thin.clear();
+        thin.extend(filled.iter().copied().filter(|&j| local[j]));
+        one_pixel_thick_at(&mut local, lw, lh, thin.clone());
         let mut kept = false;
-        for (j, _) in local.iter().enumerate().filter(|(_, &on)| on) {
+        for &j in thin.iter().filter(|&&j| local[j]) {
             skeleton[to_window(j)] = true;
             skeleton_pixels.push(to_window(j));
             kept = true;
         }
         // The component's ink with its specks, in raster order.
-        let component = filled
-            .iter()
-            .enumerate()
-            .filter(|(_, &on)| on)
-            .map(|(j, _)| to_window(j));
+        let component = filled.iter().map(|&j| to_window(j));
         if !kept {
             if let Some(deepest) = component
                 .clone()
@@ -201,8 +222,26 @@ pub(super) fn skeleton_by_component(
 /// (its removal changes neither the skeleton's 8-connectivity nor its holes: Yokoi's
 /// 8-connectivity number is 1) and is no tip: it has three or more skeleton neighbours, or two
 /// that make it the inner corner of an L. Ends, the middle pixels of one-pixel lines and the
-/// centers of real junctions are not simple.
+/// centers of real junctions are not simple. The whole grid scanned for its pixels: the tests'
+/// reference for [`one_pixel_thick_at`], which the thinning uses.
+#[cfg(test)]
 pub(super) fn one_pixel_thick(skeleton: &mut [bool], width: usize, height: usize) {
+    let candidates: Vec<usize> = skeleton
+        .iter()
+        .enumerate()
+        .filter_map(|(i, &on)| on.then_some(i))
+        .collect();
+    one_pixel_thick_at(skeleton, width, height, candidates);
+}
+
+/// [`one_pixel_thick`] given the skeleton's pixels (`candidates`: every one of them, each once,
+/// in raster order, the order the removals are made in).
+fn one_pixel_thick_at(
+    skeleton: &mut [bool],
+    width: usize,
+    height: usize,
+    mut candidates: Vec<usize>,
+) {
     let (w, h) = (width as i64, height as i64);
     let on =
         |s: &[bool], x: i64, y: i64| x >= 0 && y >= 0 && x < w && y < h && s[(y * w + x) as usize];
@@ -217,11 +256,6 @@ pub(super) fn one_pixel_thick(skeleton: &mut [bool], width: usize, height: usize
         (0, 1),
         (1, 1),
     ];
-    let mut candidates: Vec<usize> = skeleton
-        .iter()
-        .enumerate()
-        .filter_map(|(i, &on)| on.then_some(i))
-        .collect();
     loop {
         let mut changed = false;
         for &i in &candidates {
@@ -261,7 +295,9 @@ pub(super) fn one_pixel_thick(skeleton: &mut [bool], width: usize, height: usize
 
 /// Background specks of at most 3 pixels enclosed by ink (a sharp meeting of two strokes or a
 /// rendering gap; the noise the dropout test counts, `mask::tiny_hole`) are not holes: filled,
-/// so the skeleton makes no cycle around them.
+/// so the skeleton makes no cycle around them. The whole grid scanned: the tests' reference for
+/// [`fill_specks_at`], which the thinning uses.
+#[cfg(test)]
 pub(super) fn fill_specks(ink: &mut [bool], w: usize, h: usize) {
     if w < 3 || h < 3 {
         return;
@@ -277,6 +313,29 @@ pub(super) fn fill_specks(ink: &mut [bool], w: usize, h: usize) {
     for p in specks {
         ink[p] = true;
     }
+}
+
+/// [`fill_specks`] given the ink's pixels (`pixels`: every one of them, in raster order): a
+/// speck is looked for right of each ink pixel only, as [`fill_specks`] looks at each
+/// background pixel right of ink, in the same order. Returns the pixels filled (one may be
+/// listed more than once).
+fn fill_specks_at(ink: &mut [bool], w: usize, h: usize, pixels: &[usize]) -> Vec<usize> {
+    let mut specks = Vec::new();
+    if w < 3 || h < 3 {
+        return specks;
+    }
+    for &p in pixels {
+        let i = p + 1;
+        if i >= w && i < ink.len() - w && !ink[i] {
+            if let Some((pixels, len)) = crate::mask::tiny_hole_pixels_at(ink, w, h, i) {
+                specks.extend_from_slice(&pixels[..len]);
+            }
+        }
+    }
+    for &p in &specks {
+        ink[p] = true;
+    }
+    specks
 }
 
 #[cfg(test)]
@@ -383,6 +442,44 @@ mod tests {
         assert_eq!(skeleton, whole);
         let listed: Vec<usize> = (0..w * h).filter(|&i| whole[i]).collect();
         assert_eq!(pixels, listed);
+    }
+
+    #[test]
+    fn the_steps_given_the_ink_equal_the_steps_over_the_grid() {
+        // Pseudo-random specks and blobs (a fixed linear congruential sequence) in framed grids:
+        // filling specks, Zhang-Suen and one pixel thick given the ink's list give what the
+        // scans of the whole grid give.
+        let mut state = 777u64;
+        let mut next = move || {
+            state = state
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (state >> 33) as usize
+        };
+        for (w, h, density) in [(23, 17, 2), (40, 31, 3), (9, 50, 4), (3, 3, 2), (60, 44, 5)] {
+            let mut grid = vec![false; w * h];
+            for y in 1..h - 1 {
+                for x in 1..w - 1 {
+                    grid[y * w + x] = next() % density != 0;
+                }
+            }
+            let list = |g: &[bool]| -> Vec<usize> { (0..g.len()).filter(|&i| g[i]).collect() };
+            let (mut by_scan, mut by_list) = (grid.clone(), grid.clone());
+            fill_specks(&mut by_scan, w, h);
+            let specks = fill_specks_at(&mut by_list, w, h, &list(&grid));
+            assert_eq!(by_scan, by_list);
+            assert!(specks.iter().all(|&p| !grid[p] && by_list[p]));
+            let ink = list(&by_list);
+            zhang_suen_framed(&mut by_scan, w);
+            // The list in another order: the result does not depend on it.
+            let reversed: Vec<usize> = ink.iter().rev().copied().collect();
+            zhang_suen_framed_at(&mut by_list, w, &reversed);
+            assert_eq!(by_scan, by_list);
+            one_pixel_thick(&mut by_scan, w, h);
+            let thin = list(&by_list);
+            one_pixel_thick_at(&mut by_list, w, h, thin);
+            assert_eq!(by_scan, by_list);
+        }
     }
 
     #[test]

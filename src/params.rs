@@ -185,6 +185,15 @@ pub struct FingerprintParams {
     /// weakly to noise, which the gradient magnitude cannot tell from ridges. 0 keeps the
     /// gradient segmentation. Default value: 0.2.
     pub response_threshold: f64,
+    /// A block of the print shows no ridges where the F ratio of its pixels grouped in rows along
+    /// the ridges (the variance between the rows' means over the variance of one row's mean,
+    /// within one ridge period across and 1.5 along, at the best of 12 orientations) is below
+    /// this, in an area of at least 3 x 3 such blocks: such blocks (a wet smear, a blank margin)
+    /// are then left out of the print, so that the filter draws no ridges through them (noise
+    /// alone gives about 1; docs/fingerprints.md, "Ridges through a solid wet area", measured 3).
+    /// 0 keeps every block and skips the measure. Default value: 0.
+    #[serde(default = "default_blank_evidence")]
+    pub blank_evidence: f64,
     /// Standard deviation of the Gaussian smoothing the doubled-angle field, px. Default value: 16.
     pub orientation_sigma: f64,
     /// Length of the x-signature window across the ridges, px. Default value: 48.
@@ -282,6 +291,7 @@ impl Default for FingerprintParams {
             gradient_sigma: 1.0,
             segment_threshold: 0.2,
             response_threshold: 0.2,
+            blank_evidence: default_blank_evidence(),
             orientation_sigma: 16.0,
             signature_length: 48,
             period_min: 3.0,
@@ -321,6 +331,10 @@ fn default_inward_border_periods() -> f64 {
 
 fn default_inward_border_confirmed() -> f64 {
     0.8
+}
+
+fn default_blank_evidence() -> f64 {
+    0.0
 }
 
 fn default_cloud_quality() -> f64 {
@@ -374,6 +388,7 @@ impl FingerprintParams {
                 self.inward_border_quality,
             ),
             ("fingerprint.cloud_quality", self.cloud_quality),
+            ("fingerprint.blank_evidence", self.blank_evidence),
         ];
         if !(self.inward_border_confirmed.is_finite()
             && (0.0..=1.0).contains(&self.inward_border_confirmed))

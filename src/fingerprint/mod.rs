@@ -116,12 +116,13 @@ pub(crate) fn analyze_deciding<E: Send>(
         orientation,
         periods,
         mut enhanced,
+        blank,
     } = front;
     if !dark_ridges {
         enhanced.values.iter_mut().for_each(|v| *v = -*v);
     }
     let (width, height) = (enhanced.width, enhanced.height);
-    let segmentation = segment::refine(&segmentation, &enhanced, params.response_threshold);
+    let segmentation = segment::refine(&segmentation, &enhanced, params.response_threshold, &blank);
     for (value, inside) in enhanced.values.iter_mut().zip(segmentation.pixel_mask()) {
         if !inside {
             *value = 0.0;
@@ -156,6 +157,8 @@ struct FrontStages {
     periods: RidgePeriods,
     /// The enhanced image for dark ridges (ridges positive where they are dark).
     enhanced: Plane,
+    /// The print's blocks that show no ridges ([`segment::blank_blocks`]), left out of it.
+    blank: Vec<bool>,
 }
 
 /// Segmentation, orientation field, ridge periods and the enhancement for dark ridges.
@@ -173,6 +176,20 @@ fn front_stages(gray: GrayView<'_>, params: &FingerprintParams) -> FrontStages {
     let orientation = orientation::orientation(&gx, &gy, &segmentation, params);
     drop((gx, gy));
     let periods = frequency::ridge_periods(&smoothed, &segmentation, &orientation, params);
+    // Blocks that show no ridges (a wet smear, a blank margin) are no print: the filter would
+    // draw ridges through them from the orientation and period around.
+    let blank = if params.blank_evidence > 0.0 {
+        let evidence = segment::ridge_evidence(&plane, &segmentation, &orientation, &periods);
+        segment::blank_blocks(&segmentation, &evidence, params.blank_evidence)
+    } else {
+        Vec::new()
+    };
+    let mut segmentation = segmentation;
+    for (inside, &b) in segmentation.inside.iter_mut().zip(&blank) {
+        if b {
+            *inside = false;
+        }
+    }
     let enhance = match params.enhancement {
         Enhancement::Gabor => enhance::enhance,
         Enhancement::Smoothing => smooth::enhance,
@@ -184,6 +201,7 @@ fn front_stages(gray: GrayView<'_>, params: &FingerprintParams) -> FrontStages {
         orientation,
         periods,
         enhanced,
+        blank,
     }
 }
 

@@ -17,11 +17,12 @@
 //!
 //! In: the gradients (then the enhanced image); out: [`Segmentation`].
 
-use super::fields::{BlockGrid, Plane, Segmentation};
+use super::fields::{BlockGrid, OrientationField, Plane, RidgePeriods, Segmentation};
 use super::math::components;
 use crate::mask::morph3;
 use crate::median::upper_median_by;
 use crate::params::FingerprintParams;
+use rayon::prelude::*;
 
 /// The percentile of the pixels' gradient magnitudes the threshold is a fraction of.
 const PERCENTILE: f64 = 0.95;
@@ -105,6 +106,7 @@ pub(crate) fn refine(
     segmentation: &Segmentation,
     enhanced: &Plane,
     threshold: f64,
+    keep_out: &[bool],
 ) -> Segmentation {
     let grid = segmentation.grid;
     let (cols, rows) = (grid.cols as usize, grid.rows as usize);
@@ -139,12 +141,179 @@ pub(crate) fn refine(
             keep[grid.index(i, j)] = level > 0.0 && sum / n >= level;
         }
     }
-    let inside = clean(&keep, cols, rows);
+    let mut inside = clean(&keep, cols, rows);
+    for (m, &out) in inside.iter_mut().zip(keep_out) {
+        if out {
+            *m = false;
+        }
+    }
     if inside.iter().any(|&v| v) {
         Segmentation { grid, inside }
     } else {
         segmentation.clone()
     }
+}
+
+/// Orientations tried for a block's rows along the ridges, evenly over a half turn from the
+/// block's own.
+const ROW_ORIENTATIONS: usize = 12;
+/// How far [`ridge_evidence`]'s rows reach along the ridges each way from the block's centre, in
+/// ridge periods (one period across).
+const ROW_LENGTH: f64 = 1.5;
+
+/// Per block inside `segmentation`, how clearly the gray image around it shows ridges
+/// (docs/fingerprints.md, "Segmentation"): the F ratio of a one-way analysis of variance of the
+/// pixels within one period `T` of the block's centre across the ridges and 1.5 `T` along them (the
+/// best-fitting plane of the gray levels taken off: shading, the edge of a wet patch), grouped
+/// into rows along the ridges one pixel apart. Where ridges and valleys alternate, the rows'
+/// means differ far more than the pixels within a row; on a flat patch or noise they differ only
+/// by each mean's own noise, so the ratio of the variance between the rows' means to the
+/// variance of a row mean (the pixels' variance within the rows over their count, plus the
+/// rounding noise of 8-bit gray, 1/12 level², so that a flat patch without noise is no ridge) is
+/// about 1. The best of [`ROW_ORIENTATIONS`] orientations: a core's curved ridges, or an
+/// orientation the field got wrong, still count as ridges. Unitless, in the image's own units
+/// (gray levels against gray levels, lengths in the block's period). 0 outside the print.
+pub(crate) fn ridge_evidence(
+    gray: &Plane,
+    segmentation: &Segmentation,
+    field: &OrientationField,
+    periods: &RidgePeriods,
+) -> Vec<f32> {
+    let grid = segmentation.grid;
+    let cols = grid.cols as usize;
+    (0..grid.len())
+        .into_par_iter()
+        .map_init(
+            || (Vec::new(), Vec::new()),
+            |(window, rows), b| {
+                if !segmentation.inside[b] {
+                    return 0.0;
+                }
+                let (i, j) = (b % cols, b / cols);
+                let own = f64::from(field.angle[b]);
+                let period = f64::from(periods.period[b]).max(2.0);
+                row_f_ratio(gray, grid.center(i, j), own, period, window, rows)
+            },
+        )
+        .collect()
+}
+
+/// [`ridge_evidence`] of the rectangle around `c` (see [`ROW_LENGTH`]), its rows starting at the
+/// orientation `own`; `window` (offsets and gray levels less the plane) and `rows` (count, sum
+/// and sum of squares per row) are scratch space.
+fn row_f_ratio(
+    gray: &Plane,
+    c: [f64; 2],
+    own: f64,
+    period: f64,
+    window: &mut Vec<(f64, f64, f64)>,
+    rows: &mut Vec<(usize, f64, f64)>,
+) -> f32 {
+    let (w, h) = (i64::from(gray.width), i64::from(gray.height));
+    // The disc that holds the square at any orientation.
+    let along = ROW_LENGTH * period;
+    let reach = (period * period + along * along).sqrt();
+    let r = reach.ceil() as i64;
+    let (cx, cy) = (c[0].floor() as i64, c[1].floor() as i64);
+    window.clear();
+    for y in (cy - r).max(0)..=(cy + r).min(h - 1) {
+        for x in (cx - r).max(0)..=(cx + r).min(w - 1) {
+            let (dx, dy) = (x as f64 + 0.5 - c[0], y as f64 + 0.5 - c[1]);
+            if dx * dx + dy * dy <= reach * reach {
+                let v = gray.values[(y * w + x) as usize];
+                window.push((dx, dy, f64::from(v)));
+            }
+        }
+    }
+    if window.len() < 8 {
+        return 0.0;
+    }
+    let n = window.len() as f64;
+    // The best plane v ≈ m + p dx + q dy by least squares, taken off.
+    let (mut sx, mut sy, mut sv) = (0.0, 0.0, 0.0);
+    for &(dx, dy, v) in window.iter() {
+        sx += dx;
+        sy += dy;
+        sv += v;
+    }
+    let (mx, my, mv) = (sx / n, sy / n, sv / n);
+    let (mut sxx, mut sxy, mut syy, mut sxv, mut syv) = (0.0, 0.0, 0.0, 0.0, 0.0);
+    for &(dx, dy, v) in window.iter() {
+        let (x, y, v) = (dx - mx, dy - my, v - mv);
+        sxx += x * x;
+        sxy += x * y;
+        syy += y * y;
+        sxv += x * v;
+        syv += y * v;
+    }
+    let det = sxx * syy - sxy * sxy;
+    let (p, q) = if det > 0.0 {
+        ((syy * sxv - sxy * syv) / det, (sxx * syv - sxy * sxv) / det)
+    } else {
+        (0.0, 0.0)
+    };
+    for item in window.iter_mut() {
+        item.2 -= mv + p * (item.0 - mx) + q * (item.1 - my);
+    }
+    let count = 2 * period.ceil() as usize + 2;
+    let mut best = 0.0f64;
+    for o in 0..ROW_ORIENTATIONS {
+        let theta = own + std::f64::consts::PI * o as f64 / ROW_ORIENTATIONS as f64;
+        let (nx, ny) = (-theta.sin(), theta.cos());
+        rows.clear();
+        rows.resize(count, (0, 0.0, 0.0));
+        for &(dx, dy, v) in window.iter() {
+            // `u` across the ridges, `t` along them.
+            let (u, t) = (dx * nx + dy * ny, dx * ny - dy * nx);
+            if u.abs() > period || t.abs() > along {
+                continue;
+            }
+            let row = &mut rows[((u + period).floor() as usize).min(count - 1)];
+            row.0 += 1;
+            row.1 += v;
+            row.2 += v * v;
+        }
+        let (mut within, mut pixels, mut used) = (0.0, 0usize, 0usize);
+        let (mut sum_means, mut sum_squared_means) = (0.0, 0.0);
+        for &(k, sum, squares) in rows.iter() {
+            // A row needs a few pixels for its mean and its spread.
+            if k < 3 {
+                continue;
+            }
+            let mean = sum / k as f64;
+            within += squares - sum * mean;
+            pixels += k;
+            used += 1;
+            sum_means += mean;
+            sum_squared_means += mean * mean;
+        }
+        if used < 4 {
+            continue;
+        }
+        let within = within / (pixels - used) as f64;
+        let between = sum_squared_means / used as f64 - (sum_means / used as f64).powi(2);
+        let per_row = pixels as f64 / used as f64;
+        best = best.max(between / (within / per_row + 1.0 / 12.0));
+    }
+    best as f32
+}
+
+/// The blocks of the print that show no ridges: where [`ridge_evidence`] is below `level`, in
+/// areas of at least 3 x 3 such blocks (an opening; outside the print counts as such, so that a
+/// blank rim is found too). None when `level` is 0.
+pub(crate) fn blank_blocks(segmentation: &Segmentation, evidence: &[f32], level: f64) -> Vec<bool> {
+    let grid = segmentation.grid;
+    let (cols, rows) = (grid.cols as usize, grid.rows as usize);
+    if level <= 0.0 {
+        return vec![false; grid.len()];
+    }
+    let low: Vec<bool> = (0..grid.len())
+        .map(|b| !segmentation.inside[b] || f64::from(evidence[b]) < level)
+        .collect();
+    let opened = morph3(&morph3(&low, cols, rows, false), cols, rows, true);
+    (0..grid.len())
+        .map(|b| segmentation.inside[b] && opened[b])
+        .collect()
 }
 
 /// Closing, largest component, holes filled, opening, largest component (see the module doc).
@@ -356,7 +525,7 @@ mod tests {
             &params,
             true,
         );
-        let refined = refine(&first, &enhanced, params.response_threshold);
+        let refined = refine(&first, &enhanced, params.response_threshold, &[]);
         assert!(refined.contains_pixel(96, 96) && refined.contains_pixel(96, 50));
         assert!(!refined.contains_pixel(12, 12) && !refined.contains_pixel(180, 96));
         let disk = std::f64::consts::PI * 56.0 * 56.0 / 64.0;
@@ -364,7 +533,57 @@ mod tests {
         // The disk and a rim of noise around it, against most of the image before.
         assert!(area >= 0.9 * disk && area <= 1.5 * disk, "{area} vs {disk}");
         assert!(first.area_blocks() as f64 > 2.0 * area);
-        assert_eq!(refine(&first, &enhanced, 0.0), first);
+        assert_eq!(refine(&first, &enhanced, 0.0, &[]), first);
+    }
+
+    /// The rows' F ratio: high on ridges, even faint ones (10 % of the depth) under noise; about
+    /// 1 on noise alone; 0 on a flat patch.
+    #[test]
+    fn ridges_show_in_the_rows_and_flat_or_noisy_patches_do_not() {
+        let (size, period, theta) = (96u32, 9.0f64, 0.4f64);
+        let grid = BlockGrid::new(size, size, 8);
+        let (s, field, periods) =
+            crate::fingerprint::tests::uniform_print(grid, theta as f32, period as f32);
+        let ridges = ridges_in_disk(size, size, period, theta, [48.0, 48.0], 200.0);
+        let mut state = 0x9E37_79B9_7F4A_7C15u64;
+        let mut noise = |sigma: f32| {
+            let mut sum = 0.0;
+            for _ in 0..4 {
+                state ^= state << 13;
+                state ^= state >> 7;
+                state ^= state << 17;
+                sum += (state >> 11) as f32 / (1u64 << 53) as f32 - 0.5;
+            }
+            sigma * sum * 3f32.sqrt()
+        };
+        let faint: Vec<f32> = ridges
+            .values
+            .iter()
+            .map(|&v| 128.0 + 0.1 * (v - 128.0))
+            .collect();
+        let faint_noisy: Vec<f32> = faint.iter().map(|&v| v + noise(5.0)).collect();
+        let flat = vec![30.0f32; (size * size) as usize];
+        let noisy: Vec<f32> = flat.iter().map(|&v| v + noise(10.0)).collect();
+        let middle = grid.index(6, 6);
+        let evidence = |values: Vec<f32>| {
+            let plane = Plane {
+                width: size,
+                height: size,
+                values,
+            };
+            ridge_evidence(&plane, &s, &field, &periods)[middle]
+        };
+        let (clear, faint, faint_noisy, flat, noisy) = (
+            evidence(ridges.values.clone()),
+            evidence(faint),
+            evidence(faint_noisy),
+            evidence(flat),
+            evidence(noisy),
+        );
+        assert!(clear > 100.0 && faint > 100.0, "{clear} {faint}");
+        assert!(faint_noisy > 5.0, "{faint_noisy}");
+        assert!(flat < 0.01, "{flat}");
+        assert!((0.5..3.0).contains(&noisy), "{noisy}");
     }
 
     #[test]

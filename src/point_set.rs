@@ -7,6 +7,10 @@ use crate::csr::symmetric_neighbours;
 use crate::mask::{first_seen_labels, run_components, Run};
 use petgraph::unionfind::UnionFind;
 
+/// The connected components of a point set, as [`PointSet::component_labels`] gives them: one
+/// label per point, and each label's point count.
+pub(crate) type Components = (Vec<u32>, Vec<usize>);
+
 /// A pixel grid the points came from: lets stages use pixel adjacency instead of tree queries.
 #[derive(Clone, Debug, Default)]
 pub struct Grid {

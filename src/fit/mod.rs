@@ -56,6 +56,7 @@ const MEDIAN_TOLERANCE: f64 = 1e-4;
 /// the caller to set), nodes spaced `h` apart: parts of one image traced apart (chunks of its
 /// components) share the `h` of the whole image (see [`node_spacing`]), so the result does not
 /// depend on how the image was cut.
+#[cfg(test)]
 pub fn fit_with_spacing(
     graph: &NodeGraph,
     points: &PointSet,
@@ -71,7 +72,7 @@ pub(crate) fn fit_in_components(
     points: &PointSet,
     params: &Params,
     h: f64,
-    components: Option<Vec<u32>>,
+    components: Option<&[u32]>,
 ) -> StrokeGraph {
     if graph.nodes.is_empty() {
         return StrokeGraph::default();
@@ -87,9 +88,13 @@ pub(crate) fn fit_in_components(
     };
     // Lookups by pixel (a site's first point, the width under a point) must not land on a
     // neighbouring component's pixel: a whole page holds its neighbours, a chunk may not.
+    let computed;
     let components = match components {
         Some(components) if components.len() == points.len() => components,
-        _ => points.component_labels().0,
+        _ => {
+            computed = points.component_labels().0;
+            &computed[..]
+        }
     };
     // The component of each fitted node: that of the points its old graph nodes owned.
     let component_of = |i: usize| -> Option<u32> {

@@ -2,8 +2,8 @@
 //! a point list), with the neighbour graph every later stage walks and the local half-width.
 
 #[cfg(test)]
-#[cfg(test)]
 use crate::csr::symmetric_neighbours;
+use crate::geometry::floor_i64;
 use crate::mask::{first_seen_labels, run_components, Run};
 use petgraph::unionfind::UnionFind;
 
@@ -81,7 +81,7 @@ impl Grid {
         let width = self.width as usize;
         self.index = vec![Self::NONE; width * self.height as usize];
         for (i, p) in points.iter().enumerate() {
-            let (x, y) = (p[0].floor() as i64 - self.x0, p[1].floor() as i64 - self.y0);
+            let (x, y) = (floor_i64(p[0]) - self.x0, floor_i64(p[1]) - self.y0);
             self.index[y as usize * width + x as usize] = i as u32;
         }
     }
@@ -278,7 +278,9 @@ impl PointSet {
         let mut runs: Vec<Run> = Vec::new();
         let mut run_of = Vec::with_capacity(self.len());
         for p in &self.points {
-            let (x, y) = (p[0].floor(), p[1].floor());
+            // Truncation is the floor of what passes this test (and the floor passes it exactly
+            // when the value does).
+            let (x, y) = (p[0], p[1]);
             if !(x >= 0.0 && y >= 0.0 && x < u32::MAX as f64 && y < u32::MAX as f64) {
                 return None;
             }
@@ -375,7 +377,7 @@ impl PointSet {
         if self.grid.is_some() {
             let (mut x0, mut y0, mut x1, mut y1) = (i64::MAX, i64::MAX, i64::MIN, i64::MIN);
             for p in &part.points {
-                let (x, y) = (p[0].floor() as i64, p[1].floor() as i64);
+                let (x, y) = (floor_i64(p[0]), floor_i64(p[1]));
                 x0 = x0.min(x);
                 y0 = y0.min(y);
                 x1 = x1.max(x);

@@ -15,7 +15,7 @@
 use std::cmp::Reverse;
 use std::collections::BinaryHeap;
 
-use crate::geometry::{dist, point_in_polygon, TotalF64};
+use crate::geometry::{dist, floor_i64, point_in_polygon, TotalF64};
 use crate::node_graph::{GraphNode, NodeGraph};
 use crate::params::Params;
 use crate::point_set::{on_lattice, PointSet};
@@ -811,10 +811,7 @@ fn ink_tip(points: &PointSet, from: [f64; 2], end: [f64; 2], limit: f64) -> Opti
         return Some(end);
     }
     let u = [d[0] / norm, d[1] / norm];
-    let on_ink = |p: [f64; 2]| {
-        grid.point_at(p[0].floor() as i64, p[1].floor() as i64)
-            .is_some()
-    };
+    let on_ink = |p: [f64; 2]| grid.point_at(floor_i64(p[0]), floor_i64(p[1])).is_some();
     let mut tip = end;
     let mut t = 0.5;
     while t <= limit {
@@ -901,7 +898,7 @@ impl Holes {
         // Ink runs (component, row, x0, x1 exclusive) from the pixel centers.
         let mut ink: Vec<(u32, i64, i64, i64)> = Vec::new();
         for (p, &label) in points.points.iter().zip(labels) {
-            let (x, y) = (p[0].floor() as i64, p[1].floor() as i64);
+            let (x, y) = (floor_i64(p[0]), floor_i64(p[1]));
             match ink.last_mut() {
                 Some(run) if run.0 == label && run.1 == y && run.3 == x => run.3 += 1,
                 _ => ink.push((label, y, x, x + 1)),

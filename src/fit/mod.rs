@@ -36,6 +36,7 @@ mod solve;
 mod tests;
 
 use crate::csr::Csr;
+use crate::geometry::floor_i64;
 use crate::node_graph::NodeGraph;
 use crate::params::{LaplacianRule, Params};
 use crate::point_set::PointSet;
@@ -404,7 +405,7 @@ fn width_at(
     let half = |i: u32| points.half_width.get(i as usize).map(|&h| 2.0 * h as f64);
     let cell = cells.of(unknown as usize);
     if let Some(grid) = &points.grid {
-        let under = grid.point_at(p[0].floor() as i64, p[1].floor() as i64);
+        let under = grid.point_at(floor_i64(p[0]), floor_i64(p[1]));
         if let Some(w) = under.filter(|&q| on_own(q)).and_then(half) {
             return w;
         }

@@ -23,7 +23,7 @@ use crate::error::{Error, Result};
 use crate::gray::GrayView;
 use crate::node_graph::NodeGraph;
 use crate::params::{FingerprintParams, Params, Polarity};
-use crate::point_set::{Components, Grid, PointSet};
+use crate::point_set::{Components, Grid, PackedComponents, PointSet};
 use crate::samples::Samples;
 use crate::stroke_graph::StrokeGraph;
 use crate::{
@@ -593,7 +593,7 @@ fn trace_chunks(
     type Refined = (
         usize,
         (PointSet, Option<raster::Aside>),
-        Components,
+        PackedComponents,
         NodeGraph,
         Timings,
         Option<(Samples, NodeGraph)>,
@@ -622,7 +622,9 @@ fn trace_chunks(
             // The points, their pixel index and neighbour lists are the bulk of a chunk's
             // memory; the chunks wait for the others without them, so the next chunk's reuse
             // the same memory. (A chunk the skeleton alone traces has no fit to wait for.)
+            // Their component labels wait as runs.
             let aside = (!skeleton_only).then(|| raster::set_aside(&mut points));
+            let components = PackedComponents::pack(components);
             Ok((c, (points, aside), components, refined, timings, kept))
         })
         .collect::<Result<_>>()?;
@@ -636,6 +638,7 @@ fn trace_chunks(
         .map(
             |(c, (mut points, aside), components, refined, mut timings, kept)| {
                 let clock = Instant::now();
+                let components = components.unpack();
                 // Set aside only when a fit is to come: none where the skeleton alone traces.
                 let graph = match aside {
                     Some(aside) => {

@@ -107,7 +107,7 @@ pub(crate) fn fit_in_components(
     let site_components: Vec<Option<u32>> = (0..layout.pos.len()).map(component_of).collect();
     let cells = assign::assign(
         points,
-        &components,
+        components,
         &site_components,
         &owned,
         &layout.pos,
@@ -156,7 +156,7 @@ pub(crate) fn fit_in_components(
     // short of the junctions), and steady slices: off in dropout mode, whose ink is broken.
     let dense = params.experiments.dense_fit && params.finish.cleanup && !points.dropout;
     if params.finish.cleanup {
-        let ink = Ink::new(points, unit, &components);
+        let ink = Ink::new(points, unit, components);
 
         let placement = Placement {
             ink: &ink,

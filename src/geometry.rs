@@ -14,6 +14,20 @@ pub fn dist(a: [f64; 2], b: [f64; 2]) -> f64 {
     (a[0] - b[0]).hypot(a[1] - b[1])
 }
 
+/// `x.floor() as i64`, the same for every `f64` (NaN gives 0, the far ones saturate), without the
+/// library call that `f64::floor` is on x86-64 without SSE4.1: a truncation, one down where it
+/// went up. The stages look up pixels by it (`floor(x)` is the pixel of `x`) millions of times
+/// a page (docs/performance.md).
+#[inline]
+pub(crate) fn floor_i64(x: f64) -> i64 {
+    let t = x as i64;
+    if (t as f64) > x {
+        t.saturating_sub(1)
+    } else {
+        t
+    }
+}
+
 /// Cumulative arc length at each polyline point.
 pub(crate) fn arc_lengths(polyline: &[[f64; 2]]) -> Vec<f64> {
     let mut s = Vec::with_capacity(polyline.len());
@@ -169,7 +183,7 @@ impl Ord for TotalF64 {
 /// where two segments share an end point; in rising order. `None` is a removed path.
 pub(crate) fn crossing_paths(paths: &[Option<&[[f64; 2]]>], moved: &[bool]) -> Vec<usize> {
     const CELL_PX: f64 = 4.0;
-    let key = |v: f64| (v / CELL_PX).floor() as i64;
+    let key = |v: f64| floor_i64(v / CELL_PX);
     // Every segment under every cell its box covers, sorted by cell: a cell's segments are one
     // run of the list, in the order of their paths and their places along them. One `u64` each:
     // the cell's two coordinates (16 bits each; a wider page folds far-apart cells together,
@@ -305,6 +319,50 @@ pub(crate) fn unit(v: [f64; 2]) -> Option<[f64; 2]> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn floor_i64_is_the_floor_cast() {
+        let mut seed = 99u64;
+        let mut next = || {
+            seed = seed
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            seed
+        };
+        let mut cases = vec![
+            0.0,
+            -0.0,
+            0.5,
+            -0.5,
+            1.0,
+            -1.0,
+            1.0 - f64::EPSILON / 2.0,
+            -1.0 + f64::EPSILON / 2.0,
+            f64::MIN_POSITIVE,
+            -f64::MIN_POSITIVE,
+            4503599627370495.5,
+            -4503599627370495.5,
+            9.223372036854776e18,
+            -9.223372036854776e18,
+            1e300,
+            -1e300,
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+            f64::NAN,
+            f64::MAX,
+            f64::MIN,
+        ];
+        for _ in 0..100_000 {
+            let bits = next();
+            // Any bit pattern, and pixel-like values with fractions.
+            cases.push(f64::from_bits(bits));
+            cases.push((bits >> 11) as f64 / (1u64 << 40) as f64 - 4096.0);
+            cases.push((bits >> 40) as f64 + 0.5 - 8_000_000.0);
+        }
+        for x in cases {
+            assert_eq!(floor_i64(x), x.floor() as i64, "{x:e}");
+        }
+    }
 
     #[test]
     fn distances_to_points_and_segments() {

@@ -15,6 +15,7 @@ use petgraph::algo::dijkstra;
 use petgraph::graph::{NodeIndex, UnGraph};
 use petgraph::unionfind::UnionFind;
 
+use crate::geometry::floor_i64;
 use crate::node_graph::{GraphNode, NodeGraph};
 use crate::params::{ClusterRule, Params};
 use crate::point_set::PointSet;
@@ -175,7 +176,6 @@ fn segment_on_ink(points: &PointSet, a: [f64; 2], b: [f64; 2]) -> bool {
     (0..=steps).all(|i| {
         let t = i as f64 / steps as f64;
         let p = [a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1])];
-        grid.point_at(p[0].floor() as i64, p[1].floor() as i64)
-            .is_some()
+        grid.point_at(floor_i64(p[0]), floor_i64(p[1])).is_some()
     })
 }

@@ -23,7 +23,7 @@ use crate::error::{Error, Result};
 use crate::gray::GrayView;
 use crate::node_graph::NodeGraph;
 use crate::params::{FingerprintParams, Params, Polarity};
-use crate::point_set::{Grid, PointSet};
+use crate::point_set::{Components, Grid, PackedComponents, PointSet};
 use crate::samples::Samples;
 use crate::stroke_graph::StrokeGraph;
 use crate::{
@@ -437,7 +437,16 @@ fn trace_ink(
     if let Some(chunks) = raster::pixel_chunks(binary, params, dropout, CHUNK_POINTS)? {
         let scan_time = start.elapsed();
         let sizes: Vec<usize> = (0..chunks.len()).map(|c| chunks.size(c)).collect();
-        let mut traced = trace_chunks(&sizes, |c| chunks.part(c), params, recording)?;
+        let mut traced = trace_chunks(
+            &sizes,
+            |c| {
+                chunks
+                    .part(c)
+                    .map(|(points, labels)| (points, Some(labels)))
+            },
+            params,
+            recording,
+        )?;
         traced.timings.points += scan_time;
         // Chunks are only cut outside dropout mode.
         return Ok((traced, 0.0));
@@ -485,33 +494,47 @@ fn trace_points_in_parts(
     // One component is one chunk, a copy of the whole set: traced as it is (the chunk's node
     // spacing is its own, as `trace_chunks` would take it).
     if labels.1.len() == 1 && points.grid.is_none() {
-        return Ok(trace_one(points, params, recording, Some(labels.0)));
+        return Ok(trace_one(points, params, recording, Some(labels)));
     }
     let chunks = PointSet::chunks_of(labels, CHUNK_POINTS);
     let sizes: Vec<usize> = (0..chunks.len()).map(|c| chunks.size(c)).collect();
-    trace_chunks(&sizes, |c| Ok(chunks.part(&points, c)), params, recording)
+    trace_chunks(
+        &sizes,
+        |c| Ok((chunks.part(&points, c), None)),
+        params,
+        recording,
+    )
 }
 
 /// §3.1-§3.4 and the skeleton on one point set; `components` are its
-/// [`PointSet::component_labels`] when known.
+/// [`PointSet::component_labels`] when known (found here once otherwise, for the refinement, the
+/// fit and the skeleton).
 fn trace_one(
     points: PointSet,
     params: &Params,
     recording: Recording,
-    components: Option<Vec<u32>>,
+    components: Option<Components>,
 ) -> Traced {
     let mut timings = Timings::default();
+    let components = components.unwrap_or_else(|| points.component_labels());
     let skeleton_only = skeleton_only(&points, params);
-    let (refined, kept) = method_stages(&points, params, &mut timings, recording, skeleton_only);
+    let (refined, kept) = method_stages(
+        &points,
+        &components,
+        params,
+        &mut timings,
+        recording,
+        skeleton_only,
+    );
     let clock = Instant::now();
     let graph = if skeleton_only {
         StrokeGraph::default()
     } else {
         let h = fit::node_spacing(&[&refined], &points, params);
-        fit::fit_in_components(&refined, &points, params, h, components)
+        fit::fit_in_components(&refined, &points, params, h, Some(&components.0))
     };
     timings.fit = clock.elapsed();
-    finish_one(graph, points, refined, kept, params, timings)
+    finish_one(graph, points, &components, refined, kept, params, timings)
 }
 
 /// Whether the skeleton alone traces `points`: a print's ridges ([`Params::fingerprint`]) whose
@@ -532,12 +555,13 @@ fn skeleton_only(points: &PointSet, params: &Params) -> bool {
 fn finish_one(
     graph: StrokeGraph,
     points: PointSet,
+    components: &Components,
     refined: NodeGraph,
     kept: Option<(Samples, NodeGraph)>,
     params: &Params,
     mut timings: Timings,
 ) -> Traced {
-    let graph = carry_on_skeleton(graph, &points, params, &mut timings);
+    let graph = carry_on_skeleton(graph, &points, components, params, &mut timings);
     Traced {
         graph,
         point_count: points.len(),
@@ -552,7 +576,8 @@ fn finish_one(
 }
 
 /// Traces chunks `0..count` of whole components in parallel, each point set made by `part` on the
-/// thread that traces it, and joins the graphs (and stages) in chunk order. The result does not
+/// thread that traces it (with its [`PointSet::component_labels`] when `part` knows them: they
+/// are found once per chunk otherwise, for the refinement, the fit and the skeleton), and joins the graphs (and stages) in chunk order. The result does not
 /// depend on the thread count, nor on where the chunks were cut: every stage treats components
 /// independently, and the one figure taken over the whole input, the fit's node spacing `h` (the
 /// median stroke width), is taken between the refinement of all chunks and their fits.
@@ -560,7 +585,7 @@ fn finish_one(
 /// late and run alone at the end); `sizes` are their point counts.
 fn trace_chunks(
     sizes: &[usize],
-    part: impl Fn(usize) -> Result<PointSet> + Sync,
+    part: impl Fn(usize) -> Result<(PointSet, Option<Components>)> + Sync,
     params: &Params,
     recording: Recording,
 ) -> Result<Traced> {
@@ -568,6 +593,7 @@ fn trace_chunks(
     type Refined = (
         usize,
         (PointSet, Option<raster::Aside>),
+        PackedComponents,
         NodeGraph,
         Timings,
         Option<(Samples, NodeGraph)>,
@@ -578,41 +604,54 @@ fn trace_chunks(
         .into_par_iter()
         .map(|c| {
             let clock = Instant::now();
-            let mut points = part(c)?;
+            let (mut points, components) = part(c)?;
+            let components = components.unwrap_or_else(|| points.component_labels());
             let mut timings = Timings {
                 points: clock.elapsed(),
                 ..Timings::default()
             };
             let skeleton_only = skeleton_only(&points, params);
-            let (refined, kept) =
-                method_stages(&points, params, &mut timings, recording, skeleton_only);
+            let (refined, kept) = method_stages(
+                &points,
+                &components,
+                params,
+                &mut timings,
+                recording,
+                skeleton_only,
+            );
             // The points, their pixel index and neighbour lists are the bulk of a chunk's
             // memory; the chunks wait for the others without them, so the next chunk's reuse
             // the same memory. (A chunk the skeleton alone traces has no fit to wait for.)
+            // Their component labels wait as runs.
             let aside = (!skeleton_only).then(|| raster::set_aside(&mut points));
-            Ok((c, (points, aside), refined, timings, kept))
+            let components = PackedComponents::pack(components);
+            Ok((c, (points, aside), components, refined, timings, kept))
         })
         .collect::<Result<_>>()?;
     let Some((_, (first, _), ..)) = refined.first() else {
         return Ok(Traced::join(Vec::new()));
     };
-    let graphs: Vec<&NodeGraph> = refined.iter().map(|(_, _, graph, ..)| graph).collect();
+    let graphs: Vec<&NodeGraph> = refined.iter().map(|(_, _, _, graph, ..)| graph).collect();
     let h = fit::node_spacing(&graphs, first, params);
     let mut parts: Vec<(usize, Traced)> = refined
         .into_par_iter()
-        .map(|(c, (mut points, aside), refined, mut timings, kept)| {
-            let clock = Instant::now();
-            // Set aside only when a fit is to come: none where the skeleton alone traces.
-            let graph = match aside {
-                Some(aside) => {
-                    raster::restore(&mut points, aside);
-                    fit::fit_with_spacing(&refined, &points, params, h)
-                }
-                None => StrokeGraph::default(),
-            };
-            timings.fit = clock.elapsed();
-            (c, finish_one(graph, points, refined, kept, params, timings))
-        })
+        .map(
+            |(c, (mut points, aside), components, refined, mut timings, kept)| {
+                let clock = Instant::now();
+                let components = components.unpack();
+                // Set aside only when a fit is to come: none where the skeleton alone traces.
+                let graph = match aside {
+                    Some(aside) => {
+                        raster::restore(&mut points, aside);
+                        fit::fit_in_components(&refined, &points, params, h, Some(&components.0))
+                    }
+                    None => StrokeGraph::default(),
+                };
+                timings.fit = clock.elapsed();
+                let traced = finish_one(graph, points, &components, refined, kept, params, timings);
+                (c, traced)
+            },
+        )
         .collect();
     parts.sort_by_key(|&(c, _)| c);
     Ok(Traced::join(parts.into_iter().map(|(_, t)| t).collect()))
@@ -622,6 +661,7 @@ fn trace_chunks(
 /// and the stages are not recorded for their pictures.
 fn method_stages(
     points: &PointSet,
+    components: &Components,
     params: &Params,
     timings: &mut Timings,
     recording: Recording,
@@ -630,13 +670,14 @@ fn method_stages(
     if skeleton_only && recording == Recording::Off {
         return (NodeGraph::default(), None);
     }
-    refine_stages(points, params, timings, recording)
+    refine_stages(points, components, params, timings, recording)
 }
 
 /// §3.1-§3.3 on one point set, timed into `timings`; the sampling and `H` are kept when
 /// recording.
 fn refine_stages(
     points: &PointSet,
+    components: &Components,
     params: &Params,
     timings: &mut Timings,
     recording: Recording,
@@ -650,7 +691,7 @@ fn refine_stages(
     timings.graph = clock.elapsed();
 
     let clock = Instant::now();
-    let refined = refine::refine(&node_graph, points, params);
+    let refined = refine::refine(&node_graph, points, params, Some(&components.0));
     timings.refine = clock.elapsed();
     let kept = (recording == Recording::Stages).then_some((samples, node_graph));
     (refined, kept)
@@ -662,6 +703,7 @@ fn refine_stages(
 fn carry_on_skeleton(
     graph: StrokeGraph,
     points: &PointSet,
+    components: &Components,
     params: &Params,
     timings: &mut Timings,
 ) -> StrokeGraph {
@@ -671,7 +713,8 @@ fn carry_on_skeleton(
     let clock = Instant::now();
     // Every edge fitted to its ink, a print's ridges too: without the method's lines
     // ([`skeleton_only`]) the pixel paths alone placed minutiae worse.
-    let carried = skeleton::carry(&graph, points, &params.experiments);
+    let components = Some((&components.0[..], &components.1[..]));
+    let carried = skeleton::carry(&graph, points, &params.experiments, components);
     timings.skeleton = clock.elapsed();
     carried
 }

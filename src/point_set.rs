@@ -2,10 +2,48 @@
 //! a point list), with the neighbour graph every later stage walks and the local half-width.
 
 #[cfg(test)]
-#[cfg(test)]
 use crate::csr::symmetric_neighbours;
+use crate::geometry::floor_i64;
 use crate::mask::{first_seen_labels, run_components, Run};
 use petgraph::unionfind::UnionFind;
+
+/// The connected components of a point set, as [`PointSet::component_labels`] gives them: one
+/// label per point, and each label's point count.
+pub(crate) type Components = (Vec<u32>, Vec<usize>);
+
+/// [`Components`] held while a chunk waits between its refinement and its fit (ARCHITECTURE.md,
+/// "Large inputs"): the labels as runs of one label in point order (a component's pixels come in
+/// rows of ink, so a few runs per row of each component instead of a label per point).
+#[derive(Debug, Default)]
+pub(crate) struct PackedComponents {
+    /// (label, number of consecutive points with it), in point order.
+    runs: Vec<(u32, u32)>,
+    sizes: Vec<usize>,
+}
+
+impl PackedComponents {
+    pub(crate) fn pack((labels, sizes): Components) -> Self {
+        let mut runs: Vec<(u32, u32)> = Vec::new();
+        for label in labels {
+            match runs.last_mut() {
+                Some((l, n)) if *l == label && *n < u32::MAX => *n += 1,
+                _ => runs.push((label, 1)),
+            }
+        }
+        runs.shrink_to_fit();
+        PackedComponents { runs, sizes }
+    }
+
+    /// The [`Components`] that were packed.
+    pub(crate) fn unpack(self) -> Components {
+        let count = self.runs.iter().map(|&(_, n)| n as usize).sum();
+        let mut labels = Vec::with_capacity(count);
+        for (label, n) in self.runs {
+            labels.extend(std::iter::repeat_n(label, n as usize));
+        }
+        (labels, self.sizes)
+    }
+}
 
 /// A pixel grid the points came from: lets stages use pixel adjacency instead of tree queries.
 #[derive(Clone, Debug, Default)]
@@ -77,7 +115,7 @@ impl Grid {
         let width = self.width as usize;
         self.index = vec![Self::NONE; width * self.height as usize];
         for (i, p) in points.iter().enumerate() {
-            let (x, y) = (p[0].floor() as i64 - self.x0, p[1].floor() as i64 - self.y0);
+            let (x, y) = (floor_i64(p[0]) - self.x0, floor_i64(p[1]) - self.y0);
             self.index[y as usize * width + x as usize] = i as u32;
         }
     }
@@ -274,7 +312,9 @@ impl PointSet {
         let mut runs: Vec<Run> = Vec::new();
         let mut run_of = Vec::with_capacity(self.len());
         for p in &self.points {
-            let (x, y) = (p[0].floor(), p[1].floor());
+            // Truncation is the floor of what passes this test (and the floor passes it exactly
+            // when the value does).
+            let (x, y) = (p[0], p[1]);
             if !(x >= 0.0 && y >= 0.0 && x < u32::MAX as f64 && y < u32::MAX as f64) {
                 return None;
             }
@@ -371,7 +411,7 @@ impl PointSet {
         if self.grid.is_some() {
             let (mut x0, mut y0, mut x1, mut y1) = (i64::MAX, i64::MAX, i64::MIN, i64::MIN);
             for p in &part.points {
-                let (x, y) = (p[0].floor() as i64, p[1].floor() as i64);
+                let (x, y) = (floor_i64(p[0]), floor_i64(p[1]));
                 x0 = x0.min(x);
                 y0 = y0.min(y);
                 x1 = x1.max(x);
@@ -508,6 +548,33 @@ mod tests {
         assert_eq!(sizes(4), [3, 3, 4]);
         assert_eq!(points.split_components(100).len(), 1);
         assert!(PointSet::default().split_components(4).is_empty());
+    }
+
+    #[test]
+    fn packed_components_unpack_to_the_same_labels() {
+        let mut seed = 3u64;
+        for len in [0usize, 1, 2, 17, 1000] {
+            let labels: Vec<u32> = (0..len)
+                .map(|_| {
+                    seed = seed
+                        .wrapping_mul(6364136223846793005)
+                        .wrapping_add(1442695040888963407);
+                    // Long runs of one label, and now and then single points.
+                    (seed >> 62) as u32
+                })
+                .scan(0u32, |run, bit| {
+                    *run = if bit == 0 { *run + 1 } else { *run };
+                    Some(*run % 5)
+                })
+                .collect();
+            let sizes: Vec<usize> = (0..5)
+                .map(|c| labels.iter().filter(|&&l| l == c).count())
+                .collect();
+            let components = (labels, sizes);
+            let packed = PackedComponents::pack(components.clone());
+            assert!(packed.runs.len() <= components.0.len());
+            assert_eq!(packed.unpack(), components, "{len} labels");
+        }
     }
 
     #[test]

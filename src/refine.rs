@@ -15,17 +15,24 @@
 use std::cmp::Reverse;
 use std::collections::BinaryHeap;
 
-use crate::geometry::{dist, point_in_polygon, TotalF64};
+use crate::geometry::{dist, floor_i64, point_in_polygon, TotalF64};
 use crate::node_graph::{GraphNode, NodeGraph};
 use crate::params::Params;
 use crate::point_set::{on_lattice, PointSet};
 
-/// Refines `H` into a 1-D graph (no triangles; one vertex per crossing).
-pub fn refine(graph: &NodeGraph, points: &PointSet, params: &Params) -> NodeGraph {
+/// Refines `H` into a 1-D graph (no triangles; one vertex per crossing). `components` are the
+/// points' [`PointSet::component_labels`] when they are known (found here otherwise, and when
+/// their length is not the points').
+pub fn refine(
+    graph: &NodeGraph,
+    points: &PointSet,
+    params: &Params,
+    components: Option<&[u32]>,
+) -> NodeGraph {
     // Holes guide contraction, merging and clean-up; without clean-up (the paper's rules) they are
     // unknown.
     let holes = if params.finish.cleanup {
-        Holes::find(points, graph)
+        Holes::find(points, graph, components)
     } else {
         Holes::Unknown
     };
@@ -804,10 +811,7 @@ fn ink_tip(points: &PointSet, from: [f64; 2], end: [f64; 2], limit: f64) -> Opti
         return Some(end);
     }
     let u = [d[0] / norm, d[1] / norm];
-    let on_ink = |p: [f64; 2]| {
-        grid.point_at(p[0].floor() as i64, p[1].floor() as i64)
-            .is_some()
-    };
+    let on_ink = |p: [f64; 2]| grid.point_at(floor_i64(p[0]), floor_i64(p[1])).is_some();
     let mut tip = end;
     let mut t = 0.5;
     while t <= limit {
@@ -877,17 +881,24 @@ impl Holes {
     /// Per component, its bounding box is cut into background runs between its ink runs; each
     /// row's runs are joined to the overlapping runs of the row above with a union-find, so the
     /// cost follows the number of runs and the boxes' heights, not their areas.
-    fn find(points: &PointSet, graph: &NodeGraph) -> Holes {
+    fn find(points: &PointSet, graph: &NodeGraph, components: Option<&[u32]>) -> Holes {
         if points.grid.is_none() {
             return Holes::Unknown;
         }
         // Specks of background inside dropout ink are not holes (the closing of adaptation 2).
         let min_size = if points.dropout { 4 } else { 2 };
-        let (labels, _) = points.component_labels();
+        let computed;
+        let labels = match components {
+            Some(labels) if labels.len() == points.len() => labels,
+            _ => {
+                computed = points.component_labels().0;
+                &computed[..]
+            }
+        };
         // Ink runs (component, row, x0, x1 exclusive) from the pixel centers.
         let mut ink: Vec<(u32, i64, i64, i64)> = Vec::new();
-        for (p, &label) in points.points.iter().zip(&labels) {
-            let (x, y) = (p[0].floor() as i64, p[1].floor() as i64);
+        for (p, &label) in points.points.iter().zip(labels) {
+            let (x, y) = (floor_i64(p[0]), floor_i64(p[1]));
             match ink.last_mut() {
                 Some(run) if run.0 == label && run.1 == y && run.3 == x => run.3 += 1,
                 _ => ink.push((label, y, x, x + 1)),
@@ -957,7 +968,7 @@ impl Holes {
         }
         holes.sort_by(|a, b| (a.rep[0].total_cmp(&b.rep[0])).then(a.component.cmp(&b.component)));
         let mut node_component = vec![u32::MAX; graph.nodes.len()];
-        for (&node, &label) in graph.owner.iter().zip(&labels) {
+        for (&node, &label) in graph.owner.iter().zip(labels) {
             if let Some(slot) = node_component.get_mut(node as usize) {
                 *slot = label;
             }

@@ -16,7 +16,7 @@
 use std::cmp::Reverse;
 use std::collections::BinaryHeap;
 
-use crate::geometry::{principal, TotalF64};
+use crate::geometry::{floor_i64, principal, TotalF64};
 use crate::params::{Params, RMinRule};
 use crate::point_set::PointSet;
 use crate::samples::{Node, Samples};
@@ -608,10 +608,10 @@ fn sees(points: &PointSet, visible: &[u32], epoch: u32, c: [f64; 2], q: [f64; 2]
     }
     let step = [q[0] + dx / m, q[1] + dy / m];
     let pixels = if dx.abs() >= dy.abs() {
-        let (x, y) = (step[0].floor() as i64, (step[1] - 0.5).floor() as i64);
+        let (x, y) = (floor_i64(step[0]), floor_i64(step[1] - 0.5));
         [(x, y), (x, y + 1)]
     } else {
-        let (x, y) = ((step[0] - 0.5).floor() as i64, step[1].floor() as i64);
+        let (x, y) = (floor_i64(step[0] - 0.5), floor_i64(step[1]));
         [(x, y), (x + 1, y)]
     };
     pixels.iter().any(|&(x, y)| {

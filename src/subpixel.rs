@@ -13,7 +13,7 @@
 use rayon::prelude::*;
 
 use crate::binary::Binary;
-use crate::geometry::{crossing_paths, dist};
+use crate::geometry::{crossing_paths, dist, floor_i64};
 use crate::gray::GrayView;
 use crate::stroke_graph::StrokeGraph;
 
@@ -65,7 +65,7 @@ pub(crate) fn center_on_gray(
             let [dx, dy] = edge.directions[i];
             let p = edge.points[i];
             let moved = [p[0] - dy * s, p[1] + dx * s];
-            if binary.get(moved[0].floor() as i64, moved[1].floor() as i64) {
+            if binary.get(floor_i64(moved[0]), floor_i64(moved[1])) {
                 edge.points[i] = moved;
             }
         }

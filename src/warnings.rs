@@ -16,6 +16,7 @@ use std::collections::BTreeSet;
 
 use crate::binary::MaskView;
 use crate::decisions::{Decisions, InkSide, ThresholdUsed, Warning};
+use crate::geometry::floor_i64;
 use crate::median::upper_median;
 use crate::stroke_graph::StrokeGraph;
 
@@ -335,7 +336,7 @@ fn min_area_for(
     // The ink component under a vertex: the label of an ink pixel at or next to it (a centerline
     // placed below the pixel may sit on the pixel beside the ink).
     let label_at = |pos: [f64; 2]| -> Option<usize> {
-        let (x, y) = (pos[0].floor() as i64, pos[1].floor() as i64);
+        let (x, y) = (floor_i64(pos[0]), floor_i64(pos[1]));
         [
             (0, 0),
             (-1, 0),

@@ -6,6 +6,7 @@
 
 use super::math::distance;
 use crate::csr::Csr;
+use crate::geometry::floor_i64;
 use crate::point_set::PointSet;
 
 /// Points grouped by an index (old graph nodes or fitted nodes), in CSR form.
@@ -143,7 +144,7 @@ fn source(
     near: &[u32; 2],
 ) -> Option<u32> {
     if let Some(grid) = &points.grid {
-        if let Some(p) = grid.point_at(site[0].floor() as i64, site[1].floor() as i64) {
+        if let Some(p) = grid.point_at(floor_i64(site[0]), floor_i64(site[1])) {
             // The pixel under a site between two strokes may belong to the neighbouring
             // component; the search from it would claim that component's points.
             let same = own.is_none_or(|c| components.get(p as usize) == Some(&c));

@@ -36,6 +36,7 @@ mod solve;
 mod tests;
 
 use crate::csr::Csr;
+use crate::geometry::floor_i64;
 use crate::node_graph::NodeGraph;
 use crate::params::{LaplacianRule, Params};
 use crate::point_set::PointSet;
@@ -56,6 +57,7 @@ const MEDIAN_TOLERANCE: f64 = 1e-4;
 /// the caller to set), nodes spaced `h` apart: parts of one image traced apart (chunks of its
 /// components) share the `h` of the whole image (see [`node_spacing`]), so the result does not
 /// depend on how the image was cut.
+#[cfg(test)]
 pub fn fit_with_spacing(
     graph: &NodeGraph,
     points: &PointSet,
@@ -71,7 +73,7 @@ pub(crate) fn fit_in_components(
     points: &PointSet,
     params: &Params,
     h: f64,
-    components: Option<Vec<u32>>,
+    components: Option<&[u32]>,
 ) -> StrokeGraph {
     if graph.nodes.is_empty() {
         return StrokeGraph::default();
@@ -87,9 +89,13 @@ pub(crate) fn fit_in_components(
     };
     // Lookups by pixel (a site's first point, the width under a point) must not land on a
     // neighbouring component's pixel: a whole page holds its neighbours, a chunk may not.
+    let computed;
     let components = match components {
         Some(components) if components.len() == points.len() => components,
-        _ => points.component_labels().0,
+        _ => {
+            computed = points.component_labels().0;
+            &computed[..]
+        }
     };
     // The component of each fitted node: that of the points its old graph nodes owned.
     let component_of = |i: usize| -> Option<u32> {
@@ -101,7 +107,7 @@ pub(crate) fn fit_in_components(
     let site_components: Vec<Option<u32>> = (0..layout.pos.len()).map(component_of).collect();
     let cells = assign::assign(
         points,
-        &components,
+        components,
         &site_components,
         &owned,
         &layout.pos,
@@ -150,7 +156,7 @@ pub(crate) fn fit_in_components(
     // short of the junctions), and steady slices: off in dropout mode, whose ink is broken.
     let dense = params.experiments.dense_fit && params.finish.cleanup && !points.dropout;
     if params.finish.cleanup {
-        let ink = Ink::new(points, unit, &components);
+        let ink = Ink::new(points, unit, components);
 
         let placement = Placement {
             ink: &ink,
@@ -399,7 +405,7 @@ fn width_at(
     let half = |i: u32| points.half_width.get(i as usize).map(|&h| 2.0 * h as f64);
     let cell = cells.of(unknown as usize);
     if let Some(grid) = &points.grid {
-        let under = grid.point_at(p[0].floor() as i64, p[1].floor() as i64);
+        let under = grid.point_at(floor_i64(p[0]), floor_i64(p[1]));
         if let Some(w) = under.filter(|&q| on_own(q)).and_then(half) {
             return w;
         }

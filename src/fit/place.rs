@@ -6,7 +6,7 @@
 //! from the ink and the fitted arms rather than from more smoothing.
 
 use super::math::{line_intersection, principal_line, unit};
-use crate::geometry::{arc_lengths, point_at};
+use crate::geometry::{arc_lengths, floor_i64, point_at};
 use crate::point_set::{on_lattice, Grid, PointSet};
 
 /// "Is this position on the ink?": the pixel under it is ink, or (point lists) a point lies within
@@ -63,13 +63,7 @@ impl<'a> Ink<'a> {
             .points
             .iter()
             .enumerate()
-            .map(|(i, p)| {
-                (
-                    (p[0] / radius).floor() as i64,
-                    (p[1] / radius).floor() as i64,
-                    i as u32,
-                )
-            })
+            .map(|(i, p)| (floor_i64(p[0] / radius), floor_i64(p[1] / radius), i as u32))
             .collect();
         cells.sort_unstable();
         Ink::Points {
@@ -113,7 +107,7 @@ impl<'a> Ink<'a> {
                 margin,
                 components,
             } => {
-                let (x, y) = (p[0].floor() as i64, p[1].floor() as i64);
+                let (x, y) = (floor_i64(p[0]), floor_i64(p[1]));
                 let ink = |q: u32| component.is_none_or(|c| components.get(q as usize) == Some(&c));
                 (-margin..=*margin).any(|dy| {
                     (-margin..=*margin).any(|dx| grid.point_at(x + dx, y + dy).is_some_and(ink))
@@ -125,10 +119,7 @@ impl<'a> Ink<'a> {
                 points,
                 ..
             } => {
-                let (cx, cy) = (
-                    (p[0] / radius).floor() as i64,
-                    (p[1] / radius).floor() as i64,
-                );
+                let (cx, cy) = (floor_i64(p[0] / radius), floor_i64(p[1] / radius));
                 for x in cx - 1..=cx + 1 {
                     for y in cy - 1..=cy + 1 {
                         let from = cells.partition_point(|c| (c.0, c.1) < (x, y));

@@ -18,7 +18,7 @@ use crate::csr::Csr;
 use crate::error::Result;
 use crate::mask::{ink_row_starts, run_components, Run};
 use crate::params::Params;
-use crate::point_set::PointSet;
+use crate::point_set::{Components, PointSet};
 
 /// The ink of an image as chunks of whole 8-connected components, in the order of each
 /// component's first pixel, each chunk about `target` points or one component.
@@ -27,6 +27,8 @@ pub(crate) struct PixelChunks {
     spacing: f64,
     /// The runs of every chunk, one chunk after the other, in raster order within a chunk.
     runs: Vec<Run>,
+    /// The page-wide component of each run (numbered in order of first pixel).
+    labels: Vec<u32>,
     /// Chunk `c` holds `runs[offsets[c]..offsets[c + 1]]`.
     offsets: Vec<usize>,
 }
@@ -82,12 +84,14 @@ pub(crate) fn pixel_chunks(
     // The runs grouped by chunk, keeping raster order within each (a stable counting sort).
     let grouped = Csr::build(chunks as usize, |sink| {
         for (run, &l) in runs.iter().zip(&label) {
-            sink.push(chunk_of[l as usize] as usize, *run);
+            sink.push(chunk_of[l as usize] as usize, (*run, l));
         }
     });
+    let (runs, labels) = grouped.values.into_iter().unzip();
     Ok(Some(PixelChunks {
         spacing,
-        runs: grouped.values,
+        runs,
+        labels,
         offsets: grouped.offsets,
     }))
 }
@@ -107,18 +111,34 @@ impl PixelChunks {
     }
 
     /// The point set of chunk `c`: [`build_from_runs`] over the bounding box of its runs, holding
-    /// only its own ink.
-    pub(crate) fn part(&self, c: usize) -> Result<PointSet> {
-        let runs = &self.runs[self.offsets[c]..self.offsets[c + 1]];
+    /// only its own ink; and its [`PointSet::component_labels`], read off the page's components
+    /// (a chunk holds consecutive components of the page, numbered in the same order of first
+    /// pixel, so its labels are the page's less its first).
+    pub(crate) fn part(&self, c: usize) -> Result<(PointSet, Components)> {
+        let range = self.offsets[c]..self.offsets[c + 1];
+        let runs = &self.runs[range.clone()];
         let (Some(first), Some(last)) = (runs.first(), runs.last()) else {
-            return Ok(PointSet::default());
+            return Ok((PointSet::default(), (Vec::new(), Vec::new())));
         };
+        let labels = &self.labels[range];
+        let base = labels.iter().copied().min().unwrap_or(0);
+        let mut sizes: Vec<usize> = Vec::new();
+        let mut point_labels = Vec::with_capacity(self.size(c));
+        for (run, &l) in runs.iter().zip(labels) {
+            let local = (l - base) as usize;
+            if sizes.len() <= local {
+                sizes.resize(local + 1, 0);
+            }
+            sizes[local] += run.len();
+            point_labels.extend(std::iter::repeat_n(local as u32, run.len()));
+        }
         let (y0, y1) = (first.y as usize, last.y as usize + 1);
         let x0 = runs.iter().map(|r| r.x0).min().unwrap_or(0) as usize;
         let x1 = runs.iter().map(|r| r.x1).max().unwrap_or(0) as usize;
         // The chunk's runs are the page's, each a maximal run of its row, and no run of another
         // chunk touches them: they are the maximal runs of the window holding this chunk's ink.
-        build_from_runs(runs, (x0, y0), (x1 - x0, y1 - y0), self.spacing)
+        let points = build_from_runs(runs, (x0, y0), (x1 - x0, y1 - y0), self.spacing)?;
+        Ok((points, (point_labels, sizes)))
     }
 }
 
@@ -179,7 +199,12 @@ mod tests {
             let expected = whole.split_components(target);
             assert_eq!(chunks.len(), expected.len(), "target {target}");
             for (c, want) in expected.iter().enumerate() {
-                let got = chunks.part(c).expect("part");
+                let (got, components) = chunks.part(c).expect("part");
+                assert_eq!(
+                    components,
+                    want.component_labels(),
+                    "target {target} chunk {c}"
+                );
                 assert_eq!(got.points, want.points, "target {target} chunk {c}");
                 assert_eq!(got.offsets, want.offsets);
                 assert_eq!(got.neighbors, want.neighbors);

@@ -410,13 +410,16 @@ pub(crate) fn set_aside(points: &mut PointSet) -> Aside {
     let mut runs: Vec<Run> = Vec::new();
     for p in &points.points {
         let (x, y) = (p[0] - 0.5, p[1] - 0.5);
-        if !(x >= 0.0 && y >= 0.0 && x < u32::MAX as f64 && y < u32::MAX as f64)
-            || x.fract() != 0.0
-            || y.fract() != 0.0
-        {
+        if !(x >= 0.0 && y >= 0.0 && x < u32::MAX as f64 && y < u32::MAX as f64) {
             return Aside::default();
         }
-        let (x, y) = (x as u32, y as u32);
+        // Whole numbers (`fract() == 0`, without its library call): in that range, those that
+        // truncation leaves as they are.
+        let (whole_x, whole_y) = (x as u32, y as u32);
+        if f64::from(whole_x) != x || f64::from(whole_y) != y {
+            return Aside::default();
+        }
+        let (x, y) = (whole_x, whole_y);
         match runs.last_mut() {
             Some(run) if run.y == y && run.x1 == x => run.x1 += 1,
             _ => runs.push(Run {

@@ -4,6 +4,7 @@
 
 use kiddo::{ImmutableKdTree, SquaredEuclidean};
 
+use crate::geometry::floor_i64;
 use crate::stroke_graph::StrokeGraph;
 
 use super::work::{median, Work};
@@ -246,7 +247,7 @@ fn follows(p: &[[f64; 2]], q: &[[f64; 2]], tight: f64, loose: f64) -> Option<f64
     // looks at the segments of the (at most four) cells within `loose` of it: linear in the
     // points, however long the lines (a page-long stroke has tens of thousands).
     let cell = (2.0 * loose).max(4.0);
-    let key = |v: f64| (v / cell).floor() as i64;
+    let key = |v: f64| floor_i64(v / cell);
     let directed = |from: &[[f64; 2]], to: &[[f64; 2]]| -> Option<f64> {
         let segments: Vec<([f64; 2], [f64; 2])> = match to {
             [only] => vec![(*only, *only)],

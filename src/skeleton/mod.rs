@@ -90,10 +90,14 @@ pub(crate) fn thin(binary: &Binary) -> StrokeGraph {
 /// The skeleton-carried graph of `points`' ink with the topology decisions of `method` (see the
 /// module doc), each edge fitted to its ink ([`smooth`]). Returns `method` unchanged for point
 /// lists and in dropout mode.
+///
+/// `components` are the points' [`PointSet::component_labels`] (labels and sizes) when they are
+/// known (found here otherwise, and when their length is not the points').
 pub fn carry(
     method: &StrokeGraph,
     points: &PointSet,
     experiments: &ExperimentParams,
+    components: Option<(&[u32], &[usize])>,
 ) -> StrokeGraph {
     let Some(grid) = &points.grid else {
         return method.clone();
@@ -101,7 +105,7 @@ pub fn carry(
     if points.dropout || grid.index.is_empty() {
         return method.clone();
     }
-    let (skeleton, ink) = skeleton_graph(points, grid);
+    let (skeleton, ink) = skeleton_graph(points, grid, components);
     let carried = reconcile(Work::new(skeleton, ink), method, experiments);
     debug_assert_eq!(validate(&carried), Ok(()));
     carried
@@ -111,7 +115,11 @@ pub fn carry(
 /// component kept, in image coordinates; and that ink. The window is the chunk's bounding box,
 /// many times its ink on a page of text: the thinning runs per component over the component's
 /// own box, and nothing but the ink mask and the skeleton is the window's size.
-fn skeleton_graph(points: &PointSet, grid: &Grid) -> (StrokeGraph, Ink) {
+fn skeleton_graph(
+    points: &PointSet,
+    grid: &Grid,
+    components: Option<(&[u32], &[usize])>,
+) -> (StrokeGraph, Ink) {
     let (w, h) = (grid.width as usize, grid.height as usize);
     // Points are pixel centers of the window; their window pixels, and each component's in CSR
     // form (points in raster order, so each component's pixels rise).
@@ -122,15 +130,22 @@ fn skeleton_graph(points: &PointSet, grid: &Grid) -> (StrokeGraph, Ink) {
     for p in &points.points {
         ink[pixel_of(p)] = true;
     }
-    let (labels, sizes) = points.component_labels();
+    let computed;
+    let (labels, sizes) = match components {
+        Some((labels, sizes)) if labels.len() == points.len() => (labels, sizes),
+        _ => {
+            computed = points.component_labels();
+            (&computed.0[..], &computed.1[..])
+        }
+    };
     let mut offsets = Vec::with_capacity(sizes.len() + 1);
     offsets.push(0usize);
-    for size in &sizes {
+    for size in sizes {
         offsets.push(offsets[offsets.len() - 1] + size);
     }
     let mut fill = offsets[..sizes.len()].to_vec();
     let mut members = vec![0usize; points.len()];
-    for (p, &label) in points.points.iter().zip(&labels) {
+    for (p, &label) in points.points.iter().zip(labels) {
         members[fill[label as usize]] = pixel_of(p);
         fill[label as usize] += 1;
     }

@@ -1,7 +1,7 @@
 //! The graph thinning tools extract from a one-pixel skeleton: junction pixels clustered into one
 //! vertex, ends, dots, the pixel paths between them as edges, junction-free cycles as loops.
 
-use crate::geometry::tangents;
+use crate::geometry::{floor_i64, tangents};
 use crate::stroke_graph::{Edge, StrokeGraph, Vertex};
 
 use super::thin::RING;
@@ -34,8 +34,8 @@ pub(super) fn pixel_graph(
     let center = |i: usize| [(i as i64 % w) as f64 + 0.5, (i as i64 / w) as f64 + 0.5];
     let width_at = |p: [f64; 2]| {
         let (x, y) = (
-            (p[0].floor() as i64).clamp(0, w - 1),
-            (p[1].floor() as i64).clamp(0, h - 1),
+            floor_i64(p[0]).clamp(0, w - 1),
+            floor_i64(p[1]).clamp(0, h - 1),
         );
         (2.0 * f64::from(half_width((y * w + x) as usize)) - 1.0).max(MIN_WIDTH_PX)
     };

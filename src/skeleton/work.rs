@@ -23,10 +23,8 @@ pub(super) struct Ink {
 
 impl Ink {
     pub(super) fn at(&self, p: [f64; 2]) -> bool {
-        let (x, y) = (
-            (p[0] - self.origin[0]).floor(),
-            (p[1] - self.origin[1]).floor(),
-        );
+        // Truncation is the floor where the value is not negative, and so is its test.
+        let (x, y) = (p[0] - self.origin[0], p[1] - self.origin[1]);
         x >= 0.0
             && y >= 0.0
             && (x as usize) < self.width

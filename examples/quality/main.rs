@@ -656,6 +656,11 @@ fn main() -> anyhow::Result<()> {
                     (Err(e), _) => (Some(format!("truth: {e}")), None),
                     (_, Err(e)) => (Some(e.clone()), None),
                 };
+                if std::env::var("QUALITY_DUMP_CROSSINGS").is_ok() && method == "ridgeline" {
+                    if let (Ok(truth), Ok(graph), Some(sc)) = (&truth, &result, &scores) {
+                        dump_crossings(&case.name, truth, graph, sc);
+                    }
+                }
                 traced.push(result.ok());
                 outcomes.push(Outcome {
                     case: case.name.clone(),
@@ -1198,4 +1203,59 @@ fn real_images(verbose: bool) -> Vec<RealImage> {
         }
     }
     out
+}
+
+/// With `QUALITY_DUMP_CROSSINGS` set: a line per true crossing of the case (ridgeline), right or
+/// missed, with the predicted and true junctions within four widths of it (degree and distance in
+/// widths) and a line naming the case (docs/quality.md, "Where script loses crossings").
+fn dump_crossings(
+    name: &str,
+    truth: &StrokeGraph,
+    graph: &StrokeGraph,
+    sc: &ridgeline_testkit::score::Scores,
+) {
+    let d = |a: [f64; 2], b: [f64; 2]| (a[0] - b[0]).hypot(a[1] - b[1]);
+    println!("XCASE {name}");
+    for c in &sc.crossings {
+        let t = truth
+            .vertices
+            .iter()
+            .min_by(|a, b| d(a.pos, c.pos).total_cmp(&d(b.pos, c.pos)))
+            .unwrap();
+        let w = t.width.max(3.0);
+        let near_p: Vec<String> = graph
+            .junctions()
+            .filter(|&v| d(graph.vertices[v].pos, c.pos) <= 4.0 * w)
+            .map(|v| {
+                format!(
+                    "d{}@{:.1}",
+                    graph.vertices[v].degree,
+                    d(graph.vertices[v].pos, c.pos) / t.width
+                )
+            })
+            .collect();
+        let near_t: Vec<String> = truth
+            .junctions()
+            .filter(|&v| {
+                d(truth.vertices[v].pos, c.pos) > 0.1 && d(truth.vertices[v].pos, c.pos) <= 4.0 * w
+            })
+            .map(|v| {
+                format!(
+                    "d{}@{:.1}",
+                    truth.vertices[v].degree,
+                    d(truth.vertices[v].pos, c.pos) / t.width
+                )
+            })
+            .collect();
+        println!(
+            "XDUMP {name} ({:.0},{:.0}) ang {:.0} w {:.1} {} pred [{}] truth [{}]",
+            c.pos[0],
+            c.pos[1],
+            c.angle,
+            t.width,
+            if c.correct { "OK" } else { "MISS" },
+            near_p.join(" "),
+            near_t.join(" ")
+        );
+    }
 }

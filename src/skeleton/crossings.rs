@@ -533,8 +533,10 @@ impl Work {
     /// 10 degrees), beyond the reach of the method's crossing ([`CROSSING_REACH`]) or where the
     /// method sees none; a bar between two forks ('>-<') has arms whose lines run apart or off
     /// its ink. The pair becomes one vertex where the lines meet, as [`Work::merge_crossings`]
-    /// merges.
+    /// merges. A pair these tests leave is one crossing when the ink prefers it
+    /// ([`Work::ink_decides_crossing`]).
     pub(super) fn merge_split_crossings(&mut self) {
+        let holes = self.hole_mask();
         let mut degree = self.degrees();
         let mut at = self.incidence();
         for link in 0..self.edges.len() {
@@ -545,7 +547,10 @@ impl Work {
             if a == b || degree[a] != 3 || degree[b] != 3 || at[a].len() < 2 || at[b].len() < 2 {
                 continue;
             }
-            let Some(c) = self.split_crossing(link, a, b, &at) else {
+            let c = self
+                .split_crossing(link, a, b, &at)
+                .or_else(|| self.ink_decides_crossing(link, a, b, &at, &holes));
+            let Some(c) = c else {
                 continue;
             };
             let (group, internal) = ([a, b], [link]);
@@ -1007,4 +1012,401 @@ fn line_dist(p: [f64; 2], a: [f64; 2], b: [f64; 2]) -> f64 {
         return f64::INFINITY;
     }
     ((p[0] - a[0]) * d[1] - (p[1] - a[1]) * d[0]).abs() / n
+}
+
+/// What one more part (a vertex and an edge) costs when the ink decides between one crossing
+/// and two junctions: half a square of the stroke's width, as a spur decided by the ink
+/// (docs/quality.md, "Deciding spurs by the ink").
+const INK_PART_COST: f64 = 0.5;
+
+/// Polylines are drawn with the round pen as disks at most this far apart (px).
+const PEN_STEP_PX: f64 = 0.5;
+
+/// One arm of a link's junction as the ink test draws it ([`Work::ink_crossing`]): the arm's
+/// points from the junction out to its near anchor (what only the two-junction drawing has),
+/// from the near anchor to the far one (what both drawings share), its median width and
+/// anchors.
+struct InkArm {
+    inner: Vec<[f64; 2]>,
+    outer: Vec<[f64; 2]>,
+    width: f64,
+    line: ArmLine,
+}
+
+/// The points of `path` resampled at most [`PEN_STEP_PX`] apart.
+fn densify(path: &[[f64; 2]]) -> Vec<[f64; 2]> {
+    let mut out = Vec::new();
+    for s in path.windows(2) {
+        let n = (dist(s[0], s[1]) / PEN_STEP_PX).ceil().max(1.0) as usize;
+        for k in 0..n {
+            let t = k as f64 / n as f64;
+            out.push([
+                s[0][0] + t * (s[1][0] - s[0][0]),
+                s[0][1] + t * (s[1][1] - s[0][1]),
+            ]);
+        }
+    }
+    if let Some(&last) = path.last() {
+        out.push(last);
+    }
+    out
+}
+
+/// The cubic Hermite curve from `p0` leaving along the unit `t0` to `p1` arriving along the unit
+/// `t1`, tangents as long as the chord: the smoothest way one stroke goes on through a crossing
+/// from one arm to the other, sampled at most [`PEN_STEP_PX`] apart.
+fn hermite(p0: [f64; 2], t0: [f64; 2], p1: [f64; 2], t1: [f64; 2]) -> Vec<[f64; 2]> {
+    let l = dist(p0, p1);
+    let n = (1.5 * l / PEN_STEP_PX).ceil().max(1.0) as usize;
+    (0..=n)
+        .map(|k| {
+            let s = k as f64 / n as f64;
+            let (s2, s3) = (s * s, s * s * s);
+            let (h00, h10, h01, h11) = (
+                2.0 * s3 - 3.0 * s2 + 1.0,
+                s3 - 2.0 * s2 + s,
+                -2.0 * s3 + 3.0 * s2,
+                s3 - s2,
+            );
+            [0, 1].map(|i| h00 * p0[i] + h10 * l * t0[i] + h01 * p1[i] + h11 * l * t1[i])
+        })
+        .collect()
+}
+
+/// Where the polylines `p` and `q` cross, the crossing nearest `near`; `None` when they do not.
+fn polyline_crossing(p: &[[f64; 2]], q: &[[f64; 2]], near: [f64; 2]) -> Option<[f64; 2]> {
+    let mut best: Option<[f64; 2]> = None;
+    for a in p.windows(2) {
+        for b in q.windows(2) {
+            let r = [a[1][0] - a[0][0], a[1][1] - a[0][1]];
+            let s = [b[1][0] - b[0][0], b[1][1] - b[0][1]];
+            let denom = r[0] * s[1] - r[1] * s[0];
+            if denom.abs() < 1e-12 {
+                continue;
+            }
+            let d = [b[0][0] - a[0][0], b[0][1] - a[0][1]];
+            let t = (d[0] * s[1] - d[1] * s[0]) / denom;
+            let u = (d[0] * r[1] - d[1] * r[0]) / denom;
+            if !(0.0..=1.0).contains(&t) || !(0.0..=1.0).contains(&u) {
+                continue;
+            }
+            let x = [a[0][0] + t * r[0], a[0][1] + t * r[1]];
+            if best.is_none_or(|b| dist(x, near) < dist(b, near)) {
+                best = Some(x);
+            }
+        }
+    }
+    best
+}
+
+impl Work {
+    /// The arms at the degree-3 junction `j` other than `link` as the ink test draws them;
+    /// `None` when there are not two or one is too short for a line.
+    fn ink_arms(&self, j: usize, link: usize, at: &[Vec<usize>]) -> Option<Vec<InkArm>> {
+        let jp = self.vertices[j].pos;
+        let mut arms = Vec::new();
+        for &e in at[j].iter().filter(|&&e| e != link) {
+            let edge = self.edges[e].as_ref()?;
+            for (here, forward) in [(edge.from == j, true), (edge.to == j, false)] {
+                if !here {
+                    continue;
+                }
+                let outwards: Vec<[f64; 2]> = if forward {
+                    edge.points.clone()
+                } else {
+                    edge.points.iter().rev().copied().collect()
+                };
+                let width = median(&edge.widths);
+                let reach = outwards.iter().map(|&p| dist(p, jp)).fold(0.0f64, f64::max);
+                let at_distance = |d: f64| {
+                    let Some(k) = outwards.iter().position(|&p| dist(p, jp) >= d) else {
+                        return outwards[outwards.len() - 1];
+                    };
+                    if k == 0 {
+                        return outwards[0];
+                    }
+                    let (a, b) = (outwards[k - 1], outwards[k]);
+                    let (da, db) = (dist(a, jp), dist(b, jp));
+                    let t = if db > da { (d - da) / (db - da) } else { 1.0 };
+                    [a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1])]
+                };
+                let line = ArmLine {
+                    near: at_distance((SPLIT_NEAR * width).min(reach / 2.0)),
+                    far: at_distance((SPLIT_FAR * width).min(reach)),
+                };
+                if dist(line.near, line.far) < MIN_SPLIT_LINE_PX {
+                    return None;
+                }
+                let (d_near, d_far) = (dist(line.near, jp), dist(line.far, jp));
+                let mut inner: Vec<[f64; 2]> = outwards
+                    .iter()
+                    .copied()
+                    .take_while(|&p| dist(p, jp) < d_near)
+                    .collect();
+                inner.push(line.near);
+                let mut outer = vec![line.near];
+                outer.extend(
+                    outwards
+                        .iter()
+                        .copied()
+                        .skip_while(|&p| dist(p, jp) < d_near)
+                        .take_while(|&p| dist(p, jp) < d_far),
+                );
+                outer.push(line.far);
+                arms.push(InkArm {
+                    inner,
+                    outer,
+                    width,
+                    line,
+                });
+            }
+        }
+        (arms.len() == 2).then_some(arms)
+    }
+
+    /// The ink's choice between one crossing and two junctions for the degree-3 junctions `a`
+    /// and `b` joined by `link`: two drawings with a round pen of the strokes' measured widths,
+    /// "one X" (each arm at `a` going on smoothly, [`hermite`], into one at `b` from near anchor
+    /// to near anchor, the two strokes crossing) and "two Y's joined by a bar" (the skeleton's
+    /// own arms into their junctions and the link, drawn no wider than the widest arm: a bar is
+    /// a stroke of the same pen), each with the arms' stretches from near to far anchor they
+    /// share. Each costs the ink pixels it leaves uncovered plus the background pixels it
+    /// covers; the pixels both or neither cover cost both the same. A pairing whose strokes
+    /// draw over more of a hole of the ink (`holes`) than the two Y's do is none: every hole is
+    /// a cycle's, and a stroke across one is not on the ink (the cells of a grid, where two T's
+    /// on the frame and the cell between them could pass for a blob). The crossing of the
+    /// better pairing and by how many pixels "one X" costs less (`None` when neither pairing's
+    /// strokes cross).
+    fn ink_crossing(
+        &self,
+        link: usize,
+        a: usize,
+        b: usize,
+        at: &[Vec<usize>],
+        holes: &[bool],
+    ) -> Option<(Vertex, f64)> {
+        let arms_a = self.ink_arms(a, link, at)?;
+        let arms_b = self.ink_arms(b, link, at)?;
+        let link_edge = self.edges[link].as_ref()?;
+        let widest = arms_a
+            .iter()
+            .chain(&arms_b)
+            .map(|arm| arm.width)
+            .fold(0.0f64, f64::max);
+        let stroke = arms_a
+            .iter()
+            .chain(&arms_b)
+            .map(|arm| arm.width)
+            .fold(f64::INFINITY, f64::min);
+        let bar = median(&link_edge.widths).min(widest);
+        let middle = link_edge.points[link_edge.points.len() / 2];
+        // The pens each drawing has alone, and those both have.
+        let pens = |path: &[[f64; 2]], w: f64| -> Vec<([f64; 2], f64)> {
+            densify(path).into_iter().map(|p| (p, w)).collect()
+        };
+        let mut shared = Vec::new();
+        let mut two = pens(&link_edge.points, bar);
+        for arm in arms_a.iter().chain(&arms_b) {
+            shared.extend(pens(&arm.outer, arm.width));
+            two.extend(pens(&arm.inner, arm.width));
+        }
+        let pairs = [[(0, 0), (1, 1)], [(0, 1), (1, 0)]];
+        let mut best: Option<(Vertex, f64)> = None;
+        for pair in pairs {
+            let strokes: Vec<(Vec<[f64; 2]>, f64, f64)> = pair
+                .iter()
+                .map(|&(i, j)| {
+                    let (p, q) = (&arms_a[i], &arms_b[j]);
+                    let t0 = unit([
+                        p.line.near[0] - p.line.far[0],
+                        p.line.near[1] - p.line.far[1],
+                    ])?;
+                    let t1 = unit([
+                        q.line.far[0] - q.line.near[0],
+                        q.line.far[1] - q.line.near[1],
+                    ])?;
+                    Some((hermite(p.line.near, t0, q.line.near, t1), p.width, q.width))
+                })
+                .collect::<Option<_>>()?;
+            let Some(hub) = polyline_crossing(&strokes[0].0, &strokes[1].0, middle) else {
+                continue;
+            };
+            if !self.ink.at(hub) {
+                continue;
+            }
+            let mut one = Vec::new();
+            for (path, w0, w1) in &strokes {
+                let n = path.len().max(2) - 1;
+                one.extend(
+                    path.iter()
+                        .enumerate()
+                        .map(|(k, &p)| (p, w0 + (w1 - w0) * k as f64 / n as f64)),
+                );
+            }
+            let (gain, over_holes) = self.ink_gain(&one, &two, &shared, holes);
+            if over_holes > 0.0 {
+                continue;
+            }
+            if best.as_ref().is_none_or(|(_, g)| gain > *g) {
+                best = Some((
+                    Vertex {
+                        pos: hub,
+                        degree: 4,
+                        width: stroke,
+                    },
+                    gain,
+                ));
+            }
+        }
+        best
+    }
+
+    /// The crossing of the degree-3 junctions `a` and `b` joined by `link` when the ink prefers
+    /// one X ([`Work::ink_crossing`]) by more than one part's cost ([`INK_PART_COST`] squared
+    /// widths: "two Y's joined by a bar" has one vertex and one edge more) and the link is at
+    /// most [`CURVED_LINK`] widths long (docs/quality.md, "Deciding crossings by the ink").
+    fn ink_decides_crossing(
+        &self,
+        link: usize,
+        a: usize,
+        b: usize,
+        at: &[Vec<usize>],
+        holes: &[bool],
+    ) -> Option<Vertex> {
+        let length = self.edges[link].as_ref()?.length();
+        let stroke = [a, b]
+            .iter()
+            .filter_map(|&j| self.ink_arms(j, link, at))
+            .flatten()
+            .map(|arm| arm.width)
+            .fold(f64::INFINITY, f64::min);
+        if length > CURVED_LINK * stroke {
+            return None;
+        }
+        let (c, gain) = self.ink_crossing(link, a, b, at, holes)?;
+        let w = c.width;
+        (gain > INK_PART_COST * w * w).then_some(c)
+    }
+
+    /// How many pixels the drawing `one` costs less than `two` (each a list of round pens: a
+    /// point and a full width), the pixels `shared` covers left out: over the pixels one of them
+    /// covers and the other not, an ink pixel counts for the drawing covering it and a
+    /// background pixel against it.
+    fn ink_gain(
+        &self,
+        one: &[([f64; 2], f64)],
+        two: &[([f64; 2], f64)],
+        shared: &[([f64; 2], f64)],
+        holes: &[bool],
+    ) -> (f64, f64) {
+        let all = || one.iter().chain(two).chain(shared);
+        let mut min = [f64::INFINITY; 2];
+        let mut max = [f64::NEG_INFINITY; 2];
+        for &(p, w) in all() {
+            let r = disk_radius(w);
+            for k in 0..2 {
+                min[k] = min[k].min(p[k] - r);
+                max[k] = max[k].max(p[k] + r);
+            }
+        }
+        if !min[0].is_finite() {
+            return (0.0, 0.0);
+        }
+        let x0 = min[0].floor() as i64;
+        let y0 = min[1].floor() as i64;
+        let (nx, ny) = (
+            (max[0].ceil() as i64 - x0 + 1) as usize,
+            (max[1].ceil() as i64 - y0 + 1) as usize,
+        );
+        let mut flags = vec![0u8; nx * ny];
+        for (bit, list) in [(1u8, one), (2, two), (4, shared)] {
+            for &(p, w) in list {
+                let r = disk_radius(w);
+                for y in ((p[1] - r - 0.5).floor() as i64)..=((p[1] + r - 0.5).ceil() as i64) {
+                    for x in ((p[0] - r - 0.5).floor() as i64)..=((p[0] + r - 0.5).ceil() as i64) {
+                        let c = [x as f64 + 0.5, y as f64 + 0.5];
+                        if dist(c, p) >= r {
+                            continue;
+                        }
+                        let (ix, iy) = (x - x0, y - y0);
+                        if ix >= 0 && iy >= 0 && (ix as usize) < nx && (iy as usize) < ny {
+                            flags[iy as usize * nx + ix as usize] |= bit;
+                        }
+                    }
+                }
+            }
+        }
+        let mut gain = 0.0;
+        let mut over_holes = 0.0;
+        for (i, &f) in flags.iter().enumerate() {
+            let sign = match f {
+                1 => 1.0,
+                2 => -1.0,
+                _ => continue,
+            };
+            let c = [
+                (x0 + (i % nx) as i64) as f64 + 0.5,
+                (y0 + (i / nx) as i64) as f64 + 0.5,
+            ];
+            gain += sign * if self.ink.at(c) { 1.0 } else { -1.0 };
+            if self.in_hole(holes, c) {
+                over_holes += sign;
+            }
+        }
+        (gain, over_holes)
+    }
+
+    /// Whether the pixel centre `c` is background enclosed by the ink (`holes`, from
+    /// [`Work::hole_mask`]).
+    fn in_hole(&self, holes: &[bool], c: [f64; 2]) -> bool {
+        let (x, y) = (
+            (c[0] - self.ink.origin[0]).floor(),
+            (c[1] - self.ink.origin[1]).floor(),
+        );
+        x >= 0.0
+            && y >= 0.0
+            && (x as usize) < self.ink.width
+            && (y as usize) < self.ink.height
+            && holes[y as usize * self.ink.width + x as usize]
+    }
+
+    /// The background pixels of the ink's window that no 4-connected path of background joins
+    /// to its border: the holes.
+    fn hole_mask(&self) -> Vec<bool> {
+        let (w, h) = (self.ink.width, self.ink.height);
+        let mut outside = vec![false; w * h];
+        let mut stack: Vec<usize> = (0..w * h)
+            .filter(|&i| {
+                let (x, y) = (i % w, i / w);
+                (x == 0 || y == 0 || x + 1 == w || y + 1 == h) && !self.ink.mask[i]
+            })
+            .collect();
+        for &i in &stack {
+            outside[i] = true;
+        }
+        while let Some(i) = stack.pop() {
+            let (x, y) = (i % w, i / w);
+            let mut push = |j: usize| {
+                if !self.ink.mask[j] && !outside[j] {
+                    outside[j] = true;
+                    stack.push(j);
+                }
+            };
+            if x > 0 {
+                push(i - 1);
+            }
+            if x + 1 < w {
+                push(i + 1);
+            }
+            if y > 0 {
+                push(i - w);
+            }
+            if y + 1 < h {
+                push(i + w);
+            }
+        }
+        (0..w * h)
+            .map(|i| !self.ink.mask[i] && !outside[i])
+            .collect()
+    }
 }

@@ -5,6 +5,8 @@
 //! straightness of their arms; arms run straight into their junction
 //! ([`Work::straighten_junctions`]). docs/design.md, "Skeleton-carried geometry".
 
+use std::cell::OnceCell;
+
 use kiddo::{ImmutableKdTree, SquaredEuclidean};
 use petgraph::unionfind::UnionFind;
 
@@ -536,7 +538,8 @@ impl Work {
     /// merges. A pair these tests leave is one crossing when the ink prefers it
     /// ([`Work::ink_decides_crossing`]).
     pub(super) fn merge_split_crossings(&mut self) {
-        let holes = self.hole_mask();
+        // Found only when the ink is asked to decide a pair: most windows never need it.
+        let holes = OnceCell::new();
         let mut degree = self.degrees();
         let mut at = self.incidence();
         for link in 0..self.edges.len() {
@@ -1183,7 +1186,7 @@ impl Work {
         a: usize,
         b: usize,
         at: &[Vec<usize>],
-        holes: &[bool],
+        holes: &OnceCell<Vec<bool>>,
     ) -> Option<(Vertex, f64)> {
         let arms_a = self.ink_arms(a, link, at)?;
         let arms_b = self.ink_arms(b, link, at)?;
@@ -1271,7 +1274,7 @@ impl Work {
         a: usize,
         b: usize,
         at: &[Vec<usize>],
-        holes: &[bool],
+        holes: &OnceCell<Vec<bool>>,
     ) -> Option<Vertex> {
         let length = self.edges[link].as_ref()?.length();
         let stroke = [a, b]
@@ -1297,7 +1300,7 @@ impl Work {
         one: &[([f64; 2], f64)],
         two: &[([f64; 2], f64)],
         shared: &[([f64; 2], f64)],
-        holes: &[bool],
+        holes: &OnceCell<Vec<bool>>,
     ) -> (f64, f64) {
         let all = || one.iter().chain(two).chain(shared);
         let mut min = [f64::INFINITY; 2];
@@ -1358,7 +1361,7 @@ impl Work {
 
     /// Whether the pixel centre `c` is background enclosed by the ink (`holes`, from
     /// [`Work::hole_mask`]).
-    fn in_hole(&self, holes: &[bool], c: [f64; 2]) -> bool {
+    fn in_hole(&self, holes: &OnceCell<Vec<bool>>, c: [f64; 2]) -> bool {
         let (x, y) = (
             (c[0] - self.ink.origin[0]).floor(),
             (c[1] - self.ink.origin[1]).floor(),
@@ -1367,7 +1370,7 @@ impl Work {
             && y >= 0.0
             && (x as usize) < self.ink.width
             && (y as usize) < self.ink.height
-            && holes[y as usize * self.ink.width + x as usize]
+            && holes.get_or_init(|| self.hole_mask())[y as usize * self.ink.width + x as usize]
     }
 
     /// The background pixels of the ink's window that no 4-connected path of background joins

@@ -421,6 +421,19 @@ fn nth_smallest(values: &[f32], k: usize) -> f32 {
 mod tests {
     use super::*;
 
+    /// The sum of four uniform draws on [-0.5, 0.5) from a xorshift generator (`state`): noise
+    /// of mean 0 and variance 1/3, nearly Gaussian.
+    fn four_uniforms(state: &mut u64) -> f32 {
+        let mut sum = 0.0;
+        for _ in 0..4 {
+            *state ^= *state << 13;
+            *state ^= *state >> 7;
+            *state ^= *state << 17;
+            sum += (*state >> 11) as f32 / (1u64 << 53) as f32 - 0.5;
+        }
+        sum
+    }
+
     #[test]
     fn the_nth_by_counting_is_the_nth_selected() {
         // Pseudo-random values (a fixed linear congruential sequence): gradient magnitudes,
@@ -496,14 +509,7 @@ mod tests {
             } else {
                 128.0 + 0.4 * (*v - 128.0)
             };
-            let mut noise = 0.0;
-            for _ in 0..4 {
-                state ^= state << 13;
-                state ^= state >> 7;
-                state ^= state << 17;
-                noise += (state >> 11) as f32 / (1u64 << 53) as f32 - 0.5;
-            }
-            *v = base + 50.0 * noise;
+            *v = base + 50.0 * four_uniforms(&mut state);
         }
         let params = FingerprintParams::default();
         let smoothed = crate::fingerprint::math::gaussian_blur(&gray, params.gradient_sigma);
@@ -546,16 +552,7 @@ mod tests {
             crate::fingerprint::tests::uniform_print(grid, theta as f32, period as f32);
         let ridges = ridges_in_disk(size, size, period, theta, [48.0, 48.0], 200.0);
         let mut state = 0x9E37_79B9_7F4A_7C15u64;
-        let mut noise = |sigma: f32| {
-            let mut sum = 0.0;
-            for _ in 0..4 {
-                state ^= state << 13;
-                state ^= state >> 7;
-                state ^= state << 17;
-                sum += (state >> 11) as f32 / (1u64 << 53) as f32 - 0.5;
-            }
-            sigma * sum * 3f32.sqrt()
-        };
+        let mut noise = |sigma: f32| sigma * four_uniforms(&mut state) * 3f32.sqrt();
         let faint: Vec<f32> = ridges
             .values
             .iter()

@@ -787,25 +787,8 @@ impl Work {
     fn arm_line(&self, j: usize, edge: &Edge, forward: bool) -> Option<(f64, ArmLine)> {
         let jp = self.vertices[j].pos;
         let w = median(&edge.widths);
-        let outwards: Vec<[f64; 2]> = if forward {
-            edge.points.clone()
-        } else {
-            edge.points.iter().rev().copied().collect()
-        };
-        // The first point of the arm `d` from the junction, on the segment that reaches that
-        // far (an arm an earlier merge joined straight to its junction has long segments).
-        let at_distance = |d: f64| {
-            let Some(k) = outwards.iter().position(|&p| dist(p, jp) >= d) else {
-                return outwards[outwards.len() - 1];
-            };
-            if k == 0 {
-                return outwards[0];
-            }
-            let (a, b) = (outwards[k - 1], outwards[k]);
-            let (da, db) = (dist(a, jp), dist(b, jp));
-            let t = if db > da { (d - da) / (db - da) } else { 1.0 };
-            [a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1])]
-        };
+        let outwards = points_outwards(edge, forward);
+        let at_distance = |d: f64| point_at_distance(&outwards, jp, d);
         let (near, far) = (at_distance(SPLIT_NEAR * w), at_distance(SPLIT_FAR * w));
         if dist(near, far) < MIN_SPLIT_LINE_PX.max(w) {
             return None;
@@ -1102,6 +1085,31 @@ fn polyline_crossing(p: &[[f64; 2]], q: &[[f64; 2]], near: [f64; 2]) -> Option<[
     best
 }
 
+/// The points of `edge` listed from the junction outwards: from its start when `forward`.
+fn points_outwards(edge: &Edge, forward: bool) -> Vec<[f64; 2]> {
+    if forward {
+        edge.points.clone()
+    } else {
+        edge.points.iter().rev().copied().collect()
+    }
+}
+
+/// The first point of an arm (`outwards`, listed from the junction at `jp`) `d` from the
+/// junction, on the segment that reaches that far (an arm an earlier merge joined straight to
+/// its junction has long segments); the arm's last point when none does.
+fn point_at_distance(outwards: &[[f64; 2]], jp: [f64; 2], d: f64) -> [f64; 2] {
+    let Some(k) = outwards.iter().position(|&p| dist(p, jp) >= d) else {
+        return outwards[outwards.len() - 1];
+    };
+    if k == 0 {
+        return outwards[0];
+    }
+    let (a, b) = (outwards[k - 1], outwards[k]);
+    let (da, db) = (dist(a, jp), dist(b, jp));
+    let t = if db > da { (d - da) / (db - da) } else { 1.0 };
+    [a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1])]
+}
+
 impl Work {
     /// The arms at the degree-3 junction `j` other than `link` as the ink test draws them;
     /// `None` when there are not two or one is too short for a line.
@@ -1114,25 +1122,10 @@ impl Work {
                 if !here {
                     continue;
                 }
-                let outwards: Vec<[f64; 2]> = if forward {
-                    edge.points.clone()
-                } else {
-                    edge.points.iter().rev().copied().collect()
-                };
+                let outwards = points_outwards(edge, forward);
                 let width = median(&edge.widths);
                 let reach = outwards.iter().map(|&p| dist(p, jp)).fold(0.0f64, f64::max);
-                let at_distance = |d: f64| {
-                    let Some(k) = outwards.iter().position(|&p| dist(p, jp) >= d) else {
-                        return outwards[outwards.len() - 1];
-                    };
-                    if k == 0 {
-                        return outwards[0];
-                    }
-                    let (a, b) = (outwards[k - 1], outwards[k]);
-                    let (da, db) = (dist(a, jp), dist(b, jp));
-                    let t = if db > da { (d - da) / (db - da) } else { 1.0 };
-                    [a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1])]
-                };
+                let at_distance = |d: f64| point_at_distance(&outwards, jp, d);
                 let line = ArmLine {
                     near: at_distance((SPLIT_NEAR * width).min(reach / 2.0)),
                     far: at_distance((SPLIT_FAR * width).min(reach)),

@@ -584,6 +584,14 @@ fn main() -> anyhow::Result<()> {
             note,
         } = guarded(|| load_group(name, args.hanzi_every))
             .map_err(|e| anyhow::anyhow!("group {name}: {e}"))?;
+        // QUALITY_TRUTH_FILLED_LOOPS: every group's truth reads filled loops as the strokes
+        // their ink shows (`ScoreOptions::filled_loops_as_strokes`; docs/quality.md, "Spurious
+        // ends on japanese (issue 31)").
+        let options = ScoreOptions {
+            filled_loops_as_strokes: options.filled_loops_as_strokes
+                || std::env::var("QUALITY_TRUTH_FILLED_LOOPS").is_ok(),
+            ..options
+        };
         let cases: Vec<Case> = cases
             .into_iter()
             .filter(|c| args.case.as_ref().is_none_or(|n| &c.name == n))

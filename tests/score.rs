@@ -747,3 +747,75 @@ fn holes_can_come_from_the_binary() {
     assert_eq!(s.taus, [2.5, 5.0, 7.5]);
     assert!(s.exactly_right);
 }
+
+/// The ends (degree 1) and dots (degree 0) of a truth, and its junction count.
+fn ends_dots_junctions(t: &StrokeGraph) -> (Vec<[f64; 2]>, usize, usize) {
+    let ends = t.endpoints().map(|v| t.vertices[v].pos).collect();
+    let dots = t.vertices.iter().filter(|v| v.degree == 0).count();
+    (ends, dots, t.junctions().count())
+}
+
+#[test]
+fn filled_loops_can_be_read_as_the_strokes_their_ink_shows() {
+    let loops = ScoreOptions {
+        filled_loops_as_strokes: true,
+        ..ScoreOptions::default()
+    };
+    let near = |ends: &[[f64; 2]], p: [f64; 2]| ends.iter().any(|&e| ridgeline::dist(e, p) <= 1.5);
+
+    // A bar ending in a triangle the pen fills (the Hershey Japanese font's end ornament): its
+    // ink runs on to the triangle's far corner, 14 px past where the bar meets the triangle.
+    let bar = Stroke::new(
+        vec![
+            [10.0, 30.0],
+            [60.0, 30.0],
+            [66.0, 22.0],
+            [74.0, 30.0],
+            [60.0, 30.0],
+        ],
+        6.0,
+    );
+    let c = case("bar_triangle", vec![bar], 90, 45);
+    let (ends, _, junctions) = ends_dots_junctions(&truth_graph(&c));
+    assert!(
+        near(&ends, [60.0, 30.0]),
+        "by default at the base: {ends:?}"
+    );
+    let t = truth_graph_with(&c, &loops);
+    let (ends, dots, junctions_read) = ends_dots_junctions(&t);
+    assert_eq!(
+        (ends.len(), dots, junctions_read),
+        (2, 0, junctions),
+        "{ends:?}"
+    );
+    assert!(
+        near(&ends, [10.0, 30.0]) && near(&ends, [74.0, 30.0]),
+        "{ends:?}"
+    );
+    assert!(score_with(&c, &t, &t, &loops).exactly_right);
+
+    // A teardrop outline filled by the pen is a stroke with two ends; a round one is a dot.
+    let teardrop = Stroke::new(
+        vec![
+            [20.0, 30.0],
+            [24.0, 27.0],
+            [44.0, 30.0],
+            [24.0, 33.0],
+            [20.0, 30.0],
+        ],
+        6.0,
+    );
+    let c = case("teardrop", vec![teardrop], 60, 60);
+    assert_eq!(ends_dots_junctions(&truth_graph(&c)).1, 1);
+    let t = truth_graph_with(&c, &loops);
+    let (ends, dots, _) = ends_dots_junctions(&t);
+    assert_eq!((ends.len(), dots), (2, 0), "{ends:?}");
+    assert!(score_with(&c, &t, &t, &loops).exactly_right);
+    let c = case("round_dot", vec![circle([30.0, 30.0], 2.0, 6.0)], 60, 60);
+    let (ends, dots, _) = ends_dots_junctions(&truth_graph_with(&c, &loops));
+    assert_eq!((ends.len(), dots), (0, 1), "{ends:?}");
+
+    // A loop around a hole stays a cycle.
+    let c = case("ring", vec![circle([50.0, 50.0], 20.0, 5.0)], 100, 100);
+    assert_eq!(truth_graph_with(&c, &loops).cycles(), 1);
+}

@@ -40,6 +40,7 @@ pub const OPTIONS: ScoreOptions = ScoreOptions {
     taus: [2.5, 5.0, 7.5],
     holes_from_binary: true,
     min_match_radius: 5.0,
+    filled_loops_as_strokes: false,
 };
 
 /// One character of `characters.json`.

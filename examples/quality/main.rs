@@ -584,6 +584,14 @@ fn main() -> anyhow::Result<()> {
             note,
         } = guarded(|| load_group(name, args.hanzi_every))
             .map_err(|e| anyhow::anyhow!("group {name}: {e}"))?;
+        // QUALITY_TRUTH_FILLED_LOOPS: every group's truth reads filled loops as the strokes
+        // their ink shows (`ScoreOptions::filled_loops_as_strokes`; docs/quality.md, "Spurious
+        // ends on japanese (issue 31)").
+        let options = ScoreOptions {
+            filled_loops_as_strokes: options.filled_loops_as_strokes
+                || std::env::var("QUALITY_TRUTH_FILLED_LOOPS").is_ok(),
+            ..options
+        };
         let cases: Vec<Case> = cases
             .into_iter()
             .filter(|c| args.case.as_ref().is_none_or(|n| &c.name == n))
@@ -659,6 +667,11 @@ fn main() -> anyhow::Result<()> {
                 if std::env::var("QUALITY_DUMP_CROSSINGS").is_ok() && method == "ridgeline" {
                     if let (Ok(truth), Ok(graph), Some(sc)) = (&truth, &result, &scores) {
                         dump_crossings(&case.name, truth, graph, sc);
+                    }
+                }
+                if std::env::var("QUALITY_DUMP_ENDS").is_ok() && method == "ridgeline" {
+                    if let (Ok(truth), Ok(graph)) = (&truth, &result) {
+                        dump_ends(case, truth, graph, &options);
                     }
                 }
                 traced.push(result.ok());
@@ -1203,6 +1216,117 @@ fn real_images(verbose: bool) -> Vec<RealImage> {
         }
     }
     out
+}
+
+/// With `QUALITY_DUMP_ENDS` set: a line per spurious end of the case (ridgeline; a predicted end
+/// with no true end within the matching radius, as the scorer counts it), with, in widths of the
+/// nearest true vertex: the distance to the nearest true end and whether that end is missed, the
+/// distance to the truth's nearest edge, the length of the end's edge, the degree of the vertex at
+/// its other end and that vertex's distance to the nearest true junction, and a class letter: A
+/// off the truth (its nearest edge more than 1.5 widths away) with a missed true end within 4.5
+/// widths, B off the truth otherwise, C on the truth with a missed true end within 3 widths, D
+/// (E) an edge of at most 3 widths to a junction with no (a) true junction within 1.5 widths, F
+/// a longer edge to a junction, G the rest (docs/quality.md, "Spurious ends on japanese (issue 31)").
+fn dump_ends(case: &Case, truth: &StrokeGraph, graph: &StrokeGraph, options: &ScoreOptions) {
+    let d = |a: [f64; 2], b: [f64; 2]| (a[0] - b[0]).hypot(a[1] - b[1]);
+    let norm = ridgeline_testkit::score::normalize_with(case, graph, options);
+    let radius = |w: f64| w.max(options.min_match_radius);
+    let true_e: Vec<usize> = truth.endpoints().collect();
+    let pred_e: Vec<usize> = norm.endpoints().collect();
+    let matched = |t: usize| {
+        pred_e.iter().any(|&p| {
+            d(norm.vertices[p].pos, truth.vertices[t].pos) <= radius(truth.vertices[t].width)
+        })
+    };
+    let edge_dist = |p: [f64; 2]| {
+        truth
+            .edges
+            .iter()
+            .flat_map(|e| e.points.windows(2))
+            .map(|s| ridgeline::geometry::segment_dist(p, s[0], s[1]))
+            .fold(f64::INFINITY, f64::min)
+    };
+    for &p in &pred_e {
+        let pos = norm.vertices[p].pos;
+        if true_e
+            .iter()
+            .any(|&t| d(truth.vertices[t].pos, pos) <= radius(truth.vertices[t].width))
+        {
+            continue;
+        }
+        let Some(near) = (0..truth.vertices.len()).min_by(|&a, &b| {
+            d(truth.vertices[a].pos, pos).total_cmp(&d(truth.vertices[b].pos, pos))
+        }) else {
+            continue;
+        };
+        let w = truth.vertices[near].width.max(1.0);
+        let nearest_end = true_e.iter().copied().min_by(|&a, &b| {
+            d(truth.vertices[a].pos, pos).total_cmp(&d(truth.vertices[b].pos, pos))
+        });
+        let (end_d, end_missed) = nearest_end.map_or((f64::INFINITY, false), |t| {
+            (d(truth.vertices[t].pos, pos) / w, !matched(t))
+        });
+        let (len, other, other_j) = norm.edges.iter().find(|e| e.from == p || e.to == p).map_or(
+            (0.0, 0, f64::INFINITY),
+            |e| {
+                let len: f64 = e.points.windows(2).map(|s| d(s[0], s[1])).sum();
+                let o = if e.from == p { e.to } else { e.from };
+                let to_junction = truth
+                    .junctions()
+                    .map(|t| d(truth.vertices[t].pos, norm.vertices[o].pos))
+                    .fold(f64::INFINITY, f64::min);
+                (len / w, norm.vertices[o].degree, to_junction / w)
+            },
+        );
+        let off_truth = edge_dist(pos) / w;
+        let class = if off_truth > 1.5 {
+            if end_missed && end_d <= 4.5 {
+                'A'
+            } else {
+                'B'
+            }
+        } else if end_missed && end_d <= 3.0 {
+            'C'
+        } else if other >= 3 && len <= 3.0 {
+            if other_j > 1.5 {
+                'D'
+            } else {
+                'E'
+            }
+        } else if other >= 3 {
+            'F'
+        } else {
+            'G'
+        };
+        println!(
+            "EDUMP {} {class} ({:.0},{:.0}) w {:.1} true_end {:.1}{} truth_edge {:.2} edge {:.1} \
+             to_deg {} true_junction {:.1}",
+            case.name,
+            pos[0],
+            pos[1],
+            w,
+            end_d,
+            if end_missed { " missed" } else { " found" },
+            off_truth,
+            len,
+            other,
+            other_j
+        );
+        // QUALITY_DUMP_ENDS=points: the case's stroke vertices within four widths of the end.
+        if std::env::var("QUALITY_DUMP_ENDS").is_ok_and(|v| v == "points") {
+            for (k, stroke) in case.strokes.iter().enumerate() {
+                let near: Vec<String> = stroke
+                    .points
+                    .iter()
+                    .filter(|&&q| d(q, pos) <= 4.0 * w)
+                    .map(|q| format!("({:.1},{:.1})", q[0], q[1]))
+                    .collect();
+                if !near.is_empty() {
+                    println!("  stroke {k}: {}", near.join(" "));
+                }
+            }
+        }
+    }
 }
 
 /// With `QUALITY_DUMP_CROSSINGS` set: a line per true crossing of the case (ridgeline), right or

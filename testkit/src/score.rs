@@ -64,6 +64,13 @@ pub struct ScoreOptions {
     /// [`MIN_MATCH_RADIUS`] (3 px); truths whose vertices are only known to a few px (brush tips
     /// a few px wide at the end of approximate medians) need more.
     pub min_match_radius: f64,
+    /// Whether the truth reads a loop of a stroke that encloses no hole of the ink (a closed
+    /// outline the pen fills: the Hershey Japanese font's triangles at the end of a bar, its
+    /// teardrop dots and wedges) as the stroke its ink shows, from the loop's junction to its
+    /// farthest point or, for a loop alone, between its two points farthest apart when it is
+    /// longer than wide by a width, rather than dropping it (a loop alone becoming a dot).
+    /// Default value: `false`. docs/quality.md, "Spurious ends on japanese (issue 31)".
+    pub filled_loops_as_strokes: bool,
 }
 
 impl Default for ScoreOptions {
@@ -72,6 +79,7 @@ impl Default for ScoreOptions {
             taus: TAUS,
             holes_from_binary: false,
             min_match_radius: MIN_MATCH_RADIUS,
+            filled_loops_as_strokes: false,
         }
     }
 }
@@ -475,10 +483,10 @@ pub fn truth_graph_with(case: &Case, options: &ScoreOptions) -> StrokeGraph {
     for _ in 0..8 {
         net.merge_junctions(&|a, b| a.max(b));
         net.dissolve();
-        net.drop_filled_cycles(&holes);
+        net.drop_filled_cycles(&holes, options.filled_loops_as_strokes);
         let mut changed = false;
         while net.collapse_filled_cycles(&holes) {
-            net.drop_filled_cycles(&holes);
+            net.drop_filled_cycles(&holes, options.filled_loops_as_strokes);
             changed = true;
         }
         if !net.split_crossings(Some(PREDICTION_TOLERANCE)) && !changed {
@@ -1814,8 +1822,10 @@ impl Net {
 
     /// Removes the cycles of one or two edges that enclose no hole of the ink: a loop alone becomes
     /// a dot at its centroid, a loop at a junction is dropped, of two edges between the same
-    /// vertices the shorter is dropped.
-    fn drop_filled_cycles(&mut self, holes: &Holes) {
+    /// vertices the shorter is dropped. With `loops_as_strokes`
+    /// ([`ScoreOptions::filled_loops_as_strokes`]) a loop that makes a stroke of its ink
+    /// ([`Net::filled_loop_as_stroke`]) becomes that stroke instead.
+    fn drop_filled_cycles(&mut self, holes: &Holes, loops_as_strokes: bool) {
         loop {
             let degree = self.degrees();
             let mut changed = false;
@@ -1836,6 +1846,13 @@ impl Net {
                     continue;
                 }
                 let v = wire.from;
+                if loops_as_strokes {
+                    if let Some((a, b)) = self.filled_loop_as_stroke(w, &degree) {
+                        self.loop_to_stroke(w, a, b);
+                        changed = true;
+                        continue;
+                    }
+                }
                 if degree[v] == 2 {
                     let n = wire.points.len() as f64;
                     let sum = wire
@@ -1874,6 +1891,78 @@ impl Net {
             }
             self.dissolve();
         }
+    }
+
+    /// The stroke the ink of the filled loop `w` (a closed outline the pen fills, around no
+    /// hole) shows, as its two ends, if it shows one. A loop alone is a stroke between its two
+    /// points farthest apart when its outline is longer than it is across by more than the
+    /// stroke's width (the ink longer than wide by a width; a round dot stays a dot). A loop
+    /// at a junction (a triangle at the end of a bar) is a stroke from the junction to the
+    /// loop's point farthest from it, when that point's cap clears the ink of the junction's
+    /// other strokes (else the cap touches them, as the joined ends of [`Net::join_ends`] do).
+    fn filled_loop_as_stroke(&self, w: usize, degree: &[usize]) -> Option<([f64; 2], [f64; 2])> {
+        let wire = &self.wires[w];
+        let v = wire.from;
+        let width = wire.widths.iter().copied().fold(0.0, f64::max);
+        let points = &wire.points;
+        let far_from = |q: [f64; 2]| {
+            points
+                .iter()
+                .copied()
+                .max_by(|a, b| dist(*a, q).total_cmp(&dist(*b, q)))
+        };
+        if degree[v] == 2 {
+            let n = points.len() as f64;
+            let sum = points
+                .iter()
+                .fold([0.0, 0.0], |s, p| [s[0] + p[0], s[1] + p[1]]);
+            let a = far_from([sum[0] / n, sum[1] / n])?;
+            let b = far_from(a)?;
+            let length = dist(a, b);
+            if length <= 0.0 {
+                return None;
+            }
+            let normal = [-(b[1] - a[1]) / length, (b[0] - a[0]) / length];
+            let across = |p: &[f64; 2]| (p[0] - a[0]) * normal[0] + (p[1] - a[1]) * normal[1];
+            let breadth = points.iter().map(across).fold(f64::NEG_INFINITY, f64::max)
+                - points.iter().map(across).fold(f64::INFINITY, f64::min);
+            return (length > breadth + width).then_some((a, b));
+        }
+        let a = self.nodes[v].pos;
+        let b = far_from(a)?;
+        let clear = self.wires.iter().enumerate().all(|(o, other)| {
+            o == w
+                || !other.alive
+                || (other.from != v && other.to != v)
+                || other
+                    .points
+                    .iter()
+                    .zip(&other.widths)
+                    .all(|(&q, &q_width)| dist(q, b) > (q_width + width) / 2.0)
+        });
+        (clear && dist(a, b) > width / 2.0).then_some((a, b))
+    }
+
+    /// Replaces the loop `w` by a straight wire from its vertex, moved to `a`, to a new end at `b`
+    /// (sampled every half pixel, the loop's widest width all along).
+    fn loop_to_stroke(&mut self, w: usize, a: [f64; 2], b: [f64; 2]) {
+        let width = self.wires[w].widths.iter().copied().fold(0.0, f64::max);
+        let v = self.wires[w].from;
+        self.nodes[v].pos = a;
+        let end = self.add_node(b, width, false);
+        let length = dist(a, b);
+        let steps = (length / 0.5).ceil().max(1.0) as usize;
+        let points: Vec<[f64; 2]> = (0..=steps)
+            .map(|i| {
+                let t = i as f64 / steps as f64;
+                [a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1])]
+            })
+            .collect();
+        let wire = &mut self.wires[w];
+        wire.to = end;
+        wire.arcs = points.iter().map(|&p| dist(a, p)).collect();
+        wire.widths = vec![width; points.len()];
+        wire.points = points;
     }
 
     /// Collapses compact cycles of three or more wires that enclose no hole of the ink (the ink

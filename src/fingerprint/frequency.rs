@@ -111,19 +111,25 @@ fn block_period(
     }
     let (w, h) = (f64::from(smoothed.width), f64::from(smoothed.height));
     let inside = lo[0] >= 1.5 && lo[1] >= 1.5 && hi[0] <= w - 1.5 && hi[1] <= h - 1.5;
-    for (t, s) in signature.iter_mut().enumerate() {
-        let start = row_start(t);
-        let mut sum = 0.0f32;
-        if inside {
-            for step in &steps {
-                sum += smoothed.sample_inside(start[0] + step[0], start[1] + step[1]);
-            }
-        } else {
+    if inside {
+        // Each row's sum from 0, step by step in the same order as below, the rows side by side.
+        let (xs, ys): (Vec<f64>, Vec<f64>) = (0..length).map(|t| row_start(t).into()).unzip();
+        signature.fill(0.0);
+        for step in &steps {
+            smoothed.add_samples_inside(&xs, &ys, *step, signature);
+        }
+        for s in signature.iter_mut() {
+            *s /= across as f32;
+        }
+    } else {
+        for (t, s) in signature.iter_mut().enumerate() {
+            let start = row_start(t);
+            let mut sum = 0.0f32;
             for step in &steps {
                 sum += smoothed.sample(start[0] + step[0], start[1] + step[1]);
             }
+            *s = sum / across as f32;
         }
-        *s = sum / across as f32;
     }
     distances.clear();
     for extremum in [1.0f32, -1.0] {

@@ -220,8 +220,13 @@ impl Plane {
             pixel[l] = whole_small(cy * width + cx);
         }
         let (mut a, mut b, mut c, mut d) = ([0.0f32; N], [0.0f32; N], [0.0f32; N], [0.0f32; N]);
+        let stride = self.width as usize;
         for l in 0..N {
-            [a[l], b[l], c[l], d[l]] = self.four(pixel[l] as usize);
+            // The pixel, the one right of it, below it and below right: one slice, one bounds
+            // check.
+            let i = pixel[l] as usize;
+            let square = &self.values[i..i + stride + 2];
+            [a[l], b[l], c[l], d[l]] = [square[0], square[1], square[stride], square[stride + 1]];
         }
         for l in 0..N {
             sums[l] += bilinear([a[l], b[l], c[l], d[l]], tx[l], ty[l]);

@@ -243,11 +243,9 @@ const TWO_52: f64 = 4_503_599_627_370_496.0;
 #[inline]
 fn floor_small(v: f64) -> f64 {
     let rounded = v + TWO_52 - TWO_52;
-    if rounded > v {
-        rounded - 1.0
-    } else {
-        rounded
-    }
+    // One less where it rounded up (less 0 otherwise: the same value), a mask and a difference
+    // in vector lanes rather than a choice between two.
+    rounded - if rounded > v { 1.0 } else { 0.0 }
 }
 
 /// The whole number `v` (in `[0, 2⁵²)`) as an integer, from the bits of `v + 2⁵²`, whose

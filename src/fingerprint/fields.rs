@@ -434,7 +434,7 @@ mod tests {
     #[test]
     fn floors_without_conversion_are_the_library_ones() {
         for v in [
-            0.0,
+            0.0f64,
             0.25,
             0.5,
             0.999_999_999,

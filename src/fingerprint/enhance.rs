@@ -209,16 +209,10 @@ impl SeparableGabor {
                 (-t * t / (2.0 * sigma * sigma)).exp()
             })
             .collect();
-        let taps = |k: f64| -> (Vec<f64>, Vec<f64>) {
-            (-radius..=radius)
-                .zip(&envelope)
-                .map(|(t, &g)| {
-                    let t = t as f64;
-                    (g * (k * t).cos(), g * (k * t).sin())
-                })
-                .unzip()
-        };
-        let ((a, c), (b, d)) = (taps(alpha), taps(beta));
+        let ((a, c), (b, d)) = (
+            mirrored_taps(&envelope, alpha),
+            mirrored_taps(&envelope, beta),
+        );
         let sum = |v: &[f64]| v.iter().sum::<f64>();
         let dot = |u: &[f64], v: &[f64]| u.iter().zip(v).map(|(p, q)| p * q).sum::<f64>();
         let n = ((2 * radius + 1) * (2 * radius + 1)) as f64;
@@ -369,6 +363,27 @@ impl SeparableGabor {
     }
 }
 
+/// The taps `g(t) cos kt` and `g(t) sin kt` for `t` in `-r..=r` (`envelope` holds `g`, `2r + 1`
+/// values, the same at `±t`). Cosine is even and sine odd, exactly: `k·(-t)` is `-(k·t)` in floating
+/// point, and the library's `sin` and `cos` reduce `|x|` and restore the sign, so the taps at `-t`
+/// mirror those at `t` (a test holds them to the direct evaluation) and each `t ≥ 0` is
+/// evaluated once: half the calls of the kernel's construction.
+fn mirrored_taps(envelope: &[f64], k: f64) -> (Vec<f64>, Vec<f64>) {
+    let radius = envelope.len() / 2;
+    let (mut cosines, mut sines) = (vec![0.0; envelope.len()], vec![0.0; envelope.len()]);
+    for t in 0..=radius {
+        let angle = k * t as f64;
+        let (sin, cos) = (angle.sin(), angle.cos());
+        let (after, before) = (radius + t, radius - t);
+        // `t = 0` last from `after`, as the direct evaluation has it (`sin(-0) = -0`).
+        cosines[before] = envelope[before] * cos;
+        sines[before] = -(envelope[before] * sin);
+        cosines[after] = envelope[after] * cos;
+        sines[after] = envelope[after] * sin;
+    }
+    (cosines, sines)
+}
+
 /// Scratch space of [`SeparableGabor::apply`]: the row sums of the window, one column of the
 /// block after another within each row.
 #[derive(Default)]
@@ -416,6 +431,45 @@ mod tests {
     use crate::fingerprint::fields::BlockGrid;
     use crate::fingerprint::tests::{ridge_agreement, ridges_in_disk, uniform_print};
     use std::f64::consts::{FRAC_PI_2, PI};
+
+    /// The taps as [`SeparableGabor::new`] computed them before [`mirrored_taps`]: every `t`
+    /// evaluated.
+    fn direct_taps(envelope: &[f64], k: f64) -> (Vec<f64>, Vec<f64>) {
+        let radius = (envelope.len() / 2) as i64;
+        (-radius..=radius)
+            .zip(envelope)
+            .map(|(t, &g)| {
+                let t = t as f64;
+                (g * (k * t).cos(), g * (k * t).sin())
+            })
+            .unzip()
+    }
+
+    #[test]
+    fn mirrored_taps_are_the_direct_ones_bit_for_bit() {
+        let params = FingerprintParams::default();
+        for period in [3.0, 4.5, 5.0, 7.25, 8.9, 9.0, 11.3, 17.0, 24.9] {
+            let sigma: f64 = params.gabor_sigma_across * period;
+            let radius = kernel_radius(sigma) as i64;
+            let envelope: Vec<f64> = (-radius..=radius)
+                .map(|t| {
+                    let t = t as f64;
+                    (-t * t / (2.0 * sigma * sigma)).exp()
+                })
+                .collect();
+            for step in 0..180 {
+                let theta = f64::from(step) * PI / 180.0 + 0.001 * period;
+                let normal = [-theta.sin(), theta.cos()];
+                for k in [TAU * normal[0] / period, TAU * normal[1] / period] {
+                    let (mirrored, direct) =
+                        (mirrored_taps(&envelope, k), direct_taps(&envelope, k));
+                    let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+                    assert_eq!(bits(&mirrored.0), bits(&direct.0), "cos, k {k}");
+                    assert_eq!(bits(&mirrored.1), bits(&direct.1), "sin, k {k}");
+                }
+            }
+        }
+    }
 
     #[test]
     fn the_padded_plane_repeats_the_nearest_pixel() {

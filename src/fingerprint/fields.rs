@@ -164,6 +164,97 @@ impl Plane {
     }
 }
 
+/// Samples whose coordinates [`Plane::add_samples_inside`] works out side by side.
+const SAMPLE_LANES: usize = 16;
+
+impl Plane {
+    /// Adds to each `sums[t]` the sample at `(xs[t] + offset[0], ys[t] + offset[1])`, every one
+    /// of which has its four pixels inside the image: the value [`Plane::sample_inside`] gives,
+    /// from the same operations. The coordinates, pixels and fractions of 16 samples are worked
+    /// out side by side (vector lanes) before their pixels are read.
+    pub(crate) fn add_samples_inside(
+        &self,
+        xs: &[f64],
+        ys: &[f64],
+        offset: [f64; 2],
+        sums: &mut [f32],
+    ) {
+        let chunks = xs
+            .chunks(SAMPLE_LANES)
+            .zip(ys.chunks(SAMPLE_LANES))
+            .zip(sums.chunks_mut(SAMPLE_LANES));
+        for ((xs, ys), sums) in chunks {
+            if let (Ok(xs), Ok(ys), Ok(lanes)) = (
+                <&[f64; SAMPLE_LANES]>::try_from(xs),
+                <&[f64; SAMPLE_LANES]>::try_from(ys),
+                <&mut [f32; SAMPLE_LANES]>::try_from(&mut *sums),
+            ) {
+                self.add_lanes(xs, ys, offset, lanes);
+            } else {
+                for ((&x, &y), sum) in xs.iter().zip(ys).zip(sums.iter_mut()) {
+                    *sum += self.sample_inside(x + offset[0], y + offset[1]);
+                }
+            }
+        }
+    }
+
+    /// [`Plane::add_samples_inside`] for `N` samples.
+    #[inline]
+    fn add_lanes<const N: usize>(
+        &self,
+        xs: &[f64; N],
+        ys: &[f64; N],
+        offset: [f64; 2],
+        sums: &mut [f32; N],
+    ) {
+        let width = f64::from(self.width);
+        let (mut pixel, mut tx, mut ty) = ([0u64; N], [0.0f32; N], [0.0f32; N]);
+        for l in 0..N {
+            // As `sample_inside`: the point less half a pixel, its whole part (truncation, the
+            // floor of a value not negative) and the fractions (the same differences).
+            let (fx, fy) = (xs[l] + offset[0] - 0.5, ys[l] + offset[1] - 0.5);
+            debug_assert!(fx >= 0.0 && fy >= 0.0, "{fx} {fy} outside");
+            let (cx, cy) = (floor_small(fx), floor_small(fy));
+            tx[l] = (fx - cx) as f32;
+            ty[l] = (fy - cy) as f32;
+            pixel[l] = whole_small(cy * width + cx);
+        }
+        let (mut a, mut b, mut c, mut d) = ([0.0f32; N], [0.0f32; N], [0.0f32; N], [0.0f32; N]);
+        let stride = self.width as usize;
+        for l in 0..N {
+            // The pixel, the one right of it, below it and below right: one slice, one bounds
+            // check.
+            let i = pixel[l] as usize;
+            let square = &self.values[i..i + stride + 2];
+            [a[l], b[l], c[l], d[l]] = [square[0], square[1], square[stride], square[stride + 1]];
+        }
+        for l in 0..N {
+            sums[l] += bilinear([a[l], b[l], c[l], d[l]], tx[l], ty[l]);
+        }
+    }
+}
+
+/// 2⁵²: adding it to a value in `[0, 2⁵²)` rounds the value to a whole number.
+const TWO_52: f64 = 4_503_599_627_370_496.0;
+
+/// `v.floor()` for `v` in `[0, 2⁵²)`, without an integer conversion (which vector lanes of
+/// baseline x86-64 lack for `f64`): `v + 2⁵² - 2⁵²` is `v` rounded to a whole number, one less
+/// when that rounded up. Exact, as every step is (whole numbers below 2⁵³).
+#[inline]
+fn floor_small(v: f64) -> f64 {
+    let rounded = v + TWO_52 - TWO_52;
+    // One less where it rounded up (less 0 otherwise: the same value), a mask and a difference
+    // in vector lanes rather than a choice between two.
+    rounded - if rounded > v { 1.0 } else { 0.0 }
+}
+
+/// The whole number `v` (in `[0, 2⁵²)`) as an integer, from the bits of `v + 2⁵²`, whose
+/// mantissa it is.
+#[inline]
+fn whole_small(v: f64) -> u64 {
+    (v + TWO_52).to_bits() - TWO_52.to_bits()
+}
+
 /// The bilinear mix of four pixels' values (top left, top right, bottom left, bottom right) at
 /// the fractions `tx` across and `ty` down.
 #[inline]
@@ -338,6 +429,63 @@ mod tests {
         assert_eq!(p.sample(1.5, 0.5), 10.0);
         assert_eq!(p.sample(9.0, -3.0), 10.0, "clamped");
         assert_eq!(Plane::default().sample(1.0, 1.0), 0.0);
+    }
+
+    #[test]
+    fn floors_without_conversion_are_the_library_ones() {
+        for v in [
+            0.0f64,
+            0.25,
+            0.5,
+            0.999_999_999,
+            1.0,
+            1.5,
+            2.5,
+            3.5,
+            1e6 + 0.5,
+            4e9 + 0.75,
+            1e15,
+        ] {
+            for v in [
+                v,
+                f64::from_bits(v.to_bits() + 1),
+                f64::from_bits(v.to_bits().max(1) - 1),
+            ] {
+                assert_eq!(floor_small(v), v.floor(), "{v}");
+                assert_eq!(whole_small(v.floor()), v.floor() as u64, "{v}");
+            }
+        }
+    }
+
+    #[test]
+    fn samples_added_in_lanes_are_the_single_samples_bit_for_bit() {
+        // A plane of uneven values and rows of points at odd angles and offsets, 48 and 37
+        // samples long (three full chunks of lanes, and a remainder).
+        let (width, height) = (61u32, 47u32);
+        let values = (0..width * height)
+            .map(|i| ((i * 7919) % 251) as f32 * 0.37 - 11.0)
+            .collect();
+        let plane = Plane {
+            width,
+            height,
+            values,
+        };
+        for (n, angle) in [(48usize, 0.3f64), (37, 1.9), (48, 2.75), (16, 0.0)] {
+            let (normal, along) = ([-angle.sin(), angle.cos()], [angle.cos(), angle.sin()]);
+            let centre = [30.3, 22.9];
+            let u = |t: usize| t as f64 - n as f64 / 2.0 + 0.5;
+            let xs: Vec<f64> = (0..n).map(|t| centre[0] + u(t) * 0.4 * normal[0]).collect();
+            let ys: Vec<f64> = (0..n).map(|t| centre[1] + u(t) * 0.4 * normal[1]).collect();
+            for k in [-7.5f64, -0.5, 0.0, 3.25, 7.5] {
+                let offset = [k * along[0], k * along[1]];
+                let mut sums = vec![1.5f32; n];
+                plane.add_samples_inside(&xs, &ys, offset, &mut sums);
+                for t in 0..n {
+                    let one = 1.5 + plane.sample_inside(xs[t] + offset[0], ys[t] + offset[1]);
+                    assert_eq!(sums[t].to_bits(), one.to_bits(), "angle {angle}, t {t}");
+                }
+            }
+        }
     }
 
     #[test]

@@ -97,34 +97,8 @@ fn block_period(
         let u = u_of(t);
         [c[0] + u * normal[0], c[1] + u * normal[1]]
     };
-    // The window's corners bound its samples (up to rounding, which a pixel's slack covers):
-    // inside, every sample takes its four pixels directly.
-    let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
-    for t in [0, length - 1] {
-        for k in [0, across - 1] {
-            let (start, step) = (row_start(t), steps[k]);
-            for d in 0..2 {
-                lo[d] = lo[d].min(start[d] + step[d]);
-                hi[d] = hi[d].max(start[d] + step[d]);
-            }
-        }
-    }
-    let (w, h) = (f64::from(smoothed.width), f64::from(smoothed.height));
-    let inside = lo[0] >= 1.5 && lo[1] >= 1.5 && hi[0] <= w - 1.5 && hi[1] <= h - 1.5;
-    for (t, s) in signature.iter_mut().enumerate() {
-        let start = row_start(t);
-        let mut sum = 0.0f32;
-        if inside {
-            for step in &steps {
-                sum += smoothed.sample_inside(start[0] + step[0], start[1] + step[1]);
-            }
-        } else {
-            for step in &steps {
-                sum += smoothed.sample(start[0] + step[0], start[1] + step[1]);
-            }
-        }
-        *s = sum / across as f32;
-    }
+    let starts: Vec<[f64; 2]> = (0..length).map(row_start).collect();
+    x_signature(smoothed, &starts, &steps, signature);
     distances.clear();
     for extremum in [1.0f32, -1.0] {
         let mut last: Option<usize> = None;
@@ -167,6 +141,44 @@ fn block_period(
         return (p, true, halved);
     }
     (0.0, false, false)
+}
+
+/// The x-signature: for each row `t` of the window, the mean of the samples at `starts[t] +
+/// steps[k]`, summed over `k` in order from 0. The rows whose two ends lie inside the image by a
+/// pixel and a half (the first run of them: all of them when the window's corners do) take their
+/// four pixels directly, side by side ([`Plane::add_samples_inside`]; a row's samples lie
+/// between its ends, as `steps` are multiples of one vector by rising offsets, up to rounding,
+/// which the slack covers); the others are clamped at the image's edges. The same values either
+/// way.
+fn x_signature(smoothed: &Plane, starts: &[[f64; 2]], steps: &[[f64; 2]], signature: &mut [f32]) {
+    let (w, h) = (f64::from(smoothed.width), f64::from(smoothed.height));
+    let within = |p: [f64; 2]| p[0] >= 1.5 && p[1] >= 1.5 && p[0] <= w - 1.5 && p[1] <= h - 1.5;
+    let row_inside = |t: usize| {
+        let start = starts[t];
+        [steps.first(), steps.last()]
+            .into_iter()
+            .flatten()
+            .all(|step| within([start[0] + step[0], start[1] + step[1]]))
+    };
+    let length = starts.len().min(signature.len());
+    let first = (0..length).find(|&t| row_inside(t)).unwrap_or(length);
+    let end = (first..length).find(|&t| !row_inside(t)).unwrap_or(length);
+    let (xs, ys): (Vec<f64>, Vec<f64>) = starts[first..end].iter().map(|&p| p.into()).unzip();
+    signature[first..end].fill(0.0);
+    for step in steps {
+        smoothed.add_samples_inside(&xs, &ys, *step, &mut signature[first..end]);
+    }
+    for t in (0..first).chain(end..length) {
+        let start = starts[t];
+        let mut sum = 0.0f32;
+        for step in steps {
+            sum += smoothed.sample(start[0] + step[0], start[1] + step[1]);
+        }
+        signature[t] = sum;
+    }
+    for s in signature.iter_mut() {
+        *s /= steps.len() as f32;
+    }
 }
 
 /// Doubles the period of every halved block (see [`ridge_periods`]) where at least a third of
@@ -296,6 +308,66 @@ mod tests {
             coherence: vec![1.0; grid.len()],
         };
         ridge_periods(gray, &s, &field, &FingerprintParams::default())
+    }
+
+    /// [`x_signature`] as it was first written: every sample clamped at the image's edges.
+    fn x_signature_clamped(smoothed: &Plane, starts: &[[f64; 2]], steps: &[[f64; 2]]) -> Vec<f32> {
+        starts
+            .iter()
+            .map(|start| {
+                let mut sum = 0.0f32;
+                for step in steps {
+                    sum += smoothed.sample(start[0] + step[0], start[1] + step[1]);
+                }
+                sum / steps.len() as f32
+            })
+            .collect()
+    }
+
+    #[test]
+    fn the_signature_is_the_clamped_one_bit_for_bit() {
+        // Windows inside, across each edge and corner, and outside the image, at odd angles:
+        // the rows read directly give the values of the rows clamped at the edges.
+        let (width, height) = (70u32, 52u32);
+        let smoothed = Plane {
+            width,
+            height,
+            values: (0..width * height)
+                .map(|i| ((i * 7919) % 263) as f32 * 0.29 - 9.0)
+                .collect(),
+        };
+        let (length, across) = (48usize, 16usize);
+        for c in [
+            [35.2, 26.1],
+            [3.0, 26.0],
+            [66.5, 40.2],
+            [20.0, 1.0],
+            [2.0, 50.0],
+            [-9.0, 70.0],
+        ] {
+            for angle in [0.0f64, 0.4, 1.3, 2.2, 3.0] {
+                let (along, normal) = ([angle.cos(), angle.sin()], [-angle.sin(), angle.cos()]);
+                let offset = |k: usize| k as f64 - across as f64 / 2.0 + 0.5;
+                let steps: Vec<[f64; 2]> = (0..across)
+                    .map(|k| [offset(k) * along[0], offset(k) * along[1]])
+                    .collect();
+                let starts: Vec<[f64; 2]> = (0..length)
+                    .map(|t| {
+                        let u = t as f64 - length as f64 / 2.0 + 0.5;
+                        [c[0] + u * normal[0], c[1] + u * normal[1]]
+                    })
+                    .collect();
+                let mut signature = vec![0.0f32; length];
+                x_signature(&smoothed, &starts, &steps, &mut signature);
+                let clamped = x_signature_clamped(&smoothed, &starts, &steps);
+                let bits = |v: &[f32]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+                assert_eq!(
+                    bits(&signature),
+                    bits(&clamped),
+                    "centre {c:?}, angle {angle}"
+                );
+            }
+        }
     }
 
     #[test]

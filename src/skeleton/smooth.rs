@@ -311,14 +311,7 @@ fn section_exit(ink: &Ink, from: [f64; 2], u: [f64; 2], limit: f64) -> f64 {
     // `Ink::at` without its floors (a call each on the baseline x86-64): a window coordinate
     // that is not negative truncates to its floor.
     let (x0, y0) = (from[0] - ink.origin[0], from[1] - ink.origin[1]);
-    let on = |t: f64| {
-        let (x, y) = (x0 + t * u[0], y0 + t * u[1]);
-        x >= 0.0
-            && y >= 0.0
-            && (x as usize) < ink.width
-            && (y as usize) < ink.height
-            && ink.mask[y as usize * ink.width + x as usize]
-    };
+    let on = |t: f64| ink.at_window(x0 + t * u[0], y0 + t * u[1]);
     let mut t = SECTION_STEP_PX;
     while t < limit {
         if !on(t) {
@@ -472,6 +465,51 @@ mod tests {
     use super::*;
     use crate::params::Params;
     use crate::synth::{render, Stroke};
+
+    #[test]
+    fn the_ink_lookup_is_the_one_through_usize() {
+        // `Ink::at_window` as it was: the coordinates cast to `usize` directly.
+        let through_usize = |ink: &Ink, x: f64, y: f64| {
+            x >= 0.0
+                && y >= 0.0
+                && (x as usize) < ink.width
+                && (y as usize) < ink.height
+                && ink.mask[y as usize * ink.width + x as usize]
+        };
+        let (width, height) = (7, 5);
+        let ink = Ink {
+            mask: (0..width * height).map(|i| i % 3 != 1).collect(),
+            width,
+            height,
+            origin: [0.0; 2],
+        };
+        let values = [
+            f64::NAN,
+            f64::NEG_INFINITY,
+            -1e300,
+            -1.0,
+            -0.5,
+            -0.0,
+            0.0,
+            0.25,
+            0.999,
+            1.0,
+            3.5,
+            4.999_999_999,
+            5.0,
+            6.5,
+            7.0,
+            9.2e18,
+            1.9e19,
+            1e300,
+            f64::INFINITY,
+        ];
+        for &x in &values {
+            for &y in &values {
+                assert_eq!(ink.at_window(x, y), through_usize(&ink, x, y), "{x} {y}");
+            }
+        }
+    }
 
     #[test]
     // A dense reference solve reads clearest with its indices.

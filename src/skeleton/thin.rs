@@ -44,13 +44,29 @@ fn zhang_suen_framed(padded: &mut [bool], width: usize) {
         .enumerate()
         .filter_map(|(i, &on)| on.then_some(i))
         .collect();
-    zhang_suen_framed_at(padded, width, &ink);
+    zhang_suen_framed_at(padded, width, &ink, &mut ThinningMarks::default());
+}
+
+/// The marks [`zhang_suen_framed_at`] keeps per pixel of its grid, kept from one grid to the next
+/// (the components of a window, [`skeleton_by_component`]) instead of a zeroed pair of arrays per
+/// grid: clear (false, 0) between calls, where only the ink pixels were ever marked.
+#[derive(Default)]
+struct ThinningMarks {
+    /// Whether the pixel is among the candidates.
+    queued: Vec<bool>,
+    /// The sub-iteration the pixel was last (re)queued in.
+    since: Vec<u32>,
 }
 
 /// [`zhang_suen_framed`] given the grid's ink pixels (`ink`: every one of them, each once, in
 /// any order), so that nothing but the ink is visited: the deletions of a sub-iteration are
 /// decided together, so the order of the pixels does not change the result.
-fn zhang_suen_framed_at(padded: &mut [bool], width: usize, ink: &[usize]) {
+fn zhang_suen_framed_at(
+    padded: &mut [bool],
+    width: usize,
+    ink: &[usize],
+    marks: &mut ThinningMarks,
+) {
     let pw = width as isize;
     let offsets: [isize; 8] = RING.map(|(dx, dy)| dy as isize * pw + dx as isize);
     // The 8 neighbours as the bits of a byte (bit k: RING[k]), and for each sub-iteration a
@@ -79,8 +95,11 @@ fn zhang_suen_framed_at(padded: &mut [bool], width: usize, ink: &[usize]) {
     // times the stroke width.
     // A pixel whose neighbourhood has not changed since both sub-iterations checked it cannot
     // go until a neighbour goes: `since` is the sub-iteration it was (re)queued in.
-    let mut queued = vec![false; padded.len()];
-    let mut since = vec![0u32; padded.len()];
+    if marks.queued.len() < padded.len() {
+        marks.queued.resize(padded.len(), false);
+        marks.since.resize(padded.len(), 0);
+    }
+    let (queued, since) = (&mut marks.queued, &mut marks.since);
     let mut candidates: Vec<usize> = ink
         .iter()
         .copied()
@@ -131,6 +150,11 @@ fn zhang_suen_framed_at(padded: &mut [bool], width: usize, ink: &[usize]) {
         step = 1 - step;
         t += 1;
     }
+    // Only ink pixels were marked: clear for the next grid.
+    for &i in ink {
+        queued[i] = false;
+        since[i] = 0;
+    }
 }
 
 /// The one-pixel skeleton of a window's ink, every component kept: [`fill_specks_at`] (the filled
@@ -155,6 +179,7 @@ pub(super) fn skeleton_by_component(
     let mut skeleton = vec![false; ink.len()];
     let mut skeleton_pixels = Vec::new();
     let (mut local, mut filled, mut thin) = (Vec::new(), Vec::new(), Vec::new());
+    let mut marks = ThinningMarks::default();
     for c in offsets.windows(2) {
         let pixels = &members[c[0]..c[1]];
         let (Some(&first), Some(&last)) = (pixels.first(), pixels.last()) else {
@@ -187,7 +212,7 @@ pub(super) fn skeleton_by_component(
             filled.sort_unstable();
             filled.dedup();
         }
-        zhang_suen_framed_at(&mut local, lw, &filled);
+        zhang_suen_framed_at(&mut local, lw, &filled, &mut marks);
         thin.clear();
         thin.extend(filled.iter().copied().filter(|&j| local[j]));
         one_pixel_thick_at(&mut local, lw, lh, thin.clone());
@@ -473,7 +498,7 @@ mod tests {
             zhang_suen_framed(&mut by_scan, w);
             // The list in another order: the result does not depend on it.
             let reversed: Vec<usize> = ink.iter().rev().copied().collect();
-            zhang_suen_framed_at(&mut by_list, w, &reversed);
+            zhang_suen_framed_at(&mut by_list, w, &reversed, &mut ThinningMarks::default());
             assert_eq!(by_scan, by_list);
             one_pixel_thick(&mut by_scan, w, h);
             let thin = list(&by_list);

@@ -23,13 +23,20 @@ pub(super) struct Ink {
 
 impl Ink {
     pub(super) fn at(&self, p: [f64; 2]) -> bool {
-        // Truncation is the floor where the value is not negative, and so is its test.
-        let (x, y) = (p[0] - self.origin[0], p[1] - self.origin[1]);
-        x >= 0.0
-            && y >= 0.0
-            && (x as usize) < self.width
-            && (y as usize) < self.height
-            && self.mask[y as usize * self.width + x as usize]
+        self.at_window(p[0] - self.origin[0], p[1] - self.origin[1])
+    }
+
+    /// Whether the pixel holding `(x, y)`, in the window's coordinates, is ink.
+    #[inline]
+    pub(super) fn at_window(&self, x: f64, y: f64) -> bool {
+        // Truncation is the floor where the value is not negative, and so is its test; through
+        // `i64` (one instruction on x86-64, where `as usize` is several: docs/performance.md),
+        // whose saturation at 2⁶³ leaves a far point outside as `usize`'s does.
+        if !(x >= 0.0 && y >= 0.0) {
+            return false;
+        }
+        let (px, py) = (x as i64 as usize, y as i64 as usize);
+        px < self.width && py < self.height && self.mask[py * self.width + px]
     }
 
     /// How far the ink goes on from `from` along the unit vector `u`: the first sample, every

@@ -2,6 +2,7 @@
 //! follow each other ([`Work::adopt_method_geometry`], [`follows`]). docs/design.md,
 //! "Skeleton-carried geometry".
 
+use foldhash::fast::FixedState;
 use kiddo::{ImmutableKdTree, SquaredEuclidean};
 
 use crate::geometry::floor_i64;
@@ -253,8 +254,9 @@ fn follows(p: &[[f64; 2]], q: &[[f64; 2]], tight: f64, loose: f64) -> Option<f64
             [only] => vec![(*only, *only)],
             _ => to.windows(2).map(|s| (s[0], s[1])).collect(),
         };
-        let mut buckets: std::collections::HashMap<(i64, i64), Vec<usize>> =
-            std::collections::HashMap::new();
+        // A fixed-seed hasher: the buckets' order is never read, only their contents.
+        let mut buckets: std::collections::HashMap<(i64, i64), Vec<usize>, FixedState> =
+            std::collections::HashMap::default();
         for (k, &(a, b)) in segments.iter().enumerate() {
             for cx in key(a[0].min(b[0]))..=key(a[0].max(b[0])) {
                 for cy in key(a[1].min(b[1]))..=key(a[1].max(b[1])) {

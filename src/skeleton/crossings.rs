@@ -14,7 +14,7 @@ use crate::geometry::{dist, line_intersection, unit};
 use crate::stroke_graph::{Edge, StrokeGraph, Vertex};
 
 use super::disk_radius;
-use super::work::{cut_arm, cut_point, median, Work};
+use super::work::{cut_arm, cut_point, median, Ink, Work};
 
 /// A crossing owns the skeleton junctions within this many of its widths: the Y's of an acute
 /// crossing lie about `(w / 2) / sin(θ / 2)` from it, 3.8 w at 15 degrees, and the method's
@@ -1179,7 +1179,7 @@ impl Work {
         a: usize,
         b: usize,
         at: &[Vec<usize>],
-        holes: &OnceCell<Vec<bool>>,
+        holes: &OnceCell<Holes>,
     ) -> Option<(Vertex, f64)> {
         let arms_a = self.ink_arms(a, link, at)?;
         let arms_b = self.ink_arms(b, link, at)?;
@@ -1267,7 +1267,7 @@ impl Work {
         a: usize,
         b: usize,
         at: &[Vec<usize>],
-        holes: &OnceCell<Vec<bool>>,
+        holes: &OnceCell<Holes>,
     ) -> Option<Vertex> {
         let length = self.edges[link].as_ref()?.length();
         let stroke = [a, b]
@@ -1293,7 +1293,7 @@ impl Work {
         one: &[([f64; 2], f64)],
         two: &[([f64; 2], f64)],
         shared: &[([f64; 2], f64)],
-        holes: &OnceCell<Vec<bool>>,
+        holes: &OnceCell<Holes>,
     ) -> (f64, f64) {
         let all = || one.iter().chain(two).chain(shared);
         let mut min = [f64::INFINITY; 2];
@@ -1352,9 +1352,9 @@ impl Work {
         (gain, over_holes)
     }
 
-    /// Whether the pixel centre `c` is background enclosed by the ink (`holes`, from
-    /// [`Work::hole_mask`]).
-    fn in_hole(&self, holes: &OnceCell<Vec<bool>>, c: [f64; 2]) -> bool {
+    /// Whether the pixel centre `c` is background enclosed by the ink (`holes`, found by
+    /// [`Holes::new`] the first time a pixel is asked).
+    fn in_hole(&self, holes: &OnceCell<Holes>, c: [f64; 2]) -> bool {
         let (x, y) = (
             (c[0] - self.ink.origin[0]).floor(),
             (c[1] - self.ink.origin[1]).floor(),
@@ -1363,18 +1363,101 @@ impl Work {
             && y >= 0.0
             && (x as usize) < self.ink.width
             && (y as usize) < self.ink.height
-            && holes.get_or_init(|| self.hole_mask())[y as usize * self.ink.width + x as usize]
+            && holes
+                .get_or_init(|| Holes::new(&self.ink))
+                .at(x as usize, y as usize)
+    }
+}
+
+/// The holes of an ink window: its background pixels that no 4-connected path of background
+/// joins to the window's border. Kept as the rows' runs of background, joined by a union-find
+/// where runs of neighbouring rows share a column, so that finding them costs the runs, not a
+/// flood fill over every background pixel of the window (docs/performance.md, "Session of
+/// 2026-12-06: pages").
+struct Holes {
+    /// Where each row's runs start in `runs`: row `y`'s are `runs[rows[y]..rows[y + 1]]`.
+    rows: Vec<usize>,
+    /// The runs of background, each its first column and one past its last, row by row from
+    /// left to right.
+    runs: Vec<(usize, usize)>,
+    /// Whether each run lies in a hole.
+    hole: Vec<bool>,
+}
+
+impl Holes {
+    fn new(ink: &Ink) -> Holes {
+        let (w, h) = (ink.width, ink.height);
+        let mut rows = Vec::with_capacity(h + 1);
+        let mut runs = Vec::new();
+        for y in 0..h {
+            rows.push(runs.len());
+            let row = &ink.mask[y * w..(y + 1) * w];
+            let mut x = 0;
+            while let Some(start) = next_with(row, x, false) {
+                let end = next_with(row, start, true).unwrap_or(w);
+                runs.push((start, end));
+                x = end;
+            }
+        }
+        rows.push(runs.len());
+        let mut sets = UnionFind::<usize>::new(runs.len());
+        for y in 1..h {
+            // Runs of rows y - 1 and y that share a column are 4-connected.
+            let (mut i, mut j) = (rows[y - 1], rows[y]);
+            while i < rows[y] && j < rows[y + 1] {
+                let (above, below) = (runs[i], runs[j]);
+                if above.0 < below.1 && below.0 < above.1 {
+                    sets.union(i, j);
+                }
+                if above.1 < below.1 {
+                    i += 1;
+                } else {
+                    j += 1;
+                }
+            }
+        }
+        let mut outside = vec![false; runs.len()];
+        for (y, row) in rows.windows(2).enumerate() {
+            for r in row[0]..row[1] {
+                let (start, end) = runs[r];
+                if y == 0 || y + 1 == h || start == 0 || end == w {
+                    outside[sets.find_mut(r)] = true;
+                }
+            }
+        }
+        let hole = (0..runs.len())
+            .map(|r| !outside[sets.find_mut(r)])
+            .collect();
+        Holes { rows, runs, hole }
     }
 
-    /// The background pixels of the ink's window that no 4-connected path of background joins
-    /// to its border: the holes.
-    fn hole_mask(&self) -> Vec<bool> {
-        let (w, h) = (self.ink.width, self.ink.height);
+    /// Whether the pixel (`x`, `y`) of the window lies in a hole.
+    fn at(&self, x: usize, y: usize) -> bool {
+        let row = &self.runs[self.rows[y]..self.rows[y + 1]];
+        // The last run starting at or before x, if x is in it.
+        let k = row.partition_point(|&(start, _)| start <= x);
+        k > 0 && x < row[k - 1].1 && self.hole[self.rows[y] + k - 1]
+    }
+}
+
+/// The first column from `from` on whose pixel is `ink` (true: ink), if any.
+fn next_with(row: &[bool], from: usize, ink: bool) -> Option<usize> {
+    row[from..].iter().position(|&b| b == ink).map(|i| from + i)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The holes by a flood fill of the background from the window's border (the
+    /// straightforward version [`Holes`] replaces).
+    fn flood_holes(ink: &Ink) -> Vec<bool> {
+        let (w, h) = (ink.width, ink.height);
         let mut outside = vec![false; w * h];
         let mut stack: Vec<usize> = (0..w * h)
             .filter(|&i| {
                 let (x, y) = (i % w, i / w);
-                (x == 0 || y == 0 || x + 1 == w || y + 1 == h) && !self.ink.mask[i]
+                (x == 0 || y == 0 || x + 1 == w || y + 1 == h) && !ink.mask[i]
             })
             .collect();
         for &i in &stack {
@@ -1383,7 +1466,7 @@ impl Work {
         while let Some(i) = stack.pop() {
             let (x, y) = (i % w, i / w);
             let mut push = |j: usize| {
-                if !self.ink.mask[j] && !outside[j] {
+                if !ink.mask[j] && !outside[j] {
                     outside[j] = true;
                     stack.push(j);
                 }
@@ -1401,8 +1484,43 @@ impl Work {
                 push(i + w);
             }
         }
-        (0..w * h)
-            .map(|i| !self.ink.mask[i] && !outside[i])
-            .collect()
+        (0..w * h).map(|i| !ink.mask[i] && !outside[i]).collect()
+    }
+
+    #[test]
+    fn holes_from_runs_equal_the_flood_fill() {
+        let mut state = 0x9e37_79b9_7f4a_7c15u64;
+        let mut next = || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            state
+        };
+        let mut holes_seen = 0;
+        for case in 0..400 {
+            let (w, h) = (1 + (next() % 40) as usize, 1 + (next() % 40) as usize);
+            // From sparse to dense ink: dense masks leave many small holes.
+            let percent = 20 + case % 60;
+            let mask: Vec<bool> = (0..w * h).map(|_| next() % 100 < percent).collect();
+            let ink = Ink {
+                mask,
+                width: w,
+                height: h,
+                origin: [0.0, 0.0],
+            };
+            let expected = flood_holes(&ink);
+            let holes = Holes::new(&ink);
+            for y in 0..h {
+                for x in 0..w {
+                    assert_eq!(
+                        holes.at(x, y),
+                        expected[y * w + x],
+                        "case {case} at ({x}, {y})"
+                    );
+                }
+            }
+            holes_seen += expected.iter().filter(|&&b| b).count();
+        }
+        assert!(holes_seen > 1000, "the cases have holes: {holes_seen}");
     }
 }

@@ -15,6 +15,39 @@ pub(super) const RING: [(i64, i64); 8] = [
     (-1, -1),
 ];
 
+/// For each sub-iteration of [`zhang_suen`], whether a pixel whose 8 neighbours are the bits of
+/// the index (bit k: [`RING`]`[k]`, P2..P9) goes: 2-6 ink neighbours, one 0->1 transition
+/// around them, and not kept by the sub-iteration's condition (P4 P6 (P2 + P8), then P2 P8
+/// (P4 + P6)). Made once at compile time, not for every component thinned.
+const DELETED: [[bool; 256]; 2] = deletion_table();
+
+const fn deletion_table() -> [[bool; 256]; 2] {
+    let mut table = [[false; 256]; 2];
+    let mut n = 0;
+    while n < 256 {
+        let (mut b, mut a, mut k) = (0, 0, 0);
+        while k < 8 {
+            if bit(n, k) {
+                b += 1;
+            }
+            if !bit(n, k) && bit(n, k + 1) {
+                a += 1;
+            }
+            k += 1;
+        }
+        let deletable = b >= 2 && b <= 6 && a == 1;
+        table[0][n] = deletable && !(bit(n, 2) && bit(n, 4) && (bit(n, 0) || bit(n, 6)));
+        table[1][n] = deletable && !(bit(n, 0) && bit(n, 6) && (bit(n, 2) || bit(n, 4)));
+        n += 1;
+    }
+    table
+}
+
+/// Whether the neighbourhood `n` has neighbour `k` (mod 8) on.
+const fn bit(n: usize, k: usize) -> bool {
+    n & (1 << (k % 8)) != 0
+}
+
 /// Zhang & Suen (1984), "A fast parallel algorithm for thinning digital patterns": two
 /// sub-iterations, each deleting in parallel the boundary pixels with 2-6 neighbours, one 0->1
 /// transition around them, and (south-east | north-west) boundary conditions, until stable. The
@@ -76,19 +109,7 @@ fn zhang_suen_framed_at(
             b | (u8::from(grid[(i as isize + offsets[k]) as usize]) << k)
         })
     };
-    let table: [[bool; 256]; 2] = std::array::from_fn(|step| {
-        std::array::from_fn(|n| {
-            let p: [bool; 8] = std::array::from_fn(|k| n & (1 << k) != 0);
-            let b = p.iter().filter(|&&v| v).count();
-            let a = (0..8).filter(|&k| !p[k] && p[(k + 1) % 8]).count();
-            let keep = if step == 0 {
-                p[2] && p[4] && (p[0] || p[6])
-            } else {
-                p[0] && p[6] && (p[2] || p[4])
-            };
-            (2..=6).contains(&b) && a == 1 && !keep
-        })
-    });
+    let table = &DELETED;
     // Only a pixel with a background neighbour can go; after a sub-iteration only the
     // neighbours of what went can newly have one. Checking just those gives the same result as
     // checking every ink pixel each time, in a time that grows with the ink, not with the ink
@@ -367,6 +388,27 @@ fn fill_specks_at(ink: &mut [bool], w: usize, h: usize, pixels: &[usize]) -> Vec
 mod tests {
     use super::*;
     use crate::draw::{render, Stroke};
+
+    /// The compile-time table equals Zhang and Suen's conditions written out per neighbourhood
+    /// (the table each thinning used to build).
+    #[test]
+    fn deletion_table_matches_the_conditions() {
+        for (step, table) in DELETED.iter().enumerate() {
+            for (n, &got) in table.iter().enumerate() {
+                let p: [bool; 8] = std::array::from_fn(|k| n & (1 << k) != 0);
+                let b = p.iter().filter(|&&v| v).count();
+                let a = (0..8).filter(|&k| !p[k] && p[(k + 1) % 8]).count();
+                let keep = if step == 0 {
+                    p[2] && p[4] && (p[0] || p[6])
+                } else {
+                    p[0] && p[6] && (p[2] || p[4])
+                };
+                let deleted = (2..=6).contains(&b) && a == 1 && !keep;
+                assert_eq!(got, deleted, "step {step}, neighbourhood {n:08b}");
+            }
+        }
+        assert!(DELETED[0].iter().any(|&d| d) && DELETED[1].iter().any(|&d| !d));
+    }
 
     #[test]
     fn thinning_by_component_equals_thinning_the_whole_window() {

@@ -107,8 +107,14 @@ impl Work {
                 }
                 continue;
             }
-            // The envelope: the junction and its other edges' points near it.
-            let mut envelope = vec![(j.pos, j.width)];
+            // The envelope: the junction and its other edges' points near it; on one-pixel
+            // lines, the junction put back where the lines it leaves pass ([`undipped`]).
+            let centre = if stroke <= MIN_WIDTH_PX {
+                undipped(j.pos, &points, others().map(|o| first_step(o, junction)))
+            } else {
+                j.pos
+            };
+            let mut envelope = vec![(centre, j.width)];
             for other in others() {
                 envelope.extend(
                     other
@@ -116,7 +122,8 @@ impl Work {
                         .iter()
                         .copied()
                         .zip(other.widths.iter().copied())
-                        .filter(|&(q, _)| dist(q, j.pos) <= ENVELOPE_REACH * stroke),
+                        .filter(|&(q, _)| dist(q, j.pos) <= ENVELOPE_REACH * stroke)
+                        .filter(|&(q, _)| centre == j.pos || q != j.pos),
                 );
             }
             let reach = spur_reach(&points, &widths, &envelope);
@@ -134,6 +141,54 @@ impl Work {
             self.edges[e] = None;
             self.alive[tip] = false;
         }
+    }
+}
+
+/// The point after `junction` on `edge` (its pixel next to the junction's), if any.
+fn first_step(edge: &crate::stroke_graph::Edge, junction: usize) -> Option<[f64; 2]> {
+    let n = edge.points.len();
+    if n < 3 {
+        return None;
+    }
+    Some(if edge.from == junction {
+        edge.points[1]
+    } else {
+        edge.points[n - 2]
+    })
+}
+
+/// Where the strokes a branch leaves pass its junction `j`. Thinning bends a straight line a
+/// pixel into a branch that leaves it square (the line's pixel beside the branch is not needed
+/// for its 8-connectivity, so it goes: docs/design.md, "Skeleton-carried geometry", the
+/// skeleton made one pixel thick), and the junction with it: measured from there, a branch a
+/// pixel longer than a boundary bump reaches as far as one, which at one or two pixels of width
+/// is a real arm (docs/quality.md, "Thin drawings (issue 31)"). When the two other edges'
+/// pixels next to the junction are its diagonal neighbours on one row or column, two pixels
+/// apart, and the branch leaves the junction away from them, the line passes through their
+/// middle; else through the junction itself.
+fn undipped(
+    j: [f64; 2],
+    branch: &[[f64; 2]],
+    mut steps: impl Iterator<Item = Option<[f64; 2]>>,
+) -> [f64; 2] {
+    let (Some(Some(a)), Some(Some(b)), None) = (steps.next(), steps.next(), steps.next()) else {
+        return j;
+    };
+    let Some(&next) = branch.get(1) else {
+        return j;
+    };
+    let diagonal = |p: [f64; 2]| (p[0] - j[0]).abs() == 1.0 && (p[1] - j[1]).abs() == 1.0;
+    let apart = [(a[0] - b[0]).abs(), (a[1] - b[1]).abs()];
+    if !diagonal(a) || !diagonal(b) || !(apart == [2.0, 0.0] || apart == [0.0, 2.0]) {
+        return j;
+    }
+    let middle = [(a[0] + b[0]) / 2.0, (a[1] + b[1]) / 2.0];
+    let out = [j[0] - middle[0], j[1] - middle[1]];
+    let towards = [next[0] - j[0], next[1] - j[1]];
+    if out[0] * towards[0] + out[1] * towards[1] > 0.0 {
+        middle
+    } else {
+        j
     }
 }
 

@@ -186,8 +186,9 @@ fn skeleton_graph(
 }
 
 /// The skeleton's graph with the method's decisions, in order: spurs, thinning's split
-/// junctions, crossings, spurs the merged crossings leave, split crossings and stars, corners, dots, ends, junctions, the
-/// method's lines, and last every edge fitted to its ink.
+/// junctions, crossings, spurs the merged crossings leave, split crossings and stars, corners,
+/// junctions put back on one-pixel lines, dots, ends, junctions, the method's lines, and last
+/// every edge fitted to its ink.
 fn reconcile(mut work: Work, method: &StrokeGraph, experiments: &ExperimentParams) -> StrokeGraph {
     let by_ink = experiments.decide_by_ink;
     work.prune_spurs(by_ink);
@@ -203,6 +204,7 @@ fn reconcile(mut work: Work, method: &StrokeGraph, experiments: &ExperimentParam
         work.join_degree_two();
     }
     work.join_degree_two();
+    work.undip_junctions();
     work.collapse_dots();
     work.extend_ends();
     work.straighten_junctions();
@@ -662,5 +664,64 @@ mod tests {
                 .fold(f64::INFINITY, f64::min);
             assert!(nearest <= 1.5, "an end {nearest:.1} px from {end:?}");
         }
+    }
+
+    /// The traced graph of a one-pixel drawing: `pixels` (x, y) inked in a `w` x `h` image.
+    fn traced_pixels(pixels: &[(i64, i64)], w: u32, h: u32) -> StrokeGraph {
+        let mut binary = crate::binary::Binary::new(w, h);
+        for &(x, y) in pixels {
+            binary.ink[y as usize * w as usize + x as usize] = true;
+        }
+        let graph = crate::trace_binary(&binary, &skeleton_params())
+            .expect("trace")
+            .graph;
+        validate(&graph).expect("valid skeleton graph");
+        graph
+    }
+
+    /// A one-pixel bar on row 10 from x = 4 to 56, and a one-pixel stroke down from it at each of
+    /// `teeth`, `length` pixels below the bar.
+    fn one_pixel_comb(teeth: &[i64], length: i64) -> Vec<(i64, i64)> {
+        let mut pixels: Vec<(i64, i64)> = (4..=56).map(|x| (x, 10)).collect();
+        for &x in teeth {
+            pixels.extend((1..=length).map(|d| (x, 10 + d)));
+        }
+        pixels
+    }
+
+    #[test]
+    fn a_one_pixel_branch_two_pixels_long_is_an_arm() {
+        // Thinning bends the bar a pixel into each branch, and the junction with it: measured
+        // from there, a branch of two pixels reaches one, a boundary bump's reach.
+        let teeth = [12, 24, 36, 48];
+        let graph = traced_pixels(&one_pixel_comb(&teeth, 2), 61, 20);
+        assert_eq!(degrees(&graph), vec![3; 4]);
+        assert_eq!(graph.endpoints().count(), 2 + teeth.len());
+        for &x in &teeth {
+            let tip = [x as f64 + 0.5, 12.5];
+            let nearest = graph
+                .endpoints()
+                .map(|v| dist(graph.vertices[v].pos, tip))
+                .fold(f64::INFINITY, f64::min);
+            assert!(
+                nearest <= 1.0,
+                "the tooth at x = {x}: an end {nearest:.1} px away"
+            );
+        }
+    }
+
+    #[test]
+    fn one_pixel_rungs_three_pixels_apart_are_apart() {
+        // Two one-pixel rails 8 px apart, rungs every 3 px: two T's each, their junctions 3 px
+        // apart, every cell (2 px across) a cycle.
+        let rungs = [10, 13, 16, 19];
+        let mut pixels: Vec<(i64, i64)> = (4..=26).flat_map(|x| [(x, 4), (x, 12)]).collect();
+        for &x in &rungs {
+            pixels.extend((5..12).map(|y| (x, y)));
+        }
+        let graph = traced_pixels(&pixels, 31, 17);
+        assert_eq!(degrees(&graph), vec![3; 2 * rungs.len()]);
+        assert_eq!(graph.cycles(), rungs.len() - 1);
+        assert_eq!(graph.endpoints().count(), 4);
     }
 }

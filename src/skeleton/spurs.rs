@@ -107,8 +107,14 @@ impl Work {
                 }
                 continue;
             }
-            // The envelope: the junction and its other edges' points near it.
-            let mut envelope = vec![(j.pos, j.width)];
+            // The envelope: the junction and its other edges' points near it; on one-pixel
+            // lines, the junction put back where the lines it leaves pass ([`undipped`]).
+            let centre = if stroke <= MIN_WIDTH_PX {
+                undipped(j.pos, &points, others().map(|o| first_step(o, junction)))
+            } else {
+                j.pos
+            };
+            let mut envelope = vec![(centre, j.width)];
             for other in others() {
                 envelope.extend(
                     other
@@ -116,7 +122,8 @@ impl Work {
                         .iter()
                         .copied()
                         .zip(other.widths.iter().copied())
-                        .filter(|&(q, _)| dist(q, j.pos) <= ENVELOPE_REACH * stroke),
+                        .filter(|&(q, _)| dist(q, j.pos) <= ENVELOPE_REACH * stroke)
+                        .filter(|&(q, _)| centre == j.pos || q != j.pos),
                 );
             }
             let reach = spur_reach(&points, &widths, &envelope);
@@ -134,6 +141,134 @@ impl Work {
             self.edges[e] = None;
             self.alive[tip] = false;
         }
+    }
+}
+
+impl Work {
+    /// Junctions put back where one-pixel lines pass. Making the skeleton one pixel thick
+    /// removes a straight line's pixel beside a branch that leaves it square (the line's two
+    /// pixels either side stay 8-connected through the branch's first pixel: docs/design.md,
+    /// "Skeleton-carried geometry", the skeleton made one pixel thick), so the line dips a pixel
+    /// into the branch and the junction sits on the branch. On lines one pixel wide that pixel
+    /// is a whole width: measured from there, a branch two pixels long reaches no farther than
+    /// a boundary bump (and [`Work::prune_spurs`] would cut it), and the line's fit sags off the
+    /// ink (docs/quality.md, "Thin drawings (issue 31)"). Where a degree-3 junction's two other
+    /// edges, each of median width one pixel, leave it through its diagonal neighbours two
+    /// pixels apart on one row or column, and the third leaves it straight away from their
+    /// middle, the junction moves to that middle (the removed pixel, on the ink) and the third
+    /// edge starts there.
+    pub(super) fn undip_junctions(&mut self) {
+        let degree = self.degrees();
+        let at = self.incidence();
+        for v in 0..self.vertices.len() {
+            if !self.alive[v] || degree[v] != 3 || at[v].len() != 3 {
+                continue;
+            }
+            let j = self.vertices[v].pos;
+            let steps: Vec<Option<[f64; 2]>> = at[v]
+                .iter()
+                .map(|&e| self.edges[e].as_ref().and_then(|edge| first_step(edge, v)))
+                .collect();
+            let Some(steps) = steps.into_iter().collect::<Option<Vec<_>>>() else {
+                continue;
+            };
+            let diagonal = |p: [f64; 2]| (p[0] - j[0]).abs() == 1.0 && (p[1] - j[1]).abs() == 1.0;
+            for k in 0..3 {
+                let (a, b, next) = (steps[(k + 1) % 3], steps[(k + 2) % 3], steps[k]);
+                let apart = [(a[0] - b[0]).abs(), (a[1] - b[1]).abs()];
+                if !diagonal(a) || !diagonal(b) || !(apart == [2.0, 0.0] || apart == [0.0, 2.0]) {
+                    continue;
+                }
+                let middle = [(a[0] + b[0]) / 2.0, (a[1] + b[1]) / 2.0];
+                // The branch leaves straight away from the middle: its first step is the
+                // junction's 4-neighbour opposite the middle.
+                let away = [2.0 * j[0] - middle[0], 2.0 * j[1] - middle[1]];
+                let line_width = |e: usize| {
+                    self.edges[e]
+                        .as_ref()
+                        .map_or(f64::INFINITY, |edge| median(&edge.widths))
+                };
+                let (branch, lines) = (at[v][k], [at[v][(k + 1) % 3], at[v][(k + 2) % 3]]);
+                if next != away || lines.iter().any(|&e| line_width(e) > MIN_WIDTH_PX) {
+                    continue;
+                }
+                for e in lines {
+                    if let Some(edge) = self.edges[e].as_mut() {
+                        set_end(edge, v, middle);
+                    }
+                }
+                if let Some(edge) = self.edges[branch].as_mut() {
+                    let width = edge.widths.first().copied().unwrap_or(MIN_WIDTH_PX);
+                    if edge.from == v {
+                        edge.points.insert(0, middle);
+                        edge.widths.insert(0, width);
+                    } else {
+                        edge.points.push(middle);
+                        edge.widths.push(width);
+                    }
+                }
+                self.vertices[v].pos = middle;
+                break;
+            }
+        }
+    }
+}
+
+/// The point after `junction` on `edge` (its pixel next to the junction's), if any.
+fn first_step(edge: &crate::stroke_graph::Edge, junction: usize) -> Option<[f64; 2]> {
+    let n = edge.points.len();
+    if n < 2 || edge.from == edge.to {
+        return None;
+    }
+    Some(if edge.from == junction {
+        edge.points[1]
+    } else {
+        edge.points[n - 2]
+    })
+}
+
+/// Moves `edge`'s end at `junction` to `to`.
+fn set_end(edge: &mut crate::stroke_graph::Edge, junction: usize, to: [f64; 2]) {
+    let n = edge.points.len();
+    if edge.from == junction {
+        edge.points[0] = to;
+    } else {
+        edge.points[n - 1] = to;
+    }
+}
+
+/// Where the strokes a branch leaves pass its junction `j`. Thinning bends a straight line a
+/// pixel into a branch that leaves it square (the line's pixel beside the branch is not needed
+/// for its 8-connectivity, so it goes: docs/design.md, "Skeleton-carried geometry", the
+/// skeleton made one pixel thick), and the junction with it: measured from there, a branch a
+/// pixel longer than a boundary bump reaches as far as one, which at one or two pixels of width
+/// is a real arm (docs/quality.md, "Thin drawings (issue 31)"). When the two other edges'
+/// pixels next to the junction are its diagonal neighbours on one row or column, two pixels
+/// apart, and the branch leaves the junction away from them, the line passes through their
+/// middle; else through the junction itself.
+fn undipped(
+    j: [f64; 2],
+    branch: &[[f64; 2]],
+    mut steps: impl Iterator<Item = Option<[f64; 2]>>,
+) -> [f64; 2] {
+    let (Some(Some(a)), Some(Some(b)), None) = (steps.next(), steps.next(), steps.next()) else {
+        return j;
+    };
+    let Some(&next) = branch.get(1) else {
+        return j;
+    };
+    let diagonal = |p: [f64; 2]| (p[0] - j[0]).abs() == 1.0 && (p[1] - j[1]).abs() == 1.0;
+    let apart = [(a[0] - b[0]).abs(), (a[1] - b[1]).abs()];
+    if !diagonal(a) || !diagonal(b) || !(apart == [2.0, 0.0] || apart == [0.0, 2.0]) {
+        return j;
+    }
+    let middle = [(a[0] + b[0]) / 2.0, (a[1] + b[1]) / 2.0];
+    let out = [j[0] - middle[0], j[1] - middle[1]];
+    let towards = [next[0] - j[0], next[1] - j[1]];
+    if out[0] * towards[0] + out[1] * towards[1] > 0.0 {
+        middle
+    } else {
+        j
     }
 }
 

@@ -172,14 +172,11 @@ impl Work {
             let Some(steps) = steps.into_iter().collect::<Option<Vec<_>>>() else {
                 continue;
             };
-            let diagonal = |p: [f64; 2]| (p[0] - j[0]).abs() == 1.0 && (p[1] - j[1]).abs() == 1.0;
             for k in 0..3 {
                 let (a, b, next) = (steps[(k + 1) % 3], steps[(k + 2) % 3], steps[k]);
-                let apart = [(a[0] - b[0]).abs(), (a[1] - b[1]).abs()];
-                if !diagonal(a) || !diagonal(b) || !(apart == [2.0, 0.0] || apart == [0.0, 2.0]) {
+                let Some(middle) = dip_middle(j, a, b) else {
                     continue;
-                }
-                let middle = [(a[0] + b[0]) / 2.0, (a[1] + b[1]) / 2.0];
+                };
                 // The branch leaves straight away from the middle: its first step is the
                 // junction's 4-neighbour opposite the middle.
                 let away = [2.0 * j[0] - middle[0], 2.0 * j[1] - middle[1]];
@@ -237,6 +234,16 @@ fn set_end(edge: &mut crate::stroke_graph::Edge, junction: usize, to: [f64; 2]) 
     }
 }
 
+/// The pixel thinning removed beside the junction `j` of a line that dips into a branch: the
+/// middle of `a` and `b`, the line's pixels next to `j`, when both are diagonal neighbours of
+/// `j` two pixels apart on one row or column ([`undipped`], [`Work::undip_junctions`]).
+fn dip_middle(j: [f64; 2], a: [f64; 2], b: [f64; 2]) -> Option<[f64; 2]> {
+    let diagonal = |p: [f64; 2]| (p[0] - j[0]).abs() == 1.0 && (p[1] - j[1]).abs() == 1.0;
+    let apart = [(a[0] - b[0]).abs(), (a[1] - b[1]).abs()];
+    (diagonal(a) && diagonal(b) && (apart == [2.0, 0.0] || apart == [0.0, 2.0]))
+        .then(|| [(a[0] + b[0]) / 2.0, (a[1] + b[1]) / 2.0])
+}
+
 /// Where the strokes a branch leaves pass its junction `j`. Thinning bends a straight line a
 /// pixel into a branch that leaves it square (the line's pixel beside the branch is not needed
 /// for its 8-connectivity, so it goes: docs/design.md, "Skeleton-carried geometry", the
@@ -257,12 +264,9 @@ fn undipped(
     let Some(&next) = branch.get(1) else {
         return j;
     };
-    let diagonal = |p: [f64; 2]| (p[0] - j[0]).abs() == 1.0 && (p[1] - j[1]).abs() == 1.0;
-    let apart = [(a[0] - b[0]).abs(), (a[1] - b[1]).abs()];
-    if !diagonal(a) || !diagonal(b) || !(apart == [2.0, 0.0] || apart == [0.0, 2.0]) {
+    let Some(middle) = dip_middle(j, a, b) else {
         return j;
-    }
-    let middle = [(a[0] + b[0]) / 2.0, (a[1] + b[1]) / 2.0];
+    };
     let out = [j[0] - middle[0], j[1] - middle[1]];
     let towards = [next[0] - j[0], next[1] - j[1]];
     if out[0] * towards[0] + out[1] * towards[1] > 0.0 {

@@ -80,7 +80,8 @@ pub(crate) fn chords(dark: &[bool], width: usize, height: usize) -> Chords {
             &values[y * cols..(y + 1) * cols],
         );
         for ((out, &up), (&a, &b)) in below.iter_mut().zip(above).zip(a.iter().zip(b)) {
-            *out = if a == b { up + 1 } else { 1 };
+            // `if a == b { up + 1 } else { 1 }`, written so that the compiler puts it in lanes.
+            *out = 1 + up * u32::from(a == b);
         }
     }
     for y in (0..height - 1).rev() {
@@ -91,7 +92,9 @@ pub(crate) fn chords(dark: &[bool], width: usize, height: usize) -> Chords {
             &values[(y + 1) * cols..(y + 2) * cols],
         );
         for ((out, &down), (&a, &b)) in above.iter_mut().zip(below).zip(a.iter().zip(b)) {
-            *out = if a == b { down } else { *out };
+            // `if a == b { down } else { *out }` as a mask, which the compiler puts in lanes.
+            let same = u32::from(a == b).wrapping_neg();
+            *out = (down & same) | (*out & !same);
         }
     }
     // Each side's chords counted by length (a chord is at most the image's longer side): the

@@ -66,13 +66,7 @@ impl Work {
                 let end = [tip[0] + reach * u[0], tip[1] + reach * u[1]];
                 let width = edge.widths[if at_start { 0 } else { edge.widths.len() - 1 }];
                 let edge = self.edges[e].as_mut().expect("live edge");
-                if at_start {
-                    edge.points.insert(0, end);
-                    edge.widths.insert(0, width);
-                } else {
-                    edge.points.push(end);
-                    edge.widths.push(width);
-                }
+                super::spurs::extend_end(edge, at_start, end, width);
                 self.vertices[v].pos = end;
             }
         }

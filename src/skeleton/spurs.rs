@@ -196,13 +196,7 @@ impl Work {
                 }
                 if let Some(edge) = self.edges[branch].as_mut() {
                     let width = edge.widths.first().copied().unwrap_or(MIN_WIDTH_PX);
-                    if edge.from == v {
-                        edge.points.insert(0, middle);
-                        edge.widths.insert(0, width);
-                    } else {
-                        edge.points.push(middle);
-                        edge.widths.push(width);
-                    }
+                    extend_end(edge, edge.from == v, middle, width);
                 }
                 self.vertices[v].pos = middle;
                 break;
@@ -222,6 +216,23 @@ fn first_step(edge: &crate::stroke_graph::Edge, junction: usize) -> Option<[f64;
     } else {
         edge.points[n - 2]
     })
+}
+
+/// Adds `point` (of width `width`) to `edge`, before its first point when `at_start`, else after
+/// its last: the edge carried on past its end.
+pub(super) fn extend_end(
+    edge: &mut crate::stroke_graph::Edge,
+    at_start: bool,
+    point: [f64; 2],
+    width: f64,
+) {
+    if at_start {
+        edge.points.insert(0, point);
+        edge.widths.insert(0, width);
+    } else {
+        edge.points.push(point);
+        edge.widths.push(width);
+    }
 }
 
 /// Moves `edge`'s end at `junction` to `to`.

@@ -331,13 +331,8 @@ mod tests {
     #[test]
     fn symmetric_from_lists_equals_the_serial_build() {
         let (n, k) = (9000usize, 5usize);
-        let mut seed = 11u64;
-        let mut next = || {
-            seed = seed
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            (seed >> 33) as u32
-        };
+        let mut lcg = crate::synth::lcg(11u64);
+        let mut next = move || (lcg() >> 33) as u32;
         let lists: Vec<u32> = (0..n * k)
             .map(|s| {
                 let r = next();

@@ -322,13 +322,7 @@ mod tests {
 
     #[test]
     fn floor_i64_is_the_floor_cast() {
-        let mut seed = 99u64;
-        let mut next = || {
-            seed = seed
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            seed
-        };
+        let mut next = crate::synth::lcg(99u64);
         let mut cases = vec![
             0.0,
             -0.0,

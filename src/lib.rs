@@ -191,4 +191,16 @@ pub fn thin(binary: &Binary) -> Result<StrokeGraph> {
 #[cfg(test)]
 mod synth {
     pub(crate) use crate::draw::{render, Stroke};
+
+    /// A fixed pseudo-random sequence for the unit tests' inputs: the linear congruential
+    /// generator of Knuth's MMIX from `seed`, each call the next state (whose high bits are
+    /// the random ones).
+    pub(crate) fn lcg(mut state: u64) -> impl FnMut() -> u64 {
+        move || {
+            state = state
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            state
+        }
+    }
 }

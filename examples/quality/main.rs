@@ -1347,30 +1347,17 @@ fn dump_crossings(
             .min_by(|a, b| d(a.pos, c.pos).total_cmp(&d(b.pos, c.pos)))
             .unwrap();
         let w = t.width.max(3.0);
-        let near_p: Vec<String> = graph
-            .junctions()
-            .filter(|&v| d(graph.vertices[v].pos, c.pos) <= 4.0 * w)
-            .map(|v| {
-                format!(
-                    "d{}@{:.1}",
-                    graph.vertices[v].degree,
-                    d(graph.vertices[v].pos, c.pos) / t.width
-                )
-            })
-            .collect();
-        let near_t: Vec<String> = truth
-            .junctions()
-            .filter(|&v| {
-                d(truth.vertices[v].pos, c.pos) > 0.1 && d(truth.vertices[v].pos, c.pos) <= 4.0 * w
-            })
-            .map(|v| {
-                format!(
-                    "d{}@{:.1}",
-                    truth.vertices[v].degree,
-                    d(truth.vertices[v].pos, c.pos) / t.width
-                )
-            })
-            .collect();
+        // The junctions of `g` within four widths, farther than `beyond` (the truth's own
+        // crossing left out), as degree@distance in widths.
+        let near = |g: &StrokeGraph, beyond: f64| -> Vec<String> {
+            g.junctions()
+                .map(|v| (g.vertices[v].degree, d(g.vertices[v].pos, c.pos)))
+                .filter(|&(_, dist)| dist > beyond && dist <= 4.0 * w)
+                .map(|(degree, dist)| format!("d{degree}@{:.1}", dist / t.width))
+                .collect()
+        };
+        let near_p = near(graph, f64::NEG_INFINITY);
+        let near_t = near(truth, 0.1);
         println!(
             "XDUMP {name} ({:.0},{:.0}) ang {:.0} w {:.1} {} pred [{}] truth [{}]",
             c.pos[0],

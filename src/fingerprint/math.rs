@@ -184,13 +184,8 @@ mod tests {
     fn the_blur_within_a_box_is_the_whole_blur_there() {
         // Pseudo-random planes (a fixed linear congruential sequence), boxes inside, at the
         // borders and past them, and images narrower than the kernel.
-        let mut state = 12345u64;
-        let mut next = move || {
-            state = state
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            (state >> 33) as usize
-        };
+        let mut lcg = crate::synth::lcg(12345u64);
+        let mut next = move || (lcg() >> 33) as usize;
         for (width, height, sigma) in [(37, 29, 1.3), (50, 41, 4.5), (7, 40, 3.0), (40, 5, 2.2)] {
             let plane = Plane {
                 width,

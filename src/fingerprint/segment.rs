@@ -438,13 +438,8 @@ mod tests {
     fn the_nth_by_counting_is_the_nth_selected() {
         // Pseudo-random values (a fixed linear congruential sequence): gradient magnitudes,
         // values with many ties, both signs, both zeros, infinities and NaNs.
-        let mut state = 4242u64;
-        let mut next = move || {
-            state = state
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            (state >> 33) as u32
-        };
+        let mut lcg = crate::synth::lcg(4242u64);
+        let mut next = move || (lcg() >> 33) as u32;
         let special = [
             0.0f32,
             -0.0,

@@ -153,13 +153,8 @@ mod tests {
     fn page() -> Binary {
         let (w, h) = (97u32, 83u32);
         let mut binary = Binary::new(w, h);
-        let mut seed = 12345u64;
-        let mut rand = || {
-            seed = seed
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            (seed >> 33) as u32
-        };
+        let mut lcg = crate::synth::lcg(12345u64);
+        let mut rand = move || (lcg() >> 33) as u32;
         for _ in 0..40 {
             let (cx, cy, r) = (rand() % w, rand() % h, 1 + rand() % 6);
             let hollow = rand() % 3 == 0;

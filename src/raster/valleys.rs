@@ -262,13 +262,8 @@ mod tests {
         let (w, h) = (40u32, 40u32);
         // A bold bar 12 px wide under noise, light ink on a dark ground: nothing inside it is
         // a valley reaching the paper.
-        let mut seed = 12345u64;
-        let mut noise = || {
-            seed = seed
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            ((seed >> 33) % 21) as i32 - 10
-        };
+        let mut lcg = crate::synth::lcg(12345u64);
+        let mut noise = move || ((lcg() >> 33) % 21) as i32 - 10;
         let bar = |x: u32| (14..26).contains(&x);
         let noisy = GrayImage::from_fn(w, h, |x, _| {
             let v = if bar(x) { 220 } else { 40 };

@@ -516,13 +516,8 @@ mod tests {
         // Pseudo-random specks and blobs (a fixed linear congruential sequence) in framed grids:
         // filling specks, Zhang-Suen and one pixel thick given the ink's list give what the
         // scans of the whole grid give.
-        let mut state = 777u64;
-        let mut next = move || {
-            state = state
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            (state >> 33) as usize
-        };
+        let mut lcg = crate::synth::lcg(777u64);
+        let mut next = move || (lcg() >> 33) as usize;
         for (w, h, density) in [(23, 17, 2), (40, 31, 3), (9, 50, 4), (3, 3, 2), (60, 44, 5)] {
             let mut grid = vec![false; w * h];
             for y in 1..h - 1 {

@@ -724,11 +724,30 @@ impl Work {
     /// link, the T's stem, runs at least [`TEES_APART`] widths to the other junction. The two
     /// Y's thinning makes of one crossing each hold one arm of either stroke, on one side of
     /// the crossing: never a straight stroke through a Y.
+    ///
+    /// The same holds where the other junction is itself a crossing (degree 4 or more): a bar
+    /// of a grid ending on the frame (a T) a few widths from the grid's crossing is not one
+    /// star with it, though the method's graph, crowded there, saw one. A star's arms never
+    /// run straight through one of the Y's thinning splits it into.
     fn tee_on_a_stroke(&self, link: usize, a: usize, b: usize, at: &[Vec<usize>]) -> bool {
+        let (pa, pb) = (self.vertices[a].pos, self.vertices[b].pos);
         let Some((arms_a, arms_b, stroke, tolerance)) = self.link_arms(link, a, b, at) else {
-            return false;
+            // A T beside a crossing: only the T's own arms.
+            let tee = match (at[a].len(), at[b].len()) {
+                (3, d) if d >= 4 => a,
+                (d, 3) if d >= 4 => b,
+                _ => return false,
+            };
+            let Some(arms) = self.arm_lines(tee, link, at) else {
+                return false;
+            };
+            let stroke = arms[0].0.min(arms[1].0);
+            return dist(pa, pb) >= TEES_APART * stroke
+                && self
+                    .stroke_miss(&arms[0].1, &arms[1].1, disk_radius(stroke))
+                    .is_some();
         };
-        dist(self.vertices[a].pos, self.vertices[b].pos) >= TEES_APART * stroke
+        dist(pa, pb) >= TEES_APART * stroke
             && [&arms_a, &arms_b].iter().any(|arms| {
                 self.stroke_miss(&arms[0].1, &arms[1].1, tolerance)
                     .is_some()

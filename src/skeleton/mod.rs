@@ -446,6 +446,28 @@ mod tests {
         }
     }
 
+    #[test]
+    fn a_tee_three_widths_from_a_crossing_stays_a_tee() {
+        // A 田: a frame divided by a cross, cells two widths across. Each inner bar ends on the
+        // frame in a T three widths from the cross. The method's graph, crowded there, can see a
+        // star of five; the frame runs straight through each T, so it is no Y of a split star.
+        for w in [4.0f64, 6.0] {
+            let (o, pitch) = (2.0 * w + 1.0, 3.0 * w);
+            let (a, b) = (o, o + 2.0 * pitch);
+            let strokes = [
+                Stroke::new(vec![[a, a], [b, a], [b, b], [a, b], [a, a]], w),
+                Stroke::new(vec![[o + pitch, a], [o + pitch, b]], w),
+                Stroke::new(vec![[a, o + pitch], [b, o + pitch]], w),
+            ];
+            let size = (b + o).ceil() as u32;
+            let (binary, graph) = traced(&strokes, size, size);
+            let mut found = degrees(&graph);
+            found.sort_unstable();
+            assert_eq!(found, vec![3, 3, 3, 3, 4], "w {w}");
+            assert_on_ink(&binary, &graph);
+        }
+    }
+
     /// Two arcs of circles of radius `r`, centres `2 d` apart on a horizontal line, crossing
     /// at (100, 130 - sqrt(r^2 - d^2)) under `2 asin(d / r)`, strokes `w` px wide.
     fn crossing_arcs(r: f64, d: f64, w: f64) -> StrokeGraph {

@@ -719,39 +719,43 @@ impl Work {
         false
     }
 
-    /// Whether one of the degree-3 junctions `a` and `b`, joined by the edge `link`, is a T:
-    /// its two other arms are one straight stroke through it ([`Work::stroke_miss`]), and the
-    /// link, the T's stem, runs at least [`TEES_APART`] widths to the other junction. The two
-    /// Y's thinning makes of one crossing each hold one arm of either stroke, on one side of
-    /// the crossing: never a straight stroke through a Y.
-    ///
-    /// The same holds where the other junction is itself a crossing (degree 4 or more): a bar
-    /// of a grid ending on the frame (a T) a few widths from the grid's crossing is not one
-    /// star with it, though the method's graph, crowded there, saw one. A star's arms never
-    /// run straight through one of the Y's thinning splits it into.
+    /// Whether the junctions `a` and `b`, joined by the edge `link`, are two junctions rather
+    /// than the two Y's thinning makes of one crossing or star: the link runs at least
+    /// [`TEES_APART`] widths, and one of two degree-3 junctions is a T (its two other arms one
+    /// straight stroke through it, [`Work::stroke_miss`]; the link is its stem). The two Y's of
+    /// a crossing each hold one arm of either stroke, on one side of the crossing: never a
+    /// straight stroke through a Y. Where one of them is itself a crossing (degree 4 or more),
+    /// both must hold a straight stroke: a T three widths from a grid's crossing, two crossings
+    /// of a grid two widths apart. A star of five, one stroke crossing a second where a third
+    /// starts, splits into a crossing and a Y whose two arms leave to one side: it stays one.
+    /// `false` when an arm is too short for a line; the width is the narrowest of the arms.
     fn tee_on_a_stroke(&self, link: usize, a: usize, b: usize, at: &[Vec<usize>]) -> bool {
-        let (pa, pb) = (self.vertices[a].pos, self.vertices[b].pos);
-        let Some((arms_a, arms_b, stroke, tolerance)) = self.link_arms(link, a, b, at) else {
-            // A T beside a crossing: only the T's own arms.
-            let tee = match (at[a].len(), at[b].len()) {
-                (3, d) if d >= 4 => a,
-                (d, 3) if d >= 4 => b,
-                _ => return false,
-            };
-            let Some(arms) = self.arm_lines(tee, link, at) else {
-                return false;
-            };
-            let stroke = arms[0].0.min(arms[1].0);
-            return dist(pa, pb) >= TEES_APART * stroke
-                && self
-                    .stroke_miss(&arms[0].1, &arms[1].1, disk_radius(stroke))
-                    .is_some();
+        let (Some(arms_a), Some(arms_b)) =
+            (self.arm_lines(a, link, at), self.arm_lines(b, link, at))
+        else {
+            return false;
         };
-        dist(pa, pb) >= TEES_APART * stroke
-            && [&arms_a, &arms_b].iter().any(|arms| {
-                self.stroke_miss(&arms[0].1, &arms[1].1, tolerance)
-                    .is_some()
+        let stroke = arms_a
+            .iter()
+            .chain(&arms_b)
+            .map(|(w, _)| *w)
+            .fold(f64::INFINITY, f64::min);
+        if dist(self.vertices[a].pos, self.vertices[b].pos) < TEES_APART * stroke {
+            return false;
+        }
+        let tolerance = disk_radius(stroke);
+        let straight = |arms: &Arms| {
+            arms.iter().enumerate().any(|(k, p)| {
+                arms[k + 1..]
+                    .iter()
+                    .any(|q| self.stroke_miss(&p.1, &q.1, tolerance).is_some())
             })
+        };
+        if arms_a.len() == 2 && arms_b.len() == 2 {
+            straight(&arms_a) || straight(&arms_b)
+        } else {
+            straight(&arms_a) && straight(&arms_b)
+        }
     }
 
     /// Whether the arms `p` and `q` are one straight stroke: the line through their far anchors
@@ -765,8 +769,8 @@ impl Work {
         (worst <= tolerance && self.ink.holds(p.far, q.far)).then_some(worst)
     }
 
-    /// The two other arms at each end of the link `link` between the junctions `a` and `b`
-    /// ([`Work::arm_lines`]), the narrowest of their widths and the tolerance of that width
+    /// The two other arms at each end of the link `link` between the degree-3 junctions `a`
+    /// and `b` ([`Work::arm_lines`]; `None` where either has more), the narrowest of their widths and the tolerance of that width
     /// ([`disk_radius`]) a stroke's line may miss by.
     fn link_arms(
         &self,
@@ -775,8 +779,8 @@ impl Work {
         b: usize,
         at: &[Vec<usize>],
     ) -> Option<(Arms, Arms, f64, f64)> {
-        let arms_a = self.arm_lines(a, link, at)?;
-        let arms_b = self.arm_lines(b, link, at)?;
+        let arms_a = self.arm_lines(a, link, at).filter(|arms| arms.len() == 2)?;
+        let arms_b = self.arm_lines(b, link, at).filter(|arms| arms.len() == 2)?;
         let stroke = arms_a
             .iter()
             .chain(&arms_b)
@@ -785,8 +789,8 @@ impl Work {
         Some((arms_a, arms_b, stroke, disk_radius(stroke)))
     }
 
-    /// The two arms at the degree-3 junction `j` other than `link`: each its median width and
-    /// line; `None` when there are not two or one is too short for a line.
+    /// The arms at the junction `j` other than `link`: each its median width and line; `None`
+    /// when there are fewer than two or one is too short for a line.
     fn arm_lines(&self, j: usize, link: usize, at: &[Vec<usize>]) -> Option<Arms> {
         let mut arms = Vec::new();
         for &e in at[j].iter().filter(|&&e| e != link) {
@@ -797,7 +801,7 @@ impl Work {
                 }
             }
         }
-        (arms.len() == 2).then_some(arms)
+        (arms.len() >= 2).then_some(arms)
     }
 
     /// The stretch of `edge` leaving the junction `j` (from its start when `forward`) from
@@ -1176,7 +1180,7 @@ impl Work {
                 });
             }
         }
-        (arms.len() == 2).then_some(arms)
+        (arms.len() >= 2).then_some(arms)
     }
 
     /// The ink's choice between one crossing and two junctions for the degree-3 junctions `a`

@@ -468,6 +468,25 @@ mod tests {
         }
     }
 
+    #[test]
+    fn crossings_of_a_grid_two_widths_apart_stay_apart() {
+        // Four lines each way, cells one width across, the lines running a pitch past the grid:
+        // sixteen crossings, however the method's graph, crowded there, merged neighbours.
+        let (w, pitch) = (6.0f64, 12.0);
+        let o = 2.0 * w + 1.0 + pitch;
+        let end = o + 4.0 * pitch;
+        let mut strokes = Vec::new();
+        for i in 0..4 {
+            let s = o + i as f64 * pitch;
+            strokes.push(Stroke::new(vec![[s, o - pitch], [s, end]], w));
+            strokes.push(Stroke::new(vec![[o - pitch, s], [end, s]], w));
+        }
+        let size = (end + 2.0 * w + 1.0).ceil() as u32;
+        let (binary, graph) = traced(&strokes, size, size);
+        assert_eq!(degrees(&graph), vec![4; 16]);
+        assert_on_ink(&binary, &graph);
+    }
+
     /// Two arcs of circles of radius `r`, centres `2 d` apart on a horizontal line, crossing
     /// at (100, 130 - sqrt(r^2 - d^2)) under `2 asin(d / r)`, strokes `w` px wide.
     fn crossing_arcs(r: f64, d: f64, w: f64) -> StrokeGraph {

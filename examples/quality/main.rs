@@ -674,6 +674,11 @@ fn main() -> anyhow::Result<()> {
                         dump_ends(case, truth, graph, &options);
                     }
                 }
+                if std::env::var("QUALITY_DUMP_JUNCTIONS").is_ok() && method == "ridgeline" {
+                    if let (Ok(truth), Ok(graph)) = (&truth, &result) {
+                        dump_junctions(case, truth, graph, &options);
+                    }
+                }
                 traced.push(result.ok());
                 outcomes.push(Outcome {
                     case: case.name.clone(),
@@ -1279,6 +1284,24 @@ fn dump_ends(case: &Case, truth: &StrokeGraph, graph: &StrokeGraph, options: &Sc
             },
         );
         let off_truth = edge_dist(pos) / w;
+        // The sharpest turn of the truth's centerline within 1.5 widths (degrees; 180 a pen
+        // that goes back on itself): a spur at a retrace cusp lies beside one.
+        let bend = truth
+            .edges
+            .iter()
+            .flat_map(|e| e.points.windows(3))
+            .filter(|s| d(s[1], pos) <= 1.5 * w)
+            .map(|s| {
+                let (a, b) = (
+                    [s[1][0] - s[0][0], s[1][1] - s[0][1]],
+                    [s[2][0] - s[1][0], s[2][1] - s[1][1]],
+                );
+                (a[0] * b[1] - a[1] * b[0])
+                    .atan2(a[0] * b[0] + a[1] * b[1])
+                    .abs()
+                    .to_degrees()
+            })
+            .fold(0.0, f64::max);
         let class = if off_truth > 1.5 {
             if end_missed && end_d <= 4.5 {
                 'A'
@@ -1300,7 +1323,7 @@ fn dump_ends(case: &Case, truth: &StrokeGraph, graph: &StrokeGraph, options: &Sc
         };
         println!(
             "EDUMP {} {class} ({:.0},{:.0}) w {:.1} true_end {:.1}{} truth_edge {:.2} edge {:.1} \
-             to_deg {} true_junction {:.1}",
+             to_deg {} true_junction {:.1} bend {:.0}",
             case.name,
             pos[0],
             pos[1],
@@ -1310,7 +1333,8 @@ fn dump_ends(case: &Case, truth: &StrokeGraph, graph: &StrokeGraph, options: &Sc
             off_truth,
             len,
             other,
-            other_j
+            other_j,
+            bend
         );
         // QUALITY_DUMP_ENDS=points: the case's stroke vertices within four widths of the end.
         if std::env::var("QUALITY_DUMP_ENDS").is_ok_and(|v| v == "points") {
@@ -1326,6 +1350,116 @@ fn dump_ends(case: &Case, truth: &StrokeGraph, graph: &StrokeGraph, options: &Sc
                 }
             }
         }
+    }
+}
+
+/// With `QUALITY_DUMP_JUNCTIONS` set: a line per extra junction of the case (ridgeline; a
+/// predicted junction the scorer matches to no true junction), with, in widths of the nearest
+/// true vertex: the nearest true junction's distance and whether another predicted junction is
+/// matched to it, the nearest true end's distance, the distance to the truth's nearest edge, the
+/// junction's shortest edge and what is at its other end, and a class letter: S a spur's
+/// junction (an edge of at most 3 widths to a spurious end), P a split (the nearest true junction,
+/// within 3 widths, matched to another predicted junction), N placed off (an unmatched true
+/// junction within 3 widths), O off the truth (its nearest edge more than 1.5 widths away), T a
+/// true end within 3 widths (a touch or an overhang where the truth has an end), R the rest (on
+/// a true stroke away from every true vertex) (docs/quality.md, "Spurious ends and extra
+/// junctions on script (issue 31)").
+fn dump_junctions(case: &Case, truth: &StrokeGraph, graph: &StrokeGraph, options: &ScoreOptions) {
+    let d = |a: [f64; 2], b: [f64; 2]| (a[0] - b[0]).hypot(a[1] - b[1]);
+    let norm = ridgeline_testkit::score::normalize_with(case, graph, options);
+    let radius = |w: f64| w.max(options.min_match_radius);
+    let true_j: Vec<usize> = truth.junctions().collect();
+    let pred_j: Vec<usize> = norm.junctions().collect();
+    let partner = ridgeline_testkit::score::match_vertices(truth, &true_j, &norm, &pred_j, &radius);
+    let true_e: Vec<usize> = truth.endpoints().collect();
+    let spurious = |v: usize| {
+        norm.vertices[v].degree == 1
+            && !true_e.iter().any(|&t| {
+                d(truth.vertices[t].pos, norm.vertices[v].pos) <= radius(truth.vertices[t].width)
+            })
+    };
+    let edge_dist = |p: [f64; 2]| {
+        truth
+            .edges
+            .iter()
+            .flat_map(|e| e.points.windows(2))
+            .map(|s| ridgeline::geometry::segment_dist(p, s[0], s[1]))
+            .fold(f64::INFINITY, f64::min)
+    };
+    let nearest = |ids: &[usize], pos: [f64; 2]| {
+        ids.iter().copied().enumerate().min_by(|a, b| {
+            d(truth.vertices[a.1].pos, pos).total_cmp(&d(truth.vertices[b.1].pos, pos))
+        })
+    };
+    for &p in &pred_j {
+        if partner.contains(&Some(p)) {
+            continue;
+        }
+        let pos = norm.vertices[p].pos;
+        let Some(near) = (0..truth.vertices.len()).min_by(|&a, &b| {
+            d(truth.vertices[a].pos, pos).total_cmp(&d(truth.vertices[b].pos, pos))
+        }) else {
+            continue;
+        };
+        let w = truth.vertices[near].width.max(1.0);
+        let (tj_d, tj_taken, tj_deg) =
+            nearest(&true_j, pos).map_or((f64::INFINITY, false, 0), |(k, t)| {
+                (
+                    d(truth.vertices[t].pos, pos) / w,
+                    partner[k].is_some(),
+                    truth.vertices[t].degree,
+                )
+            });
+        let te_d =
+            nearest(&true_e, pos).map_or(f64::INFINITY, |(_, t)| d(truth.vertices[t].pos, pos) / w);
+        let off_truth = edge_dist(pos) / w;
+        // The junction's edges: length in widths and the degree (spurious end: 's') at the far end.
+        let mut edges: Vec<(f64, String, bool)> = norm
+            .edges
+            .iter()
+            .filter(|e| e.from == p || e.to == p)
+            .map(|e| {
+                let len: f64 = e.points.windows(2).map(|s| d(s[0], s[1])).sum::<f64>() / w;
+                let o = if e.from == p { e.to } else { e.from };
+                let spur = spurious(o);
+                let tag = format!(
+                    "{:.1}:d{}{}",
+                    len,
+                    norm.vertices[o].degree,
+                    if spur { "s" } else { "" }
+                );
+                (len, tag, spur)
+            })
+            .collect();
+        edges.sort_by(|a, b| a.0.total_cmp(&b.0));
+        let class = if edges.iter().any(|e| e.2 && e.0 <= 3.0) {
+            'S'
+        } else if tj_d <= 3.0 && tj_taken {
+            'P'
+        } else if tj_d <= 3.0 {
+            'N'
+        } else if off_truth > 1.5 {
+            'O'
+        } else if te_d <= 3.0 {
+            'T'
+        } else {
+            'R'
+        };
+        println!(
+            "JDUMP {} {class} ({:.0},{:.0}) deg {} w {:.1} true_junction {:.1}{} d{} true_end {:.1} \
+             truth_edge {:.2} edges [{}]",
+            case.name,
+            pos[0],
+            pos[1],
+            norm.vertices[p].degree,
+            w,
+            tj_d,
+            if tj_taken { " taken" } else { " free" },
+            tj_deg,
+            te_d,
+            off_truth,
+            edges.iter().map(|e| e.1.as_str()).collect::<Vec<_>>().join(" ")
+        );
     }
 }
 

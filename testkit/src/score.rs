@@ -782,7 +782,7 @@ fn finite(p: [f64; 2]) -> bool {
 
 /// One-to-one matching of `true_ids` to `pred_ids` within `radius(true width)`, nearest pairs
 /// first; returns the predicted partner of each true vertex.
-fn match_vertices(
+pub fn match_vertices(
     truth: &StrokeGraph,
     true_ids: &[usize],
     pred: &StrokeGraph,

@@ -437,11 +437,14 @@ fn trace_ink(
     if let Some(chunks) = raster::pixel_chunks(binary, params, dropout, CHUNK_POINTS)? {
         let scan_time = start.elapsed();
         let sizes: Vec<usize> = (0..chunks.len()).map(|c| chunks.size(c)).collect();
+        // Chunks are never in dropout mode: where the skeleton alone traces them and their
+        // stages are not recorded, nothing walks their neighbour lists ([`skeleton_only`]).
+        let neighbours = !(skeleton_traces(params) && recording == Recording::Off);
         let mut traced = trace_chunks(
             &sizes,
             |c| {
                 chunks
-                    .part(c)
+                    .part(c, neighbours)
                     .map(|(points, labels)| (points, Some(labels)))
             },
             params,
@@ -537,6 +540,12 @@ fn trace_one(
     finish_one(graph, points, &components, refined, kept, params, timings)
 }
 
+/// Whether the skeleton alone traces the point sets `params` make outside dropout mode (see
+/// [`skeleton_only`]).
+fn skeleton_traces(params: &Params) -> bool {
+    params.fingerprint.is_some() && params.finish.skeleton
+}
+
 /// Whether the skeleton alone traces `points`: a print's ridges ([`Params::fingerprint`]) whose
 /// skeleton carries the geometry ([`skeleton::carry`]: not in dropout mode, not with
 /// `--no-skeleton`). There the method's graph (§3.1-§3.4) would only lend its crossings, which
@@ -544,8 +553,7 @@ fn trace_one(
 /// worse without them, each ridge fitted to its own ink instead (docs/fingerprints.md, "Speed").
 /// The method's stages still run when they are recorded, for their pictures, but decide nothing.
 fn skeleton_only(points: &PointSet, params: &Params) -> bool {
-    params.fingerprint.is_some()
-        && params.finish.skeleton
+    skeleton_traces(params)
         && !points.dropout
         && points.grid.as_ref().is_some_and(|g| !g.index.is_empty())
 }

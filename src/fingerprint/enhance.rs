@@ -63,6 +63,7 @@ pub(crate) fn enhance(
         .enumerate()
         .for_each(|(j, band)| {
             let (mut kernel, mut rows, mut parts) = (Vec::new(), RowSums::default(), Vec::new());
+            let (mut filter, mut scratch) = (SeparableGabor::default(), GaborScratch::default());
             let band_y0 = j * b;
             for i in 0..grid.cols as usize {
                 let index = grid.index(i, j);
@@ -89,8 +90,8 @@ pub(crate) fn enhance(
                 for &(pixels, theta) in &parts {
                     let out = (&mut *band, band_y0);
                     if let Some((padded, pad)) = &padded {
-                        SeparableGabor::new(theta, period, params)
-                            .apply(padded, *pad, pixels, sign, out, &mut rows);
+                        filter.tune(theta, period, params, &mut scratch);
+                        filter.apply(padded, *pad, pixels, sign, out, &mut rows);
                     } else {
                         let radius = gabor_kernel(theta, period, params, &mut kernel);
                         apply_kernel(gray, &kernel, radius, pixels, sign, out);
@@ -183,6 +184,7 @@ fn padded_plane(gray: &Plane, pad: usize) -> Plane {
 /// `g(t) = exp(-t² / 2σ²)` and the wave `cos(αx + βy)` (`(α, β) = 2π n / T`, `n` the ridge
 /// normal), the kernel is `A(x) B(y) - C(x) D(y) - m`, `A = g cos αx`, `C = g sin αx`,
 /// `B = g cos βy`, `D = g sin βy`, `m` its mean over the window, all over its energy.
+#[derive(Default)]
 struct SeparableGabor {
     radius: usize,
     /// `A`, `C` over `x` and `B`, `D` over `y`, offsets `-r..=r`.
@@ -196,45 +198,76 @@ struct SeparableGabor {
     scale: f32,
 }
 
+/// Scratch space of [`SeparableGabor::tune`]: the envelope and the four taps in double
+/// precision, kept from one kernel to the next (a print has a kernel per block and per turning
+/// block's sub-block, thousands of them).
+#[derive(Default)]
+struct GaborScratch {
+    envelope: Vec<f64>,
+    a: Vec<f64>,
+    c: Vec<f64>,
+    b: Vec<f64>,
+    d: Vec<f64>,
+}
+
 impl SeparableGabor {
+    #[cfg(test)]
     fn new(theta: f64, period: f64, params: &FingerprintParams) -> SeparableGabor {
+        let mut filter = SeparableGabor::default();
+        filter.tune(theta, period, params, &mut GaborScratch::default());
+        filter
+    }
+
+    /// Makes this the filter for ridge direction `theta` and period `period`, in the vectors it
+    /// has and `scratch` (the same values as from fresh ones: a test holds them bit for bit).
+    fn tune(
+        &mut self,
+        theta: f64,
+        period: f64,
+        params: &FingerprintParams,
+        scratch: &mut GaborScratch,
+    ) {
         let sigma = params.gabor_sigma_across * period;
         let radius = kernel_radius(sigma) as i64;
         let normal = [-theta.sin(), theta.cos()];
         let (alpha, beta) = (TAU * normal[0] / period, TAU * normal[1] / period);
         // The envelope's taps, the same for both directions.
-        let envelope: Vec<f64> = (-radius..=radius)
-            .map(|t| {
-                let t = t as f64;
-                (-t * t / (2.0 * sigma * sigma)).exp()
-            })
-            .collect();
-        let ((a, c), (b, d)) = (
-            mirrored_taps(&envelope, alpha),
-            mirrored_taps(&envelope, beta),
-        );
+        let GaborScratch {
+            envelope,
+            a,
+            c,
+            b,
+            d,
+        } = scratch;
+        envelope.clear();
+        envelope.extend((-radius..=radius).map(|t| {
+            let t = t as f64;
+            (-t * t / (2.0 * sigma * sigma)).exp()
+        }));
+        mirrored_taps(envelope, alpha, (a, c));
+        mirrored_taps(envelope, beta, (b, d));
         let sum = |v: &[f64]| v.iter().sum::<f64>();
         let dot = |u: &[f64], v: &[f64]| u.iter().zip(v).map(|(p, q)| p * q).sum::<f64>();
         let n = ((2 * radius + 1) * (2 * radius + 1)) as f64;
-        let mean = (sum(&a) * sum(&b) - sum(&c) * sum(&d)) / n;
-        let energy = dot(&a, &a) * dot(&b, &b) - 2.0 * dot(&a, &c) * dot(&b, &d)
-            + dot(&c, &c) * dot(&d, &d)
+        let mean = (sum(a) * sum(b) - sum(c) * sum(d)) / n;
+        let energy = dot(a, a) * dot(b, b) - 2.0 * dot(a, c) * dot(b, d) + dot(c, c) * dot(d, d)
             - n * mean * mean;
         let scale = if energy > 0.0 {
             1.0 / energy.sqrt()
         } else {
             0.0
         };
-        let single = |v: Vec<f64>| v.into_iter().map(|x| x as f32).collect();
-        SeparableGabor {
-            radius: radius as usize,
-            a: single(a),
-            c: single(c),
-            b: single(b),
-            d: single(d),
-            mean: mean as f32,
-            scale: scale as f32,
-        }
+        let single = |from: &[f64], to: &mut Vec<f32>| {
+            to.clear();
+            to.extend(from.iter().map(|&x| x as f32));
+        };
+        single(a, &mut self.a);
+        single(c, &mut self.c);
+        single(b, &mut self.b);
+        single(d, &mut self.d);
+        self.radius = radius as usize;
+        self.mean = mean as f32;
+        self.scale = scale as f32;
     }
 
     /// The row sums of `N` columns (`window` their taps, `N + 2r` values) in registers: each
@@ -368,9 +401,12 @@ impl SeparableGabor {
 /// point, and the library's `sin` and `cos` reduce `|x|` and restore the sign, so the taps at `-t`
 /// mirror those at `t` (a test holds them to the direct evaluation) and each `t ≥ 0` is
 /// evaluated once: half the calls of the kernel's construction.
-fn mirrored_taps(envelope: &[f64], k: f64) -> (Vec<f64>, Vec<f64>) {
+fn mirrored_taps(envelope: &[f64], k: f64, (cosines, sines): (&mut Vec<f64>, &mut Vec<f64>)) {
     let radius = envelope.len() / 2;
-    let (mut cosines, mut sines) = (vec![0.0; envelope.len()], vec![0.0; envelope.len()]);
+    for taps in [&mut *cosines, &mut *sines] {
+        taps.clear();
+        taps.resize(envelope.len(), 0.0);
+    }
     for t in 0..=radius {
         let angle = k * t as f64;
         let (sin, cos) = (angle.sin(), angle.cos());
@@ -381,7 +417,6 @@ fn mirrored_taps(envelope: &[f64], k: f64) -> (Vec<f64>, Vec<f64>) {
         cosines[after] = envelope[after] * cos;
         sines[after] = envelope[after] * sin;
     }
-    (cosines, sines)
 }
 
 /// Scratch space of [`SeparableGabor::apply`]: the row sums of the window, one column of the
@@ -461,13 +496,40 @@ mod tests {
                 let theta = f64::from(step) * PI / 180.0 + 0.001 * period;
                 let normal = [-theta.sin(), theta.cos()];
                 for k in [TAU * normal[0] / period, TAU * normal[1] / period] {
-                    let (mirrored, direct) =
-                        (mirrored_taps(&envelope, k), direct_taps(&envelope, k));
+                    // Into vectors holding other taps (as when the kernels' scratch space is
+                    // reused): the same values.
+                    let mut mirrored = (vec![7.0; 3], vec![-1.0; 40]);
+                    mirrored_taps(&envelope, k, (&mut mirrored.0, &mut mirrored.1));
+                    let direct = direct_taps(&envelope, k);
                     let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
                     assert_eq!(bits(&mirrored.0), bits(&direct.0), "cos, k {k}");
                     assert_eq!(bits(&mirrored.1), bits(&direct.1), "sin, k {k}");
                 }
             }
+        }
+    }
+
+    #[test]
+    fn a_filter_tuned_again_is_a_fresh_one_bit_for_bit() {
+        // One filter and scratch space tuned block after block, through periods that grow and
+        // shrink the window, against a fresh filter for each.
+        let params = FingerprintParams::default();
+        let (mut filter, mut scratch) = (SeparableGabor::default(), GaborScratch::default());
+        for (theta, period) in [(0.3, 9.0), (1.2, 24.0), (2.5, 3.0), (0.0, 11.3), (3.1, 9.0)] {
+            filter.tune(theta, period, &params, &mut scratch);
+            let fresh = SeparableGabor::new(theta, period, &params);
+            let bits = |v: &[f32]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+            assert_eq!(filter.radius, fresh.radius);
+            for (got, want) in [
+                (&filter.a, &fresh.a),
+                (&filter.b, &fresh.b),
+                (&filter.c, &fresh.c),
+                (&filter.d, &fresh.d),
+            ] {
+                assert_eq!(bits(got), bits(want), "{theta} {period}");
+            }
+            assert_eq!(filter.mean.to_bits(), fresh.mean.to_bits());
+            assert_eq!(filter.scale.to_bits(), fresh.scale.to_bits());
         }
     }
 

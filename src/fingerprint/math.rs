@@ -100,27 +100,72 @@ pub(crate) fn gaussian_kernel(sigma: f64) -> Vec<f32> {
 }
 
 /// Sobel gradients `(g_x, g_y)` (x to the right, y down), borders clamped.
+///
+/// Inside the image each row's gradients are worked out from the three rows around it, taken
+/// as slices shifted by a column, so that the columns go side by side in vector lanes (the same
+/// sums, term by term, as the nine pixels read one by one: a test holds it bit for bit); the
+/// pixels on the image's edge read their clamped neighbours one by one.
 pub(crate) fn sobel(plane: &Plane) -> (Plane, Plane) {
+    let (w, h) = (plane.width as usize, plane.height as usize);
+    let mut gx = vec![0.0f32; plane.values.len()];
+    let mut gy = vec![0.0f32; plane.values.len()];
+    let edge = |x: usize, y: usize| {
+        let (x, y) = (x as i64, y as i64);
+        let p = |dx: i64, dy: i64| plane.at(x + dx, y + dy);
+        (
+            (p(1, -1) + 2.0 * p(1, 0) + p(1, 1)) - (p(-1, -1) + 2.0 * p(-1, 0) + p(-1, 1)),
+            (p(-1, 1) + 2.0 * p(0, 1) + p(1, 1)) - (p(-1, -1) + 2.0 * p(0, -1) + p(1, -1)),
+        )
+    };
+    if plane.values.len() != w * h {
+        return sobel_clamped(plane);
+    }
+    let v = &plane.values;
+    for y in 0..h {
+        let (row_x, row_y) = (&mut gx[y * w..(y + 1) * w], &mut gy[y * w..(y + 1) * w]);
+        if y == 0 || y + 1 == h || w < 3 {
+            for x in 0..w {
+                (row_x[x], row_y[x]) = edge(x, y);
+            }
+            continue;
+        }
+        // Columns 1..w-1: the pixels left of, at and right of each, in the rows above, at and
+        // below it (`a b c / d · f / g k m`), as slices of equal length.
+        let n = w - 2;
+        let (up, mid, down) = (
+            &v[(y - 1) * w..y * w],
+            &v[y * w..(y + 1) * w],
+            &v[(y + 1) * w..(y + 2) * w],
+        );
+        let (a, b, c) = (&up[..n], &up[1..n + 1], &up[2..]);
+        let (d, f) = (&mid[..n], &mid[2..]);
+        let (g, k, m) = (&down[..n], &down[1..n + 1], &down[2..]);
+        let (out_x, out_y) = (&mut row_x[1..n + 1], &mut row_y[1..n + 1]);
+        for i in 0..n {
+            out_x[i] = (c[i] + 2.0 * f[i] + m[i]) - (a[i] + 2.0 * d[i] + g[i]);
+            out_y[i] = (g[i] + 2.0 * k[i] + m[i]) - (a[i] + 2.0 * b[i] + c[i]);
+        }
+        for x in [0, w - 1] {
+            (row_x[x], row_y[x]) = edge(x, y);
+        }
+    }
+    let plane_of = |values| Plane {
+        width: plane.width,
+        height: plane.height,
+        values,
+    };
+    (plane_of(gx), plane_of(gy))
+}
+
+/// [`sobel`] with every pixel's neighbours clamped at the image's edges, one pixel at a time
+/// (for a plane whose values do not match its size; and the reference the tests hold the
+/// lanes to).
+fn sobel_clamped(plane: &Plane) -> (Plane, Plane) {
     let (w, h) = (plane.width as i64, plane.height as i64);
     let mut gx = Vec::with_capacity(plane.values.len());
     let mut gy = Vec::with_capacity(plane.values.len());
-    let v = &plane.values;
     for y in 0..h {
         for x in 0..w {
-            if x > 0 && y > 0 && x + 1 < w && y + 1 < h {
-                // Inside: the nine pixels directly (the values `at` gives, the same sums).
-                let (up, mid, down) = (
-                    ((y - 1) * w + x) as usize,
-                    (y * w + x) as usize,
-                    ((y + 1) * w + x) as usize,
-                );
-                let (a, b, c) = (v[up - 1], v[up], v[up + 1]);
-                let (d, f) = (v[mid - 1], v[mid + 1]);
-                let (g, k, m) = (v[down - 1], v[down], v[down + 1]);
-                gx.push((c + 2.0 * f + m) - (a + 2.0 * d + g));
-                gy.push((g + 2.0 * k + m) - (a + 2.0 * b + c));
-                continue;
-            }
             let p = |dx: i64, dy: i64| plane.at(x + dx, y + dy);
             gx.push((p(1, -1) + 2.0 * p(1, 0) + p(1, 1)) - (p(-1, -1) + 2.0 * p(-1, 0) + p(-1, 1)));
             gy.push((p(-1, 1) + 2.0 * p(0, 1) + p(1, 1)) - (p(-1, -1) + 2.0 * p(0, -1) + p(1, -1)));
@@ -225,6 +270,35 @@ mod tests {
         let (gx, gy) = sobel(&p);
         assert_eq!(gx.values[2 * 6 + 2], 16.0);
         assert_eq!(gy.values[2 * 6 + 2], -8.0);
+    }
+
+    #[test]
+    fn the_sobel_in_lanes_is_the_clamped_one_bit_for_bit() {
+        // Pseudo-random planes (a fixed linear congruential sequence) of sizes down to one
+        // pixel, thin in either direction.
+        let mut lcg = crate::synth::lcg(4242u64);
+        let mut next = move || ((lcg() >> 33) % 1000) as f32 * 0.37 - 90.0;
+        for (width, height) in [
+            (1, 1),
+            (1, 7),
+            (7, 1),
+            (2, 5),
+            (5, 2),
+            (3, 3),
+            (37, 29),
+            (64, 3),
+        ] {
+            let plane = Plane {
+                width,
+                height,
+                values: (0..width * height).map(|_| next()).collect(),
+            };
+            let (gx, gy) = sobel(&plane);
+            let (cx, cy) = sobel_clamped(&plane);
+            let bits = |p: &Plane| p.values.iter().map(|v| v.to_bits()).collect::<Vec<_>>();
+            assert_eq!(bits(&gx), bits(&cx), "{width} x {height}");
+            assert_eq!(bits(&gy), bits(&cy), "{width} x {height}");
+        }
     }
 
     #[test]

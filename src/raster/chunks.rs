@@ -113,8 +113,9 @@ impl PixelChunks {
     /// The point set of chunk `c`: [`build_from_runs`] over the bounding box of its runs, holding
     /// only its own ink; and its [`PointSet::component_labels`], read off the page's components
     /// (a chunk holds consecutive components of the page, numbered in the same order of first
-    /// pixel, so its labels are the page's less its first).
-    pub(crate) fn part(&self, c: usize) -> Result<(PointSet, Components)> {
+    /// pixel, so its labels are the page's less its first). Without `neighbours` the points have
+    /// no neighbour lists (for the skeleton alone: [`build_from_runs`]).
+    pub(crate) fn part(&self, c: usize, neighbours: bool) -> Result<(PointSet, Components)> {
         let range = self.offsets[c]..self.offsets[c + 1];
         let runs = &self.runs[range.clone()];
         let (Some(first), Some(last)) = (runs.first(), runs.last()) else {
@@ -137,7 +138,7 @@ impl PixelChunks {
         let x1 = runs.iter().map(|r| r.x1).max().unwrap_or(0) as usize;
         // The chunk's runs are the page's, each a maximal run of its row, and no run of another
         // chunk touches them: they are the maximal runs of the window holding this chunk's ink.
-        let points = build_from_runs(runs, (x0, y0), (x1 - x0, y1 - y0), self.spacing)?;
+        let points = build_from_runs(runs, (x0, y0), (x1 - x0, y1 - y0), self.spacing, neighbours)?;
         Ok((points, (point_labels, sizes)))
     }
 }
@@ -194,7 +195,7 @@ mod tests {
             let expected = whole.split_components(target);
             assert_eq!(chunks.len(), expected.len(), "target {target}");
             for (c, want) in expected.iter().enumerate() {
-                let (got, components) = chunks.part(c).expect("part");
+                let (got, components) = chunks.part(c, true).expect("part");
                 assert_eq!(
                     components,
                     want.component_labels(),

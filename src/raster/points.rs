@@ -259,11 +259,17 @@ pub(super) fn build(window: &Window, spacing: f64, dropout: bool) -> Result<Poin
 /// neighbours are read from the index in the same raster order, and the distance transform's
 /// column pass counts each pixel's ink above and below it through the index, its row pass runs
 /// over the same runs.
+///
+/// Without `neighbours` the points have no neighbour lists (every list empty: a valid point set
+/// of isolated points), for a chunk the skeleton alone traces, which reads the points, their
+/// pixel index and half-widths but no neighbour list (the method's stages, which walk them, do
+/// not run there).
 pub(super) fn build_from_runs(
     runs: &[Run],
     (x0, y0): (usize, usize),
     (width, height): (usize, usize),
     spacing: f64,
+    neighbours: bool,
 ) -> Result<PointSet> {
     let count: usize = runs.iter().map(Run::len).sum();
     // Window coordinates of each run: row, first and end column.
@@ -286,11 +292,15 @@ pub(super) fn build_from_runs(
         points.extend((run.x0..run.x1).map(|x| [x as f64 + 0.5, row]));
     }
 
-    let pixels = runs.iter().flat_map(|run| {
-        let (y, a, b) = local(run);
-        (a..b).map(move |x| (x, y))
-    });
-    let (offsets, neighbors) = eight_neighbours(&index, (width, height), count, pixels)?;
+    let (offsets, neighbors) = if neighbours {
+        let pixels = runs.iter().flat_map(|run| {
+            let (y, a, b) = local(run);
+            (a..b).map(move |x| (x, y))
+        });
+        eight_neighbours(&index, (width, height), count, pixels)?
+    } else {
+        (vec![0u32; count + 1], Vec::new())
+    };
 
     // Half-width = distance to the nearest background pixel center (`squared_distance_rows`):
     // the column pass as the length of each pixel's column of ink down to it and up to it
@@ -844,7 +854,8 @@ mod tests {
                 y0: 0,
             };
             let want = build(&window, survey.spacing, false).unwrap();
-            let got = build_from_runs(&survey.runs, (0, 0), (61, 40), survey.spacing).unwrap();
+            let got =
+                build_from_runs(&survey.runs, (0, 0), (61, 40), survey.spacing, true).unwrap();
             got.validate().unwrap();
             assert!(!got.is_empty());
             assert_eq!(got.points, want.points, "thickness {thickness}");
@@ -857,6 +868,16 @@ mod tests {
                 (e.width, e.height, e.x0, e.y0)
             );
             assert_eq!(g.index, e.index);
+            // Without neighbour lists: the same points, half-widths and index, every list
+            // empty, still a valid point set.
+            let bare =
+                build_from_runs(&survey.runs, (0, 0), (61, 40), survey.spacing, false).unwrap();
+            bare.validate().unwrap();
+            assert_eq!(bare.points, want.points);
+            assert_eq!(bare.half_width, want.half_width);
+            assert_eq!(bare.grid.unwrap().index, g.index);
+            assert!(bare.neighbors.is_empty());
+            assert_eq!(bare.offsets, vec![0; bare.points.len() + 1]);
         }
     }
 
@@ -871,7 +892,8 @@ mod tests {
             params.front_end.dropout = Some(dropout);
             let whole = points(&binary, &params).unwrap();
             let survey = survey(binary.view(), &params_forced_off(), Some(false)).unwrap();
-            let built = build_from_runs(&survey.runs, (0, 2), (45, 26), survey.spacing).unwrap();
+            let built =
+                build_from_runs(&survey.runs, (0, 2), (45, 26), survey.spacing, true).unwrap();
             for want in [whole, built] {
                 let mut got = want.clone();
                 let aside = set_aside(&mut got);

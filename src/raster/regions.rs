@@ -129,23 +129,59 @@ const PAGE_EDGE_INK: f64 = 0.95;
 /// Pixels per task of the parallel passes over the page.
 const PIXELS_PER_TASK: usize = 1 << 16;
 
-/// The Euler number's share of each 2 x 2 window of blocks (Gray's bit quads, see
-/// [`texture_cells`]), indexed by the window's blocks as bits (top left, top right, bottom
-/// left, bottom right): `+1` for one block set, `-1` for three, `-2` for a diagonal pair.
-const QUAD_EULER: [i32; 16] = {
-    let mut table = [0i32; 16];
-    let mut quad = 0;
-    while quad < 16 {
-        table[quad] = match (quad as u32).count_ones() {
-            1 => 1,
-            3 => -1,
-            2 if quad == 0b1001 || quad == 0b0110 => -2,
-            _ => 0,
-        };
-        quad += 1;
-    }
-    table
-};
+/// The Euler number's share of a 2 x 2 window of blocks (Gray's bit quads, see
+/// [`texture_cells`]) whose blocks are `a`, `b` (top left, top right), `c`, `d` (bottom left,
+/// bottom right), each 0 or 1: `+1` for one block set, `-1` for three, `-2` for a diagonal pair
+/// (two set, `a` and `d` alike), else 0. Arithmetic rather than a table, so that a row of
+/// windows is summed in vector lanes.
+#[inline]
+fn quad_euler(a: u8, b: u8, c: u8, d: u8) -> i32 {
+    let n = i32::from(a + b + c + d);
+    (n & 1) * (2 - n) - 2 * i32::from(n == 2 && a == d)
+}
+
+/// Four times the Euler number of each cell's windows ([`quad_euler`]), rows of cells in
+/// parallel: `padded` holds rows of `bw + 2` blocks, window `(x, y)` is blocks `(x, y)` to
+/// `(x + 1, y + 1)` for `x` in `0..=bw` and `y` in `0..cell_row.len()`, counted in cell `(cell_col[x],
+/// cell_row[y])` of `cols` x `rows` cells (both rising with their window's position).
+fn euler_quads(
+    padded: &[u8],
+    bw: usize,
+    cell_col: &[usize],
+    cell_row: &[usize],
+    (cols, rows): (usize, usize),
+) -> Vec<i32> {
+    let pw = bw + 2;
+    // The windows of cell column c: col_starts[c]..col_starts[c + 1].
+    let col_starts: Vec<usize> = (0..=cols)
+        .map(|c| cell_col.partition_point(|&k| k < c))
+        .collect();
+    let mut quads = vec![0i32; cols * rows];
+    quads
+        .par_chunks_mut(cols)
+        .enumerate()
+        .for_each(|(cy, quads)| {
+            let ys = cell_row.partition_point(|&c| c < cy)..cell_row.partition_point(|&c| c <= cy);
+            for y in ys {
+                let (top, bottom) = (
+                    &padded[y * pw..(y + 1) * pw],
+                    &padded[(y + 1) * pw..(y + 2) * pw],
+                );
+                for (quad, xs) in quads.iter_mut().zip(col_starts.windows(2)) {
+                    let (a, b) = (&top[xs[0]..xs[1]], &top[xs[0] + 1..xs[1] + 1]);
+                    let (c, d) = (&bottom[xs[0]..xs[1]], &bottom[xs[0] + 1..xs[1] + 1]);
+                    *quad += a
+                        .iter()
+                        .zip(b)
+                        .zip(c)
+                        .zip(d)
+                        .map(|(((&a, &b), &c), &d)| quad_euler(a, b, c, d))
+                        .sum::<i32>();
+                }
+            }
+        });
+    quads
+}
 
 /// The pixel rows of the `cy`-th row of cells `cell` px high, of an image `height` px high.
 fn cell_rows(cy: usize, cell: usize, height: usize) -> std::ops::Range<usize> {
@@ -1132,24 +1168,7 @@ fn texture_cells(
     let cell_row: Vec<usize> = (0..=bh)
         .map(|y| ((y.max(1) - 1) * side / cell).min(rows - 1))
         .collect();
-    let counts = padded.map(|padded| {
-        let mut quads = vec![0i32; cols * rows];
-        quads
-            .par_chunks_mut(cols)
-            .enumerate()
-            .for_each(|(cy, quads)| {
-                let ys =
-                    cell_row.partition_point(|&c| c < cy)..cell_row.partition_point(|&c| c <= cy);
-                for y in ys {
-                    let (top, bottom) = (&padded[y * pw..(y + 1) * pw], &padded[(y + 1) * pw..]);
-                    for x in 0..=bw {
-                        let quad = top[x] | top[x + 1] << 1 | bottom[x] << 2 | bottom[x + 1] << 3;
-                        quads[cell_col[x]] += QUAD_EULER[usize::from(quad)];
-                    }
-                }
-            });
-        quads
-    });
+    let counts = padded.map(|padded| euler_quads(&padded, bw, &cell_col, &cell_row, (cols, rows)));
     (0..cols * rows)
         .map(|c| {
             let (a, b) = (counts[0][c], counts[1][c]);
@@ -2327,6 +2346,65 @@ mod tests {
                     }
                 }
             }
+        }
+    }
+
+    /// The Euler shares by arithmetic are Gray's bit quads (the rule as written before), and a
+    /// row of cells' sums of them the sums window by window, on random blocks and cell sizes.
+    #[test]
+    fn the_euler_quads_by_columns_of_cells_equal_the_quads_window_by_window() {
+        for quad in 0u8..16 {
+            let bits = [quad & 1, quad >> 1 & 1, quad >> 2 & 1, quad >> 3 & 1];
+            let want = match quad.count_ones() {
+                1 => 1,
+                3 => -1,
+                2 if quad == 0b1001 || quad == 0b0110 => -2,
+                _ => 0,
+            };
+            assert_eq!(
+                quad_euler(bits[0], bits[1], bits[2], bits[3]),
+                want,
+                "{quad:04b}"
+            );
+        }
+        let mut next = crate::synth::lcg(1975u64);
+        let mut rand = move |n: usize| (next() >> 33) as usize % n;
+        for _ in 0..300 {
+            let (bw, bh) = (1 + rand(80), 1 + rand(60));
+            let (side, cell) = (1 + rand(3), 8 + rand(12));
+            let (width, height) = (bw * side - rand(side), bh * side - rand(side));
+            let (cols, rows) = (width.div_ceil(cell), height.div_ceil(cell));
+            let pw = bw + 2;
+            let density = 1 + rand(9);
+            let mut padded = vec![0u8; pw * (bh + 2)];
+            for y in 1..=bh {
+                for x in 1..=bw {
+                    padded[y * pw + x] = u8::from(rand(10) < density);
+                }
+            }
+            let cell_col: Vec<usize> = (0..=bw)
+                .map(|x| ((x.max(1) - 1) * side / cell).min(cols - 1))
+                .collect();
+            let cell_row: Vec<usize> = (0..=bh)
+                .map(|y| ((y.max(1) - 1) * side / cell).min(rows - 1))
+                .collect();
+            let mut want = vec![0i32; cols * rows];
+            for y in 0..=bh {
+                for x in 0..=bw {
+                    let (top, bottom) = (&padded[y * pw..], &padded[(y + 1) * pw..]);
+                    let quad = top[x] | top[x + 1] << 1 | bottom[x] << 2 | bottom[x + 1] << 3;
+                    want[cell_row[y] * cols + cell_col[x]] += match quad.count_ones() {
+                        1 => 1,
+                        3 => -1,
+                        2 if quad == 0b1001 || quad == 0b0110 => -2,
+                        _ => 0,
+                    };
+                }
+            }
+            assert_eq!(
+                euler_quads(&padded, bw, &cell_col, &cell_row, (cols, rows)),
+                want
+            );
         }
     }
 

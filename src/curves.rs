@@ -11,6 +11,7 @@
 //! Input: a polyline (image coordinates). Output: `Vec<CubicBezier>`, joined end to start; every
 //! input point lies within the tolerance of the curve at its parameter. Deterministic.
 
+use crate::geometry::hypot;
 use crate::stroke_graph::StrokeGraph;
 use serde::Serialize;
 
@@ -106,7 +107,7 @@ fn dot(a: Point, b: Point) -> f64 {
     a[0] * b[0] + a[1] * b[1]
 }
 fn norm(a: Point) -> f64 {
-    a[0].hypot(a[1])
+    hypot(a[0], a[1])
 }
 fn normalize(a: Point) -> Point {
     let n = norm(a);

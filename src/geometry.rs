@@ -11,7 +11,46 @@
 /// Euclidean distance.
 #[inline]
 pub fn dist(a: [f64; 2], b: [f64; 2]) -> f64 {
-    (a[0] - b[0]).hypot(a[1] - b[1])
+    hypot(a[0] - b[0], a[1] - b[1])
+}
+
+/// `x.hypot(y)`, bit for bit as the GNU C library (2.35 and later) computes it, inlined: the
+/// stages take millions of lengths a page, and the library call was 3.6 % of a page's time
+/// (docs/performance.md, "Session of 2026-12-05: pages, again"). For `ax >= ay`, the absolute
+/// values, with neither huge nor tiny: `ax + ay` when `ay <= ax 2^-54`, else `h = sqrt(ax^2 +
+/// ay^2)` corrected by one step of Borges' "An Improved Algorithm for hypot(a, b)" (the
+/// library's kernel without a fused multiply-add). Infinite, NaN, huge (above `2^511`) and tiny
+/// (below `2^-511`) arguments go to the library, which scales them.
+#[inline]
+pub fn hypot(x: f64, y: f64) -> f64 {
+    const LARGE: f64 = 6.703903964971299e153; // 2^511
+    const TINY: f64 = 1.4916681462400413e-154; // 2^-511
+    const EPS: f64 = 5.551115123125783e-17; // 2^-54
+    let (x, y) = (x.abs(), y.abs());
+    let (ax, ay) = if x < y { (y, x) } else { (x, y) };
+    // Lengths along a row or column of pixels (the library's `ax + ay` for a zero `ay`).
+    if ay == 0.0 && ax <= LARGE {
+        return ax;
+    }
+    // Also false for NaN, whose comparisons fail.
+    if !(ax <= LARGE && ay >= TINY) {
+        return x.hypot(y);
+    }
+    if ay <= ax * EPS {
+        return ax + ay;
+    }
+    let h = (ax * ax + ay * ay).sqrt();
+    let (t1, t2) = if h <= 2.0 * ay {
+        let delta = h - ay;
+        (ax * (2.0 * delta - ax), (delta - 2.0 * (ax - ay)) * delta)
+    } else {
+        let delta = h - ax;
+        (
+            2.0 * delta * (ax - 2.0 * ay),
+            (4.0 * delta - ay) * ay + delta * delta,
+        )
+    };
+    h - (t1 + t2) / (2.0 * h)
 }
 
 /// `x.floor() as i64`, the same for every `f64` (NaN gives 0, the far ones saturate), without the
@@ -116,7 +155,7 @@ pub fn tangents(points: &[[f64; 2]]) -> Vec<[f64; 2]> {
         .map(|i| {
             let (a, b) = (points[i.saturating_sub(1)], points[(i + 1).min(n - 1)]);
             let d = [b[0] - a[0], b[1] - a[1]];
-            let len = d[0].hypot(d[1]);
+            let len = hypot(d[0], d[1]);
             if len > 0.0 {
                 [d[0] / len, d[1] / len]
             } else {
@@ -146,7 +185,7 @@ pub(crate) fn principal(cxx: f64, cxy: f64, cyy: f64) -> (f64, [f64; 2]) {
     // Eigenvector of λ_max; pick the better-conditioned of the two forms.
     let direction = if cxy.abs() > 1e-12 {
         let v = [lambda_max - cyy, cxy];
-        let norm = v[0].hypot(v[1]);
+        let norm = hypot(v[0], v[1]);
         [v[0] / norm, v[1] / norm]
     } else if cxx >= cyy {
         [1.0, 0.0]
@@ -247,11 +286,11 @@ fn segments_meet(a0: [f64; 2], a1: [f64; 2], b0: [f64; 2], b1: [f64; 2]) -> bool
     let s = [b1[0] - b0[0], b1[1] - b0[1]];
     let denom = r[0] * s[1] - r[1] * s[0];
     let q = [b0[0] - a0[0], b0[1] - a0[1]];
-    let scale = r[0].hypot(r[1]) * s[0].hypot(s[1]);
+    let scale = hypot(r[0], r[1]) * hypot(s[0], s[1]);
     if denom.abs() <= 1e-12 * scale.max(1e-300) {
         // Parallel: they meet only when collinear and overlapping beyond a shared end.
         let across = q[0] * r[1] - q[1] * r[0];
-        if across.abs() > 1e-9 * r[0].hypot(r[1]).max(1e-300) {
+        if across.abs() > 1e-9 * hypot(r[0], r[1]).max(1e-300) {
             return false;
         }
         let rr = r[0] * r[0] + r[1] * r[1];
@@ -312,13 +351,71 @@ pub(crate) fn line_intersection(
 /// `v / |v|`, or `None` for a (near) zero vector.
 #[inline]
 pub(crate) fn unit(v: [f64; 2]) -> Option<[f64; 2]> {
-    let n = v[0].hypot(v[1]);
+    let n = hypot(v[0], v[1]);
     (n > 1e-12).then(|| [v[0] / n, v[1] / n])
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// [`hypot`] gives the library's bits (the GNU C library's, whose algorithm it repeats) on
+    /// the lengths the stages take (pixel steps, sub-pixel offsets, both signs, zeros), on
+    /// near-equal sides, on sides 2^-54 and less apart in size, across the exponents, and on
+    /// the huge, tiny, infinite and NaN arguments it hands to the library.
+    #[test]
+    fn hypot_is_the_library_hypot_bit_for_bit() {
+        let mut next = crate::synth::lcg(2035u64);
+        let mut unit = move || (next() >> 11) as f64 / (1u64 << 53) as f64;
+        let mut cases: Vec<(f64, f64)> = Vec::new();
+        for a in -40..=40 {
+            for b in -40..=40 {
+                cases.push((a as f64 * 0.5, b as f64 * 0.5));
+                cases.push((a as f64 + 0.25, b as f64 - 0.125));
+            }
+        }
+        let special = [
+            0.0,
+            -0.0,
+            f64::MIN_POSITIVE,
+            5e-324,
+            1e-160,
+            1.4916681462400413e-154,
+            1e-150,
+            1.0,
+            1.0 + f64::EPSILON,
+            1e150,
+            6.703903964971299e153,
+            1e154,
+            1e300,
+            f64::MAX,
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+            f64::NAN,
+        ];
+        for &a in &special {
+            for &b in &special {
+                cases.push((a, b));
+                cases.push((-a, b));
+            }
+        }
+        for _ in 0..400_000 {
+            let a = (unit() - 0.5) * 4000.0;
+            let b = (unit() - 0.5) * 4000.0;
+            cases.push((a, b));
+            cases.push((a, a * (1.0 + (unit() - 0.5) * 1e-6)));
+            cases.push((a, a * (unit() * 2f64.powi(-50))));
+            let (ea, eb) = ((unit() * 1200.0) as i32 - 600, (unit() * 120.0) as i32 - 60);
+            cases.push((a * 2f64.powi(ea), b * 2f64.powi(ea + eb)));
+        }
+        for (x, y) in cases {
+            let (ours, library) = (hypot(x, y), x.hypot(y));
+            assert!(
+                ours.to_bits() == library.to_bits() || (ours.is_nan() && library.is_nan()),
+                "hypot({x:e}, {y:e}) = {ours:e}, the library gives {library:e}"
+            );
+        }
+    }
 
     #[test]
     fn floor_i64_is_the_floor_cast() {

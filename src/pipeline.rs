@@ -562,7 +562,7 @@ fn skeleton_only(points: &PointSet, params: &Params) -> bool {
 /// with its stages when they were kept.
 fn finish_one(
     graph: StrokeGraph,
-    points: PointSet,
+    mut points: PointSet,
     components: &Components,
     refined: NodeGraph,
     kept: Option<(Samples, NodeGraph)>,
@@ -570,6 +570,12 @@ fn finish_one(
     mut timings: Timings,
 ) -> Traced {
     let graph = carry_on_skeleton(graph, &points, components, params, &mut timings);
+    // The pixel index goes to the thread's next window unless the stages keep it.
+    if kept.is_none() {
+        if let Some(grid) = &mut points.grid {
+            grid.release(&points.points);
+        }
+    }
     Traced {
         graph,
         point_count: points.len(),
@@ -662,6 +668,8 @@ fn trace_chunks(
         )
         .collect();
     parts.sort_by_key(|&(c, _)| c);
+    // The threads' spare pixel indices are not kept past the trace.
+    rayon::broadcast(|_| Grid::drop_spare_index());
     Ok(Traced::join(parts.into_iter().map(|(_, t)| t).collect()))
 }
 

@@ -45,6 +45,15 @@ impl PackedComponents {
     }
 }
 
+/// The largest pixel index kept as a thread's spare ([`Grid::release`]), entries: 16 MiB.
+const MAX_SPARE_INDEX: usize = 1 << 22;
+
+thread_local! {
+    /// A pixel index a window of this thread was done with, every entry [`Grid::NONE`] again,
+    /// for the thread's next window ([`Grid::blank_index`]).
+    static SPARE_INDEX: std::cell::Cell<Vec<u32>> = const { std::cell::Cell::new(Vec::new()) };
+}
+
 /// A pixel grid the points came from: lets stages use pixel adjacency instead of tree queries.
 #[derive(Clone, Debug, Default)]
 pub struct Grid {
@@ -105,15 +114,53 @@ impl Grid {
     }
 
     /// Frees the pixel index, keeping the window: a chunk waiting between stages holds no
-    /// per-pixel memory (see [`Grid::rebuild`]).
-    pub(crate) fn release(&mut self) {
-        self.index = Vec::new();
+    /// per-pixel memory (see [`Grid::rebuild`]). `points` are the ones it indexes: their entries
+    /// are set back to [`Grid::NONE`] and the index kept as this thread's spare
+    /// ([`Grid::blank_index`]), so the next window's index is neither allocated nor cleared
+    /// whole (docs/performance.md, "Session of 2026-12-05: pages, again").
+    pub(crate) fn release(&mut self, points: &[[f64; 2]]) {
+        let mut index = std::mem::take(&mut self.index);
+        let width = self.width as usize;
+        for p in points {
+            let (x, y) = (floor_i64(p[0]) - self.x0, floor_i64(p[1]) - self.y0);
+            if let Some(entry) = index.get_mut(y as usize * width + x as usize) {
+                *entry = Self::NONE;
+            }
+        }
+        debug_assert!(index.iter().all(|&i| i == Self::NONE));
+        if index.len() <= MAX_SPARE_INDEX {
+            SPARE_INDEX.with(|spare| {
+                let kept = spare.take();
+                spare.set(if kept.capacity() >= index.capacity() {
+                    kept
+                } else {
+                    index
+                });
+            });
+        }
+    }
+
+    /// `len` entries, all [`Grid::NONE`]: this thread's spare index ([`Grid::release`]) where
+    /// it is large enough, else a new one.
+    pub(crate) fn blank_index(len: usize) -> Vec<u32> {
+        let mut index = SPARE_INDEX.with(|spare| spare.take());
+        if index.capacity() < len {
+            return vec![Self::NONE; len];
+        }
+        // Every entry of the spare is NONE: shortened it stays so, lengthened it is filled.
+        index.resize(len, Self::NONE);
+        index
+    }
+
+    /// Frees this thread's spare index ([`Grid::release`]), at the end of a trace.
+    pub(crate) fn drop_spare_index() {
+        SPARE_INDEX.with(|spare| drop(spare.take()));
     }
 
     /// Fills the pixel index of the window from `points`, the pixel centers of the window's ink.
     pub(crate) fn rebuild(&mut self, points: &[[f64; 2]]) {
         let width = self.width as usize;
-        self.index = vec![Self::NONE; width * self.height as usize];
+        self.index = Self::blank_index(width * self.height as usize);
         for (i, p) in points.iter().enumerate() {
             let (x, y) = (floor_i64(p[0]) - self.x0, floor_i64(p[1]) - self.y0);
             self.index[y as usize * width + x as usize] = i as u32;
@@ -497,6 +544,45 @@ impl PointSet {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A window's pixel index made from this thread's spare (a released index, larger or
+    /// smaller) is the index made from a new array: every pixel [`Grid::NONE`] but the points'.
+    #[test]
+    fn an_index_from_the_spare_is_a_new_index() {
+        let mut next = crate::synth::lcg(2026u64);
+        let mut rand = move |n: u64| (next() >> 33) % n;
+        for _ in 0..200 {
+            let (width, height) = (1 + rand(90) as u32, 1 + rand(60) as u32);
+            let (x0, y0) = (rand(50) as i64, rand(50) as i64);
+            let mut points = Vec::new();
+            for y in 0..height {
+                for x in 0..width {
+                    if rand(4) == 0 {
+                        points.push([(x0 + x as i64) as f64 + 0.5, (y0 + y as i64) as f64 + 0.5]);
+                    }
+                }
+            }
+            let mut grid = Grid {
+                width,
+                height,
+                index: Vec::new(),
+                x0,
+                y0,
+            };
+            grid.rebuild(&points);
+            let mut fresh = vec![Grid::NONE; (width * height) as usize];
+            for (i, p) in points.iter().enumerate() {
+                let (x, y) = (p[0] as i64 - x0, p[1] as i64 - y0);
+                fresh[(y * width as i64 + x) as usize] = i as u32;
+            }
+            assert_eq!(grid.index, fresh);
+            grid.validate(&points).expect("valid grid");
+            grid.release(&points);
+            assert!(grid.index.is_empty());
+        }
+        Grid::drop_spare_index();
+        assert!(Grid::blank_index(10).iter().all(|&i| i == Grid::NONE));
+    }
 
     /// Points on a line (x = index) with the given undirected links.
     fn linked(n: usize, links: &[(u32, u32)]) -> PointSet {

@@ -15,7 +15,7 @@
 use std::cmp::Reverse;
 use std::collections::BinaryHeap;
 
-use crate::geometry::{dist, floor_i64, point_in_polygon, TotalF64};
+use crate::geometry::{dist, floor_i64, hypot, point_in_polygon, TotalF64};
 use crate::node_graph::{GraphNode, NodeGraph};
 use crate::params::Params;
 use crate::point_set::{on_lattice, PointSet};
@@ -627,7 +627,7 @@ impl Work {
         let origin = self.nodes[j as usize].pos;
         let target = self.arm_target(j, path, reach);
         let d = [target[0] - origin[0], target[1] - origin[1]];
-        let norm = d[0].hypot(d[1]).max(1e-12);
+        let norm = hypot(d[0], d[1]).max(1e-12);
         [d[0] / norm, d[1] / norm]
     }
 
@@ -658,7 +658,7 @@ impl Work {
                 let bar_dir = {
                     let (pa, pb) = (self.nodes[a as usize].pos, self.nodes[b as usize].pos);
                     let d = [pb[0] - pa[0], pb[1] - pa[1]];
-                    let n = d[0].hypot(d[1]).max(1e-12);
+                    let n = hypot(d[0], d[1]).max(1e-12);
                     [d[0] / n, d[1] / n]
                 };
                 let outer_a: Vec<([f64; 2], [f64; 2])> = arms_a
@@ -775,7 +775,7 @@ fn stroke_crossing(
     let d1 = [first.1[0] - first.0[0], first.1[1] - first.0[1]];
     let d2 = [second.1[0] - second.0[0], second.1[1] - second.0[1]];
     let cross = d1[0] * d2[1] - d1[1] * d2[0];
-    let scale = d1[0].hypot(d1[1]) * d2[0].hypot(d2[1]);
+    let scale = hypot(d1[0], d1[1]) * hypot(d2[0], d2[1]);
     // Lines within about a degree of parallel meet nowhere in particular.
     if cross.is_nan() || cross.abs() <= 0.02 * scale {
         return middle;
@@ -806,7 +806,7 @@ const SPUR_REACH: f64 = 1.1;
 fn ink_tip(points: &PointSet, from: [f64; 2], end: [f64; 2], limit: f64) -> Option<[f64; 2]> {
     let grid = points.grid.as_ref()?;
     let d = [end[0] - from[0], end[1] - from[1]];
-    let norm = d[0].hypot(d[1]);
+    let norm = hypot(d[0], d[1]);
     if norm < 1e-9 {
         return Some(end);
     }

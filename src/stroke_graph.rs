@@ -3,7 +3,7 @@
 use petgraph::unionfind::UnionFind;
 use serde::Serialize;
 
-use crate::geometry::dist;
+use crate::geometry::{dist, hypot};
 
 /// A vertex: a stroke end (degree 1), a junction (degree 3 or more), or the anchor of a closed
 /// loop (degree 2, an edge from the vertex to itself), or an isolated blob (degree 0).
@@ -76,7 +76,7 @@ impl Edge {
             walked += step;
         }
         let chord = [far[0] - origin[0], far[1] - origin[1]];
-        let norm = chord[0].hypot(chord[1]);
+        let norm = hypot(chord[0], chord[1]);
         (norm > 1e-9 && norm.is_finite()).then(|| [chord[0] / norm, chord[1] / norm])
     }
 }

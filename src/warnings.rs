@@ -16,7 +16,7 @@ use std::collections::BTreeSet;
 
 use crate::binary::MaskView;
 use crate::decisions::{Decisions, InkSide, ThresholdUsed, Warning};
-use crate::geometry::floor_i64;
+use crate::geometry::{floor_i64, hypot};
 use crate::median::upper_median;
 use crate::stroke_graph::StrokeGraph;
 
@@ -286,7 +286,7 @@ fn ridge_texture(graph: &StrokeGraph, width: f64) -> Option<f64> {
     for edge in &graph.edges {
         for pair in edge.points.windows(2) {
             let (dx, dy) = (pair[1][0] - pair[0][0], pair[1][1] - pair[0][1]);
-            let length = dx.hypot(dy);
+            let length = hypot(dx, dy);
             let (x, y) = (
                 (pair[0][0] + pair[1][0]) / 2.0,
                 (pair[0][1] + pair[1][1]) / 2.0,
@@ -309,7 +309,7 @@ fn ridge_texture(graph: &StrokeGraph, width: f64) -> Option<f64> {
     let textured = blocks
         .iter()
         .filter(|(length, c, s)| {
-            *length >= TEXTURE_LINES * side && c.hypot(*s) >= TEXTURE_COHERENCE * length
+            *length >= TEXTURE_LINES * side && hypot(*c, *s) >= TEXTURE_COHERENCE * length
         })
         .count();
     let share = textured as f64 / blocks.len() as f64;

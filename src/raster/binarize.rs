@@ -164,6 +164,7 @@ fn binarize_until(
     }
     decisions.regions = regions::find(
         gray,
+        &histogram,
         &mut dark,
         dark_ink,
         level,
@@ -209,7 +210,7 @@ fn split(gray: GrayView<'_>, out: &mut [bool], is_dark: impl Fn(u8) -> bool + Sy
 const BLOCK: usize = 1 << 16;
 
 /// The 256-bin histogram of `gray`'s pixels.
-fn histogram(gray: GrayView<'_>) -> [u64; 256] {
+pub(super) fn histogram(gray: GrayView<'_>) -> [u64; 256] {
     gray.par_rows(BLOCK)
         .fold(
             || [0u64; 256],

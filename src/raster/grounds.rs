@@ -21,6 +21,7 @@
 //! touch the ground go with it.
 
 use crate::mask::{label_components, on_image_edge, Connectivity};
+use rayon::prelude::*;
 
 use super::evidence::run_lengths;
 use crate::decisions::Ground;
@@ -132,35 +133,41 @@ pub(crate) fn reverse(ink: &mut [bool], width: usize, height: usize) -> Vec<Grou
 /// none.
 fn thick_probes(ink: &[bool], width: usize, height: usize) -> Vec<usize> {
     let need = MIN_GROUND_CHORD as usize;
-    let mut found = Vec::new();
     if width < need || height < need {
-        return found;
+        return Vec::new();
     }
-    for y in (0..height).step_by(PROBE_STEP) {
-        let row = &ink[y * width..(y + 1) * width];
-        let mut x = 0;
-        while x < width {
-            if !row[x] {
-                x += 1;
-                continue;
-            }
-            let start = x;
-            while x < width && row[x] {
-                x += 1;
-            }
-            if x - start < need {
-                continue;
-            }
-            // A long horizontal run: probe the vertical runs along it.
-            for px in (start.next_multiple_of(PROBE_STEP)..x).step_by(PROBE_STEP) {
-                let up = (0..y).rev().take_while(|&yy| ink[yy * width + px]).count();
-                let down = (y..height).take_while(|&yy| ink[yy * width + px]).count();
-                if up + down >= need {
-                    found.push(y * width + px);
+    // The probed rows in parallel, their probes collected in row order.
+    let probed: Vec<usize> = (0..height).step_by(PROBE_STEP).collect();
+    let mut found: Vec<usize> = probed
+        .into_par_iter()
+        .flat_map_iter(|y| {
+            let mut found = Vec::new();
+            let row = &ink[y * width..(y + 1) * width];
+            let mut x = 0;
+            while x < width {
+                if !row[x] {
+                    x += 1;
+                    continue;
+                }
+                let start = x;
+                while x < width && row[x] {
+                    x += 1;
+                }
+                if x - start < need {
+                    continue;
+                }
+                // A long horizontal run: probe the vertical runs along it.
+                for px in (start.next_multiple_of(PROBE_STEP)..x).step_by(PROBE_STEP) {
+                    let up = (0..y).rev().take_while(|&yy| ink[yy * width + px]).count();
+                    let down = (y..height).take_while(|&yy| ink[yy * width + px]).count();
+                    if up + down >= need {
+                        found.push(y * width + px);
+                    }
                 }
             }
-        }
-    }
+            found
+        })
+        .collect();
     if found.len() < MIN_THICK_PROBES {
         found.clear();
     }
@@ -276,6 +283,74 @@ fn reverse_ground(ink: &mut [bool], pixels: &[usize], width: usize, region: &Reg
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// [`thick_probes`] as it was written before its rows ran in parallel: the reference.
+    fn thick_probes_in_one_pass(ink: &[bool], width: usize, height: usize) -> Vec<usize> {
+        let need = MIN_GROUND_CHORD as usize;
+        let mut found = Vec::new();
+        if width < need || height < need {
+            return found;
+        }
+        for y in (0..height).step_by(PROBE_STEP) {
+            let row = &ink[y * width..(y + 1) * width];
+            let mut x = 0;
+            while x < width {
+                if !row[x] {
+                    x += 1;
+                    continue;
+                }
+                let start = x;
+                while x < width && row[x] {
+                    x += 1;
+                }
+                if x - start < need {
+                    continue;
+                }
+                // A long horizontal run: probe the vertical runs along it.
+                for px in (start.next_multiple_of(PROBE_STEP)..x).step_by(PROBE_STEP) {
+                    let up = (0..y).rev().take_while(|&yy| ink[yy * width + px]).count();
+                    let down = (y..height).take_while(|&yy| ink[yy * width + px]).count();
+                    if up + down >= need {
+                        found.push(y * width + px);
+                    }
+                }
+            }
+        }
+        if found.len() < MIN_THICK_PROBES {
+            found.clear();
+        }
+        found
+    }
+
+    /// The probes found row by row in parallel are the ones one pass found, in the same order,
+    /// on masks of random rectangles (thick and thin) and specks of several sizes.
+    #[test]
+    fn the_probes_by_rows_in_parallel_equal_the_probes_in_one_pass() {
+        let mut next = crate::synth::lcg(61u64);
+        let mut rand = move |n: usize| (next() >> 33) as usize % n;
+        let mut nonempty = 0;
+        for (w, h) in [(211, 157), (64, 301), (500, 40), (30, 30)] {
+            for _ in 0..20 {
+                let mut ink = vec![false; w * h];
+                for _ in 0..rand(40) {
+                    let (x0, y0) = (rand(w), rand(h));
+                    let (rw, rh) = (1 + rand(70), 1 + rand(70));
+                    for y in y0..(y0 + rh).min(h) {
+                        for x in x0..(x0 + rw).min(w) {
+                            ink[y * w + x] = true;
+                        }
+                    }
+                }
+                for _ in 0..rand(500) {
+                    ink[rand(w * h)] ^= true;
+                }
+                let probes = thick_probes(&ink, w, h);
+                assert_eq!(probes, thick_probes_in_one_pass(&ink, w, h));
+                nonempty += usize::from(!probes.is_empty());
+            }
+        }
+        assert!(nonempty > 10, "{nonempty} masks with probes");
+    }
 
     /// A `w` x `h` mask with the rectangles `fill` set and `clear` then cleared.
     fn mask(

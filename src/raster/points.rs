@@ -281,7 +281,7 @@ pub(super) fn build_from_runs(
         )
     };
     let mut points = Vec::with_capacity(count);
-    let mut index = vec![Grid::NONE; width * height];
+    let mut index = Grid::blank_index(width * height);
     for run in runs {
         let (y, a, b) = local(run);
         let first = points.len() as u32;
@@ -411,7 +411,7 @@ pub(crate) fn set_aside(points: &mut PointSet) -> Aside {
     let Some(grid) = &mut points.grid else {
         return Aside::default();
     };
-    grid.release();
+    grid.release(&points.points);
     if points.dropout {
         return Aside::default();
     }

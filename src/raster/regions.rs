@@ -47,6 +47,7 @@ use crate::gray::GrayView;
 use crate::mask::{label_components, Connectivity};
 use crate::median::upper_median_by;
 use crate::params::RegionKind;
+use rayon::prelude::*;
 
 /// A cell's side, in stroke widths: about a letter's height, less than a line of text.
 const CELL_WIDTHS: f64 = 4.0;
@@ -125,6 +126,68 @@ const PAGE_EDGE_EVEN: f64 = 0.5;
 /// See [`PAGE_EDGE_EVEN`]: a cell this share ink shows no paper between strokes.
 const PAGE_EDGE_INK: f64 = 0.95;
 
+/// Pixels per task of the parallel passes over the page.
+const PIXELS_PER_TASK: usize = 1 << 16;
+
+/// The Euler number's share of a 2 x 2 window of blocks (Gray's bit quads, see
+/// [`texture_cells`]) whose blocks are `a`, `b` (top left, top right), `c`, `d` (bottom left,
+/// bottom right), each 0 or 1: `+1` for one block set, `-1` for three, `-2` for a diagonal pair
+/// (two set, `a` and `d` alike), else 0. Arithmetic rather than a table, so that a row of
+/// windows is summed in vector lanes.
+#[inline]
+fn quad_euler(a: u8, b: u8, c: u8, d: u8) -> i32 {
+    let n = i32::from(a + b + c + d);
+    (n & 1) * (2 - n) - 2 * i32::from(n == 2 && a == d)
+}
+
+/// Four times the Euler number of each cell's windows ([`quad_euler`]), rows of cells in
+/// parallel: `padded` holds rows of `bw + 2` blocks, window `(x, y)` is blocks `(x, y)` to
+/// `(x + 1, y + 1)` for `x` in `0..=bw` and `y` in `0..cell_row.len()`, counted in cell `(cell_col[x],
+/// cell_row[y])` of `cols` x `rows` cells (both rising with their window's position).
+fn euler_quads(
+    padded: &[u8],
+    bw: usize,
+    cell_col: &[usize],
+    cell_row: &[usize],
+    (cols, rows): (usize, usize),
+) -> Vec<i32> {
+    let pw = bw + 2;
+    // The windows of cell column c: col_starts[c]..col_starts[c + 1].
+    let col_starts: Vec<usize> = (0..=cols)
+        .map(|c| cell_col.partition_point(|&k| k < c))
+        .collect();
+    let mut quads = vec![0i32; cols * rows];
+    quads
+        .par_chunks_mut(cols)
+        .enumerate()
+        .for_each(|(cy, quads)| {
+            let ys = cell_row.partition_point(|&c| c < cy)..cell_row.partition_point(|&c| c <= cy);
+            for y in ys {
+                let (top, bottom) = (
+                    &padded[y * pw..(y + 1) * pw],
+                    &padded[(y + 1) * pw..(y + 2) * pw],
+                );
+                for (quad, xs) in quads.iter_mut().zip(col_starts.windows(2)) {
+                    let (a, b) = (&top[xs[0]..xs[1]], &top[xs[0] + 1..xs[1] + 1]);
+                    let (c, d) = (&bottom[xs[0]..xs[1]], &bottom[xs[0] + 1..xs[1] + 1]);
+                    *quad += a
+                        .iter()
+                        .zip(b)
+                        .zip(c)
+                        .zip(d)
+                        .map(|(((&a, &b), &c), &d)| quad_euler(a, b, c, d))
+                        .sum::<i32>();
+                }
+            }
+        });
+    quads
+}
+
+/// The pixel rows of the `cy`-th row of cells `cell` px high, of an image `height` px high.
+fn cell_rows(cy: usize, cell: usize, height: usize) -> std::ops::Range<usize> {
+    (cy * cell).min(height)..((cy + 1) * cell).min(height)
+}
+
 /// What a cell shows.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 enum Cell {
@@ -144,9 +207,16 @@ enum Cell {
 ///
 /// `gray` is the image the ink came from, `dark_ink` its polarity and `level` the global level
 /// (ink side: at or below it when the ink is dark); `stroke_width` is the page's, px; `grounds`
-/// are the reversed grounds, whose cells are none of a region's.
+/// are the reversed grounds, whose cells are none of a region's; `histogram` counts `gray`'s
+/// pixels per level.
+///
+/// The passes over every pixel (the texture's blocks, the cells' counts, the faint ink's
+/// paper and contrast) run in parallel by rows of cells, each cell's figures summed in the same
+/// order as one pass would (integers): the regions do not depend on the thread count.
+#[allow(clippy::too_many_arguments)]
 pub(crate) fn find(
     gray: GrayView<'_>,
+    histogram: &[u64; 256],
     ink: &mut [bool],
     dark_ink: bool,
     level: u8,
@@ -154,7 +224,16 @@ pub(crate) fn find(
     grounds: &[Ground],
     keep: &[RegionKind],
 ) -> Vec<Region> {
-    let mut regions = fields(gray, ink, dark_ink, level, stroke_width, grounds, keep);
+    let mut regions = fields(
+        gray,
+        histogram,
+        ink,
+        dark_ink,
+        level,
+        stroke_width,
+        grounds,
+        keep,
+    );
     let found = rings(
         ink,
         gray.width() as usize,
@@ -177,8 +256,10 @@ pub(crate) fn find(
 
 /// The halftones, frames and page edges of [`find`] (the cells' regions), their ink removed
 /// unless kept.
+#[allow(clippy::too_many_arguments)]
 fn fields(
     gray: GrayView<'_>,
+    histogram: &[u64; 256],
     ink: &mut [bool],
     dark_ink: bool,
     level: u8,
@@ -195,7 +276,7 @@ fn fields(
     if cols < SEED_CELLS || rows < SEED_CELLS {
         return Vec::new();
     }
-    let texture = texture_cells(gray, dark_ink, level, stroke_width, cell);
+    let texture = texture_cells(gray, histogram, dark_ink, level, stroke_width, cell);
     if !seed_possible(gray, ink, dark_ink, level, cell, &texture) {
         return Vec::new();
     }
@@ -657,25 +738,28 @@ fn faint(
     let cell = ((CELL_WIDTHS * stroke_width).round() as usize).max(MIN_CELL);
     let (cols, rows) = (width.div_ceil(cell), height.div_ceil(cell));
     let turn = |v: u8| i32::from(if dark_ink { v } else { 255 - v });
-    // The paper's mean gray (turned: ink dark) per cell, where a quarter of the cell is paper.
+    // The paper's mean gray (turned: ink dark) per cell, where a quarter of the cell is paper
+    // (rows of cells in parallel).
     let mut sums = vec![(0u64, 0u32, 0u32); cols * rows];
-    for y in 0..height {
-        let base = (y / cell) * cols;
-        let cells = gray
-            .row(y)
-            .chunks(cell)
-            .zip(ink[y * width..(y + 1) * width].chunks(cell));
-        for (c, (row, ink)) in cells.enumerate() {
-            let s = &mut sums[base + c];
-            for (&v, &i) in row.iter().zip(ink) {
-                if !i {
-                    s.0 += turn(v) as u64;
-                    s.1 += 1;
+    sums.par_chunks_mut(cols)
+        .enumerate()
+        .for_each(|(cy, sums)| {
+            for y in cell_rows(cy, cell, height) {
+                let cells = gray
+                    .row(y)
+                    .chunks(cell)
+                    .zip(ink[y * width..(y + 1) * width].chunks(cell));
+                for (s, (row, ink)) in sums.iter_mut().zip(cells) {
+                    for (&v, &i) in row.iter().zip(ink.iter()) {
+                        if !i {
+                            s.0 += turn(v) as u64;
+                            s.1 += 1;
+                        }
+                    }
+                    s.2 += row.len() as u32;
                 }
             }
-            s.2 += row.len() as u32;
-        }
-    }
+        });
     let mut paper: Vec<Option<i32>> = sums
         .iter()
         .map(|&(sum, n, all)| (4 * n >= all && n > 0).then(|| (sum / u64::from(n)) as i32))
@@ -719,13 +803,35 @@ fn faint(
     let darkness = |p: usize| {
         paper[(p / width / cell) * cols + (p % width) / cell] - turn(gray.row(p / width)[p % width])
     };
-    // The text's contrast: the darkness at TEXT_QUANTILE of the ink, from a histogram.
-    let mut histogram = [0u64; 511];
-    let mut total = 0u64;
-    for p in (0..ink.len()).filter(|&p| measured(p)) {
-        histogram[(darkness(p) + 255) as usize] += 1;
-        total += 1;
-    }
+    // The text's contrast: the darkness at TEXT_QUANTILE of the ink, from a histogram (rows
+    // in parallel, the counts summed).
+    let rows_per_task = (PIXELS_PER_TASK / width).max(1);
+    let (histogram, total) = (0..height)
+        .into_par_iter()
+        .with_min_len(rows_per_task)
+        .fold(
+            || ([0u64; 511], 0u64),
+            |(mut histogram, mut total), y| {
+                let row = y * width..(y + 1) * width;
+                let papers = &paper[(y / cell) * cols..(y / cell + 1) * cols];
+                for (x, (&v, &i)) in gray.row(y).iter().zip(&ink[row]).enumerate() {
+                    if i && (grounds.is_empty() || !in_ground(y * width + x)) {
+                        histogram[(papers[x / cell] - turn(v) + 255) as usize] += 1;
+                        total += 1;
+                    }
+                }
+                (histogram, total)
+            },
+        )
+        .reduce(
+            || ([0u64; 511], 0u64),
+            |(mut a, n), (b, m)| {
+                for (a, b) in a.iter_mut().zip(b) {
+                    *a += b;
+                }
+                (a, n + m)
+            },
+        );
     if total == 0 {
         return None;
     }
@@ -753,7 +859,10 @@ fn faint(
         .filter(|&(d, _)| f64::from(d as i32 - 255) < FAINT_SHARE * f64::from(contrast))
         .map(|(_, &n)| n)
         .sum();
-    let all_ink = ink.iter().filter(|&&i| i).count();
+    let all_ink: usize = ink
+        .par_chunks(PIXELS_PER_TASK)
+        .map(|ink| ink.iter().filter(|&&i| i).count())
+        .sum();
     if (short as f64) < (1.0 - FAINT_CORE) * FAINT_INK * all_ink as f64 {
         return None;
     }
@@ -930,22 +1039,26 @@ fn seed_possible(
 ) -> bool {
     let (width, height) = (gray.width() as usize, gray.height() as usize);
     let (cols, rows) = (width.div_ceil(cell), height.div_ceil(cell));
-    // Ink, dark and all pixels per cell, a cell's width of pixels at a time.
+    // Ink, dark and all pixels per cell, a cell's width of pixels at a time, rows of cells in
+    // parallel.
     let mut counts = vec![[0u32; 3]; cols * rows];
     let is_dark = |v: u8| if dark_ink { v <= level } else { v > level };
-    for y in 0..height {
-        let base = (y / cell) * cols;
-        let pieces = gray
-            .row(y)
-            .chunks(cell)
-            .zip(ink[y * width..(y + 1) * width].chunks(cell));
-        for (c, (row, ink)) in pieces.enumerate() {
-            let counts = &mut counts[base + c];
-            counts[0] += ink.iter().filter(|&&i| i).count() as u32;
-            counts[1] += row.iter().filter(|&&v| is_dark(v)).count() as u32;
-            counts[2] += row.len() as u32;
-        }
-    }
+    counts
+        .par_chunks_mut(cols)
+        .enumerate()
+        .for_each(|(cy, counts)| {
+            for y in cell_rows(cy, cell, height) {
+                let pieces = gray
+                    .row(y)
+                    .chunks(cell)
+                    .zip(ink[y * width..(y + 1) * width].chunks(cell));
+                for (counts, (row, ink)) in counts.iter_mut().zip(pieces) {
+                    counts[0] += ink.iter().filter(|&&i| i).count() as u32;
+                    counts[1] += row.iter().filter(|&&v| is_dark(v)).count() as u32;
+                    counts[2] += row.len() as u32;
+                }
+            }
+        });
     let share = |c: usize, k: usize| f64::from(counts[c][k]) / f64::from(counts[c][2].max(1));
     let solid = |c: usize| share(c, 0) >= SOLID_SHARE;
     let candidate = |c: usize| {
@@ -974,6 +1087,7 @@ fn seed_possible(
 /// each window counted in the cell of its first block.
 fn texture_cells(
     gray: GrayView<'_>,
+    histogram: &[u64; 256],
     dark_ink: bool,
     level: u8,
     stroke_width: f64,
@@ -988,17 +1102,13 @@ fn texture_cells(
     } else {
         254u8.saturating_sub(level)
     };
-    let mut histogram = [0u64; 256];
-    for y in 0..height {
-        for &v in gray.row(y) {
-            histogram[usize::from(turn(v))] += 1;
-        }
-    }
+    // The pixels at each turned level.
+    let turned = |t: usize| histogram[if dark_ink { t } else { 255 - t }];
     let median_of = |range: std::ops::RangeInclusive<usize>| -> Option<f64> {
-        let total: u64 = range.clone().map(|v| histogram[v]).sum();
+        let total: u64 = range.clone().map(turned).sum();
         let mut seen = 0;
         for v in range {
-            seen += histogram[v];
+            seen += turned(v);
             if total > 0 && 2 * seen >= total {
                 return Some(v as f64);
             }
@@ -1019,50 +1129,46 @@ fn texture_cells(
     let side = ((stroke_width / 2.0).floor() as usize).max(1);
     let (bw, bh) = (width.div_ceil(side), height.div_ceil(side));
     let pw = bw + 2;
+    // Rows of blocks in parallel, each padded row of the two cuts written by one task.
     let mut padded = [vec![0u8; pw * (bh + 2)], vec![0u8; pw * (bh + 2)]];
-    let mut sums = vec![0u32; bw];
-    for by in 0..bh {
-        sums.fill(0);
-        let ys = by * side..((by + 1) * side).min(height);
-        let block_rows = ys.len();
-        for y in ys {
-            for (sum, block) in sums.iter_mut().zip(gray.row(y).chunks(side)) {
-                *sum += block.iter().map(|&v| u32::from(turn(v))).sum::<u32>();
-            }
-        }
-        let at = (by + 1) * pw + 1;
-        for (b, &sum) in sums.iter().enumerate() {
-            let size = (block_rows * (((b + 1) * side).min(width) - b * side)) as u32;
-            let mean = f64::from(sum) / f64::from(size.max(1));
-            for (padded, level) in padded.iter_mut().zip(levels) {
-                padded[at + b] = u8::from(mean <= level);
-            }
-        }
+    {
+        let [low, high] = &mut padded;
+        let inner = pw..pw * (bh + 1);
+        let blocks_per_task = (PIXELS_PER_TASK / (side * width).max(1)).max(1);
+        low[inner.clone()]
+            .par_chunks_mut(pw)
+            .zip(high[inner].par_chunks_mut(pw))
+            .enumerate()
+            .with_min_len(blocks_per_task)
+            .for_each_init(
+                || vec![0u32; bw],
+                |sums, (by, (low, high))| {
+                    sums.fill(0);
+                    let ys = by * side..((by + 1) * side).min(height);
+                    let block_rows = ys.len();
+                    for y in ys {
+                        for (sum, block) in sums.iter_mut().zip(gray.row(y).chunks(side)) {
+                            *sum += block.iter().map(|&v| u32::from(turn(v))).sum::<u32>();
+                        }
+                    }
+                    for (b, &sum) in sums.iter().enumerate() {
+                        let size = (block_rows * (((b + 1) * side).min(width) - b * side)) as u32;
+                        let mean = f64::from(sum) / f64::from(size.max(1));
+                        low[1 + b] = u8::from(mean <= levels[0]);
+                        high[1 + b] = u8::from(mean <= levels[1]);
+                    }
+                },
+            );
     }
-    // The cell column of each window's first block (x is one more than the block's position).
+    // The cell column of each window's first block (x is one more than the block's position),
+    // and the cell row of each row of windows (rising with it).
     let cell_col: Vec<usize> = (0..=bw)
         .map(|x| ((x.max(1) - 1) * side / cell).min(cols - 1))
         .collect();
-    let counts = padded.map(|padded| {
-        let mut quads = vec![0i32; cols * rows];
-        for y in 0..=bh {
-            let cy = ((y.max(1) - 1) * side / cell).min(rows - 1);
-            let (top, bottom) = (&padded[y * pw..(y + 1) * pw], &padded[(y + 1) * pw..]);
-            for x in 0..=bw {
-                let quad = top[x] | top[x + 1] << 1 | bottom[x] << 2 | bottom[x + 1] << 3;
-                let value = match quad.count_ones() {
-                    1 => 1,
-                    3 => -1,
-                    2 if quad == 0b1001 || quad == 0b0110 => -2,
-                    _ => 0,
-                };
-                if value != 0 {
-                    quads[cy * cols + cell_col[x]] += value;
-                }
-            }
-        }
-        quads
-    });
+    let cell_row: Vec<usize> = (0..=bh)
+        .map(|y| ((y.max(1) - 1) * side / cell).min(rows - 1))
+        .collect();
+    let counts = padded.map(|padded| euler_quads(&padded, bw, &cell_col, &cell_row, (cols, rows)));
     (0..cols * rows)
         .map(|c| {
             let (a, b) = (counts[0][c], counts[1][c]);
@@ -1535,6 +1641,318 @@ mod tests {
     const PAPER: u8 = 230;
     const INK: u8 = 20;
 
+    // The passes of [`texture_cells`], [`seed_possible`] and [`faint`] as they were written
+    // before they ran by rows of cells in parallel (one pass over the rows, the texture's
+    // histogram its own): the references the parallel passes are tested against, bit for bit.
+
+    fn texture_cells_in_one_pass(
+        gray: GrayView<'_>,
+        dark_ink: bool,
+        level: u8,
+        stroke_width: f64,
+        cell: usize,
+    ) -> Vec<bool> {
+        let (width, height) = (gray.width() as usize, gray.height() as usize);
+        let (cols, rows) = (width.div_ceil(cell), height.div_ceil(cell));
+        // Gray turned so that the ink is dark: ink at or below `cut`.
+        let turn = |v: u8| if dark_ink { v } else { 255 - v };
+        let cut = if dark_ink {
+            level
+        } else {
+            254u8.saturating_sub(level)
+        };
+        let mut histogram = [0u64; 256];
+        for y in 0..height {
+            for &v in gray.row(y) {
+                histogram[usize::from(turn(v))] += 1;
+            }
+        }
+        let median_of = |range: std::ops::RangeInclusive<usize>| -> Option<f64> {
+            let total: u64 = range.clone().map(|v| histogram[v]).sum();
+            let mut seen = 0;
+            for v in range {
+                seen += histogram[v];
+                if total > 0 && 2 * seen >= total {
+                    return Some(v as f64);
+                }
+            }
+            None
+        };
+        let (Some(ink_gray), Some(paper_gray)) = (
+            median_of(0..=usize::from(cut)),
+            median_of(usize::from(cut) + 1..=255),
+        ) else {
+            return vec![false; cols * rows];
+        };
+        let cut = f64::from(cut);
+        let levels = [cut - (cut - ink_gray) / 2.0, cut + (paper_gray - cut) / 2.0];
+        // Block means, each block `side` px square (cut to the image), at or below each level: the
+        // blocks padded with a block of paper all round, so that the window at (x, y) is the padded
+        // blocks (x, y) to (x + 1, y + 1). The sums are kept for one row of blocks at a time.
+        let side = ((stroke_width / 2.0).floor() as usize).max(1);
+        let (bw, bh) = (width.div_ceil(side), height.div_ceil(side));
+        let pw = bw + 2;
+        let mut padded = [vec![0u8; pw * (bh + 2)], vec![0u8; pw * (bh + 2)]];
+        let mut sums = vec![0u32; bw];
+        for by in 0..bh {
+            sums.fill(0);
+            let ys = by * side..((by + 1) * side).min(height);
+            let block_rows = ys.len();
+            for y in ys {
+                for (sum, block) in sums.iter_mut().zip(gray.row(y).chunks(side)) {
+                    *sum += block.iter().map(|&v| u32::from(turn(v))).sum::<u32>();
+                }
+            }
+            let at = (by + 1) * pw + 1;
+            for (b, &sum) in sums.iter().enumerate() {
+                let size = (block_rows * (((b + 1) * side).min(width) - b * side)) as u32;
+                let mean = f64::from(sum) / f64::from(size.max(1));
+                for (padded, level) in padded.iter_mut().zip(levels) {
+                    padded[at + b] = u8::from(mean <= level);
+                }
+            }
+        }
+        // The cell column of each window's first block (x is one more than the block's position).
+        let cell_col: Vec<usize> = (0..=bw)
+            .map(|x| ((x.max(1) - 1) * side / cell).min(cols - 1))
+            .collect();
+        let counts = padded.map(|padded| {
+            let mut quads = vec![0i32; cols * rows];
+            for y in 0..=bh {
+                let cy = ((y.max(1) - 1) * side / cell).min(rows - 1);
+                let (top, bottom) = (&padded[y * pw..(y + 1) * pw], &padded[(y + 1) * pw..]);
+                for x in 0..=bw {
+                    let quad = top[x] | top[x + 1] << 1 | bottom[x] << 2 | bottom[x + 1] << 3;
+                    let value = match quad.count_ones() {
+                        1 => 1,
+                        3 => -1,
+                        2 if quad == 0b1001 || quad == 0b0110 => -2,
+                        _ => 0,
+                    };
+                    if value != 0 {
+                        quads[cy * cols + cell_col[x]] += value;
+                    }
+                }
+            }
+            quads
+        });
+        (0..cols * rows)
+            .map(|c| {
+                let (a, b) = (counts[0][c], counts[1][c]);
+                a.signum() == b.signum() && f64::from(a.abs().min(b.abs())) / 4.0 >= TEXTURE_PIECES
+            })
+            .collect()
+    }
+
+    fn seed_possible_in_one_pass(
+        gray: GrayView<'_>,
+        ink: &[bool],
+        dark_ink: bool,
+        level: u8,
+        cell: usize,
+        texture: &[bool],
+    ) -> bool {
+        let (width, height) = (gray.width() as usize, gray.height() as usize);
+        let (cols, rows) = (width.div_ceil(cell), height.div_ceil(cell));
+        // Ink, dark and all pixels per cell, a cell's width of pixels at a time.
+        let mut counts = vec![[0u32; 3]; cols * rows];
+        let is_dark = |v: u8| if dark_ink { v <= level } else { v > level };
+        for y in 0..height {
+            let base = (y / cell) * cols;
+            let pieces = gray
+                .row(y)
+                .chunks(cell)
+                .zip(ink[y * width..(y + 1) * width].chunks(cell));
+            for (c, (row, ink)) in pieces.enumerate() {
+                let counts = &mut counts[base + c];
+                counts[0] += ink.iter().filter(|&&i| i).count() as u32;
+                counts[1] += row.iter().filter(|&&v| is_dark(v)).count() as u32;
+                counts[2] += row.len() as u32;
+            }
+        }
+        let share = |c: usize, k: usize| f64::from(counts[c][k]) / f64::from(counts[c][2].max(1));
+        let solid = |c: usize| share(c, 0) >= SOLID_SHARE;
+        let candidate = |c: usize| {
+            solid(c) || (share(c, 1) >= DARK_SHARE && share(c, 0) < DARK_FIELD_INK) || texture[c]
+        };
+        let block = |x: usize, y: usize| {
+            (0..SEED_CELLS).all(|dy| (0..SEED_CELLS).all(|dx| candidate((y + dy) * cols + x + dx)))
+        };
+        let inside = (0..=rows - SEED_CELLS).any(|y| (0..=cols - SEED_CELLS).any(|x| block(x, y)));
+        let along_edge = (0..cols * rows).any(|c| {
+            let (x, y) = (c % cols, c / cols);
+            let along_row = (y == 0 || y + 1 == rows) && x + SEED_CELLS <= cols;
+            let along_col = (x == 0 || x + 1 == cols) && y + SEED_CELLS <= rows;
+            (along_row && (0..SEED_CELLS).all(|d| solid(c + d)))
+                || (along_col && (0..SEED_CELLS).all(|d| solid(c + d * cols)))
+        });
+        inside || along_edge
+    }
+
+    fn faint_in_one_pass(
+        gray: GrayView<'_>,
+        ink: &mut [bool],
+        dark_ink: bool,
+        stroke_width: f64,
+        grounds: &[Ground],
+        remove: bool,
+    ) -> Option<Region> {
+        let (width, height) = (gray.width() as usize, gray.height() as usize);
+        if ink.len() != width * height || stroke_width < 1.0 || width == 0 || height == 0 {
+            return None;
+        }
+        let cell = ((CELL_WIDTHS * stroke_width).round() as usize).max(MIN_CELL);
+        let (cols, rows) = (width.div_ceil(cell), height.div_ceil(cell));
+        let turn = |v: u8| i32::from(if dark_ink { v } else { 255 - v });
+        // The paper's mean gray (turned: ink dark) per cell, where a quarter of the cell is paper.
+        let mut sums = vec![(0u64, 0u32, 0u32); cols * rows];
+        for y in 0..height {
+            let base = (y / cell) * cols;
+            let cells = gray
+                .row(y)
+                .chunks(cell)
+                .zip(ink[y * width..(y + 1) * width].chunks(cell));
+            for (c, (row, ink)) in cells.enumerate() {
+                let s = &mut sums[base + c];
+                for (&v, &i) in row.iter().zip(ink) {
+                    if !i {
+                        s.0 += turn(v) as u64;
+                        s.1 += 1;
+                    }
+                }
+                s.2 += row.len() as u32;
+            }
+        }
+        let mut paper: Vec<Option<i32>> = sums
+            .iter()
+            .map(|&(sum, n, all)| (4 * n >= all && n > 0).then(|| (sum / u64::from(n)) as i32))
+            .collect();
+        // Cells without enough paper take the mean of their known neighbours (8-connected), ring by
+        // ring; none known at all: no paper to measure against.
+        if paper.iter().all(Option::is_none) {
+            return None;
+        }
+        while paper.iter().any(Option::is_none) {
+            let before = paper.clone();
+            for c in 0..cols * rows {
+                if before[c].is_some() {
+                    continue;
+                }
+                let (x, y) = (c % cols, c / cols);
+                let (mut sum, mut n) = (0i64, 0i64);
+                for ny in y.saturating_sub(1)..(y + 2).min(rows) {
+                    for nx in x.saturating_sub(1)..(x + 2).min(cols) {
+                        if let Some(p) = before[ny * cols + nx] {
+                            sum += i64::from(p);
+                            n += 1;
+                        }
+                    }
+                }
+                if n > 0 {
+                    paper[c] = Some((sum / n) as i32);
+                }
+            }
+        }
+        let paper: Vec<i32> = paper.into_iter().map(|p| p.unwrap_or(0)).collect();
+        // A reversed ground's strokes are lighter than the ground around them: neither measured nor
+        // left out.
+        let in_ground = |p: usize| {
+            let (x, y) = ((p % width) as u32, (p / width) as u32);
+            grounds
+                .iter()
+                .any(|g| (g.x..g.x + g.width).contains(&x) && (g.y..g.y + g.height).contains(&y))
+        };
+        let measured = |p: usize| ink[p] && (grounds.is_empty() || !in_ground(p));
+        let darkness = |p: usize| {
+            paper[(p / width / cell) * cols + (p % width) / cell]
+                - turn(gray.row(p / width)[p % width])
+        };
+        // The text's contrast: the darkness at TEXT_QUANTILE of the ink, from a histogram.
+        let mut histogram = [0u64; 511];
+        let mut total = 0u64;
+        for p in (0..ink.len()).filter(|&p| measured(p)) {
+            histogram[(darkness(p) + 255) as usize] += 1;
+            total += 1;
+        }
+        if total == 0 {
+            return None;
+        }
+        let rank = (TEXT_QUANTILE * total as f64).ceil() as u64;
+        let mut seen = 0;
+        let contrast = histogram
+            .iter()
+            .position(|&n| {
+                seen += n;
+                seen >= rank
+            })
+            .map_or(0, |d| d as i32 - 255);
+        if contrast <= 0 {
+            return None;
+        }
+        let reaches = |p: usize| f64::from(darkness(p)) >= FAINT_SHARE * f64::from(contrast);
+        // A faint piece of n pixels has more than (1 - FAINT_CORE) n measured pixels that do not
+        // reach the share, so all faint pieces together are fewer than those pixels over
+        // (1 - FAINT_CORE): when that bound is under FAINT_INK of the ink (a page of text), there is
+        // nothing to leave out, and the page need not be labelled.
+        // The measured pixels short of the share, read off the histogram.
+        let short: u64 = histogram
+            .iter()
+            .enumerate()
+            .filter(|&(d, _)| f64::from(d as i32 - 255) < FAINT_SHARE * f64::from(contrast))
+            .map(|(_, &n)| n)
+            .sum();
+        let all_ink = ink.iter().filter(|&&i| i).count();
+        if (short as f64) < (1.0 - FAINT_CORE) * FAINT_INK * all_ink as f64 {
+            return None;
+        }
+        // Per piece of ink (8-connected), its pixels and those that reach the share of the text's
+        // contrast (ink in a ground counts as reaching it, so a ground's strokes stay).
+        let (labels, sizes) = label_components(ink, width, height, true, Connectivity::Eight);
+        let mut reaching = vec![0usize; sizes.len()];
+        for (p, &l) in labels.iter().enumerate() {
+            if l > 0 && (!measured(p) || reaches(p)) {
+                reaching[l as usize] += 1;
+            }
+        }
+        let faint: Vec<bool> = reaching
+            .iter()
+            .zip(&sizes)
+            .enumerate()
+            .map(|(l, (&r, &n))| l > 0 && (r as f64) < FAINT_CORE * n as f64)
+            .collect();
+        // Only where the faint pieces are most of the ink: the threshold has read the paper itself
+        // (its grain, a cover's cracks) as ink. Fewer faint pieces beside the text are as likely
+        // faint content (ruled lines, a print's lighter ridges) as show-through.
+        let faint_ink: usize = faint
+            .iter()
+            .zip(&sizes)
+            .filter(|(&f, _)| f)
+            .map(|(_, &n)| n)
+            .sum();
+        if (faint_ink as f64) < FAINT_INK * all_ink as f64 {
+            return None;
+        }
+        let (mut x0, mut y0, mut x1, mut y1) = (width, height, 0, 0);
+        let mut any = false;
+        for (p, (i, &l)) in ink.iter_mut().zip(&labels).enumerate() {
+            if faint[l as usize] {
+                let (x, y) = (p % width, p / width);
+                (x0, y0, x1, y1) = (x0.min(x), y0.min(y), x1.max(x), y1.max(y));
+                any = true;
+                if remove {
+                    *i = false;
+                }
+            }
+        }
+        any.then(|| Region {
+            kind: RegionKind::Faint,
+            x: x0 as u32,
+            y: y0 as u32,
+            width: (x1 - x0 + 1) as u32,
+            height: (y1 - y0 + 1) as u32,
+        })
+    }
+
     /// A page of short strokes 3 px wide (letters' worth of bars on lines of text) within
     /// `[x0, x1) x [y0, y1)`, and whatever `paint` adds.
     fn page(
@@ -1859,12 +2277,144 @@ mod tests {
         assert!(decisions.regions.is_empty(), "{:?}", decisions.regions);
     }
 
+    /// The parallel passes give what the one-pass versions gave, bit for bit: the texture
+    /// cells, the seed test, the faint ink's region and the ink it leaves, on pages of text,
+    /// halftones, nets and noise of odd sizes (cells cut at the edges), both polarities, several
+    /// stroke widths and levels, with and without reversed grounds.
+    #[test]
+    fn the_passes_by_rows_of_cells_equal_the_passes_in_one() {
+        let mut next = crate::synth::lcg(32);
+        let mut pages: Vec<GrayImage> = Vec::new();
+        for (width, height) in [(320, 240), (301, 187), (97, 403)] {
+            let text = [10, 12, width - 15, height - 9];
+            pages.push(page(width, height, text, |_, _| None));
+            pages.push(page(width, height, text, |x, y| {
+                (x > width / 2 && x % 4 < 2 && y % 4 < 2).then_some(INK)
+            }));
+            pages.push(page(width, height, text, |x, y| {
+                (x > width / 2 && (x % 4 == 0 || y % 4 == 0)).then_some(205)
+            }));
+            let noise: Vec<u8> = (0..width * height).map(|_| (next() >> 33) as u8).collect();
+            pages.push(GrayImage::from_raw(width, height, noise).expect("size"));
+            let dark = page(width, height, text, |x, y| {
+                (y < height / 3 && x < width / 2).then_some(INK)
+            });
+            pages.push(dark);
+        }
+        for gray in &pages {
+            let view: GrayView<'_> = gray.into();
+            let histogram = super::super::binarize::histogram(view);
+            let (width, height) = (gray.width(), gray.height());
+            for level in [60u8, 128, 215] {
+                let ink_dark: Vec<bool> = gray.pixels().map(|p| p.0[0] <= level).collect();
+                for dark_ink in [true, false] {
+                    let ink: Vec<bool> = ink_dark.iter().map(|&d| d == dark_ink).collect();
+                    for stroke_width in [1.0, 2.6, 3.0, 5.5] {
+                        let cell = ((CELL_WIDTHS * stroke_width).round() as usize).max(MIN_CELL);
+                        let texture =
+                            texture_cells(view, &histogram, dark_ink, level, stroke_width, cell);
+                        let before =
+                            texture_cells_in_one_pass(view, dark_ink, level, stroke_width, cell);
+                        assert_eq!(texture, before);
+                        assert_eq!(
+                            seed_possible(view, &ink, dark_ink, level, cell, &texture),
+                            seed_possible_in_one_pass(view, &ink, dark_ink, level, cell, &texture)
+                        );
+                        let ground = Ground {
+                            x: width / 3,
+                            y: height / 4,
+                            width: width / 4,
+                            height: height / 3,
+                        };
+                        for grounds in [&[][..], &[ground][..]] {
+                            for remove in [true, false] {
+                                let (mut a, mut b) = (ink.clone(), ink.clone());
+                                let region =
+                                    faint(view, &mut a, dark_ink, stroke_width, grounds, remove);
+                                let one_pass = faint_in_one_pass(
+                                    view,
+                                    &mut b,
+                                    dark_ink,
+                                    stroke_width,
+                                    grounds,
+                                    remove,
+                                );
+                                assert_eq!(region, one_pass);
+                                assert_eq!(a, b);
+                            }
+                        }
+                    }
+                }
+            }
+        }
+    }
+
+    /// The Euler shares by arithmetic are Gray's bit quads (the rule as written before), and a
+    /// row of cells' sums of them the sums window by window, on random blocks and cell sizes.
+    #[test]
+    fn the_euler_quads_by_columns_of_cells_equal_the_quads_window_by_window() {
+        for quad in 0u8..16 {
+            let bits = [quad & 1, quad >> 1 & 1, quad >> 2 & 1, quad >> 3 & 1];
+            let want = match quad.count_ones() {
+                1 => 1,
+                3 => -1,
+                2 if quad == 0b1001 || quad == 0b0110 => -2,
+                _ => 0,
+            };
+            assert_eq!(
+                quad_euler(bits[0], bits[1], bits[2], bits[3]),
+                want,
+                "{quad:04b}"
+            );
+        }
+        let mut next = crate::synth::lcg(1975u64);
+        let mut rand = move |n: usize| (next() >> 33) as usize % n;
+        for _ in 0..300 {
+            let (bw, bh) = (1 + rand(80), 1 + rand(60));
+            let (side, cell) = (1 + rand(3), 8 + rand(12));
+            let (width, height) = (bw * side - rand(side), bh * side - rand(side));
+            let (cols, rows) = (width.div_ceil(cell), height.div_ceil(cell));
+            let pw = bw + 2;
+            let density = 1 + rand(9);
+            let mut padded = vec![0u8; pw * (bh + 2)];
+            for y in 1..=bh {
+                for x in 1..=bw {
+                    padded[y * pw + x] = u8::from(rand(10) < density);
+                }
+            }
+            let cell_col: Vec<usize> = (0..=bw)
+                .map(|x| ((x.max(1) - 1) * side / cell).min(cols - 1))
+                .collect();
+            let cell_row: Vec<usize> = (0..=bh)
+                .map(|y| ((y.max(1) - 1) * side / cell).min(rows - 1))
+                .collect();
+            let mut want = vec![0i32; cols * rows];
+            for y in 0..=bh {
+                for x in 0..=bw {
+                    let (top, bottom) = (&padded[y * pw..], &padded[(y + 1) * pw..]);
+                    let quad = top[x] | top[x + 1] << 1 | bottom[x] << 2 | bottom[x + 1] << 3;
+                    want[cell_row[y] * cols + cell_col[x]] += match quad.count_ones() {
+                        1 => 1,
+                        3 => -1,
+                        2 if quad == 0b1001 || quad == 0b0110 => -2,
+                        _ => 0,
+                    };
+                }
+            }
+            assert_eq!(
+                euler_quads(&padded, bw, &cell_col, &cell_row, (cols, rows)),
+                want
+            );
+        }
+    }
+
     #[test]
     fn a_page_of_text_ends_the_search_early() {
         let text = page(320, 240, [20, 20, 300, 220], |_, _| None);
         let (binary, _) = decide(&text, &[]);
         let view: GrayView<'_> = (&text).into();
-        let texture = texture_cells(view, true, 128, 3.0, 12);
+        let histogram = super::super::binarize::histogram(view);
+        let texture = texture_cells(view, &histogram, true, 128, 3.0, 12);
         assert!(texture.iter().all(|&t| !t));
         assert!(!seed_possible(view, &binary.ink, true, 128, 12, &texture));
         // A dark block 40 px square could seed.

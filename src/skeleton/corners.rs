@@ -1,7 +1,7 @@
 //! Corners: the Y that thinning makes of a sharp bend is a bend ([`Work::dissolve_corners`]).
 //! docs/design.md, "Skeleton-carried geometry"; docs/quality.md, "Bold corners".
 
-use crate::geometry::dist;
+use crate::geometry::{dist, hypot};
 
 use super::work::{median, Work};
 use super::{disk_radius, MIN_LINE_PX};
@@ -252,7 +252,7 @@ impl Work {
         let line = |(points, (near, far)): LegStretch| {
             let (a, b) = (points[near], points[far]);
             let d = [a[0] - b[0], a[1] - b[1]];
-            let n = d[0].hypot(d[1]);
+            let n = hypot(d[0], d[1]);
             (n >= MIN_LINE_PX).then(|| (a, [d[0] / n, d[1] / n], near))
         };
         let ((a, ua, cut_a), (b, ub, cut_b)) = (line(legs[0])?, line(legs[1])?);

@@ -10,7 +10,7 @@ use std::cell::OnceCell;
 use kiddo::{ImmutableKdTree, SquaredEuclidean};
 use petgraph::unionfind::UnionFind;
 
-use crate::geometry::{dist, line_intersection, unit};
+use crate::geometry::{dist, hypot, line_intersection, unit};
 use crate::stroke_graph::{Edge, StrokeGraph, Vertex};
 
 use super::disk_radius;
@@ -453,7 +453,7 @@ impl StrokeArc {
         };
         Some(StrokeArc::Circle {
             center,
-            radius: ux.hypot(uy),
+            radius: hypot(ux, uy),
             start,
             sweep,
         })
@@ -472,7 +472,7 @@ impl StrokeArc {
             StrokeArc::Circle { center, radius, .. } => dist(p, *center) - radius,
             StrokeArc::Line { from, to } => {
                 let d = [to[0] - from[0], to[1] - from[1]];
-                ((p[0] - from[0]) * d[1] - (p[1] - from[1]) * d[0]) / d[0].hypot(d[1])
+                ((p[0] - from[0]) * d[1] - (p[1] - from[1]) * d[0]) / hypot(d[0], d[1])
             }
         }
     }
@@ -1016,7 +1016,7 @@ fn stroke_line(p: &ArmLine, q: &ArmLine) -> Option<([f64; 2], [f64; 2])> {
 /// The distance from `p` to the line through `a` and `b` (infinite when they coincide).
 fn line_dist(p: [f64; 2], a: [f64; 2], b: [f64; 2]) -> f64 {
     let d = [b[0] - a[0], b[1] - a[1]];
-    let n = d[0].hypot(d[1]);
+    let n = hypot(d[0], d[1]);
     if n == 0.0 {
         return f64::INFINITY;
     }

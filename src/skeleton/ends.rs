@@ -2,7 +2,7 @@
 //! longer than wide is a dot ([`Work::collapse_dots`]). docs/design.md, "Skeleton-carried
 //! geometry".
 
-use crate::geometry::dist;
+use crate::geometry::{dist, hypot};
 
 use super::work::{median, Work};
 use super::{disk_radius, MIN_LINE_PX, MIN_WIDTH_PX};
@@ -53,7 +53,7 @@ impl Work {
                     .copied()
                     .unwrap_or(inwards[inwards.len() - 1]);
                 let d = [tip[0] - back[0], tip[1] - back[1]];
-                let n = d[0].hypot(d[1]);
+                let n = hypot(d[0], d[1]);
                 if n < MIN_LINE_PX {
                     continue;
                 }

@@ -18,7 +18,7 @@
 //! edge that would cross or touch another edge (or itself) away from their vertices keeps its
 //! path from before, so the geometry never adds a crossing to the graph.
 
-use crate::geometry::{arc_lengths, crossing_paths, point_at, segment_dist, segment_dist2};
+use crate::geometry::{arc_lengths, crossing_paths, hypot, point_at, segment_dist, segment_dist2};
 use crate::stroke_graph::Edge;
 
 use super::work::{median, Ink, Work};
@@ -332,7 +332,7 @@ fn section_exit(ink: &Ink, from: [f64; 2], u: [f64; 2], limit: f64) -> f64 {
 }
 
 fn unit(d: [f64; 2]) -> Option<[f64; 2]> {
-    let len = d[0].hypot(d[1]);
+    let len = hypot(d[0], d[1]);
     (len > 1e-9).then(|| [d[0] / len, d[1] / len])
 }
 

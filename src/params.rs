@@ -188,12 +188,22 @@ pub struct FingerprintParams {
     /// A block of the print shows no ridges where the F ratio of its pixels grouped in rows along
     /// the ridges (the variance between the rows' means over the variance of one row's mean,
     /// within one ridge period across and 1.5 along, at the best of 12 orientations) is below
-    /// this, in an area of at least 3 x 3 such blocks: such blocks (a wet smear, a blank margin)
-    /// are then left out of the print, so that the filter draws no ridges through them (noise
-    /// alone gives about 1; docs/fingerprints.md, "Ridges through a solid wet area", measured 3).
-    /// 0 keeps every block and skips the measure. Default value: 0.
+    /// this and its mean gray sits off the print's middle gray on the ridges' side
+    /// (`blank_off_middle`): a wet smear as dark as the ridges. Such blocks and the blocks next
+    /// to them as far off the middle, in areas of at least four periods squared, are left out of
+    /// the print, so that the filter draws no ridges through them (noise alone gives about 1;
+    /// docs/fingerprints.md, "Ridges through a solid wet area").
+    /// 0 keeps every block and skips the measure. Default value: 2 (0 when a document written
+    /// before the field existed is read back).
     #[serde(default = "default_blank_evidence")]
     pub blank_evidence: f64,
+    /// How far off the print's middle gray (the median of its blocks' means) a block's mean must
+    /// be for `blank_evidence` to call it blank, in units of the ridges' half swing (the median
+    /// of the blocks' ridge amplitudes times √2), and at least by the block's own noise: faint
+    /// ridges average to the middle gray, a smear sits at the ridges' level (about 1). Default
+    /// value: 0.5.
+    #[serde(default = "default_blank_off_middle")]
+    pub blank_off_middle: f64,
     /// Standard deviation of the Gaussian smoothing the doubled-angle field, px. Default value: 16.
     pub orientation_sigma: f64,
     /// Length of the x-signature window across the ridges, px. Default value: 48.
@@ -291,7 +301,8 @@ impl Default for FingerprintParams {
             gradient_sigma: 1.0,
             segment_threshold: 0.2,
             response_threshold: 0.2,
-            blank_evidence: default_blank_evidence(),
+            blank_evidence: 2.0,
+            blank_off_middle: default_blank_off_middle(),
             orientation_sigma: 16.0,
             signature_length: 48,
             period_min: 3.0,
@@ -335,6 +346,10 @@ fn default_inward_border_confirmed() -> f64 {
 
 fn default_blank_evidence() -> f64 {
     0.0
+}
+
+fn default_blank_off_middle() -> f64 {
+    0.5
 }
 
 fn default_cloud_quality() -> f64 {
@@ -389,6 +404,7 @@ impl FingerprintParams {
             ),
             ("fingerprint.cloud_quality", self.cloud_quality),
             ("fingerprint.blank_evidence", self.blank_evidence),
+            ("fingerprint.blank_off_middle", self.blank_off_middle),
         ];
         if !(self.inward_border_confirmed.is_finite()
             && (0.0..=1.0).contains(&self.inward_border_confirmed))

@@ -838,3 +838,85 @@ fn drawn_minutiae_have_the_angles_of_xyt_and_iso_19794_2() {
         assert!(degrees_apart(a, angle) <= 10.0, "{a} against {angle}");
     }
 }
+
+/// A drawn print for the wet-area test: rings of `PERIOD` px around the middle of a 288 px image
+/// (dark ridges, 128 ± 100, on light skin 230 beyond a radius of 130 px), with a disc of radius
+/// `WET_RADIUS` at `WET` either solid at the ridges' level (a wet smear: no valleys) or holding
+/// the rings at a quarter of their depth (faint ridges, averaging to the middle gray), plus
+/// Gaussian noise of `sigma` from `seed`.
+fn wet_print(solid: bool, sigma: f64, seed: u64) -> ridgeline::GrayImage {
+    const SIZE: u32 = 288;
+    let mut rng = ridgeline_testkit::synth::SplitMix64::new(seed);
+    let mut pixels = Vec::with_capacity((SIZE * SIZE) as usize);
+    for y in 0..SIZE {
+        for x in 0..SIZE {
+            let (px, py) = (f64::from(x) + 0.5, f64::from(y) + 0.5);
+            let r = ridgeline::dist([px, py], [144.0, 144.0]);
+            let wave = (TAU * r / PERIOD).cos();
+            let in_disc = ridgeline::dist([px, py], WET) <= WET_RADIUS;
+            let level = if r > 130.0 {
+                230.0
+            } else if in_disc && solid {
+                28.0
+            } else if in_disc {
+                128.0 - 25.0 * wave
+            } else {
+                128.0 - 100.0 * wave
+            };
+            // Box-Muller.
+            let (u, v) = (rng.next_f64().max(1e-12), rng.next_f64());
+            let noise = sigma * (-2.0 * u.ln()).sqrt() * (TAU * v).cos();
+            pixels.push((level + noise).round().clamp(0.0, 255.0) as u8);
+        }
+    }
+    ridgeline::GrayImage::from_raw(SIZE, SIZE, pixels).expect("size matches")
+}
+
+const PERIOD: f64 = 9.0;
+const WET: [f64; 2] = [190.0, 110.0];
+const WET_RADIUS: f64 = 3.0 * PERIOD;
+
+/// Ridges traced where the image shows none (issue 35; docs/fingerprints.md, "Ridges through a
+/// solid wet area"): a solid dark disc of three periods' radius inside a print, a wet smear
+/// without valleys, gets no minutiae whatever the noise draw, where the filter, with the flow and
+/// the period of the rings around interpolated across it, drew ridges and minutiae through it
+/// before (and does without the rule); a disc of faint ridges under the same noise stays print.
+#[test]
+fn no_minutiae_in_a_solid_wet_disc_and_faint_ridges_kept() {
+    let in_disc = |trace: &ridgeline::Trace| {
+        let print = trace.fingerprint.as_ref().expect("a print");
+        print
+            .minutiae
+            .iter()
+            .filter(|m| ridgeline::dist(m.pos, WET) <= WET_RADIUS + PERIOD / 2.0)
+            .count()
+    };
+    let mut without_rule = Params::fingerprint();
+    if let Some(print) = without_rule.fingerprint.as_mut() {
+        print.blank_evidence = 0.0;
+    }
+    let mut invented = 0;
+    for seed in 0..4u64 {
+        let wet = wet_print(true, 10.0, 0x3E7 + seed);
+        let trace = ridgeline::trace_image(&wet, &Params::fingerprint()).expect("trace");
+        assert_eq!(in_disc(&trace), 0, "seed {seed}");
+        invented += in_disc(&ridgeline::trace_image(&wet, &without_rule).expect("trace"));
+
+        let faint = wet_print(false, 10.0, 0x3E7 + seed);
+        let trace = ridgeline::trace_image(&faint, &Params::fingerprint()).expect("trace");
+        let print = trace.fingerprint.as_ref().expect("a print");
+        for dx in [-2.0, 0.0, 2.0] {
+            for dy in [-2.0, 0.0, 2.0] {
+                let (x, y) = (WET[0] + dx * 8.0, WET[1] + dy * 8.0);
+                assert!(
+                    print
+                        .analysis
+                        .segmentation
+                        .contains_pixel(x as usize, y as usize),
+                    "seed {seed}: faint ridges at ({x}, {y}) left out"
+                );
+            }
+        }
+    }
+    assert!(invented > 0, "without the rule the disc has minutiae");
+}

@@ -118,11 +118,12 @@ pub(crate) fn analyze_deciding<E: Send>(
         mut enhanced,
         blank,
     } = front;
+    let blank = &blank[usize::from(!dark_ridges)];
     if !dark_ridges {
         enhanced.values.iter_mut().for_each(|v| *v = -*v);
     }
     let (width, height) = (enhanced.width, enhanced.height);
-    let segmentation = segment::refine(&segmentation, &enhanced, params.response_threshold, &blank);
+    let segmentation = segment::refine(&segmentation, &enhanced, params.response_threshold, blank);
     for (value, inside) in enhanced.values.iter_mut().zip(segmentation.pixel_mask()) {
         if !inside {
             *value = 0.0;
@@ -157,8 +158,9 @@ struct FrontStages {
     periods: RidgePeriods,
     /// The enhanced image for dark ridges (ridges positive where they are dark).
     enhanced: Plane,
-    /// The print's blocks that show no ridges ([`segment::blank_blocks`]), left out of it.
-    blank: Vec<bool>,
+    /// The print's blocks that show no ridges ([`segment::blank_blocks`]), to be left out of it,
+    /// for dark ridges and for light ones.
+    blank: [Vec<bool>; 2],
 }
 
 /// Segmentation, orientation field, ridge periods and the enhancement for dark ridges.
@@ -177,19 +179,27 @@ fn front_stages(gray: GrayView<'_>, params: &FingerprintParams) -> FrontStages {
     drop((gx, gy));
     let periods = frequency::ridge_periods(&smoothed, &segmentation, &orientation, params);
     // Blocks that show no ridges (a wet smear, a blank margin) are no print: the filter would
-    // draw ridges through them from the orientation and period around.
+    // draw ridges through them from the orientation and period around. Which they are depends
+    // on the polarity (decided beside these stages), so both are found; the chosen one is left
+    // out by the second segmentation pass (the filter's response in a block reads only the
+    // image and the block's own orientation and period).
     let blank = if params.blank_evidence > 0.0 {
         let evidence = segment::ridge_evidence(&plane, &segmentation, &orientation, &periods);
-        segment::blank_blocks(&segmentation, &evidence, params.blank_evidence)
+        let period = periods.median_inside(&segmentation);
+        let blank = |dark_ridges| {
+            segment::blank_blocks(
+                &segmentation,
+                &evidence,
+                params.blank_evidence,
+                params.blank_off_middle,
+                period,
+                dark_ridges,
+            )
+        };
+        [blank(true), blank(false)]
     } else {
-        Vec::new()
+        [Vec::new(), Vec::new()]
     };
-    let mut segmentation = segmentation;
-    for (inside, &b) in segmentation.inside.iter_mut().zip(&blank) {
-        if b {
-            *inside = false;
-        }
-    }
     let enhance = match params.enhancement {
         Enhancement::Gabor => enhance::enhance,
         Enhancement::Smoothing => smooth::enhance,

@@ -178,7 +178,7 @@ pub(crate) fn ridge_evidence(
     segmentation: &Segmentation,
     field: &OrientationField,
     periods: &RidgePeriods,
-) -> Vec<f32> {
+) -> Vec<BlockEvidence> {
     let grid = segmentation.grid;
     let cols = grid.cols as usize;
     (0..grid.len())
@@ -187,7 +187,7 @@ pub(crate) fn ridge_evidence(
             || (Vec::new(), Vec::new()),
             |(window, rows), b| {
                 if !segmentation.inside[b] {
-                    return 0.0;
+                    return BlockEvidence::default();
                 }
                 let (i, j) = (b % cols, b / cols);
                 let own = f64::from(field.angle[b]);
@@ -196,6 +196,20 @@ pub(crate) fn ridge_evidence(
             },
         )
         .collect()
+}
+
+/// What [`ridge_evidence`] finds around one block.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub(crate) struct BlockEvidence {
+    /// The rows' F ratio at the best orientation (about 1 on noise, 0 on a flat patch).
+    pub f_ratio: f32,
+    /// The mean gray level of the window (before the plane is taken off).
+    pub mean: f32,
+    /// The ridges' amplitude there: the standard deviation of the rows' means at the best
+    /// orientation less what the noise alone gives them (0 when the noise explains it all).
+    pub amplitude: f32,
+    /// The pixels' standard deviation within the rows at the best orientation (the noise).
+    pub noise: f32,
 }
 
 /// [`ridge_evidence`] of the rectangle around `c` (see [`ROW_LENGTH`]), its rows starting at the
@@ -208,7 +222,7 @@ fn row_f_ratio(
     period: f64,
     window: &mut Vec<(f64, f64, f64)>,
     rows: &mut Vec<(usize, f64, f64)>,
-) -> f32 {
+) -> BlockEvidence {
     let (w, h) = (i64::from(gray.width), i64::from(gray.height));
     // The disc that holds the square at any orientation.
     let along = ROW_LENGTH * period;
@@ -226,7 +240,7 @@ fn row_f_ratio(
         }
     }
     if window.len() < 8 {
-        return 0.0;
+        return BlockEvidence::default();
     }
     let n = window.len() as f64;
     // The best plane v ≈ m + p dx + q dy by least squares, taken off.
@@ -256,7 +270,7 @@ fn row_f_ratio(
         item.2 -= mv + p * (item.0 - mx) + q * (item.1 - my);
     }
     let count = 2 * period.ceil() as usize + 2;
-    let mut best = 0.0f64;
+    let (mut best, mut amplitude, mut spread) = (0.0f64, 0.0f64, 0.0f64);
     for o in 0..ROW_ORIENTATIONS {
         let theta = own + std::f64::consts::PI * o as f64 / ROW_ORIENTATIONS as f64;
         let (nx, ny) = (-theta.sin(), theta.cos());
@@ -293,26 +307,99 @@ fn row_f_ratio(
         let within = within / (pixels - used) as f64;
         let between = sum_squared_means / used as f64 - (sum_means / used as f64).powi(2);
         let per_row = pixels as f64 / used as f64;
-        best = best.max(between / (within / per_row + 1.0 / 12.0));
+        let noise = within / per_row + 1.0 / 12.0;
+        let ratio = between / noise;
+        if ratio > best {
+            best = ratio;
+            amplitude = (between - noise).max(0.0).sqrt();
+            spread = within.sqrt();
+        }
     }
-    best as f32
+    BlockEvidence {
+        f_ratio: best as f32,
+        mean: mv as f32,
+        amplitude: amplitude as f32,
+        noise: spread as f32,
+    }
 }
 
-/// The blocks of the print that show no ridges: where [`ridge_evidence`] is below `level`, in
-/// areas of at least 3 x 3 such blocks (an opening; outside the print counts as such, so that a
-/// blank rim is found too). None when `level` is 0.
-pub(crate) fn blank_blocks(segmentation: &Segmentation, evidence: &[f32], level: f64) -> Vec<bool> {
+/// The least blank area kept out of the print, in ridge periods squared (a square two periods a
+/// side): a lone block of low evidence is chance.
+const BLANK_AREA_PERIODS2: f64 = 4.0;
+
+/// The blocks of the print that show no ridges (docs/fingerprints.md, "Ridges through a solid
+/// wet area: the smear's own signature"). A block whose 3 x 3 neighbourhood is all print is a
+/// seed where [`ridge_evidence`]'s F ratio is below `level` and its window's mean sits off the
+/// print's middle gray on the ridges' side (darker, for `dark_ridges`) by at least `off_middle`
+/// of the ridges' half swing and by more than its own noise: a wet smear is as dark as the
+/// ridges, while faint ridges, however noisy, average to the middle gray. The print's middle
+/// gray is the median of its blocks' means, the half swing the median of their amplitudes times
+/// √2 (a sinusoid's peak over its standard deviation). A seed also takes its neighbours as far
+/// off the middle on that side: a block at the edge of a smear sees the ridges around it through
+/// its window, but its mean is still the smear's. That is the side where the filter invents
+/// ridges the gray image then confirms. Areas smaller than [`BLANK_AREA_PERIODS2`] periods
+/// squared (`period`, the print's median) stay print. None when `level` is 0.
+pub(crate) fn blank_blocks(
+    segmentation: &Segmentation,
+    evidence: &[BlockEvidence],
+    level: f64,
+    off_middle: f64,
+    period: f64,
+    dark_ridges: bool,
+) -> Vec<bool> {
     let grid = segmentation.grid;
     let (cols, rows) = (grid.cols as usize, grid.rows as usize);
-    if level <= 0.0 {
+    if level <= 0.0 || evidence.len() != grid.len() {
         return vec![false; grid.len()];
     }
-    let low: Vec<bool> = (0..grid.len())
-        .map(|b| !segmentation.inside[b] || f64::from(evidence[b]) < level)
+    let inside = |b: usize| segmentation.inside[b];
+    let median_of = |value: fn(&BlockEvidence) -> f32| {
+        let mut values: Vec<f32> = (0..grid.len())
+            .filter(|&b| inside(b))
+            .map(|b| value(&evidence[b]))
+            .collect();
+        f64::from(upper_median_by(&mut values, f32::total_cmp).unwrap_or(0.0))
+    };
+    let middle = median_of(|e| e.mean);
+    let swing = std::f64::consts::SQRT_2 * median_of(|e| e.amplitude);
+    // Which side of the middle gray a block's window sits on, when it is off it: -1 dark, 1
+    // light, 0 near the middle (or outside the print).
+    let side = |b: usize| {
+        let d = f64::from(evidence[b].mean) - middle;
+        if !inside(b) || d.abs() < off_middle * swing || d.abs() < f64::from(evidence[b].noise) {
+            0
+        } else if d < 0.0 {
+            -1
+        } else {
+            1
+        }
+    };
+    let ridges_side = if dark_ridges { -1 } else { 1 };
+    let neighbours = |b: usize| {
+        let (i, j) = (b % cols, b / cols);
+        (j.saturating_sub(1)..(j + 2).min(rows))
+            .flat_map(move |jj| (i.saturating_sub(1)..(i + 2).min(cols)).map(move |ii| (ii, jj)))
+    };
+    // Not at the print's rim, where the windows reach the background beyond the last ridges
+    // (a light seed there took faint ridges along a partial print's cut).
+    let interior = |b: usize| {
+        let (i, j) = (b % cols, b / cols);
+        i > 0
+            && j > 0
+            && i + 1 < cols
+            && j + 1 < rows
+            && neighbours(b).all(|(ii, jj)| inside(grid.index(ii, jj)))
+    };
+    let seed =
+        |b: usize| side(b) == ridges_side && f64::from(evidence[b].f_ratio) < level && interior(b);
+    let blank: Vec<bool> = (0..grid.len())
+        .map(|b| side(b) == ridges_side && neighbours(b).any(|(ii, jj)| seed(grid.index(ii, jj))))
         .collect();
-    let opened = morph3(&morph3(&low, cols, rows, false), cols, rows, true);
+    let (label, sizes) = components(&blank, cols, rows, true);
+    let block_area = f64::from(grid.block * grid.block);
+    let least = BLANK_AREA_PERIODS2 * period * period;
     (0..grid.len())
-        .map(|b| segmentation.inside[b] && opened[b])
+        .map(|b| blank[b] && sizes[label[b]] as f64 * block_area >= least)
         .collect()
 }
 
@@ -563,7 +650,7 @@ mod tests {
                 height: size,
                 values,
             };
-            ridge_evidence(&plane, &s, &field, &periods)[middle]
+            ridge_evidence(&plane, &s, &field, &periods)[middle].f_ratio
         };
         let (clear, faint, faint_noisy, flat, noisy) = (
             evidence(ridges.values.clone()),
@@ -576,6 +663,64 @@ mod tests {
         assert!(faint_noisy > 5.0, "{faint_noisy}");
         assert!(flat < 0.01, "{flat}");
         assert!((0.5..3.0).contains(&noisy), "{noisy}");
+    }
+
+    /// A dark flat core takes its dark rim when the ridges are dark, and is print when they are
+    /// light; a lone flat block, a faint patch at the middle gray and a dark ridged block stay
+    /// print.
+    #[test]
+    fn blank_blocks_are_flat_and_off_the_middle_gray() {
+        let grid = BlockGrid::new(96, 96, 8);
+        let (s, _, _) = crate::fingerprint::tests::uniform_print(grid, 0.0, 8.0);
+        let ridges = BlockEvidence {
+            f_ratio: 100.0,
+            mean: 128.0,
+            amplitude: 50.0,
+            noise: 10.0,
+        };
+        let mut evidence = vec![ridges; grid.len()];
+        let at = |i: usize, j: usize| grid.index(i, j);
+        // The swing is 50 √2 ≈ 71: a smear at 28 is 1.4 of it below the middle.
+        let smear = BlockEvidence {
+            f_ratio: 1.0,
+            mean: 28.0,
+            amplitude: 0.0,
+            noise: 10.0,
+        };
+        for j in 4..7 {
+            for i in 4..7 {
+                evidence[at(i, j)] = smear;
+            }
+        }
+        // The smear's rim: dark, but its windows see the ridges around.
+        for i in 3..8 {
+            for j in [3, 7] {
+                evidence[at(i, j)].mean = 60.0;
+                evidence[at(j, i)].mean = 60.0;
+            }
+        }
+        evidence[at(1, 10)] = smear;
+        for (i, j) in [(9, 1), (10, 1), (9, 2), (10, 2)] {
+            evidence[at(i, j)] = BlockEvidence {
+                f_ratio: 1.5,
+                mean: 135.0,
+                amplitude: 3.0,
+                noise: 10.0,
+            };
+        }
+        evidence[at(10, 10)].mean = 28.0;
+        let dark = blank_blocks(&s, &evidence, 2.0, 0.5, 8.0, true);
+        let light = blank_blocks(&s, &evidence, 2.0, 0.5, 8.0, false);
+        for j in 0..12 {
+            for i in 0..12 {
+                let rim = (3..8).contains(&i) && (3..8).contains(&j);
+                assert_eq!(dark[at(i, j)], rim, "dark ridges, block {i}, {j}");
+                assert!(!light[at(i, j)], "light ridges, block {i}, {j}");
+            }
+        }
+        assert!(blank_blocks(&s, &evidence, 0.0, 0.5, 8.0, true)
+            .iter()
+            .all(|&b| !b));
     }
 
     #[test]

@@ -140,36 +140,42 @@ fn thick_probes(ink: &[bool], width: usize, height: usize) -> Vec<usize> {
     let probed: Vec<usize> = (0..height).step_by(PROBE_STEP).collect();
     let mut found: Vec<usize> = probed
         .into_par_iter()
-        .flat_map_iter(|y| {
-            let mut found = Vec::new();
-            let row = &ink[y * width..(y + 1) * width];
-            let mut x = 0;
-            while x < width {
-                if !row[x] {
-                    x += 1;
-                    continue;
-                }
-                let start = x;
-                while x < width && row[x] {
-                    x += 1;
-                }
-                if x - start < need {
-                    continue;
-                }
-                // A long horizontal run: probe the vertical runs along it.
-                for px in (start.next_multiple_of(PROBE_STEP)..x).step_by(PROBE_STEP) {
-                    let up = (0..y).rev().take_while(|&yy| ink[yy * width + px]).count();
-                    let down = (y..height).take_while(|&yy| ink[yy * width + px]).count();
-                    if up + down >= need {
-                        found.push(y * width + px);
-                    }
-                }
-            }
-            found
-        })
+        .flat_map_iter(|y| row_probes(ink, width, height, y))
         .collect();
     if found.len() < MIN_THICK_PROBES {
         found.clear();
+    }
+    found
+}
+
+/// The probes of row `y` ([`thick_probes`]): along each horizontal run of at least
+/// [`MIN_GROUND_CHORD`] px, every [`PROBE_STEP`]-th column whose vertical run through the row is
+/// as long.
+fn row_probes(ink: &[bool], width: usize, height: usize, y: usize) -> Vec<usize> {
+    let need = MIN_GROUND_CHORD as usize;
+    let mut found = Vec::new();
+    let row = &ink[y * width..(y + 1) * width];
+    let mut x = 0;
+    while x < width {
+        if !row[x] {
+            x += 1;
+            continue;
+        }
+        let start = x;
+        while x < width && row[x] {
+            x += 1;
+        }
+        if x - start < need {
+            continue;
+        }
+        // A long horizontal run: probe the vertical runs along it.
+        for px in (start.next_multiple_of(PROBE_STEP)..x).step_by(PROBE_STEP) {
+            let up = (0..y).rev().take_while(|&yy| ink[yy * width + px]).count();
+            let down = (y..height).take_while(|&yy| ink[yy * width + px]).count();
+            if up + down >= need {
+                found.push(y * width + px);
+            }
+        }
     }
     found
 }
@@ -284,40 +290,17 @@ fn reverse_ground(ink: &mut [bool], pixels: &[usize], width: usize, region: &Reg
 mod tests {
     use super::*;
 
-    /// [`thick_probes`] as it was written before its rows ran in parallel: the reference.
+    /// [`thick_probes`] with its rows in one pass, in order: the reference.
     fn thick_probes_in_one_pass(ink: &[bool], width: usize, height: usize) -> Vec<usize> {
-        let need = MIN_GROUND_CHORD as usize;
-        let mut found = Vec::new();
-        if width < need || height < need {
-            return found;
+        if width < MIN_GROUND_CHORD as usize || height < MIN_GROUND_CHORD as usize {
+            return Vec::new();
         }
-        for y in (0..height).step_by(PROBE_STEP) {
-            let row = &ink[y * width..(y + 1) * width];
-            let mut x = 0;
-            while x < width {
-                if !row[x] {
-                    x += 1;
-                    continue;
-                }
-                let start = x;
-                while x < width && row[x] {
-                    x += 1;
-                }
-                if x - start < need {
-                    continue;
-                }
-                // A long horizontal run: probe the vertical runs along it.
-                for px in (start.next_multiple_of(PROBE_STEP)..x).step_by(PROBE_STEP) {
-                    let up = (0..y).rev().take_while(|&yy| ink[yy * width + px]).count();
-                    let down = (y..height).take_while(|&yy| ink[yy * width + px]).count();
-                    if up + down >= need {
-                        found.push(y * width + px);
-                    }
-                }
-            }
-        }
+        let found: Vec<usize> = (0..height)
+            .step_by(PROBE_STEP)
+            .flat_map(|y| row_probes(ink, width, height, y))
+            .collect();
         if found.len() < MIN_THICK_PROBES {
-            found.clear();
+            return Vec::new();
         }
         found
     }

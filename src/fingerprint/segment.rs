@@ -224,6 +224,8 @@ struct EvidenceWindow {
     vv: Vec<f64>,
     /// Each pixel's row at one orientation.
     row_of: Vec<u64>,
+    /// The window's lines: offset `dy` and the range of their pixels in the columns above.
+    lines: Vec<(f64, std::ops::Range<usize>)>,
     /// Count, sum and sum of squares per row.
     rows: Vec<(usize, f64, f64)>,
 }
@@ -255,14 +257,17 @@ fn row_f_ratio(
         v,
         vv,
         row_of,
+        lines,
         rows,
     } = window;
     dx.clear();
     dy.clear();
     v.clear();
+    lines.clear();
     for y in (cy - r).max(0)..=(cy + r).min(h - 1) {
         let line = &gray.values[(y * w) as usize..((y + 1) * w) as usize];
         let ddy = y as f64 + 0.5 - c[1];
+        let start = v.len();
         for x in (cx - r).max(0)..=(cx + r).min(w - 1) {
             let ddx = x as f64 + 0.5 - c[0];
             if ddx * ddx + ddy * ddy <= reach * reach {
@@ -270,6 +275,10 @@ fn row_f_ratio(
                 dy.push(ddy);
                 v.push(f64::from(line[x as usize]));
             }
+        }
+        // A line of the disc is one run of pixels.
+        if v.len() > start {
+            lines.push((ddy, start..v.len()));
         }
     }
     if v.len() < 8 {
@@ -314,20 +323,32 @@ fn row_f_ratio(
         let (nx, ny) = (-theta.sin(), theta.cos());
         // Each pixel's row in vector lanes, `count` (a row of its own, left out) where the
         // pixel is off the rectangle; then the rows' sums, pixel by pixel in the window's order.
-        for ((row, &dx), &dy) in row_of.iter_mut().zip(dx.iter()).zip(dy.iter()) {
-            // `u` across the ridges, `t` along them.
-            let (u, t) = (dx * nx + dy * ny, dx * ny - dy * nx);
-            let kept = u.abs() <= period && t.abs() <= along;
-            // `u + T` is in [0, 2T] for a pixel kept: its floor is at most 2⌈T⌉ < `count`.
-            *row = whole_small(floor_small(if kept { u + period } else { off }));
-        }
+        // Only the part of each line that can reach the rectangle is looked at.
         rows.clear();
         rows.resize(count + 1, (0, 0.0, 0.0));
-        for (&row, (&v, &vv)) in row_of.iter().zip(v.iter().zip(vv.iter())) {
-            let row = &mut rows[row as usize];
-            row.0 += 1;
-            row.1 += v;
-            row.2 += vv;
+        for (line_dy, line) in lines.iter() {
+            let span = line_span(dx[line.start], line.len(), *line_dy, nx, ny, period, along);
+            let span = line.start + span.start..line.start + span.end;
+            for ((row, &dx), &dy) in row_of[span.clone()]
+                .iter_mut()
+                .zip(&dx[span.clone()])
+                .zip(&dy[span.clone()])
+            {
+                // `u` across the ridges, `t` along them.
+                let (u, t) = (dx * nx + dy * ny, dx * ny - dy * nx);
+                let kept = u.abs() <= period && t.abs() <= along;
+                // `u + T` is in [0, 2T] for a pixel kept: its floor is at most 2⌈T⌉ < `count`.
+                *row = whole_small(floor_small(if kept { u + period } else { off }));
+            }
+            for (&row, (&v, &vv)) in row_of[span.clone()]
+                .iter()
+                .zip(v[span.clone()].iter().zip(&vv[span]))
+            {
+                let row = &mut rows[row as usize];
+                row.0 += 1;
+                row.1 += v;
+                row.2 += vv;
+            }
         }
         let (mut within, mut pixels, mut used) = (0.0, 0usize, 0usize);
         let (mut sum_means, mut sum_squared_means) = (0.0, 0.0);
@@ -363,6 +384,45 @@ fn row_f_ratio(
         amplitude: amplitude as f32,
         noise: spread as f32,
     }
+}
+
+/// Below this slope a bound of [`line_span`] does not narrow the line.
+const SPAN_MIN_SLOPE: f64 = 0.01;
+/// How far [`line_span`]'s bounds are widened, px: far above the rounding of `u` and `t`
+/// (about 10⁻¹⁴ px, 10⁻¹² px once divided by the least slope), so that no pixel the exact
+/// test keeps is left out.
+const SPAN_MARGIN: f64 = 1e-6;
+
+/// The pixels of a window's line (`len` pixels one apart from the offset `dx0`, at the offset
+/// `dy`) that can lie in the rectangle `|u| ≤ T`, `|t| ≤ L` of the normal `(nx, ny)`, as a range
+/// of the line's indices: each bound solved for `dx` and widened by [`SPAN_MARGIN`], so that the
+/// range holds every pixel the exact test keeps (it may hold a few more, which the test drops).
+fn line_span(
+    dx0: f64,
+    len: usize,
+    dy: f64,
+    nx: f64,
+    ny: f64,
+    period: f64,
+    along: f64,
+) -> std::ops::Range<usize> {
+    let (mut lo, mut hi) = (f64::NEG_INFINITY, f64::INFINITY);
+    // `|slope dx + offset| ≤ half`, for a slope far enough from 0.
+    let mut narrow = |slope: f64, offset: f64, half: f64| {
+        if slope.abs() >= SPAN_MIN_SLOPE {
+            let (a, b) = ((-half - offset) / slope, (half - offset) / slope);
+            lo = lo.max(a.min(b));
+            hi = hi.min(a.max(b));
+        }
+    };
+    narrow(nx, dy * ny, period);
+    narrow(ny, -dy * nx, along);
+    // In the line's indices, clamped to [-1, len + 1] before the conversions (for which the
+    // floor of a value of at least -1 is its truncation plus 1, less 1).
+    let bound = |x: f64| ((x - dx0).clamp(-1.0, len as f64 + 1.0) + 1.0) as i64 - 1;
+    let first = bound(lo - SPAN_MARGIN).max(0) as usize;
+    let end = (bound(hi + SPAN_MARGIN) + 1).clamp(0, len as i64) as usize;
+    first.min(end)..end
 }
 
 #[cfg(test)]
@@ -749,7 +809,12 @@ mod tests {
                 (f64::from(height) + 20.0) * uniform() - 10.0,
             ];
             let c = if case % 4 == 0 { c.map(f64::round) } else { c };
-            let own = 4.0 * uniform() - 2.0;
+            // Orientations whose rows' normals lie on the axes (slopes of exactly 0) and any other.
+            let own = match case % 5 {
+                0 => 0.0,
+                1 => std::f64::consts::FRAC_PI_2,
+                _ => 4.0 * uniform() - 2.0,
+            };
             let new = row_f_ratio(&plane, c, own, period, &mut window);
             let old = row_f_ratio_reference(&plane, c, own, period, &mut tuples, &mut rows);
             let bits =

@@ -241,7 +241,7 @@ const TWO_52: f64 = 4_503_599_627_370_496.0;
 /// baseline x86-64 lack for `f64`): `v + 2⁵² - 2⁵²` is `v` rounded to a whole number, one less
 /// when that rounded up. Exact, as every step is (whole numbers below 2⁵³).
 #[inline]
-fn floor_small(v: f64) -> f64 {
+pub(super) fn floor_small(v: f64) -> f64 {
     let rounded = v + TWO_52 - TWO_52;
     // One less where it rounded up (less 0 otherwise: the same value), a mask and a difference
     // in vector lanes rather than a choice between two.
@@ -251,7 +251,7 @@ fn floor_small(v: f64) -> f64 {
 /// The whole number `v` (in `[0, 2⁵²)`) as an integer, from the bits of `v + 2⁵²`, whose
 /// mantissa it is.
 #[inline]
-fn whole_small(v: f64) -> u64 {
+pub(super) fn whole_small(v: f64) -> u64 {
     (v + TWO_52).to_bits() - TWO_52.to_bits()
 }
 

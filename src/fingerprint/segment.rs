@@ -17,7 +17,9 @@
 //!
 //! In: the gradients (then the enhanced image); out: [`Segmentation`].
 
-use super::fields::{BlockGrid, OrientationField, Plane, RidgePeriods, Segmentation};
+use super::fields::{
+    floor_small, whole_small, BlockGrid, OrientationField, Plane, RidgePeriods, Segmentation,
+};
 use super::math::components;
 use crate::mask::morph3;
 use crate::median::upper_median_by;
@@ -183,18 +185,15 @@ pub(crate) fn ridge_evidence(
     let cols = grid.cols as usize;
     (0..grid.len())
         .into_par_iter()
-        .map_init(
-            || (Vec::new(), Vec::new()),
-            |(window, rows), b| {
-                if !segmentation.inside[b] {
-                    return BlockEvidence::default();
-                }
-                let (i, j) = (b % cols, b / cols);
-                let own = f64::from(field.angle[b]);
-                let period = f64::from(periods.period[b]).max(2.0);
-                row_f_ratio(gray, grid.center(i, j), own, period, window, rows)
-            },
-        )
+        .map_init(EvidenceWindow::default, |window, b| {
+            if !segmentation.inside[b] {
+                return BlockEvidence::default();
+            }
+            let (i, j) = (b % cols, b / cols);
+            let own = f64::from(field.angle[b]);
+            let period = f64::from(periods.period[b]).max(2.0);
+            row_f_ratio(gray, grid.center(i, j), own, period, window)
+        })
         .collect()
 }
 
@@ -212,10 +211,228 @@ pub(crate) struct BlockEvidence {
     pub noise: f32,
 }
 
+/// The window of one block in [`row_f_ratio`], a column per quantity (so that the steps over its
+/// pixels that are independent go in vector lanes), kept from one block to the next.
+#[derive(Default)]
+struct EvidenceWindow {
+    /// Offsets from the block's centre, px.
+    dx: Vec<f64>,
+    dy: Vec<f64>,
+    /// Gray levels, then (once the plane is fitted) less the plane.
+    v: Vec<f64>,
+    /// `v * v`, the same for every orientation.
+    vv: Vec<f64>,
+    /// Each pixel's row at one orientation.
+    row_of: Vec<u64>,
+    /// The window's lines: offset `dy` and the range of their pixels in the columns above.
+    lines: Vec<(f64, std::ops::Range<usize>)>,
+    /// Count, sum and sum of squares per row.
+    rows: Vec<(usize, f64, f64)>,
+}
+
+/// [`ridge_evidence`] of the rectangle around `c` (see [`ROW_LENGTH`]), its rows starting at the
+/// orientation `own`; `window` is scratch space.
+///
+/// The same operations in the same order as the straightforward loop (every sum over the pixels
+/// in the window's row-major order), so the same bits: the row of a pixel is the floor of the
+/// non-negative `u + T` of a pixel kept (`|u| ≤ T`) found without an integer conversion (a
+/// library call for `floor` on baseline x86-64, and a long one for `as usize`), in vector lanes
+/// over the pixels, and `v²` is worked out once rather than once per orientation.
+fn row_f_ratio(
+    gray: &Plane,
+    c: [f64; 2],
+    own: f64,
+    period: f64,
+    window: &mut EvidenceWindow,
+) -> BlockEvidence {
+    let (w, h) = (i64::from(gray.width), i64::from(gray.height));
+    // The disc that holds the square at any orientation.
+    let along = ROW_LENGTH * period;
+    let reach = (period * period + along * along).sqrt();
+    let r = reach.ceil() as i64;
+    let (cx, cy) = (c[0].floor() as i64, c[1].floor() as i64);
+    let EvidenceWindow {
+        dx,
+        dy,
+        v,
+        vv,
+        row_of,
+        lines,
+        rows,
+    } = window;
+    dx.clear();
+    dy.clear();
+    v.clear();
+    lines.clear();
+    for y in (cy - r).max(0)..=(cy + r).min(h - 1) {
+        let line = &gray.values[(y * w) as usize..((y + 1) * w) as usize];
+        let ddy = y as f64 + 0.5 - c[1];
+        let start = v.len();
+        for x in (cx - r).max(0)..=(cx + r).min(w - 1) {
+            let ddx = x as f64 + 0.5 - c[0];
+            if ddx * ddx + ddy * ddy <= reach * reach {
+                dx.push(ddx);
+                dy.push(ddy);
+                v.push(f64::from(line[x as usize]));
+            }
+        }
+        // A line of the disc is one run of pixels.
+        if v.len() > start {
+            lines.push((ddy, start..v.len()));
+        }
+    }
+    if v.len() < 8 {
+        return BlockEvidence::default();
+    }
+    let n = v.len() as f64;
+    // The best plane v ≈ m + p dx + q dy by least squares, taken off.
+    let (mut sx, mut sy, mut sv) = (0.0, 0.0, 0.0);
+    for ((&dx, &dy), &v) in dx.iter().zip(dy.iter()).zip(v.iter()) {
+        sx += dx;
+        sy += dy;
+        sv += v;
+    }
+    let (mx, my, mv) = (sx / n, sy / n, sv / n);
+    let (mut sxx, mut sxy, mut syy, mut sxv, mut syv) = (0.0, 0.0, 0.0, 0.0, 0.0);
+    for ((&dx, &dy), &v) in dx.iter().zip(dy.iter()).zip(v.iter()) {
+        let (x, y, v) = (dx - mx, dy - my, v - mv);
+        sxx += x * x;
+        sxy += x * y;
+        syy += y * y;
+        sxv += x * v;
+        syv += y * v;
+    }
+    let det = sxx * syy - sxy * sxy;
+    let (p, q) = if det > 0.0 {
+        ((syy * sxv - sxy * syv) / det, (sxx * syv - sxy * sxv) / det)
+    } else {
+        (0.0, 0.0)
+    };
+    for ((v, &dx), &dy) in v.iter_mut().zip(dx.iter()).zip(dy.iter()) {
+        *v -= mv + p * (dx - mx) + q * (dy - my);
+    }
+    vv.clear();
+    vv.extend(v.iter().map(|&v| v * v));
+    let count = 2 * period.ceil() as usize + 2;
+    let off = count as f64;
+    row_of.clear();
+    row_of.resize(v.len(), 0);
+    let (mut best, mut amplitude, mut spread) = (0.0f64, 0.0f64, 0.0f64);
+    for o in 0..ROW_ORIENTATIONS {
+        let theta = own + std::f64::consts::PI * o as f64 / ROW_ORIENTATIONS as f64;
+        let (nx, ny) = (-theta.sin(), theta.cos());
+        // Each pixel's row in vector lanes, `count` (a row of its own, left out) where the
+        // pixel is off the rectangle; then the rows' sums, pixel by pixel in the window's order.
+        // Only the part of each line that can reach the rectangle is looked at.
+        rows.clear();
+        rows.resize(count + 1, (0, 0.0, 0.0));
+        for (line_dy, line) in lines.iter() {
+            let span = line_span(dx[line.start], line.len(), *line_dy, nx, ny, period, along);
+            let span = line.start + span.start..line.start + span.end;
+            for ((row, &dx), &dy) in row_of[span.clone()]
+                .iter_mut()
+                .zip(&dx[span.clone()])
+                .zip(&dy[span.clone()])
+            {
+                // `u` across the ridges, `t` along them.
+                let (u, t) = (dx * nx + dy * ny, dx * ny - dy * nx);
+                let kept = u.abs() <= period && t.abs() <= along;
+                // `u + T` is in [0, 2T] for a pixel kept: its floor is at most 2⌈T⌉ < `count`.
+                *row = whole_small(floor_small(if kept { u + period } else { off }));
+            }
+            for (&row, (&v, &vv)) in row_of[span.clone()]
+                .iter()
+                .zip(v[span.clone()].iter().zip(&vv[span]))
+            {
+                let row = &mut rows[row as usize];
+                row.0 += 1;
+                row.1 += v;
+                row.2 += vv;
+            }
+        }
+        let (mut within, mut pixels, mut used) = (0.0, 0usize, 0usize);
+        let (mut sum_means, mut sum_squared_means) = (0.0, 0.0);
+        for &(k, sum, squares) in &rows[..count] {
+            // A row needs a few pixels for its mean and its spread.
+            if k < 3 {
+                continue;
+            }
+            let mean = sum / k as f64;
+            within += squares - sum * mean;
+            pixels += k;
+            used += 1;
+            sum_means += mean;
+            sum_squared_means += mean * mean;
+        }
+        if used < 4 {
+            continue;
+        }
+        let within = within / (pixels - used) as f64;
+        let between = sum_squared_means / used as f64 - (sum_means / used as f64).powi(2);
+        let per_row = pixels as f64 / used as f64;
+        let noise = within / per_row + 1.0 / 12.0;
+        let ratio = between / noise;
+        if ratio > best {
+            best = ratio;
+            amplitude = (between - noise).max(0.0).sqrt();
+            spread = within.sqrt();
+        }
+    }
+    BlockEvidence {
+        f_ratio: best as f32,
+        mean: mv as f32,
+        amplitude: amplitude as f32,
+        noise: spread as f32,
+    }
+}
+
+/// Below this slope a bound of [`line_span`] does not narrow the line.
+const SPAN_MIN_SLOPE: f64 = 0.01;
+/// How far [`line_span`]'s bounds are widened, px: far above the rounding of `u` and `t`
+/// (about 10⁻¹⁴ px, 10⁻¹² px once divided by the least slope), so that no pixel the exact
+/// test keeps is left out.
+const SPAN_MARGIN: f64 = 1e-6;
+
+/// The pixels of a window's line (`len` pixels one apart from the offset `dx0`, at the offset
+/// `dy`) that can lie in the rectangle `|u| ≤ T`, `|t| ≤ L` of the normal `(nx, ny)`, as a range
+/// of the line's indices: each bound solved for `dx` and widened by [`SPAN_MARGIN`], so that the
+/// range holds every pixel the exact test keeps (it may hold a few more, which the test drops).
+fn line_span(
+    dx0: f64,
+    len: usize,
+    dy: f64,
+    nx: f64,
+    ny: f64,
+    period: f64,
+    along: f64,
+) -> std::ops::Range<usize> {
+    let (mut lo, mut hi) = (f64::NEG_INFINITY, f64::INFINITY);
+    // `|slope dx + offset| ≤ half`, for a slope far enough from 0.
+    let mut narrow = |slope: f64, offset: f64, half: f64| {
+        if slope.abs() >= SPAN_MIN_SLOPE {
+            let (a, b) = ((-half - offset) / slope, (half - offset) / slope);
+            lo = lo.max(a.min(b));
+            hi = hi.min(a.max(b));
+        }
+    };
+    narrow(nx, dy * ny, period);
+    narrow(ny, -dy * nx, along);
+    // In the line's indices, clamped to [-1, len + 1] before the conversions (for which the
+    // floor of a value of at least -1 is its truncation plus 1, less 1).
+    let bound = |x: f64| ((x - dx0).clamp(-1.0, len as f64 + 1.0) + 1.0) as i64 - 1;
+    let first = bound(lo - SPAN_MARGIN).max(0) as usize;
+    let end = (bound(hi + SPAN_MARGIN) + 1).clamp(0, len as i64) as usize;
+    first.min(end)..end
+}
+
+#[cfg(test)]
+/// [`row_f_ratio`] as it was first written (pixels as tuples, the row index by `floor`): the
+/// reference its rewrite is tested against, bit for bit.
+///
 /// [`ridge_evidence`] of the rectangle around `c` (see [`ROW_LENGTH`]), its rows starting at the
 /// orientation `own`; `window` (offsets and gray levels less the plane) and `rows` (count, sum
 /// and sum of squares per row) are scratch space.
-fn row_f_ratio(
+fn row_f_ratio_reference(
     gray: &Plane,
     c: [f64; 2],
     own: f64,
@@ -556,6 +773,53 @@ mod tests {
                     "kind {kind}, k {k}"
                 );
             }
+        }
+    }
+
+    /// The rewritten rows' F ratio gives the bits of the straightforward one: random gray
+    /// levels (smooth ridges, noise, flat), periods from 2 to 20 px, any orientation, centres
+    /// inside, at the edges and past them.
+    #[test]
+    fn the_rows_f_ratio_is_the_reference_bit_for_bit() {
+        let mut lcg = crate::synth::lcg(35u64);
+        let mut uniform = move || (lcg() >> 11) as f64 / (1u64 << 53) as f64;
+        let (width, height) = (61u32, 47u32);
+        let mut window = EvidenceWindow::default();
+        let (mut tuples, mut rows) = (Vec::new(), Vec::new());
+        for case in 0..300 {
+            let (period, theta) = (2.0 + 18.0 * uniform(), 7.0 * uniform() - 3.5);
+            let values: Vec<f32> = (0..width * height)
+                .map(|k| {
+                    let (x, y) = (f64::from(k % width), f64::from(k / width));
+                    let ridge = ((x * theta.cos() + y * theta.sin()) / period * 6.3).sin();
+                    match case % 3 {
+                        0 => (128.0 + 60.0 * ridge + 20.0 * uniform()).round() as f32,
+                        1 => (255.0 * uniform()) as f32,
+                        _ => 77.0,
+                    }
+                })
+                .collect();
+            let plane = Plane {
+                width,
+                height,
+                values,
+            };
+            let c = [
+                (f64::from(width) + 20.0) * uniform() - 10.0,
+                (f64::from(height) + 20.0) * uniform() - 10.0,
+            ];
+            let c = if case % 4 == 0 { c.map(f64::round) } else { c };
+            // Orientations whose rows' normals lie on the axes (slopes of exactly 0) and any other.
+            let own = match case % 5 {
+                0 => 0.0,
+                1 => std::f64::consts::FRAC_PI_2,
+                _ => 4.0 * uniform() - 2.0,
+            };
+            let new = row_f_ratio(&plane, c, own, period, &mut window);
+            let old = row_f_ratio_reference(&plane, c, own, period, &mut tuples, &mut rows);
+            let bits =
+                |e: BlockEvidence| [e.f_ratio, e.mean, e.amplitude, e.noise].map(f32::to_bits);
+            assert_eq!(bits(new), bits(old), "case {case}: {new:?} vs {old:?}");
         }
     }
 

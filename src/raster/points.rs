@@ -413,23 +413,36 @@ fn eight_neighbours_of_runs(
         let above = y.checked_sub(1).map(|v| &index[v * width..(v + 1) * width]);
         let below = (y + 1 < height).then(|| &index[(y + 1) * width..(y + 2) * width]);
         for x in a..b {
-            let (u0, u1) = (x.saturating_sub(1), (x + 1).min(width - 1));
             let mut n = 0;
             let mut take = |cell: u32| {
                 cells[n] = cell;
                 n += usize::from(cell != Grid::NONE);
             };
-            if let Some(above) = above {
-                above[u0..=u1].iter().for_each(|&cell| take(cell));
-            }
-            if x > 0 {
+            if x > 0 && x + 1 < width {
+                // Inside the window's columns: three cells above and below, one on each side.
+                let three = |line: &[u32]| -> [u32; 3] { [line[x - 1], line[x], line[x + 1]] };
+                if let Some(above) = above {
+                    three(above).into_iter().for_each(&mut take);
+                }
                 take(row[x - 1]);
-            }
-            if x + 1 < width {
                 take(row[x + 1]);
-            }
-            if let Some(below) = below {
-                below[u0..=u1].iter().for_each(|&cell| take(cell));
+                if let Some(below) = below {
+                    three(below).into_iter().for_each(&mut take);
+                }
+            } else {
+                let (u0, u1) = (x.saturating_sub(1), (x + 1).min(width - 1));
+                if let Some(above) = above {
+                    above[u0..=u1].iter().for_each(|&cell| take(cell));
+                }
+                if x > 0 {
+                    take(row[x - 1]);
+                }
+                if x + 1 < width {
+                    take(row[x + 1]);
+                }
+                if let Some(below) = below {
+                    below[u0..=u1].iter().for_each(|&cell| take(cell));
+                }
             }
             neighbors.extend_from_slice(&cells[..n]);
             // The CSR arrays index with u32 (`PointSet`).

@@ -274,9 +274,7 @@ pub fn to_string_with(
             out.push_str(r#"" stroke-width=""#);
             push_number(&mut out, line, DECIMALS);
             out.push_str("\" stroke-linejoin=\"round\" stroke-linecap=\"round\">\n");
-            for (e, edge) in graph.edges.iter().enumerate() {
-                write_line(&mut out, &edge.points, curves_of(features, e), None);
-            }
+            write_edge_lines(&mut out, graph, features);
         }
     }
     out.push_str("</g>\n");
@@ -315,6 +313,41 @@ pub fn to_string_with(
     }
     out.push_str("</svg>\n");
     out
+}
+
+/// Edges per block of [`write_edge_lines`].
+const EDGE_BLOCK: usize = 1024;
+
+/// Each edge's centerline ([`write_line`]), one after the other in edge order. A page has tens of
+/// thousands of edges and writing them otherwise ran alone on one core after the trace
+/// (docs/performance.md, "Session of 2026-12-05, late"): blocks of edges are written in parallel,
+/// each into its own string, and joined in order, so the text is the same whatever the thread
+/// count.
+fn write_edge_lines(out: &mut String, graph: &StrokeGraph, features: &Features) {
+    use rayon::prelude::*;
+    let write_block = |first: usize, edges: &[crate::stroke_graph::Edge], text: &mut String| {
+        for (e, edge) in (first..).zip(edges) {
+            write_line(text, &edge.points, curves_of(features, e), None);
+        }
+    };
+    if graph.edges.len() <= EDGE_BLOCK {
+        write_block(0, &graph.edges, out);
+        return;
+    }
+    let blocks: Vec<String> = graph
+        .edges
+        .par_chunks(EDGE_BLOCK)
+        .enumerate()
+        .map(|(b, edges)| {
+            let points: usize = edges.iter().map(|e| e.points.len()).sum();
+            let mut text = String::with_capacity(32 + 14 * points);
+            write_block(b * EDGE_BLOCK, edges, &mut text);
+            text
+        })
+        .collect();
+    for text in blocks {
+        out.push_str(&text);
+    }
 }
 
 /// The curves to draw for line `index`, when there are any.
@@ -552,6 +585,63 @@ pub(crate) fn stroke_color(index: usize) -> String {
 mod tests {
     use super::*;
     use crate::curves::fit_beziers;
+
+    /// The edges written in parallel blocks equal the one loop over them that wrote them before,
+    /// with and without curves, below, at and above a block, on any thread count.
+    #[test]
+    fn edge_lines_in_blocks_equal_the_edge_loop() {
+        let mut lcg = crate::synth::lcg(99);
+        let mut coordinate = move || (lcg() >> 11) as f64 / (1u64 << 53) as f64 * 3000.0 - 5.0;
+        for count in [0, 1, 7, EDGE_BLOCK, EDGE_BLOCK + 1, 3 * EDGE_BLOCK + 17] {
+            let edges: Vec<crate::stroke_graph::Edge> = (0..count)
+                .map(|e| {
+                    let points: Vec<[f64; 2]> = (0..1 + e % 9)
+                        .map(|_| [coordinate(), coordinate()])
+                        .collect();
+                    crate::stroke_graph::Edge {
+                        from: 0,
+                        to: 0,
+                        widths: vec![2.0; points.len()],
+                        directions: vec![[1.0, 0.0]; points.len()],
+                        points,
+                    }
+                })
+                .collect();
+            let graph = StrokeGraph {
+                edges,
+                ..StrokeGraph::default()
+            };
+            // Curves for every third edge (the rest drawn as polylines).
+            let curves: Vec<Vec<CubicBezier>> = graph
+                .edges
+                .iter()
+                .enumerate()
+                .map(|(e, edge)| match e % 3 {
+                    0 => fit_beziers(&edge.points, 0.5, 60.0),
+                    _ => Vec::new(),
+                })
+                .collect();
+            let with_curves = Features {
+                curves: Some(&curves),
+                ..Features::default()
+            };
+            for features in [Features::default(), with_curves] {
+                let mut want = String::new();
+                for (e, edge) in graph.edges.iter().enumerate() {
+                    write_line(&mut want, &edge.points, curves_of(&features, e), None);
+                }
+                for threads in [1, 3] {
+                    let pool = rayon::ThreadPoolBuilder::new()
+                        .num_threads(threads)
+                        .build()
+                        .expect("pool");
+                    let mut got = String::new();
+                    pool.install(|| write_edge_lines(&mut got, &graph, &features));
+                    assert_eq!(got, want, "{count} edges, {threads} threads");
+                }
+            }
+        }
+    }
 
     #[test]
     fn path_data_of_joined_segments_and_of_none() {

@@ -293,11 +293,7 @@ pub(super) fn build_from_runs(
     }
 
     let (offsets, neighbors) = if neighbours {
-        let pixels = runs.iter().flat_map(|run| {
-            let (y, a, b) = local(run);
-            (a..b).map(move |x| (x, y))
-        });
-        eight_neighbours(&index, (width, height), count, pixels)?
+        eight_neighbours_of_runs(&index, (width, height), count, runs.iter().map(local))?
     } else {
         (vec![0u32; count + 1], Vec::new())
     };
@@ -364,7 +360,8 @@ pub(super) fn build_from_runs(
 
 /// The 8-neighbour lists in CSR form of the `count` ink pixels `pixels` (window coordinates, in
 /// point order) of a window whose pixel index is `index`: each list in raster order of the
-/// neighbours (so sorted by point index).
+/// neighbours (so sorted by point index). The reference of [`eight_neighbours_of_runs`].
+#[cfg(test)]
 fn eight_neighbours(
     index: &[u32],
     (width, height): (usize, usize),
@@ -390,6 +387,75 @@ fn eight_neighbours(
             });
         }
         offsets.push(neighbors.len() as u32);
+    }
+    neighbors.shrink_to_fit();
+    Ok((offsets, neighbors))
+}
+
+/// [`eight_neighbours`] of the pixels of `runs` (window coordinates: row, first and end column,
+/// in point order), each list read from the index in the same raster order, without the
+/// per-pixel window bounds and the closure: a pixel's eight cells are gathered into a small
+/// buffer (a cell without ink is written and not counted) and appended at once. The rows above
+/// and below are read only where they exist, the columns beside only inside the window, as
+/// [`for_each_in_window`] clips them. The same lists, bit for bit (tested below).
+fn eight_neighbours_of_runs(
+    index: &[u32],
+    (width, height): (usize, usize),
+    count: usize,
+    runs: impl Iterator<Item = (usize, usize, usize)>,
+) -> Result<(Vec<u32>, Vec<u32>)> {
+    let mut offsets = Vec::with_capacity(count + 1);
+    offsets.push(0u32);
+    let mut neighbors: Vec<u32> = Vec::new();
+    let mut cells = [0u32; 8];
+    for (y, a, b) in runs {
+        let row = &index[y * width..(y + 1) * width];
+        let above = y.checked_sub(1).map(|v| &index[v * width..(v + 1) * width]);
+        let below = (y + 1 < height).then(|| &index[(y + 1) * width..(y + 2) * width]);
+        for x in a..b {
+            let mut n = 0;
+            let mut take = |cell: u32| {
+                cells[n] = cell;
+                n += usize::from(cell != Grid::NONE);
+            };
+            if x > 0 && x + 1 < width {
+                // Inside the window's columns: three cells above and below, one on each side.
+                let three = |line: &[u32]| -> [u32; 3] { [line[x - 1], line[x], line[x + 1]] };
+                if let Some(above) = above {
+                    three(above).into_iter().for_each(&mut take);
+                }
+                take(row[x - 1]);
+                take(row[x + 1]);
+                if let Some(below) = below {
+                    three(below).into_iter().for_each(&mut take);
+                }
+            } else {
+                let (u0, u1) = (x.saturating_sub(1), (x + 1).min(width - 1));
+                if let Some(above) = above {
+                    above[u0..=u1].iter().for_each(|&cell| take(cell));
+                }
+                if x > 0 {
+                    take(row[x - 1]);
+                }
+                if x + 1 < width {
+                    take(row[x + 1]);
+                }
+                if let Some(below) = below {
+                    below[u0..=u1].iter().for_each(|&cell| take(cell));
+                }
+            }
+            neighbors.extend_from_slice(&cells[..n]);
+            // The CSR arrays index with u32 (`PointSet`).
+            if neighbors.len() > u32::MAX as usize {
+                return Err(Error::Limit {
+                    what: "neighbour pairs",
+                    actual: neighbors.len() as u64,
+                    limit: u32::MAX as u64,
+                    field: "limits.max_points",
+                });
+            }
+            offsets.push(neighbors.len() as u32);
+        }
     }
     neighbors.shrink_to_fit();
     Ok((offsets, neighbors))
@@ -445,12 +511,13 @@ pub(crate) fn set_aside(points: &mut PointSet) -> Aside {
     Aside { runs }
 }
 
-/// Rebuilds what [`set_aside`] freed: the points from their runs, the pixel index, then the
-/// 8-neighbour lists from it in the order [`build_from_runs`] makes them.
+/// Rebuilds what [`set_aside`] freed: the points and the pixel index from their runs, then the
+/// 8-neighbour lists from the index in the order [`build_from_runs`] makes them.
 pub(crate) fn restore(points: &mut PointSet, aside: Aside) {
-    if !aside.runs.is_empty() {
+    let Aside { runs } = aside;
+    if !runs.is_empty() {
         points.points = Vec::with_capacity(points.half_width.len());
-        for run in &aside.runs {
+        for run in &runs {
             let row = run.y as f64 + 0.5;
             points
                 .points
@@ -460,22 +527,45 @@ pub(crate) fn restore(points: &mut PointSet, aside: Aside) {
     let Some(grid) = &mut points.grid else {
         return;
     };
-    grid.rebuild(&points.points);
-    let Some(grid) = &points.grid else {
-        return;
+    let (x0, y0) = (grid.x0, grid.y0);
+    let (width, height) = (grid.width as usize, grid.height as usize);
+    // Window coordinates of a run: row, first and end column (the points' pixels, as
+    // `Grid::rebuild` places them).
+    let local = |run: &Run| {
+        (
+            (i64::from(run.y) - y0) as usize,
+            (i64::from(run.x0) - x0) as usize,
+            (i64::from(run.x1) - x0) as usize,
+        )
     };
+    if runs.is_empty() {
+        grid.rebuild(&points.points);
+    } else {
+        grid.index = Grid::blank_index(width * height);
+        let mut first = 0u32;
+        for run in &runs {
+            let (y, a, b) = local(run);
+            for (slot, id) in grid.index[y * width + a..y * width + b]
+                .iter_mut()
+                .zip(first..)
+            {
+                *slot = id;
+            }
+            first += run.x1 - run.x0;
+        }
+    }
     if points.dropout || points.offsets.len() == points.len() + 1 {
         return;
     }
-    let (x0, y0) = (grid.x0, grid.y0);
-    // Pixel centers of the window: truncating them is their floor.
-    let pixels = points
-        .points
-        .iter()
-        .map(|p| ((p[0] as i64 - x0) as usize, (p[1] as i64 - y0) as usize));
-    let size = (grid.width as usize, grid.height as usize);
+    // `set_aside` frees the lists only of pixels it keeps as runs.
+    debug_assert!(!runs.is_empty() || points.is_empty());
+    let Some(grid) = &points.grid else {
+        return;
+    };
+    let size = (width, height);
     // The lists were this long before (the `u32` limit was checked when they were first made).
-    if let Ok((offsets, neighbors)) = eight_neighbours(&grid.index, size, points.len(), pixels) {
+    let lists = eight_neighbours_of_runs(&grid.index, size, points.len(), runs.iter().map(local));
+    if let Ok((offsets, neighbors)) = lists {
         points.offsets = offsets;
         points.neighbors = neighbors;
     }
@@ -907,6 +997,112 @@ mod tests {
                 assert_eq!(got.neighbors, want.neighbors);
                 assert_eq!(got.grid.unwrap().index, want.grid.unwrap().index);
             }
+        }
+    }
+
+    /// The maximal runs of ink of a `width` x `height` mask, in raster order, as (row, first
+    /// column, end column).
+    fn runs_of(ink: &[bool], width: usize, height: usize) -> Vec<(usize, usize, usize)> {
+        let mut runs = Vec::new();
+        for y in 0..height {
+            let mut x = 0;
+            while x < width {
+                if ink[y * width + x] {
+                    let a = x;
+                    while x < width && ink[y * width + x] {
+                        x += 1;
+                    }
+                    runs.push((y, a, x));
+                } else {
+                    x += 1;
+                }
+            }
+        }
+        runs
+    }
+
+    /// The lists read run by run equal the per-pixel window's on 300 random windows: one row or
+    /// column, ink on every edge, sparse to full.
+    #[test]
+    fn neighbours_of_runs_equal_the_window_scan() {
+        let mut rand = crate::synth::lcg(2026);
+        for case in 0..300 {
+            let width = 1 + (rand() >> 33) as usize % 40;
+            let height = 1 + (rand() >> 33) as usize % 30;
+            let density = match case % 4 {
+                0 => 0.1,
+                1 => 0.5,
+                2 => 0.9,
+                _ => 1.0,
+            };
+            let ink: Vec<bool> = (0..width * height)
+                .map(|_| ((rand() >> 33) as f64 / (1u64 << 31) as f64) < density)
+                .collect();
+            let mut index = vec![Grid::NONE; width * height];
+            let mut count = 0u32;
+            for (slot, _) in index.iter_mut().zip(&ink).filter(|(_, &on)| on) {
+                *slot = count;
+                count += 1;
+            }
+            let runs = runs_of(&ink, width, height);
+            let pixels = runs
+                .iter()
+                .flat_map(|&(y, a, b)| (a..b).map(move |x| (x, y)));
+            let size = (width, height);
+            let want = eight_neighbours(&index, size, count as usize, pixels).unwrap();
+            let got = eight_neighbours_of_runs(&index, size, count as usize, runs.iter().copied())
+                .unwrap();
+            assert_eq!(got, want, "case {case}: {width} x {height}");
+        }
+    }
+
+    /// Restored from runs, random chunk-like windows (offset from the image's corner, ink on
+    /// their edges) give back the points, index and lists their build made.
+    #[test]
+    fn restored_from_runs_on_random_windows() {
+        let mut rand = crate::synth::lcg(77);
+        for case in 0..60 {
+            let (width, height) = (
+                2 + (rand() >> 33) as usize % 50,
+                2 + (rand() >> 33) as usize % 40,
+            );
+            let mut binary = Binary::new(width as u32, height as u32);
+            for pixel in binary.ink.iter_mut() {
+                *pixel = (rand() >> 33) % 3 != 0;
+            }
+            let survey = survey(binary.view(), &params_forced_off(), Some(false)).unwrap();
+            let (x0, y0) = ((case % 5) * 7, (case % 3) * 11);
+            let shifted: Vec<Run> = survey
+                .runs
+                .iter()
+                .map(|r| Run {
+                    y: r.y + y0 as u32,
+                    x0: r.x0 + x0 as u32,
+                    x1: r.x1 + x0 as u32,
+                })
+                .collect();
+            let want =
+                build_from_runs(&shifted, (x0, y0), (width, height), survey.spacing, true).unwrap();
+            // The build from the window's mask, which reads no runs, agrees.
+            let window = Window {
+                ink: &binary.ink,
+                width,
+                height,
+                x0,
+                y0,
+            };
+            let from_mask = build(&window, survey.spacing, false).unwrap();
+            assert_eq!(want.points, from_mask.points, "case {case}");
+            assert_eq!(want.offsets, from_mask.offsets);
+            assert_eq!(want.neighbors, from_mask.neighbors);
+            let mut got = want.clone();
+            let aside = set_aside(&mut got);
+            restore(&mut got, aside);
+            got.validate().unwrap();
+            assert_eq!(got.points, want.points, "case {case}");
+            assert_eq!(got.offsets, want.offsets);
+            assert_eq!(got.neighbors, want.neighbors);
+            assert_eq!(got.grid.unwrap().index, want.grid.unwrap().index);
         }
     }
 

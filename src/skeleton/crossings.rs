@@ -97,6 +97,9 @@ impl Work {
                     continue;
                 }
             }
+            if self.stroke_beside(c, &group, &at) {
+                continue;
+            }
             let Some(reach) = self.arm_reach(c, &group, &internal, &at) else {
                 continue;
             };
@@ -283,6 +286,78 @@ impl Work {
         at[hub] = hub_edges;
     }
 
+    /// Whether one of the skeleton junctions `group` is a crossing of its own beside the
+    /// method's crossing `c`: it has four or more edges, two of which (arms or links) leave it
+    /// in opposite directions within [`STROKE_THROUGH_SINE`], each measured over one width from
+    /// where it leaves the junction's disk, and `c` lies farther than half a width
+    /// ([`disk_radius`]) from that stroke's line, or on it but where a steep third edge
+    /// ([`MIN_STEM_SINE`]), followed straight, meets it a width or more away. The ink shows
+    /// that stroke running through the junction and not through `c`: the neighbouring
+    /// crossings of a grid whose cells are finer than the method's disks (docs/quality.md,
+    /// "Crossings of grids and script, again (issue 31)"). Junctions of degree 3 are left to
+    /// [`Work::offset_tees`] and [`Work::tee_on_a_stroke`]: on them the test also split
+    /// crossings of script loops.
+    fn stroke_beside(&self, c: &Vertex, group: &[usize], at: &[Vec<usize>]) -> bool {
+        let cross = |u: [f64; 2], v: [f64; 2]| u[0] * v[1] - u[1] * v[0];
+        group.iter().any(|&j| {
+            let jp = self.vertices[j].pos;
+            // Each edge leaving `j`: where it leaves the junction's disk, its direction on
+            // from there and its median width.
+            let mut arms: Vec<([f64; 2], [f64; 2], f64)> = Vec::new();
+            for &e in &at[j] {
+                let Some(edge) = self.edges[e].as_ref() else {
+                    continue;
+                };
+                for (here, forward) in [(edge.from == j, true), (edge.to == j, false)] {
+                    if !here {
+                        continue;
+                    }
+                    let w = median(&edge.widths);
+                    let outwards = points_outwards(edge, forward);
+                    let near = point_at_distance(&outwards, jp, disk_radius(w));
+                    let far = point_at_distance(&outwards, jp, disk_radius(w) + SPLIT_NEAR * w);
+                    if dist(near, far) < MIN_SPLIT_LINE_PX {
+                        continue;
+                    }
+                    if let Some(u) = unit([far[0] - near[0], far[1] - near[1]]) {
+                        arms.push((near, u, w));
+                    }
+                }
+            }
+            if arms.len() < 4 {
+                return false;
+            }
+            arms.iter().enumerate().any(|(k, &(p, u, wu))| {
+                arms[k + 1..].iter().any(|&(q, v, wv)| {
+                    let opposite =
+                        u[0] * v[0] + u[1] * v[1] < 0.0 && cross(u, v).abs() <= STROKE_THROUGH_SINE;
+                    let Some(d) = unit([u[0] - v[0], u[1] - v[1]]).filter(|_| opposite) else {
+                        return false;
+                    };
+                    // The stroke's line: through the middle of where the two edges leave the
+                    // junction's disk (the junction itself may sit a pixel off it).
+                    let middle = [(p[0] + q[0]) / 2.0, (p[1] + q[1]) / 2.0];
+                    let w = wu.min(wv);
+                    let to_c = [c.pos[0] - middle[0], c.pos[1] - middle[1]];
+                    if cross(to_c, d).abs() > disk_radius(w) {
+                        return true;
+                    }
+                    // The crossing on the stroke, but a third edge leaving it steeply,
+                    // followed straight back from its own stretch, meets the stroke a width or
+                    // more from the crossing: a T of its own ([`Work::offset_tees`]). The Y's
+                    // third arm of a split crossing, followed so, meets it at the crossing.
+                    arms.iter().any(|&(r, t, _)| {
+                        cross(t, d).abs() > MIN_STEM_SINE
+                            && line_intersection(&[(middle, d), (r, t)], 0.0).is_some_and(|m| {
+                                let along = (c.pos[0] - m[0]) * d[0] + (c.pos[1] - m[1]) * d[1];
+                                along.abs() >= TEES_APART * w
+                            })
+                    })
+                })
+            })
+        })
+    }
+
     /// Two skeleton junctions closer than the ink can show apart (a link of at most
     /// `max(3 px, w / 2)`, `w` its median width): thinning splits a crossing of thin strokes
     /// into two Y's a pixel or two apart. The link is contracted to its middle; a second edge
@@ -398,6 +473,16 @@ const ARC_STEP_PX: f64 = 0.25;
 
 /// A skeleton point is known to a pixel (px): a stretch's direction to a pixel over its length.
 const PIXEL_PX: f64 = 1.0;
+
+/// Two edges leaving a junction in opposite directions are one straight stroke through it
+/// ([`Work::stroke_beside`]) when they turn from straight by less than this sine (20 degrees):
+/// the two Y's of a crossing at up to 40 degrees each hold the link and an arm that straight.
+const STROKE_THROUGH_SINE: f64 = 0.34;
+
+/// A stem leaves the stroke through a junction of its own ([`Work::stroke_beside`]) when it
+/// leaves at more than this sine (60 degrees): the third arm of a split crossing's Y whose link
+/// and other arm look straight leaves that line at under 30 degrees, give or take a pixel.
+const MIN_STEM_SINE: f64 = 0.87;
 
 /// A curved split crossing's link is at most this many stroke widths long
 /// ([`Work::curved_crossing`]): thinning puts the Y's of strokes crossing at `θ` about

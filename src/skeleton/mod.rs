@@ -510,6 +510,26 @@ mod tests {
     }
 
     #[test]
+    fn crossings_of_a_hash_one_width_apart_stay_four() {
+        // A '#' of strokes 10 px wide whose middle cell is one width across: the method's
+        // disks span two neighbouring crossings (one vertex of degree 6 before issue 31's
+        // crossing-beside test); the ink shows four crossings around one hole.
+        let w = 10.0;
+        let strokes: Vec<Stroke> = [46.0, 66.0]
+            .iter()
+            .flat_map(|&a| {
+                [
+                    Stroke::new(vec![[a, 26.0], [a, 86.0]], w),
+                    Stroke::new(vec![[26.0, a], [86.0, a]], w),
+                ]
+            })
+            .collect();
+        let (binary, graph) = traced(&strokes, 112, 112);
+        assert_eq!(degrees(&graph), vec![4, 4, 4, 4]);
+        assert_on_ink(&binary, &graph);
+    }
+
+    #[test]
     fn curves_crossing_at_a_shallow_angle_are_one_crossing() {
         // 29 and 39 degrees, curves of radius 12 and 8 widths: thinning's Y's lie about two to
         // three widths apart along the shared ink, and no straight line through the arms' far

@@ -80,6 +80,28 @@ fn zhang_suen_framed(padded: &mut [bool], width: usize) {
     zhang_suen_framed_at(padded, width, &ink, &mut ThinningMarks::default());
 }
 
+/// The 8 neighbours of pixel `i` of a `width`-wide grid as the bits of a byte (bit k:
+/// [`RING`]`[k]`, P2..P9), `i` not on the grid's first or last row or column. Read as the three
+/// rows of the 3 x 3 block around `i` (one bounds check for the block, where one per neighbour
+/// cost most of the thinning: docs/performance.md).
+#[inline]
+fn neighbourhood(grid: &[bool], width: usize, i: usize) -> u8 {
+    let block = &grid[i - width - 1..i + width + 2];
+    let (above, row, below) = (
+        &block[..3],
+        &block[width..width + 3],
+        &block[2 * width..2 * width + 3],
+    );
+    u8::from(above[1])
+        | u8::from(above[2]) << 1
+        | u8::from(row[2]) << 2
+        | u8::from(below[2]) << 3
+        | u8::from(below[1]) << 4
+        | u8::from(below[0]) << 5
+        | u8::from(row[0]) << 6
+        | u8::from(above[0]) << 7
+}
+
 /// The marks [`zhang_suen_framed_at`] keeps per pixel of its grid, kept from one grid to the next
 /// (the components of a window, [`skeleton_by_component`]) instead of a zeroed pair of arrays per
 /// grid: clear (false, 0) between calls, where only the ink pixels were ever marked.
@@ -104,11 +126,7 @@ fn zhang_suen_framed_at(
     let offsets: [isize; 8] = RING.map(|(dx, dy)| dy as isize * pw + dx as isize);
     // The 8 neighbours as the bits of a byte (bit k: RING[k]), and for each sub-iteration a
     // table of the neighbourhoods whose center goes.
-    let bits = |grid: &[bool], i: usize| -> u8 {
-        (0..8).fold(0u8, |b, k| {
-            b | (u8::from(grid[(i as isize + offsets[k]) as usize]) << k)
-        })
-    };
+    let bits = |grid: &[bool], i: usize| neighbourhood(grid, width, i);
     let table = &DELETED;
     // Only a pixel with a background neighbour can go; after a sub-iteration only the
     // neighbours of what went can newly have one. Checking just those gives the same result as
@@ -542,6 +560,82 @@ mod tests {
             one_pixel_thick_at(&mut by_list, w, h, thin);
             assert_eq!(by_scan, by_list);
         }
+    }
+
+    /// The neighbourhood byte one neighbour at a time, as the thinning read it before
+    /// [`neighbourhood`].
+    fn neighbourhood_by_offsets(grid: &[bool], width: usize, i: usize) -> u8 {
+        let offsets: [isize; 8] = RING.map(|(dx, dy)| dy as isize * width as isize + dx as isize);
+        (0..8).fold(0u8, |b, k| {
+            b | (u8::from(grid[(i as isize + offsets[k]) as usize]) << k)
+        })
+    }
+
+    #[test]
+    fn the_neighbourhood_byte_equals_the_neighbours_one_at_a_time() {
+        let mut lcg = crate::synth::lcg(4242u64);
+        let mut next = move || (lcg() >> 33) as usize;
+        for (w, h, density) in [(3, 3, 2), (4, 7, 2), (23, 17, 3), (64, 5, 5), (9, 50, 4)] {
+            let grid: Vec<bool> = (0..w * h).map(|_| next() % density != 0).collect();
+            for y in 1..h - 1 {
+                for x in 1..w - 1 {
+                    let i = y * w + x;
+                    assert_eq!(
+                        neighbourhood(&grid, w, i),
+                        neighbourhood_by_offsets(&grid, w, i),
+                        "{w} x {h}, pixel ({x}, {y})"
+                    );
+                }
+            }
+        }
+        // Every neighbourhood, around the middle of a 3 x 3 grid.
+        for n in 0..256usize {
+            let mut grid = vec![false; 9];
+            for (k, (dx, dy)) in RING.iter().enumerate() {
+                grid[((1 + dy) * 3 + 1 + dx) as usize] = n & (1 << k) != 0;
+            }
+            assert_eq!(neighbourhood(&grid, 3, 4) as usize, n);
+        }
+    }
+
+    #[test]
+    fn one_pixel_thick_by_table_equals_it_neighbour_by_neighbour() {
+        // Random framed grids of several densities (many neighbourhoods, many removals in a
+        // row), and the same grids thinned by Zhang-Suen first (the skeletons it is used on).
+        let mut lcg = crate::synth::lcg(9090u64);
+        let mut next = move || (lcg() >> 33) as usize;
+        let mut removed = 0;
+        for (w, h, density) in [
+            (3, 3, 2),
+            (5, 4, 2),
+            (23, 17, 2),
+            (40, 31, 3),
+            (9, 50, 4),
+            (60, 44, 5),
+            (33, 33, 8),
+        ] {
+            for thinned in [false, true] {
+                let mut grid = vec![false; w * h];
+                for y in 1..h - 1 {
+                    for x in 1..w - 1 {
+                        grid[y * w + x] = next() % density != 0;
+                    }
+                }
+                if thinned {
+                    zhang_suen_framed(&mut grid, w);
+                }
+                let pixels: Vec<usize> = (0..w * h).filter(|&i| grid[i]).collect();
+                let (mut by_pixel, mut by_table) = (grid.clone(), grid.clone());
+                one_pixel_thick_at(&mut by_pixel, w, h, pixels.clone());
+                let mut candidates = pixels.clone();
+                one_pixel_thick_framed_at(&mut by_table, w, &mut candidates);
+                assert_eq!(by_pixel, by_table, "{w} x {h}, density {density}");
+                let kept: Vec<usize> = (0..w * h).filter(|&i| by_table[i]).collect();
+                assert_eq!(candidates, kept);
+                removed += pixels.len() - kept.len();
+            }
+        }
+        assert!(removed > 100, "{removed} pixels removed");
     }
 
     #[test]

@@ -1,5 +1,5 @@
 //! Thinning, a raster operation: the ink's specks filled ([`fill_specks_at`]), Zhang-Suen's
-//! skeleton ([`zhang_suen`]) made one pixel thick ([`one_pixel_thick_at`]), and a dot put back for
+//! skeleton ([`zhang_suen`]) made one pixel thick ([`one_pixel_thick_framed_at`]), and a dot put back for
 //! every component thinning erased; one component at a time over its own box
 //! ([`skeleton_by_component`]). docs/design.md, "Skeleton-carried geometry", first point.
 
@@ -197,7 +197,7 @@ fn zhang_suen_framed_at(
 }
 
 /// The one-pixel skeleton of a window's ink, every component kept: [`fill_specks_at`] (the filled
-/// specks written into `ink`), [`zhang_suen`], [`one_pixel_thick_at`], and for a component thinning
+/// specks written into `ink`), [`zhang_suen`], [`one_pixel_thick_framed_at`], and for a component thinning
 /// erased whole (a 2 x 2 block, a short 2-pixel-thick diagonal) its deepest pixel by `half`
 /// (ties: the first in raster order), a dot.
 ///
@@ -218,6 +218,7 @@ pub(super) fn skeleton_by_component(
     let mut skeleton = vec![false; ink.len()];
     let mut skeleton_pixels = Vec::new();
     let (mut local, mut filled, mut thin) = (Vec::new(), Vec::new(), Vec::new());
+    let mut candidates = Vec::new();
     let mut marks = ThinningMarks::default();
     for c in offsets.windows(2) {
         let pixels = &members[c[0]..c[1]];
@@ -254,7 +255,8 @@ pub(super) fn skeleton_by_component(
         zhang_suen_framed_at(&mut local, lw, &filled, &mut marks);
         thin.clear();
         thin.extend(filled.iter().copied().filter(|&j| local[j]));
-        one_pixel_thick_at(&mut local, lw, lh, thin.clone());
+        candidates.clone_from(&thin);
+        one_pixel_thick_framed_at(&mut local, lw, &mut candidates);
         let mut kept = false;
         for &j in thin.iter().filter(|&&j| local[j]) {
             skeleton[to_window(j)] = true;
@@ -287,7 +289,7 @@ pub(super) fn skeleton_by_component(
 /// 8-connectivity number is 1) and is no tip: it has three or more skeleton neighbours, or two
 /// that make it the inner corner of an L. Ends, the middle pixels of one-pixel lines and the
 /// centers of real junctions are not simple. The whole grid scanned for its pixels: the tests'
-/// reference for [`one_pixel_thick_at`], which the thinning uses.
+/// reference for [`one_pixel_thick_framed_at`], which the thinning uses.
 #[cfg(test)]
 pub(super) fn one_pixel_thick(skeleton: &mut [bool], width: usize, height: usize) {
     let candidates: Vec<usize> = skeleton
@@ -299,7 +301,9 @@ pub(super) fn one_pixel_thick(skeleton: &mut [bool], width: usize, height: usize
 }
 
 /// [`one_pixel_thick`] given the skeleton's pixels (`candidates`: every one of them, each once,
-/// in raster order, the order the removals are made in).
+/// in raster order, the order the removals are made in). The tests' reference for
+/// [`one_pixel_thick_framed_at`], which the thinning uses.
+#[cfg(test)]
 fn one_pixel_thick_at(
     skeleton: &mut [bool],
     width: usize,
@@ -346,6 +350,74 @@ fn one_pixel_thick_at(
                 })
                 .sum();
             if c8 == 1 {
+                skeleton[i] = false;
+                changed = true;
+            }
+        }
+        if !changed {
+            return;
+        }
+        candidates.retain(|&i| skeleton[i]);
+    }
+}
+
+/// For a skeleton pixel whose 8 neighbours are the bits of the index (bit k: [`RING`]`[k]`, as
+/// [`neighbourhood`] reads them), whether [`one_pixel_thick_framed_at`] removes it: three or more
+/// neighbours, or two that are both 4-neighbours (the inner corner of an L), and Yokoi's
+/// 8-connectivity number 1. Made once at compile time.
+const THINNED: [bool; 256] = thinned_table();
+
+const fn thinned_table() -> [bool; 256] {
+    let mut table = [false; 256];
+    let mut n = 0;
+    while n < 256 {
+        // Counter-clockwise from east (E, NE, N, NW, W, SW, S, SE): neighbour k is RING's
+        // (2 - k) mod 8.
+        let mut around = [false; 8];
+        let mut k = 0;
+        while k < 8 {
+            around[k] = bit(n, 10 - k);
+            k += 1;
+        }
+        let (mut count, mut fours, mut c8) = (0, 0, 0i32);
+        k = 0;
+        while k < 8 {
+            if around[k] {
+                count += 1;
+                if k % 2 == 0 {
+                    fours += 1;
+                }
+            }
+            k += 1;
+        }
+        // Yokoi: C8 = sum over k in {0, 2, 4, 6} of x'k - x'k x'k+1 x'k+2, x' = not x.
+        k = 0;
+        while k < 8 {
+            let (a, b, c) = (!around[k], !around[k + 1], !around[(k + 2) % 8]);
+            if a {
+                c8 += 1;
+                if b && c {
+                    c8 -= 1;
+                }
+            }
+            k += 2;
+        }
+        table[n] = count >= 2 && (count != 2 || fours == 2) && c8 == 1;
+        n += 1;
+    }
+    table
+}
+
+/// [`one_pixel_thick`] on a `width`-wide grid whose first and last rows and columns are
+/// background, given the skeleton's pixels (`candidates`: every one of them, each once, in raster
+/// order, the order the removals are made in; left holding those that stay): each pixel's
+/// neighbourhood read as one byte ([`neighbourhood`]) and decided by the table [`THINNED`], the
+/// same decisions [`one_pixel_thick_at`] makes neighbour by neighbour.
+fn one_pixel_thick_framed_at(skeleton: &mut [bool], width: usize, candidates: &mut Vec<usize>) {
+    loop {
+        let mut changed = false;
+        for &i in candidates.iter() {
+            if skeleton[i] && THINNED[neighbourhood(skeleton, width, i) as usize] {
                 skeleton[i] = false;
                 changed = true;
             }

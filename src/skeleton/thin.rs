@@ -111,6 +111,9 @@ struct ThinningMarks {
     queued: Vec<bool>,
     /// The sub-iteration the pixel was last (re)queued in.
     since: Vec<u32>,
+    /// An ink pixel's [`neighbourhood`], kept up to date as its neighbours go (written for every
+    /// ink pixel of a grid before it is read, so never cleared).
+    code: Vec<u8>,
 }
 
 /// [`zhang_suen_framed`] given the grid's ink pixels (`ink`: every one of them, each once, in
@@ -126,7 +129,6 @@ fn zhang_suen_framed_at(
     let offsets: [isize; 8] = RING.map(|(dx, dy)| dy as isize * pw + dx as isize);
     // The 8 neighbours as the bits of a byte (bit k: RING[k]), and for each sub-iteration a
     // table of the neighbourhoods whose center goes.
-    let bits = |grid: &[bool], i: usize| neighbourhood(grid, width, i);
     let table = &DELETED;
     // Only a pixel with a background neighbour can go; after a sub-iteration only the
     // neighbours of what went can newly have one. Checking just those gives the same result as
@@ -134,15 +136,22 @@ fn zhang_suen_framed_at(
     // times the stroke width.
     // A pixel whose neighbourhood has not changed since both sub-iterations checked it cannot
     // go until a neighbour goes: `since` is the sub-iteration it was (re)queued in.
+    // Each ink pixel's neighbourhood is read once and then kept (`code`): a pixel that goes
+    // clears its bit in each ink neighbour's, where reading the 8 neighbours again at every check
+    // cost most of the thinning (docs/performance.md).
     if marks.queued.len() < padded.len() {
         marks.queued.resize(padded.len(), false);
         marks.since.resize(padded.len(), 0);
+        marks.code.resize(padded.len(), 0);
     }
-    let (queued, since) = (&mut marks.queued, &mut marks.since);
+    let (queued, since, code) = (&mut marks.queued, &mut marks.since, &mut marks.code);
+    for &i in ink {
+        code[i] = neighbourhood(padded, width, i);
+    }
     let mut candidates: Vec<usize> = ink
         .iter()
         .copied()
-        .filter(|&i| bits(padded, i) != u8::MAX)
+        .filter(|&i| code[i] != u8::MAX)
         .collect();
     for &i in &candidates {
         queued[i] = true;
@@ -158,7 +167,7 @@ fn zhang_suen_framed_at(
             candidates
                 .iter()
                 .copied()
-                .filter(|&i| table[step][bits(padded, i) as usize]),
+                .filter(|&i| table[step][code[i] as usize]),
         );
         for &i in &marked {
             padded[i] = false;
@@ -175,9 +184,11 @@ fn zhang_suen_framed_at(
             keep
         });
         for &i in &marked {
-            for offset in offsets {
+            for (k, offset) in offsets.into_iter().enumerate() {
                 let j = (i as isize + offset) as usize;
                 if padded[j] {
+                    // `i` is `j`'s neighbour on the opposite side, RING[k + 4].
+                    code[j] &= !(1u8 << ((k + 4) % 8));
                     since[j] = t + 1;
                     if !queued[j] {
                         queued[j] = true;
@@ -643,6 +654,95 @@ mod tests {
             one_pixel_thick_at(&mut by_list, w, h, thin);
             assert_eq!(by_scan, by_list);
         }
+    }
+
+    /// [`zhang_suen_framed_at`] reading every candidate's neighbourhood from the grid at each
+    /// check, as it did before it kept them ([`ThinningMarks::code`]).
+    fn zhang_suen_framed_at_reading(padded: &mut [bool], width: usize, ink: &[usize]) {
+        let pw = width as isize;
+        let offsets: [isize; 8] = RING.map(|(dx, dy)| dy as isize * pw + dx as isize);
+        let bits = |grid: &[bool], i: usize| neighbourhood(grid, width, i);
+        let table = &DELETED;
+        let mut queued = vec![false; padded.len()];
+        let mut since = vec![0u32; padded.len()];
+        let mut candidates: Vec<usize> = ink
+            .iter()
+            .copied()
+            .filter(|&i| bits(padded, i) != u8::MAX)
+            .collect();
+        for &i in &candidates {
+            queued[i] = true;
+        }
+        let mut marked = Vec::new();
+        let (mut idle, mut step, mut t) = (0, 0, 0u32);
+        while idle < 2 {
+            marked.clear();
+            marked.extend(
+                candidates
+                    .iter()
+                    .copied()
+                    .filter(|&i| table[step][bits(padded, i) as usize]),
+            );
+            for &i in &marked {
+                padded[i] = false;
+                queued[i] = false;
+            }
+            idle = if marked.is_empty() { idle + 1 } else { 0 };
+            candidates.retain(|&i| {
+                let keep = padded[i] && since[i] == t;
+                if !keep {
+                    queued[i] = false;
+                }
+                keep
+            });
+            for &i in &marked {
+                for offset in offsets {
+                    let j = (i as isize + offset) as usize;
+                    if padded[j] {
+                        since[j] = t + 1;
+                        if !queued[j] {
+                            queued[j] = true;
+                            candidates.push(j);
+                        }
+                    }
+                }
+            }
+            step = 1 - step;
+            t += 1;
+        }
+    }
+
+    #[test]
+    fn thinning_with_kept_neighbourhoods_equals_reading_them() {
+        // Random framed grids of several densities and sizes, thinned one after another with
+        // the same marks (as the components of a window are), against reading the grid.
+        let mut lcg = crate::synth::lcg(31337u64);
+        let mut next = move || (lcg() >> 33) as usize;
+        let mut marks = ThinningMarks::default();
+        let mut deleted = 0;
+        for (w, h, density) in [
+            (40, 31, 3),
+            (3, 3, 2),
+            (23, 17, 2),
+            (9, 50, 4),
+            (60, 44, 5),
+            (33, 33, 8),
+            (12, 70, 6),
+        ] {
+            let mut grid = vec![false; w * h];
+            for y in 1..h - 1 {
+                for x in 1..w - 1 {
+                    grid[y * w + x] = next() % density != 0;
+                }
+            }
+            let ink: Vec<usize> = (0..w * h).filter(|&i| grid[i]).collect();
+            let (mut reading, mut keeping) = (grid.clone(), grid.clone());
+            zhang_suen_framed_at_reading(&mut reading, w, &ink);
+            zhang_suen_framed_at(&mut keeping, w, &ink, &mut marks);
+            assert_eq!(reading, keeping, "{w} x {h}, density {density}");
+            deleted += ink.iter().filter(|&&i| !keeping[i]).count();
+        }
+        assert!(deleted > 1000, "{deleted} pixels deleted");
     }
 
     /// The neighbourhood byte one neighbour at a time, as the thinning read it before

@@ -537,10 +537,7 @@ fn trace_one(
         fit::fit_in_components(&refined, &points, params, h, Some(&components.0))
     };
     timings.fit = clock.elapsed();
-    let traced = finish_one(graph, points, &components, refined, kept, params, timings);
-    // No chunk follows to take the skeleton's spare masks.
-    skeleton::drop_spare_masks();
-    traced
+    finish_one(graph, points, &components, refined, kept, params, timings)
 }
 
 /// Whether the skeleton alone traces the point sets `params` make outside dropout mode (see
@@ -671,11 +668,8 @@ fn trace_chunks(
         )
         .collect();
     parts.sort_by_key(|&(c, _)| c);
-    // The threads' spare pixel indices and skeleton masks are not kept past the trace.
-    rayon::broadcast(|_| {
-        Grid::drop_spare_index();
-        skeleton::drop_spare_masks();
-    });
+    // The threads' spare pixel indices are not kept past the trace.
+    rayon::broadcast(|_| Grid::drop_spare_index());
     Ok(Traced::join(parts.into_iter().map(|(_, t)| t).collect()))
 }
 

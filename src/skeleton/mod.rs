@@ -65,72 +65,6 @@ fn disk_radius(width: f64) -> f64 {
     (width + 1.0) / 2.0
 }
 
-/// The largest window mask kept as a thread's spare ([`release_mask`]), pixels: 4 MiB.
-const MAX_SPARE_MASK: usize = 1 << 22;
-
-/// The spare masks a thread keeps: a chunk's two (its ink and its skeleton).
-const SPARE_MASKS: usize = 2;
-
-thread_local! {
-    /// Window masks a chunk of this thread was done with, every pixel background again, for the
-    /// thread's next chunk ([`blank_mask`]).
-    static SPARES: std::cell::Cell<Vec<Vec<bool>>> = const { std::cell::Cell::new(Vec::new()) };
-}
-
-/// A window mask of `len` pixels, all background: the smallest of this thread's spares
-/// ([`release_mask`]) that is large enough, else a new one. A chunk's window is many times its
-/// ink on a page of text: a spare is cleared at the pixels that were set, not zeroed whole
-/// (docs/performance.md, "Session of 2026-12-05, late: the skeleton step").
-fn blank_mask(len: usize) -> Vec<bool> {
-    let spare = SPARES.with(|spares| {
-        let mut masks = spares.take();
-        let fitting = (0..masks.len())
-            .filter(|&k| masks[k].capacity() >= len)
-            .min_by_key(|&k| masks[k].capacity());
-        let mask = fitting.map(|k| masks.swap_remove(k));
-        spares.set(masks);
-        mask
-    });
-    match spare {
-        Some(mut mask) => {
-            // Every pixel of a spare is background: shortened it stays so, lengthened it is
-            // filled.
-            mask.resize(len, false);
-            mask
-        }
-        None => vec![false; len],
-    }
-}
-
-/// Keeps `mask` as this thread's spare for [`blank_mask`], its pixels `set` (every pixel that is
-/// on, each at least once) cleared first; of more than [`SPARE_MASKS`] spares the smallest is
-/// freed, and so is a mask above [`MAX_SPARE_MASK`].
-fn release_mask(mut mask: Vec<bool>, set: impl IntoIterator<Item = usize>) {
-    if mask.len() > MAX_SPARE_MASK {
-        return;
-    }
-    for i in set {
-        mask[i] = false;
-    }
-    debug_assert!(mask.iter().all(|&on| !on));
-    SPARES.with(|spares| {
-        let mut masks = spares.take();
-        masks.push(mask);
-        if masks.len() > SPARE_MASKS {
-            let smallest = (0..masks.len()).min_by_key(|&k| masks[k].capacity());
-            if let Some(k) = smallest {
-                masks.swap_remove(k);
-            }
-        }
-        spares.set(masks);
-    });
-}
-
-/// Frees this thread's spare masks ([`release_mask`]), at the end of a trace.
-pub(crate) fn drop_spare_masks() {
-    SPARES.with(|spares| drop(spares.take()));
-}
-
 /// Zhang-Suen thinning of `binary` (whose size [`Binary::check_size`] has checked) and the
 /// [`pixel_graph`] of its skeleton, half-widths from the exact distance transform of the ink: what
 /// thinning tools give, without any decision of the method.
@@ -171,33 +105,28 @@ pub fn carry(
     if points.dropout || grid.index.is_empty() {
         return method.clone();
     }
-    let (skeleton, ink, specks) = skeleton_graph(points, grid, components);
-    let (carried, ink) = reconcile(Work::new(skeleton, ink), method, experiments);
+    let (skeleton, ink) = skeleton_graph(points, grid, components);
+    let carried = reconcile(Work::new(skeleton, ink), method, experiments);
     debug_assert_eq!(validate(&carried), Ok(()));
-    // The ink mask's pixels are the points' and the filled specks'.
-    let w = grid.width as usize;
-    let pixel_of =
-        |p: &[f64; 2]| (p[1] as i64 - grid.y0) as usize * w + (p[0] as i64 - grid.x0) as usize;
-    release_mask(ink, points.points.iter().map(pixel_of).chain(specks));
     carried
 }
 
 /// The [`pixel_graph`] of the ink of `points`' grid, specks filled, thinned to one pixel, every
-/// component kept, in image coordinates; that ink; and the pixels of its filled specks. The window is the chunk's bounding box,
+/// component kept, in image coordinates; and that ink. The window is the chunk's bounding box,
 /// many times its ink on a page of text: the thinning runs per component over the component's
 /// own box, and nothing but the ink mask and the skeleton is the window's size.
 fn skeleton_graph(
     points: &PointSet,
     grid: &Grid,
     components: Option<(&[u32], &[usize])>,
-) -> (StrokeGraph, Ink, Vec<usize>) {
+) -> (StrokeGraph, Ink) {
     let (w, h) = (grid.width as usize, grid.height as usize);
     // Points are pixel centers of the window; their window pixels, and each component's in CSR
     // form (points in raster order, so each component's pixels rise).
     // (Pixel centers are not negative: truncating them is their floor.)
     let pixel_of =
         |p: &[f64; 2]| (p[1] as i64 - grid.y0) as usize * w + (p[0] as i64 - grid.x0) as usize;
-    let mut ink = blank_mask(w * h);
+    let mut ink = vec![false; w * h];
     for p in &points.points {
         ink[pixel_of(p)] = true;
     }
@@ -224,8 +153,7 @@ fn skeleton_graph(
         Grid::NONE => 0.0,
         p => points.half_width[p as usize],
     };
-    let (skeleton, pixels, filled) =
-        skeleton_by_component(&mut ink, blank_mask(w * h), w, &offsets, &members, half);
+    let (skeleton, pixels) = skeleton_by_component(&mut ink, w, &offsets, &members, half);
     // The skeleton's pixels numbered by their points, and the few on filled specks (no point)
     // after them.
     let specks: Vec<usize> = pixels
@@ -239,7 +167,6 @@ fn skeleton_graph(
     };
     let ids = (points.len() + specks.len(), number);
     let mut s = pixel_graph(w, h, &skeleton, &pixels, ids, half);
-    release_mask(skeleton, pixels.iter().copied());
     let (x0, y0) = (grid.x0 as f64, grid.y0 as f64);
     for v in &mut s.vertices {
         v.pos = [v.pos[0] + x0, v.pos[1] + y0];
@@ -255,18 +182,14 @@ fn skeleton_graph(
         height: h,
         origin: [x0, y0],
     };
-    (s, ink, filled)
+    (s, ink)
 }
 
 /// The skeleton's graph with the method's decisions, in order: spurs, thinning's split
 /// junctions, crossings, spurs the merged crossings leave, split crossings and stars, corners,
 /// junctions put back on one-pixel lines, dots, ends, junctions, the method's lines, and last
-/// every edge fitted to its ink. Returns the graph and the ink's mask.
-fn reconcile(
-    mut work: Work,
-    method: &StrokeGraph,
-    experiments: &ExperimentParams,
-) -> (StrokeGraph, Vec<bool>) {
+/// every edge fitted to its ink.
+fn reconcile(mut work: Work, method: &StrokeGraph, experiments: &ExperimentParams) -> StrokeGraph {
     let by_ink = experiments.decide_by_ink;
     work.prune_spurs(by_ink);
     work.join_degree_two();
@@ -287,8 +210,7 @@ fn reconcile(
     work.straighten_junctions();
     work.adopt_method_geometry(method);
     work.smooth_edges();
-    let ink = std::mem::take(&mut work.ink.mask);
-    (work.finish(method.width, method.height), ink)
+    work.finish(method.width, method.height)
 }
 
 /// Checks the skeleton stage's output ([`carry`] on an image): a valid [`StrokeGraph`]

@@ -217,20 +217,17 @@ fn zhang_suen_framed_at(
 /// a copy of its own bounding box with a background frame: the result is the whole window's,
 /// pixel for pixel, in a time that grows with the ink and not with the window (a chunk's window
 /// holds many times its ink on a text page). The components' pixels (window indices, rising) are
-/// given in CSR form: component `c` is `members[offsets[c]..offsets[c + 1]]`. `skeleton` is a
-/// blank mask of the window (every pixel background). Returns the skeleton over the window, its
-/// pixels in raster order, and the pixels of the filled specks.
+/// given in CSR form: component `c` is `members[offsets[c]..offsets[c + 1]]`. Returns the skeleton
+/// over the window and its pixels in raster order.
 pub(super) fn skeleton_by_component(
     ink: &mut [bool],
-    mut skeleton: Vec<bool>,
     width: usize,
     offsets: &[usize],
     members: &[usize],
     half: impl Fn(usize) -> f32,
-) -> (Vec<bool>, Vec<usize>, Vec<usize>) {
-    debug_assert_eq!(skeleton.len(), ink.len());
+) -> (Vec<bool>, Vec<usize>) {
+    let mut skeleton = vec![false; ink.len()];
     let mut skeleton_pixels = Vec::new();
-    let mut specks_filled = Vec::new();
     let (mut local, mut filled, mut thin) = (Vec::new(), Vec::new(), Vec::new());
     let mut candidates = Vec::new();
     let mut marks = ThinningMarks::default();
@@ -289,14 +286,11 @@ pub(super) fn skeleton_by_component(
             }
         }
         for i in component {
-            if !ink[i] {
-                ink[i] = true;
-                specks_filled.push(i);
-            }
+            ink[i] = true;
         }
     }
     skeleton_pixels.sort_unstable();
-    (skeleton, skeleton_pixels, specks_filled)
+    (skeleton, skeleton_pixels)
 }
 
 /// Zhang-Suen can leave runs two pixels thick (a 45 degree staircase, an L-shaped step) whose
@@ -611,12 +605,7 @@ mod tests {
             offsets.push(members.len());
         }
         let mut ink = binary.ink.clone();
-        let (skeleton, pixels, filled) =
-            skeleton_by_component(&mut ink, vec![false; w * h], w, &offsets, &members, half);
-        let specks: Vec<usize> = (0..w * h).filter(|&i| whole_ink[i] && !binary.ink[i]).collect();
-        let mut filled_sorted = filled.clone();
-        filled_sorted.sort_unstable();
-        assert_eq!(filled_sorted, specks);
+        let (skeleton, pixels) = skeleton_by_component(&mut ink, w, &offsets, &members, half);
         assert_eq!(ink, whole_ink);
         assert_eq!(skeleton, whole);
         let listed: Vec<usize> = (0..w * h).filter(|&i| whole[i]).collect();

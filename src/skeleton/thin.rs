@@ -1,5 +1,5 @@
 //! Thinning, a raster operation: the ink's specks filled ([`fill_specks_at`]), Zhang-Suen's
-//! skeleton ([`zhang_suen`]) made one pixel thick ([`one_pixel_thick_at`]), and a dot put back for
+//! skeleton ([`zhang_suen`]) made one pixel thick ([`one_pixel_thick_framed_at`]), and a dot put back for
 //! every component thinning erased; one component at a time over its own box
 //! ([`skeleton_by_component`]). docs/design.md, "Skeleton-carried geometry", first point.
 
@@ -80,6 +80,28 @@ fn zhang_suen_framed(padded: &mut [bool], width: usize) {
     zhang_suen_framed_at(padded, width, &ink, &mut ThinningMarks::default());
 }
 
+/// The 8 neighbours of pixel `i` of a `width`-wide grid as the bits of a byte (bit k:
+/// [`RING`]`[k]`, P2..P9), `i` not on the grid's first or last row or column. Read as the three
+/// rows of the 3 x 3 block around `i` (one bounds check for the block, where one per neighbour
+/// cost most of the thinning: docs/performance.md).
+#[inline]
+fn neighbourhood(grid: &[bool], width: usize, i: usize) -> u8 {
+    let block = &grid[i - width - 1..i + width + 2];
+    let (above, row, below) = (
+        &block[..3],
+        &block[width..width + 3],
+        &block[2 * width..2 * width + 3],
+    );
+    u8::from(above[1])
+        | u8::from(above[2]) << 1
+        | u8::from(row[2]) << 2
+        | u8::from(below[2]) << 3
+        | u8::from(below[1]) << 4
+        | u8::from(below[0]) << 5
+        | u8::from(row[0]) << 6
+        | u8::from(above[0]) << 7
+}
+
 /// The marks [`zhang_suen_framed_at`] keeps per pixel of its grid, kept from one grid to the next
 /// (the components of a window, [`skeleton_by_component`]) instead of a zeroed pair of arrays per
 /// grid: clear (false, 0) between calls, where only the ink pixels were ever marked.
@@ -89,6 +111,9 @@ struct ThinningMarks {
     queued: Vec<bool>,
     /// The sub-iteration the pixel was last (re)queued in.
     since: Vec<u32>,
+    /// An ink pixel's [`neighbourhood`], kept up to date as its neighbours go (written for every
+    /// ink pixel of a grid before it is read, so never cleared).
+    code: Vec<u8>,
 }
 
 /// [`zhang_suen_framed`] given the grid's ink pixels (`ink`: every one of them, each once, in
@@ -104,11 +129,6 @@ fn zhang_suen_framed_at(
     let offsets: [isize; 8] = RING.map(|(dx, dy)| dy as isize * pw + dx as isize);
     // The 8 neighbours as the bits of a byte (bit k: RING[k]), and for each sub-iteration a
     // table of the neighbourhoods whose center goes.
-    let bits = |grid: &[bool], i: usize| -> u8 {
-        (0..8).fold(0u8, |b, k| {
-            b | (u8::from(grid[(i as isize + offsets[k]) as usize]) << k)
-        })
-    };
     let table = &DELETED;
     // Only a pixel with a background neighbour can go; after a sub-iteration only the
     // neighbours of what went can newly have one. Checking just those gives the same result as
@@ -116,15 +136,22 @@ fn zhang_suen_framed_at(
     // times the stroke width.
     // A pixel whose neighbourhood has not changed since both sub-iterations checked it cannot
     // go until a neighbour goes: `since` is the sub-iteration it was (re)queued in.
+    // Each ink pixel's neighbourhood is read once and then kept (`code`): a pixel that goes
+    // clears its bit in each ink neighbour's, where reading the 8 neighbours again at every check
+    // cost most of the thinning (docs/performance.md).
     if marks.queued.len() < padded.len() {
         marks.queued.resize(padded.len(), false);
         marks.since.resize(padded.len(), 0);
+        marks.code.resize(padded.len(), 0);
     }
-    let (queued, since) = (&mut marks.queued, &mut marks.since);
+    let (queued, since, code) = (&mut marks.queued, &mut marks.since, &mut marks.code);
+    for &i in ink {
+        code[i] = neighbourhood(padded, width, i);
+    }
     let mut candidates: Vec<usize> = ink
         .iter()
         .copied()
-        .filter(|&i| bits(padded, i) != u8::MAX)
+        .filter(|&i| code[i] != u8::MAX)
         .collect();
     for &i in &candidates {
         queued[i] = true;
@@ -140,7 +167,7 @@ fn zhang_suen_framed_at(
             candidates
                 .iter()
                 .copied()
-                .filter(|&i| table[step][bits(padded, i) as usize]),
+                .filter(|&i| table[step][code[i] as usize]),
         );
         for &i in &marked {
             padded[i] = false;
@@ -157,9 +184,11 @@ fn zhang_suen_framed_at(
             keep
         });
         for &i in &marked {
-            for offset in offsets {
+            for (k, offset) in offsets.into_iter().enumerate() {
                 let j = (i as isize + offset) as usize;
                 if padded[j] {
+                    // `i` is `j`'s neighbour on the opposite side, RING[k + 4].
+                    code[j] &= !(1u8 << ((k + 4) % 8));
                     since[j] = t + 1;
                     if !queued[j] {
                         queued[j] = true;
@@ -179,7 +208,7 @@ fn zhang_suen_framed_at(
 }
 
 /// The one-pixel skeleton of a window's ink, every component kept: [`fill_specks_at`] (the filled
-/// specks written into `ink`), [`zhang_suen`], [`one_pixel_thick_at`], and for a component thinning
+/// specks written into `ink`), [`zhang_suen`], [`one_pixel_thick_framed_at`], and for a component thinning
 /// erased whole (a 2 x 2 block, a short 2-pixel-thick diagonal) its deepest pixel by `half`
 /// (ties: the first in raster order), a dot.
 ///
@@ -200,6 +229,7 @@ pub(super) fn skeleton_by_component(
     let mut skeleton = vec![false; ink.len()];
     let mut skeleton_pixels = Vec::new();
     let (mut local, mut filled, mut thin) = (Vec::new(), Vec::new(), Vec::new());
+    let mut candidates = Vec::new();
     let mut marks = ThinningMarks::default();
     for c in offsets.windows(2) {
         let pixels = &members[c[0]..c[1]];
@@ -236,7 +266,8 @@ pub(super) fn skeleton_by_component(
         zhang_suen_framed_at(&mut local, lw, &filled, &mut marks);
         thin.clear();
         thin.extend(filled.iter().copied().filter(|&j| local[j]));
-        one_pixel_thick_at(&mut local, lw, lh, thin.clone());
+        candidates.clone_from(&thin);
+        one_pixel_thick_framed_at(&mut local, lw, &mut candidates);
         let mut kept = false;
         for &j in thin.iter().filter(|&&j| local[j]) {
             skeleton[to_window(j)] = true;
@@ -269,7 +300,7 @@ pub(super) fn skeleton_by_component(
 /// 8-connectivity number is 1) and is no tip: it has three or more skeleton neighbours, or two
 /// that make it the inner corner of an L. Ends, the middle pixels of one-pixel lines and the
 /// centers of real junctions are not simple. The whole grid scanned for its pixels: the tests'
-/// reference for [`one_pixel_thick_at`], which the thinning uses.
+/// reference for [`one_pixel_thick_framed_at`], which the thinning uses.
 #[cfg(test)]
 pub(super) fn one_pixel_thick(skeleton: &mut [bool], width: usize, height: usize) {
     let candidates: Vec<usize> = skeleton
@@ -281,7 +312,9 @@ pub(super) fn one_pixel_thick(skeleton: &mut [bool], width: usize, height: usize
 }
 
 /// [`one_pixel_thick`] given the skeleton's pixels (`candidates`: every one of them, each once,
-/// in raster order, the order the removals are made in).
+/// in raster order, the order the removals are made in). The tests' reference for
+/// [`one_pixel_thick_framed_at`], which the thinning uses.
+#[cfg(test)]
 fn one_pixel_thick_at(
     skeleton: &mut [bool],
     width: usize,
@@ -328,6 +361,74 @@ fn one_pixel_thick_at(
                 })
                 .sum();
             if c8 == 1 {
+                skeleton[i] = false;
+                changed = true;
+            }
+        }
+        if !changed {
+            return;
+        }
+        candidates.retain(|&i| skeleton[i]);
+    }
+}
+
+/// For a skeleton pixel whose 8 neighbours are the bits of the index (bit k: [`RING`]`[k]`, as
+/// [`neighbourhood`] reads them), whether [`one_pixel_thick_framed_at`] removes it: three or more
+/// neighbours, or two that are both 4-neighbours (the inner corner of an L), and Yokoi's
+/// 8-connectivity number 1. Made once at compile time.
+const THINNED: [bool; 256] = thinned_table();
+
+const fn thinned_table() -> [bool; 256] {
+    let mut table = [false; 256];
+    let mut n = 0;
+    while n < 256 {
+        // Counter-clockwise from east (E, NE, N, NW, W, SW, S, SE): neighbour k is RING's
+        // (2 - k) mod 8.
+        let mut around = [false; 8];
+        let mut k = 0;
+        while k < 8 {
+            around[k] = bit(n, 10 - k);
+            k += 1;
+        }
+        let (mut count, mut fours, mut c8) = (0, 0, 0i32);
+        k = 0;
+        while k < 8 {
+            if around[k] {
+                count += 1;
+                if k % 2 == 0 {
+                    fours += 1;
+                }
+            }
+            k += 1;
+        }
+        // Yokoi: C8 = sum over k in {0, 2, 4, 6} of x'k - x'k x'k+1 x'k+2, x' = not x.
+        k = 0;
+        while k < 8 {
+            let (a, b, c) = (!around[k], !around[k + 1], !around[(k + 2) % 8]);
+            if a {
+                c8 += 1;
+                if b && c {
+                    c8 -= 1;
+                }
+            }
+            k += 2;
+        }
+        table[n] = count >= 2 && (count != 2 || fours == 2) && c8 == 1;
+        n += 1;
+    }
+    table
+}
+
+/// [`one_pixel_thick`] on a `width`-wide grid whose first and last rows and columns are
+/// background, given the skeleton's pixels (`candidates`: every one of them, each once, in raster
+/// order, the order the removals are made in; left holding those that stay): each pixel's
+/// neighbourhood read as one byte ([`neighbourhood`]) and decided by the table [`THINNED`], the
+/// same decisions [`one_pixel_thick_at`] makes neighbour by neighbour.
+fn one_pixel_thick_framed_at(skeleton: &mut [bool], width: usize, candidates: &mut Vec<usize>) {
+    loop {
+        let mut changed = false;
+        for &i in candidates.iter() {
+            if skeleton[i] && THINNED[neighbourhood(skeleton, width, i) as usize] {
                 skeleton[i] = false;
                 changed = true;
             }
@@ -542,6 +643,171 @@ mod tests {
             one_pixel_thick_at(&mut by_list, w, h, thin);
             assert_eq!(by_scan, by_list);
         }
+    }
+
+    /// [`zhang_suen_framed_at`] reading every candidate's neighbourhood from the grid at each
+    /// check, as it did before it kept them ([`ThinningMarks::code`]).
+    fn zhang_suen_framed_at_reading(padded: &mut [bool], width: usize, ink: &[usize]) {
+        let pw = width as isize;
+        let offsets: [isize; 8] = RING.map(|(dx, dy)| dy as isize * pw + dx as isize);
+        let bits = |grid: &[bool], i: usize| neighbourhood(grid, width, i);
+        let table = &DELETED;
+        let mut queued = vec![false; padded.len()];
+        let mut since = vec![0u32; padded.len()];
+        let mut candidates: Vec<usize> = ink
+            .iter()
+            .copied()
+            .filter(|&i| bits(padded, i) != u8::MAX)
+            .collect();
+        for &i in &candidates {
+            queued[i] = true;
+        }
+        let mut marked = Vec::new();
+        let (mut idle, mut step, mut t) = (0, 0, 0u32);
+        while idle < 2 {
+            marked.clear();
+            marked.extend(
+                candidates
+                    .iter()
+                    .copied()
+                    .filter(|&i| table[step][bits(padded, i) as usize]),
+            );
+            for &i in &marked {
+                padded[i] = false;
+                queued[i] = false;
+            }
+            idle = if marked.is_empty() { idle + 1 } else { 0 };
+            candidates.retain(|&i| {
+                let keep = padded[i] && since[i] == t;
+                if !keep {
+                    queued[i] = false;
+                }
+                keep
+            });
+            for &i in &marked {
+                for offset in offsets {
+                    let j = (i as isize + offset) as usize;
+                    if padded[j] {
+                        since[j] = t + 1;
+                        if !queued[j] {
+                            queued[j] = true;
+                            candidates.push(j);
+                        }
+                    }
+                }
+            }
+            step = 1 - step;
+            t += 1;
+        }
+    }
+
+    #[test]
+    fn thinning_with_kept_neighbourhoods_equals_reading_them() {
+        // Random framed grids of several densities and sizes, thinned one after another with
+        // the same marks (as the components of a window are), against reading the grid.
+        let mut lcg = crate::synth::lcg(31337u64);
+        let mut next = move || (lcg() >> 33) as usize;
+        let mut marks = ThinningMarks::default();
+        let mut deleted = 0;
+        for (w, h, density) in [
+            (40, 31, 3),
+            (3, 3, 2),
+            (23, 17, 2),
+            (9, 50, 4),
+            (60, 44, 5),
+            (33, 33, 8),
+            (12, 70, 6),
+        ] {
+            let mut grid = vec![false; w * h];
+            for y in 1..h - 1 {
+                for x in 1..w - 1 {
+                    grid[y * w + x] = next() % density != 0;
+                }
+            }
+            let ink: Vec<usize> = (0..w * h).filter(|&i| grid[i]).collect();
+            let (mut reading, mut keeping) = (grid.clone(), grid.clone());
+            zhang_suen_framed_at_reading(&mut reading, w, &ink);
+            zhang_suen_framed_at(&mut keeping, w, &ink, &mut marks);
+            assert_eq!(reading, keeping, "{w} x {h}, density {density}");
+            deleted += ink.iter().filter(|&&i| !keeping[i]).count();
+        }
+        assert!(deleted > 1000, "{deleted} pixels deleted");
+    }
+
+    /// The neighbourhood byte one neighbour at a time, as the thinning read it before
+    /// [`neighbourhood`].
+    fn neighbourhood_by_offsets(grid: &[bool], width: usize, i: usize) -> u8 {
+        let offsets: [isize; 8] = RING.map(|(dx, dy)| dy as isize * width as isize + dx as isize);
+        (0..8).fold(0u8, |b, k| {
+            b | (u8::from(grid[(i as isize + offsets[k]) as usize]) << k)
+        })
+    }
+
+    #[test]
+    fn the_neighbourhood_byte_equals_the_neighbours_one_at_a_time() {
+        let mut lcg = crate::synth::lcg(4242u64);
+        let mut next = move || (lcg() >> 33) as usize;
+        for (w, h, density) in [(3, 3, 2), (4, 7, 2), (23, 17, 3), (64, 5, 5), (9, 50, 4)] {
+            let grid: Vec<bool> = (0..w * h).map(|_| next() % density != 0).collect();
+            for y in 1..h - 1 {
+                for x in 1..w - 1 {
+                    let i = y * w + x;
+                    assert_eq!(
+                        neighbourhood(&grid, w, i),
+                        neighbourhood_by_offsets(&grid, w, i),
+                        "{w} x {h}, pixel ({x}, {y})"
+                    );
+                }
+            }
+        }
+        // Every neighbourhood, around the middle of a 3 x 3 grid.
+        for n in 0..256usize {
+            let mut grid = vec![false; 9];
+            for (k, (dx, dy)) in RING.iter().enumerate() {
+                grid[((1 + dy) * 3 + 1 + dx) as usize] = n & (1 << k) != 0;
+            }
+            assert_eq!(neighbourhood(&grid, 3, 4) as usize, n);
+        }
+    }
+
+    #[test]
+    fn one_pixel_thick_by_table_equals_it_neighbour_by_neighbour() {
+        // Random framed grids of several densities (many neighbourhoods, many removals in a
+        // row), and the same grids thinned by Zhang-Suen first (the skeletons it is used on).
+        let mut lcg = crate::synth::lcg(9090u64);
+        let mut next = move || (lcg() >> 33) as usize;
+        let mut removed = 0;
+        for (w, h, density) in [
+            (3, 3, 2),
+            (5, 4, 2),
+            (23, 17, 2),
+            (40, 31, 3),
+            (9, 50, 4),
+            (60, 44, 5),
+            (33, 33, 8),
+        ] {
+            for thinned in [false, true] {
+                let mut grid = vec![false; w * h];
+                for y in 1..h - 1 {
+                    for x in 1..w - 1 {
+                        grid[y * w + x] = next() % density != 0;
+                    }
+                }
+                if thinned {
+                    zhang_suen_framed(&mut grid, w);
+                }
+                let pixels: Vec<usize> = (0..w * h).filter(|&i| grid[i]).collect();
+                let (mut by_pixel, mut by_table) = (grid.clone(), grid.clone());
+                one_pixel_thick_at(&mut by_pixel, w, h, pixels.clone());
+                let mut candidates = pixels.clone();
+                one_pixel_thick_framed_at(&mut by_table, w, &mut candidates);
+                assert_eq!(by_pixel, by_table, "{w} x {h}, density {density}");
+                let kept: Vec<usize> = (0..w * h).filter(|&i| by_table[i]).collect();
+                assert_eq!(candidates, kept);
+                removed += pixels.len() - kept.len();
+            }
+        }
+        assert!(removed > 100, "{removed} pixels removed");
     }
 
     #[test]

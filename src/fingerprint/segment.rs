@@ -350,9 +350,42 @@ fn row_f_ratio(
                 row.2 += vv;
             }
         }
+        let Some(anova) = RowsAnova::of(&rows[..count]) else {
+            continue;
+        };
+        if anova.ratio > best {
+            best = anova.ratio;
+            amplitude = (anova.between - anova.noise).max(0.0).sqrt();
+            spread = anova.within.sqrt();
+        }
+    }
+    BlockEvidence {
+        f_ratio: best as f32,
+        mean: mv as f32,
+        amplitude: amplitude as f32,
+        noise: spread as f32,
+    }
+}
+
+/// The one-way analysis of variance of a window's rows ([`ridge_evidence`]), each row its pixel
+/// count, sum and sum of squares.
+struct RowsAnova {
+    /// The variance between the rows' means over the noise of a row mean.
+    ratio: f64,
+    /// The variance between the rows' means.
+    between: f64,
+    /// The noise of a row mean (with the rounding of 8-bit gray).
+    noise: f64,
+    /// The pixels' variance within the rows.
+    within: f64,
+}
+
+impl RowsAnova {
+    /// `None` when fewer than four rows have the three pixels a mean and a spread need.
+    fn of(rows: &[(usize, f64, f64)]) -> Option<RowsAnova> {
         let (mut within, mut pixels, mut used) = (0.0, 0usize, 0usize);
         let (mut sum_means, mut sum_squared_means) = (0.0, 0.0);
-        for &(k, sum, squares) in &rows[..count] {
+        for &(k, sum, squares) in rows {
             // A row needs a few pixels for its mean and its spread.
             if k < 3 {
                 continue;
@@ -365,24 +398,18 @@ fn row_f_ratio(
             sum_squared_means += mean * mean;
         }
         if used < 4 {
-            continue;
+            return None;
         }
         let within = within / (pixels - used) as f64;
         let between = sum_squared_means / used as f64 - (sum_means / used as f64).powi(2);
         let per_row = pixels as f64 / used as f64;
         let noise = within / per_row + 1.0 / 12.0;
-        let ratio = between / noise;
-        if ratio > best {
-            best = ratio;
-            amplitude = (between - noise).max(0.0).sqrt();
-            spread = within.sqrt();
-        }
-    }
-    BlockEvidence {
-        f_ratio: best as f32,
-        mean: mv as f32,
-        amplitude: amplitude as f32,
-        noise: spread as f32,
+        Some(RowsAnova {
+            ratio: between / noise,
+            between,
+            noise,
+            within,
+        })
     }
 }
 
@@ -504,32 +531,13 @@ fn row_f_ratio_reference(
             row.1 += v;
             row.2 += v * v;
         }
-        let (mut within, mut pixels, mut used) = (0.0, 0usize, 0usize);
-        let (mut sum_means, mut sum_squared_means) = (0.0, 0.0);
-        for &(k, sum, squares) in rows.iter() {
-            // A row needs a few pixels for its mean and its spread.
-            if k < 3 {
-                continue;
-            }
-            let mean = sum / k as f64;
-            within += squares - sum * mean;
-            pixels += k;
-            used += 1;
-            sum_means += mean;
-            sum_squared_means += mean * mean;
-        }
-        if used < 4 {
+        let Some(anova) = RowsAnova::of(rows) else {
             continue;
-        }
-        let within = within / (pixels - used) as f64;
-        let between = sum_squared_means / used as f64 - (sum_means / used as f64).powi(2);
-        let per_row = pixels as f64 / used as f64;
-        let noise = within / per_row + 1.0 / 12.0;
-        let ratio = between / noise;
-        if ratio > best {
-            best = ratio;
-            amplitude = (between - noise).max(0.0).sqrt();
-            spread = within.sqrt();
+        };
+        if anova.ratio > best {
+            best = anova.ratio;
+            amplitude = (anova.between - anova.noise).max(0.0).sqrt();
+            spread = anova.within.sqrt();
         }
     }
     BlockEvidence {

@@ -377,19 +377,24 @@ fn eight_neighbours(
                 neighbors.push(j);
             }
         });
-        // The CSR arrays index with u32 (`PointSet`).
-        if neighbors.len() > u32::MAX as usize {
-            return Err(Error::Limit {
-                what: "neighbour pairs",
-                actual: neighbors.len() as u64,
-                limit: u32::MAX as u64,
-                field: "limits.max_points",
-            });
-        }
-        offsets.push(neighbors.len() as u32);
+        close_list(&mut offsets, &neighbors)?;
     }
     neighbors.shrink_to_fit();
     Ok((offsets, neighbors))
+}
+
+/// Ends a pixel's list in the CSR arrays, which index with u32 (`PointSet`): an error past that.
+fn close_list(offsets: &mut Vec<u32>, neighbors: &[u32]) -> Result<()> {
+    if neighbors.len() > u32::MAX as usize {
+        return Err(Error::Limit {
+            what: "neighbour pairs",
+            actual: neighbors.len() as u64,
+            limit: u32::MAX as u64,
+            field: "limits.max_points",
+        });
+    }
+    offsets.push(neighbors.len() as u32);
+    Ok(())
 }
 
 /// [`eight_neighbours`] of the pixels of `runs` (window coordinates: row, first and end column,
@@ -445,16 +450,7 @@ fn eight_neighbours_of_runs(
                 }
             }
             neighbors.extend_from_slice(&cells[..n]);
-            // The CSR arrays index with u32 (`PointSet`).
-            if neighbors.len() > u32::MAX as usize {
-                return Err(Error::Limit {
-                    what: "neighbour pairs",
-                    actual: neighbors.len() as u64,
-                    limit: u32::MAX as u64,
-                    field: "limits.max_points",
-                });
-            }
-            offsets.push(neighbors.len() as u32);
+            close_list(&mut offsets, &neighbors)?;
         }
     }
     neighbors.shrink_to_fit();

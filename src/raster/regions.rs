@@ -760,37 +760,7 @@ fn faint(
                 }
             }
         });
-    let mut paper: Vec<Option<i32>> = sums
-        .iter()
-        .map(|&(sum, n, all)| (4 * n >= all && n > 0).then(|| (sum / u64::from(n)) as i32))
-        .collect();
-    // Cells without enough paper take the mean of their known neighbours (8-connected), ring by
-    // ring; none known at all: no paper to measure against.
-    if paper.iter().all(Option::is_none) {
-        return None;
-    }
-    while paper.iter().any(Option::is_none) {
-        let before = paper.clone();
-        for c in 0..cols * rows {
-            if before[c].is_some() {
-                continue;
-            }
-            let (x, y) = (c % cols, c / cols);
-            let (mut sum, mut n) = (0i64, 0i64);
-            for ny in y.saturating_sub(1)..(y + 2).min(rows) {
-                for nx in x.saturating_sub(1)..(x + 2).min(cols) {
-                    if let Some(p) = before[ny * cols + nx] {
-                        sum += i64::from(p);
-                        n += 1;
-                    }
-                }
-            }
-            if n > 0 {
-                paper[c] = Some((sum / n) as i32);
-            }
-        }
-    }
-    let paper: Vec<i32> = paper.into_iter().map(|p| p.unwrap_or(0)).collect();
+    let paper = paper_means(&sums, cols, rows)?;
     // A reversed ground's strokes are lighter than the ground around them: neither measured nor
     // left out.
     let in_ground = |p: usize| {
@@ -799,7 +769,6 @@ fn faint(
             .iter()
             .any(|g| (g.x..g.x + g.width).contains(&x) && (g.y..g.y + g.height).contains(&y))
     };
-    let measured = |p: usize| ink[p] && (grounds.is_empty() || !in_ground(p));
     let darkness = |p: usize| {
         paper[(p / width / cell) * cols + (p % width) / cell] - turn(gray.row(p / width)[p % width])
     };
@@ -832,6 +801,55 @@ fn faint(
                 (a, n + m)
             },
         );
+    let contrast = text_contrast(&histogram, total)?;
+    let all_ink: usize = ink
+        .par_chunks(PIXELS_PER_TASK)
+        .map(|ink| ink.iter().filter(|&&i| i).count())
+        .sum();
+    faint_pieces(
+        ink, width, height, &histogram, contrast, all_ink, in_ground, darkness, remove,
+    )
+}
+
+/// The cells' paper levels of [`faint`] from each cell's (sum, count) of paper pixels and its
+/// pixel count: the mean where a quarter of the cell is paper; a cell with less takes the mean of
+/// its known neighbours (8-connected), ring by ring. `None` when no cell has enough paper.
+fn paper_means(sums: &[(u64, u32, u32)], cols: usize, rows: usize) -> Option<Vec<i32>> {
+    let mut paper: Vec<Option<i32>> = sums
+        .iter()
+        .map(|&(sum, n, all)| (4 * n >= all && n > 0).then(|| (sum / u64::from(n)) as i32))
+        .collect();
+    if paper.iter().all(Option::is_none) {
+        return None;
+    }
+    while paper.iter().any(Option::is_none) {
+        let before = paper.clone();
+        for c in 0..cols * rows {
+            if before[c].is_some() {
+                continue;
+            }
+            let (x, y) = (c % cols, c / cols);
+            let (mut sum, mut n) = (0i64, 0i64);
+            for ny in y.saturating_sub(1)..(y + 2).min(rows) {
+                for nx in x.saturating_sub(1)..(x + 2).min(cols) {
+                    if let Some(p) = before[ny * cols + nx] {
+                        sum += i64::from(p);
+                        n += 1;
+                    }
+                }
+            }
+            if n > 0 {
+                paper[c] = Some((sum / n) as i32);
+            }
+        }
+    }
+    Some(paper.into_iter().map(|p| p.unwrap_or(0)).collect())
+}
+
+/// The text's contrast of [`faint`]: the darkness at [`TEXT_QUANTILE`] of the measured ink, from
+/// the histogram of darkness + 255 over `total` pixels; `None` when there is no ink or it is not
+/// darker than the paper.
+fn text_contrast(histogram: &[u64; 511], total: u64) -> Option<i32> {
     if total == 0 {
         return None;
     }
@@ -844,9 +862,24 @@ fn faint(
             seen >= rank
         })
         .map_or(0, |d| d as i32 - 255);
-    if contrast <= 0 {
-        return None;
-    }
+    (contrast > 0).then_some(contrast)
+}
+
+/// The rest of [`faint`] once the text's contrast is known: the faint pieces of ink as one region,
+/// removed from `ink` when `remove` says so.
+#[allow(clippy::too_many_arguments)]
+fn faint_pieces(
+    ink: &mut [bool],
+    width: usize,
+    height: usize,
+    histogram: &[u64; 511],
+    contrast: i32,
+    all_ink: usize,
+    in_ground: impl Fn(usize) -> bool,
+    darkness: impl Fn(usize) -> i32,
+    remove: bool,
+) -> Option<Region> {
+    let measured = |ink: &[bool], p: usize| ink[p] && !in_ground(p);
     let reaches = |p: usize| f64::from(darkness(p)) >= FAINT_SHARE * f64::from(contrast);
     // A faint piece of n pixels has more than (1 - FAINT_CORE) n measured pixels that do not
     // reach the share, so all faint pieces together are fewer than those pixels over
@@ -859,10 +892,6 @@ fn faint(
         .filter(|&(d, _)| f64::from(d as i32 - 255) < FAINT_SHARE * f64::from(contrast))
         .map(|(_, &n)| n)
         .sum();
-    let all_ink: usize = ink
-        .par_chunks(PIXELS_PER_TASK)
-        .map(|ink| ink.iter().filter(|&&i| i).count())
-        .sum();
     if (short as f64) < (1.0 - FAINT_CORE) * FAINT_INK * all_ink as f64 {
         return None;
     }
@@ -871,7 +900,7 @@ fn faint(
     let (labels, sizes) = label_components(ink, width, height, true, Connectivity::Eight);
     let mut reaching = vec![0usize; sizes.len()];
     for (p, &l) in labels.iter().enumerate() {
-        if l > 0 && (!measured(p) || reaches(p)) {
+        if l > 0 && (!measured(ink, p) || reaches(p)) {
             reaching[l as usize] += 1;
         }
     }
@@ -1789,6 +1818,8 @@ mod tests {
         inside || along_edge
     }
 
+    /// [`faint`]'s parallel steps (the cells' sums, the histogram, the count of ink) done in one
+    /// pass each, the shared steps called as it calls them.
     fn faint_in_one_pass(
         gray: GrayView<'_>,
         ink: &mut [bool],
@@ -1823,134 +1854,28 @@ mod tests {
                 s.2 += row.len() as u32;
             }
         }
-        let mut paper: Vec<Option<i32>> = sums
-            .iter()
-            .map(|&(sum, n, all)| (4 * n >= all && n > 0).then(|| (sum / u64::from(n)) as i32))
-            .collect();
-        // Cells without enough paper take the mean of their known neighbours (8-connected), ring by
-        // ring; none known at all: no paper to measure against.
-        if paper.iter().all(Option::is_none) {
-            return None;
-        }
-        while paper.iter().any(Option::is_none) {
-            let before = paper.clone();
-            for c in 0..cols * rows {
-                if before[c].is_some() {
-                    continue;
-                }
-                let (x, y) = (c % cols, c / cols);
-                let (mut sum, mut n) = (0i64, 0i64);
-                for ny in y.saturating_sub(1)..(y + 2).min(rows) {
-                    for nx in x.saturating_sub(1)..(x + 2).min(cols) {
-                        if let Some(p) = before[ny * cols + nx] {
-                            sum += i64::from(p);
-                            n += 1;
-                        }
-                    }
-                }
-                if n > 0 {
-                    paper[c] = Some((sum / n) as i32);
-                }
-            }
-        }
-        let paper: Vec<i32> = paper.into_iter().map(|p| p.unwrap_or(0)).collect();
-        // A reversed ground's strokes are lighter than the ground around them: neither measured nor
-        // left out.
+        let paper = paper_means(&sums, cols, rows)?;
         let in_ground = |p: usize| {
             let (x, y) = ((p % width) as u32, (p / width) as u32);
             grounds
                 .iter()
                 .any(|g| (g.x..g.x + g.width).contains(&x) && (g.y..g.y + g.height).contains(&y))
         };
-        let measured = |p: usize| ink[p] && (grounds.is_empty() || !in_ground(p));
         let darkness = |p: usize| {
             paper[(p / width / cell) * cols + (p % width) / cell]
                 - turn(gray.row(p / width)[p % width])
         };
-        // The text's contrast: the darkness at TEXT_QUANTILE of the ink, from a histogram.
         let mut histogram = [0u64; 511];
         let mut total = 0u64;
-        for p in (0..ink.len()).filter(|&p| measured(p)) {
+        for p in (0..ink.len()).filter(|&p| ink[p] && !in_ground(p)) {
             histogram[(darkness(p) + 255) as usize] += 1;
             total += 1;
         }
-        if total == 0 {
-            return None;
-        }
-        let rank = (TEXT_QUANTILE * total as f64).ceil() as u64;
-        let mut seen = 0;
-        let contrast = histogram
-            .iter()
-            .position(|&n| {
-                seen += n;
-                seen >= rank
-            })
-            .map_or(0, |d| d as i32 - 255);
-        if contrast <= 0 {
-            return None;
-        }
-        let reaches = |p: usize| f64::from(darkness(p)) >= FAINT_SHARE * f64::from(contrast);
-        // A faint piece of n pixels has more than (1 - FAINT_CORE) n measured pixels that do not
-        // reach the share, so all faint pieces together are fewer than those pixels over
-        // (1 - FAINT_CORE): when that bound is under FAINT_INK of the ink (a page of text), there is
-        // nothing to leave out, and the page need not be labelled.
-        // The measured pixels short of the share, read off the histogram.
-        let short: u64 = histogram
-            .iter()
-            .enumerate()
-            .filter(|&(d, _)| f64::from(d as i32 - 255) < FAINT_SHARE * f64::from(contrast))
-            .map(|(_, &n)| n)
-            .sum();
+        let contrast = text_contrast(&histogram, total)?;
         let all_ink = ink.iter().filter(|&&i| i).count();
-        if (short as f64) < (1.0 - FAINT_CORE) * FAINT_INK * all_ink as f64 {
-            return None;
-        }
-        // Per piece of ink (8-connected), its pixels and those that reach the share of the text's
-        // contrast (ink in a ground counts as reaching it, so a ground's strokes stay).
-        let (labels, sizes) = label_components(ink, width, height, true, Connectivity::Eight);
-        let mut reaching = vec![0usize; sizes.len()];
-        for (p, &l) in labels.iter().enumerate() {
-            if l > 0 && (!measured(p) || reaches(p)) {
-                reaching[l as usize] += 1;
-            }
-        }
-        let faint: Vec<bool> = reaching
-            .iter()
-            .zip(&sizes)
-            .enumerate()
-            .map(|(l, (&r, &n))| l > 0 && (r as f64) < FAINT_CORE * n as f64)
-            .collect();
-        // Only where the faint pieces are most of the ink: the threshold has read the paper itself
-        // (its grain, a cover's cracks) as ink. Fewer faint pieces beside the text are as likely
-        // faint content (ruled lines, a print's lighter ridges) as show-through.
-        let faint_ink: usize = faint
-            .iter()
-            .zip(&sizes)
-            .filter(|(&f, _)| f)
-            .map(|(_, &n)| n)
-            .sum();
-        if (faint_ink as f64) < FAINT_INK * all_ink as f64 {
-            return None;
-        }
-        let (mut x0, mut y0, mut x1, mut y1) = (width, height, 0, 0);
-        let mut any = false;
-        for (p, (i, &l)) in ink.iter_mut().zip(&labels).enumerate() {
-            if faint[l as usize] {
-                let (x, y) = (p % width, p / width);
-                (x0, y0, x1, y1) = (x0.min(x), y0.min(y), x1.max(x), y1.max(y));
-                any = true;
-                if remove {
-                    *i = false;
-                }
-            }
-        }
-        any.then(|| Region {
-            kind: RegionKind::Faint,
-            x: x0 as u32,
-            y: y0 as u32,
-            width: (x1 - x0 + 1) as u32,
-            height: (y1 - y0 + 1) as u32,
-        })
+        faint_pieces(
+            ink, width, height, &histogram, contrast, all_ink, in_ground, darkness, remove,
+        )
     }
 
     /// A page of short strokes 3 px wide (letters' worth of bars on lines of text) within

@@ -1088,6 +1088,11 @@ fn seed_possible(
                 }
             }
         });
+    seed_in_counts(&counts, cols, rows, texture)
+}
+
+/// [`seed_possible`] from the cells' counts of ink, dark and all pixels.
+fn seed_in_counts(counts: &[[u32; 3]], cols: usize, rows: usize, texture: &[bool]) -> bool {
     let share = |c: usize, k: usize| f64::from(counts[c][k]) / f64::from(counts[c][2].max(1));
     let solid = |c: usize| share(c, 0) >= SOLID_SHARE;
     let candidate = |c: usize| {
@@ -1799,23 +1804,7 @@ mod tests {
                 counts[2] += row.len() as u32;
             }
         }
-        let share = |c: usize, k: usize| f64::from(counts[c][k]) / f64::from(counts[c][2].max(1));
-        let solid = |c: usize| share(c, 0) >= SOLID_SHARE;
-        let candidate = |c: usize| {
-            solid(c) || (share(c, 1) >= DARK_SHARE && share(c, 0) < DARK_FIELD_INK) || texture[c]
-        };
-        let block = |x: usize, y: usize| {
-            (0..SEED_CELLS).all(|dy| (0..SEED_CELLS).all(|dx| candidate((y + dy) * cols + x + dx)))
-        };
-        let inside = (0..=rows - SEED_CELLS).any(|y| (0..=cols - SEED_CELLS).any(|x| block(x, y)));
-        let along_edge = (0..cols * rows).any(|c| {
-            let (x, y) = (c % cols, c / cols);
-            let along_row = (y == 0 || y + 1 == rows) && x + SEED_CELLS <= cols;
-            let along_col = (x == 0 || x + 1 == cols) && y + SEED_CELLS <= rows;
-            (along_row && (0..SEED_CELLS).all(|d| solid(c + d)))
-                || (along_col && (0..SEED_CELLS).all(|d| solid(c + d * cols)))
-        });
-        inside || along_edge
+        seed_in_counts(&counts, cols, rows, texture)
     }
 
     /// [`faint`]'s parallel steps (the cells' sums, the histogram, the count of ink) done in one

@@ -15,6 +15,33 @@ use kiddo::{ImmutableKdTree, SquaredEuclidean};
 use petgraph::unionfind::UnionFind;
 use rayon::prelude::*;
 
+use crate::error::{Error, Result};
+
+/// Coordinates are translated so the smallest is 0; an extent beyond this would overflow squared
+/// distances.
+const MAX_EXTENT: f64 = 1e150;
+
+/// An error unless points translated so the smallest coordinate is 0 span at most
+/// [`MAX_EXTENT`] (and no coordinate is NaN).
+pub(crate) fn check_extent(extent: f64) -> Result<()> {
+    if extent.is_nan() || extent > MAX_EXTENT {
+        return Err(Error::InvalidParams(format!(
+            "the points span {extent:e} units; at most {MAX_EXTENT:e} is supported"
+        )));
+    }
+    Ok(())
+}
+
+/// The power of two nearest `x` on a log scale (1 for anything not positive and finite), so that
+/// rescaling by it is exact short of underflow.
+pub(crate) fn power_of_two_near(x: f64) -> f64 {
+    if x.is_finite() && x > 0.0 {
+        2f64.powi(x.log2().round().clamp(-1000.0, 1000.0) as i32)
+    } else {
+        1.0
+    }
+}
+
 /// Points per parallel batch of queries: consecutive along the Z-order curve.
 const QUERY_BATCH: usize = 1024;
 

@@ -19,14 +19,12 @@ use crate::mask::{close3, ink_row_starts, squared_distance_rows, tiny_hole_pixel
 use crate::median::upper_median_by;
 use crate::params::{Params, RMinRule};
 use crate::point_index::{
-    cross_pairs, dear_max, dear_min, joined_parts, k_nearest, sparse_points, z_order, Cells,
+    check_extent, cross_pairs, dear_max, dear_min, joined_parts, k_nearest, power_of_two_near,
+    sparse_points, z_order, Cells,
 };
 use crate::point_set::{on_lattice, PointSet};
 use crate::stroke_graph::StrokeGraph;
 
-/// Coordinates are translated so the smallest is 0; an extent beyond this would overflow squared
-/// distances.
-const MAX_EXTENT: f64 = 1e150;
 /// Largest dense raster for the half-width, in cells, on top of a share per point. Beyond it
 /// (points spread thinly over a huge extent) a sparse search gives the same values.
 const DENSE_CELLS_BASE: u64 = 1 << 22;
@@ -430,22 +428,11 @@ fn prepare(list: &[[f64; 2]], params: &Params, leave_out: bool) -> Result<Prepar
         .map(|p| [p[0] - min[0], p[1] - min[1]])
         .collect();
     let extent = local.iter().fold(0.0f64, |m, p| m.max(p[0]).max(p[1]));
-    if extent.is_nan() || extent > MAX_EXTENT {
-        return Err(Error::InvalidParams(format!(
-            "the points span {extent:e} units; at most {MAX_EXTENT:e} is supported"
-        )));
-    }
+    check_extent(extent)?;
 
     // Powers of two only, so every rescaling below is exact (short of underflow). First the
     // extent to about 1, so that squared distances neither overflow nor underflow in the search.
-    let power_near = |x: f64| -> f64 {
-        if x.is_finite() && x > 0.0 {
-            2f64.powi(x.log2().round().clamp(-1000.0, 1000.0) as i32)
-        } else {
-            1.0
-        }
-    };
-    let coarse = power_near(extent);
+    let coarse = power_of_two_near(extent);
     let mut local: Vec<[f64; 2]> = local
         .iter()
         .map(|p| [p[0] / coarse, p[1] / coarse])
@@ -475,7 +462,11 @@ fn prepare(list: &[[f64; 2]], params: &Params, leave_out: bool) -> Result<Prepar
         }
     }
     // Then `Dis_ave` to about 1 (see `Units`).
-    let fine = if k == 0 { 1.0 } else { power_near(spacing) };
+    let fine = if k == 0 {
+        1.0
+    } else {
+        power_of_two_near(spacing)
+    };
     for p in &mut local {
         *p = [p[0] / fine, p[1] / fine];
     }

@@ -13,11 +13,10 @@ use super::math::{eigen, linearity, tube_diameter, Moments, V3};
 use crate::csr::symmetric_from_lists;
 use crate::error::{Error, Result};
 use crate::params::Params;
-use crate::point_index::{cross_pairs, joined_parts, k_nearest, sparse_points, z_order, Cells};
-
-/// Coordinates are translated so the smallest is 0; an extent beyond this would overflow squared
-/// distances.
-const MAX_EXTENT: f64 = 1e150;
+use crate::point_index::{
+    check_extent, cross_pairs, joined_parts, k_nearest, power_of_two_near, sparse_points, z_order,
+    Cells,
+};
 
 /// How far, in its own `k`-th neighbour distances, a point reaches for a point of another part
 /// (the plane's rule, `point_list`: random points leave clumps cut off the tube they lie in).
@@ -181,21 +180,10 @@ fn cloud_once(list: &[V3], params: &Params, leave_out: bool) -> Result<Prepared>
     let extent = points.iter().fold(0.0f64, |m, p| {
         m.max(p[0] - min[0]).max(p[1] - min[1]).max(p[2] - min[2])
     });
-    if extent.is_nan() || extent > MAX_EXTENT {
-        return Err(Error::InvalidParams(format!(
-            "the points span {extent:e} units; at most {MAX_EXTENT:e} is supported"
-        )));
-    }
+    check_extent(extent)?;
     // Powers of two only, so every rescaling is exact: first the extent to about 1, then
     // `Dis_ave` to about 1.
-    let power_near = |x: f64| -> f64 {
-        if x.is_finite() && x > 0.0 {
-            2f64.powi(x.log2().round().clamp(-1000.0, 1000.0) as i32)
-        } else {
-            1.0
-        }
-    };
-    let coarse = power_near(extent);
+    let coarse = power_of_two_near(extent);
     let mut local: Vec<V3> = points
         .iter()
         .map(|p| {
@@ -229,7 +217,11 @@ fn cloud_once(list: &[V3], params: &Params, leave_out: bool) -> Result<Prepared>
             return Ok(Prepared::LeaveOut(kept));
         }
     }
-    let fine = if k == 0 { 1.0 } else { power_near(spacing) };
+    let fine = if k == 0 {
+        1.0
+    } else {
+        power_of_two_near(spacing)
+    };
     for p in &mut local {
         *p = [p[0] / fine, p[1] / fine, p[2] / fine];
     }

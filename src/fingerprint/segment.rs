@@ -441,6 +441,10 @@ fn disc_run(
     guess: (i64, i64),
     inside: impl Fn(i64) -> bool,
 ) -> Option<(i64, i64)> {
+    // A window past the image's side has no pixels on the line.
+    if lo > hi {
+        return None;
+    }
     let (mut a, mut b) = (guess.0.clamp(lo, hi + 1), guess.1.clamp(lo - 1, hi));
     while a > lo && inside(a - 1) {
         a -= 1;

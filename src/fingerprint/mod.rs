@@ -184,12 +184,14 @@ fn front_stages(gray: GrayView<'_>, params: &FingerprintParams) -> FrontStages {
     // out by the second segmentation pass (the filter's response in a block reads only the
     // image and the block's own orientation and period).
     let blank = if params.blank_evidence > 0.0 {
-        let evidence = segment::ridge_evidence(&plane, &segmentation, &orientation, &periods);
+        let mut evidence = segment::ridge_evidence(&plane, &segmentation, &orientation, &periods);
+        let full = |b| segment::full_evidence(&plane, &segmentation, &orientation, &periods, b);
         let period = periods.median_inside(&segmentation);
-        let blank = |dark_ridges| {
+        let mut blank = |dark_ridges| {
             segment::blank_blocks(
                 &segmentation,
-                &evidence,
+                &mut evidence,
+                full,
                 params.blank_evidence,
                 params.blank_off_middle,
                 period,

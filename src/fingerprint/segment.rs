@@ -164,37 +164,112 @@ const ROW_ORIENTATIONS: usize = 12;
 const ROW_LENGTH: f64 = 1.5;
 
 /// Per block inside `segmentation`, how clearly the gray image around it shows ridges
-/// (docs/fingerprints.md, "Segmentation"): the F ratio of a one-way analysis of variance of the
-/// pixels within one period `T` of the block's centre across the ridges and 1.5 `T` along them (the
-/// best-fitting plane of the gray levels taken off: shading, the edge of a wet patch), grouped
-/// into rows along the ridges one pixel apart. Where ridges and valleys alternate, the rows'
-/// means differ far more than the pixels within a row; on a flat patch or noise they differ only
-/// by each mean's own noise, so the ratio of the variance between the rows' means to the
-/// variance of a row mean (the pixels' variance within the rows over their count, plus the
-/// rounding noise of 8-bit gray, 1/12 level², so that a flat patch without noise is no ridge) is
-/// about 1. The best of [`ROW_ORIENTATIONS`] orientations: a core's curved ridges, or an
-/// orientation the field got wrong, still count as ridges. Unitless, in the image's own units
-/// (gray levels against gray levels, lengths in the block's period). 0 outside the print.
+/// (docs/fingerprints.md, "Segmentation"), at the block's own orientation only: its window's
+/// mean gray and its ridges' amplitude there, and the F ratio and noise of that orientation,
+/// which [`full_evidence`] completes to the best of [`ROW_ORIENTATIONS`] where [`blank_blocks`]
+/// needs it. 0 outside the print.
 pub(crate) fn ridge_evidence(
     gray: &Plane,
     segmentation: &Segmentation,
     field: &OrientationField,
     periods: &RidgePeriods,
 ) -> Vec<BlockEvidence> {
-    let grid = segmentation.grid;
-    let cols = grid.cols as usize;
-    (0..grid.len())
+    (0..segmentation.grid.len())
         .into_par_iter()
-        .map_init(EvidenceWindow::default, |window, b| {
+        .map_init(EvidenceScratch::default, |scratch, b| {
             if !segmentation.inside[b] {
                 return BlockEvidence::default();
             }
-            let (i, j) = (b % cols, b / cols);
-            let own = f64::from(field.angle[b]);
-            let period = f64::from(periods.period[b]).max(2.0);
-            row_f_ratio(gray, grid.center(i, j), own, period, window)
+            block_evidence(gray, segmentation.grid, field, periods, b, 1, scratch)
         })
         .collect()
+}
+
+/// The full evidence of block `b` (inside the print): as [`ridge_evidence`]'s, the F ratio and
+/// the noise at the best of [`ROW_ORIENTATIONS`] orientations from the block's own (a core's
+/// curved ridges, or an orientation the field got wrong, still count as ridges); the mean and
+/// the amplitude are the same bits.
+pub(crate) fn full_evidence(
+    gray: &Plane,
+    segmentation: &Segmentation,
+    field: &OrientationField,
+    periods: &RidgePeriods,
+    b: usize,
+) -> BlockEvidence {
+    block_evidence(
+        gray,
+        segmentation.grid,
+        field,
+        periods,
+        b,
+        ROW_ORIENTATIONS,
+        &mut EvidenceScratch::default(),
+    )
+}
+
+/// [`row_f_ratio`] of block `b` at its centre, orientation and period.
+fn block_evidence(
+    gray: &Plane,
+    grid: BlockGrid,
+    field: &OrientationField,
+    periods: &RidgePeriods,
+    b: usize,
+    orientations: usize,
+    scratch: &mut EvidenceScratch,
+) -> BlockEvidence {
+    let cols = grid.cols as usize;
+    let (i, j) = (b % cols, b / cols);
+    let own = f64::from(field.angle[b]);
+    let period = f64::from(periods.period[b]).max(2.0);
+    row_f_ratio(gray, grid.center(i, j), own, period, orientations, scratch)
+}
+
+/// [`row_f_ratio`]'s scratch space, kept from one block to the next.
+#[derive(Default)]
+struct EvidenceScratch {
+    /// The window's lines: `y` and the first and last `x` of the disc on it.
+    lines: Vec<(i64, i64, i64)>,
+    /// Count, sum and sum of squares per row.
+    rows: Vec<(usize, f64, f64)>,
+}
+
+/// The print's gray levels as [`blank_blocks`] reads them: its middle gray, the median of its
+/// blocks' window means, and its ridges' half swing, the median of their amplitudes (at their
+/// own orientations) times √2 (a sinusoid's peak over its standard deviation).
+struct PrintGray {
+    middle: f64,
+    swing: f64,
+}
+
+impl PrintGray {
+    fn of(segmentation: &Segmentation, evidence: &[BlockEvidence]) -> PrintGray {
+        let median_of = |value: fn(&BlockEvidence) -> f32| {
+            let mut values: Vec<f32> = evidence
+                .iter()
+                .zip(&segmentation.inside)
+                .filter(|(_, &inside)| inside)
+                .map(|(e, _)| value(e))
+                .collect();
+            f64::from(upper_median_by(&mut values, f32::total_cmp).unwrap_or(0.0))
+        };
+        PrintGray {
+            middle: median_of(|e| e.mean),
+            swing: std::f64::consts::SQRT_2 * median_of(|e| e.amplitude),
+        }
+    }
+
+    /// Which side of the middle gray the block's window mean sits on when it is at least
+    /// `off_middle` of the half swing off it: -1 dark, 1 light, 0 nearer.
+    fn side(&self, e: &BlockEvidence, off_middle: f64) -> i32 {
+        let d = f64::from(e.mean) - self.middle;
+        if d.abs() < off_middle * self.swing {
+            0
+        } else if d < 0.0 {
+            -1
+        } else {
+            1
+        }
+    }
 }
 
 /// What [`ridge_evidence`] finds around one block.
@@ -204,158 +279,146 @@ pub(crate) struct BlockEvidence {
     pub f_ratio: f32,
     /// The mean gray level of the window (before the plane is taken off).
     pub mean: f32,
-    /// The ridges' amplitude there: the standard deviation of the rows' means at the best
+    /// The ridges' amplitude there: the standard deviation of the rows' means at the block's own
     /// orientation less what the noise alone gives them (0 when the noise explains it all).
     pub amplitude: f32,
     /// The pixels' standard deviation within the rows at the best orientation (the noise).
     pub noise: f32,
+    /// Whether `f_ratio` and `noise` are the best of [`ROW_ORIENTATIONS`] ([`full_evidence`]),
+    /// else the block's own orientation's ([`ridge_evidence`]).
+    pub full: bool,
 }
 
-/// The window of one block in [`row_f_ratio`], a column per quantity (so that the steps over its
-/// pixels that are independent go in vector lanes), kept from one block to the next.
-#[derive(Default)]
-struct EvidenceWindow {
-    /// Offsets from the block's centre, px.
-    dx: Vec<f64>,
-    dy: Vec<f64>,
-    /// Gray levels, then (once the plane is fitted) less the plane.
-    v: Vec<f64>,
-    /// `v * v`, the same for every orientation.
-    vv: Vec<f64>,
-    /// Each pixel's row at one orientation.
-    row_of: Vec<u64>,
-    /// The window's lines: offset `dy` and the range of their pixels in the columns above.
-    lines: Vec<(f64, std::ops::Range<usize>)>,
-    /// Count, sum and sum of squares per row.
-    rows: Vec<(usize, f64, f64)>,
-}
-
-/// [`ridge_evidence`] of the rectangle around `c` (see [`ROW_LENGTH`]), its rows starting at the
-/// orientation `own`; `window` is scratch space.
+/// The evidence of the rectangle around `c` (see [`ROW_LENGTH`] and docs/fingerprints.md,
+/// "Segmentation"): the F ratio of a one-way analysis of variance of the pixels within one
+/// period `T` of `c` across the ridges and 1.5 `T` along them (the best-fitting plane of the
+/// gray levels over the disc that holds the rectangle at any orientation taken off: shading, the
+/// edge of a wet patch), grouped into rows along the ridges one pixel apart. Where ridges and
+/// valleys alternate, the rows' means differ far more than the pixels within a row; on a flat
+/// patch or noise they differ only by each mean's own noise, so the ratio of the variance
+/// between the rows' means to the variance of a row mean (the pixels' variance within the rows
+/// over their count, plus the rounding noise of 8-bit gray, 1/12 level², so that a flat patch
+/// without noise is no ridge) is about 1. Unitless, in the image's own units (gray levels
+/// against gray levels, lengths in the period). The best of the first `orientations` of
+/// [`ROW_ORIENTATIONS`] from `own` (`own` itself first, where the amplitude is measured);
+/// `scratch` is scratch space.
 ///
-/// The same operations in the same order as the straightforward loop (every sum over the pixels
-/// in the window's row-major order), so the same bits: the row of a pixel is the floor of the
-/// non-negative `u + T` of a pixel kept (`|u| ≤ T`) found without an integer conversion (a
-/// library call for `floor` on baseline x86-64, and a long one for `as usize`), in vector lanes
-/// over the pixels, and `v²` is worked out once rather than once per orientation.
+/// The disc's pixels are read once, for the plane's sums (its moments from whole-pixel offsets:
+/// exact sums for 8-bit gray); each orientation then reads only the part of each line that can
+/// reach the rectangle ([`line_span`]), each pixel less the plane as it is read.
 fn row_f_ratio(
     gray: &Plane,
     c: [f64; 2],
     own: f64,
     period: f64,
-    window: &mut EvidenceWindow,
+    orientations: usize,
+    scratch: &mut EvidenceScratch,
 ) -> BlockEvidence {
+    let EvidenceScratch { lines, rows } = scratch;
     let (w, h) = (i64::from(gray.width), i64::from(gray.height));
-    // The disc that holds the square at any orientation.
+    // The disc that holds the rectangle at any orientation.
     let along = ROW_LENGTH * period;
     let reach = (period * period + along * along).sqrt();
     let r = reach.ceil() as i64;
     let (cx, cy) = (c[0].floor() as i64, c[1].floor() as i64);
-    let EvidenceWindow {
-        dx,
-        dy,
-        v,
-        vv,
-        row_of,
-        lines,
-        rows,
-    } = window;
-    dx.clear();
-    dy.clear();
-    v.clear();
+    let inside_disc = |x: i64, ddy: f64| {
+        let ddx = x as f64 + 0.5 - c[0];
+        ddx * ddx + ddy * ddy <= reach * reach
+    };
+    // The plane's sums over the disc, in offsets `X`, `Y` from (cx, cy): whole numbers.
+    let (mut n, mut sx, mut sy, mut sxx, mut sxy, mut syy) = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0);
+    let (mut sv, mut sxv, mut syv) = (0.0f64, 0.0f64, 0.0f64);
+    let (x_lo, x_hi) = ((cx - r).max(0), (cx + r).min(w - 1));
     lines.clear();
     for y in (cy - r).max(0)..=(cy + r).min(h - 1) {
-        let line = &gray.values[(y * w) as usize..((y + 1) * w) as usize];
         let ddy = y as f64 + 0.5 - c[1];
-        let start = v.len();
-        for x in (cx - r).max(0)..=(cx + r).min(w - 1) {
-            let ddx = x as f64 + 0.5 - c[0];
-            if ddx * ddx + ddy * ddy <= reach * reach {
-                dx.push(ddx);
-                dy.push(ddy);
-                v.push(f64::from(line[x as usize]));
-            }
+        let half = (reach * reach - ddy * ddy).max(0.0).sqrt();
+        let guess = (
+            (c[0] - 0.5 - half).ceil() as i64,
+            (c[0] - 0.5 + half).floor() as i64,
+        );
+        let Some((a, b)) = disc_run(x_lo, x_hi, guess, |x| inside_disc(x, ddy)) else {
+            continue;
+        };
+        lines.push((y, a, b));
+        let line = &gray.values[(y * w + a) as usize..=(y * w + b) as usize];
+        let (mut s, mut s_x) = (0.0f64, 0.0f64);
+        for (x, &v) in (a - cx..).zip(line) {
+            s += f64::from(v);
+            s_x += x as f64 * f64::from(v);
         }
-        // A line of the disc is one run of pixels.
-        if v.len() > start {
-            lines.push((ddy, start..v.len()));
-        }
+        let (k, yy) = ((b - a + 1) as f64, (y - cy) as f64);
+        // Σ X over a..=b and Σ X², X = x - cx, in closed form (whole numbers).
+        let (xa, xb) = ((a - cx) as f64, (b - cx) as f64);
+        let x1 = (xa + xb) * k / 2.0;
+        let x2 = (xb * (xb + 1.0) * (2.0 * xb + 1.0) - (xa - 1.0) * xa * (2.0 * xa - 1.0)) / 6.0;
+        n += k;
+        sx += x1;
+        sy += yy * k;
+        sxx += x2;
+        sxy += yy * x1;
+        syy += yy * yy * k;
+        sv += s;
+        sxv += s_x;
+        syv += yy * s;
     }
-    if v.len() < 8 {
+    if n < 8.0 {
         return BlockEvidence::default();
     }
-    let n = v.len() as f64;
-    // The best plane v ≈ m + p dx + q dy by least squares, taken off.
-    let (mut sx, mut sy, mut sv) = (0.0, 0.0, 0.0);
-    for ((&dx, &dy), &v) in dx.iter().zip(dy.iter()).zip(v.iter()) {
-        sx += dx;
-        sy += dy;
-        sv += v;
-    }
-    let (mx, my, mv) = (sx / n, sy / n, sv / n);
-    let (mut sxx, mut sxy, mut syy, mut sxv, mut syv) = (0.0, 0.0, 0.0, 0.0, 0.0);
-    for ((&dx, &dy), &v) in dx.iter().zip(dy.iter()).zip(v.iter()) {
-        let (x, y, v) = (dx - mx, dy - my, v - mv);
-        sxx += x * x;
-        sxy += x * y;
-        syy += y * y;
-        sxv += x * v;
-        syv += y * v;
-    }
-    let det = sxx * syy - sxy * sxy;
+    // The best plane v ≈ m + p dx + q dy by least squares (the moments about the means, times
+    // n: whole numbers for whole gray levels).
+    let mv = sv / n;
+    let (axx, axy, ayy) = (n * sxx - sx * sx, n * sxy - sx * sy, n * syy - sy * sy);
+    let (axv, ayv) = (n * sxv - sx * sv, n * syv - sy * sv);
+    let det = axx * ayy - axy * axy;
     let (p, q) = if det > 0.0 {
-        ((syy * sxv - sxy * syv) / det, (sxx * syv - sxy * sxv) / det)
+        ((ayy * axv - axy * ayv) / det, (axx * ayv - axy * axv) / det)
     } else {
         (0.0, 0.0)
     };
-    for ((v, &dx), &dy) in v.iter_mut().zip(dx.iter()).zip(dy.iter()) {
-        *v -= mv + p * (dx - mx) + q * (dy - my);
-    }
-    vv.clear();
-    vv.extend(v.iter().map(|&v| v * v));
+    // The means of the offsets from `c`.
+    let (mx, my) = (
+        sx / n + (cx as f64 + 0.5 - c[0]),
+        sy / n + (cy as f64 + 0.5 - c[1]),
+    );
     let count = 2 * period.ceil() as usize + 2;
     let off = count as f64;
-    row_of.clear();
-    row_of.resize(v.len(), 0);
     let (mut best, mut amplitude, mut spread) = (0.0f64, 0.0f64, 0.0f64);
-    for o in 0..ROW_ORIENTATIONS {
+    for o in 0..orientations.min(ROW_ORIENTATIONS) {
         let theta = own + std::f64::consts::PI * o as f64 / ROW_ORIENTATIONS as f64;
         let (nx, ny) = (-theta.sin(), theta.cos());
-        // Each pixel's row in vector lanes, `count` (a row of its own, left out) where the
-        // pixel is off the rectangle; then the rows' sums, pixel by pixel in the window's order.
-        // Only the part of each line that can reach the rectangle is looked at.
+        // Each pixel's row, `count` (a row of its own, left out) where the pixel is off the
+        // rectangle; only the part of each line that can reach the rectangle is looked at.
         rows.clear();
         rows.resize(count + 1, (0, 0.0, 0.0));
-        for (line_dy, line) in lines.iter() {
-            let span = line_span(dx[line.start], line.len(), *line_dy, nx, ny, period, along);
-            let span = line.start + span.start..line.start + span.end;
-            for ((row, &dx), &dy) in row_of[span.clone()]
-                .iter_mut()
-                .zip(&dx[span.clone()])
-                .zip(&dy[span.clone()])
-            {
+        for &(y, a, b) in lines.iter() {
+            let ddy = y as f64 + 0.5 - c[1];
+            let len = (b - a + 1) as usize;
+            let span = line_span(a as f64 + 0.5 - c[0], len, ddy, nx, ny, period, along);
+            let plane_y = mv + q * (ddy - my);
+            let line = &gray.values[(y * w + a) as usize..(y * w + a) as usize + len];
+            for (x, &v) in (a + span.start as i64..).zip(&line[span]) {
+                let dx = x as f64 + 0.5 - c[0];
                 // `u` across the ridges, `t` along them.
-                let (u, t) = (dx * nx + dy * ny, dx * ny - dy * nx);
+                let (u, t) = (dx * nx + ddy * ny, dx * ny - ddy * nx);
                 let kept = u.abs() <= period && t.abs() <= along;
                 // `u + T` is in [0, 2T] for a pixel kept: its floor is at most 2⌈T⌉ < `count`.
-                *row = whole_small(floor_small(if kept { u + period } else { off }));
-            }
-            for (&row, (&v, &vv)) in row_of[span.clone()]
-                .iter()
-                .zip(v[span.clone()].iter().zip(&vv[span]))
-            {
+                let row = whole_small(floor_small(if kept { u + period } else { off }));
+                let v = f64::from(v) - (plane_y + p * (dx - mx));
                 let row = &mut rows[row as usize];
                 row.0 += 1;
                 row.1 += v;
-                row.2 += vv;
+                row.2 += v * v;
             }
         }
         let Some(anova) = RowsAnova::of(&rows[..count]) else {
             continue;
         };
+        if o == 0 {
+            amplitude = (anova.between - anova.noise).max(0.0).sqrt();
+        }
         if anova.ratio > best {
             best = anova.ratio;
-            amplitude = (anova.between - anova.noise).max(0.0).sqrt();
             spread = anova.within.sqrt();
         }
     }
@@ -364,7 +427,42 @@ fn row_f_ratio(
         mean: mv as f32,
         amplitude: amplitude as f32,
         noise: spread as f32,
+        full: orientations >= ROW_ORIENTATIONS,
     }
+}
+
+/// The run of `lo..=hi` where `inside` holds, for an `inside` that holds on one run (a line of a
+/// disc) which holds `guess` if it holds anywhere near: `None` when it holds nowhere. Each end
+/// is found from the ends of `guess` (the run solved in real numbers) by a step or two, with
+/// `inside`'s own test, so that the run is exactly the pixels it holds for.
+fn disc_run(
+    lo: i64,
+    hi: i64,
+    guess: (i64, i64),
+    inside: impl Fn(i64) -> bool,
+) -> Option<(i64, i64)> {
+    // A window past the image's side has no pixels on the line.
+    if lo > hi {
+        return None;
+    }
+    let (mut a, mut b) = (guess.0.clamp(lo, hi + 1), guess.1.clamp(lo - 1, hi));
+    while a > lo && inside(a - 1) {
+        a -= 1;
+    }
+    while a <= hi && !inside(a) {
+        a += 1;
+    }
+    if a > hi {
+        return None;
+    }
+    b = b.max(a);
+    while b < hi && inside(b + 1) {
+        b += 1;
+    }
+    while !inside(b) {
+        b -= 1;
+    }
+    Some((a, b))
 }
 
 /// The one-way analysis of variance of a window's rows ([`ridge_evidence`]), each row its pixel
@@ -534,9 +632,11 @@ fn row_f_ratio_reference(
         let Some(anova) = RowsAnova::of(rows) else {
             continue;
         };
+        if o == 0 {
+            amplitude = (anova.between - anova.noise).max(0.0).sqrt();
+        }
         if anova.ratio > best {
             best = anova.ratio;
-            amplitude = (anova.between - anova.noise).max(0.0).sqrt();
             spread = anova.within.sqrt();
         }
     }
@@ -545,6 +645,7 @@ fn row_f_ratio_reference(
         mean: mv as f32,
         amplitude: amplitude as f32,
         noise: spread as f32,
+        full: true,
     }
 }
 
@@ -554,19 +655,25 @@ const BLANK_AREA_PERIODS2: f64 = 4.0;
 
 /// The blocks of the print that show no ridges (docs/fingerprints.md, "Ridges through a solid
 /// wet area: the smear's own signature"). A block whose 3 x 3 neighbourhood is all print is a
-/// seed where [`ridge_evidence`]'s F ratio is below `level` and its window's mean sits off the
-/// print's middle gray on the ridges' side (darker, for `dark_ridges`) by at least `off_middle`
-/// of the ridges' half swing and by more than its own noise: a wet smear is as dark as the
-/// ridges, while faint ridges, however noisy, average to the middle gray. The print's middle
-/// gray is the median of its blocks' means, the half swing the median of their amplitudes times
-/// √2 (a sinusoid's peak over its standard deviation). A seed also takes its neighbours as far
-/// off the middle on that side: a block at the edge of a smear sees the ridges around it through
-/// its window, but its mean is still the smear's. That is the side where the filter invents
-/// ridges the gray image then confirms. Areas smaller than [`BLANK_AREA_PERIODS2`] periods
-/// squared (`period`, the print's median) stay print. None when `level` is 0.
+/// seed where its F ratio (the best of [`ROW_ORIENTATIONS`]) is below `level` and its window's
+/// mean sits off the print's middle gray on the ridges' side (darker, for `dark_ridges`) by at
+/// least `off_middle` of the ridges' half swing and by more than its own noise: a wet smear is
+/// as dark as the ridges, while faint ridges, however noisy, average to the middle gray. The
+/// print's middle gray and the half swing are [`PrintGray`]'s. A seed also takes its neighbours
+/// as far off the middle on that side: a block at the edge of a smear sees the ridges around it
+/// through its window, but its mean is still the smear's. That is the side where the filter
+/// invents ridges the gray image then confirms. Areas smaller than [`BLANK_AREA_PERIODS2`]
+/// periods squared (`period`, the print's median) stay print. None when `level` is 0.
+///
+/// `evidence` is [`ridge_evidence`]'s; `full` gives a block's [`full_evidence`], asked (in
+/// parallel) for the blocks whose F ratio or noise can decide and kept in `evidence`: a block
+/// off the middle on the ridges' side whose own orientation's F ratio is below `level` (the best
+/// is at least that) and that could seed, then those of the seeds' neighbours off the middle on
+/// that side. The others' F ratio and noise do not change what is blank.
 pub(crate) fn blank_blocks(
     segmentation: &Segmentation,
-    evidence: &[BlockEvidence],
+    evidence: &mut [BlockEvidence],
+    full: impl Fn(usize) -> BlockEvidence + Sync,
     level: f64,
     off_middle: f64,
     period: f64,
@@ -578,47 +685,52 @@ pub(crate) fn blank_blocks(
         return vec![false; grid.len()];
     }
     let inside = |b: usize| segmentation.inside[b];
-    let median_of = |value: fn(&BlockEvidence) -> f32| {
-        let mut values: Vec<f32> = (0..grid.len())
-            .filter(|&b| inside(b))
-            .map(|b| value(&evidence[b]))
-            .collect();
-        f64::from(upper_median_by(&mut values, f32::total_cmp).unwrap_or(0.0))
-    };
-    let middle = median_of(|e| e.mean);
-    let swing = std::f64::consts::SQRT_2 * median_of(|e| e.amplitude);
-    // Which side of the middle gray a block's window sits on, when it is off it: -1 dark, 1
-    // light, 0 near the middle (or outside the print).
-    let side = |b: usize| {
-        let d = f64::from(evidence[b].mean) - middle;
-        if !inside(b) || d.abs() < off_middle * swing || d.abs() < f64::from(evidence[b].noise) {
-            0
-        } else if d < 0.0 {
-            -1
-        } else {
-            1
-        }
-    };
+    let print = PrintGray::of(segmentation, evidence);
     let ridges_side = if dark_ridges { -1 } else { 1 };
+    // Off the middle on the ridges' side by the window's mean alone (or outside the print).
+    let off = |evidence: &[BlockEvidence], b: usize| {
+        inside(b) && print.side(&evidence[b], off_middle) == ridges_side
+    };
+    // And by more than the block's own noise.
+    let side = |evidence: &[BlockEvidence], b: usize| {
+        let e = &evidence[b];
+        off(evidence, b) && (f64::from(e.mean) - print.middle).abs() >= f64::from(e.noise)
+    };
     let neighbours = |b: usize| {
         let (i, j) = (b % cols, b / cols);
-        (j.saturating_sub(1)..(j + 2).min(rows))
-            .flat_map(move |jj| (i.saturating_sub(1)..(i + 2).min(cols)).map(move |ii| (ii, jj)))
+        (j.saturating_sub(1)..(j + 2).min(rows)).flat_map(move |jj| {
+            (i.saturating_sub(1)..(i + 2).min(cols)).map(move |ii| jj * cols + ii)
+        })
     };
     // Not at the print's rim, where the windows reach the background beyond the last ridges
     // (a light seed there took faint ridges along a partial print's cut).
     let interior = |b: usize| {
         let (i, j) = (b % cols, b / cols);
-        i > 0
-            && j > 0
-            && i + 1 < cols
-            && j + 1 < rows
-            && neighbours(b).all(|(ii, jj)| inside(grid.index(ii, jj)))
+        i > 0 && j > 0 && i + 1 < cols && j + 1 < rows && neighbours(b).all(inside)
     };
-    let seed =
-        |b: usize| side(b) == ridges_side && f64::from(evidence[b].f_ratio) < level && interior(b);
+    let complete = |evidence: &mut [BlockEvidence], wanted: Vec<usize>| {
+        let done: Vec<BlockEvidence> = wanted.par_iter().map(|&b| full(b)).collect();
+        for (b, e) in wanted.into_iter().zip(done) {
+            evidence[b] = e;
+        }
+    };
+    let can_seed = |evidence: &[BlockEvidence], b: usize| {
+        off(evidence, b) && f64::from(evidence[b].f_ratio) < level && interior(b)
+    };
+    let wanted = (0..grid.len())
+        .filter(|&b| can_seed(evidence, b) && !evidence[b].full)
+        .collect();
+    complete(evidence, wanted);
+    let seeds: Vec<bool> = (0..grid.len())
+        .map(|b| can_seed(evidence, b) && side(evidence, b))
+        .collect();
+    let near_seed = |b: usize| neighbours(b).any(|n| seeds[n]);
+    let wanted = (0..grid.len())
+        .filter(|&b| off(evidence, b) && near_seed(b) && !evidence[b].full)
+        .collect();
+    complete(evidence, wanted);
     let blank: Vec<bool> = (0..grid.len())
-        .map(|b| side(b) == ridges_side && neighbours(b).any(|(ii, jj)| seed(grid.index(ii, jj))))
+        .map(|b| side(evidence, b) && near_seed(b))
         .collect();
     let (label, sizes) = components(&blank, cols, rows, true);
     let block_area = f64::from(grid.block * grid.block);
@@ -784,15 +896,18 @@ mod tests {
         }
     }
 
-    /// The rewritten rows' F ratio gives the bits of the straightforward one: random gray
-    /// levels (smooth ridges, noise, flat), periods from 2 to 20 px, any orientation, centres
-    /// inside, at the edges and past them.
+    /// The rewritten rows' F ratio agrees with the straightforward one (the plane's sums are
+    /// taken in another order, so the last bits may differ): random gray levels (smooth ridges,
+    /// noise, flat), periods from 2 to 20 px, any orientation, centres inside, at the edges and
+    /// past them; on whole gray levels the window's mean is the same bits, on every case the
+    /// own orientation alone gives the same mean and amplitude as all of them, and an F ratio
+    /// at most theirs.
     #[test]
-    fn the_rows_f_ratio_is_the_reference_bit_for_bit() {
+    fn the_rows_f_ratio_agrees_with_the_reference() {
         let mut lcg = crate::synth::lcg(35u64);
         let mut uniform = move || (lcg() >> 11) as f64 / (1u64 << 53) as f64;
         let (width, height) = (61u32, 47u32);
-        let mut window = EvidenceWindow::default();
+        let mut scratch = EvidenceScratch::default();
         let (mut tuples, mut rows) = (Vec::new(), Vec::new());
         for case in 0..300 {
             let (period, theta) = (2.0 + 18.0 * uniform(), 7.0 * uniform() - 3.5);
@@ -823,11 +938,28 @@ mod tests {
                 1 => std::f64::consts::FRAC_PI_2,
                 _ => 4.0 * uniform() - 2.0,
             };
-            let new = row_f_ratio(&plane, c, own, period, &mut window);
+            let new = row_f_ratio(&plane, c, own, period, ROW_ORIENTATIONS, &mut scratch);
             let old = row_f_ratio_reference(&plane, c, own, period, &mut tuples, &mut rows);
-            let bits =
-                |e: BlockEvidence| [e.f_ratio, e.mean, e.amplitude, e.noise].map(f32::to_bits);
-            assert_eq!(bits(new), bits(old), "case {case}: {new:?} vs {old:?}");
+            let own_only = row_f_ratio(&plane, c, own, period, 1, &mut scratch);
+            let close = |a: f32, b: f32| (a - b).abs() <= 1e-5 * a.abs().max(b.abs()) + 1e-6;
+            assert!(
+                close(new.f_ratio, old.f_ratio)
+                    && close(new.mean, old.mean)
+                    && close(new.amplitude, old.amplitude)
+                    && close(new.noise, old.noise)
+                    && new.full == old.full,
+                "case {case}: {new:?} vs {old:?}"
+            );
+            if case % 3 != 1 {
+                assert_eq!(new.mean.to_bits(), old.mean.to_bits(), "case {case}");
+            }
+            assert!(
+                own_only.mean.to_bits() == new.mean.to_bits()
+                    && own_only.amplitude.to_bits() == new.amplitude.to_bits()
+                    && own_only.f_ratio <= new.f_ratio
+                    && !own_only.full,
+                "case {case}: {own_only:?} vs {new:?}"
+            );
         }
     }
 
@@ -922,7 +1054,9 @@ mod tests {
                 height: size,
                 values,
             };
-            ridge_evidence(&plane, &s, &field, &periods)[middle].f_ratio
+            let evidence = full_evidence(&plane, &s, &field, &periods, middle);
+            assert!(evidence.full);
+            evidence.f_ratio
         };
         let (clear, faint, faint_noisy, flat, noisy) = (
             evidence(ridges.values.clone()),
@@ -937,6 +1071,47 @@ mod tests {
         assert!((0.5..3.0).contains(&noisy), "{noisy}");
     }
 
+    /// The blank blocks found from the own orientation's evidence, completed only where it can
+    /// decide, are those found from every block's full evidence: a print of straight ridges
+    /// with a solid dark disc (the ridges' level) under noise, both polarities.
+    #[test]
+    fn blank_blocks_from_the_completed_evidence_are_those_from_the_full() {
+        let (size, period, theta) = (160u32, 9.0f64, 0.4f64);
+        let grid = BlockGrid::new(size, size, 8);
+        let (s, field, periods) =
+            crate::fingerprint::tests::uniform_print(grid, theta as f32, period as f32);
+        let mut gray = ridges_in_disk(size, size, period, theta, [80.0, 80.0], 400.0);
+        let mut state = 0x2545_F491_4F6C_DD1Du64;
+        for (k, v) in gray.values.iter_mut().enumerate() {
+            let (dx, dy) = ((k % 160) as f32 - 80.0, (k / 160) as f32 - 80.0);
+            if dx * dx + dy * dy <= 27.0 * 27.0 {
+                *v = 28.0;
+            }
+            *v = (*v + 10.0 * 3f32.sqrt() * four_uniforms(&mut state)).round();
+        }
+        let asked = std::sync::atomic::AtomicUsize::new(0);
+        let full = |b| {
+            asked.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+            full_evidence(&gray, &s, &field, &periods, b)
+        };
+        let mut completed = ridge_evidence(&gray, &s, &field, &periods);
+        let mut every: Vec<BlockEvidence> = (0..grid.len()).map(full).collect();
+        asked.store(0, std::sync::atomic::Ordering::Relaxed);
+        for dark in [true, false] {
+            let lazy = blank_blocks(&s, &mut completed, full, 2.0, 0.5, period, dark);
+            let eager = blank_blocks(&s, &mut every, full, 2.0, 0.5, period, dark);
+            assert_eq!(lazy, eager, "dark ridges {dark}");
+            // The disc's centre is blank for dark ridges only.
+            assert_eq!(lazy[grid.index(10, 10)], dark, "dark ridges {dark}");
+        }
+        let asked = asked.into_inner();
+        assert!(
+            asked > 0 && asked < grid.len() / 4,
+            "{asked} of {} blocks completed",
+            grid.len()
+        );
+    }
+
     /// A dark flat core takes its dark rim when the ridges are dark, and is print when they are
     /// light; a lone flat block, a faint patch at the middle gray and a dark ridged block stay
     /// print.
@@ -949,6 +1124,7 @@ mod tests {
             mean: 128.0,
             amplitude: 50.0,
             noise: 10.0,
+            full: true,
         };
         let mut evidence = vec![ridges; grid.len()];
         let at = |i: usize, j: usize| grid.index(i, j);
@@ -958,6 +1134,7 @@ mod tests {
             mean: 28.0,
             amplitude: 0.0,
             noise: 10.0,
+            full: true,
         };
         for j in 4..7 {
             for i in 4..7 {
@@ -978,11 +1155,14 @@ mod tests {
                 mean: 135.0,
                 amplitude: 3.0,
                 noise: 10.0,
+                full: true,
             };
         }
         evidence[at(10, 10)].mean = 28.0;
-        let dark = blank_blocks(&s, &evidence, 2.0, 0.5, 8.0, true);
-        let light = blank_blocks(&s, &evidence, 2.0, 0.5, 8.0, false);
+        // Every block's evidence is full: none is asked for.
+        let full = |_| -> BlockEvidence { unreachable!("every block's evidence is full") };
+        let dark = blank_blocks(&s, &mut evidence, full, 2.0, 0.5, 8.0, true);
+        let light = blank_blocks(&s, &mut evidence, full, 2.0, 0.5, 8.0, false);
         for j in 0..12 {
             for i in 0..12 {
                 let rim = (3..8).contains(&i) && (3..8).contains(&j);
@@ -990,7 +1170,7 @@ mod tests {
                 assert!(!light[at(i, j)], "light ridges, block {i}, {j}");
             }
         }
-        assert!(blank_blocks(&s, &evidence, 0.0, 0.5, 8.0, true)
+        assert!(blank_blocks(&s, &mut evidence, full, 0.0, 0.5, 8.0, true)
             .iter()
             .all(|&b| !b));
     }

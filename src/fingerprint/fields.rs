@@ -172,6 +172,7 @@ impl Plane {
     /// of which has its four pixels inside the image: the value [`Plane::sample_inside`] gives,
     /// from the same operations. The coordinates, pixels and fractions of 16 samples are worked
     /// out side by side (vector lanes) before their pixels are read.
+    #[inline(always)]
     pub(crate) fn add_samples_inside(
         &self,
         xs: &[f64],
@@ -199,7 +200,7 @@ impl Plane {
     }
 
     /// [`Plane::add_samples_inside`] for `N` samples.
-    #[inline]
+    #[inline(always)]
     fn add_lanes<const N: usize>(
         &self,
         xs: &[f64; N],

@@ -96,8 +96,19 @@ impl Work {
                 if self.offset_tees(link, a, b, &at) || self.tee_on_a_stroke(link, a, b, &at) {
                     continue;
                 }
+                if self.stems_apart(a, b, &at, true) == Some(true) {
+                    continue;
+                }
             }
-            if self.stroke_beside(c, &group, &at) {
+            // A star split by thinning (a stroke starting at a crossing forks off where the
+            // inks part) is one vertex, even where a stroke runs straight beside the method's
+            // star.
+            let star = internal.iter().all(|&e| {
+                self.edges[e].as_ref().is_some_and(|edge| {
+                    self.stems_apart(edge.from, edge.to, &at, false) == Some(false)
+                })
+            });
+            if !star && self.stroke_beside(c, &group, &at) {
                 continue;
             }
             let Some(reach) = self.arm_reach(c, &group, &internal, &at) else {
@@ -356,6 +367,89 @@ impl Work {
                 })
             })
         })
+    }
+
+    /// Whether the linked skeleton junctions `j` and `k` are junctions of their own, by where
+    /// their strokes meet the line through them: every edge leaving either (but those joining
+    /// them), measured over one width from where it leaves the junction's disk as
+    /// [`Work::stroke_beside`] measures, runs along that line (within
+    /// [`STROKE_THROUGH_SINE`]: the stroke they share), leaves it too shallowly to meet it
+    /// anywhere definite ([`MIN_TEE_SINE`]), or, followed straight back, meets it.
+    /// `Some(true)` when every meeting point of `j`'s edges lies at least [`TEES_APART`]
+    /// widths from every one of `k`'s, `Some(false)` when some pair lies closer, `None` when
+    /// either junction has none. The width is the widest of the edges' median widths: the
+    /// truth joins junctions closer than the widest stroke at them (docs/quality.md, "The
+    /// truth as the ink shows it, where strokes crowd").
+    ///
+    /// With `steep` (two degree-3 junctions, the frame T's of a grid whose arms are too short
+    /// for [`Work::offset_tees`]' stretch), `Some(true)` also asks that both junctions hold
+    /// the shared stroke running on along the line, that they lie at least [`TEES_APART`]
+    /// widths apart, and that every edge that meets the line leaves it steeply
+    /// ([`MIN_STEM_SINE`]; one between 30 and 60 degrees gives `None`): the two Y's of a
+    /// crossing leave the link's line at half the crossing's angle either side, and where a
+    /// curve crosses a stroke one of them may look straight along it (docs/quality.md,
+    /// "Crossings of grids and script, again (issue 31)").
+    fn stems_apart(&self, j: usize, k: usize, at: &[Vec<usize>], steep: bool) -> Option<bool> {
+        let cross = |u: [f64; 2], v: [f64; 2]| u[0] * v[1] - u[1] * v[0];
+        let (jp, kp) = (self.vertices[j].pos, self.vertices[k].pos);
+        let d = unit([kp[0] - jp[0], kp[1] - jp[1]])?;
+        let mut width = 0.0f64;
+        let mut meets: [Vec<f64>; 2] = [Vec::new(), Vec::new()];
+        let mut along = [false, false];
+        for (side, x) in [j, k].into_iter().enumerate() {
+            let xp = self.vertices[x].pos;
+            for &e in &at[x] {
+                let Some(edge) = self.edges[e].as_ref() else {
+                    continue;
+                };
+                if (edge.from == j && edge.to == k) || (edge.from == k && edge.to == j) {
+                    continue;
+                }
+                for (here, forward) in [(edge.from == x, true), (edge.to == x, false)] {
+                    if !here {
+                        continue;
+                    }
+                    let w = median(&edge.widths);
+                    width = width.max(w);
+                    let outwards = points_outwards(edge, forward);
+                    let near = point_at_distance(&outwards, xp, disk_radius(w));
+                    let far = point_at_distance(&outwards, xp, disk_radius(w) + SPLIT_NEAR * w);
+                    if dist(near, far) < MIN_SPLIT_LINE_PX {
+                        continue;
+                    }
+                    let Some(t) = unit([far[0] - near[0], far[1] - near[1]]) else {
+                        continue;
+                    };
+                    let sine = cross(t, d).abs();
+                    if sine <= STROKE_THROUGH_SINE {
+                        along[side] = true;
+                        continue;
+                    }
+                    if sine <= MIN_TEE_SINE {
+                        continue;
+                    }
+                    if steep && sine <= MIN_STEM_SINE {
+                        return None;
+                    }
+                    let Some(m) = line_intersection(&[(jp, d), (near, t)], 0.0) else {
+                        continue;
+                    };
+                    meets[side].push((m[0] - jp[0]) * d[0] + (m[1] - jp[1]) * d[1]);
+                }
+            }
+        }
+        if meets.iter().any(Vec::is_empty) {
+            return None;
+        }
+        let apart = meets[0].iter().all(|&a| {
+            meets[1]
+                .iter()
+                .all(|&b| (a - b).abs() >= TEES_APART * width)
+        });
+        if steep && apart && !(along[0] && along[1] && dist(jp, kp) >= TEES_APART * width) {
+            return None;
+        }
+        Some(apart)
     }
 
     /// Two skeleton junctions closer than the ink can show apart (a link of at most

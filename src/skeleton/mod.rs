@@ -530,6 +530,51 @@ mod tests {
     }
 
     #[test]
+    fn tees_on_the_frame_of_a_fine_grid_stay_tees() {
+        // A 3 x 3 grid in a frame, cells one width across: each inner line ends on the frame
+        // in a T two widths from the next T, its arms too short for a stroke's line 1 to 3
+        // widths out. The method's graph, crowded there, saw one crossing where two T's are.
+        for w in [4.0f64, 6.0, 10.0] {
+            let (o, pitch) = (2.0 * w + 1.0, 2.0 * w);
+            let (a, b) = (o, o + 3.0 * pitch);
+            let mut strokes = vec![Stroke::new(vec![[a, a], [b, a], [b, b], [a, b], [a, a]], w)];
+            for i in 1..3 {
+                let s = o + i as f64 * pitch;
+                strokes.push(Stroke::new(vec![[s, a], [s, b]], w));
+                strokes.push(Stroke::new(vec![[a, s], [b, s]], w));
+            }
+            let size = (b + o).ceil() as u32;
+            let (binary, graph) = traced(&strokes, size, size);
+            let mut found = degrees(&graph);
+            found.sort_unstable();
+            assert_eq!(found, [vec![3; 8], vec![4; 4]].concat(), "w {w}");
+            assert_eq!(graph.cycles(), 9, "w {w}");
+            assert_on_ink(&binary, &graph);
+        }
+    }
+
+    #[test]
+    fn a_stroke_starting_at_a_crossing_is_one_star() {
+        // A bar crossing a vertical, a third stroke starting at the crossing and leaving the
+        // vertical at `angle` degrees (炔, 木): thinning forks the third stroke off where the
+        // inks part, a width or more down the vertical, and the bar runs straight through the
+        // crossing's own junction, beside the method's star. Followed straight back, the third
+        // stroke meets the vertical within a width of the crossing: one vertex of degree 5.
+        for (w, angle) in [(8.0f64, 40.0f64), (10.0, 45.0)] {
+            let c = [60.0, 50.0];
+            let (s, k) = (angle.to_radians().sin(), angle.to_radians().cos());
+            let strokes = [
+                Stroke::new(vec![[c[0], 10.0], [c[0], 110.0]], w),
+                Stroke::new(vec![[15.0, c[1]], [105.0, c[1]]], w),
+                Stroke::new(vec![c, [c[0] + 55.0 * s, c[1] + 55.0 * k]], w),
+            ];
+            let (binary, graph) = traced(&strokes, 120, 120);
+            assert_eq!(degrees(&graph), vec![5], "w {w}, {angle} degrees");
+            assert_on_ink(&binary, &graph);
+        }
+    }
+
+    #[test]
     fn curves_crossing_at_a_shallow_angle_are_one_crossing() {
         // 29 and 39 degrees, curves of radius 12 and 8 widths: thinning's Y's lie about two to
         // three widths apart along the shared ink, and no straight line through the arms' far

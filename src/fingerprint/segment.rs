@@ -383,7 +383,7 @@ fn row_f_ratio(
     );
     let count = 2 * period.ceil() as usize + 2;
     let off = count as f64;
-    let (mut best, mut amplitude, mut spread) = (0.0f64, 0.0f64, 0.0f64);
+    let mut orientations_seen = BestRows::default();
     for o in 0..orientations.min(ROW_ORIENTATIONS) {
         let theta = own + std::f64::consts::PI * o as f64 / ROW_ORIENTATIONS as f64;
         let (nx, ny) = (-theta.sin(), theta.cos());
@@ -414,21 +414,9 @@ fn row_f_ratio(
         let Some(anova) = RowsAnova::of(&rows[..count]) else {
             continue;
         };
-        if o == 0 {
-            amplitude = (anova.between - anova.noise).max(0.0).sqrt();
-        }
-        if anova.ratio > best {
-            best = anova.ratio;
-            spread = anova.within.sqrt();
-        }
+        orientations_seen.take(o, &anova);
     }
-    BlockEvidence {
-        f_ratio: best as f32,
-        mean: mv as f32,
-        amplitude: amplitude as f32,
-        noise: spread as f32,
-        full: orientations >= ROW_ORIENTATIONS,
-    }
+    orientations_seen.evidence(mv, orientations >= ROW_ORIENTATIONS)
 }
 
 /// The run of `lo..=hi` where `inside` holds, for an `inside` that holds on one run (a line of a
@@ -467,6 +455,38 @@ fn disc_run(
 
 /// The one-way analysis of variance of a window's rows ([`ridge_evidence`]), each row its pixel
 /// count, sum and sum of squares.
+/// What the rows' analyses over a block's orientations give its [`BlockEvidence`]: the
+/// amplitude at the first (the block's own) orientation, the F ratio and the noise at the best.
+#[derive(Default)]
+struct BestRows {
+    amplitude: f64,
+    ratio: f64,
+    spread: f64,
+}
+
+impl BestRows {
+    /// The analysis of orientation `o` (0 the block's own) taken in.
+    fn take(&mut self, o: usize, anova: &RowsAnova) {
+        if o == 0 {
+            self.amplitude = (anova.between - anova.noise).max(0.0).sqrt();
+        }
+        if anova.ratio > self.ratio {
+            self.ratio = anova.ratio;
+            self.spread = anova.within.sqrt();
+        }
+    }
+
+    fn evidence(&self, mean: f64, full: bool) -> BlockEvidence {
+        BlockEvidence {
+            f_ratio: self.ratio as f32,
+            mean: mean as f32,
+            amplitude: self.amplitude as f32,
+            noise: self.spread as f32,
+            full,
+        }
+    }
+}
+
 struct RowsAnova {
     /// The variance between the rows' means over the noise of a row mean.
     ratio: f64,
@@ -612,7 +632,7 @@ fn row_f_ratio_reference(
         item.2 -= mv + p * (item.0 - mx) + q * (item.1 - my);
     }
     let count = 2 * period.ceil() as usize + 2;
-    let (mut best, mut amplitude, mut spread) = (0.0f64, 0.0f64, 0.0f64);
+    let mut orientations_seen = BestRows::default();
     for o in 0..ROW_ORIENTATIONS {
         let theta = own + std::f64::consts::PI * o as f64 / ROW_ORIENTATIONS as f64;
         let (nx, ny) = (-theta.sin(), theta.cos());
@@ -632,21 +652,9 @@ fn row_f_ratio_reference(
         let Some(anova) = RowsAnova::of(rows) else {
             continue;
         };
-        if o == 0 {
-            amplitude = (anova.between - anova.noise).max(0.0).sqrt();
-        }
-        if anova.ratio > best {
-            best = anova.ratio;
-            spread = anova.within.sqrt();
-        }
+        orientations_seen.take(o, &anova);
     }
-    BlockEvidence {
-        f_ratio: best as f32,
-        mean: mv as f32,
-        amplitude: amplitude as f32,
-        noise: spread as f32,
-        full: true,
-    }
+    orientations_seen.evidence(mv, true)
 }
 
 /// The least blank area kept out of the print, in ridge periods squared (a square two periods a

@@ -42,7 +42,9 @@ impl Work {
     /// than `max(1.5 px, 0.4 w)` ([`SPUR_REACH_PX`], [`SPUR_REACH`]) are removed, least reaching first, while
     /// their junction keeps three edges (of the two stubs of a forked stroke end, the longer
     /// one stays as the stroke's end). A sharp corner's branch reaches about `0.2 w`, a boundary
-    /// bump about a pixel; an arm half a width long or more is kept.
+    /// bump about a pixel; an arm half a width long or more is kept. Two short branches of one
+    /// junction that line up are one stroke crossing the others and are judged together
+    /// ([`judge_crossbars`]).
     ///
     /// With `by_ink` (the experiment `decide_by_ink`), a branch is a spur when the ink only it
     /// explains ([`ink_only_arm`]) is at most [`PART_COST`] squared stroke widths; least first.
@@ -52,6 +54,8 @@ impl Work {
         // The stroke width an arm leaves: the narrowest median width of the junction's other
         // edges (the width at the junction itself is inflated where strokes meet).
         let mut spurs = Vec::new();
+        // The reach rule's branches: how far each reaches past its limit, and its direction.
+        let mut branches = Vec::new();
         for (e, edge) in self.edges.iter().enumerate() {
             let Some(edge) = edge else { continue };
             let (junction, tip, forward) = match (degree[edge.from], degree[edge.to]) {
@@ -127,10 +131,26 @@ impl Work {
                 );
             }
             let reach = spur_reach(&points, &widths, &envelope);
-            if reach <= (SPUR_REACH * stroke).max(SPUR_REACH_PX) {
-                spurs.push((reach, e, junction, tip));
-            }
+            let limit = (SPUR_REACH * stroke).max(SPUR_REACH_PX);
+            let away = [tip_pos[0] - j.pos[0], tip_pos[1] - j.pos[1]];
+            branches.push(Branch {
+                reach,
+                limit,
+                stroke,
+                edge: e,
+                junction,
+                tip,
+                away,
+            });
         }
+        let verdicts = judge_crossbars(&branches, &degree);
+        spurs.extend(
+            branches
+                .iter()
+                .zip(verdicts)
+                .filter(|(b, spur)| spur.unwrap_or(b.reach <= b.limit))
+                .map(|(b, _)| (b.reach, b.edge, b.junction, b.tip)),
+        );
         spurs.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
         for (_, e, junction, tip) in spurs {
             if degree[junction] < 3 {
@@ -287,6 +307,80 @@ fn undipped(
     }
 }
 
+/// Branches that leave a junction in opposite directions within this angle (degrees) line up:
+/// the two halves of one stroke crossing the junction's others.
+const CROSSBAR_ANGLE_DEG: f64 = 30.0;
+
+/// The most two halves of one bar across a stroke differ in reach is the crossed stroke's width
+/// (the skeleton's junction lies up to half of it off the stroke's middle, which one half gains
+/// and the other loses), and at least this (px): a pixel either way on hairlines.
+const CROSSBAR_REACH_DIFF_PX: f64 = 2.0;
+
+/// A terminal branch the reach rule judges ([`Work::prune_spurs`]).
+struct Branch {
+    /// How far its ink reaches beyond the envelope ([`spur_reach`]), px.
+    reach: f64,
+    /// The most a spur reaches: `max(1.5 px, 0.4 w)`.
+    limit: f64,
+    /// The width `w` of the strokes it leaves (the narrowest), px.
+    stroke: f64,
+    edge: usize,
+    junction: usize,
+    tip: usize,
+    /// From the junction to the tip.
+    away: [f64; 2],
+}
+
+/// A short stroke crossing another (the bar of a `t` or an `f`, a `+`) leaves the skeleton two
+/// short branches at one junction, one either side, whose reaches differ by the pixel grid: the
+/// junction lies off the crossed stroke's middle, which one branch gains and the other loses.
+/// Judged one by one, the longer can be kept and the shorter cut, and a symmetric cross comes out
+/// as a T. So where two branches of a junction of degree four or more leave it in opposite
+/// directions (within [`CROSSBAR_ANGLE_DEG`]) and reach alike (within a stroke width,
+/// [`CROSSBAR_REACH_DIFF_PX`] at least: a long arm does not vouch for a bump opposite it), they
+/// are one stroke and share one verdict: an arm when either reaches past its limit (the ink
+/// shows the bar runs past the stroke), spurs when neither does. Each branch pairs at most once,
+/// the most nearly opposite pairs first. Returns, per branch, the pair's verdict (`Some(true)`:
+/// a spur), `None` for a branch judged alone.
+fn judge_crossbars(branches: &[Branch], degree: &[usize]) -> Vec<Option<bool>> {
+    let opposite = -CROSSBAR_ANGLE_DEG.to_radians().cos();
+    let cosine = |a: [f64; 2], b: [f64; 2]| {
+        let n = a[0].hypot(a[1]) * b[0].hypot(b[1]);
+        if n > 0.0 {
+            (a[0] * b[0] + a[1] * b[1]) / n
+        } else {
+            0.0
+        }
+    };
+    let mut pairs = Vec::new();
+    for (i, a) in branches.iter().enumerate() {
+        for (k, b) in branches.iter().enumerate().skip(i + 1) {
+            if a.junction != b.junction
+                || degree[a.junction] < 4
+                || (a.reach - b.reach).abs() > a.stroke.min(b.stroke).max(CROSSBAR_REACH_DIFF_PX)
+            {
+                continue;
+            }
+            let c = cosine(a.away, b.away);
+            if c <= opposite {
+                pairs.push((c, i, k));
+            }
+        }
+    }
+    pairs.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)).then(a.2.cmp(&b.2)));
+    let mut verdicts = vec![None; branches.len()];
+    for (_, i, k) in pairs {
+        if verdicts[i].is_some() || verdicts[k].is_some() {
+            continue;
+        }
+        let (a, b) = (&branches[i], &branches[k]);
+        let spur = a.reach <= a.limit && b.reach <= b.limit;
+        verdicts[i] = Some(spur);
+        verdicts[k] = Some(spur);
+    }
+    verdicts
+}
+
 /// How far the ink of a terminal branch reaches beyond the envelope of the strokes it leaves:
 /// for each of its points `p` (with `r(p)` the half-width there), how far its disk sticks out of
 /// the nearest-fitting disk `(q, r(q))` among `envelope` (the junction and the points of its
@@ -417,6 +511,58 @@ mod tests {
         // background is covered (each disk holds only pixels nearer than its width says).
         assert!((20.0..=30.0).contains(&gain), "{gain}");
         assert_eq!(ink_only_arm(&ink, &[[20.5, 14.5]], &[9.0], &drawn), 0.0);
+    }
+
+    /// Junction degrees and the number of ends of a drawn `t`: a stem `w` px wide, 120 px
+    /// tall, crossed 36 px below its top by a bar `w` px thick that runs `over` px past the
+    /// stem's sides on both sides, square-ended, as fonts draw it.
+    fn cross_bar(w: usize, over: usize) -> (Vec<usize>, usize) {
+        let (width, height) = (80, 140);
+        let (x0, y0) = (37, 10);
+        let ink = (0..width * height)
+            .map(|i| {
+                let (x, y) = (i % width, i / width);
+                let stem = (x0..x0 + w).contains(&x) && (y0..y0 + 120).contains(&y);
+                let bar =
+                    (x0 - over..x0 + w + over).contains(&x) && (y0 + 36..y0 + 36 + w).contains(&y);
+                stem || bar
+            })
+            .collect();
+        let binary = crate::binary::Binary {
+            width: width as u32,
+            height: height as u32,
+            ink,
+        };
+        let graph = crate::trace_binary(&binary, &Params::default())
+            .expect("trace")
+            .graph;
+        let junctions = graph
+            .junctions()
+            .map(|v| graph.vertices[v].degree)
+            .collect();
+        (junctions, graph.endpoints().count())
+    }
+
+    #[test]
+    fn a_short_bar_across_a_stroke_is_kept_or_cut_whole() {
+        // At every width, as the bar runs farther past the stem, the skeleton goes from no arm
+        // to a crossing, never through a T: the two halves' reaches differ by the pixel grid,
+        // and judged one by one the shorter half went first (a T at 0.6-0.8 widths).
+        for w in 3..=10 {
+            let mut crossing = false;
+            for over in 1..=w + 1 {
+                let got = cross_bar(w, over);
+                if got == (vec![4], 4) {
+                    crossing = true;
+                } else {
+                    assert!(
+                        !crossing && got == (vec![], 2),
+                        "w {w}, over {over}: {got:?}"
+                    );
+                }
+            }
+            assert!(crossing, "w {w}: no crossing even a width past the stem");
+        }
     }
 
     #[test]

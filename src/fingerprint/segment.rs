@@ -174,15 +174,39 @@ pub(crate) fn ridge_evidence(
     field: &OrientationField,
     periods: &RidgePeriods,
 ) -> Vec<BlockEvidence> {
+    let whole = whole_levels(gray);
     (0..segmentation.grid.len())
         .into_par_iter()
         .map_init(EvidenceScratch::default, |scratch, b| {
             if !segmentation.inside[b] {
                 return BlockEvidence::default();
             }
-            block_evidence(gray, segmentation.grid, field, periods, b, 1, scratch)
+            block_evidence(
+                gray,
+                whole,
+                segmentation.grid,
+                field,
+                periods,
+                b,
+                1,
+                scratch,
+            )
         })
         .collect()
+}
+
+/// Whether every value of `gray` is a whole number of at most 2¹⁶ in size (8-bit gray levels
+/// are): then [`row_f_ratio`]'s sums over the disc are exact in any order.
+fn whole_levels(gray: &Plane) -> bool {
+    // `v` rounded to the nearest whole number where `|v| ≤ 2²²` (added to 1.5·2²³ it lies where
+    // the spacing of `f32` is 1); the pixels that fail counted without a branch (vector lanes).
+    let nearest = |v: f32| (v + 12_582_912.0) - 12_582_912.0;
+    let failing: usize = gray
+        .values
+        .iter()
+        .map(|&v| usize::from(!((v.abs() <= 65_536.0) & (nearest(v) == v))))
+        .sum();
+    failing == 0
 }
 
 /// The full evidence of block `b` (inside the print): as [`ridge_evidence`]'s, the F ratio and
@@ -198,6 +222,7 @@ pub(crate) fn full_evidence(
 ) -> BlockEvidence {
     block_evidence(
         gray,
+        false,
         segmentation.grid,
         field,
         periods,
@@ -208,8 +233,10 @@ pub(crate) fn full_evidence(
 }
 
 /// [`row_f_ratio`] of block `b` at its centre, orientation and period.
+#[allow(clippy::too_many_arguments)]
 fn block_evidence(
     gray: &Plane,
+    whole: bool,
     grid: BlockGrid,
     field: &OrientationField,
     periods: &RidgePeriods,
@@ -221,7 +248,15 @@ fn block_evidence(
     let (i, j) = (b % cols, b / cols);
     let own = f64::from(field.angle[b]);
     let period = f64::from(periods.period[b]).max(2.0);
-    row_f_ratio(gray, grid.center(i, j), own, period, orientations, scratch)
+    row_f_ratio(
+        gray,
+        whole,
+        grid.center(i, j),
+        own,
+        period,
+        orientations,
+        scratch,
+    )
 }
 
 /// [`row_f_ratio`]'s scratch space, kept from one block to the next.
@@ -306,8 +341,51 @@ pub(crate) struct BlockEvidence {
 /// The disc's pixels are read once, for the plane's sums (its moments from whole-pixel offsets:
 /// exact sums for 8-bit gray); each orientation then reads only the part of each line that can
 /// reach the rectangle ([`line_span`]), each pixel less the plane as it is read.
+///
+/// With AVX2 at run time the whole routine is compiled for it and each line's pixels go four to
+/// an AVX register ([`wide::line_rows4`]: the same operations on each pixel, the rows' sums
+/// taken in the same order, so the same values bit for bit; `math::wide_lanes`).
 fn row_f_ratio(
     gray: &Plane,
+    whole: bool,
+    c: [f64; 2],
+    own: f64,
+    period: f64,
+    orientations: usize,
+    scratch: &mut EvidenceScratch,
+) -> BlockEvidence {
+    #[cfg(target_arch = "x86_64")]
+    if super::math::wide_lanes() {
+        // SAFETY: the CPU has AVX2 (checked at run time).
+        return unsafe { row_f_ratio_wide(gray, whole, c, own, period, orientations, scratch) };
+    }
+    row_f_ratio_lanes::<false>(gray, whole, c, own, period, orientations, scratch)
+}
+
+/// [`row_f_ratio`] compiled for AVX2, each line's pixels four to a register (`wide`).
+///
+/// # Safety
+/// The CPU must have AVX2.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+unsafe fn row_f_ratio_wide(
+    gray: &Plane,
+    whole: bool,
+    c: [f64; 2],
+    own: f64,
+    period: f64,
+    orientations: usize,
+    scratch: &mut EvidenceScratch,
+) -> BlockEvidence {
+    row_f_ratio_lanes::<true>(gray, whole, c, own, period, orientations, scratch)
+}
+
+/// [`row_f_ratio`]'s work, inlined into the version the CPU runs (`WIDE`: the one for AVX2,
+/// which the CPU must have).
+#[inline(always)]
+fn row_f_ratio_lanes<const WIDE: bool>(
+    gray: &Plane,
+    whole: bool,
     c: [f64; 2],
     own: f64,
     period: f64,
@@ -342,11 +420,17 @@ fn row_f_ratio(
         };
         lines.push((y, a, b));
         let line = &gray.values[(y * w + a) as usize..=(y * w + b) as usize];
-        let (mut s, mut s_x) = (0.0f64, 0.0f64);
-        for (x, &v) in (a - cx..).zip(line) {
-            s += f64::from(v);
-            s_x += x as f64 * f64::from(v);
-        }
+        // Whole levels (and offsets below 2¹⁶): every partial sum a whole number below 2⁵³,
+        // exact, so the sums may be taken four lanes at a time.
+        // SAFETY: `WIDE` only where the CPU has AVX2 (`row_f_ratio_wide`).
+        #[cfg(target_arch = "x86_64")]
+        let (s, s_x) = if WIDE && whole && r < 1 << 16 {
+            unsafe { wide::line_sums(line, a - cx) }
+        } else {
+            line_sums(line, a - cx)
+        };
+        #[cfg(not(target_arch = "x86_64"))]
+        let (s, s_x) = line_sums(line, a - cx);
         let (k, yy) = ((b - a + 1) as f64, (y - cy) as f64);
         // Σ X over a..=b and Σ X², X = x - cx, in closed form (whole numbers).
         let (xa, xb) = ((a - cx) as f64, (b - cx) as f64);
@@ -391,25 +475,33 @@ fn row_f_ratio(
         // rectangle; only the part of each line that can reach the rectangle is looked at.
         rows.clear();
         rows.resize(count + 1, (0, 0.0, 0.0));
+        let geometry = RowGeometry {
+            c0: c[0],
+            nx,
+            ny,
+            period,
+            along,
+            off,
+            p,
+            mx,
+        };
         for &(y, a, b) in lines.iter() {
             let ddy = y as f64 + 0.5 - c[1];
             let len = (b - a + 1) as usize;
             let span = line_span(a as f64 + 0.5 - c[0], len, ddy, nx, ny, period, along);
             let plane_y = mv + q * (ddy - my);
             let line = &gray.values[(y * w + a) as usize..(y * w + a) as usize + len];
-            for (x, &v) in (a + span.start as i64..).zip(&line[span]) {
-                let dx = x as f64 + 0.5 - c[0];
-                // `u` across the ridges, `t` along them.
-                let (u, t) = (dx * nx + ddy * ny, dx * ny - ddy * nx);
-                let kept = u.abs() <= period && t.abs() <= along;
-                // `u + T` is in [0, 2T] for a pixel kept: its floor is at most 2⌈T⌉ < `count`.
-                let row = whole_small(floor_small(if kept { u + period } else { off }));
-                let v = f64::from(v) - (plane_y + p * (dx - mx));
-                let row = &mut rows[row as usize];
-                row.0 += 1;
-                row.1 += v;
-                row.2 += v * v;
-            }
+            let (x0, line) = (a + span.start as i64, &line[span]);
+            // SAFETY: `WIDE` only where the CPU has AVX2 (`row_f_ratio_wide`).
+            #[cfg(target_arch = "x86_64")]
+            let done = if WIDE {
+                unsafe { wide::line_rows4(line, x0, &geometry, ddy, plane_y, rows) }
+            } else {
+                0
+            };
+            #[cfg(not(target_arch = "x86_64"))]
+            let done = 0;
+            geometry.line_rows(&line[done..], x0 + done as i64, ddy, plane_y, rows);
         }
         let Some(anova) = RowsAnova::of(&rows[..count]) else {
             continue;
@@ -417,6 +509,188 @@ fn row_f_ratio(
         orientations_seen.take(o, &anova);
     }
     orientations_seen.evidence(mv, orientations >= ROW_ORIENTATIONS)
+}
+
+/// Σ v and Σ X·v over a line of the disc, its first pixel at the offset `x0` from the centre's
+/// column, one pixel after the other.
+#[inline(always)]
+fn line_sums(line: &[f32], x0: i64) -> (f64, f64) {
+    let (mut s, mut s_x) = (0.0f64, 0.0f64);
+    for (x, &v) in (x0..).zip(line) {
+        s += f64::from(v);
+        s_x += x as f64 * f64::from(v);
+    }
+    (s, s_x)
+}
+
+/// What [`row_f_ratio`] needs to put a pixel of a line in its row: the centre's `x` (`c0`), the
+/// rows' normal `(nx, ny)`, the rectangle's half sides (`period` across, `along` along), the row
+/// of the pixels off it (`off`), and the plane's slope `p` across the lines about the mean offset
+/// `mx`.
+struct RowGeometry {
+    c0: f64,
+    nx: f64,
+    ny: f64,
+    period: f64,
+    along: f64,
+    off: f64,
+    p: f64,
+    mx: f64,
+}
+
+impl RowGeometry {
+    /// The pixels `line` of a line at the offset `ddy` from the centre, the first at `x0`, less
+    /// the plane (`plane_y` on this line), added to their rows' count, sum and sum of squares.
+    #[inline(always)]
+    fn line_rows(
+        &self,
+        line: &[f32],
+        x0: i64,
+        ddy: f64,
+        plane_y: f64,
+        rows: &mut [(usize, f64, f64)],
+    ) {
+        let RowGeometry {
+            c0,
+            nx,
+            ny,
+            period,
+            along,
+            off,
+            p,
+            mx,
+        } = *self;
+        for (x, &v) in (x0..).zip(line) {
+            let dx = x as f64 + 0.5 - c0;
+            // `u` across the ridges, `t` along them.
+            let (u, t) = (dx * nx + ddy * ny, dx * ny - ddy * nx);
+            let kept = u.abs() <= period && t.abs() <= along;
+            // `u + T` is in [0, 2T] for a pixel kept: its floor is at most 2⌈T⌉ < `count`.
+            let row = whole_small(floor_small(if kept { u + period } else { off }));
+            let v = f64::from(v) - (plane_y + p * (dx - mx));
+            let row = &mut rows[row as usize];
+            row.0 += 1;
+            row.1 += v;
+            row.2 += v * v;
+        }
+    }
+}
+
+#[cfg(target_arch = "x86_64")]
+mod wide {
+    use super::RowGeometry;
+    use std::arch::x86_64::{
+        _mm256_add_pd, _mm256_and_pd, _mm256_andnot_pd, _mm256_blendv_pd, _mm256_cmp_pd,
+        _mm256_cvtps_pd, _mm256_cvttpd_epi32, _mm256_floor_pd, _mm256_mul_pd, _mm256_set1_pd,
+        _mm256_setr_pd, _mm256_setzero_pd, _mm256_storeu_pd, _mm256_sub_pd, _mm_loadu_ps,
+        _mm_storeu_si128, _CMP_LE_OQ,
+    };
+
+    /// [`super::line_sums`] four pixels at a time (four partial sums, added up at the end), then
+    /// the rest one by one: for whole gray levels (of at most 2¹⁶, offsets far below 2²⁰) every
+    /// product and partial sum is a whole number below 2⁵³, exact, so the sums are the one-by-one
+    /// loop's bit for bit; for other values they may differ in the last bits.
+    ///
+    /// # Safety
+    /// The CPU must have AVX2.
+    #[target_feature(enable = "avx2")]
+    #[inline]
+    pub(super) unsafe fn line_sums(line: &[f32], x0: i64) -> (f64, f64) {
+        let fours = line.len() / 4 * 4;
+        let first = x0 as f64;
+        let mut xs = _mm256_setr_pd(first, first + 1.0, first + 2.0, first + 3.0);
+        let four = _mm256_set1_pd(4.0);
+        let (mut s, mut s_x) = (_mm256_setzero_pd(), _mm256_setzero_pd());
+        for four_pixels in line[..fours].chunks_exact(4) {
+            // SAFETY: four values of `four_pixels`.
+            let v = _mm256_cvtps_pd(unsafe { _mm_loadu_ps(four_pixels.as_ptr()) });
+            s = _mm256_add_pd(s, v);
+            s_x = _mm256_add_pd(s_x, _mm256_mul_pd(xs, v));
+            xs = _mm256_add_pd(xs, four);
+        }
+        let (mut lanes, mut x_lanes) = ([0.0f64; 4], [0.0f64; 4]);
+        // SAFETY: four values each.
+        unsafe {
+            _mm256_storeu_pd(lanes.as_mut_ptr(), s);
+            _mm256_storeu_pd(x_lanes.as_mut_ptr(), s_x);
+        }
+        let (rest, rest_x) = super::line_sums(&line[fours..], x0 + fours as i64);
+        (
+            lanes[0] + lanes[1] + lanes[2] + lanes[3] + rest,
+            x_lanes[0] + x_lanes[1] + x_lanes[2] + x_lanes[3] + rest_x,
+        )
+    }
+
+    /// [`RowGeometry::line_rows`] four pixels at a time, as many whole fours as `line` holds;
+    /// returns how many pixels it took in (the rest are left to the one-by-one loop). Each
+    /// pixel's offsets, row and value are worked out as there, operation by operation, in AVX
+    /// lanes (the floor of `u + T` by `vroundpd`, exact as `floor_small` is for it), then added
+    /// to their rows one by one in the line's order: the same sums, bit for bit.
+    ///
+    /// # Safety
+    /// The CPU must have AVX2.
+    #[target_feature(enable = "avx2")]
+    #[inline]
+    pub(super) unsafe fn line_rows4(
+        line: &[f32],
+        x0: i64,
+        g: &RowGeometry,
+        ddy: f64,
+        plane_y: f64,
+        rows: &mut [(usize, f64, f64)],
+    ) -> usize {
+        let fours = line.len() / 4 * 4;
+        // `x as f64` for the four pixels; whole numbers, so adding 4 stays exact.
+        let first = x0 as f64;
+        let mut xs = _mm256_setr_pd(first, first + 1.0, first + 2.0, first + 3.0);
+        let (half, four) = (_mm256_set1_pd(0.5), _mm256_set1_pd(4.0));
+        let (c0, nx, ny) = (
+            _mm256_set1_pd(g.c0),
+            _mm256_set1_pd(g.nx),
+            _mm256_set1_pd(g.ny),
+        );
+        let (ddy_ny, ddy_nx) = (_mm256_set1_pd(ddy * g.ny), _mm256_set1_pd(ddy * g.nx));
+        let (period, along, off) = (
+            _mm256_set1_pd(g.period),
+            _mm256_set1_pd(g.along),
+            _mm256_set1_pd(g.off),
+        );
+        let (p, mx, plane_y) = (
+            _mm256_set1_pd(g.p),
+            _mm256_set1_pd(g.mx),
+            _mm256_set1_pd(plane_y),
+        );
+        let sign = _mm256_set1_pd(-0.0);
+        let (mut index, mut value, mut square) = ([0i32; 4], [0.0f64; 4], [0.0f64; 4]);
+        for four_pixels in line[..fours].chunks_exact(4) {
+            let dx = _mm256_sub_pd(_mm256_add_pd(xs, half), c0);
+            let u = _mm256_add_pd(_mm256_mul_pd(dx, nx), ddy_ny);
+            let t = _mm256_sub_pd(_mm256_mul_pd(dx, ny), ddy_nx);
+            let kept = _mm256_and_pd(
+                _mm256_cmp_pd::<_CMP_LE_OQ>(_mm256_andnot_pd(sign, u), period),
+                _mm256_cmp_pd::<_CMP_LE_OQ>(_mm256_andnot_pd(sign, t), along),
+            );
+            let row = _mm256_floor_pd(_mm256_blendv_pd(off, _mm256_add_pd(u, period), kept));
+            // SAFETY: four values of `four_pixels`.
+            let gray = _mm256_cvtps_pd(unsafe { _mm_loadu_ps(four_pixels.as_ptr()) });
+            let plane = _mm256_add_pd(plane_y, _mm256_mul_pd(p, _mm256_sub_pd(dx, mx)));
+            let v = _mm256_sub_pd(gray, plane);
+            // SAFETY: four values each.
+            unsafe {
+                _mm_storeu_si128(index.as_mut_ptr().cast(), _mm256_cvttpd_epi32(row));
+                _mm256_storeu_pd(value.as_mut_ptr(), v);
+                _mm256_storeu_pd(square.as_mut_ptr(), _mm256_mul_pd(v, v));
+            }
+            for ((&row, &v), &v2) in index.iter().zip(&value).zip(&square) {
+                let row = &mut rows[row as usize];
+                row.0 += 1;
+                row.1 += v;
+                row.2 += v2;
+            }
+            xs = _mm256_add_pd(xs, four);
+        }
+        fours
+    }
 }
 
 /// The run of `lo..=hi` where `inside` holds, for an `inside` that holds on one run (a line of a
@@ -946,9 +1220,18 @@ mod tests {
                 1 => std::f64::consts::FRAC_PI_2,
                 _ => 4.0 * uniform() - 2.0,
             };
-            let new = row_f_ratio(&plane, c, own, period, ROW_ORIENTATIONS, &mut scratch);
+            let whole = whole_levels(&plane);
+            let new = row_f_ratio(
+                &plane,
+                whole,
+                c,
+                own,
+                period,
+                ROW_ORIENTATIONS,
+                &mut scratch,
+            );
             let old = row_f_ratio_reference(&plane, c, own, period, &mut tuples, &mut rows);
-            let own_only = row_f_ratio(&plane, c, own, period, 1, &mut scratch);
+            let own_only = row_f_ratio(&plane, whole, c, own, period, 1, &mut scratch);
             let close = |a: f32, b: f32| (a - b).abs() <= 1e-5 * a.abs().max(b.abs()) + 1e-6;
             assert!(
                 close(new.f_ratio, old.f_ratio)
@@ -969,6 +1252,85 @@ mod tests {
                 "case {case}: {own_only:?} vs {new:?}"
             );
         }
+    }
+
+    /// The rows' F ratio with each line's pixels in AVX lanes (where the CPU has AVX2) is the
+    /// one-by-one loop's bit for bit: random gray levels (whole levels of smooth ridges and
+    /// noise, fractional levels, flat), periods from 2 to 25 px, any orientation, centres inside,
+    /// at the edges and past them, the own orientation alone and all of them.
+    #[test]
+    fn the_rows_in_lanes_are_the_rows_one_by_one() {
+        let mut lcg = crate::synth::lcg(3535u64);
+        let mut uniform = move || (lcg() >> 11) as f64 / (1u64 << 53) as f64;
+        let (width, height) = (73u32, 59u32);
+        let mut scratch = EvidenceScratch::default();
+        let bits = |e: BlockEvidence| {
+            (
+                e.f_ratio.to_bits(),
+                e.mean.to_bits(),
+                e.amplitude.to_bits(),
+                e.noise.to_bits(),
+                e.full,
+            )
+        };
+        let mut compared = 0;
+        for case in 0..400 {
+            let (period, theta) = (2.0 + 23.0 * uniform(), 7.0 * uniform() - 3.5);
+            let values: Vec<f32> = (0..width * height)
+                .map(|k| {
+                    let (x, y) = (f64::from(k % width), f64::from(k / width));
+                    let ridge = ((x * theta.cos() + y * theta.sin()) / period * 6.3).sin();
+                    match case % 4 {
+                        0 => (128.0 + 60.0 * ridge + 20.0 * uniform()).round() as f32,
+                        1 => (255.0 * uniform()) as f32,
+                        2 => (128.0 + 60.0 * ridge + 20.0 * uniform()) as f32,
+                        _ => 77.0,
+                    }
+                })
+                .collect();
+            let plane = Plane {
+                width,
+                height,
+                values,
+            };
+            let c = [
+                (f64::from(width) + 20.0) * uniform() - 10.0,
+                (f64::from(height) + 20.0) * uniform() - 10.0,
+            ];
+            let c = if case % 5 == 0 { c.map(f64::round) } else { c };
+            let own = match case % 6 {
+                0 => 0.0,
+                1 => std::f64::consts::FRAC_PI_2,
+                _ => 4.0 * uniform() - 2.0,
+            };
+            // The disc's sums in lanes on whole levels only.
+            let whole = whole_levels(&plane);
+            assert_eq!(whole, case % 4 != 1 && case % 4 != 2, "case {case}");
+            for orientations in [1, ROW_ORIENTATIONS] {
+                let one_by_one = row_f_ratio_lanes::<false>(
+                    &plane,
+                    whole,
+                    c,
+                    own,
+                    period,
+                    orientations,
+                    &mut scratch,
+                );
+                let chosen = row_f_ratio(&plane, whole, c, own, period, orientations, &mut scratch);
+                assert_eq!(bits(chosen), bits(one_by_one), "case {case}");
+                #[cfg(target_arch = "x86_64")]
+                if crate::fingerprint::math::wide_lanes() {
+                    // SAFETY: the CPU has AVX2.
+                    let wide = unsafe {
+                        row_f_ratio_wide(&plane, whole, c, own, period, orientations, &mut scratch)
+                    };
+                    assert_eq!(bits(wide), bits(one_by_one), "case {case}");
+                }
+                compared += usize::from(one_by_one.f_ratio > 0.0);
+            }
+        }
+        // Most cases have a window with rows to compare.
+        assert!(compared > 500, "{compared}");
     }
 
     use crate::fingerprint::math::sobel;

@@ -105,14 +105,23 @@ struct Sampler<'a> {
     epoch: u32,
     /// Points of the current disk search in the order they join the disk, with their keys.
     order: Vec<(u32, u32)>,
-    /// Cumulative moments over `order`: (n, Σx, Σy, Σxx, Σxy, Σyy) relative to the center.
-    moments: Vec<[f64; 6]>,
+    /// Center of the current disk search.
+    center: [f64; 2],
+    /// Moments over the first `summed` points of `order`: (n, Σx, Σy, Σxx, Σxy, Σyy) relative
+    /// to the center, summed in `order`'s order when [`Sampler::pca`] asks for them (the
+    /// searches reach points past every radius asked, so summing as they queue wasted work).
+    sums: [f64; 6],
+    summed: usize,
     /// Bucket queue of the disk search: `heads[k]` is the last point queued with key `k` (or
     /// [`NIL`]), `next[p]` the point queued before `p` with the same key. Each bucket is a stack
     /// threaded through one array (a point is queued at most once per search), so a push or pop
     /// is two stores and no bucket owns an allocation.
     heads: Vec<u32>,
     next: Vec<u32>,
+    /// Bit `k % 64` of word `k / 64` set when bucket `k` holds a point: the search jumps to the
+    /// next bucket in use instead of stepping through the empty ones (on a pixel grid at least
+    /// three keys in four are never used, squared distances being integers).
+    occupied: Vec<u64>,
     /// Buckets in use (to clear), next bucket to pop, points queued, largest key admitted.
     used: usize,
     cursor: usize,
@@ -147,9 +156,12 @@ impl<'a> Sampler<'a> {
             rim_seen: vec![0; n],
             epoch: 0,
             order: Vec::new(),
-            moments: Vec::new(),
+            center: [0.0; 2],
+            sums: [0.0; 6],
+            summed: 0,
             heads: Vec::new(),
             next: vec![NIL; n],
+            occupied: Vec::new(),
             used: 0,
             cursor: 0,
             queued: 0,
@@ -210,6 +222,7 @@ impl<'a> Sampler<'a> {
         let buckets = (admitted as usize + 1).min(BUCKET_KEYS as usize);
         if self.heads.len() < buckets {
             self.heads.resize(buckets, NIL);
+            self.occupied.resize(buckets.div_ceil(64), 0);
         }
         // The search's state as locals: its loop reads and writes them for every point reached,
         // and fields behind `self` are read again after every store.
@@ -220,28 +233,35 @@ impl<'a> Sampler<'a> {
             seen,
             next,
             heads,
+            occupied,
             used,
             cursor,
             queued,
             overflow,
             far,
             order,
-            moments,
             visible,
             first_hidden,
             ..
         } = self;
-        let mut last = moments.last().copied().unwrap_or([0.0; 6]);
         while *queued > 0 {
             // Buckets first, then (hostile input) the far heap, whose keys are all larger.
             let (key, p) = if *cursor < *used && *cursor as u32 <= limit {
-                let p = heads[*cursor];
-                if p == NIL {
-                    *cursor += 1;
+                // The cursor stops where stepping bucket by bucket would: at the first bucket in
+                // use, else at the end of the buckets in use or past the bound.
+                let end = (*used).min(limit as usize + 1);
+                let Some(k) = next_occupied(occupied, *cursor, end) else {
+                    *cursor = end;
                     continue;
+                };
+                *cursor = k;
+                let p = heads[k];
+                let rest = next[p as usize];
+                heads[k] = rest;
+                if rest == NIL {
+                    occupied[k / 64] &= !(1u64 << (k % 64));
                 }
-                heads[*cursor] = next[p as usize];
-                (*cursor as u32, p)
+                (k as u32, p)
             } else {
                 match far.peek() {
                     Some(&Reverse((key, p))) if key <= limit && *cursor >= *used => {
@@ -252,19 +272,9 @@ impl<'a> Sampler<'a> {
                 }
             };
             *queued -= 1;
-            let q = points.points[p as usize];
-            let (dx, dy) = (q[0] - center[0], q[1] - center[1]);
-            last = [
-                last[0] + 1.0,
-                last[1] + dx,
-                last[2] + dy,
-                last[3] + dx * dx,
-                last[4] + dx * dy,
-                last[5] + dy * dy,
-            ];
-            moments.push(last);
             order.push((key, p));
             if ink_bound {
+                let q = points.points[p as usize];
                 if sees(points, visible, epoch, center, q) {
                     visible[p as usize] = epoch;
                 } else if key < *first_hidden {
@@ -285,6 +295,7 @@ impl<'a> Sampler<'a> {
                     let k = key as usize;
                     next[r as usize] = heads[k];
                     heads[k] = r;
+                    occupied[k / 64] |= 1u64 << (k % 64);
                     *queued += 1;
                     *used = (*used).max(k + 1);
                 } else if key > admitted {
@@ -310,9 +321,11 @@ impl<'a> Sampler<'a> {
         let k = key as usize;
         if self.heads.len() <= k {
             self.heads.resize(k + 1, NIL);
+            self.occupied.resize((k + 1).div_ceil(64), 0);
         }
         self.next[p as usize] = self.heads[k];
         self.heads[k] = p;
+        self.occupied[k / 64] |= 1u64 << (k % 64);
         self.queued += 1;
         self.used = self.used.max(k + 1);
     }
@@ -320,6 +333,7 @@ impl<'a> Sampler<'a> {
     /// Empties the queue for the next search, keeping the bucket allocations.
     fn reset_queue(&mut self) {
         self.heads[..self.used].fill(NIL);
+        self.occupied[..self.used.div_ceil(64)].fill(0);
         self.used = 0;
         self.cursor = 0;
         self.queued = 0;
@@ -335,17 +349,44 @@ impl<'a> Sampler<'a> {
     }
 
     /// Eq. (2)-(3) on the first `count` points: (linearity, unit principal direction, mean offset).
-    fn pca(&self, count: usize) -> (f64, [f64; 2], [f64; 2]) {
+    fn pca(&mut self, count: usize) -> (f64, [f64; 2], [f64; 2]) {
         if count == 0 {
             return (0.0, [1.0, 0.0], [0.0, 0.0]);
         }
-        let [n, sx, sy, sxx, sxy, syy] = self.moments[count - 1];
+        let [n, sx, sy, sxx, sxy, syy] = self.moments(count);
         let (mx, my) = (sx / n, sy / n);
         let cxx = sxx / n - mx * mx;
         let cxy = sxy / n - mx * my;
         let cyy = syy / n - my * my;
         let (linearity, direction) = principal(cxx, cxy, cyy);
         (linearity, direction, [mx, my])
+    }
+
+    /// The moments of the first `count` points of `order`, summed from the first point in
+    /// `order`'s order (so the same sums, bit for bit, whichever counts were asked before): the
+    /// running sums go on from the last count asked, or start again for a smaller one.
+    fn moments(&mut self, count: usize) -> [f64; 6] {
+        if count < self.summed {
+            self.sums = [0.0; 6];
+            self.summed = 0;
+        }
+        let center = self.center;
+        let mut sums = self.sums;
+        for &(_, p) in &self.order[self.summed..count] {
+            let q = self.points.points[p as usize];
+            let (dx, dy) = (q[0] - center[0], q[1] - center[1]);
+            sums = [
+                sums[0] + 1.0,
+                sums[1] + dx,
+                sums[2] + dy,
+                sums[3] + dx * dx,
+                sums[4] + dx * dy,
+                sums[5] + dy * dy,
+            ];
+        }
+        self.sums = sums;
+        self.summed = count;
+        sums
     }
 
     /// Number of places (up to 3) where the rim `(r - 2, r]` of the disk cuts the ink.
@@ -359,15 +400,16 @@ impl<'a> Sampler<'a> {
         // Keys are never below the Euclidean distance, so rim points sit in the suffix of the
         // disk whose keys exceed the inner radius.
         let start = self.order[..count].partition_point(|&(key, _)| key <= quantize_bound(inner));
+        // Rim points are marked with the current epoch in `rim_seen` as they are found;
+        // components counted by DFS.
+        let (points, epoch) = (self.points, self.epoch);
         for &(_, p) in &self.order[start..count] {
-            let q = self.points.points[p as usize];
+            let q = points.points[p as usize];
             if (q[0] - center[0]).powi(2) + (q[1] - center[1]).powi(2) > inner2 {
                 self.rim.push(p);
+                self.rim_seen[p as usize] = epoch;
             }
         }
-        // Rim points are marked with the current epoch in `rim_seen`; components counted by DFS.
-        self.epoch_rim_mark();
-        let (points, epoch) = (self.points, self.epoch);
         let Sampler {
             rim,
             rim_seen,
@@ -397,10 +439,28 @@ impl<'a> Sampler<'a> {
         cuts
     }
 
-    fn epoch_rim_mark(&mut self) {
-        for &p in &self.rim {
-            self.rim_seen[p as usize] = self.epoch;
+    /// Starts a disk search at point `center` (its disk empty, the center queued) and returns
+    /// the center's position.
+    fn start_search(&mut self, center: u32) -> [f64; 2] {
+        // Two epochs per node: `epoch` marks search/rim membership, `epoch - 1` marks rim points
+        // already visited by the component search.
+        self.epoch = self.epoch.wrapping_add(2);
+        if self.epoch < 2 {
+            self.seen.fill(0);
+            self.rim_seen.fill(0);
+            self.visible.fill(0);
+            self.epoch = 2;
         }
+        self.order.clear();
+        self.reset_queue();
+        self.first_hidden = u32::MAX;
+        let c = self.points.points[center as usize];
+        self.center = c;
+        self.sums = [0.0; 6];
+        self.summed = 0;
+        self.seen[center as usize] = self.epoch;
+        self.enqueue(0, center);
+        c
     }
 
     /// Grows the disk around `center` (Algorithm 1, line 2), makes the node, assigns its points and
@@ -412,22 +472,7 @@ impl<'a> Sampler<'a> {
         id: u32,
         frontier: &mut BinaryHeap<(TotalF64, Reverse<u32>)>,
     ) -> (Node, usize) {
-        // Two epochs per node: `epoch` marks search/rim membership, `epoch - 1` marks rim points
-        // already visited by the component search.
-        self.epoch = self.epoch.wrapping_add(2);
-        if self.epoch < 2 {
-            self.seen.fill(0);
-            self.rim_seen.fill(0);
-            self.visible.fill(0);
-            self.epoch = 2;
-        }
-        self.order.clear();
-        self.moments.clear();
-        self.reset_queue();
-        self.first_hidden = u32::MAX;
-        let c = self.points.points[center as usize];
-        self.seen[center as usize] = self.epoch;
-        self.enqueue(0, center);
+        let c = self.start_search(center);
 
         let spacing = self.points.spacing.max(1e-9);
         // Local width (adaptation 3): w_loc = 2 max(dt) - 1 over the disk of radius max(3, 3
@@ -620,6 +665,24 @@ fn sees(points: &PointSet, visible: &[u32], epoch: u32, c: [f64; 2], q: [f64; 2]
     })
 }
 
+/// The first bucket at or after `from` and before `end` whose bit is set in `occupied` (which
+/// covers at least `end` buckets).
+fn next_occupied(occupied: &[u64], from: usize, end: usize) -> Option<usize> {
+    let mut word = from / 64;
+    let mut bits = occupied[word] & (u64::MAX << (from % 64));
+    loop {
+        if bits != 0 {
+            let k = word * 64 + bits.trailing_zeros() as usize;
+            return (k < end).then_some(k);
+        }
+        word += 1;
+        if word * 64 >= end {
+            return None;
+        }
+        bits = occupied[word];
+    }
+}
+
 /// Squared distances in quarter units: exact for pixel centers (integer squared distances).
 fn quantize(d2: f64) -> u32 {
     (d2 * 4.0 + 0.5).min(u32::MAX as f64 / 2.0) as u32
@@ -628,4 +691,261 @@ fn quantize(d2: f64) -> u32 {
 /// The largest key inside radius `r`.
 fn quantize_bound(r: f64) -> u32 {
     (r * r * 4.0 + 1e-6).floor().min(u32::MAX as f64 / 2.0) as u32
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A small deterministic generator (xorshift64*), so that the cases are the same every run.
+    struct Rng(u64);
+
+    impl Rng {
+        fn next(&mut self) -> u64 {
+            self.0 ^= self.0 >> 12;
+            self.0 ^= self.0 << 25;
+            self.0 ^= self.0 >> 27;
+            self.0.wrapping_mul(0x2545_f491_4f6c_dd1d)
+        }
+
+        fn below(&mut self, n: u64) -> u64 {
+            self.next() % n
+        }
+
+        fn unit(&mut self) -> f64 {
+            (self.next() >> 11) as f64 / (1u64 << 53) as f64
+        }
+    }
+
+    /// The pixels of a random `w` x `h` mask (each pixel ink with probability `fill`) as points at
+    /// pixel centers with their 8-neighbours.
+    fn pixel_points(rng: &mut Rng, w: i64, h: i64, fill: f64) -> PointSet {
+        let mut index = vec![u32::MAX; (w * h) as usize];
+        let mut points = PointSet {
+            spacing: 1.0,
+            ..PointSet::default()
+        };
+        for y in 0..h {
+            for x in 0..w {
+                if rng.unit() < fill {
+                    index[(y * w + x) as usize] = points.points.len() as u32;
+                    points.points.push([x as f64 + 0.5, y as f64 + 0.5]);
+                }
+            }
+        }
+        let mut lists = vec![Vec::new(); points.points.len()];
+        for y in 0..h {
+            for x in 0..w {
+                let p = index[(y * w + x) as usize];
+                if p == u32::MAX {
+                    continue;
+                }
+                for (dx, dy) in [
+                    (-1, -1),
+                    (0, -1),
+                    (1, -1),
+                    (-1, 0),
+                    (1, 0),
+                    (-1, 1),
+                    (0, 1),
+                    (1, 1),
+                ] {
+                    let (u, v) = (x + dx, y + dy);
+                    if (0..w).contains(&u) && (0..h).contains(&v) {
+                        let q = index[(v * w + u) as usize];
+                        if q != u32::MAX {
+                            lists[p as usize].push(q);
+                        }
+                    }
+                }
+            }
+        }
+        points.half_width = vec![1.0; points.points.len()];
+        points.set_neighbors_symmetric(&lists);
+        points
+    }
+
+    /// `n` points at random real coordinates, each linked to a few random others.
+    fn scattered_points(rng: &mut Rng, n: usize, size: f64) -> PointSet {
+        let mut points = PointSet {
+            points: (0..n)
+                .map(|_| [rng.unit() * size, rng.unit() * size])
+                .collect(),
+            half_width: vec![1.0; n],
+            spacing: 1.0,
+            ..PointSet::default()
+        };
+        let lists: Vec<Vec<u32>> = (0..n)
+            .map(|_| {
+                (0..rng.below(4))
+                    .map(|_| rng.below(n as u64) as u32)
+                    .collect()
+            })
+            .collect();
+        points.set_neighbors_symmetric(&lists);
+        points
+    }
+
+    /// The disk search as it was written before the buckets in use were kept in a bitmap: the
+    /// cursor steps through every bucket, empty or not, each bucket a stack. Returns `(key,
+    /// point)` in the order the points join the disk, and the length of that list after each
+    /// bound.
+    fn stepping_search(
+        points: &PointSet,
+        center: u32,
+        bounds: &[f64],
+    ) -> (Vec<(u32, u32)>, Vec<usize>) {
+        let c = points.points[center as usize];
+        let mut buckets: Vec<Vec<u32>> = vec![vec![center]];
+        let mut seen = vec![false; points.len()];
+        seen[center as usize] = true;
+        let (mut cursor, mut queued, mut limit) = (0usize, 1usize, 0u32);
+        let mut overflow: Vec<(u32, u32)> = Vec::new();
+        let (mut order, mut lengths) = (Vec::new(), Vec::new());
+        for &bound in bounds {
+            let new_limit = quantize_bound(bound);
+            if new_limit > limit {
+                limit = new_limit;
+                let mut k = 0;
+                while k < overflow.len() {
+                    let (key, p) = overflow[k];
+                    if key <= limit {
+                        overflow.swap_remove(k);
+                        if buckets.len() <= key as usize {
+                            buckets.resize(key as usize + 1, Vec::new());
+                        }
+                        buckets[key as usize].push(p);
+                        queued += 1;
+                    } else {
+                        k += 1;
+                    }
+                }
+            }
+            while queued > 0 && cursor < buckets.len() && cursor as u32 <= limit {
+                let Some(p) = buckets[cursor].pop() else {
+                    cursor += 1;
+                    continue;
+                };
+                queued -= 1;
+                let key = cursor as u32;
+                order.push((key, p));
+                for &r in points.neighbors_of(p) {
+                    if std::mem::replace(&mut seen[r as usize], true) {
+                        continue;
+                    }
+                    let s = points.points[r as usize];
+                    let d2 = (s[0] - c[0]).powi(2) + (s[1] - c[1]).powi(2);
+                    let key = quantize(d2).max(key);
+                    if key <= limit {
+                        if buckets.len() <= key as usize {
+                            buckets.resize(key as usize + 1, Vec::new());
+                        }
+                        buckets[key as usize].push(r);
+                        queued += 1;
+                    } else {
+                        overflow.push((key, r));
+                    }
+                }
+            }
+            lengths.push(order.len());
+        }
+        (order, lengths)
+    }
+
+    /// The moments of the first `count` points of `order`, summed one by one from zero.
+    fn summed_moments(
+        points: &PointSet,
+        order: &[(u32, u32)],
+        c: [f64; 2],
+        count: usize,
+    ) -> [f64; 6] {
+        let mut sums = [0.0f64; 6];
+        for &(_, p) in &order[..count] {
+            let q = points.points[p as usize];
+            let (dx, dy) = (q[0] - c[0], q[1] - c[1]);
+            sums = [
+                sums[0] + 1.0,
+                sums[1] + dx,
+                sums[2] + dy,
+                sums[3] + dx * dx,
+                sums[4] + dx * dy,
+                sums[5] + dy * dy,
+            ];
+        }
+        sums
+    }
+
+    #[test]
+    fn next_occupied_finds_the_first_set_bit_in_range() {
+        let mut rng = Rng(0x9e37_79b9_7f4a_7c15);
+        for _ in 0..2000 {
+            let words = 1 + rng.below(5) as usize;
+            let density = rng.below(40) + 1;
+            let occupied: Vec<u64> = (0..words)
+                .map(|_| (0..64).fold(0u64, |w, b| w | (u64::from(rng.below(density) == 0) << b)))
+                .collect();
+            let end = 1 + rng.below(words as u64 * 64) as usize;
+            let from = rng.below(end as u64) as usize;
+            let stepped = (from..end).find(|&k| occupied[k / 64] >> (k % 64) & 1 == 1);
+            assert_eq!(
+                next_occupied(&occupied, from, end),
+                stepped,
+                "{from}..{end}"
+            );
+        }
+    }
+
+    /// The disk search jumping over empty buckets visits the points in the order the stepping
+    /// search did, with the same keys, bound after bound; the moments summed when asked equal
+    /// the running sums kept per point before, bit for bit, whatever order the counts come in.
+    #[test]
+    fn disk_search_matches_the_stepping_search() {
+        let mut rng = Rng(0x2545_f491_4f6c_dd1d);
+        let params = Params::default();
+        for case in 0..240 {
+            let points = if case % 3 == 2 {
+                let (n, size) = (30 + rng.below(200) as usize, 6.0 + rng.unit() * 60.0);
+                scattered_points(&mut rng, n, size)
+            } else {
+                let (w, h) = (1 + rng.below(40) as i64, 1 + rng.below(40) as i64);
+                let fill = 0.2 + 0.8 * rng.unit();
+                pixel_points(&mut rng, w, h, fill)
+            };
+            if points.is_empty() {
+                continue;
+            }
+            let mut sampler = Sampler::new(&points, &params);
+            for _ in 0..6 {
+                let center = rng.below(points.len() as u64) as u32;
+                let mut bounds = Vec::new();
+                let mut r = rng.unit() * 3.0;
+                for _ in 0..1 + rng.below(6) {
+                    bounds.push(r);
+                    // Now and then the same bound twice.
+                    if rng.below(4) > 0 {
+                        r += rng.unit() * 8.0;
+                    }
+                }
+                let (expected, lengths) = stepping_search(&points, center, &bounds);
+                let c = sampler.start_search(center);
+                for (&bound, &length) in bounds.iter().zip(&lengths) {
+                    sampler.grow_disk(c, bound);
+                    assert_eq!(
+                        sampler.order,
+                        expected[..length],
+                        "case {case}, bound {bound}"
+                    );
+                }
+                for _ in 0..8 {
+                    let count = rng.below(sampler.order.len() as u64 + 1) as usize;
+                    let want = summed_moments(&points, &sampler.order, c, count);
+                    if count == 0 {
+                        continue;
+                    }
+                    let got = sampler.moments(count);
+                    assert_eq!(got.map(f64::to_bits), want.map(f64::to_bits), "case {case}");
+                }
+            }
+        }
+    }
 }

@@ -91,10 +91,10 @@ pub(super) fn survey(
                 let mut spacing = (0.0f64, 0u64);
                 let mut loose = 0;
                 let mut x = 0;
-                while x < width {
-                    if !row[x] {
-                        x += 1;
-                        continue;
+                loop {
+                    x = next_ink(row, x);
+                    if x >= width {
+                        break;
                     }
                     let start = x;
                     while x < width && row[x] {
@@ -381,6 +381,30 @@ fn eight_neighbours(
     }
     neighbors.shrink_to_fit();
     Ok((offsets, neighbors))
+}
+
+/// The first ink pixel of `row` at or after `from` (`row.len()` when there is none). The
+/// background between runs (most of a page) is skipped eight pixels to a word.
+fn next_ink(row: &[bool], from: usize) -> usize {
+    let Some(rest) = row.get(from..) else {
+        return row.len();
+    };
+    let mut words = rest.chunks_exact(8);
+    let mut x = from;
+    for word in &mut words {
+        let bytes: [u8; 8] = std::array::from_fn(|i| u8::from(word[i]));
+        let bits = u64::from_le_bytes(bytes);
+        if bits != 0 {
+            // The lowest byte set is the first ink pixel (little-endian order).
+            return x + bits.trailing_zeros() as usize / 8;
+        }
+        x += 8;
+    }
+    words
+        .remainder()
+        .iter()
+        .position(|&on| on)
+        .map_or(row.len(), |k| x + k)
 }
 
 /// Ends a pixel's list in the CSR arrays, which index with u32 (`PointSet`): an error past that.
@@ -767,6 +791,29 @@ mod tests {
             }
         }
         binary
+    }
+
+    /// The word-at-a-time skip finds the ink pixel the pixel-by-pixel walk finds, from every
+    /// start, on rows of every length up to 40 with ink from none to all.
+    #[test]
+    fn next_ink_matches_the_walk() {
+        let mut state = 0x9e37_79b9_7f4a_7c15u64;
+        for case in 0..3000 {
+            let len = case % 41;
+            let fill = (case / 41) % 11;
+            let row: Vec<bool> = (0..len)
+                .map(|_| {
+                    state = state
+                        .wrapping_mul(6_364_136_223_846_793_005)
+                        .wrapping_add(1_442_695_040_888_963_407);
+                    (state >> 33) % 10 < fill as u64
+                })
+                .collect();
+            for from in 0..=len + 1 {
+                let walked = (from..len).find(|&x| row[x]).unwrap_or(len);
+                assert_eq!(next_ink(&row, from), walked, "{row:?} from {from}");
+            }
+        }
     }
 
     /// Pseudo-random drop of ink pixels.

@@ -780,7 +780,10 @@ impl Work {
     /// a width of that arm's near anchor and lies on the ink ([`Work::stroke_miss`]). The tail's
     /// own skeleton bends into its Y over the width it has, so only its tip says where the
     /// stroke runs. At most one such arm at each junction, and the two pairings are tested as
-    /// [`Work::split_crossing`] tests them, straight strokes only.
+    /// [`Work::split_crossing`] tests them, straight strokes only; the link must run straight
+    /// between the junctions (within half a width of the line through them) and be at most
+    /// [`TIPPED_LINK`] times `w / sin(θ / 2)` long (docs/quality.md, "Session of 2026-12-06,
+    /// third: crossings (issue 31)").
     fn tipped_crossing(
         &self,
         link: usize,
@@ -1108,6 +1111,12 @@ impl Work {
     /// both near anchors and on the ink, as [`Work::merge_split_crossings`] pairs them), and the
     /// point nearest to all those lines lies on the ink, within half a width of a link and of
     /// every stroke's line: a point all the strokes' ink covers, which is what leaves no hole.
+    /// With an odd number of arms (five or seven), one arm is left unpaired: a stroke starting
+    /// at the star (炔, 木), which thinning forks off where the inks part, a width or more down
+    /// the stroke it leaves; the star is one vertex when that arm, followed straight back,
+    /// meets the stroke holding another arm of its junction within [`TEES_APART`] of the widest
+    /// arms' widths of the star ([`starts_at`]), as the truth joins junctions closer than the
+    /// widest stroke (docs/quality.md, "Session of 2026-12-06, third: crossings (issue 31)").
     pub(super) fn merge_split_stars(&mut self) {
         let mut degree = self.degrees();
         let mut at = self.incidence();
@@ -1226,7 +1235,8 @@ impl Work {
 /// whose ink leaves no hole between their crossings cross at most `sqrt(3)` widths apart.
 const STAR_LINK: f64 = 2.0;
 
-/// The most arms a split star is looked for with (every pairing of 8 arms: 105).
+/// The most arms a split star is looked for with (every pairing of 8 arms: 105; of 7 with one
+/// left unpaired: 105).
 const MAX_STAR_ARMS: usize = 8;
 
 /// The pairing of all arms (`miss[i][j]` for `i < j`: how far the pair misses a straight

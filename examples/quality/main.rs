@@ -14,7 +14,7 @@
 //! generated `cells`, `letters`, `zigzags`, `triples`, `arms`, and `hanzi` (characters of a real
 //! font, read from `../shared/data/hanzi` when present; skipped with a note when not;
 //! `--hanzi-every N` keeps every N-th character for a quicker run), `degraded`, the graph's
-//! hardest decisions `overhangs`, `loops` and `thin`, `points` (strip-shaped point
+//! hardest decisions `overhangs`, `loops`, `thin` and `stars`, `points` (strip-shaped point
 //! sets, the paper's own input, scored in units of the strip width: `points.rs`), then `real`
 //! (below). Without
 //! `--group` every group runs (about a minute and a half on two cores).

@@ -562,6 +562,10 @@ const MIN_TEE_SINE: f64 = 0.5;
 /// radius: the curve's own ink would fill a tighter turn.
 const MIN_ARC_RADIUS: f64 = 1.5;
 
+/// A split crossing with a tail ([`Work::tipped_crossing`]) has a link at most this many times
+/// `w / sin(θ / 2)` long, where thinning puts the Y's of strokes `w` wide crossing at `θ`.
+const TIPPED_LINK: f64 = 2.0;
+
 /// A curve is followed in steps of this many pixels to find where it crosses another.
 const ARC_STEP_PX: f64 = 0.25;
 
@@ -747,7 +751,9 @@ impl Work {
     /// The crossing of the link `link` between the junctions `a` and `b` (see
     /// [`Work::merge_split_crossings`]), or `None`.
     fn split_crossing(&self, link: usize, a: usize, b: usize, at: &[Vec<usize>]) -> Option<Vertex> {
-        let (arms_a, arms_b, stroke, tolerance) = self.link_arms(link, a, b, at)?;
+        let Some((arms_a, arms_b, stroke, tolerance)) = self.link_arms(link, a, b, at) else {
+            return self.tipped_crossing(link, a, b, at);
+        };
         let pairs = [[(0, 0), (1, 1)], [(0, 1), (1, 0)]];
         let Some(&[(i, j), (k, l)]) = pairs.iter().find(|pair| {
             pair.iter().all(|&(i, j)| {
@@ -764,6 +770,103 @@ impl Work {
         ];
         let hub = line_intersection(&lines, 0.0)?;
         self.crossing_at(hub, link, tolerance, stroke)
+    }
+
+    /// A split crossing one of whose arms is a short tail (a stroke ending a little past the
+    /// crossing, as the tails of a script `f`'s loops): an arm that ends within [`SPLIT_FAR`]
+    /// widths of its junction, too short for a stretch of its own ([`Work::arm_line`]), gives its
+    /// tip, at least a width from the junction, as both anchors: a pair with it is one straight
+    /// stroke when the line from the tip through the other arm's far anchor passes within half
+    /// a width of that arm's near anchor and lies on the ink ([`Work::stroke_miss`]). The tail's
+    /// own skeleton bends into its Y over the width it has, so only its tip says where the
+    /// stroke runs. At most one such arm at each junction, and the two pairings are tested as
+    /// [`Work::split_crossing`] tests them, straight strokes only; the link must run straight
+    /// between the junctions (within half a width of the line through them) and be at most
+    /// [`TIPPED_LINK`] times `w / sin(θ / 2)` long (docs/quality.md, "Session of 2026-12-06,
+    /// third: crossings (issue 31)").
+    fn tipped_crossing(
+        &self,
+        link: usize,
+        a: usize,
+        b: usize,
+        at: &[Vec<usize>],
+    ) -> Option<Vertex> {
+        let arms_a = self.tipped_arm_lines(a, link, at)?;
+        let arms_b = self.tipped_arm_lines(b, link, at)?;
+        let stroke = arms_a
+            .iter()
+            .chain(&arms_b)
+            .map(|(w, _)| *w)
+            .fold(f64::INFINITY, f64::min);
+        let tolerance = disk_radius(stroke);
+        let pairs = [[(0, 0), (1, 1)], [(0, 1), (1, 0)]];
+        let &[(i, j), (k, l)] = pairs.iter().find(|pair| {
+            pair.iter().all(|&(i, j)| {
+                self.stroke_miss(&arms_a[i].1, &arms_b[j].1, tolerance)
+                    .is_some()
+            })
+        })?;
+        let lines = [
+            stroke_line(&arms_a[i].1, &arms_b[j].1)?,
+            stroke_line(&arms_a[k].1, &arms_b[l].1)?,
+        ];
+        let hub = line_intersection(&lines, 0.0)?;
+        // Thinning puts the Y's of strokes crossing at `θ` about `w / sin(θ / 2)` apart, joined
+        // by a straight link along the strokes' shared ink: a longer link, or one that bends
+        // away from the line between its junctions, joins two junctions of their own (a box's
+        // corner with a foot, and a kink on its side).
+        let [(_, u), (_, v)] = lines;
+        let sine_half = ((1.0 - (u[0] * v[0] + u[1] * v[1]).abs()) / 2.0).sqrt();
+        let edge = self.edges[link].as_ref()?;
+        let (pa, pb) = (self.vertices[a].pos, self.vertices[b].pos);
+        let straight = edge
+            .points
+            .iter()
+            .all(|&p| line_dist(p, pa, pb) <= tolerance);
+        if !straight || edge.length() * sine_half > TIPPED_LINK * stroke {
+            return None;
+        }
+        self.crossing_at(hub, link, tolerance, stroke)
+    }
+
+    /// The two arms at the degree-3 junction `j` other than `link`, as
+    /// [`Work::tipped_crossing`] takes them: each its stretch ([`Work::arm_line`]) or, for an
+    /// arm ending in an end too near for one, its tip as both anchors; `None` when there are not
+    /// two, neither has a stretch, or a tip lies within a width of the junction.
+    fn tipped_arm_lines(&self, j: usize, link: usize, at: &[Vec<usize>]) -> Option<Arms> {
+        let jp = self.vertices[j].pos;
+        let mut arms = Vec::new();
+        let mut tips = 0;
+        for &e in at[j].iter().filter(|&&e| e != link) {
+            let edge = self.edges[e].as_ref()?;
+            for (here, forward) in [(edge.from == j, true), (edge.to == j, false)] {
+                if !here {
+                    continue;
+                }
+                if let Some(arm) = self.arm_line(j, edge, forward) {
+                    arms.push(arm);
+                    continue;
+                }
+                let (other, tip) = if forward {
+                    (edge.to, *edge.points.last()?)
+                } else {
+                    (edge.from, edge.points[0])
+                };
+                let w = median(&edge.widths);
+                if at[other].len() != 1 || other == j || dist(tip, jp) < w.max(MIN_SPLIT_LINE_PX) {
+                    return None;
+                }
+                tips += 1;
+                arms.push((
+                    w,
+                    ArmLine {
+                        near: tip,
+                        far: tip,
+                    },
+                ));
+            }
+        }
+        (arms.len() == 2 && tips <= 1).then_some(arms)
     }
 
     /// The crossing at `hub`, when it lies on the ink within `tolerance` px of the `link` between
@@ -1008,6 +1111,12 @@ impl Work {
     /// both near anchors and on the ink, as [`Work::merge_split_crossings`] pairs them), and the
     /// point nearest to all those lines lies on the ink, within half a width of a link and of
     /// every stroke's line: a point all the strokes' ink covers, which is what leaves no hole.
+    /// With an odd number of arms (five or seven), one arm is left unpaired: a stroke starting
+    /// at the star (炔, 木), which thinning forks off where the inks part, a width or more down
+    /// the stroke it leaves; the star is one vertex when that arm, followed straight back,
+    /// meets the stroke holding another arm of its junction within [`TEES_APART`] of the widest
+    /// arms' widths of the star ([`starts_at`]), as the truth joins junctions closer than the
+    /// widest stroke (docs/quality.md, "Session of 2026-12-06, third: crossings (issue 31)").
     pub(super) fn merge_split_stars(&mut self) {
         let mut degree = self.degrees();
         let mut at = self.incidence();
@@ -1068,7 +1177,9 @@ impl Work {
                 arms.push((j, w, line));
             }
         }
-        if arms.len() % 2 != 0 || arms.len() < 6 || arms.len() > MAX_STAR_ARMS {
+        // An odd star: a stroke starting at a crossing (炔, 木), one arm left unpaired.
+        let odd = arms.len() % 2 != 0;
+        if arms.len() < 5 || arms.len() > MAX_STAR_ARMS {
             return None;
         }
         let stroke = arms.iter().map(|a| a.1).fold(f64::INFINITY, f64::min);
@@ -1080,12 +1191,23 @@ impl Work {
                 miss_of[i][j] = self.stroke_miss(&arms[i].2, &arms[j].2, tolerance);
             }
         }
-        let pairs = best_pairing(&miss_of)?;
+        let pairs = best_pairing(&miss_of, odd)?;
         let lines = pairs
             .iter()
             .map(|&(i, j)| stroke_line(&arms[i].2, &arms[j].2))
             .collect::<Option<Vec<_>>>()?;
         let hub = line_intersection(&lines, 0.0)?;
+        if odd {
+            // The stroke the lone arm forks off: the one holding another arm of its junction.
+            let lone = (0..arms.len()).find(|&k| pairs.iter().all(|&(i, j)| i != k && j != k))?;
+            let stem = pairs.iter().position(|&(i, j)| {
+                (i != lone && arms[i].0 == arms[lone].0) || (j != lone && arms[j].0 == arms[lone].0)
+            })?;
+            let widest = arms.iter().map(|a| a.1).fold(0.0f64, f64::max);
+            if !starts_at(&arms[lone].2, lines[stem], hub, TEES_APART * widest) {
+                return None;
+            }
+        }
         // The hub lies among the junctions: none farther from it than the longest link.
         let longest = internal
             .iter()
@@ -1113,26 +1235,31 @@ impl Work {
 /// whose ink leaves no hole between their crossings cross at most `sqrt(3)` widths apart.
 const STAR_LINK: f64 = 2.0;
 
-/// The most arms a split star is looked for with (every pairing of 8 arms: 105).
+/// The most arms a split star is looked for with (every pairing of 8 arms: 105; of 7 with one
+/// left unpaired: 105).
 const MAX_STAR_ARMS: usize = 8;
 
 /// The pairing of all arms (`miss[i][j]` for `i < j`: how far the pair misses a straight
-/// stroke, `None` when it is none) with the least summed miss; `None` when there is none.
-fn best_pairing(miss: &[Vec<Option<f64>>]) -> Option<Vec<(usize, usize)>> {
+/// stroke, `None` when it is none) with the least summed miss, with one arm left unpaired when
+/// `lone`; `None` when there is none.
+fn best_pairing(miss: &[Vec<Option<f64>>], lone: bool) -> Option<Vec<(usize, usize)>> {
     fn search(
         miss: &[Vec<Option<f64>>],
         used: &mut [bool],
         pairs: &mut Vec<(usize, usize)>,
-        sum: f64,
+        (sum, lone): (f64, bool),
         best: &mut Option<(f64, Vec<(usize, usize)>)>,
     ) {
         let Some(i) = used.iter().position(|&u| !u) else {
-            if best.as_ref().is_none_or(|(s, _)| sum < *s) {
+            if !lone && best.as_ref().is_none_or(|(s, _)| sum < *s) {
                 *best = Some((sum, pairs.clone()));
             }
             return;
         };
         used[i] = true;
+        if lone {
+            search(miss, used, pairs, (sum, false), best);
+        }
         for j in i + 1..used.len() {
             if used[j] {
                 continue;
@@ -1140,7 +1267,7 @@ fn best_pairing(miss: &[Vec<Option<f64>>]) -> Option<Vec<(usize, usize)>> {
             let Some(m) = miss[i][j] else { continue };
             used[j] = true;
             pairs.push((i, j));
-            search(miss, used, pairs, sum + m, best);
+            search(miss, used, pairs, (sum + m, lone), best);
             pairs.pop();
             used[j] = false;
         }
@@ -1151,10 +1278,28 @@ fn best_pairing(miss: &[Vec<Option<f64>>]) -> Option<Vec<(usize, usize)>> {
         miss,
         &mut vec![false; miss.len()],
         &mut Vec::new(),
-        0.0,
+        (0.0, lone),
         &mut best,
     );
     best.map(|(_, pairs)| pairs)
+}
+
+/// Whether the stroke of the arm `arm`, followed straight back from its stretch, starts at the
+/// star `hub` on the stroke `stem` it forks off: it leaves that stroke's line at more than
+/// [`MIN_TEE_SINE`] and meets it within `apart` px of the hub (the truth joins junctions closer
+/// than the widest stroke at them, as [`Work::stems_apart`] measures), pointing away from the
+/// hub.
+fn starts_at(arm: &ArmLine, stem: ([f64; 2], [f64; 2]), hub: [f64; 2], apart: f64) -> bool {
+    let Some(u) = unit([arm.near[0] - arm.far[0], arm.near[1] - arm.far[1]]) else {
+        return false;
+    };
+    let d = stem.1;
+    if dist(arm.far, hub) <= dist(arm.near, hub)
+        || (u[0] * d[1] - u[1] * d[0]).abs() <= MIN_TEE_SINE
+    {
+        return false;
+    }
+    line_intersection(&[stem, (arm.far, u)], 0.0).is_some_and(|m| dist(m, hub) < apart)
 }
 
 /// Whether the arms `p` and `q` (their far-to-near stretches and the chord between their near

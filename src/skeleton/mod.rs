@@ -555,21 +555,34 @@ mod tests {
 
     #[test]
     fn a_stroke_starting_at_a_crossing_is_one_star() {
-        // A bar crossing a vertical, a third stroke starting at the crossing and leaving the
-        // vertical at `angle` degrees (炔, 木): thinning forks the third stroke off where the
-        // inks part, a width or more down the vertical, and the bar runs straight through the
-        // crossing's own junction, beside the method's star. Followed straight back, the third
-        // stroke meets the vertical within a width of the crossing: one vertex of degree 5.
-        for (w, angle) in [(8.0f64, 40.0f64), (10.0, 45.0)] {
-            let c = [60.0, 50.0];
+        // A bar crossing a vertical, a third stroke starting `offset` widths down the vertical
+        // and leaving it at `angle` degrees (炔, 木; the quality example's `stars` group):
+        // thinning forks the third stroke off where the inks part, a width or more down the
+        // vertical, beside the crossing's own junction. Followed straight back, the third
+        // stroke meets the vertical within a width of the crossing: one vertex of degree 5,
+        // whether the method saw a star of five there (55 degrees) or only the crossing.
+        for (w, offset, angle) in [
+            (8.0f64, 0.75, 55.0f64),
+            (12.0, 0.75, 55.0),
+            (8.0, 0.25, 40.0),
+        ] {
+            let (c, half) = ([120.5, 120.5], (6.0 * w).max(40.0));
+            let start = [c[0], c[1] + offset * w];
             let (s, k) = (angle.to_radians().sin(), angle.to_radians().cos());
             let strokes = [
-                Stroke::new(vec![[c[0], 10.0], [c[0], 110.0]], w),
-                Stroke::new(vec![[15.0, c[1]], [105.0, c[1]]], w),
-                Stroke::new(vec![c, [c[0] + 55.0 * s, c[1] + 55.0 * k]], w),
+                Stroke::new(vec![[c[0], c[1] - half], [c[0], c[1] + half]], w),
+                Stroke::new(vec![[c[0] - half, c[1]], [c[0] + half, c[1]]], w),
+                Stroke::new(vec![start, [start[0] + half * s, start[1] + half * k]], w),
             ];
-            let (binary, graph) = traced(&strokes, 120, 120);
-            assert_eq!(degrees(&graph), vec![5], "w {w}, {angle} degrees");
+            let (binary, graph) = traced(&strokes, 240, 240);
+            assert_eq!(
+                degrees(&graph),
+                vec![5],
+                "w {w}, {offset} w down, {angle} degrees"
+            );
+            let hub = graph.junctions().next().expect("a star");
+            let at = graph.vertices[hub].pos;
+            assert!(dist(at, c) <= w, "the star is at {at:?}");
             assert_on_ink(&binary, &graph);
         }
     }

@@ -10,7 +10,8 @@
 //! [`cell_cases`], [`letter_cases`], [`zigzag_cases`], [`triple_cases`] and [`arm_cases`]; the
 //! groups that score the graph's hardest decisions too ([`GRAPH_GROUPS`]): [`overhang_cases`]
 //! (a stroke running a little past the one it meets), [`loop_cases`] (script loops crossing at
-//! 10-40 degrees) and [`thin_cases`] (one- and two-pixel drawings).
+//! 10-40 degrees), [`thin_cases`] (one- and two-pixel drawings) and [`star_cases`] (a stroke
+//! starting on the crossing of two others).
 //! Everything is deterministic: the same call gives the same pixels and the same truth.
 
 mod crowded;
@@ -22,6 +23,7 @@ mod pages;
 mod prints;
 mod rng;
 mod shapes;
+mod stars;
 mod strips;
 mod thin_lines;
 
@@ -40,6 +42,7 @@ pub use pages::{page_cases, PAGE_CASES};
 pub use prints::{dense_print_cases, finger_area, print_cases, DENSE_PRINT_SIZE};
 pub use rng::SplitMix64;
 pub use shapes::hard_cases;
+pub use stars::{star_cases, STAR_ANGLES, STAR_OFFSETS, STAR_WIDTHS};
 pub use strips::{
     helix_tube, sine_strip, strip_cases, tube_cases, uniform_cloud, StripCase, StripCurve,
     TubeCase, TubeCurve, STRIP_WIDTH, TUBE_WIDTH,
@@ -87,8 +90,8 @@ pub const CROWDED_GROUPS: [&str; 10] = [
 ];
 
 /// The generated groups that score the graph where its decisions are hardest, by name, in the
-/// benchmark's order: [`overhang_cases`], [`loop_cases`], [`thin_cases`].
-pub const GRAPH_GROUPS: [&str; 3] = ["overhangs", "loops", "thin"];
+/// benchmark's order: [`overhang_cases`], [`loop_cases`], [`thin_cases`], [`star_cases`].
+pub const GRAPH_GROUPS: [&str; 4] = ["overhangs", "loops", "thin", "stars"];
 
 /// The cases of one generated group by name: those of [`all_cases`] (`hard`, `text`, `prints`),
 /// the [`CROWDED_GROUPS`] and the [`GRAPH_GROUPS`]; `None` for any other name.
@@ -106,6 +109,7 @@ pub fn group_cases(group: &str) -> Option<Vec<Case>> {
         "overhangs" => overhang_cases(),
         "loops" => loop_cases(),
         "thin" => thin_cases(),
+        "stars" => star_cases(),
         font if FONTS.contains(&font) => font_cases(font),
         _ => return None,
     })

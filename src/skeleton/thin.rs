@@ -85,7 +85,7 @@ fn zhang_suen_framed(padded: &mut [bool], width: usize) {
 /// rows of the 3 x 3 block around `i` (one bounds check for the block, where one per neighbour
 /// cost most of the thinning: docs/performance.md).
 #[inline]
-fn neighbourhood(grid: &[bool], width: usize, i: usize) -> u8 {
+pub(super) fn neighbourhood(grid: &[bool], width: usize, i: usize) -> u8 {
     let block = &grid[i - width - 1..i + width + 2];
     let (above, row, below) = (
         &block[..3],

@@ -261,72 +261,51 @@ impl Ord for TotalF64 {
 
 /// The paths among those `moved` that cross or touch another path, or themselves, other than
 /// where two segments share an end point; in rising order. `None` is a removed path.
-///
-/// Two segments are compared only when their boxes share a cell of a 4 px grid, once (in the
-/// first cell both boxes cover), and only when their boxes lie within [`far_apart`]'s margin of
-/// each other: pairs that [`segments_meet`] could not find meeting are never formed or never
-/// measured, so the answer is the one of comparing every pair that shares a cell.
 pub(crate) fn crossing_paths(paths: &[Option<&[[f64; 2]]>], moved: &[bool]) -> Vec<usize> {
     const CELL_PX: f64 = 4.0;
     let key = |v: f64| floor_i64(v / CELL_PX);
-    // A cell's two coordinates in 16 bits each (a wider page folds far-apart cells together,
-    // which only adds pairs to test).
-    let fold = |cx: i64, cy: i64| ((cx as u16 as u64) << 16) | (cy as u16 as u64);
     // Every segment under every cell its box covers, sorted by cell: a cell's segments are one
     // run of the list, in the order of their paths and their places along them. One `u64` each:
-    // the folded cell above the segment's number.
-    let mut segments: Vec<Segment> = Vec::new();
+    // the cell's two coordinates (16 bits each; a wider page folds far-apart cells together,
+    // which only adds pairs to test) above the segment's number.
+    let mut segments: Vec<(usize, usize)> = Vec::new();
     let mut cells: Vec<u64> = Vec::new();
     for (e, path) in paths.iter().enumerate() {
         let Some(path) = path else { continue };
         for (k, s) in path.windows(2).enumerate() {
             let id = segments.len() as u64;
-            let lo = [s[0][0].min(s[1][0]), s[0][1].min(s[1][1])];
-            let hi = [s[0][0].max(s[1][0]), s[0][1].max(s[1][1])];
-            let first = [key(lo[0]), key(lo[1])];
-            segments.push(Segment {
-                path: e,
-                index: k,
-                ends: [s[0], s[1]],
-                lo,
-                hi,
-                first,
-            });
-            for cx in first[0]..=key(hi[0]) {
-                for cy in first[1]..=key(hi[1]) {
-                    cells.push((fold(cx, cy) << 32) | id);
+            segments.push((e, k));
+            for cx in key(s[0][0].min(s[1][0]))..=key(s[0][0].max(s[1][0])) {
+                for cy in key(s[0][1].min(s[1][1]))..=key(s[0][1].max(s[1][1])) {
+                    cells.push(((cx as u16 as u64) << 48) | ((cy as u16 as u64) << 32) | id);
                 }
             }
         }
     }
     cells.sort_unstable();
-    let id = |cell: u64| &segments[(cell & u64::from(u32::MAX)) as usize];
+    let segment = |(e, k): (usize, usize)| {
+        let points = paths[e].expect("live path");
+        (points[k], points[k + 1])
+    };
+    let id = |cell: u64| segments[(cell & u64::from(u32::MAX)) as usize];
     let mut crossing = vec![false; paths.len()];
     for run in cells.chunk_by(|a, b| a >> 32 == b >> 32) {
-        let here = run[0] >> 32;
         for (i, &a) in run.iter().enumerate() {
             let a = id(a);
             for &b in &run[i + 1..] {
                 let b = id(b);
-                if !moved[a.path] && !moved[b.path] {
+                if !moved[a.0] && !moved[b.0] {
                     continue;
                 }
-                if crossing[a.path] && crossing[b.path] {
+                if crossing[a.0] && crossing[b.0] {
                     continue;
                 }
-                if a.path == b.path && a.index.abs_diff(b.index) <= 1 {
+                if a.0 == b.0 && a.1.abs_diff(b.1) <= 1 {
                     continue;
                 }
-                // Both boxes cover the cell of their boxes' overlap's low corner: the pair is
-                // in that cell's run, and measured there alone.
-                if fold(a.first[0].max(b.first[0]), a.first[1].max(b.first[1])) != here {
-                    continue;
-                }
-                if far_apart(a, b) {
-                    continue;
-                }
-                if segments_meet(a.ends[0], a.ends[1], b.ends[0], b.ends[1]) {
-                    for e in [a.path, b.path] {
+                let ((a0, a1), (b0, b1)) = (segment(a), segment(b));
+                if segments_meet(a0, a1, b0, b1) {
+                    for e in [a.0, b.0] {
                         if moved[e] {
                             crossing[e] = true;
                         }
@@ -336,45 +315,6 @@ pub(crate) fn crossing_paths(paths: &[Option<&[[f64; 2]]>], moved: &[bool]) -> V
         }
     }
     (0..paths.len()).filter(|&e| crossing[e]).collect()
-}
-
-/// A segment of [`crossing_paths`]: its path, its place along it, its ends, its box and the
-/// grid cell of the box's low corner.
-struct Segment {
-    path: usize,
-    index: usize,
-    ends: [[f64; 2]; 2],
-    lo: [f64; 2],
-    hi: [f64; 2],
-    first: [i64; 2],
-}
-
-/// Whether two segments' boxes lie so far apart that [`segments_meet`] cannot find them
-/// meeting, rounding included: farther, on one axis, than `1e-6` px plus a hundredth of the
-/// two boxes' joint extent (width plus height).
-///
-/// The margin, from `segments_meet`'s arithmetic. Crossing lines (the denominator `D = r × s`
-/// above `1e-12 |r| |s|`): the numerators and `D` are cross products of differences of the
-/// points, each within `γ₄ ≈ 4.5e-16` times `|q| |s|` (`|r| |s|`) of its exact value, so `D`
-/// is within `4.5e-4` of itself and the parameter `t` within `4.5e-4 (|t| + |q| / |r|)`; the
-/// point `a0 + t r` the test accepts (`t` within `1e-9` of `[0, 1]`) is then within
-/// `4.6e-4 (|r| + |q|)` of the lines' true crossing, which lies as near `b`'s box by the same
-/// with `u`. The boxes are within `4.6e-4 (|r| + |s| + 2 |q|)` of each other, and each of
-/// `|r|, |s|, |q|` is at most the joint extent: at most `1.9e-3` of it, five times below the
-/// margin. Parallel lines: the test wants `b0` within `1e-9` px of `a`'s line (plus rounding of
-/// `γ₄ |q|`), `b1` within that plus `1e-12 |s|`, and the projections overlapping within `1e-9`
-/// of `a`'s parameter: within `1e-9 (1 + |r|) + 1e-12 |s|` and the rounding, below the margin.
-fn far_apart(a: &Segment, b: &Segment) -> bool {
-    let gap = (b.lo[0] - a.hi[0])
-        .max(a.lo[0] - b.hi[0])
-        .max(b.lo[1] - a.hi[1])
-        .max(a.lo[1] - b.hi[1]);
-    if gap <= 1e-6 {
-        return false;
-    }
-    let extent = a.hi[0].max(b.hi[0]) - a.lo[0].min(b.lo[0]) + a.hi[1].max(b.hi[1])
-        - a.lo[1].min(b.lo[1]);
-    gap > 1e-6 + 0.01 * extent
 }
 
 /// Whether the closed segments `a0-a1` and `b0-b1` have a point in common other than an end
@@ -518,130 +458,6 @@ mod tests {
         }
     }
 
-    /// `crossing_paths` as it was before each pair was measured once and far pairs were left
-    /// out: every pair of segments sharing a cell measured, in every cell they share.
-    fn crossing_paths_every_pair(paths: &[Option<&[[f64; 2]]>], moved: &[bool]) -> Vec<usize> {
-        const CELL_PX: f64 = 4.0;
-        let key = |v: f64| floor_i64(v / CELL_PX);
-        let mut segments: Vec<(usize, usize)> = Vec::new();
-        let mut cells: Vec<u64> = Vec::new();
-        for (e, path) in paths.iter().enumerate() {
-            let Some(path) = path else { continue };
-            for (k, s) in path.windows(2).enumerate() {
-                let id = segments.len() as u64;
-                segments.push((e, k));
-                for cx in key(s[0][0].min(s[1][0]))..=key(s[0][0].max(s[1][0])) {
-                    for cy in key(s[0][1].min(s[1][1]))..=key(s[0][1].max(s[1][1])) {
-                        cells.push(((cx as u16 as u64) << 48) | ((cy as u16 as u64) << 32) | id);
-                    }
-                }
-            }
-        }
-        cells.sort_unstable();
-        let segment = |(e, k): (usize, usize)| {
-            let points = paths[e].expect("live path");
-            (points[k], points[k + 1])
-        };
-        let id = |cell: u64| segments[(cell & u64::from(u32::MAX)) as usize];
-        let mut crossing = vec![false; paths.len()];
-        for run in cells.chunk_by(|a, b| a >> 32 == b >> 32) {
-            for (i, &a) in run.iter().enumerate() {
-                let a = id(a);
-                for &b in &run[i + 1..] {
-                    let b = id(b);
-                    if !moved[a.0] && !moved[b.0] {
-                        continue;
-                    }
-                    if a.0 == b.0 && a.1.abs_diff(b.1) <= 1 {
-                        continue;
-                    }
-                    let ((a0, a1), (b0, b1)) = (segment(a), segment(b));
-                    if segments_meet(a0, a1, b0, b1) {
-                        for e in [a.0, b.0] {
-                            if moved[e] {
-                                crossing[e] = true;
-                            }
-                        }
-                    }
-                }
-            }
-        }
-        (0..paths.len()).filter(|&e| crossing[e]).collect()
-    }
-
-    /// The crossing paths are those of measuring every pair that shares a cell, on random
-    /// paths: pixel paths (centres a step apart), long straight runs, nearly parallel and
-    /// overlapping runs, ends a hair off another path, points shared; removed paths and paths
-    /// not moved among them.
-    #[test]
-    fn crossing_paths_are_those_of_every_pair_measured() {
-        let mut next = crate::synth::lcg(3207u64);
-        let mut unit = move || (next() >> 11) as f64 / (1u64 << 53) as f64;
-        let (mut found, mut cases) = (0, 0);
-        for case in 0..600 {
-            let size = [12.0, 40.0, 300.0][case % 3];
-            let count = 2 + (unit() * 12.0) as usize;
-            let mut paths: Vec<Option<Vec<[f64; 2]>>> = Vec::new();
-            for _ in 0..count {
-                let kind = (unit() * 5.0) as usize;
-                let mut p = [
-                    (unit() * size).floor() + 0.5,
-                    (unit() * size).floor() + 0.5,
-                ];
-                let n = 2 + (unit() * 40.0) as usize;
-                let mut path = vec![p];
-                for _ in 1..n {
-                    p = match kind {
-                        // A pixel path: a step to one of the 8 neighbours.
-                        0 | 1 => [
-                            p[0] + (unit() * 3.0).floor() - 1.0,
-                            p[1] + (unit() * 3.0).floor() - 1.0,
-                        ],
-                        // Long straight-ish runs.
-                        2 => [p[0] + (unit() - 0.5) * size, p[1] + (unit() - 0.5) * size],
-                        // Sub-pixel wiggles.
-                        _ => [p[0] + unit() * 2.0 - 1.0, p[1] + unit() * 2.0 - 1.0],
-                    };
-                    path.push(p);
-                }
-                paths.push(Some(path));
-            }
-            // Nearly parallel and overlapping copies, ends a hair off other paths, shared
-            // points.
-            for _ in 0..3 {
-                let Some(Some(source)) = paths.get((unit() * count as f64) as usize).cloned()
-                else {
-                    continue;
-                };
-                let k = (unit() * (source.len() - 1) as f64) as usize;
-                let (a, b) = (source[k], source[k + 1]);
-                let hair = [1e-13, 1e-10, 1e-9, 1e-8, 0.0][(unit() * 5.0) as usize];
-                let f = unit();
-                let on = [a[0] + f * (b[0] - a[0]), a[1] + f * (b[1] - a[1])];
-                let copy = match (unit() * 4.0) as usize {
-                    0 => vec![[a[0] + hair, a[1] - hair], [b[0] + hair, b[1] + hair]],
-                    1 => vec![[on[0] + hair, on[1]], [on[0] + 5.0, on[1] + 3.0]],
-                    2 => vec![a, [a[0] - (b[0] - a[0]), a[1] - (b[1] - a[1]) + hair]],
-                    _ => vec![
-                        [a[0] + 0.5 * (b[0] - a[0]), a[1] + 0.5 * (b[1] - a[1])],
-                        [b[0] + 2.0 * (b[0] - a[0]), b[1] + 2.0 * (b[1] - a[1]) * (1.0 + hair)],
-                    ],
-                };
-                paths.push(Some(copy));
-            }
-            if unit() < 0.3 {
-                paths[0] = None;
-            }
-            let moved: Vec<bool> = (0..paths.len()).map(|_| unit() < 0.7).collect();
-            let views: Vec<Option<&[[f64; 2]]>> = paths.iter().map(|p| p.as_deref()).collect();
-            let ours = crossing_paths(&views, &moved);
-            assert_eq!(ours, crossing_paths_every_pair(&views, &moved), "case {case}");
-            found += ours.len();
-            cases += 1;
-        }
-        assert!(found > cases, "{found} crossing paths in {cases} cases");
-    }
-
     #[test]
     fn floor_i64_is_the_floor_cast() {
         let mut next = crate::synth::lcg(99u64);
@@ -717,7 +533,10 @@ mod tests {
             let line: Vec<[f64; 2]> = (0..n)
                 .map(|_| {
                     if unit() > 0.15 {
-                        p = [p[0] + unit() * 4.0 - 2.0, p[1] + (unit() * 3.0).floor() - 1.0];
+                        p = [
+                            p[0] + unit() * 4.0 - 2.0,
+                            p[1] + (unit() * 3.0).floor() - 1.0,
+                        ];
                     }
                     p
                 })

@@ -428,12 +428,7 @@ mod tests {
 
     /// [`follows`] as it was: every segment of the other line bucketed in a hash map, every
     /// point looked up in it.
-    fn follows_by_hash_map(
-        p: &[[f64; 2]],
-        q: &[[f64; 2]],
-        tight: f64,
-        loose: f64,
-    ) -> Option<f64> {
+    fn follows_by_hash_map(p: &[[f64; 2]], q: &[[f64; 2]], tight: f64, loose: f64) -> Option<f64> {
         let (tight2, loose2) = (tight * tight, loose * loose);
         let cell = (2.0 * loose).max(4.0);
         let key = |v: f64| floor_i64(v / cell);
@@ -491,7 +486,10 @@ mod tests {
         for case in 0..3000 {
             let n = [1, 2, 5, 30, 200, 1500][case % 6];
             let step = [[1.0, 0.0], [1.0, 1.0], [0.7, 0.3], [0.0, -1.0]][(unit() * 4.0) as usize];
-            let start = [(unit() * 500.0).floor() + 0.5, (unit() * 500.0).floor() + 0.5];
+            let start = [
+                (unit() * 500.0).floor() + 0.5,
+                (unit() * 500.0).floor() + 0.5,
+            ];
             let skeleton: Vec<[f64; 2]> = (0..n)
                 .map(|i| {
                     let wiggle = if unit() < 0.3 { 1.0 } else { 0.0 };

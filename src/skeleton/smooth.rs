@@ -18,9 +18,7 @@
 //! edge that would cross or touch another edge (or itself) away from their vertices keeps its
 //! path from before, so the geometry never adds a crossing to the graph.
 
-use crate::geometry::{
-    arc_lengths, crossing_paths, hypot, segment_dist, segment_dist2, ArcWalk,
-};
+use crate::geometry::{arc_lengths, crossing_paths, hypot, segment_dist, segment_dist2, ArcWalk};
 use crate::stroke_graph::Edge;
 
 use super::work::{median, Ink, Work};

@@ -98,6 +98,47 @@ pub(crate) fn point_at(polyline: &[[f64; 2]], s: &[f64], t: f64) -> ([f64; 2], u
     ([a[0] + f * (b[0] - a[0]), a[1] + f * (b[1] - a[1])], j - 1)
 }
 
+/// [`point_at`] for arc lengths that never decrease from one call to the next (resampling a
+/// polyline from its start to its end): the segment is found by walking on from the last one,
+/// not by a binary search each time; the same points and segments.
+pub(crate) struct ArcWalk<'a> {
+    polyline: &'a [[f64; 2]],
+    s: &'a [f64],
+    /// The number of cumulative lengths at most the last `t` (`point_at`'s partition point).
+    passed: usize,
+}
+
+impl<'a> ArcWalk<'a> {
+    /// A walk along `polyline` with cumulative lengths `s`.
+    pub(crate) fn new(polyline: &'a [[f64; 2]], s: &'a [f64]) -> Self {
+        ArcWalk {
+            polyline,
+            s,
+            passed: 0,
+        }
+    }
+
+    /// `point_at(polyline, s, t)`, `t` at least the last call's.
+    pub(crate) fn at(&mut self, t: f64) -> ([f64; 2], usize) {
+        let (polyline, s) = (self.polyline, self.s);
+        let n = polyline.len();
+        if n < 2 || t <= 0.0 {
+            return (polyline.first().copied().unwrap_or([0.0, 0.0]), 0);
+        }
+        if t >= s[n - 1] {
+            return (polyline[n - 1], n - 2);
+        }
+        while self.passed < n && s[self.passed] <= t {
+            self.passed += 1;
+        }
+        let j = self.passed.clamp(1, n - 1);
+        let (a, b) = (polyline[j - 1], polyline[j]);
+        let len = s[j] - s[j - 1];
+        let f = if len > 0.0 { (t - s[j - 1]) / len } else { 0.0 };
+        ([a[0] + f * (b[0] - a[0]), a[1] + f * (b[1] - a[1])], j - 1)
+    }
+}
+
 /// Euclidean distance from `p` to the segment `a`-`b`.
 pub fn segment_dist(p: [f64; 2], a: [f64; 2], b: [f64; 2]) -> f64 {
     segment_closest(p, a, b).0
@@ -477,6 +518,45 @@ mod tests {
         assert_eq!(s, vec![0.0, 3.0, 7.0]);
         assert_eq!(point_at(&line, &s, 5.0), ([3.0, 2.0], 1));
         assert_eq!(point_at(&line, &s, 9.0).0, [3.0, 4.0]);
+    }
+
+    /// The walk gives `point_at`'s points and segments, bit for bit, for rising arc lengths
+    /// (repeated ones, ones before the start and past the end) on random polylines, repeated
+    /// points (zero-length segments) among them.
+    #[test]
+    fn the_arc_walk_is_point_at() {
+        let mut next = crate::synth::lcg(515u64);
+        let mut unit = move || (next() >> 11) as f64 / (1u64 << 53) as f64;
+        for case in 0..2000 {
+            let n = 1 + case % 40;
+            let mut p = [unit() * 100.0, unit() * 100.0];
+            let line: Vec<[f64; 2]> = (0..n)
+                .map(|_| {
+                    if unit() > 0.15 {
+                        p = [
+                            p[0] + unit() * 4.0 - 2.0,
+                            p[1] + (unit() * 3.0).floor() - 1.0,
+                        ];
+                    }
+                    p
+                })
+                .collect();
+            let s = arc_lengths(&line);
+            let total = s[n - 1];
+            let mut walk = ArcWalk::new(&line, &s);
+            let mut t = -1.0;
+            while t <= total + 1.0 {
+                let (ours, theirs) = (walk.at(t), point_at(&line, &s, t));
+                assert_eq!(ours.1, theirs.1, "case {case} t {t}");
+                assert_eq!(ours.0.map(f64::to_bits), theirs.0.map(f64::to_bits));
+                // Sometimes the same length twice, sometimes exactly a corner's.
+                t = match (unit() * 4.0) as usize {
+                    0 => t,
+                    1 => s[(unit() * n as f64) as usize].max(t),
+                    _ => t + unit() * 0.7,
+                };
+            }
+        }
     }
 
     #[test]

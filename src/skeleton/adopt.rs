@@ -242,52 +242,300 @@ fn bbox(points: &[[f64; 2]]) -> [f64; 4] {
 /// `loose` from the other, or when more than a tenth of either's points lie farther than
 /// `tight`; else the largest distance.
 fn follows(p: &[[f64; 2]], q: &[[f64; 2]], tight: f64, loose: f64) -> Option<f64> {
-    // Squared distances, compared with squared bounds.
-    let (tight2, loose2) = (tight * tight, loose * loose);
-    // The segments of `to` bucketed in square cells at least `2 loose` across, so a point only
-    // looks at the segments of the (at most four) cells within `loose` of it: linear in the
-    // points, however long the lines (a page-long stroke has tens of thousands).
-    let cell = (2.0 * loose).max(4.0);
-    let key = |v: f64| floor_i64(v / cell);
-    let directed = |from: &[[f64; 2]], to: &[[f64; 2]]| -> Option<f64> {
-        let segments: Vec<([f64; 2], [f64; 2])> = match to {
-            [only] => vec![(*only, *only)],
-            _ => to.windows(2).map(|s| (s[0], s[1])).collect(),
-        };
-        // A fixed-seed hasher: the buckets' order is never read, only their contents.
-        let mut buckets: std::collections::HashMap<(i64, i64), Vec<usize>, FixedState> =
-            std::collections::HashMap::default();
-        for (k, &(a, b)) in segments.iter().enumerate() {
-            for cx in key(a[0].min(b[0]))..=key(a[0].max(b[0])) {
-                for cy in key(a[1].min(b[1]))..=key(a[1].max(b[1])) {
-                    buckets.entry((cx, cy)).or_default().push(k);
-                }
-            }
-        }
-        let mut worst = 0.0f64;
-        let mut off = 0;
-        for &x in from {
-            let mut d2 = f64::INFINITY;
-            for cx in key(x[0] - loose)..=key(x[0] + loose) {
-                for cy in key(x[1] - loose)..=key(x[1] + loose) {
-                    for &k in buckets.get(&(cx, cy)).map_or(&[][..], Vec::as_slice) {
-                        let (a, b) = segments[k];
-                        d2 = d2.min(crate::geometry::segment_dist2(x, a, b));
-                    }
-                }
-            }
-            if d2 > loose2 {
-                return None;
-            }
-            if d2 > tight2 {
-                off += 1;
-            }
-            worst = worst.max(d2);
-        }
-        (off * 10 <= from.len()).then_some(worst.sqrt())
-    };
     if p.is_empty() || q.is_empty() {
         return None;
     }
-    Some(directed(p, q)?.max(directed(q, p)?))
+    Some(directed_gap(p, q, tight, loose)?.max(directed_gap(q, p, tight, loose)?))
+}
+
+/// [`follows`] one way: the largest distance from a point of `from` to the polyline `to`, or
+/// `None` when one lies farther than `loose` or more than a tenth farther than `tight`.
+fn directed_gap(from: &[[f64; 2]], to: &[[f64; 2]], tight: f64, loose: f64) -> Option<f64> {
+    // Squared distances, compared with squared bounds.
+    let (tight2, loose2) = (tight * tight, loose * loose);
+    let segments: Vec<([f64; 2], [f64; 2])> = match to {
+        [only] => vec![(*only, *only)],
+        _ => to.windows(2).map(|s| (s[0], s[1])).collect(),
+    };
+    // A point farther than `loose` (and a micrometre of a pixel, far above the rounding of the
+    // closest point) outside `to`'s box on one axis is farther than `loose` from each segment.
+    let (lo, hi) = bounds(to);
+    let reach = loose + 1e-6;
+    if from.iter().any(|x| {
+        x[0] < lo[0] - reach || x[0] > hi[0] + reach || x[1] < lo[1] - reach || x[1] > hi[1] + reach
+    }) {
+        return None;
+    }
+    // The segments of `to` bucketed in square cells at least `2 loose` across, so a point only
+    // looks at the segments of the (at most four) cells within `loose` of it: linear in the
+    // points, however long the lines (a page-long stroke has tens of thousands).
+    let grid = SegmentGrid::new(&segments, (2.0 * loose).max(4.0), lo, hi);
+    let mut worst = 0.0f64;
+    let mut off = 0;
+    for &x in from {
+        let mut d2 = f64::INFINITY;
+        grid.near(x, loose, |k| {
+            let (a, b) = segments[k];
+            d2 = d2.min(crate::geometry::segment_dist2(x, a, b));
+        });
+        if d2 > loose2 {
+            return None;
+        }
+        if d2 > tight2 {
+            off += 1;
+        }
+        worst = worst.max(d2);
+    }
+    (off * 10 <= from.len()).then_some(worst.sqrt())
+}
+
+/// The corners `(low, high)` of a polyline's box.
+fn bounds(points: &[[f64; 2]]) -> ([f64; 2], [f64; 2]) {
+    let b = bbox(points);
+    ([b[0], b[1]], [b[2], b[3]])
+}
+
+/// Segments bucketed by the square cells (`cell` px, cell `(i, j)` covering `[i cell, (i + 1)
+/// cell)` on x and likewise on y) that their boxes cover: a dense table over the segments' own
+/// box when it has at most a few cells per segment, else a hash map of the cells used (a long
+/// diagonal stroke's box is mostly empty).
+enum SegmentGrid {
+    Dense {
+        cell: f64,
+        first: [i64; 2],
+        columns: i64,
+        rows: i64,
+        /// Where each cell's segments start in `items` (one more entry than cells).
+        start: Vec<u32>,
+        items: Vec<u32>,
+    },
+    Sparse {
+        cell: f64,
+        // A fixed-seed hasher: the buckets' order is never read, only their contents.
+        buckets: std::collections::HashMap<(i64, i64), Vec<usize>, FixedState>,
+    },
+}
+
+impl SegmentGrid {
+    /// The grid of `segments`, whose points lie in the box `lo`-`hi`.
+    fn new(segments: &[([f64; 2], [f64; 2])], cell: f64, lo: [f64; 2], hi: [f64; 2]) -> Self {
+        let key = |v: f64| floor_i64(v / cell);
+        let covered = |(a, b): ([f64; 2], [f64; 2])| {
+            (
+                key(a[0].min(b[0]))..=key(a[0].max(b[0])),
+                key(a[1].min(b[1]))..=key(a[1].max(b[1])),
+            )
+        };
+        let first = [key(lo[0]), key(lo[1])];
+        let (columns, rows) = (key(hi[0]) - first[0] + 1, key(hi[1]) - first[1] + 1);
+        if columns.saturating_mul(rows) > 4 * segments.len() as i64 + 64 {
+            let mut buckets: std::collections::HashMap<(i64, i64), Vec<usize>, FixedState> =
+                std::collections::HashMap::default();
+            for (k, &s) in segments.iter().enumerate() {
+                let (xs, ys) = covered(s);
+                for cx in xs {
+                    for cy in ys.clone() {
+                        buckets.entry((cx, cy)).or_default().push(k);
+                    }
+                }
+            }
+            return SegmentGrid::Sparse { cell, buckets };
+        }
+        let index = |cx: i64, cy: i64| ((cy - first[1]) * columns + (cx - first[0])) as usize;
+        // Counted, summed into starts, then filled (each cell's segments in rising order).
+        let mut start = vec![0u32; (columns * rows) as usize + 1];
+        for &s in segments {
+            let (xs, ys) = covered(s);
+            for cx in xs {
+                for cy in ys.clone() {
+                    start[index(cx, cy) + 1] += 1;
+                }
+            }
+        }
+        for i in 1..start.len() {
+            start[i] += start[i - 1];
+        }
+        let mut fill = start.clone();
+        let mut items = vec![0u32; start[start.len() - 1] as usize];
+        for (k, &s) in segments.iter().enumerate() {
+            let (xs, ys) = covered(s);
+            for cx in xs {
+                for cy in ys.clone() {
+                    let at = &mut fill[index(cx, cy)];
+                    items[*at as usize] = k as u32;
+                    *at += 1;
+                }
+            }
+        }
+        SegmentGrid::Dense {
+            cell,
+            first,
+            columns,
+            rows,
+            start,
+            items,
+        }
+    }
+
+    /// Calls `visit` with every segment of every cell within `reach` of `x` on both axes (a
+    /// segment may come more than once).
+    fn near(&self, x: [f64; 2], reach: f64, mut visit: impl FnMut(usize)) {
+        match self {
+            SegmentGrid::Dense {
+                cell,
+                first,
+                columns,
+                rows,
+                start,
+                items,
+            } => {
+                let key = |v: f64| floor_i64(v / cell);
+                // Cells outside the table hold no segment.
+                let (x0, x1) = (
+                    key(x[0] - reach).max(first[0]),
+                    key(x[0] + reach).min(first[0] + columns - 1),
+                );
+                let (y0, y1) = (
+                    key(x[1] - reach).max(first[1]),
+                    key(x[1] + reach).min(first[1] + rows - 1),
+                );
+                for cy in y0..=y1 {
+                    for cx in x0..=x1 {
+                        let i = ((cy - first[1]) * columns + (cx - first[0])) as usize;
+                        for &k in &items[start[i] as usize..start[i + 1] as usize] {
+                            visit(k as usize);
+                        }
+                    }
+                }
+            }
+            SegmentGrid::Sparse { cell, buckets } => {
+                let key = |v: f64| floor_i64(v / cell);
+                for cx in key(x[0] - reach)..=key(x[0] + reach) {
+                    for cy in key(x[1] - reach)..=key(x[1] + reach) {
+                        for &k in buckets.get(&(cx, cy)).map_or(&[][..], Vec::as_slice) {
+                            visit(k);
+                        }
+                    }
+                }
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// [`follows`] as it was: every segment of the other line bucketed in a hash map, every
+    /// point looked up in it.
+    fn follows_by_hash_map(p: &[[f64; 2]], q: &[[f64; 2]], tight: f64, loose: f64) -> Option<f64> {
+        let (tight2, loose2) = (tight * tight, loose * loose);
+        let cell = (2.0 * loose).max(4.0);
+        let key = |v: f64| floor_i64(v / cell);
+        let directed = |from: &[[f64; 2]], to: &[[f64; 2]]| -> Option<f64> {
+            let segments: Vec<([f64; 2], [f64; 2])> = match to {
+                [only] => vec![(*only, *only)],
+                _ => to.windows(2).map(|s| (s[0], s[1])).collect(),
+            };
+            let mut buckets: std::collections::HashMap<(i64, i64), Vec<usize>, FixedState> =
+                std::collections::HashMap::default();
+            for (k, &(a, b)) in segments.iter().enumerate() {
+                for cx in key(a[0].min(b[0]))..=key(a[0].max(b[0])) {
+                    for cy in key(a[1].min(b[1]))..=key(a[1].max(b[1])) {
+                        buckets.entry((cx, cy)).or_default().push(k);
+                    }
+                }
+            }
+            let mut worst = 0.0f64;
+            let mut off = 0;
+            for &x in from {
+                let mut d2 = f64::INFINITY;
+                for cx in key(x[0] - loose)..=key(x[0] + loose) {
+                    for cy in key(x[1] - loose)..=key(x[1] + loose) {
+                        for &k in buckets.get(&(cx, cy)).map_or(&[][..], Vec::as_slice) {
+                            let (a, b) = segments[k];
+                            d2 = d2.min(crate::geometry::segment_dist2(x, a, b));
+                        }
+                    }
+                }
+                if d2 > loose2 {
+                    return None;
+                }
+                if d2 > tight2 {
+                    off += 1;
+                }
+                worst = worst.max(d2);
+            }
+            (off * 10 <= from.len()).then_some(worst.sqrt())
+        };
+        if p.is_empty() || q.is_empty() {
+            return None;
+        }
+        Some(directed(p, q)?.max(directed(q, p)?))
+    }
+
+    /// `follows` gives what the hash-map buckets gave, bit for bit, on random pairs of lines:
+    /// a pixel path and a smoother line beside it (a pixel or so off, sometimes a stretch
+    /// farther), short and long (the long diagonal ones take the hash map), single points,
+    /// lines exactly `loose` off.
+    #[test]
+    fn follows_is_the_hash_map_one() {
+        let mut next = crate::synth::lcg(4411u64);
+        let mut unit = move || (next() >> 11) as f64 / (1u64 << 53) as f64;
+        let (mut some, mut none) = (0, 0);
+        for case in 0..3000 {
+            let n = [1, 2, 5, 30, 200, 1500][case % 6];
+            let step = [[1.0, 0.0], [1.0, 1.0], [0.7, 0.3], [0.0, -1.0]][(unit() * 4.0) as usize];
+            let start = [
+                (unit() * 500.0).floor() + 0.5,
+                (unit() * 500.0).floor() + 0.5,
+            ];
+            let skeleton: Vec<[f64; 2]> = (0..n)
+                .map(|i| {
+                    let wiggle = if unit() < 0.3 { 1.0 } else { 0.0 };
+                    [
+                        (start[0] + i as f64 * step[0]).floor() + 0.5,
+                        (start[1] + i as f64 * step[1] + wiggle).floor() + 0.5,
+                    ]
+                })
+                .collect();
+            let offset = [0.0, 0.3, 0.9, 1.5, 3.0][(unit() * 5.0) as usize];
+            let every = 1 + (unit() * 6.0) as usize;
+            let mut method: Vec<[f64; 2]> = skeleton
+                .iter()
+                .step_by(every)
+                .map(|p| {
+                    [
+                        p[0] + (unit() - 0.5) * offset,
+                        p[1] + (unit() - 0.5) * offset,
+                    ]
+                })
+                .collect();
+            if unit() < 0.2 && method.len() > 4 {
+                // A stretch that wanders off.
+                let k = method.len() / 2;
+                method[k][1] += 2.0 + unit() * 4.0;
+            }
+            if unit() < 0.1 {
+                method.reverse();
+            }
+            let loose = [1.0, 1.5, 2.0, 3.25][(unit() * 4.0) as usize];
+            let tight = 1.0;
+            for (a, b) in [(&skeleton, &method), (&method, &skeleton)] {
+                let ours = follows(a, b, tight, loose);
+                let theirs = follows_by_hash_map(a, b, tight, loose);
+                assert_eq!(
+                    ours.map(f64::to_bits),
+                    theirs.map(f64::to_bits),
+                    "case {case}: {ours:?} {theirs:?}"
+                );
+                if ours.is_some() {
+                    some += 1;
+                } else {
+                    none += 1;
+                }
+            }
+        }
+        assert!(some > 500 && none > 500, "{some} followed, {none} not");
+    }
 }

@@ -4,7 +4,7 @@
 use crate::geometry::{floor_i64, tangents};
 use crate::stroke_graph::{Edge, StrokeGraph, Vertex};
 
-use super::thin::RING;
+use super::thin::{neighbourhood, RING};
 use super::MIN_WIDTH_PX;
 
 /// The graph of a one-pixel skeleton in a `width` x `height` window: skeleton pixels with more
@@ -178,9 +178,14 @@ pub(super) fn pixel_graph(
     graph
 }
 
-/// The skeleton neighbours of window pixel `i` as a byte, bit k for [`RING`]`[k]`.
+/// The skeleton neighbours of window pixel `i` as a byte, bit k for [`RING`]`[k]`: away from
+/// the window's border read as the three rows of the 3 x 3 block around it ([`neighbourhood`],
+/// the thinning's), at the border one neighbour at a time, each tested against the window.
 fn neighbour_code(skeleton: &[bool], w: i64, h: i64, i: usize) -> u8 {
     let (x, y) = ((i as i64) % w, (i as i64) / w);
+    if x > 0 && y > 0 && x + 1 < w && y + 1 < h {
+        return neighbourhood(skeleton, w as usize, i);
+    }
     let on = |x: i64, y: i64| x >= 0 && y >= 0 && x < w && y < h && skeleton[(y * w + x) as usize];
     RING.iter()
         .enumerate()

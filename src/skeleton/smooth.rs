@@ -18,7 +18,7 @@
 //! edge that would cross or touch another edge (or itself) away from their vertices keeps its
 //! path from before, so the geometry never adds a crossing to the graph.
 
-use crate::geometry::{arc_lengths, crossing_paths, hypot, point_at, segment_dist, segment_dist2};
+use crate::geometry::{arc_lengths, crossing_paths, hypot, segment_dist, segment_dist2, ArcWalk};
 use crate::stroke_graph::Edge;
 
 use super::work::{median, Ink, Work};
@@ -197,8 +197,9 @@ fn fit_edge(edge: &mut Edge, ink: &Ink, clear: [f64; 2]) -> bool {
     let width = median(&edge.widths);
     let mut samples = Vec::with_capacity(m + 1);
     let mut widths = Vec::with_capacity(m + 1);
+    let mut walk = ArcWalk::new(&edge.points, &s);
     for j in 0..=m {
-        let (p, k) = point_at(&edge.points, &s, j as f64 * step);
+        let (p, k) = walk.at(j as f64 * step);
         let (a, b) = (
             edge.widths[k],
             edge.widths[(k + 1).min(edge.widths.len() - 1)],
@@ -463,6 +464,7 @@ fn retain_kept<T>(items: &mut Vec<T>, keep: &[bool]) {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::geometry::point_at;
     use crate::params::Params;
     use crate::synth::{render, Stroke};
 

@@ -84,8 +84,10 @@ fn zhang_suen_framed(padded: &mut [bool], width: usize) {
 /// [`RING`]`[k]`, P2..P9), `i` not on the grid's first or last row or column. Read as the three
 /// rows of the 3 x 3 block around `i` (one bounds check for the block, where one per neighbour
 /// cost most of the thinning: docs/performance.md).
-#[inline]
-fn neighbourhood(grid: &[bool], width: usize, i: usize) -> u8 {
+// Always inlined: the thinning reads it for every ink pixel, and a call there costs a
+// tenth of the thinning (docs/performance.md, "Session of 2026-12-06, third").
+#[inline(always)]
+pub(super) fn neighbourhood(grid: &[bool], width: usize, i: usize) -> u8 {
     let block = &grid[i - width - 1..i + width + 2];
     let (above, row, below) = (
         &block[..3],

@@ -5,6 +5,7 @@
 use foldhash::fast::FixedState;
 use kiddo::{ImmutableKdTree, SquaredEuclidean};
 
+use crate::csr::Csr;
 use crate::geometry::floor_i64;
 use crate::stroke_graph::StrokeGraph;
 
@@ -305,9 +306,8 @@ enum SegmentGrid {
         first: [i64; 2],
         columns: i64,
         rows: i64,
-        /// Where each cell's segments start in `items` (one more entry than cells).
-        start: Vec<u32>,
-        items: Vec<u32>,
+        /// Each cell's segments, row by row of cells.
+        cells: Csr<u32>,
     },
     Sparse {
         cell: f64,
@@ -342,38 +342,23 @@ impl SegmentGrid {
             return SegmentGrid::Sparse { cell, buckets };
         }
         let index = |cx: i64, cy: i64| ((cy - first[1]) * columns + (cx - first[0])) as usize;
-        // Counted, summed into starts, then filled (each cell's segments in rising order).
-        let mut start = vec![0u32; (columns * rows) as usize + 1];
-        for &s in segments {
-            let (xs, ys) = covered(s);
-            for cx in xs {
-                for cy in ys.clone() {
-                    start[index(cx, cy) + 1] += 1;
+        // Each cell's segments in rising order.
+        let cells = Csr::build((columns * rows) as usize, |sink| {
+            for (k, &s) in segments.iter().enumerate() {
+                let (xs, ys) = covered(s);
+                for cx in xs {
+                    for cy in ys.clone() {
+                        sink.push(index(cx, cy), k as u32);
+                    }
                 }
             }
-        }
-        for i in 1..start.len() {
-            start[i] += start[i - 1];
-        }
-        let mut fill = start.clone();
-        let mut items = vec![0u32; start[start.len() - 1] as usize];
-        for (k, &s) in segments.iter().enumerate() {
-            let (xs, ys) = covered(s);
-            for cx in xs {
-                for cy in ys.clone() {
-                    let at = &mut fill[index(cx, cy)];
-                    items[*at as usize] = k as u32;
-                    *at += 1;
-                }
-            }
-        }
+        });
         SegmentGrid::Dense {
             cell,
             first,
             columns,
             rows,
-            start,
-            items,
+            cells,
         }
     }
 
@@ -386,8 +371,7 @@ impl SegmentGrid {
                 first,
                 columns,
                 rows,
-                start,
-                items,
+                cells,
             } => {
                 let key = |v: f64| floor_i64(v / cell);
                 // Cells outside the table hold no segment.
@@ -402,7 +386,7 @@ impl SegmentGrid {
                 for cy in y0..=y1 {
                     for cx in x0..=x1 {
                         let i = ((cy - first[1]) * columns + (cx - first[0])) as usize;
-                        for &k in &items[start[i] as usize..start[i + 1] as usize] {
+                        for &k in cells.row(i) {
                             visit(k as usize);
                         }
                     }

@@ -8,7 +8,7 @@
 //! measured (median) width; the arm is kept when the ink only it explains, less the background it covers, outweighs
 //! the cost of one more part, [`PART_COST`] squared widths.
 
-use crate::geometry::dist;
+use crate::geometry::{dist, unit};
 
 use super::work::{median, Ink, Work};
 use super::{disk_radius, MIN_WIDTH_PX};
@@ -132,7 +132,7 @@ impl Work {
             }
             let reach = spur_reach(&points, &widths, &envelope);
             let limit = (SPUR_REACH * stroke).max(SPUR_REACH_PX);
-            let away = [tip_pos[0] - j.pos[0], tip_pos[1] - j.pos[1]];
+            let away = unit([tip_pos[0] - j.pos[0], tip_pos[1] - j.pos[1]]);
             branches.push(Branch {
                 reach,
                 limit,
@@ -327,8 +327,8 @@ struct Branch {
     edge: usize,
     junction: usize,
     tip: usize,
-    /// From the junction to the tip.
-    away: [f64; 2],
+    /// The unit direction from the junction to the tip.
+    away: Option<[f64; 2]>,
 }
 
 /// A short stroke crossing another (the bar of a `t` or an `f`, a `+`) leaves the skeleton two
@@ -344,26 +344,28 @@ struct Branch {
 /// a spur), `None` for a branch judged alone.
 fn judge_crossbars(branches: &[Branch], degree: &[usize]) -> Vec<Option<bool>> {
     let opposite = -CROSSBAR_ANGLE_DEG.to_radians().cos();
-    let cosine = |a: [f64; 2], b: [f64; 2]| {
-        let n = a[0].hypot(a[1]) * b[0].hypot(b[1]);
-        if n > 0.0 {
-            (a[0] * b[0] + a[1] * b[1]) / n
-        } else {
-            0.0
-        }
-    };
+    // Pairs only within a junction: the branches grouped by junction (stable, so each group's
+    // pairs come in rising order), never all pairs of the chunk.
+    let mut by_junction: Vec<usize> = (0..branches.len()).collect();
+    by_junction.sort_by_key(|&i| branches[i].junction);
     let mut pairs = Vec::new();
-    for (i, a) in branches.iter().enumerate() {
-        for (k, b) in branches.iter().enumerate().skip(i + 1) {
-            if a.junction != b.junction
-                || degree[a.junction] < 4
-                || (a.reach - b.reach).abs() > a.stroke.min(b.stroke).max(CROSSBAR_REACH_DIFF_PX)
-            {
-                continue;
-            }
-            let c = cosine(a.away, b.away);
-            if c <= opposite {
-                pairs.push((c, i, k));
+    for group in by_junction.chunk_by(|&i, &k| branches[i].junction == branches[k].junction) {
+        if degree[branches[group[0]].junction] < 4 {
+            continue;
+        }
+        for (n, &i) in group.iter().enumerate() {
+            for &k in &group[n + 1..] {
+                let (a, b) = (&branches[i], &branches[k]);
+                if (a.reach - b.reach).abs() > a.stroke.min(b.stroke).max(CROSSBAR_REACH_DIFF_PX) {
+                    continue;
+                }
+                let (Some(u), Some(v)) = (a.away, b.away) else {
+                    continue;
+                };
+                let c = u[0] * v[0] + u[1] * v[1];
+                if c <= opposite {
+                    pairs.push((c, i, k));
+                }
             }
         }
     }
@@ -469,9 +471,12 @@ mod tests {
         ];
         let mut params = Params::default();
         params.experiments.decide_by_ink = true;
-        let graph = crate::trace_binary(&render(&strokes, 121, 90), &params)
-            .expect("trace")
-            .graph;
+        shape(&render(&strokes, 121, 90), &params)
+    }
+
+    /// Junction degrees and the number of ends of `binary` traced with `params`.
+    fn shape(binary: &crate::binary::Binary, params: &Params) -> (Vec<usize>, usize) {
+        let graph = crate::trace_binary(binary, params).expect("trace").graph;
         let junctions = graph
             .junctions()
             .map(|v| graph.vertices[v].degree)
@@ -533,14 +538,7 @@ mod tests {
             height: height as u32,
             ink,
         };
-        let graph = crate::trace_binary(&binary, &Params::default())
-            .expect("trace")
-            .graph;
-        let junctions = graph
-            .junctions()
-            .map(|v| graph.vertices[v].degree)
-            .collect();
-        (junctions, graph.endpoints().count())
+        shape(&binary, &Params::default())
     }
 
     #[test]

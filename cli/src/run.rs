@@ -88,6 +88,11 @@ fn run_with(settings: &Settings, started: Instant) -> Result<ExitCode> {
     let mut pool = rayon::ThreadPoolBuilder::new();
     if let Some(threads) = settings.threads {
         pool = pool.num_threads(threads);
+        // One thread: this one, rather than a worker started for the run while this one waits
+        // (its stack and its allocator's arena are pages touched for nothing).
+        if threads == 1 {
+            pool = pool.use_current_thread();
+        }
     }
     let pool = pool.build().context("cannot start the worker threads")?;
     if jobs.len() > 1 {

@@ -166,10 +166,16 @@ struct FrontStages {
 /// Segmentation, orientation field, ridge periods and the enhancement for dark ridges.
 fn front_stages(gray: GrayView<'_>, params: &FingerprintParams) -> FrontStages {
     let (width, height) = gray.dimensions();
+    // Allocated at its size (collected from the rows, the vector would grow by doubling, each
+    // time copied, to a third more than it holds).
+    let mut values = Vec::with_capacity(width as usize * height as usize);
+    for row in gray.rows() {
+        values.extend(row.iter().map(|&v| f32::from(v)));
+    }
     let plane = Plane {
         width,
         height,
-        values: gray.rows().flatten().map(|&v| f32::from(v)).collect(),
+        values,
     };
     let grid = BlockGrid::new(width, height, params.block);
     let smoothed = math::gaussian_blur(&plane, params.gradient_sigma);

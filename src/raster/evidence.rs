@@ -72,15 +72,6 @@ fn chords_lanes(dark: &[bool], width: usize, height: usize) -> Chords {
         .floor()
         .max(1.0) as usize;
     let (cols, rows) = (width.div_ceil(step), height.div_ceil(step));
-    // Horizontal runs at the lattice points of each sampled row, row-major.
-    let mut horizontal = vec![0u32; rows * cols];
-    horizontal
-        .par_chunks_mut(cols)
-        .enumerate()
-        .for_each(|(r, out)| {
-            let row = &dark[r * step * width..(r * step + 1) * width];
-            lattice_runs(row, step, out);
-        });
     // Vertical runs at the lattice points, row-major: the sampled columns' values row by row,
     // each one's run length so far down the image, then each run's length carried back up
     // (every row a pass along it, in vector lanes, rather than a walk down each column).
@@ -127,19 +118,36 @@ fn chords_lanes(dark: &[bool], width: usize, height: usize) -> Chords {
     }
     // Each side's chords counted by length (a chord is at most the image's longer side): the
     // statistics below are those of the sorted chords, read off the counts.
-    // The light side's counts first, then the dark side's.
+    // The light side's counts first, then the dark side's. Each sampled row's horizontal runs
+    // at its lattice points are found and counted at once, a row's worth held at a time (the
+    // counts are whole numbers, the same in any order, so groups of rows are counted apart and
+    // added up).
     let longest = width.max(height);
-    let mut counts = vec![0usize; 2 * (longest + 1)];
-    for r in 0..rows {
+    let count_row = |(mut counts, mut across): (Vec<usize>, Vec<u32>), r: usize| {
+        let row = &dark[r * step * width..(r * step + 1) * width];
+        lattice_runs(row, step, &mut across);
         let lattice = r * step * cols..(r * step + 1) * cols;
-        for ((&across, &down), &on) in horizontal[r * cols..(r + 1) * cols]
+        for ((&across, &down), &on) in across
             .iter()
             .zip(&vertical[lattice.clone()])
             .zip(&values[lattice])
         {
             counts[usize::from(on) * (longest + 1) + across.min(down) as usize] += 1;
         }
-    }
+        (counts, across)
+    };
+    let counts = (0..rows)
+        .into_par_iter()
+        .fold(
+            || (vec![0usize; 2 * (longest + 1)], vec![0u32; cols]),
+            count_row,
+        )
+        .map(|(counts, _)| counts)
+        .reduce_with(|mut a, b| {
+            a.iter_mut().zip(&b).for_each(|(a, b)| *a += b);
+            a
+        })
+        .unwrap_or_else(|| vec![0usize; 2 * (longest + 1)]);
     let (light_counts, dark_counts) = counts.split_at(longest + 1);
     let dark_side = Counted::new(dark_counts);
     let light_side = Counted::new(light_counts);

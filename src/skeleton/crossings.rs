@@ -473,93 +473,45 @@ impl Work {
                 let (p, q) = (self.vertices[a].pos, self.vertices[b].pos);
                 [(p[0] + q[0]) / 2.0, (p[1] + q[1]) / 2.0]
             };
-            self.contract_link(e, middle, &mut degree, &mut at);
+            self.edges[e] = None;
+            let moved: Vec<usize> = at[b].clone();
+            for &o in &moved {
+                let Some(other) = self.edges[o].as_mut() else {
+                    continue;
+                };
+                if other.from == b {
+                    other.from = a;
+                }
+                if other.to == b {
+                    other.to = a;
+                }
+            }
+            for &o in at[a].iter().chain(&moved) {
+                let Some(other) = self.edges[o].as_mut() else {
+                    continue;
+                };
+                if other.from == a {
+                    other.points[0] = middle;
+                }
+                if other.to == a {
+                    let last = other.points.len() - 1;
+                    other.points[last] = middle;
+                }
+            }
+            let width = self.vertices[a].width.max(self.vertices[b].width);
+            self.vertices[a].pos = middle;
+            self.vertices[a].width = width;
+            self.alive[b] = false;
+            degree[a] = degree[a] + degree[b] - 2;
+            degree[b] = 0;
+            let mut joined = std::mem::take(&mut at[a]);
+            joined.extend(moved);
+            joined.retain(|&o| o != e);
+            joined.sort_unstable();
+            joined.dedup();
+            at[a] = joined;
+            at[b].clear();
         }
-    }
-
-    /// Junctions closer than the strokes at them are wide are one: two junctions joined by a
-    /// link, less than the narrowest of their other arms' median widths apart and the link no
-    /// longer, lie within the ink of each other's strokes, where no background shows them apart
-    /// (the truth joins junctions closer than a stroke width: docs/quality.md, "The truth as
-    /// the ink shows it"); two T's a width or more apart stay two ([`TEES_APART`]). Run once
-    /// the crossings and stars are decided: the link is contracted to its middle as
-    /// [`Work::contract_short_links`] contracts.
-    pub(super) fn merge_close_junctions(&mut self) {
-        let mut degree = self.degrees();
-        let mut at = self.incidence();
-        for e in 0..self.edges.len() {
-            let Some(edge) = &self.edges[e] else { continue };
-            let (a, b) = (edge.from, edge.to);
-            if a == b || degree[a] < 3 || degree[b] < 3 {
-                continue;
-            }
-            let stroke = [a, b]
-                .iter()
-                .flat_map(|&j| at[j].iter().filter(|&&o| o != e))
-                .filter_map(|&o| self.edges[o].as_ref())
-                .map(|arm| median(&arm.widths))
-                .fold(f64::INFINITY, f64::min);
-            let apart = dist(self.vertices[a].pos, self.vertices[b].pos);
-            if apart >= TEES_APART * stroke || edge.length() >= TEES_APART * stroke {
-                continue;
-            }
-            let middle = {
-                let (p, q) = (self.vertices[a].pos, self.vertices[b].pos);
-                [(p[0] + q[0]) / 2.0, (p[1] + q[1]) / 2.0]
-            };
-            self.contract_link(e, middle, &mut degree, &mut at);
-        }
-    }
-
-    /// Contracts the link `e` between the junctions at its ends to its middle (see
-    /// [`Work::contract_short_links`]), `degree` and `at` kept up to date.
-    fn contract_link(
-        &mut self,
-        e: usize,
-        middle: [f64; 2],
-        degree: &mut [usize],
-        at: &mut [Vec<usize>],
-    ) {
-        let Some(edge) = &self.edges[e] else { return };
-        let (a, b) = (edge.from, edge.to);
-        self.edges[e] = None;
-        let moved: Vec<usize> = at[b].clone();
-        for &o in &moved {
-            let Some(other) = self.edges[o].as_mut() else {
-                continue;
-            };
-            if other.from == b {
-                other.from = a;
-            }
-            if other.to == b {
-                other.to = a;
-            }
-        }
-        for &o in at[a].iter().chain(&moved) {
-            let Some(other) = self.edges[o].as_mut() else {
-                continue;
-            };
-            if other.from == a {
-                other.points[0] = middle;
-            }
-            if other.to == a {
-                let last = other.points.len() - 1;
-                other.points[last] = middle;
-            }
-        }
-        let width = self.vertices[a].width.max(self.vertices[b].width);
-        self.vertices[a].pos = middle;
-        self.vertices[a].width = width;
-        self.alive[b] = false;
-        degree[a] = degree[a] + degree[b] - 2;
-        degree[b] = 0;
-        let mut joined = std::mem::take(&mut at[a]);
-        joined.extend(moved);
-        joined.retain(|&o| o != e);
-        joined.sort_unstable();
-        joined.dedup();
-        at[a] = joined;
-        at[b].clear();
     }
 
     /// Inside a junction's own disk the skeleton's pixel paths bend towards whichever junction

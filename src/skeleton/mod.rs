@@ -204,7 +204,6 @@ fn reconcile(mut work: Work, method: &StrokeGraph, experiments: &ExperimentParam
         work.join_degree_two();
     }
     work.join_degree_two();
-    work.merge_close_junctions();
     work.undip_junctions();
     work.collapse_dots();
     work.extend_ends();

@@ -402,7 +402,8 @@ fn segments_meet(a0: [f64; 2], a1: [f64; 2], b0: [f64; 2], b1: [f64; 2]) -> bool
     if within(denom, 1e-12, rr * ss, r_fine && s_fine, &both) {
         // Parallel: they meet only when collinear and overlapping beyond a shared end.
         let across = q[0] * r[1] - q[1] * r[0];
-        if !within(across, 1e-9, rr, r_fine, &|| hypot(r[0], r[1])) {
+        // Apart when `|across|` exceeds the bound (a NaN does not).
+        if !across.is_nan() && !within(across, 1e-9, rr, r_fine, &|| hypot(r[0], r[1])) {
             return false;
         }
         if rr <= 0.0 {
@@ -563,7 +564,6 @@ mod tests {
         !shared
     }
 
-
     /// [`hypot`] gives the library's bits (the GNU C library's, whose algorithm it repeats) on
     /// the lengths the stages take (pixel steps, sub-pixel offsets, both signs, zeros), on
     /// near-equal sides, on sides 2^-54 and less apart in size, across the exponents, and on
@@ -650,10 +650,14 @@ mod tests {
                     // A nearly parallel or nearly collinear copy.
                     let a0 = [unit() * 10.0, unit() * 10.0];
                     let a1 = [a0[0] + unit() * 6.0 - 3.0, a0[1] + unit() * 6.0 - 3.0];
-                    let off = 10f64.powf(-13.0 + unit() * 7.0) * if unit() < 0.5 { -1.0 } else { 1.0 };
+                    let off =
+                        10f64.powf(-13.0 + unit() * 7.0) * if unit() < 0.5 { -1.0 } else { 1.0 };
                     let shift = unit() * 2.0 - 0.5;
                     let d = [a1[0] - a0[0], a1[1] - a0[1]];
-                    let b0 = [a0[0] + shift * d[0] - off * d[1], a0[1] + shift * d[1] + off * d[0]];
+                    let b0 = [
+                        a0[0] + shift * d[0] - off * d[1],
+                        a0[1] + shift * d[1] + off * d[0],
+                    ];
                     let twist = if unit() < 0.5 { off } else { 0.0 };
                     let b1 = [b0[0] + d[0] + twist, b0[1] + d[1]];
                     (a0, a1, b0, b1)
@@ -666,7 +670,11 @@ mod tests {
                     // Degenerate: a point, or both.
                     let a0 = [pixel(unit()), pixel(unit())];
                     let b0 = [pixel(unit()), pixel(unit())];
-                    let b1 = if unit() < 0.5 { b0 } else { [b0[0] + 1.0, b0[1]] };
+                    let b1 = if unit() < 0.5 {
+                        b0
+                    } else {
+                        [b0[0] + 1.0, b0[1]]
+                    };
                     (a0, a0, b0, b1)
                 }
                 _ => {
@@ -692,7 +700,8 @@ mod tests {
             );
             let r = [a1[0] - a0[0], a1[1] - a0[1]];
             let s = [b1[0] - b0[0], b1[1] - b0[1]];
-            if (r[0] * s[1] - r[1] * s[0]).abs() <= 1e-12 * (hypot(r[0], r[1]) * hypot(s[0], s[1])) {
+            if (r[0] * s[1] - r[1] * s[0]).abs() <= 1e-12 * (hypot(r[0], r[1]) * hypot(s[0], s[1]))
+            {
                 parallel += 1;
             }
             if old {
@@ -701,7 +710,10 @@ mod tests {
                 apart += 1;
             }
         }
-        assert!(meet > 20_000 && apart > 20_000 && parallel > 20_000, "{meet} {apart} {parallel}");
+        assert!(
+            meet > 20_000 && apart > 20_000 && parallel > 20_000,
+            "{meet} {apart} {parallel}"
+        );
     }
 
     #[test]
@@ -742,7 +754,9 @@ mod tests {
                     }
                 }
                 if unit() < 0.02 {
-                    path.push([1e7 * unit(), -1e7 * unit()]);
+                    // A long run along a row: a span of more than 2^16 cells.
+                    let last = path[path.len() - 1];
+                    path.push([last[0] + 3e5, last[1]]);
                 }
                 owned.push(Some(path));
             }

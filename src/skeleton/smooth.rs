@@ -557,11 +557,7 @@ mod tests {
             let mut mask: Vec<bool> = (0..width * height).map(|_| unit() < fill).collect();
             // Solid discs, so that sections run through several ink pixels.
             for _ in 0..(unit() * 4.0) as usize {
-                let (cx, cy, r) = (
-                    unit() * width as f64,
-                    unit() * height as f64,
-                    unit() * 10.0,
-                );
+                let (cx, cy, r) = (unit() * width as f64, unit() * height as f64, unit() * 10.0);
                 for y in 0..height {
                     for x in 0..width {
                         let (dx, dy) = (x as f64 + 0.5 - cx, y as f64 + 0.5 - cy);
@@ -611,7 +607,11 @@ mod tests {
                     section_exit(&ink, from, u, limit),
                     section_exit_looked_up(&ink, from, u, limit),
                 );
-                assert_eq!(new.to_bits(), old.to_bits(), "{case} {k}: {from:?} {u:?} {limit}");
+                assert_eq!(
+                    new.to_bits(),
+                    old.to_bits(),
+                    "{case} {k}: {from:?} {u:?} {limit}"
+                );
                 if old == limit {
                     limits += 1;
                 } else {

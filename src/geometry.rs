@@ -270,19 +270,24 @@ pub(crate) fn crossing_paths(paths: &[Option<&[[f64; 2]]>], moved: &[bool]) -> V
     // which only adds pairs to test) above the segment's number.
     let mut segments: Vec<(usize, usize)> = Vec::new();
     let mut cells: Vec<u64> = Vec::new();
+    let (mut lo, mut hi) = ([i64::MAX; 2], [i64::MIN; 2]);
     for (e, path) in paths.iter().enumerate() {
         let Some(path) = path else { continue };
         for (k, s) in path.windows(2).enumerate() {
             let id = segments.len() as u64;
             segments.push((e, k));
-            for cx in key(s[0][0].min(s[1][0]))..=key(s[0][0].max(s[1][0])) {
-                for cy in key(s[0][1].min(s[1][1]))..=key(s[0][1].max(s[1][1])) {
+            let (x0, x1) = (key(s[0][0].min(s[1][0])), key(s[0][0].max(s[1][0])));
+            let (y0, y1) = (key(s[0][1].min(s[1][1])), key(s[0][1].max(s[1][1])));
+            lo = [lo[0].min(x0), lo[1].min(y0)];
+            hi = [hi[0].max(x1), hi[1].max(y1)];
+            for cx in x0..=x1 {
+                for cy in y0..=y1 {
                     cells.push(((cx as u16 as u64) << 48) | ((cy as u16 as u64) << 32) | id);
                 }
             }
         }
     }
-    cells.sort_unstable();
+    group_cells(&mut cells, lo, hi);
     let segment = |(e, k): (usize, usize)| {
         let points = paths[e].expect("live path");
         (points[k], points[k + 1])
@@ -317,8 +322,52 @@ pub(crate) fn crossing_paths(paths: &[Option<&[[f64; 2]]>], moved: &[bool]) -> V
     (0..paths.len()).filter(|&e| crossing[e]).collect()
 }
 
+/// Orders [`crossing_paths`]'s keys so that each cell's are one run, in the order they were
+/// pushed (rising segment numbers), as sorting them does: by a stable counting sort on the
+/// cell's row, then on its column (two passes over the keys, a count per row and per column of
+/// the cells `lo..=hi` cover), where sorting the keys cost `log n` passes. The runs may come in
+/// another order than sorted keys' (the columns and rows are counted from `lo`, and a key's
+/// 16 bits fold negative ones); which pairs a run holds is the same, and [`crossing_paths`]'s
+/// answer does not depend on the order of the runs. Few keys, or a span of more than 2^16 cells
+/// (where the 16 bits fold cells together), are sorted.
+fn group_cells(cells: &mut Vec<u64>, lo: [i64; 2], hi: [i64; 2]) {
+    let span = |k: usize| hi[k].saturating_sub(lo[k]).saturating_add(1);
+    let spans = [span(0), span(1)];
+    if cells.len() < 256
+        || spans.iter().any(|&s| !(1..=1 << 16).contains(&s))
+        || (spans[0] + spans[1]) as usize > cells.len()
+    {
+        cells.sort_unstable();
+        return;
+    }
+    let mut other = vec![0u64; cells.len()];
+    // Rows (bits 32-47) first, then columns (bits 48-63): stable, so the columns' pass keeps
+    // the rows' order within a column, and both keep the push order within a cell.
+    for (k, shift) in [(1, 32), (0, 48)] {
+        let slot = |c: u64| usize::from(((c >> shift) as u16).wrapping_sub(lo[k] as u16));
+        let mut start = vec![0usize; spans[k] as usize + 1];
+        for &c in cells.iter() {
+            start[slot(c) + 1] += 1;
+        }
+        for i in 1..start.len() {
+            start[i] += start[i - 1];
+        }
+        for &c in cells.iter() {
+            let s = &mut start[slot(c)];
+            other[*s] = c;
+            *s += 1;
+        }
+        std::mem::swap(cells, &mut other);
+    }
+}
+
 /// Whether the closed segments `a0-a1` and `b0-b1` have a point in common other than an end
 /// point they share.
+///
+/// The two tests against a length (parallel: the cross product against `1e-12 |r| |s|`; apart:
+/// against `1e-9 |r|`) are first made on the squares, where the answer is clear by a factor of
+/// four (far above the rounding of a few products, about 1e-15 of each): the lengths' square
+/// roots ([`hypot`]) only where it is not, with the same outcome as measuring them always.
 fn segments_meet(a0: [f64; 2], a1: [f64; 2], b0: [f64; 2], b1: [f64; 2]) -> bool {
     let shared = [a0, a1]
         .iter()
@@ -327,14 +376,36 @@ fn segments_meet(a0: [f64; 2], a1: [f64; 2], b0: [f64; 2], b1: [f64; 2]) -> bool
     let s = [b1[0] - b0[0], b1[1] - b0[1]];
     let denom = r[0] * s[1] - r[1] * s[0];
     let q = [b0[0] - a0[0], b0[1] - a0[1]];
-    let scale = hypot(r[0], r[1]) * hypot(s[0], s[1]);
-    if denom.abs() <= 1e-12 * scale.max(1e-300) {
+    let rr = r[0] * r[0] + r[1] * r[1];
+    let ss = s[0] * s[0] + s[1] * s[1];
+    // `|x| <= factor * max(length, 1e-300)`, `length²` being `squares` (`trusted`: made of
+    // squared lengths from 1e-100 to 1e100, so that nothing below under- or overflows), decided
+    // on the squares where that is clear, else as written.
+    let moderate = |v: f64| (1e-100..=1e100).contains(&v);
+    let within = |x: f64, factor: f64, squares: f64, trusted: bool, length: &dyn Fn() -> f64| {
+        if x == 0.0 {
+            return true;
+        }
+        if trusted && moderate(x.abs()) {
+            let (x2, bound2) = (x * x, factor * factor * squares);
+            if x2 > 4.0 * bound2 {
+                return false;
+            }
+            if x2 < 0.25 * bound2 {
+                return true;
+            }
+        }
+        x.abs() <= factor * length().max(1e-300)
+    };
+    let (r_fine, s_fine) = (moderate(rr), moderate(ss));
+    let both = || hypot(r[0], r[1]) * hypot(s[0], s[1]);
+    if within(denom, 1e-12, rr * ss, r_fine && s_fine, &both) {
         // Parallel: they meet only when collinear and overlapping beyond a shared end.
         let across = q[0] * r[1] - q[1] * r[0];
-        if across.abs() > 1e-9 * hypot(r[0], r[1]).max(1e-300) {
+        // Apart when `|across|` exceeds the bound (a NaN does not).
+        if !across.is_nan() && !within(across, 1e-9, rr, r_fine, &|| hypot(r[0], r[1])) {
             return false;
         }
-        let rr = r[0] * r[0] + r[1] * r[1];
         if rr <= 0.0 {
             return false;
         }
@@ -400,6 +471,99 @@ pub(crate) fn unit(v: [f64; 2]) -> Option<[f64; 2]> {
 mod tests {
     use super::*;
 
+    /// [`crossing_paths`] as it was: its keys sorted, every pair measured by
+    /// [`segments_meet_measured`].
+    fn crossing_paths_sorted(paths: &[Option<&[[f64; 2]]>], moved: &[bool]) -> Vec<usize> {
+        let key = |v: f64| floor_i64(v / 4.0);
+        let mut segments: Vec<(usize, usize)> = Vec::new();
+        let mut cells: Vec<u64> = Vec::new();
+        for (e, path) in paths.iter().enumerate() {
+            let Some(path) = path else { continue };
+            for (k, s) in path.windows(2).enumerate() {
+                let id = segments.len() as u64;
+                segments.push((e, k));
+                for cx in key(s[0][0].min(s[1][0]))..=key(s[0][0].max(s[1][0])) {
+                    for cy in key(s[0][1].min(s[1][1]))..=key(s[0][1].max(s[1][1])) {
+                        cells.push(((cx as u16 as u64) << 48) | ((cy as u16 as u64) << 32) | id);
+                    }
+                }
+            }
+        }
+        cells.sort_unstable();
+        let segment = |(e, k): (usize, usize)| {
+            let points = paths[e].expect("live path");
+            (points[k], points[k + 1])
+        };
+        let id = |cell: u64| segments[(cell & u64::from(u32::MAX)) as usize];
+        let mut crossing = vec![false; paths.len()];
+        for run in cells.chunk_by(|a, b| a >> 32 == b >> 32) {
+            for (i, &a) in run.iter().enumerate() {
+                let a = id(a);
+                for &b in &run[i + 1..] {
+                    let b = id(b);
+                    if !moved[a.0] && !moved[b.0] {
+                        continue;
+                    }
+                    if crossing[a.0] && crossing[b.0] {
+                        continue;
+                    }
+                    if a.0 == b.0 && a.1.abs_diff(b.1) <= 1 {
+                        continue;
+                    }
+                    let ((a0, a1), (b0, b1)) = (segment(a), segment(b));
+                    if segments_meet_measured(a0, a1, b0, b1) {
+                        for e in [a.0, b.0] {
+                            if moved[e] {
+                                crossing[e] = true;
+                            }
+                        }
+                    }
+                }
+            }
+        }
+        (0..paths.len()).filter(|&e| crossing[e]).collect()
+    }
+
+    /// [`segments_meet`] as it was: both lengths measured for every pair.
+    fn segments_meet_measured(a0: [f64; 2], a1: [f64; 2], b0: [f64; 2], b1: [f64; 2]) -> bool {
+        let shared = [a0, a1]
+            .iter()
+            .any(|p| [b0, b1].iter().any(|q| p[0] == q[0] && p[1] == q[1]));
+        let r = [a1[0] - a0[0], a1[1] - a0[1]];
+        let s = [b1[0] - b0[0], b1[1] - b0[1]];
+        let denom = r[0] * s[1] - r[1] * s[0];
+        let q = [b0[0] - a0[0], b0[1] - a0[1]];
+        let scale = hypot(r[0], r[1]) * hypot(s[0], s[1]);
+        if denom.abs() <= 1e-12 * scale.max(1e-300) {
+            // Parallel: they meet only when collinear and overlapping beyond a shared end.
+            let across = q[0] * r[1] - q[1] * r[0];
+            if across.abs() > 1e-9 * hypot(r[0], r[1]).max(1e-300) {
+                return false;
+            }
+            let rr = r[0] * r[0] + r[1] * r[1];
+            if rr <= 0.0 {
+                return false;
+            }
+            let t0 = (q[0] * r[0] + q[1] * r[1]) / rr;
+            let t1 = t0 + (s[0] * r[0] + s[1] * r[1]) / rr;
+            let (lo, hi) = (t0.min(t1), t0.max(t1));
+            let overlap = hi.min(1.0) - lo.max(0.0);
+            return if shared {
+                overlap > 1e-9
+            } else {
+                overlap >= -1e-9
+            };
+        }
+        let t = (q[0] * s[1] - q[1] * s[0]) / denom;
+        let u = (q[0] * r[1] - q[1] * r[0]) / denom;
+        let slack = -1e-9..=1.0 + 1e-9;
+        if !(slack.contains(&t) && slack.contains(&u)) {
+            return false;
+        }
+        // Non-parallel segments sharing an end point meet only there.
+        !shared
+    }
+
     /// [`hypot`] gives the library's bits (the GNU C library's, whose algorithm it repeats) on
     /// the lengths the stages take (pixel steps, sub-pixel offsets, both signs, zeros), on
     /// near-equal sides, on sides 2^-54 and less apart in size, across the exponents, and on
@@ -456,6 +620,153 @@ mod tests {
                 "hypot({x:e}, {y:e}) = {ours:e}, the library gives {library:e}"
             );
         }
+    }
+
+    #[test]
+    fn segments_meet_measures_lengths_only_where_the_squares_leave_it_open() {
+        // Pixel steps (axis-aligned and diagonal, collinear, parallel, crossing, sharing ends),
+        // copies moved 1e-13 to 1e-6 px (near the thresholds of both tests), random segments,
+        // zero-length ones and extreme scales: the same answer as measuring both lengths.
+        let mut next = crate::synth::lcg(1357u64);
+        let mut unit = move || (next() >> 11) as f64 / (1u64 << 53) as f64;
+        let (mut meet, mut apart, mut parallel) = (0, 0, 0);
+        for case in 0..200_000 {
+            let kind = case % 6;
+            let pixel = |u: f64| (u * 8.0).floor() + 0.5;
+            let step = |u: f64| ((u * 3.0).floor() - 1.0).max(-1.0);
+            let (a0, a1, b0, b1) = match kind {
+                0 | 1 => {
+                    let a0 = [pixel(unit()), pixel(unit())];
+                    let a1 = [a0[0] + step(unit()), a0[1] + step(unit())];
+                    let b0 = if unit() < 0.3 {
+                        a1
+                    } else {
+                        [pixel(unit()), pixel(unit())]
+                    };
+                    let b1 = [b0[0] + step(unit()), b0[1] + step(unit())];
+                    (a0, a1, b0, b1)
+                }
+                2 => {
+                    // A nearly parallel or nearly collinear copy.
+                    let a0 = [unit() * 10.0, unit() * 10.0];
+                    let a1 = [a0[0] + unit() * 6.0 - 3.0, a0[1] + unit() * 6.0 - 3.0];
+                    let off =
+                        10f64.powf(-13.0 + unit() * 7.0) * if unit() < 0.5 { -1.0 } else { 1.0 };
+                    let shift = unit() * 2.0 - 0.5;
+                    let d = [a1[0] - a0[0], a1[1] - a0[1]];
+                    let b0 = [
+                        a0[0] + shift * d[0] - off * d[1],
+                        a0[1] + shift * d[1] + off * d[0],
+                    ];
+                    let twist = if unit() < 0.5 { off } else { 0.0 };
+                    let b1 = [b0[0] + d[0] + twist, b0[1] + d[1]];
+                    (a0, a1, b0, b1)
+                }
+                3 => {
+                    let p = |u: &mut dyn FnMut() -> f64| [u() * 10.0, u() * 10.0];
+                    (p(&mut unit), p(&mut unit), p(&mut unit), p(&mut unit))
+                }
+                4 => {
+                    // Degenerate: a point, or both.
+                    let a0 = [pixel(unit()), pixel(unit())];
+                    let b0 = [pixel(unit()), pixel(unit())];
+                    let b1 = if unit() < 0.5 {
+                        b0
+                    } else {
+                        [b0[0] + 1.0, b0[1]]
+                    };
+                    (a0, a0, b0, b1)
+                }
+                _ => {
+                    // Extreme scales, where the squares under- or overflow.
+                    let scale = 10f64.powf(unit() * 600.0 - 300.0);
+                    let p = |u: &mut dyn FnMut() -> f64| [(u() - 0.5) * scale, (u() - 0.5) * scale];
+                    let a0 = p(&mut unit);
+                    let a1 = p(&mut unit);
+                    let b0 = if unit() < 0.5 { a1 } else { p(&mut unit) };
+                    let b1 = if unit() < 0.3 {
+                        [b0[0] + (a1[0] - a0[0]), b0[1] + (a1[1] - a0[1])]
+                    } else {
+                        p(&mut unit)
+                    };
+                    (a0, a1, b0, b1)
+                }
+            };
+            let old = segments_meet_measured(a0, a1, b0, b1);
+            assert_eq!(
+                segments_meet(a0, a1, b0, b1),
+                old,
+                "{case}: {a0:?} {a1:?} {b0:?} {b1:?}"
+            );
+            let r = [a1[0] - a0[0], a1[1] - a0[1]];
+            let s = [b1[0] - b0[0], b1[1] - b0[1]];
+            if (r[0] * s[1] - r[1] * s[0]).abs() <= 1e-12 * (hypot(r[0], r[1]) * hypot(s[0], s[1]))
+            {
+                parallel += 1;
+            }
+            if old {
+                meet += 1;
+            } else {
+                apart += 1;
+            }
+        }
+        assert!(
+            meet > 20_000 && apart > 20_000 && parallel > 20_000,
+            "{meet} {apart} {parallel}"
+        );
+    }
+
+    #[test]
+    fn crossing_paths_grouped_by_counting_finds_what_the_sorted_keys_did() {
+        // Random pixel walks (the skeleton's paths: they cross, touch, retrace and run side by
+        // side), smoothed copies of them, removed paths, random `moved` flags, windows from
+        // small (sorted) to large (counted), some reaching below zero (folded keys), and now and
+        // then a path far off (a span too wide to count): the same paths.
+        let mut next = crate::synth::lcg(8642u64);
+        let mut unit = move || (next() >> 11) as f64 / (1u64 << 53) as f64;
+        let mut found = 0;
+        for case in 0..400 {
+            let size = 5.0 + unit() * 80.0;
+            let count = 1 + (unit() * 60.0) as usize;
+            let shift = if case % 4 == 0 { -size / 2.0 } else { 0.0 };
+            let mut owned: Vec<Option<Vec<[f64; 2]>>> = Vec::new();
+            for _ in 0..count {
+                if unit() < 0.1 {
+                    owned.push(None);
+                    continue;
+                }
+                let mut p = [
+                    (unit() * size + shift).floor() + 0.5,
+                    (unit() * size + shift).floor() + 0.5,
+                ];
+                let len = 2 + (unit() * 40.0) as usize;
+                let mut path = vec![p];
+                for _ in 1..len {
+                    p = [
+                        p[0] + (unit() * 3.0).floor() - 1.0,
+                        p[1] + (unit() * 3.0).floor() - 1.0,
+                    ];
+                    path.push(p);
+                }
+                if unit() < 0.3 {
+                    for q in path.iter_mut().skip(1) {
+                        *q = [q[0] + unit() * 0.6 - 0.3, q[1] + unit() * 0.6 - 0.3];
+                    }
+                }
+                if unit() < 0.02 {
+                    // A long run along a row: a span of more than 2^16 cells.
+                    let last = path[path.len() - 1];
+                    path.push([last[0] + 3e5, last[1]]);
+                }
+                owned.push(Some(path));
+            }
+            let paths: Vec<Option<&[[f64; 2]]>> = owned.iter().map(|p| p.as_deref()).collect();
+            let moved: Vec<bool> = (0..count).map(|_| unit() < 0.6).collect();
+            let new = crossing_paths(&paths, &moved);
+            assert_eq!(new, crossing_paths_sorted(&paths, &moved), "{case}");
+            found += new.len();
+        }
+        assert!(found > 500, "{found}");
     }
 
     #[test]

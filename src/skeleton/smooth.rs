@@ -308,18 +308,45 @@ fn fit_edge(edge: &mut Edge, ink: &Ink, clear: [f64; 2]) -> bool {
 /// sample off the ink, then halved down to 1/64 px (so a sample on a pixel's edge, which the
 /// floor puts on one side, moves the answer by no more than that); `limit` when the ink has not
 /// ended by then.
+///
+/// The halvings need not read the mask when the first sample off the ink left the last one's
+/// pixel across one edge only: each coordinate of `x0 + t u` moves one way only as `t` grows (a
+/// rounded product and a rounded sum are monotone) and by at most a quarter pixel between the
+/// two samples, so every point between them lies in one of their two pixels, and the side of
+/// that edge (an integer, held exactly) says which: the same answers as reading the mask.
 fn section_exit(ink: &Ink, from: [f64; 2], u: [f64; 2], limit: f64) -> f64 {
     // `Ink::at` without its floors (a call each on the baseline x86-64): a window coordinate
     // that is not negative truncates to its floor.
     let (x0, y0) = (from[0] - ink.origin[0], from[1] - ink.origin[1]);
-    let on = |t: f64| ink.at_window(x0 + t * u[0], y0 + t * u[1]);
+    let point = |t: f64| (x0 + t * u[0], y0 + t * u[1]);
     let mut t = SECTION_STEP_PX;
     while t < limit {
-        if !on(t) {
+        let (x, y) = point(t);
+        if !ink.at_window(x, y) {
             let (mut inside, mut outside) = (t - SECTION_STEP_PX, t);
+            // The column or row of the last sample on the ink (none before the first sample)
+            // that this one stayed in, when it left the other.
+            let mut across = None;
+            if inside > 0.0 {
+                let (xi, yi) = point(inside);
+                let (cx, cy) = (window_floor(xi), window_floor(yi));
+                let same_column = x >= cx && x < cx + 1.0;
+                let same_row = y >= cy && y < cy + 1.0;
+                across = match (same_column, same_row) {
+                    (false, true) => Some((0, cx)),
+                    (true, false) => Some((1, cy)),
+                    _ => None,
+                };
+            }
             for _ in 0..BISECTIONS {
                 let mid = (inside + outside) / 2.0;
-                if on(mid) {
+                let (xm, ym) = point(mid);
+                let on = match across {
+                    Some((0, c)) => xm >= c && xm < c + 1.0,
+                    Some((_, c)) => ym >= c && ym < c + 1.0,
+                    None => ink.at_window(xm, ym),
+                };
+                if on {
                     inside = mid;
                 } else {
                     outside = mid;
@@ -330,6 +357,17 @@ fn section_exit(ink: &Ink, from: [f64; 2], u: [f64; 2], limit: f64) -> f64 {
         t += SECTION_STEP_PX;
     }
     limit
+}
+
+/// The floor of a coordinate of a point on the ink (so inside the window: not negative, and
+/// below 2^53), held exactly.
+#[inline]
+fn window_floor(v: f64) -> f64 {
+    if v < 4_294_967_296.0 {
+        f64::from(v as u32)
+    } else {
+        v as i64 as f64
+    }
 }
 
 fn unit(d: [f64; 2]) -> Option<[f64; 2]> {
@@ -467,6 +505,123 @@ mod tests {
     use crate::geometry::point_at;
     use crate::params::Params;
     use crate::synth::{render, Stroke};
+
+    /// [`section_exit`] as it was: every sample looked up in the mask.
+    fn section_exit_looked_up(ink: &Ink, from: [f64; 2], u: [f64; 2], limit: f64) -> f64 {
+        let (x0, y0) = (from[0] - ink.origin[0], from[1] - ink.origin[1]);
+        let on = |t: f64| ink.at_window(x0 + t * u[0], y0 + t * u[1]);
+        let mut t = SECTION_STEP_PX;
+        while t < limit {
+            if !on(t) {
+                let (mut inside, mut outside) = (t - SECTION_STEP_PX, t);
+                for _ in 0..BISECTIONS {
+                    let mid = (inside + outside) / 2.0;
+                    if on(mid) {
+                        inside = mid;
+                    } else {
+                        outside = mid;
+                    }
+                }
+                return (inside + outside) / 2.0;
+            }
+            t += SECTION_STEP_PX;
+        }
+        limit
+    }
+
+    #[test]
+    fn a_cross_section_reading_each_pixel_once_ends_where_it_did() {
+        // Random windows of blobs and specks, sections from inside and outside them (on pixel
+        // corners and edges too), along random directions and along the axes and diagonals
+        // (zeros of both signs), limits short and long: the same bits as looking up every sample.
+        let mut next = crate::synth::lcg(4242u64);
+        let mut unit = move || (next() >> 11) as f64 / (1u64 << 53) as f64;
+        let h = std::f64::consts::FRAC_1_SQRT_2;
+        let special = [
+            [1.0, 0.0],
+            [-1.0, 0.0],
+            [0.0, 1.0],
+            [0.0, -1.0],
+            [-0.0, 1.0],
+            [1.0, -0.0],
+            [h, h],
+            [-h, h],
+            [h, -h],
+            [-h, -h],
+        ];
+        let (mut exits, mut limits) = (0, 0);
+        for case in 0..300 {
+            let width = 1 + (unit() * 40.0) as usize;
+            let height = 1 + (unit() * 40.0) as usize;
+            let fill = unit();
+            let mut mask: Vec<bool> = (0..width * height).map(|_| unit() < fill).collect();
+            // Solid discs, so that sections run through several ink pixels.
+            for _ in 0..(unit() * 4.0) as usize {
+                let (cx, cy, r) = (unit() * width as f64, unit() * height as f64, unit() * 10.0);
+                for y in 0..height {
+                    for x in 0..width {
+                        let (dx, dy) = (x as f64 + 0.5 - cx, y as f64 + 0.5 - cy);
+                        if dx * dx + dy * dy <= r * r {
+                            mask[y * width + x] = true;
+                        }
+                    }
+                }
+            }
+            let origin = if case % 3 == 0 {
+                [0.0, 0.0]
+            } else {
+                [
+                    (unit() * 2000.0).floor() - 1000.0,
+                    (unit() * 2000.0).floor() + 0.5,
+                ]
+            };
+            let ink = Ink {
+                mask,
+                width,
+                height,
+                origin,
+            };
+            for k in 0..200 {
+                let mut p = [
+                    unit() * (width as f64 + 4.0) - 2.0,
+                    unit() * (height as f64 + 4.0) - 2.0,
+                ];
+                match k % 4 {
+                    0 => p = [p[0].floor() + 0.5, p[1].floor() + 0.5],
+                    1 => p = [p[0].floor(), p[1].floor()],
+                    _ => {}
+                }
+                let from = [p[0] + origin[0], p[1] + origin[1]];
+                let u = if k % 5 == 0 {
+                    special[(unit() * special.len() as f64) as usize % special.len()]
+                } else {
+                    let a = unit() * std::f64::consts::TAU;
+                    [a.cos(), a.sin()]
+                };
+                let limit = if k % 7 == 0 {
+                    unit() * 2.0
+                } else {
+                    unit() * 30.0
+                };
+                let (new, old) = (
+                    section_exit(&ink, from, u, limit),
+                    section_exit_looked_up(&ink, from, u, limit),
+                );
+                assert_eq!(
+                    new.to_bits(),
+                    old.to_bits(),
+                    "{case} {k}: {from:?} {u:?} {limit}"
+                );
+                if old == limit {
+                    limits += 1;
+                } else {
+                    exits += 1;
+                }
+            }
+        }
+        // Both outcomes well represented.
+        assert!(exits > 10_000 && limits > 5_000, "{exits} {limits}");
+    }
 
     #[test]
     fn the_ink_lookup_is_the_one_through_usize() {

@@ -195,15 +195,25 @@ fn variant_params() -> anyhow::Result<Params> {
 }
 
 /// The methods to run on `group`: all of [`group_methods`], or those named in `QUALITY_METHODS`
-/// (comma-separated).
+/// (separated by `;` or `,`; a name that holds a comma, such as `ridgeline, regions kept`, is
+/// named whole between semicolons).
 fn methods(group: &str) -> Vec<&'static str> {
     match std::env::var("QUALITY_METHODS") {
         Ok(list) => group_methods(group)
             .into_iter()
-            .filter(|m| list.split(',').any(|x| x.trim() == *m))
+            .filter(|m| named(&list, m))
             .collect(),
         Err(_) => group_methods(group),
     }
+}
+
+/// Whether `list` (see [`methods`]) names `method`: one of its `;`-separated items is the name,
+/// or, when an item is no method's whole name (of any group), one of its `,`-separated parts is.
+fn named(list: &str, method: &str) -> bool {
+    let whole = |item: &str| METHODS.contains(&item) || item == CLEAN || item == KEPT;
+    list.split(';')
+        .map(str::trim)
+        .any(|item| item == method || (!whole(item) && item.split(',').any(|x| x.trim() == method)))
 }
 
 /// One method on one case. With a degraded capture (`gray`), ridgeline's methods trace the gray

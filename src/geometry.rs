@@ -460,6 +460,19 @@ pub(crate) fn line_intersection(
     Some([(d * rx - b * ry) / det, (a * ry - b * rx) / det])
 }
 
+/// The corners of a polyline's bounding box.
+pub(crate) fn bounds(points: &[[f64; 2]]) -> ([f64; 2], [f64; 2]) {
+    points.iter().fold(
+        ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]),
+        |(lo, hi), p| {
+            (
+                [lo[0].min(p[0]), lo[1].min(p[1])],
+                [hi[0].max(p[0]), hi[1].max(p[1])],
+            )
+        },
+    )
+}
+
 /// `v / |v|`, or `None` for a (near) zero vector.
 #[inline]
 pub(crate) fn unit(v: [f64; 2]) -> Option<[f64; 2]> {

@@ -6,7 +6,7 @@ use foldhash::fast::FixedState;
 use kiddo::{ImmutableKdTree, SquaredEuclidean};
 
 use crate::csr::Csr;
-use crate::geometry::floor_i64;
+use crate::geometry::{bounds, floor_i64};
 use crate::stroke_graph::StrokeGraph;
 
 use super::work::{median, Work};
@@ -288,12 +288,6 @@ fn directed_gap(from: &[[f64; 2]], to: &[[f64; 2]], tight: f64, loose: f64) -> O
         worst = worst.max(d2);
     }
     (off * 10 <= from.len()).then_some(worst.sqrt())
-}
-
-/// The corners `(low, high)` of a polyline's box.
-fn bounds(points: &[[f64; 2]]) -> ([f64; 2], [f64; 2]) {
-    let b = bbox(points);
-    ([b[0], b[1]], [b[2], b[3]])
 }
 
 /// Segments bucketed by the square cells (`cell` px, cell `(i, j)` covering `[i cell, (i + 1)

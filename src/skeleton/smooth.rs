@@ -18,7 +18,9 @@
 //! edge that would cross or touch another edge (or itself) away from their vertices keeps its
 //! path from before, so the geometry never adds a crossing to the graph.
 
-use crate::geometry::{arc_lengths, crossing_paths, hypot, segment_dist, segment_dist2, ArcWalk};
+use crate::geometry::{
+    arc_lengths, bounds, crossing_paths, hypot, segment_dist, segment_dist2, ArcWalk,
+};
 use crate::stroke_graph::Edge;
 
 use super::work::{median, Ink, Work};
@@ -158,19 +160,6 @@ fn edges_near_ends(
         }
     }
     near
-}
-
-/// The corners of a polyline's bounding box.
-fn bounds(points: &[[f64; 2]]) -> ([f64; 2], [f64; 2]) {
-    points.iter().fold(
-        ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]),
-        |(lo, hi), p| {
-            (
-                [lo[0].min(p[0]), lo[1].min(p[1])],
-                [hi[0].max(p[0]), hi[1].max(p[1])],
-            )
-        },
-    )
 }
 
 /// The edges among those `moved` whose polylines cross or touch another edge's polyline, or

@@ -262,6 +262,44 @@ fn stroke_with_30_percent_dropout_is_still_one_stroke() {
 }
 
 #[test]
+fn a_drawing_of_1px_lines_is_not_read_as_broken_ink() {
+    // Already-thinned line art: four horizontal and four vertical lines one pixel wide, 4 px
+    // apart (3x3 holes). Each line end hangs on by a single neighbour, 16 of the 160 ink pixels:
+    // line ends, not the specks of dropout, so the drawing keeps the 8-neighbourhood and the
+    // skeleton, every hole a cycle and every line on its ink.
+    let mut binary = Binary::new(30, 30);
+    for k in 0..4 {
+        for t in 4..26 {
+            binary.set(7 + 4 * k, t, true);
+            binary.set(t, 7 + 4 * k, true);
+        }
+    }
+    let trace = trace_binary(&binary, &Params::default()).expect("trace succeeds");
+    assert_eq!(trace.dropout(), Some(false));
+    let graph = trace.graph;
+    graph.validate().expect("stroke graph is valid");
+    assert_eq!(graph.junctions().count(), 16);
+    assert_eq!(graph.endpoints().count(), 16);
+    assert_eq!(graph.cycles(), 9);
+    for e in &graph.edges {
+        for w in e.points.windows(2) {
+            for k in 0..=8 {
+                let t = f64::from(k) / 8.0;
+                let p = [
+                    w[0][0] + t * (w[1][0] - w[0][0]),
+                    w[0][1] + t * (w[1][1] - w[0][1]),
+                ];
+                let on_ink = (0..4).any(|k| {
+                    let c = 7.5 + 4.0 * f64::from(k);
+                    (p[0] - c).abs() <= 0.5 || (p[1] - c).abs() <= 0.5
+                });
+                assert!(on_ink, "{p:?} is off the ink");
+            }
+        }
+    }
+}
+
+#[test]
 fn separate_parts_are_separate_components() {
     let strokes = [
         line([20.0, 20.0], [100.0, 20.0], 4.0),

@@ -5,9 +5,9 @@
 //! A group is the ink within 3 px of each other (the components of the ink grown by one pixel),
 //! so the fragments of one broken stroke, which dropout mode's 5x5 neighbourhood joins, stay in
 //! one group. Each group is tested as the whole image is ([`super::points`]): pixels hanging on by
-//! a single 8-neighbour, isolated pixels, tiny holes.
+//! a single 8-neighbour that do not end a line, isolated pixels, tiny holes.
 
-use super::points::LOOSE_FRACTION;
+use super::points::{ends_a_line, LOOSE_FRACTION};
 use crate::binary::{Binary, MaskView};
 use crate::mask::{label_components, morph3, tiny_hole, Connectivity};
 use crate::params::Params;
@@ -54,7 +54,7 @@ pub(crate) fn split(binary: MaskView<'_>, params: &Params) -> Option<(Binary, Bi
             }
             let s = &mut stats[label(i)];
             s[0] += 1;
-            s[1] += usize::from(neighbours == 1);
+            s[1] += usize::from(neighbours == 1 && !ends_a_line(ink, w, h, x, y));
             s[2] += usize::from(neighbours == 0);
         }
     }

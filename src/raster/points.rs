@@ -19,8 +19,13 @@ use crate::point_set::{Grid, PointSet};
 /// `Dis_ave` above this switches dropout mode on (adaptation 2): more than about 5% of the
 /// points have no ink pixel touching them.
 const DROPOUT_SPACING: f64 = 1.05;
-/// Share of ink pixels with exactly one ink 8-neighbour above which dropout mode switches on.
+/// Share of ink pixels with exactly one ink 8-neighbour, line ends left out
+/// ([`ends_a_line`]), above which dropout mode switches on.
 pub(super) const LOOSE_FRACTION: f64 = 0.025;
+/// Pixels a chain one pixel wide runs from a pixel with a single ink 8-neighbour, without
+/// branching or ending, for that pixel to be the end of a line rather than a speck or a spike:
+/// three widths of the line.
+const LINE_END_RUN: usize = 3;
 
 /// Nearest-neighbour search radius (Chebyshev, pixels) for points with no touching ink pixel.
 /// Points with nothing closer are isolated specks, not samples of a stroke, and are left out of
@@ -99,7 +104,7 @@ pub(super) fn survey(
                     let start = x;
                     while x < width && row[x] {
                         let degree = u32::from(column[x] + column[x + 1] + column[x + 2]) - 1;
-                        loose += usize::from(degree == 1);
+                        loose += usize::from(degree == 1 && !ends_a_line(ink, width, height, x, y));
                         if let Some(d) = nearest_distance(ink, width, height, x, y, degree) {
                             spacing.0 += d;
                             spacing.1 += 1;
@@ -626,6 +631,57 @@ fn dropout_mode(
         || holes() as f64 > params.front_end.dropout_fraction * count as f64
 }
 
+/// Whether the ink pixel `(x, y)`, which has a single ink 8-neighbour, ends a line one pixel
+/// wide: the chain of pixels from it runs [`LINE_END_RUN`] pixels without branching or ending (a
+/// staircase's two pixels side by side are one step). A drawing of 1-px lines (thin line art, an
+/// already thinned mask) has a loose pixel at every line end; dropout's are specks, short
+/// fragments and spikes on a stroke, whose chains end or branch at once.
+pub(super) fn ends_a_line(ink: &[bool], width: usize, height: usize, x: usize, y: usize) -> bool {
+    let at = |u: i64, v: i64| {
+        u >= 0
+            && v >= 0
+            && (u as usize) < width
+            && (v as usize) < height
+            && ink[v as usize * width + u as usize]
+    };
+    let mut seen = [(0i64, 0i64); 2 * LINE_END_RUN + 1];
+    seen[0] = (x as i64, y as i64);
+    let (mut len, mut current) = (1, seen[0]);
+    for _ in 0..LINE_END_RUN {
+        let mut next = [(0i64, 0i64); 8];
+        let mut count = 0;
+        for dy in -1..=1 {
+            for dx in -1..=1 {
+                let p = (current.0 + dx, current.1 + dy);
+                if (dx, dy) != (0, 0) && at(p.0, p.1) && !seen[..len].contains(&p) {
+                    next[count] = p;
+                    count += 1;
+                }
+            }
+        }
+        let step = match count {
+            1 => next[0],
+            // A staircase: two side by side, the step goes on from the diagonal one.
+            2 if (next[0].0 - next[1].0).abs() + (next[0].1 - next[1].1).abs() == 1 => {
+                let diagonal = |p: (i64, i64)| p.0 != current.0 && p.1 != current.1;
+                let (a, b) = if diagonal(next[0]) {
+                    (next[1], next[0])
+                } else {
+                    (next[0], next[1])
+                };
+                seen[len] = a;
+                len += 1;
+                b
+            }
+            _ => return false,
+        };
+        seen[len] = step;
+        len += 1;
+        current = step;
+    }
+    true
+}
+
 /// The neighbour graph in CSR form: the ink pixels within Chebyshev distance `reach` (1: the
 /// 8-neighbourhood; 2: the 5x5 neighbourhood of dropout mode), sorted by point index (the window
 /// is scanned in raster order). Two passes over the rows (degrees, then lists) so nothing is
@@ -898,6 +954,39 @@ mod tests {
         speckled.set(50, 14, false);
         speckled.set(120, 12, false);
         assert!(!points(&speckled, &Params::default()).unwrap().dropout);
+    }
+
+    #[test]
+    fn line_ends_are_not_loose_pixels() {
+        let end = |rows: &[&str], x: usize, y: usize| {
+            let b = mask(rows);
+            ends_a_line(&b.ink, b.width as usize, b.height as usize, x, y)
+        };
+        // The end of a straight line and of a staircase, each running on for 3 px and more.
+        assert!(end(&["......", ".####.", "......"], 1, 1));
+        assert!(end(&["#.....", ".##...", "...##.", "....#."], 0, 0));
+        // A fragment of three pixels, a spike on a bar, a 2-px arm of a T: not line ends.
+        assert!(!end(&["......", ".###..", "......"], 1, 1));
+        assert!(!end(&["#.....", ".####.", ".####."], 0, 0));
+        assert!(!end(&["..#...", "..#...", "#####."], 2, 0));
+        // Short 1-px lines keep the plain neighbourhood; the same lines cut into 2-px pieces
+        // switch dropout mode on.
+        let mut lines = Binary::new(60, 60);
+        let mut dashes = Binary::new(60, 60);
+        for k in 0..12 {
+            for t in 5..12 {
+                lines.set(5 + 4 * k, t, true);
+                lines.set(5 + 4 * k, t + 20, true);
+                lines.set(5 + 4 * k, t + 40, true);
+                if t % 3 != 2 {
+                    dashes.set(5 + 4 * k, t, true);
+                    dashes.set(5 + 4 * k, t + 20, true);
+                    dashes.set(5 + 4 * k, t + 40, true);
+                }
+            }
+        }
+        assert!(!points(&lines, &Params::default()).unwrap().dropout);
+        assert!(points(&dashes, &Params::default()).unwrap().dropout);
     }
 
     #[test]

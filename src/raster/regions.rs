@@ -744,29 +744,36 @@ fn faint(
     // The paper's mean gray (turned: ink dark) per cell, where a quarter of the cell is paper
     // (rows of cells in parallel).
     let mut sums = vec![(0u64, 0u32, 0u32); cols * rows];
-    sums.par_chunks_mut(cols)
-        .enumerate()
-        .for_each(|(cy, sums)| {
-            for y in cell_rows(cy, cell, height) {
-                let cells = gray
-                    .row(y)
-                    .chunks(cell)
-                    .zip(ink[y * width..(y + 1) * width].chunks(cell));
-                for (s, (row, ink)) in sums.iter_mut().zip(cells) {
-                    // The paper's pixels summed without a branch (in vector lanes), turned per
-                    // piece: `255 n - sum` under light ink.
-                    let sum = row
-                        .iter()
-                        .zip(ink)
-                        .map(|(&v, &i)| u32::from(v) * u32::from(!i))
-                        .sum::<u32>();
-                    let n = ink.iter().map(|&i| u32::from(!i)).sum::<u32>();
-                    s.0 += u64::from(if dark_ink { sum } else { 255 * n - sum });
-                    s.1 += n;
-                    s.2 += row.len() as u32;
+    sums.par_chunks_mut(cols).enumerate().for_each_init(
+        || (vec![0u32; width], vec![0u32; width]),
+        |(paper_sums, paper_counts), (cy, sums)| {
+            // Each pixel column's paper over the row of cells (whole rows, without a branch, in
+            // vector lanes), then each cell's columns, turned per cell: `255 n - sum` under
+            // light ink.
+            paper_sums.fill(0);
+            paper_counts.fill(0);
+            let ys = cell_rows(cy, cell, height);
+            let cell_rows = ys.len() as u32;
+            for y in ys {
+                let pixels = gray.row(y).iter().zip(&ink[y * width..(y + 1) * width]);
+                for ((sum, n), (&v, &i)) in paper_sums
+                    .iter_mut()
+                    .zip(paper_counts.iter_mut())
+                    .zip(pixels)
+                {
+                    let paper = u32::from(!i);
+                    *sum += u32::from(v) * paper;
+                    *n += paper;
                 }
             }
-        });
+            let columns = paper_sums.chunks(cell).zip(paper_counts.chunks(cell));
+            for (s, (sums, counts)) in sums.iter_mut().zip(columns) {
+                let (sum, n) = (sums.iter().sum::<u32>(), counts.iter().sum::<u32>());
+                let turned = if dark_ink { sum } else { 255 * n - sum };
+                *s = (u64::from(turned), n, cell_rows * sums.len() as u32);
+            }
+        },
+    );
     let paper = paper_means(&sums, cols, rows)?;
     // A reversed ground's strokes are lighter than the ground around them: neither measured nor
     // left out.
@@ -1093,30 +1100,35 @@ fn seed_possible(
     let (cols, rows) = (width.div_ceil(cell), height.div_ceil(cell));
     // Ink, dark and all pixels per cell, a cell's width of pixels at a time, rows of cells in
     // parallel.
-    // Each piece counted in `u32` lanes, the dark side as the pixels at or below the level
-    // (their complement under light ink).
+    // Each pixel column's ink and pixels at or below the level over the row of cells (whole
+    // rows in vector lanes), then each cell's columns; the dark side is their complement under
+    // light ink.
     let mut counts = vec![[0u32; 3]; cols * rows];
-    counts
-        .par_chunks_mut(cols)
-        .enumerate()
-        .for_each(|(cy, counts)| {
-            for y in cell_rows(cy, cell, height) {
-                let pieces = gray
-                    .row(y)
-                    .chunks(cell)
-                    .zip(ink[y * width..(y + 1) * width].chunks(cell));
-                for (counts, (row, ink)) in counts.iter_mut().zip(pieces) {
-                    let at_or_below = row.iter().map(|&v| u32::from(v <= level)).sum::<u32>();
-                    counts[0] += ink.iter().map(|&i| u32::from(i)).sum::<u32>();
-                    counts[1] += if dark_ink {
-                        at_or_below
-                    } else {
-                        row.len() as u32 - at_or_below
-                    };
-                    counts[2] += row.len() as u32;
+    counts.par_chunks_mut(cols).enumerate().for_each_init(
+        || (vec![0u32; width], vec![0u32; width]),
+        |(inks, at_or_below), (cy, counts)| {
+            inks.fill(0);
+            at_or_below.fill(0);
+            let ys = cell_rows(cy, cell, height);
+            let cell_rows = ys.len() as u32;
+            for y in ys {
+                let pixels = gray.row(y).iter().zip(&ink[y * width..(y + 1) * width]);
+                for ((inks, below), (&v, &i)) in
+                    inks.iter_mut().zip(at_or_below.iter_mut()).zip(pixels)
+                {
+                    *inks += u32::from(i);
+                    *below += u32::from(v <= level);
                 }
             }
-        });
+            let columns = inks.chunks(cell).zip(at_or_below.chunks(cell));
+            for (counts, (inks, below)) in counts.iter_mut().zip(columns) {
+                let all = cell_rows * inks.len() as u32;
+                let below = below.iter().sum::<u32>();
+                let dark = if dark_ink { below } else { all - below };
+                *counts = [inks.iter().sum::<u32>(), dark, all];
+            }
+        },
+    );
     seed_in_counts(&counts, cols, rows, texture)
 }
 
@@ -1228,14 +1240,7 @@ fn texture_cells(
                         )
                     };
                     let (full, narrow) = (limits(side), limits(last));
-                    for (b, block) in columns.chunks(side).enumerate() {
-                        let sum = block.iter().sum::<u32>();
-                        let (size, [low_limit, high_limit]) =
-                            if block.len() == side { full } else { narrow };
-                        let sum = i64::from(if dark_ink { sum } else { 255 * size - sum });
-                        low[1 + b] = u8::from(sum <= low_limit);
-                        high[1 + b] = u8::from(sum <= high_limit);
-                    }
+                    cut_blocks(columns, side, dark_ink, [full, narrow], low, high);
                 },
             );
     }
@@ -1254,6 +1259,31 @@ fn texture_cells(
             a.signum() == b.signum() && f64::from(a.abs().min(b.abs())) / 4.0 >= TEXTURE_PIECES
         })
         .collect()
+}
+
+/// One row of [`texture_cells`]' blocks cut at its two levels: `columns` holds each pixel
+/// column's sum over the row's pixels, a block is `side` columns (the last one what is left),
+/// `limits` the (size, largest sums at or below the two levels) of the full blocks and of the
+/// last; `low` and `high` get 1 for the blocks at or below each level, from their second byte.
+fn cut_blocks(
+    columns: &[u32],
+    side: usize,
+    dark_ink: bool,
+    limits: [(u32, [i64; 2]); 2],
+    low: &mut [u8],
+    high: &mut [u8],
+) {
+    for (b, block) in columns.chunks(side).enumerate() {
+        let sum = block.iter().sum::<u32>();
+        let (size, [low_limit, high_limit]) = if block.len() == side {
+            limits[0]
+        } else {
+            limits[1]
+        };
+        let sum = i64::from(if dark_ink { sum } else { 255 * size - sum });
+        low[1 + b] = u8::from(sum <= low_limit);
+        high[1 + b] = u8::from(sum <= high_limit);
+    }
 }
 
 /// The largest sum `s` of `size` gray levels (`0..=255 size`) whose mean `s / size`, divided in

@@ -126,9 +126,6 @@ const PAGE_EDGE_EVEN: f64 = 0.5;
 /// See [`PAGE_EDGE_EVEN`]: a cell this share ink shows no paper between strokes.
 const PAGE_EDGE_INK: f64 = 0.95;
 
-/// Pixels of a row looked at together for ink before they are looked at one by one.
-const INK_LOOK: usize = 32;
-
 /// Pixels per task of the parallel passes over the page.
 const PIXELS_PER_TASK: usize = 1 << 16;
 
@@ -774,6 +771,8 @@ fn faint(
             }
         },
     );
+    // The cells with ink (fewer paper pixels than pixels): the others add nothing below.
+    let inked: Vec<bool> = sums.iter().map(|&(_, paper, all)| paper < all).collect();
     let paper = paper_means(&sums, cols, rows)?;
     // A reversed ground's strokes are lighter than the ground around them: neither measured nor
     // left out.
@@ -797,20 +796,17 @@ fn faint(
             |(mut histogram, mut total), y| {
                 let row = y * width..(y + 1) * width;
                 let papers = &paper[(y / cell) * cols..(y / cell + 1) * cols];
-                let (values, ink) = (gray.row(y), &ink[row]);
-                // Stretches of paper passed over a look each (an `or` in vector lanes).
-                for start in (0..width).step_by(INK_LOOK) {
-                    let end = (start + INK_LOOK).min(width);
-                    if ink[start..end]
-                        .iter()
-                        .fold(0u8, |any, &i| any | u8::from(i))
-                        == 0
-                    {
+                let inked = &inked[(y / cell) * cols..(y / cell + 1) * cols];
+                let cells = gray.row(y).chunks(cell).zip(ink[row].chunks(cell));
+                for (c, ((values, ink), (&paper, &inked))) in
+                    cells.zip(papers.iter().zip(inked)).enumerate()
+                {
+                    if !inked {
                         continue;
                     }
-                    for x in start..end {
-                        if ink[x] && (grounds.is_empty() || !in_ground(y * width + x)) {
-                            histogram[(papers[x / cell] - turn(values[x]) + 255) as usize] += 1;
+                    for (x, (&v, &i)) in (c * cell..).zip(values.iter().zip(ink)) {
+                        if i && (grounds.is_empty() || !in_ground(y * width + x)) {
+                            histogram[(paper - turn(v) + 255) as usize] += 1;
                             total += 1;
                         }
                     }

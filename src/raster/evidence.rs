@@ -384,19 +384,25 @@ pub(crate) struct Lighting {
     /// block's pixels nearest its paper level: a global level past it puts specks of ink on that
     /// block's paper. `None` for the blocks with strokes, and inside bold strokes.
     pub paper_tails: Vec<Option<f64>>,
+    /// Each block's darkest and lightest level, row-major: where both lie on one side of a
+    /// level, every pixel of the block does ([`disagreement`] counts no pixel there).
+    pub ranges: Vec<[u8; 2]>,
 }
 
 /// The (2nd, 50th, 98th) percentiles of a block of `total` pixels from its `histogram`: for each
 /// share, the first level where the pixels counted so far reach `share · total`, all three in
 /// one pass (the shares rise, so do their levels; the counts so far are whole numbers, exact in
 /// `f64`, as they were summed there one share at a time). 0 for a share never reached.
+///
+/// A whole count reaches `share · total` exactly when it reaches its ceiling, so the targets are
+/// compared as integers.
 fn block_percentiles(histogram: &[u32; 256], total: f64) -> [f64; 3] {
-    let targets = [0.02, 0.5, 0.98].map(|share| share * total);
+    let targets = [0.02, 0.5, 0.98].map(|share| (share * total).ceil() as u64);
     let mut out = [0.0; 3];
     let (mut next, mut seen) = (0, 0u64);
     for (v, &count) in histogram.iter().enumerate() {
         seen += u64::from(count);
-        while next < 3 && seen as f64 >= targets[next] {
+        while next < 3 && seen >= targets[next] {
             out[next] = v as f64;
             next += 1;
         }
@@ -405,6 +411,52 @@ fn block_percentiles(histogram: &[u32; 256], total: f64) -> [f64; 3] {
         }
     }
     out
+}
+
+/// The (2nd, 50th, 98th) percentiles ([`block_percentiles`]) and the range (darkest, lightest)
+/// of each `block` px square block of `gray`, `cols` x `rows` of them (cut to the image),
+/// row-major, rows of blocks in parallel.
+fn block_stats(
+    gray: GrayView<'_>,
+    block: usize,
+    cols: usize,
+    rows: usize,
+) -> (Vec<[f64; 3]>, Vec<[u8; 2]>) {
+    let (width, height) = (gray.width() as usize, gray.height() as usize);
+    // The range first, each pixel column's over the block's rows (whole rows in vector lanes)
+    // and then each block's columns': a block of one level (a page's blank paper) has it at
+    // every share, without its histogram.
+    (0..rows)
+        .into_par_iter()
+        .flat_map_iter(|r| {
+            let (y0, y1) = (r * block, ((r + 1) * block).min(height));
+            let (mut lo, mut hi) = (gray.row(y0).to_vec(), gray.row(y0).to_vec());
+            for y in y0 + 1..y1 {
+                for ((lo, hi), &v) in lo.iter_mut().zip(hi.iter_mut()).zip(gray.row(y)) {
+                    *lo = (*lo).min(v);
+                    *hi = (*hi).max(v);
+                }
+            }
+            (0..cols).map(move |c| {
+                let (x0, x1) = (c * block, ((c + 1) * block).min(width));
+                let range = [
+                    lo[x0..x1].iter().fold(u8::MAX, |a, &v| a.min(v)),
+                    hi[x0..x1].iter().fold(u8::MIN, |a, &v| a.max(v)),
+                ];
+                if range[0] == range[1] {
+                    return ([f64::from(range[0]); 3], range);
+                }
+                let mut histogram = [0u32; 256];
+                for y in y0..y1 {
+                    for &v in &gray.row(y)[x0..x1] {
+                        histogram[v as usize] += 1;
+                    }
+                }
+                let total = ((x1 - x0) * (y1 - y0)) as f64;
+                (block_percentiles(&histogram, total), range)
+            })
+        })
+        .unzip()
 }
 
 /// Blocks whose range is below this many gray levels hold no stroke whatever the image.
@@ -425,23 +477,7 @@ pub(crate) fn lighting(gray: GrayView<'_>, stroke_width: f64, dark_ink: bool) ->
     if cols == 0 || rows == 0 {
         return None;
     }
-    // (2nd, 50th, 98th percentile) of each block.
-    let stats: Vec<[f64; 3]> = (0..rows)
-        .into_par_iter()
-        .flat_map_iter(|r| {
-            let (y0, y1) = (r * block, ((r + 1) * block).min(height));
-            (0..cols).map(move |c| {
-                let (x0, x1) = (c * block, ((c + 1) * block).min(width));
-                let mut histogram = [0u32; 256];
-                for y in y0..y1 {
-                    for &v in &gray.row(y)[x0..x1] {
-                        histogram[v as usize] += 1;
-                    }
-                }
-                block_percentiles(&histogram, ((x1 - x0) * (y1 - y0)) as f64)
-            })
-        })
-        .collect();
+    let (stats, ranges) = block_stats(gray, block, cols, rows);
     let mut contrasts: Vec<f64> = stats.iter().map(|s| s[2] - s[0]).collect();
     let high = {
         let k = ((contrasts.len() as f64 * 0.95) as usize).min(contrasts.len() - 1);
@@ -529,6 +565,7 @@ pub(crate) fn lighting(gray: GrayView<'_>, stroke_width: f64, dark_ink: bool) ->
         rows,
         thresholds,
         paper_tails,
+        ranges,
     })
 }
 
@@ -554,21 +591,61 @@ pub(crate) fn disagreement(gray: GrayView<'_>, lighting: &Lighting, level: u8) -
         return (0, 0);
     }
     let (block, cols) = (lighting.block, lighting.cols);
+    // Both tests are levels: `v <= t` is `v < below(t)` for the gray levels, and the global one
+    // `v < level + 1`; the two disagree on the pixels between their bounds, which are the
+    // difference of the counts below each. Counted in `u32` lanes, a block's row at a time.
+    let below = |t: f64| -> u16 {
+        if t >= 255.0 {
+            256
+        } else if t >= 0.0 {
+            t.floor() as u16 + 1
+        } else {
+            0 // negative or NaN: no level is at or below it
+        }
+    };
+    let global = u16::from(level) + 1;
     gray.par_rows(1)
         .enumerate()
         .map(|(y, row)| {
-            let thresholds = &lighting.thresholds[(y / block) * cols..(y / block + 1) * cols];
+            let blocks = (y / block) * cols..(y / block + 1) * cols;
+            let (thresholds, ranges) = (
+                &lighting.thresholds[blocks.clone()],
+                &lighting.ranges[blocks],
+            );
             let (mut differ, mut dark) = (0, 0);
-            for (chunk, &t) in row.chunks(block).zip(thresholds) {
-                for &v in chunk {
-                    let local = (v as f64) <= t;
-                    differ += usize::from(local != (v <= level));
-                    dark += usize::from(local);
-                }
+            for ((chunk, &t), &[lo, hi]) in row.chunks(block).zip(thresholds).zip(ranges) {
+                // Below a bound the block's range is on one side of is all or none of it.
+                let count = |bound: u16| {
+                    if u16::from(hi) < bound {
+                        chunk.len()
+                    } else if u16::from(lo) >= bound {
+                        0
+                    } else {
+                        count_below(chunk, bound)
+                    }
+                };
+                let (local, global) = (count(below(t)), count(global));
+                differ += local.abs_diff(global);
+                dark += local;
             }
             (differ, dark)
         })
         .reduce(|| (0, 0), |a, b| (a.0 + b.0, a.1 + b.1))
+}
+
+/// How many of `values` are below `bound` (a gray level, or 256 for all), counted in byte lanes
+/// 255 values at a time.
+fn count_below(values: &[u8], bound: u16) -> usize {
+    let Some(last) = bound.checked_sub(1) else {
+        return 0;
+    };
+    let Ok(last) = u8::try_from(last) else {
+        return values.len();
+    };
+    values
+        .chunks(255)
+        .map(|piece| usize::from(piece.iter().fold(0u8, |n, &v| n + u8::from(v <= last))))
+        .sum()
 }
 
 /// The dark side of `gray` under the local threshold of `lighting`, interpolated bilinearly
@@ -764,6 +841,162 @@ mod tests {
                 }
             }
         }
+    }
+
+    /// The blocks' statistics as [`lighting`] first measured them: a histogram of every block.
+    fn block_stats_by_histograms(
+        gray: GrayView<'_>,
+        block: usize,
+        cols: usize,
+        rows: usize,
+    ) -> Vec<[f64; 3]> {
+        let (width, height) = (gray.width() as usize, gray.height() as usize);
+        let mut stats = Vec::new();
+        for r in 0..rows {
+            let (y0, y1) = (r * block, ((r + 1) * block).min(height));
+            for c in 0..cols {
+                let (x0, x1) = (c * block, ((c + 1) * block).min(width));
+                let mut histogram = [0u32; 256];
+                for y in y0..y1 {
+                    for &v in &gray.row(y)[x0..x1] {
+                        histogram[v as usize] += 1;
+                    }
+                }
+                stats.push(block_percentiles(
+                    &histogram,
+                    ((x1 - x0) * (y1 - y0)) as f64,
+                ));
+            }
+        }
+        stats
+    }
+
+    /// [`disagreement`] as first written: both tests at every pixel, the local one in `f64`.
+    fn disagreement_pixel_by_pixel(
+        gray: GrayView<'_>,
+        lighting: &Lighting,
+        level: u8,
+    ) -> (usize, usize) {
+        let (block, cols) = (lighting.block, lighting.cols);
+        let (mut differ, mut dark) = (0, 0);
+        for y in 0..gray.height() as usize {
+            let thresholds = &lighting.thresholds[(y / block) * cols..(y / block + 1) * cols];
+            for (chunk, &t) in gray.row(y).chunks(block).zip(thresholds) {
+                for &v in chunk {
+                    let local = (v as f64) <= t;
+                    differ += usize::from(local != (v <= level));
+                    dark += usize::from(local);
+                }
+            }
+        }
+        (differ, dark)
+    }
+
+    /// Random pages for the tests of the blocks' passes: blank paper, paper with strokes of one
+    /// level, two levels only, smooth shading and noise, of odd sizes (blocks cut at the edges).
+    fn random_grays(seed: u64) -> Vec<image::GrayImage> {
+        let mut next = crate::synth::lcg(seed);
+        let mut rand = move |n: u64| (next() >> 33) % n;
+        let mut pages = Vec::new();
+        for case in 0..60u64 {
+            let (w, h) = (1 + rand(120) as u32, 1 + rand(90) as u32);
+            let (paper, ink) = (rand(256) as u8, rand(256) as u8);
+            let kind = case % 5;
+            let pixels: Vec<u8> = (0..w * h)
+                .map(|p| {
+                    let (x, y) = (p % w, p / w);
+                    match kind {
+                        0 => paper,
+                        1 if (x / 3 + y) % 11 < 2 => ink,
+                        1 => paper,
+                        2 => [paper, ink][rand(2) as usize],
+                        3 => ((x * 255) / w.max(1)) as u8 ^ (y as u8 & 7),
+                        _ => rand(256) as u8,
+                    }
+                })
+                .collect();
+            pages.push(image::GrayImage::from_raw(w, h, pixels).expect("size"));
+        }
+        pages
+    }
+
+    /// The blocks' percentiles without the histogram of one-level blocks, and their ranges, are
+    /// those of a histogram of every block.
+    #[test]
+    fn block_stats_equal_those_of_a_histogram_per_block() {
+        for gray in random_grays(71) {
+            let view: GrayView<'_> = (&gray).into();
+            let (w, h) = (gray.width() as usize, gray.height() as usize);
+            for block in [1, 2, 7, 8, 24, 200] {
+                let (cols, rows) = (w.div_ceil(block), h.div_ceil(block));
+                let (stats, ranges) = block_stats(view, block, cols, rows);
+                assert_eq!(stats, block_stats_by_histograms(view, block, cols, rows));
+                for (b, range) in ranges.iter().enumerate() {
+                    let (r, c) = (b / cols, b % cols);
+                    let values: Vec<u8> = (r * block..((r + 1) * block).min(h))
+                        .flat_map(|y| gray.as_raw()[y * w..(y + 1) * w].to_vec())
+                        .enumerate()
+                        .filter(|(x, _)| (c * block..((c + 1) * block).min(w)).contains(&(x % w)))
+                        .map(|(_, v)| v)
+                        .collect();
+                    let lo = values.iter().min().copied();
+                    let hi = values.iter().max().copied();
+                    assert_eq!((Some(range[0]), Some(range[1])), (lo, hi), "block {b}");
+                }
+            }
+        }
+    }
+
+    /// The disagreement counted by bounds and ranges is the one tested pixel by pixel, with the
+    /// measured lighting and with thresholds on whole levels, between them, below 0, above 255
+    /// and NaN, at every global level's extremes.
+    #[test]
+    fn disagreement_by_bounds_equals_the_test_at_every_pixel() {
+        let mut next = crate::synth::lcg(72);
+        let mut rand = move |n: u64| (next() >> 33) % n;
+        for gray in random_grays(73) {
+            let view: GrayView<'_> = (&gray).into();
+            for dark_ink in [true, false] {
+                let Some(measured) = lighting(view, 1.0 + rand(6) as f64, dark_ink) else {
+                    continue;
+                };
+                let mut odd = measured.clone();
+                for t in odd.thresholds.iter_mut() {
+                    *t = match rand(7) {
+                        0 => rand(256) as f64,
+                        1 => rand(256) as f64 + 0.5,
+                        2 => -0.0,
+                        3 => -3.5,
+                        4 => 255.0 + rand(3) as f64,
+                        5 => f64::NAN,
+                        _ => rand(25_600) as f64 / 100.0 - 0.004,
+                    };
+                }
+                for lighting in [&measured, &odd] {
+                    for level in [0, 1, rand(256) as u8, 254, 255] {
+                        assert_eq!(
+                            disagreement(view, lighting, level),
+                            disagreement_pixel_by_pixel(view, lighting, level)
+                        );
+                    }
+                }
+            }
+        }
+    }
+
+    /// Counting below a bound in byte lanes counts every value below it.
+    #[test]
+    fn count_below_counts_in_byte_lanes() {
+        let mut next = crate::synth::lcg(74);
+        for len in [0, 1, 254, 255, 256, 600, 1000] {
+            let values: Vec<u8> = (0..len).map(|_| (next() >> 40) as u8).collect();
+            for bound in [0u16, 1, 2, 100, 255, 256] {
+                let want = values.iter().filter(|&&v| u16::from(v) < bound).count();
+                assert_eq!(count_below(&values, bound), want, "{len} {bound}");
+            }
+        }
+        assert_eq!(count_below(&[255; 300], 256), 300);
+        assert_eq!(count_below(&[0; 300], 1), 300);
     }
 
     /// The block percentiles in one pass are those of one pass per share (as first written):

@@ -741,25 +741,38 @@ fn faint(
     // The paper's mean gray (turned: ink dark) per cell, where a quarter of the cell is paper
     // (rows of cells in parallel).
     let mut sums = vec![(0u64, 0u32, 0u32); cols * rows];
-    sums.par_chunks_mut(cols)
-        .enumerate()
-        .for_each(|(cy, sums)| {
-            for y in cell_rows(cy, cell, height) {
-                let cells = gray
-                    .row(y)
-                    .chunks(cell)
-                    .zip(ink[y * width..(y + 1) * width].chunks(cell));
-                for (s, (row, ink)) in sums.iter_mut().zip(cells) {
-                    for (&v, &i) in row.iter().zip(ink.iter()) {
-                        if !i {
-                            s.0 += turn(v) as u64;
-                            s.1 += 1;
-                        }
-                    }
-                    s.2 += row.len() as u32;
+    sums.par_chunks_mut(cols).enumerate().for_each_init(
+        || (vec![0u32; width], vec![0u32; width]),
+        |(paper_sums, paper_counts), (cy, sums)| {
+            // Each pixel column's paper over the row of cells (whole rows, without a branch, in
+            // vector lanes), then each cell's columns, turned per cell: `255 n - sum` under
+            // light ink.
+            paper_sums.fill(0);
+            paper_counts.fill(0);
+            let ys = cell_rows(cy, cell, height);
+            let cell_rows = ys.len() as u32;
+            for y in ys {
+                let pixels = gray.row(y).iter().zip(&ink[y * width..(y + 1) * width]);
+                for ((sum, n), (&v, &i)) in paper_sums
+                    .iter_mut()
+                    .zip(paper_counts.iter_mut())
+                    .zip(pixels)
+                {
+                    let paper = u32::from(!i);
+                    *sum += u32::from(v) * paper;
+                    *n += paper;
                 }
             }
-        });
+            let columns = paper_sums.chunks(cell).zip(paper_counts.chunks(cell));
+            for (s, (sums, counts)) in sums.iter_mut().zip(columns) {
+                let (sum, n) = (sums.iter().sum::<u32>(), counts.iter().sum::<u32>());
+                let turned = if dark_ink { sum } else { 255 * n - sum };
+                *s = (u64::from(turned), n, cell_rows * sums.len() as u32);
+            }
+        },
+    );
+    // The cells with ink (fewer paper pixels than pixels): the others add nothing below.
+    let inked: Vec<bool> = sums.iter().map(|&(_, paper, all)| paper < all).collect();
     let paper = paper_means(&sums, cols, rows)?;
     // A reversed ground's strokes are lighter than the ground around them: neither measured nor
     // left out.
@@ -783,10 +796,19 @@ fn faint(
             |(mut histogram, mut total), y| {
                 let row = y * width..(y + 1) * width;
                 let papers = &paper[(y / cell) * cols..(y / cell + 1) * cols];
-                for (x, (&v, &i)) in gray.row(y).iter().zip(&ink[row]).enumerate() {
-                    if i && (grounds.is_empty() || !in_ground(y * width + x)) {
-                        histogram[(papers[x / cell] - turn(v) + 255) as usize] += 1;
-                        total += 1;
+                let inked = &inked[(y / cell) * cols..(y / cell + 1) * cols];
+                let cells = gray.row(y).chunks(cell).zip(ink[row].chunks(cell));
+                for (c, ((values, ink), (&paper, &inked))) in
+                    cells.zip(papers.iter().zip(inked)).enumerate()
+                {
+                    if !inked {
+                        continue;
+                    }
+                    for (x, (&v, &i)) in (c * cell..).zip(values.iter().zip(ink)) {
+                        if i && (grounds.is_empty() || !in_ground(y * width + x)) {
+                            histogram[(paper - turn(v) + 255) as usize] += 1;
+                            total += 1;
+                        }
                     }
                 }
                 (histogram, total)
@@ -802,10 +824,14 @@ fn faint(
             },
         );
     let contrast = text_contrast(&histogram, total)?;
-    let all_ink: usize = ink
-        .par_chunks(PIXELS_PER_TASK)
-        .map(|ink| ink.iter().filter(|&&i| i).count())
-        .sum();
+    // Without reversed grounds every ink pixel was measured: the histogram's total is the ink.
+    let all_ink: usize = if grounds.is_empty() {
+        total as usize
+    } else {
+        ink.par_chunks(PIXELS_PER_TASK)
+            .map(|ink| ink.iter().filter(|&&i| i).count())
+            .sum()
+    };
     faint_pieces(
         ink, width, height, &histogram, contrast, all_ink, in_ground, darkness, remove,
     )
@@ -1070,24 +1096,35 @@ fn seed_possible(
     let (cols, rows) = (width.div_ceil(cell), height.div_ceil(cell));
     // Ink, dark and all pixels per cell, a cell's width of pixels at a time, rows of cells in
     // parallel.
+    // Each pixel column's ink and pixels at or below the level over the row of cells (whole
+    // rows in vector lanes), then each cell's columns; the dark side is their complement under
+    // light ink.
     let mut counts = vec![[0u32; 3]; cols * rows];
-    let is_dark = |v: u8| if dark_ink { v <= level } else { v > level };
-    counts
-        .par_chunks_mut(cols)
-        .enumerate()
-        .for_each(|(cy, counts)| {
-            for y in cell_rows(cy, cell, height) {
-                let pieces = gray
-                    .row(y)
-                    .chunks(cell)
-                    .zip(ink[y * width..(y + 1) * width].chunks(cell));
-                for (counts, (row, ink)) in counts.iter_mut().zip(pieces) {
-                    counts[0] += ink.iter().filter(|&&i| i).count() as u32;
-                    counts[1] += row.iter().filter(|&&v| is_dark(v)).count() as u32;
-                    counts[2] += row.len() as u32;
+    counts.par_chunks_mut(cols).enumerate().for_each_init(
+        || (vec![0u32; width], vec![0u32; width]),
+        |(inks, at_or_below), (cy, counts)| {
+            inks.fill(0);
+            at_or_below.fill(0);
+            let ys = cell_rows(cy, cell, height);
+            let cell_rows = ys.len() as u32;
+            for y in ys {
+                let pixels = gray.row(y).iter().zip(&ink[y * width..(y + 1) * width]);
+                for ((inks, below), (&v, &i)) in
+                    inks.iter_mut().zip(at_or_below.iter_mut()).zip(pixels)
+                {
+                    *inks += u32::from(i);
+                    *below += u32::from(v <= level);
                 }
             }
-        });
+            let columns = inks.chunks(cell).zip(at_or_below.chunks(cell));
+            for (counts, (inks, below)) in counts.iter_mut().zip(columns) {
+                let all = cell_rows * inks.len() as u32;
+                let below = below.iter().sum::<u32>();
+                let dark = if dark_ink { below } else { all - below };
+                *counts = [inks.iter().sum::<u32>(), dark, all];
+            }
+        },
+    );
     seed_in_counts(&counts, cols, rows, texture)
 }
 
@@ -1129,8 +1166,7 @@ fn texture_cells(
 ) -> Vec<bool> {
     let (width, height) = (gray.width() as usize, gray.height() as usize);
     let (cols, rows) = (width.div_ceil(cell), height.div_ceil(cell));
-    // Gray turned so that the ink is dark: ink at or below `cut`.
-    let turn = |v: u8| if dark_ink { v } else { 255 - v };
+    // Gray turned so that the ink is dark (`255 - v` under light ink): ink at or below `cut`.
     let cut = if dark_ink {
         level
     } else {
@@ -1163,34 +1199,44 @@ fn texture_cells(
     let side = ((stroke_width / 2.0).floor() as usize).max(1);
     let (bw, bh) = (width.div_ceil(side), height.div_ceil(side));
     let pw = bw + 2;
-    // Rows of blocks in parallel, each padded row of the two cuts written by one task.
+    // Rows of blocks in parallel, each padded row of the two cuts written by one task. A block
+    // row's pixels are summed column by column first (a pass the compiler runs in vector lanes),
+    // then each block's columns; the gray is turned per block (`255 n - sum` under light ink).
+    // A block's mean is at or below a level exactly when its integer sum is at or below the
+    // largest sum whose mean is ([`largest_sum_at_or_below`]): the same test without a division
+    // per block.
     let mut padded = [vec![0u8; pw * (bh + 2)], vec![0u8; pw * (bh + 2)]];
     {
         let [low, high] = &mut padded;
         let inner = pw..pw * (bh + 1);
         let blocks_per_task = (PIXELS_PER_TASK / (side * width).max(1)).max(1);
+        let last = width - (bw - 1) * side;
         low[inner.clone()]
             .par_chunks_mut(pw)
             .zip(high[inner].par_chunks_mut(pw))
             .enumerate()
             .with_min_len(blocks_per_task)
             .for_each_init(
-                || vec![0u32; bw],
-                |sums, (by, (low, high))| {
-                    sums.fill(0);
+                || vec![0u32; width],
+                |columns, (by, (low, high))| {
                     let ys = by * side..((by + 1) * side).min(height);
                     let block_rows = ys.len();
+                    columns.fill(0);
                     for y in ys {
-                        for (sum, block) in sums.iter_mut().zip(gray.row(y).chunks(side)) {
-                            *sum += block.iter().map(|&v| u32::from(turn(v))).sum::<u32>();
+                        for (sum, &v) in columns.iter_mut().zip(gray.row(y)) {
+                            *sum += u32::from(v);
                         }
                     }
-                    for (b, &sum) in sums.iter().enumerate() {
-                        let size = (block_rows * (((b + 1) * side).min(width) - b * side)) as u32;
-                        let mean = f64::from(sum) / f64::from(size.max(1));
-                        low[1 + b] = u8::from(mean <= levels[0]);
-                        high[1 + b] = u8::from(mean <= levels[1]);
-                    }
+                    // The limits for the full blocks and the last, narrower one.
+                    let limits = |columns_wide: usize| {
+                        let size = (block_rows * columns_wide) as u32;
+                        (
+                            size,
+                            levels.map(|level| largest_sum_at_or_below(size, level)),
+                        )
+                    };
+                    let (full, narrow) = (limits(side), limits(last));
+                    cut_blocks(columns, side, dark_ink, [full, narrow], low, high);
                 },
             );
     }
@@ -1209,6 +1255,53 @@ fn texture_cells(
             a.signum() == b.signum() && f64::from(a.abs().min(b.abs())) / 4.0 >= TEXTURE_PIECES
         })
         .collect()
+}
+
+/// One row of [`texture_cells`]' blocks cut at its two levels: `columns` holds each pixel
+/// column's sum over the row's pixels, a block is `side` columns (the last one what is left),
+/// `limits` the (size, largest sums at or below the two levels) of the full blocks and of the
+/// last; `low` and `high` get 1 for the blocks at or below each level, from their second byte.
+fn cut_blocks(
+    columns: &[u32],
+    side: usize,
+    dark_ink: bool,
+    limits: [(u32, [i64; 2]); 2],
+    low: &mut [u8],
+    high: &mut [u8],
+) {
+    for (b, block) in columns.chunks(side).enumerate() {
+        let sum = block.iter().sum::<u32>();
+        let (size, [low_limit, high_limit]) = if block.len() == side {
+            limits[0]
+        } else {
+            limits[1]
+        };
+        let sum = i64::from(if dark_ink { sum } else { 255 * size - sum });
+        low[1 + b] = u8::from(sum <= low_limit);
+        high[1 + b] = u8::from(sum <= high_limit);
+    }
+}
+
+/// The largest sum `s` of `size` gray levels (`0..=255 size`) whose mean `s / size`, divided in
+/// `f64` as [`texture_cells`] first did, is at or below `level`; -1 when none is. The rounded
+/// quotient never falls as `s` grows, so a sum's mean is at or below `level` exactly when the sum
+/// is at or below this one.
+fn largest_sum_at_or_below(size: u32, level: f64) -> i64 {
+    let at_or_below = |s: i64| s as f64 / f64::from(size.max(1)) <= level;
+    let (mut lo, mut hi) = (-1i64, 255 * i64::from(size));
+    if at_or_below(hi) {
+        return hi;
+    }
+    // at_or_below(lo) (or lo is -1) and !at_or_below(hi).
+    while hi - lo > 1 {
+        let mid = lo + (hi - lo) / 2;
+        if at_or_below(mid) {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    lo
 }
 
 /// Demotes the dark fields that do not end in a step: beyond a page's edge the gray falls from
@@ -2223,7 +2316,7 @@ mod tests {
                 let ink_dark: Vec<bool> = gray.pixels().map(|p| p.0[0] <= level).collect();
                 for dark_ink in [true, false] {
                     let ink: Vec<bool> = ink_dark.iter().map(|&d| d == dark_ink).collect();
-                    for stroke_width in [1.0, 2.6, 3.0, 5.5] {
+                    for stroke_width in [1.0, 2.6, 3.0, 4.0, 5.5, 7.0, 9.0] {
                         let cell = ((CELL_WIDTHS * stroke_width).round() as usize).max(MIN_CELL);
                         let texture =
                             texture_cells(view, &histogram, dark_ink, level, stroke_width, cell);
@@ -2259,6 +2352,34 @@ mod tests {
                         }
                     }
                 }
+            }
+        }
+    }
+
+    /// The largest sum whose `f64` mean is at or below a level is the bound of the sums tested
+    /// one by one: every sum of random block sizes (1 to 40 x 40 px) against levels on and
+    /// between whole levels, below 0 and above 255.
+    #[test]
+    fn the_largest_sum_at_or_below_a_level_bounds_the_means_tested_one_by_one() {
+        let mut next = crate::synth::lcg(1976u64);
+        let mut rand = move |n: u64| (next() >> 33) % n;
+        for case in 0..400 {
+            let size = 1 + rand(1600) as u32;
+            let level = match case % 5 {
+                0 => rand(256) as f64,
+                1 => rand(256) as f64 + 0.5,
+                2 => -1.0,
+                3 => 255.0 + rand(2) as f64,
+                _ => rand(25_600) as f64 / 100.0,
+            };
+            let limit = largest_sum_at_or_below(size, level);
+            for sum in 0..=255 * size {
+                let mean = f64::from(sum) / f64::from(size);
+                assert_eq!(
+                    i64::from(sum) <= limit,
+                    mean <= level,
+                    "size {size} level {level} sum {sum}"
+                );
             }
         }
     }

@@ -10,7 +10,7 @@ use std::cell::OnceCell;
 use kiddo::{ImmutableKdTree, SquaredEuclidean};
 use petgraph::unionfind::UnionFind;
 
-use crate::geometry::{arc_lengths, dist, hypot, line_intersection, unit};
+use crate::geometry::{dist, hypot, line_intersection, unit};
 use crate::stroke_graph::{Edge, StrokeGraph, Vertex};
 
 use super::disk_radius;
@@ -473,127 +473,6 @@ impl Work {
                 let (p, q) = (self.vertices[a].pos, self.vertices[b].pos);
                 [(p[0] + q[0]) / 2.0, (p[1] + q[1]) / 2.0]
             };
-            self.contract_link(e, middle, &mut degree, &mut at);
-        }
-    }
-
-    /// Junctions closer than the strokes at them are wide are one: two junctions joined by a
-    /// link, less than the narrowest of their other arms' median widths apart and the link no
-    /// longer, lie within the ink of each other's strokes, where no background shows them apart
-    /// (the truth joins junctions closer than a stroke width: docs/quality.md, "The truth as
-    /// the ink shows it"); two T's (a straight stroke through one of them,
-    /// [`Work::tee_through`]) stay two. Where every arm's line passes within half a width
-    /// ([`CLOSE_LINES`]) of the merged vertex ([`Work::close_hub`]) the link is contracted
-    /// there before the smoothing, which straightens the arms through it; the others are left
-    /// to [`Work::merge_close_junctions_late`].
-    pub(super) fn merge_close_junctions(&mut self) {
-        let mut degree = self.degrees();
-        let mut at = self.incidence();
-        for e in 0..self.edges.len() {
-            let Some(edge) = &self.edges[e] else { continue };
-            let (a, b) = (edge.from, edge.to);
-            if a == b || degree[a] < 3 || degree[b] < 3 {
-                continue;
-            }
-            let stroke = [a, b]
-                .iter()
-                .flat_map(|&j| at[j].iter().filter(|&&o| o != e))
-                .filter_map(|&o| self.edges[o].as_ref())
-                .map(|arm| median(&arm.widths))
-                .fold(f64::INFINITY, f64::min);
-            let apart = dist(self.vertices[a].pos, self.vertices[b].pos);
-            if apart >= TEES_APART * stroke || edge.length() >= TEES_APART * stroke {
-                continue;
-            }
-            if self.tee_through(e, a, b, &at) {
-                continue;
-            }
-            let Some((hub, worst)) = self.close_hub(e, a, b, &at) else {
-                continue;
-            };
-            if worst > CLOSE_LINES * stroke {
-                continue;
-            }
-            self.contract_link(e, hub, &mut degree, &mut at);
-        }
-    }
-
-    /// Junctions closer than the strokes at them are wide, left by
-    /// [`Work::merge_close_junctions`] because their arms' lines miss the merged vertex (a fork
-    /// beside a junction, as in a star split into three): made one after the smoothing, each
-    /// arm keeping its own path to a pixel ([`PIXEL_PX`]) from its old junction and joined
-    /// straight to the merged vertex from there, as the truth joins them (docs/quality.md,
-    /// "Session of 2026-12-06, fifth: close junctions as one (issue 31)").
-    pub(super) fn merge_close_junctions_late(&mut self) {
-        let mut degree = self.degrees();
-        let mut at = self.incidence();
-        for e in 0..self.edges.len() {
-            let Some(edge) = &self.edges[e] else { continue };
-            let (a, b) = (edge.from, edge.to);
-            if a == b || degree[a] < 3 || degree[b] < 3 {
-                continue;
-            }
-            let stroke = [a, b]
-                .iter()
-                .flat_map(|&j| at[j].iter().filter(|&&o| o != e))
-                .filter_map(|&o| self.edges[o].as_ref())
-                .map(|arm| median(&arm.widths))
-                .fold(f64::INFINITY, f64::min);
-            let apart = dist(self.vertices[a].pos, self.vertices[b].pos);
-            if apart >= TEES_APART * stroke || edge.length() >= TEES_APART * stroke {
-                continue;
-            }
-            if self.tee_through(e, a, b, &at) {
-                continue;
-            }
-            let Some((hub, _)) = self.close_hub(e, a, b, &at) else {
-                continue;
-            };
-            // Each arm: cut a pixel from its junction and joined straight to the hub.
-            let mut cuts = Vec::new();
-            for j in [a, b] {
-                let jp = self.vertices[j].pos;
-                if dist(jp, hub) == 0.0 {
-                    continue;
-                }
-                for &o in at[j].iter().filter(|&&o| o != e) {
-                    if let Some(edge) = self.edges[o].as_ref() {
-                        cuts.push((o, edge.from == j, jp));
-                    }
-                }
-            }
-            for (o, at_start, jp) in cuts {
-                let Some(edge) = self.edges[o].as_mut() else {
-                    continue;
-                };
-                if !at_start {
-                    edge.points.reverse();
-                    edge.widths.reverse();
-                }
-                let k = edge
-                    .points
-                    .iter()
-                    .position(|&p| dist(p, jp) >= PIXEL_PX)
-                    .unwrap_or(edge.points.len() - 1);
-                let start = point_at_distance(&edge.points, jp, PIXEL_PX);
-                let width = edge.widths[0];
-                let mut points = vec![hub, start];
-                let mut widths = vec![width, edge.widths[k.saturating_sub(1)]];
-                if dist(start, edge.points[k]) > 0.0 {
-                    points.push(edge.points[k]);
-                    widths.push(edge.widths[k]);
-                }
-                points.extend_from_slice(&edge.points[k + 1..]);
-                widths.extend_from_slice(&edge.widths[k + 1..]);
-                edge.points = points;
-                edge.widths = widths;
-                if !at_start {
-                    edge.points.reverse();
-                    edge.widths.reverse();
-                }
-                edge.directions.clear();
-            }
-            // The link goes; b's edges move to a.
             self.edges[e] = None;
             let moved: Vec<usize> = at[b].clone();
             for &o in &moved {
@@ -607,8 +486,20 @@ impl Work {
                     other.to = a;
                 }
             }
+            for &o in at[a].iter().chain(&moved) {
+                let Some(other) = self.edges[o].as_mut() else {
+                    continue;
+                };
+                if other.from == a {
+                    other.points[0] = middle;
+                }
+                if other.to == a {
+                    let last = other.points.len() - 1;
+                    other.points[last] = middle;
+                }
+            }
             let width = self.vertices[a].width.max(self.vertices[b].width);
-            self.vertices[a].pos = hub;
+            self.vertices[a].pos = middle;
             self.vertices[a].width = width;
             self.alive[b] = false;
             degree[a] = degree[a] + degree[b] - 2;
@@ -621,149 +512,6 @@ impl Work {
             at[a] = joined;
             at[b].clear();
         }
-    }
-
-    /// Whether one of the degree-3 junctions `a` and `b` holds a straight stroke through it
-    /// (its two arms other than the link, [`Work::stroke_miss`]): a T whose stem is the link.
-    fn tee_through(&self, link: usize, a: usize, b: usize, at: &[Vec<usize>]) -> bool {
-        let (Some(arms_a), Some(arms_b)) =
-            (self.arm_lines(a, link, at), self.arm_lines(b, link, at))
-        else {
-            return false;
-        };
-        let stroke = arms_a
-            .iter()
-            .chain(&arms_b)
-            .map(|(w, _)| *w)
-            .fold(f64::INFINITY, f64::min);
-        let tolerance = disk_radius(stroke);
-        let straight = |arms: &Arms| {
-            arms.len() == 2
-                && self
-                    .stroke_miss(&arms[0].1, &arms[1].1, tolerance)
-                    .is_some()
-        };
-        straight(&arms_a) || straight(&arms_b)
-    }
-
-    /// Where the junctions `a` and `b` joined by the link `e` become one: of the two junctions
-    /// and the link's middle, the place nearest to the lines of the arms (each measured from
-    /// its own junction, over a width from where it leaves the junction's disk), where every
-    /// arm's end, moved there, runs on the ink; with the farthest any arm's line passes from it.
-    fn close_hub(
-        &self,
-        e: usize,
-        a: usize,
-        b: usize,
-        at: &[Vec<usize>],
-    ) -> Option<([f64; 2], f64)> {
-        let link = self.edges[e].as_ref()?;
-        let n_link = link.points.len();
-        let lengths = arc_lengths(&link.points);
-        let half = lengths[n_link - 1] / 2.0;
-        let mid = lengths.partition_point(|&l| l < half).min(n_link - 1);
-        // Each arm: its line, and the point next to its end at the junction.
-        let mut arms = Vec::new();
-        for j in [a, b] {
-            let jp = self.vertices[j].pos;
-            for &o in at[j].iter().filter(|&&o| o != e) {
-                let edge = self.edges[o].as_ref()?;
-                if [a, b].contains(&edge.from) && [a, b].contains(&edge.to) {
-                    return None;
-                }
-                let outwards = points_outwards(edge, edge.from == j);
-                if outwards.len() < 2 {
-                    return None;
-                }
-                let w = median(&edge.widths);
-                let near = point_at_distance(&outwards, jp, disk_radius(w));
-                let far = point_at_distance(&outwards, jp, disk_radius(w) + SPLIT_NEAR * w);
-                let line = if dist(near, far) >= MIN_SPLIT_LINE_PX {
-                    Some((near, far))
-                } else if dist(jp, far) >= MIN_SPLIT_LINE_PX {
-                    Some((jp, far))
-                } else {
-                    None
-                };
-                arms.push((line, outwards[1]));
-            }
-        }
-        let candidates = [
-            self.vertices[link.from].pos,
-            self.vertices[link.to].pos,
-            link.points[mid],
-        ];
-        let mut best: Option<(f64, [f64; 2], f64)> = None;
-        for hub in candidates {
-            if !arms.iter().all(|&(_, next)| self.ink.holds(next, hub)) {
-                continue;
-            }
-            let cost: f64 = arms
-                .iter()
-                .filter_map(|&(line, _)| line)
-                .map(|(p, q)| line_dist(hub, p, q))
-                .sum();
-            let worst = arms
-                .iter()
-                .filter_map(|&(line, _)| line)
-                .map(|(p, q)| line_dist(hub, p, q))
-                .fold(0.0f64, f64::max);
-            if best.is_none_or(|(c, _, _)| cost < c) {
-                best = Some((cost, hub, worst));
-            }
-        }
-        best.map(|(_, hub, worst)| (hub, worst))
-    }
-
-    /// Contracts the link `e` between the junctions at its ends to `middle` (see
-    /// [`Work::contract_short_links`]), `degree` and `at` kept up to date.
-    fn contract_link(
-        &mut self,
-        e: usize,
-        middle: [f64; 2],
-        degree: &mut [usize],
-        at: &mut [Vec<usize>],
-    ) {
-        let Some(edge) = &self.edges[e] else { return };
-        let (a, b) = (edge.from, edge.to);
-        self.edges[e] = None;
-        let moved: Vec<usize> = at[b].clone();
-        for &o in &moved {
-            let Some(other) = self.edges[o].as_mut() else {
-                continue;
-            };
-            if other.from == b {
-                other.from = a;
-            }
-            if other.to == b {
-                other.to = a;
-            }
-        }
-        for &o in at[a].iter().chain(&moved) {
-            let Some(other) = self.edges[o].as_mut() else {
-                continue;
-            };
-            if other.from == a {
-                other.points[0] = middle;
-            }
-            if other.to == a {
-                let last = other.points.len() - 1;
-                other.points[last] = middle;
-            }
-        }
-        let width = self.vertices[a].width.max(self.vertices[b].width);
-        self.vertices[a].pos = middle;
-        self.vertices[a].width = width;
-        self.alive[b] = false;
-        degree[a] = degree[a] + degree[b] - 2;
-        degree[b] = 0;
-        let mut joined = std::mem::take(&mut at[a]);
-        joined.extend(moved);
-        joined.retain(|&o| o != e);
-        joined.sort_unstable();
-        joined.dedup();
-        at[a] = joined;
-        at[b].clear();
     }
 
     /// Inside a junction's own disk the skeleton's pixel paths bend towards whichever junction
@@ -823,11 +571,6 @@ const ARC_STEP_PX: f64 = 0.25;
 
 /// A skeleton point is known to a pixel (px): a stretch's direction to a pixel over its length.
 const PIXEL_PX: f64 = 1.0;
-
-/// Two close junctions are contracted before the smoothing ([`Work::merge_close_junctions`])
-/// when every arm's line passes within this many of the narrowest arm's widths of the merged
-/// vertex: the smoothing then straightens the arms through it.
-const CLOSE_LINES: f64 = 0.5;
 
 /// Two edges leaving a junction in opposite directions are one straight stroke through it
 /// ([`Work::stroke_beside`]) when they turn from straight by less than this sine (20 degrees):

@@ -204,14 +204,12 @@ fn reconcile(mut work: Work, method: &StrokeGraph, experiments: &ExperimentParam
         work.join_degree_two();
     }
     work.join_degree_two();
-    work.merge_close_junctions();
     work.undip_junctions();
     work.collapse_dots();
     work.extend_ends();
     work.straighten_junctions();
     work.adopt_method_geometry(method);
     work.smooth_edges();
-    work.merge_close_junctions_late();
     work.finish(method.width, method.height)
 }
 

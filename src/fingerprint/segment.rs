@@ -1085,43 +1085,60 @@ const RADIX_SELECT_FROM: usize = 1 << 16;
 /// The `k`-th smallest of `values` (from 0; `k` below their number) in the order of
 /// `f32::total_cmp`: the value `select_nth_unstable_by(k, f32::total_cmp)` puts at `k`, found by
 /// counting the values' sort keys (the bits, ordered as `total_cmp` orders them) by their upper
-/// 16 bits, then those of the upper half found by their lower 16 bits: two passes over the
-/// values, nothing moved.
+/// [`NTH_HIGH_BITS`] bits, then selecting among the keys of that bin alone: two passes over the
+/// values, nothing moved. An image's gradient magnitudes hold long runs of one bin (its flat
+/// background's zeros), so the first pass counts the values into [`NTH_TABLES`] tables in turn
+/// (whole numbers, added up at the end): a count does not wait for the one before it to be
+/// stored. The tables are small (16 KB each), where one of every upper 16 bits (256 KB, as first
+/// written) set the heap's high-water mark of a print.
 fn nth_smallest(values: &[f32], k: usize) -> f32 {
+    const BINS: usize = 1 << NTH_HIGH_BITS;
+    const SHIFT: u32 = 32 - NTH_HIGH_BITS;
     let key = |v: f32| {
         let bits = v.to_bits();
         bits ^ (((bits as i32 >> 31) as u32) | 0x8000_0000)
     };
-    // The bin of the `k`-th in `counts` and its rank within the bin.
-    let find = |counts: &[u32], mut k: usize| -> (u32, usize) {
-        for (bin, &n) in counts.iter().enumerate() {
-            if k < n as usize {
-                return (bin as u32, k);
-            }
-            k -= n as usize;
-        }
-        unreachable!("k is below the number of values counted")
-    };
-    let mut counts = vec![0u32; 1 << 16];
-    for &v in values {
-        counts[(key(v) >> 16) as usize] += 1;
-    }
-    let (high, k) = find(&counts, k);
-    counts.iter_mut().for_each(|n| *n = 0);
-    for &v in values {
-        let key = key(v);
-        if key >> 16 == high {
-            counts[(key & 0xFFFF) as usize] += 1;
+    let mut tables = vec![0u32; NTH_TABLES * BINS];
+    let mut turns = values.chunks_exact(NTH_TABLES);
+    for turn in &mut turns {
+        for (table, &v) in tables.chunks_exact_mut(BINS).zip(turn) {
+            table[(key(v) >> SHIFT) as usize] += 1;
         }
     }
-    let (low, _) = find(&counts, k);
-    let key = high << 16 | low;
+    for (table, &v) in tables.chunks_exact_mut(BINS).zip(turns.remainder()) {
+        table[(key(v) >> SHIFT) as usize] += 1;
+    }
+    // The bin of the `k`-th and its rank within the bin.
+    let (mut high, mut rank) = (BINS, k);
+    for bin in 0..BINS {
+        let n: usize = (0..NTH_TABLES)
+            .map(|t| tables[t * BINS + bin] as usize)
+            .sum();
+        if rank < n {
+            high = bin;
+            break;
+        }
+        rank -= n;
+    }
+    assert!(high < BINS, "k is below the number of values counted");
+    let mut keys: Vec<u32> = values
+        .iter()
+        .map(|&v| key(v))
+        .filter(|&key| (key >> SHIFT) as usize == high)
+        .collect();
+    let key = *keys.select_nth_unstable(rank).1;
     f32::from_bits(if key & 0x8000_0000 != 0 {
         key ^ 0x8000_0000
     } else {
         !key
     })
 }
+
+/// The upper bits of the sort keys [`nth_smallest`] counts by (sign, exponent and three bits of
+/// the mantissa: bins an eighth of an octave wide).
+const NTH_HIGH_BITS: u32 = 12;
+/// How many tables [`nth_smallest`] counts into in turn.
+const NTH_TABLES: usize = 4;
 
 #[cfg(test)]
 mod tests {
@@ -1138,6 +1155,93 @@ mod tests {
             sum += (*state >> 11) as f32 / (1u64 << 53) as f32 - 0.5;
         }
         sum
+    }
+
+    /// [`nth_smallest`] as it was: one table of the keys' upper 16 bits, then one of the lower
+    /// 16 bits of that bin's keys.
+    fn nth_smallest_by_16_bits(values: &[f32], k: usize) -> f32 {
+        let key = |v: f32| {
+            let bits = v.to_bits();
+            bits ^ (((bits as i32 >> 31) as u32) | 0x8000_0000)
+        };
+        let find = |counts: &[u32], mut k: usize| -> (u32, usize) {
+            for (bin, &n) in counts.iter().enumerate() {
+                if k < n as usize {
+                    return (bin as u32, k);
+                }
+                k -= n as usize;
+            }
+            unreachable!("k is below the number of values counted")
+        };
+        let mut counts = vec![0u32; 1 << 16];
+        for &v in values {
+            counts[(key(v) >> 16) as usize] += 1;
+        }
+        let (high, k) = find(&counts, k);
+        counts.iter_mut().for_each(|n| *n = 0);
+        for &v in values {
+            let key = key(v);
+            if key >> 16 == high {
+                counts[(key & 0xFFFF) as usize] += 1;
+            }
+        }
+        let (low, _) = find(&counts, k);
+        let key = high << 16 | low;
+        f32::from_bits(if key & 0x8000_0000 != 0 {
+            key ^ 0x8000_0000
+        } else {
+            !key
+        })
+    }
+
+    /// The selection within the upper bits' bin is the two tables of 16 bits it replaced, bit for
+    /// bit: gradient magnitudes (runs of zeros as a flat background gives, then a spread),
+    /// values with many ties, any bits, and the special values, at many ranks, for lengths that
+    /// are and are not multiples of the tables.
+    #[test]
+    fn the_nth_in_its_bin_is_the_nth_by_16_bits() {
+        let mut lcg = crate::synth::lcg(3535u64);
+        let mut next = move || (lcg() >> 33) as u32;
+        let special = [
+            0.0f32,
+            -0.0,
+            f32::INFINITY,
+            f32::NEG_INFINITY,
+            f32::NAN,
+            -f32::NAN,
+        ];
+        for case in 0..40 {
+            let len = 1 + (next() % 20_000) as usize;
+            let kind = case % 4;
+            let mut zeros = 0;
+            let values: Vec<f32> = (0..len)
+                .map(|_| {
+                    if kind == 0 && zeros == 0 && next() % 50 == 0 {
+                        zeros = next() % 400;
+                    }
+                    if zeros > 0 {
+                        zeros -= 1;
+                        return 0.0;
+                    }
+                    match kind {
+                        0 => (next() % 100_000) as f32 / 37.0,
+                        1 => (next() % 7) as f32,
+                        2 => f32::from_bits(next() << 1 | next() & 1),
+                        _ => match next() % 4 {
+                            0 => special[next() as usize % special.len()],
+                            _ => (next() % 2000) as f32 - 1000.0,
+                        },
+                    }
+                })
+                .collect();
+            for k in (0..len).step_by(1 + len / 50).chain([len - 1]) {
+                assert_eq!(
+                    nth_smallest(&values, k).to_bits(),
+                    nth_smallest_by_16_bits(&values, k).to_bits(),
+                    "case {case}, k {k} of {len}"
+                );
+            }
+        }
     }
 
     #[test]

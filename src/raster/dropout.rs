@@ -54,7 +54,7 @@ pub(crate) fn split(binary: MaskView<'_>, params: &Params) -> Option<(Binary, Bi
             }
             let s = &mut stats[label(i)];
             s[0] += 1;
-            s[1] += usize::from(neighbours == 1 && !ends_a_line(ink, w, h, x, y));
+            s[1] += usize::from(neighbours == 1 && !ends_a_line(binary, x, y));
             s[2] += usize::from(neighbours == 0);
         }
     }

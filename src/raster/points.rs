@@ -104,8 +104,8 @@ pub(super) fn survey(
                     let start = x;
                     while x < width && row[x] {
                         let degree = u32::from(column[x] + column[x + 1] + column[x + 2]) - 1;
-                        loose += usize::from(degree == 1 && !ends_a_line(ink, width, height, x, y));
-                        if let Some(d) = nearest_distance(ink, width, height, x, y, degree) {
+                        loose += usize::from(degree == 1 && !ends_a_line(binary, x, y));
+                        if let Some(d) = nearest_distance(binary, x, y, degree) {
                             spacing.0 += d;
                             spacing.1 += 1;
                         }
@@ -636,14 +636,7 @@ fn dropout_mode(
 /// staircase's two pixels side by side are one step). A drawing of 1-px lines (thin line art, an
 /// already thinned mask) has a loose pixel at every line end; dropout's are specks, short
 /// fragments and spikes on a stroke, whose chains end or branch at once.
-pub(super) fn ends_a_line(ink: &[bool], width: usize, height: usize, x: usize, y: usize) -> bool {
-    let at = |u: i64, v: i64| {
-        u >= 0
-            && v >= 0
-            && (u as usize) < width
-            && (v as usize) < height
-            && ink[v as usize * width + u as usize]
-    };
+pub(super) fn ends_a_line(mask: MaskView<'_>, x: usize, y: usize) -> bool {
     let mut seen = [(0i64, 0i64); 2 * LINE_END_RUN + 1];
     seen[0] = (x as i64, y as i64);
     let (mut len, mut current) = (1, seen[0]);
@@ -653,7 +646,7 @@ pub(super) fn ends_a_line(ink: &[bool], width: usize, height: usize, x: usize, y
         for dy in -1..=1 {
             for dx in -1..=1 {
                 let p = (current.0 + dx, current.1 + dy);
-                if (dx, dy) != (0, 0) && at(p.0, p.1) && !seen[..len].contains(&p) {
+                if (dx, dy) != (0, 0) && mask.get(p.0, p.1) && !seen[..len].contains(&p) {
                     next[count] = p;
                     count += 1;
                 }
@@ -784,25 +777,11 @@ fn for_each_in_window<T: Copy>(
 /// diagonal line sparse. Other pixels count their true Euclidean nearest distance, searched up to
 /// [`SPACING_SEARCH`]; with nothing that close they are left out (`None`). `degree_8` is the
 /// number of ink pixels touching `(x, y)`.
-fn nearest_distance(
-    ink: &[bool],
-    width: usize,
-    height: usize,
-    x: usize,
-    y: usize,
-    degree_8: u32,
-) -> Option<f64> {
+fn nearest_distance(mask: MaskView<'_>, x: usize, y: usize, degree_8: u32) -> Option<f64> {
     if degree_8 > 0 {
         return Some(1.0);
     }
-    let at = |u: i64, v: i64| {
-        u >= 0
-            && v >= 0
-            && (u as usize) < width
-            && (v as usize) < height
-            && ink[v as usize * width + u as usize]
-    };
-    isolated_distance(&at, x as i64, y as i64)
+    isolated_distance(&|u, v| mask.get(u, v), x as i64, y as i64)
 }
 
 /// Nearest ink pixel to an isolated one, by growing square rings until no closer one can exist.
@@ -958,10 +937,7 @@ mod tests {
 
     #[test]
     fn line_ends_are_not_loose_pixels() {
-        let end = |rows: &[&str], x: usize, y: usize| {
-            let b = mask(rows);
-            ends_a_line(&b.ink, b.width as usize, b.height as usize, x, y)
-        };
+        let end = |rows: &[&str], x: usize, y: usize| ends_a_line(mask(rows).view(), x, y);
         // The end of a straight line and of a staircase, each running on for 3 px and more.
         assert!(end(&["......", ".####.", "......"], 1, 1));
         assert!(end(&["#.....", ".##...", "...##.", "....#."], 0, 0));

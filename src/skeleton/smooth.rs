@@ -646,6 +646,9 @@ mod tests {
             6.5,
             7.0,
             9.2e18,
+            // 2⁶³ less one step of `f64`, and 2⁶³ itself (`Ink::at_window`'s bound).
+            9_223_372_036_854_774_784.0,
+            9_223_372_036_854_775_808.0,
             1.9e19,
             1e300,
             f64::INFINITY,

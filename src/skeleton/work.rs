@@ -28,13 +28,18 @@ impl Ink {
     /// Whether the pixel holding `(x, y)`, in the window's coordinates, is ink.
     #[inline]
     pub(super) fn at_window(&self, x: f64, y: f64) -> bool {
-        // Truncation is the floor where the value is not negative, and so is its test; through
-        // `i64` (one instruction on x86-64, where `as usize` is several: docs/performance.md),
-        // whose saturation at 2⁶³ leaves a far point outside as `usize`'s does.
-        if !(x >= 0.0 && y >= 0.0) {
+        // Truncation is the floor where the value is not negative, and so is its test. A
+        // coordinate of 2⁶³ or more is outside (no window is that wide: its mask would not fit
+        // in memory), as the saturating `as i64` left it; below, the conversion needs no
+        // saturation, one instruction (the saturating one's checks were most of a lookup's
+        // instructions in `section_exit`'s walk: docs/performance.md).
+        const FAR: f64 = 9_223_372_036_854_775_808.0; // 2⁶³
+        if !(x >= 0.0 && y >= 0.0 && x < FAR && y < FAR) {
             return false;
         }
-        let (px, py) = (x as i64 as usize, y as i64 as usize);
+        // SAFETY: `0 <= x, y < 2⁶³` (checked above; not NaN), so their truncations fit an `i64`.
+        let (px, py) = unsafe { (x.to_int_unchecked::<i64>(), y.to_int_unchecked::<i64>()) };
+        let (px, py) = (px as usize, py as usize);
         px < self.width && py < self.height && self.mask[py * self.width + px]
     }
 

@@ -653,12 +653,33 @@ fn count_below(values: &[u8], bound: u16) -> usize {
 pub(crate) fn local_dark(gray: GrayView<'_>, lighting: &Lighting, dark: &mut [bool]) {
     let width = gray.width() as usize;
     let surface = lighting.surface(width);
+    // The pixel columns by the pair of block columns they lie between: along a run of them the
+    // two thresholds are the same, so the loop over its pixels needs no lookups (vector lanes);
+    // each pixel's threshold is the one `Surface::row` gives, from the same operations.
+    let mut runs: Vec<(usize, usize, usize)> = Vec::new();
+    for (x, &(c0, c1, _)) in surface.columns.iter().enumerate() {
+        match runs.last_mut() {
+            Some((end, a, b)) if (*a, *b) == (c0, c1) => *end = x + 1,
+            _ => runs.push((x + 1, c0, c1)),
+        }
+    }
+    let weights: Vec<f64> = surface.columns.iter().map(|&(_, _, fx)| fx).collect();
     dark.par_chunks_mut(width)
         .zip(gray.par_rows(1))
         .enumerate()
         .for_each(|(y, (out, values))| {
-            for (o, (&v, t)) in out.iter_mut().zip(values.iter().zip(surface.row(y))) {
-                *o = (v as f64) <= t;
+            let row = surface.block_row(y);
+            let mut start = 0;
+            for &(end, c0, c1) in &runs {
+                let (t0, t1) = (row[c0], row[c1]);
+                let pixels = out[start..end]
+                    .iter_mut()
+                    .zip(&values[start..end])
+                    .zip(&weights[start..end]);
+                for ((o, &v), &fx) in pixels {
+                    *o = f64::from(v) <= t0 * (1.0 - fx) + t1 * fx;
+                }
+                start = end;
             }
         });
 }
@@ -692,15 +713,20 @@ impl Lighting {
 }
 
 impl Surface<'_> {
-    /// The threshold at each pixel of row `y`.
-    pub(crate) fn row(&self, y: usize) -> impl Iterator<Item = f64> + '_ {
+    /// The threshold at each block column's centre on row `y`.
+    fn block_row(&self, y: usize) -> Vec<f64> {
         let lighting = self.lighting;
         let cols = lighting.cols;
         let (r0, r1, fy) = lighting.cell(y, lighting.rows);
         let t = &lighting.thresholds;
-        let row: Vec<f64> = (0..cols)
+        (0..cols)
             .map(|c| t[r0 * cols + c] * (1.0 - fy) + t[r1 * cols + c] * fy)
-            .collect();
+            .collect()
+    }
+
+    /// The threshold at each pixel of row `y`.
+    pub(crate) fn row(&self, y: usize) -> impl Iterator<Item = f64> + '_ {
+        let row = self.block_row(y);
         self.columns
             .iter()
             .map(move |&(c0, c1, fx)| row[c0] * (1.0 - fx) + row[c1] * fx)
@@ -979,6 +1005,50 @@ mod tests {
                             disagreement_pixel_by_pixel(view, lighting, level)
                         );
                     }
+                }
+            }
+        }
+    }
+
+    /// The local split by runs of pixel columns between the same block columns is the split by
+    /// each pixel's threshold from [`Surface::row`], with the measured lighting and with
+    /// thresholds on whole levels, between them, below 0, above 255 and NaN.
+    #[test]
+    fn the_local_split_by_runs_is_the_split_pixel_by_pixel() {
+        let mut next = crate::synth::lcg(76);
+        let mut rand = move |n: u64| (next() >> 33) % n;
+        for gray in random_grays(77) {
+            let view: GrayView<'_> = (&gray).into();
+            let (w, h) = (gray.width() as usize, gray.height() as usize);
+            for dark_ink in [true, false] {
+                let Some(measured) = lighting(view, 1.0 + rand(6) as f64, dark_ink) else {
+                    continue;
+                };
+                let mut odd = measured.clone();
+                for t in odd.thresholds.iter_mut() {
+                    *t = match rand(7) {
+                        0 => rand(256) as f64,
+                        1 => rand(256) as f64 + 0.5,
+                        2 => -0.0,
+                        3 => -3.5,
+                        4 => 255.0 + rand(3) as f64,
+                        5 => f64::NAN,
+                        _ => rand(25_600) as f64 / 100.0 - 0.004,
+                    };
+                }
+                for lighting in [&measured, &odd] {
+                    let surface = lighting.surface(w);
+                    let want: Vec<bool> = (0..h)
+                        .flat_map(|y| {
+                            let row = view.row(y).to_vec();
+                            row.into_iter()
+                                .zip(surface.row(y).collect::<Vec<_>>())
+                                .map(|(v, t)| (v as f64) <= t)
+                        })
+                        .collect();
+                    let mut dark = vec![false; w * h];
+                    local_dark(view, lighting, &mut dark);
+                    assert_eq!(dark, want);
                 }
             }
         }

@@ -102,22 +102,15 @@ fn block_period(
     distances.clear();
     for extremum in [1.0f32, -1.0] {
         let mut last: Option<usize> = None;
-        for k in 1..length - 1 {
-            let (p, q, r) = (
-                extremum * signature[k - 1],
-                extremum * signature[k],
-                extremum * signature[k + 1],
-            );
-            if q > p && q >= r {
-                if let Some(l) = last {
-                    let d = (k - l) as f32;
-                    if f64::from(d) >= params.period_min && f64::from(d) <= params.period_max {
-                        distances.push(d);
-                    }
+        extrema(signature, extremum, |k| {
+            if let Some(l) = last {
+                let d = (k - l) as f32;
+                if f64::from(d) >= params.period_min && f64::from(d) <= params.period_max {
+                    distances.push(d);
                 }
-                last = Some(k);
             }
-        }
+            last = Some(k);
+        });
     }
     if distances.len() < MIN_DISTANCES {
         return (0.0, false, false);
@@ -141,6 +134,33 @@ fn block_period(
         return (p, true, halved);
     }
     (0.0, false, false)
+}
+
+/// Visits, in rising order, each `k` in `1..len - 1` where `extremum · signature[k]` rises
+/// strictly from `k - 1` and does not fall to `k + 1` (a maximum for `extremum` 1, a minimum for
+/// -1). The tests are made for 64 samples at a time without a branch, their answers bits of a
+/// word, which are then visited: a branch on each sample's answer was mispredicted about as often
+/// as a wave's samples turn (docs/performance.md).
+fn extrema(signature: &[f32], extremum: f32, mut visit: impl FnMut(usize)) {
+    let length = signature.len();
+    let mut first = 1;
+    while first + 1 < length {
+        let end = (first + 64).min(length - 1);
+        let mut bits = 0u64;
+        for k in first..end {
+            let (p, q, r) = (
+                extremum * signature[k - 1],
+                extremum * signature[k],
+                extremum * signature[k + 1],
+            );
+            bits |= u64::from((q > p) & (q >= r)) << (k - first);
+        }
+        while bits != 0 {
+            visit(first + bits.trailing_zeros() as usize);
+            bits &= bits - 1;
+        }
+        first = end;
+    }
 }
 
 /// The x-signature: for each row `t` of the window, the mean of the samples at `starts[t] +
@@ -459,6 +479,44 @@ mod tests {
             coherence: vec![1.0; grid.len()],
         };
         ridge_periods(gray, &s, &field, &FingerprintParams::default())
+    }
+
+    /// The extrema found 64 at a time are those of the loop with a branch on each sample, on
+    /// random signatures with plateaus, ties at the ends and either sign of zero, at every length.
+    #[test]
+    fn extrema_by_words_are_extrema_one_by_one() {
+        let one_by_one = |signature: &[f32], extremum: f32| -> Vec<usize> {
+            let mut found = Vec::new();
+            for k in 1..signature.len().saturating_sub(1) {
+                let (p, q, r) = (
+                    extremum * signature[k - 1],
+                    extremum * signature[k],
+                    extremum * signature[k + 1],
+                );
+                if q > p && q >= r {
+                    found.push(k);
+                }
+            }
+            found
+        };
+        let mut state = crate::synth::lcg(35);
+        let mut next = move || state() >> 33;
+        for case in 0..400 {
+            let length = case % 200;
+            let levels = 1 + next() % 6;
+            let signature: Vec<f32> = (0..length)
+                .map(|_| match next() % 8 {
+                    0 => -0.0,
+                    1 => 0.0,
+                    _ => (next() % levels) as f32 - 2.5,
+                })
+                .collect();
+            for extremum in [1.0f32, -1.0] {
+                let mut found = Vec::new();
+                extrema(&signature, extremum, |k| found.push(k));
+                assert_eq!(found, one_by_one(&signature, extremum), "case {case}");
+            }
+        }
     }
 
     /// [`x_signature`] as it was first written: every sample clamped at the image's edges.

@@ -741,6 +741,70 @@ pub(crate) fn tiny_hole(ink: &[bool], width: usize, height: usize, start: usize)
     tiny_hole_pixels_at(ink, width, height, start).map(|(_, len)| len)
 }
 
+/// [`tiny_hole`], counted only where the hole lies inside a stroke: `None` as well when every ink
+/// pixel around it also touches (8-adjacent) background that is no tiny hole. Such a hole lies
+/// between lines at most one pixel thick (1-px lines meeting at a shallow angle enclose single
+/// background pixels), a gap of the drawing rather than a speck punched into a stroke's body,
+/// which has ink around the speck on every side (docs/design.md, "The front end").
+pub(crate) fn tiny_hole_in_stroke(
+    ink: &[bool],
+    width: usize,
+    height: usize,
+    start: usize,
+) -> Option<usize> {
+    let (hole, len) = tiny_hole_pixels_at(ink, width, height, start)?;
+    let hole = &hole[..len];
+    // The hole touches no border, so its pixels' 8-neighbours are inside the image.
+    let around = |p: usize| {
+        [
+            p - width - 1,
+            p - width,
+            p - width + 1,
+            p - 1,
+            p + 1,
+            p + width - 1,
+            p + width,
+            p + width + 1,
+        ]
+    };
+    let open = |q: usize| !ink[q] && !hole.contains(&q) && !in_speck(ink, width, height, q);
+    let inside = hole.iter().flat_map(|&p| around(p)).any(|r| {
+        ink[r] && {
+            let (x, y) = (r % width, r / width);
+            // A ring pixel on the border has background beyond it.
+            x > 0 && y > 0 && x + 1 < width && y + 1 < height && !around(r).into_iter().any(open)
+        }
+    });
+    inside.then_some(len)
+}
+
+/// Whether background pixel `q` lies in a 4-connected background component of at most 3 pixels
+/// that does not touch the image border.
+fn in_speck(ink: &[bool], width: usize, height: usize, q: usize) -> bool {
+    let mut component = [q; 3];
+    let mut len = 1;
+    let mut next = 0;
+    while next < len {
+        let p = component[next];
+        next += 1;
+        let (x, y) = (p % width, p / width);
+        if x == 0 || y == 0 || x == width - 1 || y == height - 1 {
+            return false;
+        }
+        for n in [p - 1, p + 1, p - width, p + width] {
+            if ink[n] || component[..len].contains(&n) {
+                continue;
+            }
+            if len == 3 {
+                return false;
+            }
+            component[len] = n;
+            len += 1;
+        }
+    }
+    true
+}
+
 /// The pixels of [`tiny_hole`]'s component, `start` first (the first `len` of the array): what
 /// filling the speck sets.
 pub(crate) fn tiny_hole_pixels_at(
@@ -1168,6 +1232,40 @@ mod tests {
         let closed = close3(&ink, w, h);
         assert!(closed[2 * w + 2]);
         assert_eq!(closed.iter().filter(|&&b| b).count(), 12);
+    }
+
+    #[test]
+    fn a_speck_between_one_pixel_lines_is_no_hole_in_a_stroke() {
+        // Two 1-px lines meeting at a shallow angle (where 1-px strokes cross at 15 degrees)
+        // enclose (5,2); a 3-px stroke holds (5,2) below.
+        let (ink, w, h) = mask(&[
+            "..........",
+            "...###....",
+            ".####.##..",
+            ".....#####",
+            "..........",
+        ]);
+        let at = |x: usize, y: usize| y * w + x;
+        assert_eq!(tiny_hole(&ink, w, h, at(5, 2)), Some(1));
+        assert_eq!(tiny_hole_in_stroke(&ink, w, h, at(5, 2)), None);
+        let (ink, w, h) = mask(&[
+            "..........",
+            ".########.",
+            ".####.###.",
+            ".########.",
+            "..........",
+        ]);
+        assert_eq!(tiny_hole_in_stroke(&ink, w, h, at(5, 2)), Some(1));
+        // A neighbouring speck is no open background: two specks in one stroke both count.
+        let (ink, w, h) = mask(&[
+            "..........",
+            ".########.",
+            ".###.#.##.",
+            ".########.",
+            "..........",
+        ]);
+        assert_eq!(tiny_hole_in_stroke(&ink, w, h, at(4, 2)), Some(1));
+        assert_eq!(tiny_hole_in_stroke(&ink, w, h, at(6, 2)), Some(1));
     }
 
     #[test]

@@ -10,8 +10,8 @@ use rayon::prelude::*;
 use crate::binary::MaskView;
 use crate::error::{Error, Result};
 use crate::mask::{
-    close3, ink_row_starts, split_by, squared_distance_at, squared_distance_rows, tiny_hole, Mask,
-    Run, RunEnvelope,
+    close3, ink_row_starts, split_by, squared_distance_at, squared_distance_rows,
+    tiny_hole_in_stroke, Mask, Run, RunEnvelope,
 };
 use crate::params::Params;
 use crate::point_set::{Grid, PointSet};
@@ -138,7 +138,9 @@ pub(super) fn survey(
     let holes = || {
         runs.par_iter()
             .filter(|r| r.y > 0 && (r.y as usize) + 1 < height && (r.x1 as usize) + 1 < width)
-            .filter_map(|r| tiny_hole(ink, width, height, r.y as usize * width + r.x1 as usize))
+            .filter_map(|r| {
+                tiny_hole_in_stroke(ink, width, height, r.y as usize * width + r.x1 as usize)
+            })
             .sum()
     };
     let dropout = dropout.unwrap_or_else(|| dropout_mode(params, count, loose, spacing, holes));

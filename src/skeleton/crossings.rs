@@ -235,7 +235,7 @@ impl Work {
                             return true;
                         }
                         self.ink
-                            .holds(c.pos, cut_point(edge, end == 0, c.pos, reach))
+                            .holds_thin(c.pos, cut_point(edge, end == 0, c.pos, reach), c.width)
                     })
                 })
             })
@@ -1048,7 +1048,8 @@ impl Work {
             .iter()
             .map(|&n| line_dist(n, p.far, q.far))
             .fold(0.0f64, f64::max);
-        (worst <= tolerance && self.ink.holds(p.far, q.far)).then_some(worst)
+        let stroke = 2.0 * tolerance - 1.0;
+        (worst <= tolerance && self.ink.holds_thin(p.far, q.far, stroke)).then_some(worst)
     }
 
     /// The two other arms at each end of the link `link` between the degree-3 junctions `a`

@@ -382,6 +382,22 @@ mod tests {
     }
 
     #[test]
+    fn one_pixel_lines_crossing_at_fifteen_degrees_are_one_vertex() {
+        // The skeleton splits the crossing into two Y's 13 px apart; the straight strokes
+        // through them run along 1-px staircases, whose lines leave the pixels at every step.
+        let (c, half) = ([34.5, 16.5], 30.0f64);
+        let line = |deg: f64| {
+            let (dx, dy) = (half * deg.to_radians().cos(), half * deg.to_radians().sin());
+            Stroke::new(vec![[c[0] - dx, c[1] - dy], [c[0] + dx, c[1] + dy]], 1.0)
+        };
+        let (_, graph) = traced(&[line(7.0), line(22.0)], 70, 34);
+        assert_eq!(degrees(&graph), vec![4]);
+        assert_eq!(graph.endpoints().count(), 4);
+        let hub = graph.junctions().next().expect("a crossing");
+        assert!(dist(graph.vertices[hub].pos, c) <= 1.5);
+    }
+
+    #[test]
     fn a_shallow_crossing_is_one_vertex_and_forks_on_a_bar_stay_two() {
         // At 12 degrees thinning's Y's lie about 4.8 widths either side of the crossing.
         for angle in [12.0, 20.0] {

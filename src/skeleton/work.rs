@@ -11,6 +11,15 @@ use super::MIN_WIDTH_PX;
 /// step over a corner of background.
 const INK_STEP_PX: f64 = 0.5;
 
+/// Strokes this wide (px: the skeleton's width, 1 where every pixel of the stroke lies on the
+/// ink's edge, i.e. strokes one or two pixels wide) are lines of single pixels, linked through
+/// pixel corners ([`Ink::holds_thin`]).
+const THIN_STROKE_PX: f64 = 1.0;
+
+/// How near a pixel edge (px) a point off the ink may lie and still count as on a one-pixel line
+/// ([`Ink::at_or_linked`]): an eighth of a pixel, the rounding of where a line crosses a row.
+const PIXEL_EDGE_PX: f64 = 0.125;
+
 /// An ink mask over a window of the image.
 pub(super) struct Ink {
     pub(super) mask: Vec<bool>,
@@ -51,6 +60,54 @@ impl Ink {
             t += INK_STEP_PX;
         }
         t
+    }
+
+    /// Whether the point `p` is on the ink as a line along a stroke one pixel wide can be: on
+    /// an ink pixel, within [`PIXEL_EDGE_PX`] of one across a pixel edge, or in the corner of a
+    /// background pixel through which two diagonal ink pixels alone are linked (the other pixel
+    /// at that corner background too). Such ink is 8-connected: a straight line along it passes
+    /// a corner at every step of its staircase, never exactly through the corner point.
+    pub(super) fn at_or_linked(&self, p: [f64; 2]) -> bool {
+        if self.at(p) {
+            return true;
+        }
+        let (x, y) = (p[0] - self.origin[0], p[1] - self.origin[1]);
+        const EDGE: f64 = PIXEL_EDGE_PX;
+        if [(-EDGE, 0.0), (EDGE, 0.0), (0.0, -EDGE), (0.0, EDGE)]
+            .iter()
+            .any(|&(ex, ey)| self.at_window(x + ex, y + ey))
+        {
+            return true;
+        }
+        let (fx, fy) = (x.floor(), y.floor());
+        // The corner of the pixel nearest `p`, as the steps towards it.
+        let dx = if x - fx < 0.5 { -1.0 } else { 1.0 };
+        let dy = if y - fy < 0.5 { -1.0 } else { 1.0 };
+        let (cx, cy) = (fx + 0.5, fy + 0.5);
+        self.at_window(cx + dx, cy)
+            && self.at_window(cx, cy + dy)
+            && !self.at_window(cx + dx, cy + dy)
+    }
+
+    /// [`Ink::holds`] with the corners of diagonal links taken as ink ([`Ink::at_or_linked`]).
+    pub(super) fn holds_linked(&self, a: [f64; 2], b: [f64; 2]) -> bool {
+        let n = (dist(a, b) / INK_STEP_PX).ceil().max(1.0) as usize;
+        (0..=n).all(|i| {
+            let t = i as f64 / n as f64;
+            self.at_or_linked([a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1])])
+        })
+    }
+
+    /// [`Ink::holds`], or for a stroke at most [`THIN_STROKE_PX`] wide [`Ink::holds_linked`]:
+    /// a straight line along a one-pixel staircase leaves the pixels at its steps, so asking it
+    /// to stay on them refuses every straight stroke of a 1-px drawing (docs/quality.md,
+    /// "Session of 2026-12-06, sixth: thin drawings (issue 31)").
+    pub(super) fn holds_thin(&self, a: [f64; 2], b: [f64; 2], stroke: f64) -> bool {
+        if stroke <= THIN_STROKE_PX {
+            self.holds_linked(a, b)
+        } else {
+            self.holds(a, b)
+        }
     }
 
     /// Whether the segment `a`-`b` lies on the ink, sampled every half pixel.

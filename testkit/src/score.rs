@@ -24,7 +24,7 @@ use serde::Serialize;
 
 use crate::synth::{render, Case};
 use ridgeline::csr::Csr;
-use ridgeline::geometry::point_in_polygon;
+use ridgeline::geometry::{point_in_polygon, segment_dist};
 use ridgeline::mask::{label_components, on_image_edge, Connectivity};
 use ridgeline::Binary;
 use ridgeline::{dist, Edge, StrokeGraph, Vertex};
@@ -1491,7 +1491,17 @@ impl Net {
             };
             let d = dist(samples.pos[target], p);
             let touches = match rule {
-                Join::Ink { .. } => ink_touches(p, r_p, &far, &samples),
+                Join::Ink { .. } => {
+                    // The end's own ink: its cap, or where the cap is too small to hold a pixel
+                    // center (a 1 px stroke ending between pixel centers), the pixels the
+                    // renderer drew for its last sample step.
+                    let back = samples
+                        .links
+                        .row(end)
+                        .first()
+                        .map(|&s| samples.pos[s as usize]);
+                    ink_touches(p, back, r_p, &far, &samples)
+                }
                 Join::Distance { tol, .. } => d <= tol,
             };
             if touches {
@@ -1587,7 +1597,7 @@ impl Net {
                 let r_q = samples.width[q] / 2.0;
                 (!g.is_finite()
                     || (g > d + r_p + r_q + 2.0 && holes.inside(&search.path(&samples, q))))
-                    && ink_touches(p, r_p, &[(d, q)], &samples)
+                    && ink_touches(p, None, r_p, &[(d, q)], &samples)
             });
             candidates.extend(touching.into_iter().map(|(d, q)| (d, s, q)));
         }
@@ -2267,7 +2277,17 @@ fn intersect(
 /// Whether the round cap of radius `r_p` at `p` touches (shares or is 8-adjacent to a pixel of)
 /// the ink around the `far` samples, with pixels decided as [`crate::synth::render`] does: a pixel
 /// is ink when its center lies within half the width of the centerline.
-fn ink_touches(p: [f64; 2], r_p: f64, far: &[(f64, usize)], samples: &Samples) -> bool {
+///
+/// A cap narrower than a pixel's half diagonal can hold no pixel center (a 1 px stroke ending on
+/// a pixel corner): with `back`, the centerline point a sample step behind `p`, the cap's ink is
+/// then the pixels the renderer drew within `r_p` of the last step `back`-`p`.
+fn ink_touches(
+    p: [f64; 2],
+    back: Option<[f64; 2]>,
+    r_p: f64,
+    far: &[(f64, usize)],
+    samples: &Samples,
+) -> bool {
     let x0 = (p[0] - r_p).floor() as i64 - 1;
     let y0 = (p[1] - r_p).floor() as i64 - 1;
     let x1 = (p[0] + r_p).ceil() as i64 + 1;
@@ -2284,9 +2304,15 @@ fn ink_touches(p: [f64; 2], r_p: f64, far: &[(f64, usize)], samples: &Samples) -
                 .any(|&(_, s)| dist(c, samples.pos[s]) <= samples.width[s] / 2.0 + 0.03);
         }
     }
+    let in_cap = |x: i64, y: i64| dist(center(x, y), p) <= r_p + 1e-9;
+    let empty_cap = !(y0 + 1..y1).any(|y| (x0 + 1..x1).any(|x| in_cap(x, y)));
+    let own = |x: i64, y: i64| match back {
+        Some(q) if empty_cap => segment_dist(center(x, y), q, p) <= r_p + 1e-9,
+        _ => in_cap(x, y),
+    };
     for y in y0 + 1..y1 {
         for x in x0 + 1..x1 {
-            if dist(center(x, y), p) > r_p + 1e-9 {
+            if !own(x, y) {
                 continue;
             }
             for dy in -1..=1 {

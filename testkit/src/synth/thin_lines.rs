@@ -144,4 +144,20 @@ mod tests {
             assert_eq!(truth.endpoints().count(), 9, "w{w}");
         }
     }
+
+    #[test]
+    fn a_letter_has_the_same_truth_at_one_and_two_pixels() {
+        // Hershey strokes end on pixel corners: at 1 px an end's round cap holds no pixel
+        // center, yet its ink touches the stroke it ends on (the bar of H on its stems).
+        let cases = thin_cases();
+        for label in ["m", "w", "M_upper", "H_upper", "E_upper", "hash", "t", "f"] {
+            let counts = |w: f64| {
+                let name = format!("thin_letter_{label}_w{w}");
+                let case = cases.iter().find(|c| c.name == name).expect("letter");
+                let truth = truth_graph(case);
+                (truth.junctions().count(), truth.endpoints().count())
+            };
+            assert_eq!(counts(1.0), counts(2.0), "{label}");
+        }
+    }
 }

@@ -224,10 +224,12 @@ impl<'a> Sampler<'a> {
             self.heads.resize(buckets, NIL);
             self.occupied.resize(buckets.div_ceil(64), 0);
         }
+        // The search's state as locals: its loop reads and writes them for every point reached,
+        // and fields behind `self` are read again after every store.
+        let points = self.points;
+        let epoch = self.epoch;
+        let ink_bound = self.ink_bound;
         let Sampler {
-            points,
-            epoch,
-            ink_bound,
             seen,
             next,
             heads,
@@ -242,29 +244,68 @@ impl<'a> Sampler<'a> {
             first_hidden,
             ..
         } = self;
-        let mut queue = Queue {
-            heads,
-            next,
-            occupied,
-            used: *used,
-            cursor: *cursor,
-            queued: *queued,
-            admitted,
-        };
-        let ink = (*ink_bound).then_some((&mut visible[..], first_hidden));
-        search(
-            *points,
-            *epoch,
-            center,
-            limit,
-            &mut seen[..],
-            &mut queue,
-            overflow,
-            far,
-            order,
-            ink,
-        );
-        (*used, *cursor, *queued) = (queue.used, queue.cursor, queue.queued);
+        while *queued > 0 {
+            // Buckets first, then (hostile input) the far heap, whose keys are all larger.
+            let (key, p) = if *cursor < *used && *cursor as u32 <= limit {
+                // The cursor stops where stepping bucket by bucket would: at the first bucket in
+                // use, else at the end of the buckets in use or past the bound.
+                let end = (*used).min(limit as usize + 1);
+                let Some(k) = next_occupied(occupied, *cursor, end) else {
+                    *cursor = end;
+                    continue;
+                };
+                *cursor = k;
+                let p = heads[k];
+                let rest = next[p as usize];
+                heads[k] = rest;
+                if rest == NIL {
+                    occupied[k / 64] &= !(1u64 << (k % 64));
+                }
+                (k as u32, p)
+            } else {
+                match far.peek() {
+                    Some(&Reverse((key, p))) if key <= limit && *cursor >= *used => {
+                        far.pop();
+                        (key, p)
+                    }
+                    _ => break,
+                }
+            };
+            *queued -= 1;
+            order.push((key, p));
+            if ink_bound {
+                let q = points.points[p as usize];
+                if sees(points, visible, epoch, center, q) {
+                    visible[p as usize] = epoch;
+                } else if key < *first_hidden {
+                    *first_hidden = key;
+                }
+            }
+            for &r in points.neighbors_of(p) {
+                let mark = &mut seen[r as usize];
+                if *mark == epoch {
+                    continue;
+                }
+                *mark = epoch;
+                let s = points.points[r as usize];
+                let d2 = (s[0] - center[0]).powi(2) + (s[1] - center[1]).powi(2);
+                let key = quantize(d2).max(key);
+                // `enqueue`, its common case inline: a key the queue admits, in a bucket.
+                if key <= admitted && key < BUCKET_KEYS {
+                    let k = key as usize;
+                    next[r as usize] = heads[k];
+                    heads[k] = r;
+                    occupied[k / 64] |= 1u64 << (k % 64);
+                    *queued += 1;
+                    *used = (*used).max(k + 1);
+                } else if key > admitted {
+                    overflow.push((key, r));
+                } else {
+                    far.push(Reverse((key, r)));
+                    *queued += 1;
+                }
+            }
+        }
     }
 
     fn enqueue(&mut self, key: u32, p: u32) {
@@ -369,13 +410,33 @@ impl<'a> Sampler<'a> {
                 self.rim_seen[p as usize] = epoch;
             }
         }
-        rim_components(
-            points,
-            epoch,
-            &self.rim,
-            &mut self.rim_seen,
-            &mut self.stack,
-        )
+        let Sampler {
+            rim,
+            rim_seen,
+            stack,
+            ..
+        } = self;
+        let mut cuts = 0;
+        for &start in rim.iter() {
+            if rim_seen[start as usize] != epoch {
+                continue;
+            }
+            cuts += 1;
+            if cuts > 2 {
+                return cuts;
+            }
+            rim_seen[start as usize] = epoch.wrapping_sub(1);
+            stack.push(start);
+            while let Some(p) = stack.pop() {
+                for &q in points.neighbors_of(p) {
+                    if rim_seen[q as usize] == epoch {
+                        rim_seen[q as usize] = epoch.wrapping_sub(1);
+                        stack.push(q);
+                    }
+                }
+            }
+        }
+        cuts
     }
 
     /// Starts a disk search at point `center` (its disk empty, the center queued) and returns
@@ -573,164 +634,6 @@ impl<'a> Sampler<'a> {
         };
         (node, taken)
     }
-}
-
-/// The disk search's bucket queue, borrowed apart from the [`Sampler`] (see [`search`]).
-struct Queue<'q> {
-    heads: &'q mut [u32],
-    next: &'q mut [u32],
-    occupied: &'q mut [u64],
-    used: usize,
-    cursor: usize,
-    queued: usize,
-    /// The largest key the buckets take now (`Sampler::limit`): larger keys wait in the overflow.
-    admitted: u32,
-}
-
-/// The loop of [`Sampler::grow_disk`]: pops the queue up to `limit`, appending to `order`, and
-/// queues each popped point's unseen neighbours with their bottleneck keys.
-///
-/// A function of its own, each array passed apart as a slice: inside a method the loop reached
-/// them through the sampler, and every store into a mark or a bucket made the compiler read the
-/// vectors' pointers and lengths again (a store might have changed them); here they stay in
-/// registers. The same pops, pushes and keys in the same order as before.
-#[allow(clippy::too_many_arguments)]
-fn search(
-    points: &PointSet,
-    epoch: u32,
-    center: [f64; 2],
-    limit: u32,
-    seen: &mut [u32],
-    queue: &mut Queue<'_>,
-    overflow: &mut Vec<(u32, u32)>,
-    far: &mut BinaryHeap<Reverse<(u32, u32)>>,
-    order: &mut Vec<(u32, u32)>,
-    mut ink: Option<(&mut [u32], &mut u32)>,
-) {
-    let (coordinates, offsets, lists) = (
-        &points.points[..],
-        &points.offsets[..],
-        &points.neighbors[..],
-    );
-    let admitted = queue.admitted;
-    let Queue {
-        heads,
-        next,
-        occupied,
-        used,
-        cursor,
-        queued,
-        ..
-    } = queue;
-    while *queued > 0 {
-        // Buckets first, then (hostile input) the far heap, whose keys are all larger.
-        let (key, p) = if *cursor < *used && *cursor as u32 <= limit {
-            // The cursor stops where stepping bucket by bucket would: at the first bucket in
-            // use, else at the end of the buckets in use or past the bound.
-            let end = (*used).min(limit as usize + 1);
-            let Some(k) = next_occupied(occupied, *cursor, end) else {
-                *cursor = end;
-                continue;
-            };
-            *cursor = k;
-            let p = heads[k];
-            let rest = next[p as usize];
-            heads[k] = rest;
-            if rest == NIL {
-                occupied[k / 64] &= !(1u64 << (k % 64));
-            }
-            (k as u32, p)
-        } else {
-            match far.peek() {
-                Some(&Reverse((key, p))) if key <= limit && *cursor >= *used => {
-                    far.pop();
-                    (key, p)
-                }
-                _ => break,
-            }
-        };
-        *queued -= 1;
-        order.push((key, p));
-        if let Some((visible, first_hidden)) = &mut ink {
-            let q = coordinates[p as usize];
-            if sees(points, visible, epoch, center, q) {
-                visible[p as usize] = epoch;
-            } else if key < **first_hidden {
-                **first_hidden = key;
-            }
-        }
-        // `PointSet::neighbors_of`, on the slices.
-        let i = p as usize;
-        let neighbours = match (offsets.get(i), offsets.get(i + 1)) {
-            (Some(&start), Some(&end)) => lists.get(start as usize..end as usize).unwrap_or(&[]),
-            _ => &[],
-        };
-        for &r in neighbours {
-            let mark = &mut seen[r as usize];
-            if *mark == epoch {
-                continue;
-            }
-            *mark = epoch;
-            let s = coordinates[r as usize];
-            let d2 = (s[0] - center[0]).powi(2) + (s[1] - center[1]).powi(2);
-            let key = quantize(d2).max(key);
-            // `Sampler::enqueue`, its common case inline: a key the queue admits, in a bucket.
-            if key <= admitted && key < BUCKET_KEYS {
-                let k = key as usize;
-                next[r as usize] = heads[k];
-                heads[k] = r;
-                occupied[k / 64] |= 1u64 << (k % 64);
-                *queued += 1;
-                *used = (*used).max(k + 1);
-            } else if key > admitted {
-                overflow.push((key, r));
-            } else {
-                far.push(Reverse((key, r)));
-                *queued += 1;
-            }
-        }
-    }
-}
-
-/// The components of the rim points (marked `epoch` in `rim_seen`) that the starts in `rim`
-/// reach along the neighbour lists, counted up to 3 (see [`Sampler::rim_cuts`]); visited points
-/// are marked `epoch - 1`. A function of its own for the reason [`search`] is.
-fn rim_components(
-    points: &PointSet,
-    epoch: u32,
-    rim: &[u32],
-    rim_seen: &mut [u32],
-    stack: &mut Vec<u32>,
-) -> usize {
-    let (offsets, lists) = (&points.offsets[..], &points.neighbors[..]);
-    let mut cuts = 0;
-    for &start in rim {
-        if rim_seen[start as usize] != epoch {
-            continue;
-        }
-        cuts += 1;
-        if cuts > 2 {
-            return cuts;
-        }
-        rim_seen[start as usize] = epoch.wrapping_sub(1);
-        stack.push(start);
-        while let Some(p) = stack.pop() {
-            let i = p as usize;
-            let neighbours = match (offsets.get(i), offsets.get(i + 1)) {
-                (Some(&start), Some(&end)) => {
-                    lists.get(start as usize..end as usize).unwrap_or(&[])
-                }
-                _ => &[],
-            };
-            for &q in neighbours {
-                if rim_seen[q as usize] == epoch {
-                    rim_seen[q as usize] = epoch.wrapping_sub(1);
-                    stack.push(q);
-                }
-            }
-        }
-    }
-    cuts
 }
 
 /// [`ExperimentParams::ink_disks`](crate::ExperimentParams::ink_disks): whether the disk point

@@ -298,15 +298,7 @@ pub(super) fn build_from_runs(
     }
 
     let (offsets, neighbors) = if neighbours {
-        // At most eight pairs a pixel: one allocation instead of a growing one (copied at each
-        // doubling); what is left over is given back below.
-        let pairs = 8 * count;
-        eight_neighbours_of_runs(
-            &index,
-            (width, height),
-            (count, pairs),
-            runs.iter().map(local),
-        )?
+        eight_neighbours_of_runs(&index, (width, height), count, runs.iter().map(local))?
     } else {
         (vec![0u32; count + 1], Vec::new())
     };
@@ -439,18 +431,16 @@ fn close_list(offsets: &mut Vec<u32>, neighbors: &[u32]) -> Result<()> {
 /// per-pixel window bounds and the closure: a pixel's eight cells are gathered into a small
 /// buffer (a cell without ink is written and not counted) and appended at once. The rows above
 /// and below are read only where they exist, the columns beside only inside the window, as
-/// [`for_each_in_window`] clips them. The same lists, bit for bit (tested below). `count` is the
-/// number of pixels, `pairs` the room the lists are given at first (any: they grow past it and
-/// are shrunk to fit).
+/// [`for_each_in_window`] clips them. The same lists, bit for bit (tested below).
 fn eight_neighbours_of_runs(
     index: &[u32],
     (width, height): (usize, usize),
-    (count, pairs): (usize, usize),
+    count: usize,
     runs: impl Iterator<Item = (usize, usize, usize)>,
 ) -> Result<(Vec<u32>, Vec<u32>)> {
     let mut offsets = Vec::with_capacity(count + 1);
     offsets.push(0u32);
-    let mut neighbors: Vec<u32> = Vec::with_capacity(pairs);
+    let mut neighbors: Vec<u32> = Vec::new();
     let mut cells = [0u32; 8];
     for (y, a, b) in runs {
         let row = &index[y * width..(y + 1) * width];
@@ -501,9 +491,6 @@ fn eight_neighbours_of_runs(
 #[derive(Debug, Default)]
 pub(crate) struct Aside {
     runs: Vec<Run>,
-    /// How many neighbour pairs the freed lists held: [`restore`] makes them again in one
-    /// allocation of that size instead of growing it.
-    pairs: usize,
 }
 
 /// Frees what a point set can rebuild while it waits between stages (a chunk between its
@@ -543,17 +530,16 @@ pub(crate) fn set_aside(points: &mut PointSet) -> Aside {
             }),
         }
     }
-    let pairs = points.neighbors.len();
     points.points = Vec::new();
     points.offsets = Vec::new();
     points.neighbors = Vec::new();
-    Aside { runs, pairs }
+    Aside { runs }
 }
 
 /// Rebuilds what [`set_aside`] freed: the points and the pixel index from their runs, then the
 /// 8-neighbour lists from the index in the order [`build_from_runs`] makes them.
 pub(crate) fn restore(points: &mut PointSet, aside: Aside) {
-    let Aside { runs, pairs } = aside;
+    let Aside { runs } = aside;
     if !runs.is_empty() {
         points.points = Vec::with_capacity(points.half_width.len());
         for run in &runs {
@@ -603,12 +589,7 @@ pub(crate) fn restore(points: &mut PointSet, aside: Aside) {
     };
     let size = (width, height);
     // The lists were this long before (the `u32` limit was checked when they were first made).
-    let lists = eight_neighbours_of_runs(
-        &grid.index,
-        size,
-        (points.len(), pairs),
-        runs.iter().map(local),
-    );
+    let lists = eight_neighbours_of_runs(&grid.index, size, points.len(), runs.iter().map(local));
     if let Ok((offsets, neighbors)) = lists {
         points.offsets = offsets;
         points.neighbors = neighbors;
@@ -1177,9 +1158,8 @@ mod tests {
                 .flat_map(|&(y, a, b)| (a..b).map(move |x| (x, y)));
             let size = (width, height);
             let want = eight_neighbours(&index, size, count as usize, pixels).unwrap();
-            let got =
-                eight_neighbours_of_runs(&index, size, (count as usize, 0), runs.iter().copied())
-                    .unwrap();
+            let got = eight_neighbours_of_runs(&index, size, count as usize, runs.iter().copied())
+                .unwrap();
             assert_eq!(got, want, "case {case}: {width} x {height}");
         }
     }

@@ -239,10 +239,8 @@ pub(super) fn skeleton_by_component(
             continue;
         };
         let (y0, y1) = (first / width, last / width);
-        let (x0, x1) = pixels
-            .iter()
-            .map(|&i| i % width)
-            .fold((usize::MAX, 0), |(lo, hi), x| (lo.min(x), hi.max(x)));
+        let (x0, x1) = rows_and_columns(pixels, width)
+            .fold((usize::MAX, 0), |(lo, hi), (_, x)| (lo.min(x), hi.max(x)));
         // The box with a one-pixel background frame; `to_window` maps its pixels back.
         let (lw, lh) = (x1 - x0 + 3, y1 - y0 + 3);
         let to_window = |j: usize| (j / lw + y0 - 1) * width + (j % lw + x0 - 1);
@@ -251,15 +249,19 @@ pub(super) fn skeleton_by_component(
         local.clear();
         local.resize(lw * lh, false);
         filled.clear();
-        filled.extend(
-            pixels
-                .iter()
-                .map(|&i| (i / width - y0 + 1) * lw + (i % width - x0 + 1)),
-        );
+        filled
+            .extend(rows_and_columns(pixels, width).map(|(y, x)| (y - y0 + 1) * lw + (x - x0 + 1)));
         for &j in &filled {
             local[j] = true;
         }
         let specks = fill_specks_at(&mut local, lw, lh, &filled);
+        // The component's ink with its specks: its own pixels and the filled specks'.
+        for &i in pixels {
+            ink[i] = true;
+        }
+        for &j in &specks {
+            ink[to_window(j)] = true;
+        }
         if !specks.is_empty() {
             filled.extend(specks);
             filled.sort_unstable();
@@ -271,28 +273,52 @@ pub(super) fn skeleton_by_component(
         candidates.clone_from(&thin);
         one_pixel_thick_framed_at(&mut local, lw, &mut candidates);
         let mut kept = false;
-        for &j in thin.iter().filter(|&&j| local[j]) {
-            skeleton[to_window(j)] = true;
-            skeleton_pixels.push(to_window(j));
+        // `thin` rises (a part of `filled`), so its rows come one division a row.
+        let survivors = thin.iter().copied().filter(|&j| local[j]);
+        for (y, x) in rows_and_columns_of(survivors, lw) {
+            let i = (y + y0 - 1) * width + (x + x0 - 1);
+            skeleton[i] = true;
+            skeleton_pixels.push(i);
             kept = true;
         }
-        // The component's ink with its specks, in raster order.
-        let component = filled.iter().map(|&j| to_window(j));
         if !kept {
-            if let Some(deepest) = component
-                .clone()
+            // The component's ink with its specks, in raster order.
+            if let Some(deepest) = filled
+                .iter()
+                .map(|&j| to_window(j))
                 .max_by(|&a, &b| half(a).total_cmp(&half(b)).then(b.cmp(&a)))
             {
                 skeleton[deepest] = true;
                 skeleton_pixels.push(deepest);
             }
         }
-        for i in component {
-            ink[i] = true;
-        }
     }
     skeleton_pixels.sort_unstable();
     (skeleton, skeleton_pixels)
+}
+
+/// The row and column of each of `pixels` (indices into rows `width` long), one division per
+/// row rather than per pixel when they rise (a component's pixels in raster order); any order
+/// gives the same pairs.
+fn rows_and_columns(pixels: &[usize], width: usize) -> impl Iterator<Item = (usize, usize)> + '_ {
+    rows_and_columns_of(pixels.iter().copied(), width)
+}
+
+/// [`rows_and_columns`] of the indices `pixels` yields.
+fn rows_and_columns_of(
+    pixels: impl Iterator<Item = usize>,
+    width: usize,
+) -> impl Iterator<Item = (usize, usize)> {
+    // The row of the last pixel and the index where it starts (none yet: a start past every
+    // index, so that the first pixel divides).
+    let (mut row, mut start) = (0, usize::MAX);
+    pixels.map(move |i| {
+        if i < start || i - start >= width {
+            row = i / width;
+            start = row * width;
+        }
+        (row, i - start)
+    })
 }
 
 /// Zhang-Suen can leave runs two pixels thick (a 45 degree staircase, an L-shaped step) whose
@@ -612,6 +638,42 @@ mod tests {
         assert_eq!(skeleton, whole);
         let listed: Vec<usize> = (0..w * h).filter(|&i| whole[i]).collect();
         assert_eq!(pixels, listed);
+    }
+
+    #[test]
+    fn rows_and_columns_equal_the_divisions() {
+        // Rising runs with gaps of whole rows, as a component's pixels come, and then the same
+        // indices shuffled: each pair is the quotient and the remainder.
+        let mut lcg = crate::synth::lcg(4242u64);
+        let mut next = move || (lcg() >> 33) as usize;
+        for width in [1, 2, 3, 7, 64, 1000] {
+            let mut pixels = Vec::new();
+            let mut i = next() % (3 * width);
+            for _ in 0..400 {
+                pixels.push(i);
+                i += 1 + match next() % 4 {
+                    0 => next() % 3,
+                    1 => width * (next() % 3),
+                    2 => next() % (2 * width + 1),
+                    _ => 0,
+                };
+            }
+            let expected: Vec<(usize, usize)> =
+                pixels.iter().map(|&i| (i / width, i % width)).collect();
+            assert_eq!(
+                rows_and_columns(&pixels, width).collect::<Vec<_>>(),
+                expected
+            );
+            for k in (1..pixels.len()).rev() {
+                pixels.swap(k, next() % (k + 1));
+            }
+            let expected: Vec<(usize, usize)> =
+                pixels.iter().map(|&i| (i / width, i % width)).collect();
+            assert_eq!(
+                rows_and_columns(&pixels, width).collect::<Vec<_>>(),
+                expected
+            );
+        }
     }
 
     #[test]

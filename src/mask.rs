@@ -781,33 +781,24 @@ pub(crate) fn tiny_hole_in_stroke(
 /// Whether background pixel `q` lies in a 4-connected background component of at most 3 pixels
 /// that does not touch the image border.
 fn in_speck(ink: &[bool], width: usize, height: usize, q: usize) -> bool {
-    let mut component = [q; 3];
-    let mut len = 1;
-    let mut next = 0;
-    while next < len {
-        let p = component[next];
-        next += 1;
-        let (x, y) = (p % width, p / width);
-        if x == 0 || y == 0 || x == width - 1 || y == height - 1 {
-            return false;
-        }
-        for n in [p - 1, p + 1, p - width, p + width] {
-            if ink[n] || component[..len].contains(&n) {
-                continue;
-            }
-            if len == 3 {
-                return false;
-            }
-            component[len] = n;
-            len += 1;
-        }
-    }
-    true
+    speck_at(ink, width, height, q).is_some()
 }
 
 /// The pixels of [`tiny_hole`]'s component, `start` first (the first `len` of the array): what
 /// filling the speck sets.
 pub(crate) fn tiny_hole_pixels_at(
+    ink: &[bool],
+    width: usize,
+    height: usize,
+    start: usize,
+) -> Option<([usize; 3], usize)> {
+    let (component, len) = speck_at(ink, width, height, start)?;
+    (component[..len].iter().min() == Some(&start)).then_some((component, len))
+}
+
+/// The 4-connected background component of `start` (the first `len` of the array, `start`
+/// first) when it has at most 3 pixels and does not touch the image border.
+fn speck_at(
     ink: &[bool],
     width: usize,
     height: usize,
@@ -834,7 +825,7 @@ pub(crate) fn tiny_hole_pixels_at(
             len += 1;
         }
     }
-    (component[..len].iter().min() == Some(&start)).then_some((component, len))
+    Some((component, len))
 }
 
 #[cfg(test)]

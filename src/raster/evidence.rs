@@ -973,6 +973,24 @@ mod tests {
         }
     }
 
+    /// `measured` with each threshold replaced at random: whole levels, between them, below 0,
+    /// above 255, NaN, or any level.
+    fn odd_thresholds(measured: &Lighting, rand: &mut impl FnMut(u64) -> u64) -> Lighting {
+        let mut odd = measured.clone();
+        for t in odd.thresholds.iter_mut() {
+            *t = match rand(7) {
+                0 => rand(256) as f64,
+                1 => rand(256) as f64 + 0.5,
+                2 => -0.0,
+                3 => -3.5,
+                4 => 255.0 + rand(3) as f64,
+                5 => f64::NAN,
+                _ => rand(25_600) as f64 / 100.0 - 0.004,
+            };
+        }
+        odd
+    }
+
     /// The disagreement counted by bounds and ranges is the one tested pixel by pixel, with the
     /// measured lighting and with thresholds on whole levels, between them, below 0, above 255
     /// and NaN, at every global level's extremes.
@@ -986,18 +1004,7 @@ mod tests {
                 let Some(measured) = lighting(view, 1.0 + rand(6) as f64, dark_ink) else {
                     continue;
                 };
-                let mut odd = measured.clone();
-                for t in odd.thresholds.iter_mut() {
-                    *t = match rand(7) {
-                        0 => rand(256) as f64,
-                        1 => rand(256) as f64 + 0.5,
-                        2 => -0.0,
-                        3 => -3.5,
-                        4 => 255.0 + rand(3) as f64,
-                        5 => f64::NAN,
-                        _ => rand(25_600) as f64 / 100.0 - 0.004,
-                    };
-                }
+                let odd = odd_thresholds(&measured, &mut rand);
                 for lighting in [&measured, &odd] {
                     for level in [0, 1, rand(256) as u8, 254, 255] {
                         assert_eq!(
@@ -1024,18 +1031,7 @@ mod tests {
                 let Some(measured) = lighting(view, 1.0 + rand(6) as f64, dark_ink) else {
                     continue;
                 };
-                let mut odd = measured.clone();
-                for t in odd.thresholds.iter_mut() {
-                    *t = match rand(7) {
-                        0 => rand(256) as f64,
-                        1 => rand(256) as f64 + 0.5,
-                        2 => -0.0,
-                        3 => -3.5,
-                        4 => 255.0 + rand(3) as f64,
-                        5 => f64::NAN,
-                        _ => rand(25_600) as f64 / 100.0 - 0.004,
-                    };
-                }
+                let odd = odd_thresholds(&measured, &mut rand);
                 for lighting in [&measured, &odd] {
                     let surface = lighting.surface(w);
                     let want: Vec<bool> = (0..h)

@@ -757,7 +757,7 @@ impl Work {
         let pairs = [[(0, 0), (1, 1)], [(0, 1), (1, 0)]];
         let Some(&[(i, j), (k, l)]) = pairs.iter().find(|pair| {
             pair.iter().all(|&(i, j)| {
-                self.stroke_miss(&arms_a[i].1, &arms_b[j].1, tolerance)
+                self.stroke_miss(&arms_a[i].1, &arms_b[j].1, stroke)
                     .is_some()
             })
         }) else {
@@ -802,7 +802,7 @@ impl Work {
         let pairs = [[(0, 0), (1, 1)], [(0, 1), (1, 0)]];
         let &[(i, j), (k, l)] = pairs.iter().find(|pair| {
             pair.iter().all(|&(i, j)| {
-                self.stroke_miss(&arms_a[i].1, &arms_b[j].1, tolerance)
+                self.stroke_miss(&arms_a[i].1, &arms_b[j].1, stroke)
                     .is_some()
             })
         })?;
@@ -966,11 +966,11 @@ impl Work {
     /// too. `false` when the arms do not decide (no straight stroke, both pairs straight, an
     /// arm too short for a line or too shallow to meet the stroke).
     fn offset_tees(&self, link: usize, a: usize, b: usize, at: &[Vec<usize>]) -> bool {
-        let Some((arms_a, arms_b, stroke, tolerance)) = self.link_arms(link, a, b, at) else {
+        let Some((arms_a, arms_b, stroke, _)) = self.link_arms(link, a, b, at) else {
             return false;
         };
         let straight = |i: usize, j: usize| {
-            self.stroke_miss(&arms_a[i].1, &arms_b[j].1, tolerance)
+            self.stroke_miss(&arms_a[i].1, &arms_b[j].1, stroke)
                 .is_some()
         };
         if (straight(0, 0) && straight(1, 1)) || (straight(0, 1) && straight(1, 0)) {
@@ -1025,12 +1025,11 @@ impl Work {
         if dist(self.vertices[a].pos, self.vertices[b].pos) < TEES_APART * stroke {
             return false;
         }
-        let tolerance = disk_radius(stroke);
         let straight = |arms: &Arms| {
             arms.iter().enumerate().any(|(k, p)| {
                 arms[k + 1..]
                     .iter()
-                    .any(|q| self.stroke_miss(&p.1, &q.1, tolerance).is_some())
+                    .any(|q| self.stroke_miss(&p.1, &q.1, stroke).is_some())
             })
         };
         if arms_a.len() == 2 && arms_b.len() == 2 {
@@ -1040,15 +1039,16 @@ impl Work {
         }
     }
 
-    /// Whether the arms `p` and `q` are one straight stroke: the line through their far anchors
-    /// lies on the ink and passes within `tolerance` of both near anchors. How far it misses the
+    /// Whether the arms `p` and `q` of a stroke `stroke` px wide are one straight stroke: the
+    /// line through their far anchors lies on the ink ([`Ink::holds_thin`]) and passes within
+    /// the stroke's tolerance ([`disk_radius`]) of both near anchors. How far it misses the
     /// farther of them; `None` when they are not.
-    fn stroke_miss(&self, p: &ArmLine, q: &ArmLine, tolerance: f64) -> Option<f64> {
+    fn stroke_miss(&self, p: &ArmLine, q: &ArmLine, stroke: f64) -> Option<f64> {
+        let tolerance = disk_radius(stroke);
         let worst = [p.near, q.near]
             .iter()
             .map(|&n| line_dist(n, p.far, q.far))
             .fold(0.0f64, f64::max);
-        let stroke = 2.0 * tolerance - 1.0;
         (worst <= tolerance && self.ink.holds_thin(p.far, q.far, stroke)).then_some(worst)
     }
 
@@ -1189,7 +1189,7 @@ impl Work {
         let mut miss_of = vec![vec![None; arms.len()]; arms.len()];
         for i in 0..arms.len() {
             for j in i + 1..arms.len() {
-                miss_of[i][j] = self.stroke_miss(&arms[i].2, &arms[j].2, tolerance);
+                miss_of[i][j] = self.stroke_miss(&arms[i].2, &arms[j].2, stroke);
             }
         }
         let pairs = best_pairing(&miss_of, odd)?;

@@ -91,11 +91,7 @@ impl Ink {
 
     /// [`Ink::holds`] with the corners of diagonal links taken as ink ([`Ink::at_or_linked`]).
     pub(super) fn holds_linked(&self, a: [f64; 2], b: [f64; 2]) -> bool {
-        let n = (dist(a, b) / INK_STEP_PX).ceil().max(1.0) as usize;
-        (0..=n).all(|i| {
-            let t = i as f64 / n as f64;
-            self.at_or_linked([a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1])])
-        })
+        sampled(a, b).all(|p| self.at_or_linked(p))
     }
 
     /// [`Ink::holds`], or for a stroke at most [`THIN_STROKE_PX`] wide [`Ink::holds_linked`]:
@@ -112,12 +108,17 @@ impl Ink {
 
     /// Whether the segment `a`-`b` lies on the ink, sampled every half pixel.
     pub(super) fn holds(&self, a: [f64; 2], b: [f64; 2]) -> bool {
-        let n = (dist(a, b) / INK_STEP_PX).ceil().max(1.0) as usize;
-        (0..=n).all(|i| {
-            let t = i as f64 / n as f64;
-            self.at([a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1])])
-        })
+        sampled(a, b).all(|p| self.at(p))
     }
+}
+
+/// The points of the segment `a`-`b` every [`INK_STEP_PX`] or less, both ends included.
+fn sampled(a: [f64; 2], b: [f64; 2]) -> impl Iterator<Item = [f64; 2]> {
+    let n = (dist(a, b) / INK_STEP_PX).ceil().max(1.0) as usize;
+    (0..=n).map(move |i| {
+        let t = i as f64 / n as f64;
+        [a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1])]
+    })
 }
 
 /// The skeleton graph being edited: removed edges are `None`, removed vertices `alive == false`.

@@ -191,13 +191,24 @@ fn front_stages(gray: GrayView<'_>, params: &FingerprintParams) -> FrontStages {
     // image and the block's own orientation and period).
     let blank = if params.blank_evidence > 0.0 {
         let mut evidence = segment::ridge_evidence(&plane, &segmentation, &orientation, &periods);
-        let full = |b| segment::full_evidence(&plane, &segmentation, &orientation, &periods, b);
+        let whole = evidence.whole;
+        let measure = |b, rows| {
+            segment::measure_evidence(
+                &plane,
+                whole,
+                &segmentation,
+                &orientation,
+                &periods,
+                b,
+                rows,
+            )
+        };
         let period = periods.median_inside(&segmentation);
         let mut blank = |dark_ridges| {
             segment::blank_blocks(
                 &segmentation,
                 &mut evidence,
-                full,
+                measure,
                 params.blank_evidence,
                 params.blank_off_middle,
                 period,

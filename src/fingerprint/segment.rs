@@ -162,37 +162,95 @@ const ROW_ORIENTATIONS: usize = 12;
 /// How far [`ridge_evidence`]'s rows reach along the ridges each way from the block's centre, in
 /// ridge periods (one period across).
 const ROW_LENGTH: f64 = 1.5;
+/// How far apart, in the print's ridge periods (its median), the blocks are whose rows
+/// [`ridge_evidence`] measures for the ridges' amplitude: the rows of a block span a period each
+/// way across the ridges, so blocks nearer than two periods read mostly the same pixels and
+/// their amplitudes are nearly one measurement; on a lattice two periods apart each way the
+/// rectangles still cover the print (each 2 x 3 periods, one per 2 x 2 periods squared).
+const AMPLITUDE_SPACING_PERIODS: f64 = 2.0;
+
+/// How much of a block's rows its [`BlockEvidence`] holds.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub(crate) enum Rows {
+    /// None: the window's mean only.
+    #[default]
+    Mean,
+    /// The block's own orientation: the ridges' amplitude, that orientation's F ratio and noise.
+    Own,
+    /// The amplitude at the own orientation, the F ratio and noise at the best of
+    /// [`ROW_ORIENTATIONS`] (a core's curved ridges, or an orientation the field got wrong, still
+    /// count as ridges).
+    Full,
+}
+
+impl Rows {
+    /// The orientations whose rows are measured.
+    fn orientations(self) -> usize {
+        match self {
+            Rows::Mean => 0,
+            Rows::Own => 1,
+            Rows::Full => ROW_ORIENTATIONS,
+        }
+    }
+}
+
+/// [`ridge_evidence`]'s: each block's evidence, and the print's gray levels measured from it.
+pub(crate) struct RidgeEvidence {
+    /// Per block of the grid, what is measured of it (the default outside the print).
+    pub blocks: Vec<BlockEvidence>,
+    /// Whether every gray level is whole ([`whole_levels`]), for [`measure_evidence`].
+    pub whole: bool,
+    print: PrintGray,
+}
+
+impl RidgeEvidence {
+    /// The blocks' evidence, the print's middle gray and half swing taken from it (the swing
+    /// from the blocks whose rows are measured).
+    fn of(segmentation: &Segmentation, blocks: Vec<BlockEvidence>, whole: bool) -> RidgeEvidence {
+        let print = PrintGray::of(segmentation, &blocks);
+        RidgeEvidence {
+            blocks,
+            whole,
+            print,
+        }
+    }
+}
 
 /// Per block inside `segmentation`, how clearly the gray image around it shows ridges
-/// (docs/fingerprints.md, "Segmentation"), at the block's own orientation only: its window's
-/// mean gray and its ridges' amplitude there, and the F ratio and noise of that orientation,
-/// which [`full_evidence`] completes to the best of [`ROW_ORIENTATIONS`] where [`blank_blocks`]
-/// needs it. 0 outside the print.
+/// (docs/fingerprints.md, "Segmentation"): every block's window mean gray, and the rows at the
+/// own orientation (the ridges' amplitude, that orientation's F ratio and noise) of the blocks on
+/// a lattice [`AMPLITUDE_SPACING_PERIODS`] of the print's median period apart each way (every
+/// block where that is under two blocks, or where no lattice block is print), from which the
+/// print's middle gray and the ridges' half swing are taken. [`measure_evidence`] completes a
+/// block's rows where [`blank_blocks`] needs them. The default outside the print.
 pub(crate) fn ridge_evidence(
     gray: &Plane,
     segmentation: &Segmentation,
     field: &OrientationField,
     periods: &RidgePeriods,
-) -> Vec<BlockEvidence> {
+) -> RidgeEvidence {
     let whole = whole_levels(gray);
-    (0..segmentation.grid.len())
+    let grid = segmentation.grid;
+    let cols = grid.cols as usize;
+    let spacing = AMPLITUDE_SPACING_PERIODS * periods.median_inside(segmentation);
+    let step = ((spacing / f64::from(grid.block)).floor() as usize).max(1);
+    let on = |step: usize, b: usize| (b % cols) % step == 0 && (b / cols) % step == 0;
+    let step = if (0..grid.len()).any(|b| segmentation.inside[b] && on(step, b)) {
+        step
+    } else {
+        1
+    };
+    let blocks = (0..grid.len())
         .into_par_iter()
         .map_init(EvidenceScratch::default, |scratch, b| {
             if !segmentation.inside[b] {
                 return BlockEvidence::default();
             }
-            block_evidence(
-                gray,
-                whole,
-                segmentation.grid,
-                field,
-                periods,
-                b,
-                1,
-                scratch,
-            )
+            let rows = if on(step, b) { Rows::Own } else { Rows::Mean };
+            block_evidence(gray, whole, grid, field, periods, b, rows, scratch)
         })
-        .collect()
+        .collect();
+    RidgeEvidence::of(segmentation, blocks, whole)
 }
 
 /// Whether every value of `gray` is a whole number of at most 2¹⁶ in size (8-bit gray levels
@@ -209,25 +267,26 @@ fn whole_levels(gray: &Plane) -> bool {
     failing == 0
 }
 
-/// The full evidence of block `b` (inside the print): as [`ridge_evidence`]'s, the F ratio and
-/// the noise at the best of [`ROW_ORIENTATIONS`] orientations from the block's own (a core's
-/// curved ridges, or an orientation the field got wrong, still count as ridges); the mean and
-/// the amplitude are the same bits.
-pub(crate) fn full_evidence(
+/// The evidence of block `b` (inside the print) with `rows` measured, as [`ridge_evidence`]'s
+/// (`whole` its [`RidgeEvidence::whole`]): the mean, and the amplitude where measured, are the
+/// same bits whatever `rows`.
+pub(crate) fn measure_evidence(
     gray: &Plane,
+    whole: bool,
     segmentation: &Segmentation,
     field: &OrientationField,
     periods: &RidgePeriods,
     b: usize,
+    rows: Rows,
 ) -> BlockEvidence {
     block_evidence(
         gray,
-        false,
+        whole,
         segmentation.grid,
         field,
         periods,
         b,
-        ROW_ORIENTATIONS,
+        rows,
         &mut EvidenceScratch::default(),
     )
 }
@@ -241,22 +300,14 @@ fn block_evidence(
     field: &OrientationField,
     periods: &RidgePeriods,
     b: usize,
-    orientations: usize,
+    rows: Rows,
     scratch: &mut EvidenceScratch,
 ) -> BlockEvidence {
     let cols = grid.cols as usize;
     let (i, j) = (b % cols, b / cols);
     let own = f64::from(field.angle[b]);
     let period = f64::from(periods.period[b]).max(2.0);
-    row_f_ratio(
-        gray,
-        whole,
-        grid.center(i, j),
-        own,
-        period,
-        orientations,
-        scratch,
-    )
+    row_f_ratio(gray, whole, grid.center(i, j), own, period, rows, scratch)
 }
 
 /// [`row_f_ratio`]'s scratch space, kept from one block to the next.
@@ -278,18 +329,19 @@ struct PrintGray {
 
 impl PrintGray {
     fn of(segmentation: &Segmentation, evidence: &[BlockEvidence]) -> PrintGray {
-        let median_of = |value: fn(&BlockEvidence) -> f32| {
+        let median_of = |value: fn(&BlockEvidence) -> Option<f32>| {
             let mut values: Vec<f32> = evidence
                 .iter()
                 .zip(&segmentation.inside)
                 .filter(|(_, &inside)| inside)
-                .map(|(e, _)| value(e))
+                .filter_map(|(e, _)| value(e))
                 .collect();
             f64::from(upper_median_by(&mut values, f32::total_cmp).unwrap_or(0.0))
         };
         PrintGray {
-            middle: median_of(|e| e.mean),
-            swing: std::f64::consts::SQRT_2 * median_of(|e| e.amplitude),
+            middle: median_of(|e| Some(e.mean)),
+            swing: std::f64::consts::SQRT_2
+                * median_of(|e| (e.rows != Rows::Mean).then_some(e.amplitude)),
         }
     }
 
@@ -310,7 +362,7 @@ impl PrintGray {
 /// What [`ridge_evidence`] finds around one block.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub(crate) struct BlockEvidence {
-    /// The rows' F ratio at the best orientation (about 1 on noise, 0 on a flat patch).
+    /// The rows' F ratio at the orientations of `rows` (about 1 on noise, 0 on a flat patch).
     pub f_ratio: f32,
     /// The mean gray level of the window (before the plane is taken off).
     pub mean: f32,
@@ -319,9 +371,8 @@ pub(crate) struct BlockEvidence {
     pub amplitude: f32,
     /// The pixels' standard deviation within the rows at the best orientation (the noise).
     pub noise: f32,
-    /// Whether `f_ratio` and `noise` are the best of [`ROW_ORIENTATIONS`] ([`full_evidence`]),
-    /// else the block's own orientation's ([`ridge_evidence`]).
-    pub full: bool,
+    /// Which rows `amplitude`, `f_ratio` and `noise` are measured from (0 for [`Rows::Mean`]).
+    pub rows: Rows,
 }
 
 /// The evidence of the rectangle around `c` (see [`ROW_LENGTH`] and docs/fingerprints.md,
@@ -334,9 +385,9 @@ pub(crate) struct BlockEvidence {
 /// between the rows' means to the variance of a row mean (the pixels' variance within the rows
 /// over their count, plus the rounding noise of 8-bit gray, 1/12 level², so that a flat patch
 /// without noise is no ridge) is about 1. Unitless, in the image's own units (gray levels
-/// against gray levels, lengths in the period). The best of the first `orientations` of
-/// [`ROW_ORIENTATIONS`] from `own` (`own` itself first, where the amplitude is measured);
-/// `scratch` is scratch space.
+/// against gray levels, lengths in the period). The best of the orientations of
+/// [`ROW_ORIENTATIONS`] from `own` that `rows` says (`own` itself first, where the amplitude is
+/// measured; none, the window's mean only, for [`Rows::Mean`]); `scratch` is scratch space.
 ///
 /// The disc's pixels are read once, for the plane's sums (its moments from whole-pixel offsets:
 /// exact sums for 8-bit gray); each orientation then reads only the part of each line that can
@@ -351,15 +402,15 @@ fn row_f_ratio(
     c: [f64; 2],
     own: f64,
     period: f64,
-    orientations: usize,
+    rows: Rows,
     scratch: &mut EvidenceScratch,
 ) -> BlockEvidence {
     #[cfg(target_arch = "x86_64")]
     if super::math::wide_lanes() {
         // SAFETY: the CPU has AVX2 (checked at run time).
-        return unsafe { row_f_ratio_wide(gray, whole, c, own, period, orientations, scratch) };
+        return unsafe { row_f_ratio_wide(gray, whole, c, own, period, rows, scratch) };
     }
-    row_f_ratio_lanes::<false>(gray, whole, c, own, period, orientations, scratch)
+    row_f_ratio_lanes::<false>(gray, whole, c, own, period, rows, scratch)
 }
 
 /// [`row_f_ratio`] compiled for AVX2, each line's pixels four to a register (`wide`).
@@ -374,10 +425,10 @@ unsafe fn row_f_ratio_wide(
     c: [f64; 2],
     own: f64,
     period: f64,
-    orientations: usize,
+    rows: Rows,
     scratch: &mut EvidenceScratch,
 ) -> BlockEvidence {
-    row_f_ratio_lanes::<true>(gray, whole, c, own, period, orientations, scratch)
+    row_f_ratio_lanes::<true>(gray, whole, c, own, period, rows, scratch)
 }
 
 /// [`row_f_ratio`]'s work, inlined into the version the CPU runs (`WIDE`: the one for AVX2,
@@ -389,9 +440,10 @@ fn row_f_ratio_lanes<const WIDE: bool>(
     c: [f64; 2],
     own: f64,
     period: f64,
-    orientations: usize,
+    rows: Rows,
     scratch: &mut EvidenceScratch,
 ) -> BlockEvidence {
+    let measured = rows;
     let EvidenceScratch { lines, rows } = scratch;
     let (w, h) = (i64::from(gray.width), i64::from(gray.height));
     // The disc that holds the rectangle at any orientation.
@@ -447,7 +499,10 @@ fn row_f_ratio_lanes<const WIDE: bool>(
         syv += yy * s;
     }
     if n < 8.0 {
-        return BlockEvidence::default();
+        return BlockEvidence {
+            rows: measured,
+            ..BlockEvidence::default()
+        };
     }
     // The best plane v ≈ m + p dx + q dy by least squares (the moments about the means, times
     // n: whole numbers for whole gray levels).
@@ -468,7 +523,7 @@ fn row_f_ratio_lanes<const WIDE: bool>(
     let count = 2 * period.ceil() as usize + 2;
     let off = count as f64;
     let mut orientations_seen = BestRows::default();
-    for o in 0..orientations.min(ROW_ORIENTATIONS) {
+    for o in 0..measured.orientations() {
         let theta = own + std::f64::consts::PI * o as f64 / ROW_ORIENTATIONS as f64;
         let (nx, ny) = (-theta.sin(), theta.cos());
         // Each pixel's row, `count` (a row of its own, left out) where the pixel is off the
@@ -508,7 +563,7 @@ fn row_f_ratio_lanes<const WIDE: bool>(
         };
         orientations_seen.take(o, &anova);
     }
-    orientations_seen.evidence(mv, orientations >= ROW_ORIENTATIONS)
+    orientations_seen.evidence(mv, measured)
 }
 
 /// Σ v and Σ X·v over a line of the disc, its first pixel at the offset `x0` from the centre's
@@ -750,13 +805,13 @@ impl BestRows {
         }
     }
 
-    fn evidence(&self, mean: f64, full: bool) -> BlockEvidence {
+    fn evidence(&self, mean: f64, rows: Rows) -> BlockEvidence {
         BlockEvidence {
             f_ratio: self.ratio as f32,
             mean: mean as f32,
             amplitude: self.amplitude as f32,
             noise: self.spread as f32,
-            full,
+            rows,
         }
     }
 }
@@ -876,7 +931,10 @@ fn row_f_ratio_reference(
         }
     }
     if window.len() < 8 {
-        return BlockEvidence::default();
+        return BlockEvidence {
+            rows: Rows::Full,
+            ..BlockEvidence::default()
+        };
     }
     let n = window.len() as f64;
     // The best plane v ≈ m + p dx + q dy by least squares, taken off.
@@ -928,7 +986,7 @@ fn row_f_ratio_reference(
         };
         orientations_seen.take(o, &anova);
     }
-    orientations_seen.evidence(mv, true)
+    orientations_seen.evidence(mv, Rows::Full)
 }
 
 /// The least blank area kept out of the print, in ridge periods squared (a square two periods a
@@ -947,15 +1005,16 @@ const BLANK_AREA_PERIODS2: f64 = 4.0;
 /// invents ridges the gray image then confirms. Areas smaller than [`BLANK_AREA_PERIODS2`]
 /// periods squared (`period`, the print's median) stay print. None when `level` is 0.
 ///
-/// `evidence` is [`ridge_evidence`]'s; `full` gives a block's [`full_evidence`], asked (in
-/// parallel) for the blocks whose F ratio or noise can decide and kept in `evidence`: a block
-/// off the middle on the ridges' side whose own orientation's F ratio is below `level` (the best
-/// is at least that) and that could seed, then those of the seeds' neighbours off the middle on
-/// that side. The others' F ratio and noise do not change what is blank.
+/// `evidence` is [`ridge_evidence`]'s; `measure` gives a block's [`measure_evidence`], asked (in
+/// parallel) for the blocks whose F ratio or noise can decide and kept in `evidence`: the own
+/// orientation's rows of a block off the middle on the ridges' side that could seed, then the
+/// best of [`ROW_ORIENTATIONS`] for those whose own F ratio is below `level` (the best is at
+/// least that), then for those of the seeds' neighbours off the middle on that side. The others'
+/// F ratio and noise do not change what is blank.
 pub(crate) fn blank_blocks(
     segmentation: &Segmentation,
-    evidence: &mut [BlockEvidence],
-    full: impl Fn(usize) -> BlockEvidence + Sync,
+    evidence: &mut RidgeEvidence,
+    measure: impl Fn(usize, Rows) -> BlockEvidence + Sync,
     level: f64,
     off_middle: f64,
     period: f64,
@@ -963,11 +1022,15 @@ pub(crate) fn blank_blocks(
 ) -> Vec<bool> {
     let grid = segmentation.grid;
     let (cols, rows) = (grid.cols as usize, grid.rows as usize);
+    let RidgeEvidence {
+        blocks: evidence,
+        print,
+        ..
+    } = evidence;
     if level <= 0.0 || evidence.len() != grid.len() {
         return vec![false; grid.len()];
     }
     let inside = |b: usize| segmentation.inside[b];
-    let print = PrintGray::of(segmentation, evidence);
     let ridges_side = if dark_ridges { -1 } else { 1 };
     // Off the middle on the ridges' side by the window's mean alone (or outside the print).
     let off = |evidence: &[BlockEvidence], b: usize| {
@@ -990,27 +1053,31 @@ pub(crate) fn blank_blocks(
         let (i, j) = (b % cols, b / cols);
         i > 0 && j > 0 && i + 1 < cols && j + 1 < rows && neighbours(b).all(inside)
     };
-    let complete = |evidence: &mut [BlockEvidence], wanted: Vec<usize>| {
-        let done: Vec<BlockEvidence> = wanted.par_iter().map(|&b| full(b)).collect();
+    let complete = |evidence: &mut [BlockEvidence], wanted: Vec<usize>, rows: Rows| {
+        let done: Vec<BlockEvidence> = wanted.par_iter().map(|&b| measure(b, rows)).collect();
         for (b, e) in wanted.into_iter().zip(done) {
             evidence[b] = e;
         }
     };
+    let wanted = (0..grid.len())
+        .filter(|&b| off(evidence, b) && interior(b) && evidence[b].rows == Rows::Mean)
+        .collect();
+    complete(evidence, wanted, Rows::Own);
     let can_seed = |evidence: &[BlockEvidence], b: usize| {
         off(evidence, b) && f64::from(evidence[b].f_ratio) < level && interior(b)
     };
     let wanted = (0..grid.len())
-        .filter(|&b| can_seed(evidence, b) && !evidence[b].full)
+        .filter(|&b| can_seed(evidence, b) && evidence[b].rows != Rows::Full)
         .collect();
-    complete(evidence, wanted);
+    complete(evidence, wanted, Rows::Full);
     let seeds: Vec<bool> = (0..grid.len())
         .map(|b| can_seed(evidence, b) && side(evidence, b))
         .collect();
     let near_seed = |b: usize| neighbours(b).any(|n| seeds[n]);
     let wanted = (0..grid.len())
-        .filter(|&b| off(evidence, b) && near_seed(b) && !evidence[b].full)
+        .filter(|&b| off(evidence, b) && near_seed(b) && evidence[b].rows != Rows::Full)
         .collect();
-    complete(evidence, wanted);
+    complete(evidence, wanted, Rows::Full);
     let blank: Vec<bool> = (0..grid.len())
         .map(|b| side(evidence, b) && near_seed(b))
         .collect();
@@ -1325,24 +1392,17 @@ mod tests {
                 _ => 4.0 * uniform() - 2.0,
             };
             let whole = whole_levels(&plane);
-            let new = row_f_ratio(
-                &plane,
-                whole,
-                c,
-                own,
-                period,
-                ROW_ORIENTATIONS,
-                &mut scratch,
-            );
+            let new = row_f_ratio(&plane, whole, c, own, period, Rows::Full, &mut scratch);
             let old = row_f_ratio_reference(&plane, c, own, period, &mut tuples, &mut rows);
-            let own_only = row_f_ratio(&plane, whole, c, own, period, 1, &mut scratch);
+            let own_only = row_f_ratio(&plane, whole, c, own, period, Rows::Own, &mut scratch);
+            let mean_only = row_f_ratio(&plane, whole, c, own, period, Rows::Mean, &mut scratch);
             let close = |a: f32, b: f32| (a - b).abs() <= 1e-5 * a.abs().max(b.abs()) + 1e-6;
             assert!(
                 close(new.f_ratio, old.f_ratio)
                     && close(new.mean, old.mean)
                     && close(new.amplitude, old.amplitude)
                     && close(new.noise, old.noise)
-                    && new.full == old.full,
+                    && new.rows == old.rows,
                 "case {case}: {new:?} vs {old:?}"
             );
             if case % 3 != 1 {
@@ -1352,8 +1412,17 @@ mod tests {
                 own_only.mean.to_bits() == new.mean.to_bits()
                     && own_only.amplitude.to_bits() == new.amplitude.to_bits()
                     && own_only.f_ratio <= new.f_ratio
-                    && !own_only.full,
+                    && own_only.rows == Rows::Own,
                 "case {case}: {own_only:?} vs {new:?}"
+            );
+            assert_eq!(
+                mean_only,
+                BlockEvidence {
+                    mean: new.mean,
+                    rows: Rows::Mean,
+                    ..BlockEvidence::default()
+                },
+                "case {case}"
             );
         }
     }
@@ -1374,7 +1443,7 @@ mod tests {
                 e.mean.to_bits(),
                 e.amplitude.to_bits(),
                 e.noise.to_bits(),
-                e.full,
+                e.rows,
             )
         };
         let mut compared = 0;
@@ -1410,23 +1479,23 @@ mod tests {
             // The disc's sums in lanes on whole levels only.
             let whole = whole_levels(&plane);
             assert_eq!(whole, case % 4 != 1 && case % 4 != 2, "case {case}");
-            for orientations in [1, ROW_ORIENTATIONS] {
+            for measured in [Rows::Mean, Rows::Own, Rows::Full] {
                 let one_by_one = row_f_ratio_lanes::<false>(
                     &plane,
                     whole,
                     c,
                     own,
                     period,
-                    orientations,
+                    measured,
                     &mut scratch,
                 );
-                let chosen = row_f_ratio(&plane, whole, c, own, period, orientations, &mut scratch);
+                let chosen = row_f_ratio(&plane, whole, c, own, period, measured, &mut scratch);
                 assert_eq!(bits(chosen), bits(one_by_one), "case {case}");
                 #[cfg(target_arch = "x86_64")]
                 if crate::fingerprint::math::wide_lanes() {
                     // SAFETY: the CPU has AVX2.
                     let wide = unsafe {
-                        row_f_ratio_wide(&plane, whole, c, own, period, orientations, &mut scratch)
+                        row_f_ratio_wide(&plane, whole, c, own, period, measured, &mut scratch)
                     };
                     assert_eq!(bits(wide), bits(one_by_one), "case {case}");
                 }
@@ -1528,8 +1597,10 @@ mod tests {
                 height: size,
                 values,
             };
-            let evidence = full_evidence(&plane, &s, &field, &periods, middle);
-            assert!(evidence.full);
+            let whole = whole_levels(&plane);
+            let evidence =
+                measure_evidence(&plane, whole, &s, &field, &periods, middle, Rows::Full);
+            assert_eq!(evidence.rows, Rows::Full);
             evidence.f_ratio
         };
         let (clear, faint, faint_noisy, flat, noisy) = (
@@ -1545,9 +1616,10 @@ mod tests {
         assert!((0.5..3.0).contains(&noisy), "{noisy}");
     }
 
-    /// The blank blocks found from the own orientation's evidence, completed only where it can
-    /// decide, are those found from every block's full evidence: a print of straight ridges
-    /// with a solid dark disc (the ridges' level) under noise, both polarities.
+    /// The blank blocks found from the lattice's evidence, completed only where it can decide,
+    /// are those found from every block's full evidence with the same middle gray and swing: a
+    /// print of straight ridges with a solid dark disc (the ridges' level) under noise, both
+    /// polarities.
     #[test]
     fn blank_blocks_from_the_completed_evidence_are_those_from_the_full() {
         let (size, period, theta) = (160u32, 9.0f64, 0.4f64);
@@ -1564,16 +1636,24 @@ mod tests {
             *v = (*v + 10.0 * 3f32.sqrt() * four_uniforms(&mut state)).round();
         }
         let asked = std::sync::atomic::AtomicUsize::new(0);
-        let full = |b| {
+        let whole = whole_levels(&gray);
+        let measure = |b, rows| {
             asked.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
-            full_evidence(&gray, &s, &field, &periods, b)
+            measure_evidence(&gray, whole, &s, &field, &periods, b, rows)
         };
         let mut completed = ridge_evidence(&gray, &s, &field, &periods);
-        let mut every: Vec<BlockEvidence> = (0..grid.len()).map(full).collect();
+        let mut every = RidgeEvidence {
+            blocks: (0..grid.len()).map(|b| measure(b, Rows::Full)).collect(),
+            whole,
+            print: PrintGray {
+                middle: completed.print.middle,
+                swing: completed.print.swing,
+            },
+        };
         asked.store(0, std::sync::atomic::Ordering::Relaxed);
         for dark in [true, false] {
-            let lazy = blank_blocks(&s, &mut completed, full, 2.0, 0.5, period, dark);
-            let eager = blank_blocks(&s, &mut every, full, 2.0, 0.5, period, dark);
+            let lazy = blank_blocks(&s, &mut completed, measure, 2.0, 0.5, period, dark);
+            let eager = blank_blocks(&s, &mut every, measure, 2.0, 0.5, period, dark);
             assert_eq!(lazy, eager, "dark ridges {dark}");
             // The disc's centre is blank for dark ridges only.
             assert_eq!(lazy[grid.index(10, 10)], dark, "dark ridges {dark}");
@@ -1583,6 +1663,49 @@ mod tests {
             asked > 0 && asked < grid.len() / 4,
             "{asked} of {} blocks completed",
             grid.len()
+        );
+    }
+
+    /// The rows are measured on the lattice two periods apart (every second block each way at a
+    /// period of 9 px in blocks of 8) and nowhere else, each block's mean everywhere, all the
+    /// same bits as the block measured alone; on even ridges under noise the lattice's swing is
+    /// within 5 % of every block's and the middle gray the same.
+    #[test]
+    fn the_amplitude_is_measured_on_a_lattice_two_periods_apart() {
+        let (size, period, theta) = (160u32, 9.0f64, 0.4f64);
+        let grid = BlockGrid::new(size, size, 8);
+        let (s, field, periods) =
+            crate::fingerprint::tests::uniform_print(grid, theta as f32, period as f32);
+        let mut gray = ridges_in_disk(size, size, period, theta, [80.0, 80.0], 400.0);
+        let mut state = 0x0DDB_1A5E_5BAD_5EEDu64;
+        for v in gray.values.iter_mut() {
+            *v = (*v + 10.0 * 3f32.sqrt() * four_uniforms(&mut state)).round();
+        }
+        let evidence = ridge_evidence(&gray, &s, &field, &periods);
+        let whole = whole_levels(&gray);
+        assert!(whole);
+        let cols = grid.cols as usize;
+        let own: Vec<BlockEvidence> = (0..grid.len())
+            .map(|b| measure_evidence(&gray, whole, &s, &field, &periods, b, Rows::Own))
+            .collect();
+        for (b, (e, own)) in evidence.blocks.iter().zip(&own).enumerate() {
+            if (b % cols) % 2 == 0 && (b / cols) % 2 == 0 {
+                assert_eq!(e, own, "block {b}");
+            } else {
+                let mean_only = BlockEvidence {
+                    mean: own.mean,
+                    rows: Rows::Mean,
+                    ..BlockEvidence::default()
+                };
+                assert_eq!(*e, mean_only, "block {b}");
+            }
+        }
+        let every = PrintGray::of(&s, &own);
+        assert_eq!(evidence.print.middle.to_bits(), every.middle.to_bits());
+        let (lattice, all) = (evidence.print.swing, every.swing);
+        assert!(
+            lattice > 0.0 && (lattice - all).abs() <= 0.05 * all,
+            "{lattice} {all}"
         );
     }
 
@@ -1598,7 +1721,7 @@ mod tests {
             mean: 128.0,
             amplitude: 50.0,
             noise: 10.0,
-            full: true,
+            rows: Rows::Full,
         };
         let mut evidence = vec![ridges; grid.len()];
         let at = |i: usize, j: usize| grid.index(i, j);
@@ -1608,7 +1731,7 @@ mod tests {
             mean: 28.0,
             amplitude: 0.0,
             noise: 10.0,
-            full: true,
+            rows: Rows::Full,
         };
         for j in 4..7 {
             for i in 4..7 {
@@ -1629,12 +1752,13 @@ mod tests {
                 mean: 135.0,
                 amplitude: 3.0,
                 noise: 10.0,
-                full: true,
+                rows: Rows::Full,
             };
         }
         evidence[at(10, 10)].mean = 28.0;
         // Every block's evidence is full: none is asked for.
-        let full = |_| -> BlockEvidence { unreachable!("every block's evidence is full") };
+        let full = |_, _| -> BlockEvidence { unreachable!("every block's evidence is full") };
+        let mut evidence = RidgeEvidence::of(&s, evidence, true);
         let dark = blank_blocks(&s, &mut evidence, full, 2.0, 0.5, 8.0, true);
         let light = blank_blocks(&s, &mut evidence, full, 2.0, 0.5, 8.0, false);
         for j in 0..12 {

@@ -240,14 +240,24 @@ pub(crate) fn ridge_evidence(
     } else {
         1
     };
+    // Off the lattice only the mean: from the lines' sums where the levels are whole (exact).
+    let prefix = if whole { line_prefix_sums(gray) } else { None };
     let blocks = (0..grid.len())
         .into_par_iter()
         .map_init(EvidenceScratch::default, |scratch, b| {
             if !segmentation.inside[b] {
                 return BlockEvidence::default();
             }
-            let rows = if on(step, b) { Rows::Own } else { Rows::Mean };
-            block_evidence(gray, whole, grid, field, periods, b, rows, scratch)
+            if on(step, b) {
+                return block_evidence(gray, whole, grid, field, periods, b, Rows::Own, scratch);
+            }
+            match &prefix {
+                Some(prefix) => {
+                    let period = f64::from(periods.period[b]).max(2.0);
+                    window_mean(gray, prefix, grid.center(b % cols, b / cols), period)
+                }
+                None => block_evidence(gray, whole, grid, field, periods, b, Rows::Mean, scratch),
+            }
         })
         .collect();
     RidgeEvidence::of(segmentation, blocks, whole)
@@ -445,29 +455,16 @@ fn row_f_ratio_lanes<const WIDE: bool>(
 ) -> BlockEvidence {
     let measured = rows;
     let EvidenceScratch { lines, rows } = scratch;
-    let (w, h) = (i64::from(gray.width), i64::from(gray.height));
-    // The disc that holds the rectangle at any orientation.
+    let w = i64::from(gray.width);
     let along = ROW_LENGTH * period;
-    let reach = (period * period + along * along).sqrt();
-    let r = reach.ceil() as i64;
-    let (cx, cy) = (c[0].floor() as i64, c[1].floor() as i64);
-    let inside_disc = |x: i64, ddy: f64| {
-        let ddx = x as f64 + 0.5 - c[0];
-        ddx * ddx + ddy * ddy <= reach * reach
-    };
+    let disc = Disc::new(gray, c, period);
+    let (r, cx, cy) = (disc.r, disc.cx, disc.cy);
     // The plane's sums over the disc, in offsets `X`, `Y` from (cx, cy): whole numbers.
     let (mut n, mut sx, mut sy, mut sxx, mut sxy, mut syy) = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0);
     let (mut sv, mut sxv, mut syv) = (0.0f64, 0.0f64, 0.0f64);
-    let (x_lo, x_hi) = ((cx - r).max(0), (cx + r).min(w - 1));
     lines.clear();
-    for y in (cy - r).max(0)..=(cy + r).min(h - 1) {
-        let ddy = y as f64 + 0.5 - c[1];
-        let half = (reach * reach - ddy * ddy).max(0.0).sqrt();
-        let guess = (
-            (c[0] - 0.5 - half).ceil() as i64,
-            (c[0] - 0.5 + half).floor() as i64,
-        );
-        let Some((a, b)) = disc_run(x_lo, x_hi, guess, |x| inside_disc(x, ddy)) else {
+    for y in disc.rows() {
+        let Some((a, b)) = disc.line(y) else {
             continue;
         };
         lines.push((y, a, b));
@@ -564,6 +561,138 @@ fn row_f_ratio_lanes<const WIDE: bool>(
         orientations_seen.take(o, &anova);
     }
     orientations_seen.evidence(mv, measured)
+}
+
+/// The disc that holds [`row_f_ratio`]'s rectangle around `c` at any orientation (radius
+/// `√(1 + 1.5²)` periods): the pixels whose centres lie within it, line by line.
+struct Disc {
+    c: [f64; 2],
+    reach: f64,
+    /// The radius rounded up, px.
+    r: i64,
+    /// The pixel that holds `c`.
+    cx: i64,
+    cy: i64,
+    /// The image's columns and lines the disc's square can reach.
+    x_lo: i64,
+    x_hi: i64,
+    y_lo: i64,
+    y_hi: i64,
+}
+
+impl Disc {
+    #[inline(always)]
+    fn new(gray: &Plane, c: [f64; 2], period: f64) -> Disc {
+        let (w, h) = (i64::from(gray.width), i64::from(gray.height));
+        let along = ROW_LENGTH * period;
+        let reach = (period * period + along * along).sqrt();
+        let r = reach.ceil() as i64;
+        let (cx, cy) = (c[0].floor() as i64, c[1].floor() as i64);
+        Disc {
+            c,
+            reach,
+            r,
+            cx,
+            cy,
+            x_lo: (cx - r).max(0),
+            x_hi: (cx + r).min(w - 1),
+            y_lo: (cy - r).max(0),
+            y_hi: (cy + r).min(h - 1),
+        }
+    }
+
+    /// The image lines the disc may cross.
+    #[inline(always)]
+    fn rows(&self) -> std::ops::RangeInclusive<i64> {
+        self.y_lo..=self.y_hi
+    }
+
+    /// The first and last column of the disc's pixels on line `y`, if any: the bounds solved in
+    /// real numbers, then each end checked with the pixel's own test.
+    #[inline(always)]
+    fn line(&self, y: i64) -> Option<(i64, i64)> {
+        let (c, reach) = (self.c, self.reach);
+        let ddy = y as f64 + 0.5 - c[1];
+        let inside_disc = |x: i64| {
+            let ddx = x as f64 + 0.5 - c[0];
+            ddx * ddx + ddy * ddy <= reach * reach
+        };
+        let half = (reach * reach - ddy * ddy).max(0.0).sqrt();
+        let guess = (
+            (c[0] - 0.5 - half).ceil() as i64,
+            (c[0] - 0.5 + half).floor() as i64,
+        );
+        disc_run(self.x_lo, self.x_hi, guess, inside_disc)
+    }
+}
+
+/// Sums of each image line's gray levels from its start (`width + 1` a line, the first 0), for
+/// [`window_mean`]: whole numbers where every level is ([`whole_levels`]), so any line's part
+/// is their difference, exact. `None` where a line's sum could leave `i32`.
+fn line_prefix_sums(gray: &Plane) -> Option<Vec<i32>> {
+    let w = gray.width as usize;
+    if (w as u64 + 1) * 65_536 >= i32::MAX as u64 || w == 0 {
+        return None;
+    }
+    let mut sums = Vec::with_capacity((w + 1) * gray.height as usize);
+    for line in gray.values.chunks_exact(w) {
+        let mut sum = 0i32;
+        sums.push(0);
+        sums.extend(line.iter().map(|&v| {
+            sum += v as i32;
+            sum
+        }));
+    }
+    Some(sums)
+}
+
+/// [`row_f_ratio`]'s window mean alone (what it gives for [`Rows::Mean`], the same bits), from
+/// `prefix`, [`line_prefix_sums`] of a `gray` of whole levels: each line of the disc its
+/// difference of two sums (exact), where [`row_f_ratio`] adds its pixels.
+fn window_mean(gray: &Plane, prefix: &[i32], c: [f64; 2], period: f64) -> BlockEvidence {
+    #[cfg(target_arch = "x86_64")]
+    if super::math::wide_lanes() {
+        // SAFETY: the CPU has AVX2 (checked at run time).
+        return unsafe { window_mean_wide(gray, prefix, c, period) };
+    }
+    window_mean_lanes(gray, prefix, c, period)
+}
+
+/// [`window_mean`] compiled for AVX2 (`floor` and `ceil` one instruction each).
+///
+/// # Safety
+/// The CPU must have AVX2.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+unsafe fn window_mean_wide(
+    gray: &Plane,
+    prefix: &[i32],
+    c: [f64; 2],
+    period: f64,
+) -> BlockEvidence {
+    window_mean_lanes(gray, prefix, c, period)
+}
+
+#[inline(always)]
+fn window_mean_lanes(gray: &Plane, prefix: &[i32], c: [f64; 2], period: f64) -> BlockEvidence {
+    let stride = gray.width as usize + 1;
+    let disc = Disc::new(gray, c, period);
+    let (mut n, mut sv) = (0.0f64, 0.0f64);
+    for y in disc.rows() {
+        let Some((a, b)) = disc.line(y) else {
+            continue;
+        };
+        let line = &prefix[y as usize * stride..(y as usize + 1) * stride];
+        n += (b - a + 1) as f64;
+        sv += f64::from(line[b as usize + 1] - line[a as usize]);
+    }
+    if n < 8.0 {
+        return BlockEvidence::default();
+    }
+    BlockEvidence {
+        mean: (sv / n) as f32,
+        ..BlockEvidence::default()
+    }
 }
 
 /// Σ v and Σ X·v over a line of the disc, its first pixel at the offset `x0` from the centre's
@@ -1424,6 +1553,14 @@ mod tests {
                 },
                 "case {case}"
             );
+            // From the lines' sums, where the levels are whole: the same bits.
+            if let Some(prefix) = line_prefix_sums(&plane).filter(|_| whole) {
+                assert_eq!(
+                    window_mean(&plane, &prefix, c, period),
+                    mean_only,
+                    "case {case}"
+                );
+            }
         }
     }
 
@@ -1500,6 +1637,22 @@ mod tests {
                     assert_eq!(bits(wide), bits(one_by_one), "case {case}");
                 }
                 compared += usize::from(one_by_one.f_ratio > 0.0);
+                if measured == Rows::Mean && whole {
+                    let prefix = line_prefix_sums(&plane).expect("a narrow image");
+                    let mean = window_mean(&plane, &prefix, c, period);
+                    assert_eq!(bits(mean), bits(one_by_one), "case {case}");
+                    #[cfg(target_arch = "x86_64")]
+                    if crate::fingerprint::math::wide_lanes() {
+                        // SAFETY: the CPU has AVX2.
+                        let wide = unsafe { window_mean_wide(&plane, &prefix, c, period) };
+                        assert_eq!(bits(wide), bits(one_by_one), "case {case}");
+                    }
+                    assert_eq!(
+                        bits(window_mean_lanes(&plane, &prefix, c, period)),
+                        bits(one_by_one),
+                        "case {case}"
+                    );
+                }
             }
         }
         // Most cases have a window with rows to compare.

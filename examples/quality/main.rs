@@ -682,6 +682,7 @@ fn main() -> anyhow::Result<()> {
                 if std::env::var("QUALITY_DUMP_ENDS").is_ok() && method == "ridgeline" {
                     if let (Ok(truth), Ok(graph)) = (&truth, &result) {
                         dump_ends(case, truth, graph, &options);
+                        dump_missed(case, truth, graph, &options);
                     }
                 }
                 if std::env::var("QUALITY_DUMP_JUNCTIONS").is_ok() && method == "ridgeline" {
@@ -1242,6 +1243,91 @@ fn real_images(verbose: bool) -> Vec<RealImage> {
 /// widths, B off the truth otherwise, C on the truth with a missed true end within 3 widths, D
 /// (E) an edge of at most 3 widths to a junction with no (a) true junction within 1.5 widths, F
 /// a longer edge to a junction, G the rest (docs/quality.md, "Spurious ends on japanese (issue 31)").
+/// `QUALITY_DUMP_ENDS`: every true end no predicted end matches, in widths of the true end
+/// (`w`): the nearest predicted end, junction and line, the true end's edge (length, degree of
+/// its other vertex), and where the nearest predicted end lies along the true end's outward
+/// direction (negative: short of it) and across it.
+fn dump_missed(case: &Case, truth: &StrokeGraph, graph: &StrokeGraph, options: &ScoreOptions) {
+    let d = |a: [f64; 2], b: [f64; 2]| (a[0] - b[0]).hypot(a[1] - b[1]);
+    let norm = ridgeline_testkit::score::normalize_with(case, graph, options);
+    let radius = |w: f64| w.max(options.min_match_radius);
+    let pred_e: Vec<usize> = norm.endpoints().collect();
+    let pred_j: Vec<usize> = norm.junctions().collect();
+    for t in truth.endpoints() {
+        let tp = truth.vertices[t].pos;
+        let w = truth.vertices[t].width.max(1.0);
+        if pred_e
+            .iter()
+            .any(|&p| d(norm.vertices[p].pos, tp) <= radius(w))
+        {
+            continue;
+        }
+        let ne = pred_e
+            .iter()
+            .map(|&p| d(norm.vertices[p].pos, tp))
+            .fold(f64::INFINITY, f64::min)
+            / w;
+        let nj = pred_j
+            .iter()
+            .map(|&p| d(norm.vertices[p].pos, tp))
+            .fold(f64::INFINITY, f64::min)
+            / w;
+        let (len, other) = truth
+            .edges
+            .iter()
+            .find(|e| e.from == t || e.to == t)
+            .map_or((0.0, 0), |e| {
+                let len: f64 = e.points.windows(2).map(|s| d(s[0], s[1])).sum();
+                let o = if e.from == t { e.to } else { e.from };
+                (len / w, truth.vertices[o].degree)
+            });
+        let pe = norm
+            .edges
+            .iter()
+            .flat_map(|e| e.points.windows(2))
+            .map(|s| ridgeline::geometry::segment_dist(tp, s[0], s[1]))
+            .fold(f64::INFINITY, f64::min)
+            / w;
+        // Along the truth's end direction (outwards), how far the nearest predicted end lies
+        // beyond the true end (w), and across.
+        let (along, across) = truth
+            .edges
+            .iter()
+            .find(|e| e.from == t || e.to == t)
+            .and_then(|e| {
+                let pts: Vec<[f64; 2]> = if e.from == t {
+                    e.points.iter().rev().copied().collect()
+                } else {
+                    e.points.clone()
+                };
+                let back = pts
+                    .iter()
+                    .rev()
+                    .find(|&&q| d(q, tp) >= w)
+                    .copied()
+                    .unwrap_or(pts[0]);
+                let u = [tp[0] - back[0], tp[1] - back[1]];
+                let l = u[0].hypot(u[1]);
+                if l == 0.0 {
+                    return None;
+                }
+                let u = [u[0] / l, u[1] / l];
+                let p = pred_e
+                    .iter()
+                    .map(|&p| norm.vertices[p].pos)
+                    .min_by(|a, b| d(*a, tp).total_cmp(&d(*b, tp)))?;
+                let v = [p[0] - tp[0], p[1] - tp[1]];
+                Some((
+                    (v[0] * u[0] + v[1] * u[1]) / w,
+                    (v[0] * u[1] - v[1] * u[0]).abs() / w,
+                ))
+            })
+            .unwrap_or((f64::NAN, f64::NAN));
+        println!("MDUMP {} ({:.0},{:.0}) w {:.1} pred_end {:.2} pred_junction {:.2} pred_edge {:.2} tedge {:.2} to_deg {} along {:.2} across {:.2}",
+            case.name, tp[0], tp[1], w, ne, nj, pe, len, other, along, across);
+    }
+}
+
 fn dump_ends(case: &Case, truth: &StrokeGraph, graph: &StrokeGraph, options: &ScoreOptions) {
     let d = |a: [f64; 2], b: [f64; 2]| (a[0] - b[0]).hypot(a[1] - b[1]);
     let norm = ridgeline_testkit::score::normalize_with(case, graph, options);

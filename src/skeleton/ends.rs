@@ -22,6 +22,22 @@ const END_SEARCH: f64 = 2.0;
 /// See [`END_SEARCH`] (px).
 const END_SEARCH_PX: f64 = 4.0;
 
+/// The cap's centre is looked for along the end's line every this many px
+/// ([`Work::cap_centre`]).
+const CAP_STEP_PX: f64 = 0.5;
+
+/// The disks of the end's line that reach this near (px) to the farthest reach as far: the
+/// ink's edge is known to a pixel ([`Work::cap_centre`]).
+const CAP_REACH_PX: f64 = 1.0;
+
+/// A cap's centre lies on the stroke's middle: the ink either side of it, across the end's line,
+/// differs by at most this many stroke widths (a tail that curves away from the end's line is
+/// still followed)...
+const CAP_CENTRED: f64 = 0.25;
+
+/// ...and at least this (px): a pixel either side.
+const CAP_CENTRED_PX: f64 = 1.0;
+
 /// An end is carried on by at least this (px), or stays: less is within its own pixel.
 const MIN_EXTENSION_PX: f64 = 1.0;
 
@@ -59,7 +75,14 @@ impl Work {
                 }
                 let u = [d[0] / n, d[1] / n];
                 // Where the ink ends ahead of the tip (at most a few widths on).
-                let reach = self.ink.exit(tip, u, END_SEARCH * stroke + END_SEARCH_PX) - half;
+                let exit = self.ink.exit(tip, u, END_SEARCH * stroke + END_SEARCH_PX);
+                let reach = exit - half;
+                // A stroke that narrows to its end (a brush's tail) ends at the centre of its
+                // own cap, nearer the tip than the stroke's half-width.
+                let reach = match self.cap_centre(tip, u, exit, stroke) {
+                    Some(cap) if cap >= reach + MIN_EXTENSION_PX => cap,
+                    _ => reach,
+                };
                 if reach < MIN_EXTENSION_PX {
                     continue;
                 }
@@ -70,6 +93,35 @@ impl Work {
                 self.vertices[v].pos = end;
             }
         }
+    }
+
+    /// The centre of the cap of an end at `tip` going along `u`, whose ink ends `exit` px on:
+    /// of the disks on the ink centred on the end's line (each as wide as the distance to the
+    /// background, measured as the widths are), the nearest to the tip among those that reach
+    /// as far ahead as any, within a pixel ([`CAP_REACH_PX`]). A round pen's cap is reached
+    /// by every disk from its centre on, so that is the cap's centre (`exit` less the stroke's
+    /// half-width, as before); where the stroke narrows to its end (a brush's tail), the disks
+    /// reach farther the nearer the tip they lie, and the end is the centre of the narrower
+    /// cap (docs/design.md, adaptation 13). Only on the stroke's middle ([`CAP_CENTRED_PX`]).
+    fn cap_centre(&self, tip: [f64; 2], u: [f64; 2], exit: f64, stroke: f64) -> Option<f64> {
+        let at = |t: f64| [tip[0] + t * u[0], tip[1] + t * u[1]];
+        let mut reaches = Vec::new();
+        let mut t = 0.0;
+        while t < exit {
+            reaches.push((t, t + self.ink.clearance(at(t), exit - t + 1.0)));
+            t += CAP_STEP_PX;
+        }
+        let farthest = reaches
+            .iter()
+            .map(|r| r.1)
+            .fold(f64::NEG_INFINITY, f64::max);
+        let &(t, _) = reaches.iter().find(|r| r.1 >= farthest - CAP_REACH_PX)?;
+        let (across, back) = ([-u[1], u[0]], [u[1], -u[0]]);
+        let (a, b) = (
+            self.ink.exit(at(t), across, exit),
+            self.ink.exit(at(t), back, exit),
+        );
+        ((a - b).abs() <= (CAP_CENTRED * stroke).max(CAP_CENTRED_PX)).then_some(t)
     }
 
     /// A blob of ink no longer than it is wide (the dot of an `i`, a full stop) thins to a short
@@ -93,6 +145,55 @@ impl Work {
             self.dot[keep] = true;
             self.alive[gone] = false;
             self.edges[e] = None;
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::geometry::dist;
+    use crate::params::Params;
+    use crate::synth::{render, Stroke};
+
+    /// The ends of a bar drawn from `(20.5, 40.5)` to `(110.5, 40.5)`, `start` px wide at its
+    /// left end and `end` px wide at its right (each end a round cap of that width).
+    fn bar_ends(start: f64, end: f64) -> Vec<[f64; 2]> {
+        let n = 10;
+        let points: Vec<[f64; 2]> = (0..=n).map(|i| [20.5 + 9.0 * i as f64, 40.5]).collect();
+        let widths = (0..=n)
+            .map(|i| start + (end - start) * i as f64 / n as f64)
+            .collect();
+        let binary = render(&[Stroke { points, widths }], 130, 80);
+        let mut params = Params::default();
+        params.finish.skeleton = true;
+        let graph = crate::trace_binary(&binary, &params).expect("trace").graph;
+        graph.endpoints().map(|v| graph.vertices[v].pos).collect()
+    }
+
+    #[test]
+    fn a_stroke_that_narrows_ends_at_the_centre_of_its_own_cap() {
+        // A brush's tail: 20 px wide narrowing to 5. The stroke's median half-width (about
+        // 6 px) from the ink's end put the end about 4 px short of the narrow cap's centre.
+        for (start, end) in [(20.0, 5.0), (16.0, 6.0)] {
+            let ends = bar_ends(start, end);
+            assert_eq!(ends.len(), 2, "{ends:?}");
+            let tail = [110.5, 40.5];
+            let nearest = ends
+                .iter()
+                .map(|&p| dist(p, tail))
+                .fold(f64::INFINITY, f64::min);
+            assert!(
+                nearest <= 1.5,
+                "{start} -> {end} px: ends {ends:?}, the tail's cap centre {tail:?}"
+            );
+        }
+        // A stroke of one width keeps its end at its cap's centre.
+        let ends = bar_ends(9.0, 9.0);
+        for cap in [[20.5, 40.5], [110.5, 40.5]] {
+            assert!(
+                ends.iter().any(|&p| dist(p, cap) <= 1.0),
+                "ends {ends:?}, cap centre {cap:?}"
+            );
         }
     }
 }

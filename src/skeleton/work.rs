@@ -62,6 +62,27 @@ impl Ink {
         t
     }
 
+    /// The distance from `p` to the nearest background pixel centre, looked for up to `limit`
+    /// px (beyond that, `limit` and a pixel more are returned): the radius of the disk on the
+    /// ink at `p`, measured as the skeleton's widths are (a skeleton pixel's disk holds the ink
+    /// pixels closer to it than the nearest background pixel).
+    pub(super) fn clearance(&self, p: [f64; 2], limit: f64) -> f64 {
+        let (x, y) = (p[0] - self.origin[0], p[1] - self.origin[1]);
+        let (cx, cy) = (x.floor(), y.floor());
+        let k = limit.max(0.0).ceil() as i64 + 1;
+        let mut best = limit.max(0.0) + 1.0;
+        for dy in -k..=k {
+            for dx in -k..=k {
+                let (qx, qy) = (cx + dx as f64 + 0.5, cy + dy as f64 + 0.5);
+                let d = (qx - x).hypot(qy - y);
+                if d < best && !self.at_window(qx, qy) {
+                    best = d;
+                }
+            }
+        }
+        best
+    }
+
     /// Whether the point `p` is on the ink as a line along a stroke one pixel wide can be: on
     /// an ink pixel, within [`PIXEL_EDGE_PX`] of one across a pixel edge, or in the corner of a
     /// background pixel through which two diagonal ink pixels alone are linked (the other pixel

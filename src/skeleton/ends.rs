@@ -44,8 +44,10 @@ const MIN_EXTENSION_PX: f64 = 1.0;
 impl Work {
     /// Thinning erodes a stroke's end, most along a diagonal: each end is carried on along its
     /// own direction (taken over the last two widths) to where the ink ends, less the stroke's
-    /// half-width, the centre of its cap. Ends are only ever lengthened.
-    pub(super) fn extend_ends(&mut self) {
+    /// half-width, the centre of its cap; with `tails`, a stroke that narrows to its end is
+    /// carried on to the centre of its own, narrower cap ([`Work::cap_centre`]). Ends are only
+    /// ever lengthened.
+    pub(super) fn extend_ends(&mut self, tails: bool) {
         let degree = self.degrees();
         for e in 0..self.edges.len() {
             for at_start in [true, false] {
@@ -79,7 +81,10 @@ impl Work {
                 let reach = exit - half;
                 // A stroke that narrows to its end (a brush's tail) ends at the centre of its
                 // own cap, nearer the tip than the stroke's half-width.
-                let reach = match self.cap_centre(tip, u, exit, stroke) {
+                let cap = tails
+                    .then(|| self.cap_centre(tip, u, exit, stroke))
+                    .flatten();
+                let reach = match cap {
                     Some(cap) if cap >= reach + MIN_EXTENSION_PX => cap,
                     _ => reach,
                 };

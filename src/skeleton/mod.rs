@@ -92,11 +92,14 @@ pub(crate) fn thin(binary: &Binary) -> StrokeGraph {
 /// lists and in dropout mode.
 ///
 /// `components` are the points' [`PointSet::component_labels`] (labels and sizes) when they are
-/// known (found here otherwise, and when their length is not the points').
+/// known (found here otherwise, and when their length is not the points'). `ridges`: the ink is
+/// a print's ridges, whose ends keep the place the print's prior and minutiae filter were
+/// measured on (a ridge's end is not a brush's tail: [`Work::extend_ends`]).
 pub fn carry(
     method: &StrokeGraph,
     points: &PointSet,
     experiments: &ExperimentParams,
+    ridges: bool,
     components: Option<(&[u32], &[usize])>,
 ) -> StrokeGraph {
     let Some(grid) = &points.grid else {
@@ -106,7 +109,7 @@ pub fn carry(
         return method.clone();
     }
     let (skeleton, ink) = skeleton_graph(points, grid, components);
-    let carried = reconcile(Work::new(skeleton, ink), method, experiments);
+    let carried = reconcile(Work::new(skeleton, ink), method, experiments, ridges);
     debug_assert_eq!(validate(&carried), Ok(()));
     carried
 }
@@ -189,7 +192,12 @@ fn skeleton_graph(
 /// junctions, crossings, spurs the merged crossings leave, split crossings and stars, corners,
 /// junctions put back on one-pixel lines, dots, ends, junctions, the method's lines, and last
 /// every edge fitted to its ink.
-fn reconcile(mut work: Work, method: &StrokeGraph, experiments: &ExperimentParams) -> StrokeGraph {
+fn reconcile(
+    mut work: Work,
+    method: &StrokeGraph,
+    experiments: &ExperimentParams,
+    ridges: bool,
+) -> StrokeGraph {
     let by_ink = experiments.decide_by_ink;
     work.prune_spurs(by_ink);
     work.join_degree_two();
@@ -206,7 +214,7 @@ fn reconcile(mut work: Work, method: &StrokeGraph, experiments: &ExperimentParam
     work.join_degree_two();
     work.undip_junctions();
     work.collapse_dots();
-    work.extend_ends();
+    work.extend_ends(!ridges);
     work.straighten_junctions();
     work.adopt_method_geometry(method);
     work.smooth_edges();

@@ -730,7 +730,8 @@ fn carry_on_skeleton(
     // Every edge fitted to its ink, a print's ridges too: without the method's lines
     // ([`skeleton_only`]) the pixel paths alone placed minutiae worse.
     let components = Some((&components.0[..], &components.1[..]));
-    let carried = skeleton::carry(&graph, points, &params.experiments, components);
+    let ridges = params.fingerprint.is_some();
+    let carried = skeleton::carry(&graph, points, &params.experiments, components, ridges);
     timings.skeleton = clock.elapsed();
     carried
 }

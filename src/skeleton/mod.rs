@@ -93,12 +93,16 @@ pub(crate) fn thin(binary: &Binary) -> StrokeGraph {
 /// lists and in dropout mode.
 ///
 /// `components` are the points' [`PointSet::component_labels`] (labels and sizes) when they are
-/// known (found here otherwise, and when their length is not the points').
+/// known (found here otherwise, and when their length is not the points'). `ridges` is set for
+/// a print's ridges: their forks stay where thinning puts them ([`Work::place_shallow_tees`]
+/// is not applied; moved, the synthetic prints' minutiae were found less well, docs/quality.md,
+/// "Session of 2026-12-06, seventh: junctions in script (issue 31)").
 pub fn carry(
     method: &StrokeGraph,
     points: &PointSet,
     experiments: &ExperimentParams,
     components: Option<(&[u32], &[usize])>,
+    ridges: bool,
 ) -> StrokeGraph {
     let Some(grid) = &points.grid else {
         return method.clone();
@@ -107,7 +111,7 @@ pub fn carry(
         return method.clone();
     }
     let (skeleton, ink) = skeleton_graph(points, grid, components);
-    let carried = reconcile(Work::new(skeleton, ink), method, experiments);
+    let carried = reconcile(Work::new(skeleton, ink), method, experiments, ridges);
     debug_assert_eq!(validate(&carried), Ok(()));
     carried
 }
@@ -190,7 +194,12 @@ fn skeleton_graph(
 /// junctions, crossings, spurs the merged crossings leave, split crossings and stars, corners,
 /// junctions put back on one-pixel lines, dots, ends, junctions, the method's lines, and last
 /// every edge fitted to its ink.
-fn reconcile(mut work: Work, method: &StrokeGraph, experiments: &ExperimentParams) -> StrokeGraph {
+fn reconcile(
+    mut work: Work,
+    method: &StrokeGraph,
+    experiments: &ExperimentParams,
+    ridges: bool,
+) -> StrokeGraph {
     let by_ink = experiments.decide_by_ink;
     work.prune_spurs(by_ink);
     work.join_degree_two();
@@ -205,7 +214,9 @@ fn reconcile(mut work: Work, method: &StrokeGraph, experiments: &ExperimentParam
         work.join_degree_two();
     }
     work.join_degree_two();
-    work.place_shallow_tees();
+    if !ridges {
+        work.place_shallow_tees();
+    }
     work.undip_junctions();
     work.collapse_dots();
     work.extend_ends();

@@ -39,6 +39,7 @@ mod ends;
 mod pixel_graph;
 mod smooth;
 mod spurs;
+mod tees;
 mod thin;
 mod work;
 
@@ -92,9 +93,12 @@ pub(crate) fn thin(binary: &Binary) -> StrokeGraph {
 /// lists and in dropout mode.
 ///
 /// `components` are the points' [`PointSet::component_labels`] (labels and sizes) when they are
-/// known (found here otherwise, and when their length is not the points'). `ridges`: the ink is
-/// a print's ridges, whose ends keep the place the print's prior and minutiae filter were
-/// measured on (a ridge's end is not a brush's tail: [`Work::extend_ends`]).
+/// known (found here otherwise, and when their length is not the points'). `ridges` is set for
+/// a print's ridges, whose forks and ends keep the places the print's prior and minutiae filter
+/// were measured on: [`Work::place_shallow_tees`] is not applied (moved, the synthetic prints'
+/// minutiae were found less well) and an end is not carried to a narrowing stroke's cap (a
+/// ridge's end is not a brush's tail: [`Work::extend_ends`]; moved, DB2's FMR1000 rose over
+/// mindtct's) (docs/quality.md, "Session of 2026-12-06, seventh").
 pub fn carry(
     method: &StrokeGraph,
     points: &PointSet,
@@ -212,6 +216,9 @@ fn reconcile(
         work.join_degree_two();
     }
     work.join_degree_two();
+    if !ridges {
+        work.place_shallow_tees();
+    }
     work.undip_junctions();
     work.collapse_dots();
     work.extend_ends(!ridges);
@@ -608,6 +615,37 @@ mod tests {
             let at = graph.vertices[hub].pos;
             assert!(dist(at, c) <= w, "the star is at {at:?}");
             assert_on_ink(&binary, &graph);
+        }
+    }
+
+    /// A horizontal stroke `w` px wide along y = 60.5 and an arm that ends on it at (100.5, 60.5),
+    /// arriving from the upper left at `angle` degrees: a shallow T.
+    fn shallow_tee(angle: f64, w: f64) -> StrokeGraph {
+        let meet = [100.5, 60.5];
+        let (c, s) = (angle.to_radians().cos(), angle.to_radians().sin());
+        let arm_start = [meet[0] - 60.0 * c, meet[1] - 60.0 * s];
+        let strokes = [
+            Stroke::new(vec![[20.5, 60.5], [180.5, 60.5]], w),
+            Stroke::new(vec![arm_start, meet], w),
+        ];
+        traced(&strokes, 200, 100).1
+    }
+
+    #[test]
+    fn a_shallow_tee_is_placed_where_the_centerlines_meet() {
+        // At 25-35 degrees the arm's ink and the stroke's stay one blob for `w / sin θ` past
+        // where their centerlines meet, and thinning forks where they part, two widths or more
+        // down the stroke (the quality scorer then counts a missed and an extra junction). The
+        // junction belongs where the stroke's ink is one stroke wide again.
+        for (angle, w) in [(25.0, 5.0), (30.0, 5.0), (30.0, 7.0), (35.0, 5.0)] {
+            let graph = shallow_tee(angle, w);
+            assert_eq!(degrees(&graph), vec![3], "{angle} degrees, w {w}");
+            let tee = graph.junctions().next().expect("a T");
+            let at = graph.vertices[tee].pos;
+            assert!(
+                dist(at, [100.5, 60.5]) <= w,
+                "{angle} degrees, w {w}: the T is at {at:?}"
+            );
         }
     }
 

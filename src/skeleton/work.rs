@@ -66,18 +66,39 @@ impl Ink {
     /// px (beyond that, `limit` and a pixel more are returned): the radius of the disk on the
     /// ink at `p`, measured as the skeleton's widths are (a skeleton pixel's disk holds the ink
     /// pixels closer to it than the nearest background pixel).
+    ///
+    /// The pixels are searched in square rings around `p`'s own: every centre of ring `r` lies
+    /// at least `r - 1/2` px from `p`, so the search stops once that is beyond the nearest
+    /// found.
     pub(super) fn clearance(&self, p: [f64; 2], limit: f64) -> f64 {
         let (x, y) = (p[0] - self.origin[0], p[1] - self.origin[1]);
         let (cx, cy) = (x.floor(), y.floor());
         let k = limit.max(0.0).ceil() as i64 + 1;
         let mut best = limit.max(0.0) + 1.0;
-        for dy in -k..=k {
-            for dx in -k..=k {
-                let (qx, qy) = (cx + dx as f64 + 0.5, cy + dy as f64 + 0.5);
+        let visit = |dx: i64, dy: i64, best: &mut f64| {
+            let (qx, qy) = (cx + dx as f64 + 0.5, cy + dy as f64 + 0.5);
+            if !self.at_window(qx, qy) {
                 let d = (qx - x).hypot(qy - y);
-                if d < best && !self.at_window(qx, qy) {
-                    best = d;
+                if d < *best {
+                    *best = d;
                 }
+            }
+        };
+        for r in 0..=k {
+            if r as f64 - 0.5 > best {
+                break;
+            }
+            if r == 0 {
+                visit(0, 0, &mut best);
+                continue;
+            }
+            for d in -r..=r {
+                visit(d, -r, &mut best);
+                visit(d, r, &mut best);
+            }
+            for d in 1 - r..r {
+                visit(-r, d, &mut best);
+                visit(r, d, &mut best);
             }
         }
         best

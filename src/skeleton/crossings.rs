@@ -14,7 +14,7 @@ use crate::geometry::{dist, hypot, line_intersection, unit};
 use crate::stroke_graph::{Edge, StrokeGraph, Vertex};
 
 use super::disk_radius;
-use super::work::{cut_arm, cut_point, median, Ink, Work};
+use super::work::{cut_arm, cut_point, median, points_outwards, Ink, Work};
 
 /// A crossing owns the skeleton junctions within this many of its widths: the Y's of an acute
 /// crossing lie about `(w / 2) / sin(θ / 2)` from it, 3.8 w at 15 degrees, and the method's
@@ -1431,15 +1431,6 @@ fn polyline_crossing(p: &[[f64; 2]], q: &[[f64; 2]], near: [f64; 2]) -> Option<[
         }
     }
     best
-}
-
-/// The points of `edge` listed from the junction outwards: from its start when `forward`.
-fn points_outwards(edge: &Edge, forward: bool) -> Vec<[f64; 2]> {
-    if forward {
-        edge.points.clone()
-    } else {
-        edge.points.iter().rev().copied().collect()
-    }
 }
 
 /// The first point of an arm (`outwards`, listed from the junction at `jp`) `d` from the

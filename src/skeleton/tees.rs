@@ -9,7 +9,7 @@
 use crate::geometry::dist;
 use crate::stroke_graph::Edge;
 
-use super::work::{median, Work};
+use super::work::{median, points_outwards, Work};
 
 /// The fork of a shallow T: its two arms (the T's arm and the stroke's other half) leave the
 /// junction less than this far apart (cosine of 75 degrees; measured over [`ARM_SPAN`], so a
@@ -88,7 +88,7 @@ impl Work {
                 .map(|&e| {
                     let edge = self.edges[e].as_ref()?;
                     let w = median(&edge.widths);
-                    let outwards = outwards_points(edge, v);
+                    let outwards = points_outwards(edge, edge.from == v);
                     let cut = outwards.iter().position(|&p| dist(p, jp) >= ARM_JOIN * w)?;
                     self.ink.holds(q, outwards[cut]).then_some(cut)
                 })
@@ -120,7 +120,7 @@ fn shallow_tee_point(
 ) -> Option<(usize, [f64; 2])> {
     let direction = |edge: &Edge| {
         let w = median(&edge.widths);
-        let outwards = outwards_points(edge, v);
+        let outwards = points_outwards(edge, edge.from == v);
         let p = outwards
             .iter()
             .copied()
@@ -168,11 +168,6 @@ fn shallow_tee_point(
         }
     }
     None
-}
-
-/// The points of `edge` listed from its end at `v` outwards.
-fn outwards_points(edge: &Edge, v: usize) -> Vec<[f64; 2]> {
-    outwards_with_widths(edge, v).0
 }
 
 /// The points and widths of `edge` listed from its end at `v` outwards.

@@ -301,6 +301,15 @@ impl Work {
     }
 }
 
+/// The points of `edge` listed from the junction outwards: from its start when `forward`.
+pub(super) fn points_outwards(edge: &Edge, forward: bool) -> Vec<[f64; 2]> {
+    if forward {
+        edge.points.clone()
+    } else {
+        edge.points.iter().rev().copied().collect()
+    }
+}
+
 /// The median of a polyline's widths (1 for none): the stroke's width, unmoved by the wider
 /// pixels where it meets another.
 ///

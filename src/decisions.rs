@@ -51,7 +51,10 @@ pub struct Decisions {
     /// The threshold used.
     pub threshold: ThresholdUsed,
     /// The stroke width the image shows (the most common chord of the ink, px; with
-    /// `--fingerprint`, the enhanced ridges' median chord); 0 for an empty image.
+    /// `--fingerprint`, the enhanced ridges' median chord); 0 for an empty image, and for a
+    /// print traced with [`FingerprintParams::ridge_width`] false.
+    ///
+    /// [`FingerprintParams::ridge_width`]: crate::FingerprintParams::ridge_width
     pub stroke_width: f64,
     /// Pixels on which Otsu's global level and the local threshold disagree, as a share of the
     /// ink (uneven light, varying contrast); above [`UNEVEN_LIGHT`] the automatic threshold is

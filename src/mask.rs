@@ -366,6 +366,11 @@ pub(crate) fn dilate_disk(sites: &[bool], width: usize, height: usize, r2: f32) 
     let mut half = half;
     half.push(-(width as i64) - 2);
     let g = column_distances(sites, width, height, far);
+    // Columns at `far` reach no pixel, so a run of them that no disk from before it reaches
+    // (rightwards; from after it, leftwards) stays uncovered and leaves the reach as it was for
+    // the pixels beyond (a far column's end lies past the image's other side): such runs of
+    // `FAR_RUN` columns are skipped, where a print's closing finds no site across its middle.
+    let far_run = |g: &[u32]| g.iter().fold(0, |any, &d| any | (d ^ far)) == 0;
     out.par_chunks_mut(width)
         .zip(g.par_chunks(width))
         .for_each(|(out, g)| {
@@ -373,19 +378,35 @@ pub(crate) fn dilate_disk(sites: &[bool], width: usize, height: usize, r2: f32) 
             let n = out.len().min(g.len());
             let (out, g) = (&mut out[..n], &g[..n]);
             let mut reach = -1i64;
-            for x in 0..n {
-                reach = reach.max(x as i64 + half[g[x] as usize]);
-                out[x] = reach >= x as i64;
+            for start in (0..n).step_by(FAR_RUN) {
+                let end = (start + FAR_RUN).min(n);
+                // `out` starts uncovered.
+                if reach < start as i64 && far_run(&g[start..end]) {
+                    continue;
+                }
+                for x in start..end {
+                    reach = reach.max(x as i64 + half[g[x] as usize]);
+                    out[x] = reach >= x as i64;
+                }
             }
             // Leftwards: the farthest left end of those at or after x.
             let mut reach = i64::MAX;
-            for x in (0..n).rev() {
-                reach = reach.min(x as i64 - half[g[x] as usize]);
-                out[x] |= reach <= x as i64;
+            for start in (0..n).step_by(FAR_RUN).rev() {
+                let end = (start + FAR_RUN).min(n);
+                if reach >= end as i64 && far_run(&g[start..end]) {
+                    continue;
+                }
+                for x in (start..end).rev() {
+                    reach = reach.min(x as i64 - half[g[x] as usize]);
+                    out[x] |= reach <= x as i64;
+                }
             }
         });
     out
 }
+
+/// Columns of a row that [`dilate_disk`] skips together where none has a site within reach.
+const FAR_RUN: usize = 32;
 
 /// Prefix counts of ink per row: the ink pixels of row `y` are numbers
 /// `row_starts[y]..row_starts[y + 1]` in raster order. Has `height + 1` entries.
@@ -929,6 +950,39 @@ mod tests {
                         dilate_disk(&sites, w, h, r2),
                         expected,
                         "{w}x{h} density {density} r2 {r2}"
+                    );
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn the_dilation_skips_runs_of_far_columns_and_stays_exact() {
+        // Wide rows with a few small patches of sites: runs of columns without a site within
+        // reach, before, between and after the patches' disks, at every offset from the runs'
+        // boundaries, and radii reaching into, across and past whole runs.
+        let mut seed = 23u64;
+        let mut next = move || {
+            seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1);
+            (seed >> 33) as usize
+        };
+        for (w, h) in [(150, 9), (97, 31), (64, 5), (33, 3), (200, 1)] {
+            for patches in [0, 1, 2, 5] {
+                let mut sites = vec![false; w * h];
+                for _ in 0..patches {
+                    let (px, py) = (next() % w, next() % h);
+                    for _ in 0..4 {
+                        let (x, y) = ((px + next() % 3).min(w - 1), (py + next() % 3).min(h - 1));
+                        sites[y * w + x] = true;
+                    }
+                }
+                let d = brute_force(&sites, w, h);
+                for r2 in [0.0f32, 2.0, 30.0, 250.0, 1100.0, 5000.0] {
+                    let expected: Vec<bool> = d.iter().map(|&d| d as f32 <= r2).collect();
+                    assert_eq!(
+                        dilate_disk(&sites, w, h, r2),
+                        expected,
+                        "{w}x{h} patches {patches} r2 {r2}"
                     );
                 }
             }

@@ -379,14 +379,19 @@ fn print_decisions(
         .filter(|(_, &i)| i)
         .map(|(&c, _)| c)
         .collect();
-    let chords = raster::chords(&binary.ink, binary.width as usize, binary.height as usize);
+    // The median chord is read by `stroke_width` alone, so it is measured only when asked for.
+    let stroke_width = if print.ridge_width {
+        raster::chords(&binary.ink, binary.width as usize, binary.height as usize).dark_median
+    } else {
+        0.0
+    };
     Decisions {
         polarity: crate::decisions::InkSide::of(analysis.dark_ridges),
         polarity_confidence: analysis.polarity_confidence,
         threshold: ThresholdUsed::Enhanced {
             enhancement: print.enhancement,
         },
-        stroke_width: chords.dark_median,
+        stroke_width,
         uneven_light: 0.0,
         dropout: None,
         dropout_share: None,

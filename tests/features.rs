@@ -920,3 +920,37 @@ fn no_minutiae_in_a_solid_wet_disc_and_faint_ridges_kept() {
     }
     assert!(invented > 0, "without the rule the disc has minutiae");
 }
+
+/// The ridges' width is measured only when asked for (`FingerprintParams::ridge_width`): without
+/// it the print's graph, minutiae and every other decision are the same, and `stroke_width` is 0.
+#[test]
+fn a_print_without_its_ridge_width_traces_the_same() {
+    let print = wet_print(false, 10.0, 0x3E7);
+    let with = ridgeline::trace_image(&print, &Params::fingerprint()).expect("trace");
+    let mut params = Params::fingerprint();
+    if let Some(print) = params.fingerprint.as_mut() {
+        print.ridge_width = false;
+    }
+    let without = ridgeline::trace_image(&print, &params).expect("trace");
+    assert_eq!(with.graph, without.graph);
+    let minutiae = |trace: &ridgeline::Trace| {
+        trace
+            .fingerprint
+            .as_ref()
+            .expect("a print")
+            .minutiae
+            .clone()
+    };
+    assert_eq!(minutiae(&with), minutiae(&without));
+    let (mut measured, skipped) = (
+        with.decisions.clone().expect("decisions"),
+        without.decisions.clone().expect("decisions"),
+    );
+    assert!(
+        measured.stroke_width > 0.0,
+        "the ridges' width is measured by default"
+    );
+    assert_eq!(skipped.stroke_width, 0.0);
+    measured.stroke_width = 0.0;
+    assert_eq!(measured, skipped);
+}

@@ -56,7 +56,7 @@ impl TryFrom<&Cli> for Settings {
     type Error = UsageError;
 
     fn try_from(cli: &Cli) -> Result<Settings, UsageError> {
-        let params = Params::try_from(cli)?;
+        let mut params = Params::try_from(cli)?;
         if let Some(width) = cli.line_width.filter(|w| !(w.is_finite() && *w > 0.0)) {
             return Err(UsageError(format!(
                 "--line-width must be > 0 px, got {width}"
@@ -84,6 +84,11 @@ impl TryFrom<&Cli> for Settings {
             }
         }
         let format = output_format(cli)?;
+        // The ridges' width is written only in the JSON (and the decisions' picture is drawn
+        // with `--debug`): other outputs skip measuring it.
+        if let Some(print) = params.fingerprint.as_mut() {
+            print.ridge_width = format == Format::Json || cli.debug.is_some();
+        }
         Ok(Settings {
             inputs: cli.inputs.clone(),
             points: cli.points,
@@ -403,6 +408,26 @@ mod tests {
     fn parse(args: &[&str]) -> Cli {
         Cli::try_parse_from(std::iter::once("ridgeline").chain(args.iter().copied()))
             .expect("valid command line")
+    }
+
+    #[test]
+    fn a_print_measures_its_ridge_width_only_for_the_json() {
+        let ridge_width = |args: &[&str]| {
+            let settings = Settings::try_from(&parse(args)).expect("valid");
+            settings.params.fingerprint.expect("a print").ridge_width
+        };
+        assert!(!ridge_width(&["--fingerprint", "a.png", "-o", "a.xyt"]));
+        assert!(!ridge_width(&["--fingerprint", "a.png", "-o", "a.svg"]));
+        assert!(ridge_width(&["--fingerprint", "a.png", "-o", "a.json"]));
+        assert!(ridge_width(&["--fingerprint", "a.png", "--format", "json"]));
+        assert!(ridge_width(&[
+            "--fingerprint",
+            "a.png",
+            "-o",
+            "a.svg",
+            "--debug",
+            "d"
+        ]));
     }
 
     #[test]

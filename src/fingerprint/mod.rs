@@ -118,12 +118,14 @@ pub(crate) fn analyze_deciding<E: Send>(
         mut enhanced,
         blank,
     } = front;
-    let blank = &blank[usize::from(!dark_ridges)];
+    let blank = blank.map_or_else(Vec::new, |blank| {
+        blank.blocks(&segmentation, &orientation, &periods, params, dark_ridges)
+    });
     if !dark_ridges {
         enhanced.values.iter_mut().for_each(|v| *v = -*v);
     }
     let (width, height) = (enhanced.width, enhanced.height);
-    let segmentation = segment::refine(&segmentation, &enhanced, params.response_threshold, blank);
+    let segmentation = segment::refine(&segmentation, &enhanced, params.response_threshold, &blank);
     for (value, inside) in enhanced.values.iter_mut().zip(segmentation.pixel_mask()) {
         if !inside {
             *value = 0.0;
@@ -158,9 +160,47 @@ struct FrontStages {
     periods: RidgePeriods,
     /// The enhanced image for dark ridges (ridges positive where they are dark).
     enhanced: Plane,
-    /// The print's blocks that show no ridges ([`segment::blank_blocks`]), to be left out of it,
-    /// for dark ridges and for light ones.
-    blank: [Vec<bool>; 2],
+    /// What the print's blocks that show no ridges are found from, once the polarity is known
+    /// (`None` with `blank_evidence` 0).
+    blank: Option<Blank>,
+}
+
+/// The evidence of [`segment::blank_blocks`] and the gray image it completes a block's from.
+struct Blank {
+    evidence: segment::RidgeEvidence,
+    /// The print's gray levels as `f32`.
+    plane: Plane,
+}
+
+impl Blank {
+    /// The print's blocks that show no ridges ([`segment::blank_blocks`]) for the polarity
+    /// decided, to be left out of it. The evidence's middle gray and swing are measured once
+    /// for both polarities, and the blocks it completes for one are those it would give the
+    /// other, so the blocks found are those found when both were (docs/fingerprints.md,
+    /// "Ridges through a solid wet area").
+    fn blocks(
+        mut self,
+        segmentation: &Segmentation,
+        orientation: &OrientationField,
+        periods: &RidgePeriods,
+        params: &FingerprintParams,
+        dark_ridges: bool,
+    ) -> Vec<bool> {
+        let plane = &self.plane;
+        let whole = self.evidence.whole;
+        let measure = |b, rows| {
+            segment::measure_evidence(plane, whole, segmentation, orientation, periods, b, rows)
+        };
+        segment::blank_blocks(
+            segmentation,
+            &mut self.evidence,
+            measure,
+            params.blank_evidence,
+            params.blank_off_middle,
+            periods.median_inside(segmentation),
+            dark_ridges,
+        )
+    }
 }
 
 /// Segmentation, orientation field, ridge periods and the enhancement for dark ridges.
@@ -186,44 +226,18 @@ fn front_stages(gray: GrayView<'_>, params: &FingerprintParams) -> FrontStages {
     let periods = frequency::ridge_periods(&smoothed, &segmentation, &orientation, params);
     // Blocks that show no ridges (a wet smear, a blank margin) are no print: the filter would
     // draw ridges through them from the orientation and period around. Which they are depends
-    // on the polarity (decided beside these stages), so both are found; the chosen one is left
-    // out by the second segmentation pass (the filter's response in a block reads only the
-    // image and the block's own orientation and period).
-    let blank = if params.blank_evidence > 0.0 {
-        let mut evidence = segment::ridge_evidence(&plane, &segmentation, &orientation, &periods);
-        let whole = evidence.whole;
-        let measure = |b, rows| {
-            segment::measure_evidence(
-                &plane,
-                whole,
-                &segmentation,
-                &orientation,
-                &periods,
-                b,
-                rows,
-            )
-        };
-        let period = periods.median_inside(&segmentation);
-        let mut blank = |dark_ridges| {
-            segment::blank_blocks(
-                &segmentation,
-                &mut evidence,
-                measure,
-                params.blank_evidence,
-                params.blank_off_middle,
-                period,
-                dark_ridges,
-            )
-        };
-        [blank(true), blank(false)]
-    } else {
-        [Vec::new(), Vec::new()]
-    };
+    // on the polarity (decided beside these stages): the evidence is measured here, and the
+    // blocks of the polarity decided are found from it once it is known ([`Blank::blocks`]);
+    // the second segmentation pass leaves them out (the filter's response in a block reads only
+    // the image and the block's own orientation and period).
+    let evidence = (params.blank_evidence > 0.0)
+        .then(|| segment::ridge_evidence(&plane, &segmentation, &orientation, &periods));
     let enhance = match params.enhancement {
         Enhancement::Gabor => enhance::enhance,
         Enhancement::Smoothing => smooth::enhance,
     };
     let enhanced = enhance(&plane, &segmentation, &orientation, &periods, params, true);
+    let blank = evidence.map(|evidence| Blank { evidence, plane });
     FrontStages {
         smoothed,
         segmentation,

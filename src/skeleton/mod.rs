@@ -208,7 +208,7 @@ fn reconcile(
     work.contract_short_links();
     work.merge_crossings(method);
     work.prune_spurs(by_ink);
-    work.merge_split_crossings();
+    work.merge_split_crossings(!ridges);
     work.merge_split_stars();
     // A dissolved corner lengthens its neighbours' legs (the corners of a small `w` share them):
     // repeated until none is left.
@@ -646,6 +646,36 @@ mod tests {
                 dist(at, [100.5, 60.5]) <= w,
                 "{angle} degrees, w {w}: the T is at {at:?}"
             );
+        }
+    }
+
+    /// A bar `w` px wide along y = 60.5 with a stem ending on it from above at x = 60.5 and one
+    /// starting on it below, `offset` px to the left (the jogged stem of a script `4`).
+    fn jogged_stems(offset: f64, w: f64) -> StrokeGraph {
+        let strokes = [
+            Stroke::new(vec![[15.5, 60.5], [105.5, 60.5]], w),
+            Stroke::new(vec![[60.5, 15.5], [60.5, 60.5]], w),
+            Stroke::new(vec![[60.5 - offset, 60.5], [60.5 - offset, 105.5]], w),
+        ];
+        traced(&strokes, 120, 120).1
+    }
+
+    #[test]
+    fn stems_meeting_a_bar_less_than_a_width_apart_are_one_crossing() {
+        // Thinning gives two T's joined by a link under a width, too long for the short-link
+        // contraction; where their arms meet the bar lies under a width apart, so the two are
+        // the one vertex the truth joins them into. A width and a half apart they stay two T's.
+        for (offset, w) in [(4.0, 5.0), (5.0, 7.0), (6.0, 7.0)] {
+            let graph = jogged_stems(offset, w);
+            assert_eq!(degrees(&graph), vec![4], "offset {offset}, w {w}");
+            let hub = graph.junctions().next().expect("a crossing");
+            let at = graph.vertices[hub].pos;
+            let truth = [60.5 - offset / 2.0, 60.5];
+            assert!(dist(at, truth) <= w / 2.0, "the crossing is at {at:?}");
+        }
+        for (offset, w) in [(8.0, 5.0), (11.0, 7.0)] {
+            let graph = jogged_stems(offset, w);
+            assert_eq!(degrees(&graph), vec![3, 3], "offset {offset}, w {w}");
         }
     }
 

@@ -662,9 +662,11 @@ mod tests {
 
     #[test]
     fn stems_meeting_a_bar_less_than_a_width_apart_are_one_crossing() {
-        // Thinning gives two T's joined by a link under a width, too long for the short-link
-        // contraction; where their arms meet the bar lies under a width apart, so the two are
-        // the one vertex the truth joins them into. A width and a half apart they stay two T's.
+        // Two T's whose stems meet the bar under a width apart are the one vertex the truth
+        // joins them into; a width and a half apart they stay two T's. This pins behaviour the
+        // close-crossing rule must keep (the base passes it too: these straight stems are
+        // merged by the method's crossing); the script cases it was made for are in
+        // docs/quality.md, eighth session of 2026-12-06.
         for (offset, w) in [(4.0, 5.0), (5.0, 7.0), (6.0, 7.0)] {
             let graph = jogged_stems(offset, w);
             assert_eq!(degrees(&graph), vec![4], "offset {offset}, w {w}");

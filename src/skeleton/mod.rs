@@ -719,6 +719,19 @@ mod tests {
     }
 
     #[test]
+    fn a_loop_crossing_itself_steeply_is_one_crossing() {
+        // At 70 degrees and 7 px thinning's two Y's lie under a width apart, the loop's arms
+        // curl away within three widths (no straight or curved pairing) and the ink's drawings
+        // differ by less than a part; the arms half a width to 1.5 widths out meet where the
+        // strokes cross, at both Y's. On the base: two junctions of degree 3.
+        let graph = tailed_loop(70.0, 7.0);
+        assert_eq!(degrees(&graph), vec![4]);
+        let hub = graph.junctions().next().expect("a crossing");
+        let at = graph.vertices[hub].pos;
+        assert!(dist(at, [60.5, 100.5]) <= 7.0, "the crossing is at {at:?}");
+    }
+
+    #[test]
     fn a_loop_crossing_itself_with_a_short_tail_is_one_crossing() {
         // At 30 degrees thinning's Y's lie about two widths either side of the crossing, the
         // tail's arm is too short for a stroke's line, and no curve through the arms' anchors

@@ -562,6 +562,19 @@ const MIN_TEE_SINE: f64 = 0.5;
 /// radius: the curve's own ink would fill a tighter turn.
 const MIN_ARC_RADIUS: f64 = 1.5;
 
+/// Two degree-3 junctions joined by a link at most this many widths (the narrowest arm's) long
+/// may be one crossing by where their arms meet ([`Work::close_crossing`]): thinning's Y's of a
+/// crossing at 60-90 degrees lie `w / sin(θ / 2)` apart, 1.4 widths at 90.
+const CLOSE_LINK: f64 = 1.0;
+
+/// Where two close junctions' arms meet ([`Work::close_crossing`]) is measured on each arm from
+/// this many widths from its junction (where the skeleton's bend into the Y ends, [`ARM_BEND`])
+/// ...
+const CLOSE_NEAR: f64 = 0.5;
+
+/// ... to this many: a script stroke curls within a few widths of a crossing.
+const CLOSE_FAR: f64 = 1.5;
+
 /// A split crossing with a tail ([`Work::tipped_crossing`]) has a link at most this many times
 /// `w / sin(θ / 2)` long, where thinning puts the Y's of strokes `w` wide crossing at `θ`.
 const TIPPED_LINK: f64 = 2.0;
@@ -720,7 +733,7 @@ impl Work {
     /// its ink. The pair becomes one vertex where the lines meet, as [`Work::merge_crossings`]
     /// merges. A pair these tests leave is one crossing when the ink prefers it
     /// ([`Work::ink_decides_crossing`]).
-    pub(super) fn merge_split_crossings(&mut self) {
+    pub(super) fn merge_split_crossings(&mut self, close: bool) {
         // Found only when the ink is asked to decide a pair: most windows never need it.
         let holes = OnceCell::new();
         let mut degree = self.degrees();
@@ -735,7 +748,12 @@ impl Work {
             }
             let c = self
                 .split_crossing(link, a, b, &at)
-                .or_else(|| self.ink_decides_crossing(link, a, b, &at, &holes));
+                .or_else(|| self.ink_decides_crossing(link, a, b, &at, &holes))
+                .or_else(|| {
+                    close
+                        .then(|| self.close_crossing(link, a, b, &at))
+                        .flatten()
+                });
             let Some(c) = c else {
                 continue;
             };
@@ -770,6 +788,89 @@ impl Work {
         ];
         let hub = line_intersection(&lines, 0.0)?;
         self.crossing_at(hub, link, tolerance, stroke)
+    }
+
+    /// The crossing of two degree-3 junctions `a` and `b` joined by a short `link` (at most
+    /// [`CLOSE_LINK`] of the narrowest arm's width) whose own junctions the ink puts less than
+    /// [`TEES_APART`] widths apart: each junction's two other arms, followed straight from
+    /// their stretches ([`Work::ink_arms`]: one to three widths out, or what the arm has), meet
+    /// where that junction's strokes meet; where both meeting points lie on the ink, on the
+    /// link (within half a width), closer than a width to each other, the two junctions are
+    /// one vertex, at the middle of the two. Thinning splits a steep crossing of script
+    /// strokes into two Y's a width apart whose arms curve too soon for a straight or curved
+    /// pairing ([`Work::split_crossing`]) and whose drawings the ink does not tell apart
+    /// ([`Work::ink_crossing`]): the Y's of one crossing have arms meeting at the crossing,
+    /// the two T's of two strokes ending on a third side by side have stems meeting it where
+    /// they do, as far apart as the truth keeps them. Arms leaving a junction nearly straight
+    /// through it (a T whose stem is the link) meet nowhere: no crossing (docs/quality.md,
+    /// "Session of 2026-12-06, eighth: junctions and crossings in script (issue 31)").
+    fn close_crossing(&self, link: usize, a: usize, b: usize, at: &[Vec<usize>]) -> Option<Vertex> {
+        let arms_a = self.close_arms(a, link, at)?;
+        let arms_b = self.close_arms(b, link, at)?;
+        let stroke = arms_a
+            .iter()
+            .chain(&arms_b)
+            .map(|arm| arm.0)
+            .fold(f64::INFINITY, f64::min);
+        let link_edge = self.edges[link].as_ref()?;
+        if link_edge.length() > CLOSE_LINK * stroke {
+            return None;
+        }
+        let tolerance = disk_radius(stroke);
+        let on_link = |m: [f64; 2]| {
+            link_edge
+                .points
+                .windows(2)
+                .map(|s| crate::geometry::segment_dist(m, s[0], s[1]))
+                .fold(f64::INFINITY, f64::min)
+                <= tolerance
+        };
+        let meet = |arms: &Arms| -> Option<[f64; 2]> {
+            let (p, q) = (&arms[0].1, &arms[1].1);
+            let u = unit([p.near[0] - p.far[0], p.near[1] - p.far[1]])?;
+            let v = unit([q.near[0] - q.far[0], q.near[1] - q.far[1]])?;
+            if (u[0] * v[1] - u[1] * v[0]).abs() <= MIN_TEE_SINE {
+                return None;
+            }
+            let m = line_intersection(&[(p.far, u), (q.far, v)], 0.0)?;
+            (self.ink.at(m) && on_link(m)).then_some(m)
+        };
+        let (ma, mb) = (meet(&arms_a)?, meet(&arms_b)?);
+        if dist(ma, mb) >= TEES_APART * stroke {
+            return None;
+        }
+        let hub = [(ma[0] + mb[0]) / 2.0, (ma[1] + mb[1]) / 2.0];
+        self.crossing_at(hub, link, tolerance, stroke)
+    }
+
+    /// The two arms at the degree-3 junction `j` other than `link`, each with its median width
+    /// and its stretch from [`CLOSE_NEAR`] to [`CLOSE_FAR`] of that width (or half and all of
+    /// what the arm has, when shorter); `None` when not two or a stretch is under
+    /// [`MIN_SPLIT_LINE_PX`].
+    fn close_arms(&self, j: usize, link: usize, at: &[Vec<usize>]) -> Option<Arms> {
+        let jp = self.vertices[j].pos;
+        let mut arms = Vec::new();
+        for &e in at[j].iter().filter(|&&e| e != link) {
+            let edge = self.edges[e].as_ref()?;
+            for (here, forward) in [(edge.from == j, true), (edge.to == j, false)] {
+                if !here {
+                    continue;
+                }
+                let outwards = points_outwards(edge, forward);
+                let w = median(&edge.widths);
+                let reach = outwards.iter().map(|&p| dist(p, jp)).fold(0.0f64, f64::max);
+                let at_distance = |d: f64| point_at_distance(&outwards, jp, d);
+                let line = ArmLine {
+                    near: at_distance((CLOSE_NEAR * w).min(reach / 2.0)),
+                    far: at_distance((CLOSE_FAR * w).min(reach)),
+                };
+                if dist(line.near, line.far) < MIN_SPLIT_LINE_PX {
+                    return None;
+                }
+                arms.push((w, line));
+            }
+        }
+        (arms.len() == 2).then_some(arms)
     }
 
     /// A split crossing one of whose arms is a short tail (a stroke ending a little past the

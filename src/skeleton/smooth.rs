@@ -234,6 +234,7 @@ fn fit_edge(edge: &mut Edge, ink: &Ink, clear: [f64; 2], lines: bool) -> bool {
         unit([b[0] - a[0], b[1] - a[1]])
     };
     let mut measured = vec![false; m + 1];
+    let mut sections = vec![0.0; m + 1];
     let medial: Vec<[f64; 2]> = (0..=m)
         .map(|j| {
             let p = samples[j];
@@ -255,6 +256,7 @@ fn fit_edge(edge: &mut Edge, ink: &Ink, clear: [f64; 2], lines: bool) -> bool {
                 return p;
             }
             measured[j] = true;
+            sections[j] = plus + minus;
             [p[0] + shift * normal[0], p[1] + shift * normal[1]]
         })
         .collect();
@@ -302,13 +304,39 @@ fn fit_edge(edge: &mut Edge, ink: &Ink, clear: [f64; 2], lines: bool) -> bool {
     let smooth: Vec<bool> = (0..=m).map(|j| j > 0 && j < m && !corner[j]).collect();
     let mut target = medial.clone();
     if lines {
+        // The stroke's own cross-sections, no longer than their median and the half pixel's
+        // diagonal by which the grid may move each of their two boundaries: where another
+        // stroke's ink joins this one (the inside of a corner, a fork) or the stroke swells (a
+        // serif, a blot), the middle of the section is not this stroke's line.
+        let lengths: Vec<f64> = (0..=m).filter(|&j| measured[j]).map(|j| sections[j]).collect();
+        let own = median(&lengths) + std::f64::consts::SQRT_2;
+        for j in 0..=m {
+            measured[j] &= sections[j] <= own;
+        }
+        // A corner's medial points are the round pen's cut, a stroke width either side.
+        for j in (0..=m).filter(|&j| corner[j]) {
+            for flag in &mut measured[j.saturating_sub(reach)..=(j + reach).min(m)] {
+                *flag = false;
+            }
+        }
         // A straight run is held on its line, but for half a width at an end or a corner,
         // where the fit joins it to the vertex or bends into the next stretch.
         let min_run = ((LINE_WIDTHS * width).max(2.0 * MIN_CUTOFF_PX) / step).round() as usize;
         let breaks: Vec<usize> = (0..=m).filter(|&j| j == 0 || j == m || corner[j]).collect();
         for stretch in breaks.windows(2) {
             let (a, b) = (stretch[0], stretch[1]);
+            // Towards a junction or a corner the line runs on under the other strokes' ink,
+            // which hides it; towards an end it stops where it was last measured: beyond is the
+            // stroke's own cap, a blot, a hook.
+            let hidden = |j: usize| corner[j] || (j == 0 && clear[0] > 0.0) || (j == m && clear[1] > 0.0);
             for ((first, last), line) in straight_runs(&medial, &measured, a, b, min_run) {
+                let (mut first, mut last) = (first, last);
+                if first == a && !hidden(a) {
+                    first = (first..=last).find(|&j| measured[j]).unwrap_or(last);
+                }
+                if last == b && !hidden(b) {
+                    last = (first..=last).rev().find(|&j| measured[j]).unwrap_or(first);
+                }
                 for j in first.max(a + half)..=last.min(b.saturating_sub(half)) {
                     target[j] = line.project(medial[j]);
                     data[j] = END_WEIGHT;

@@ -330,13 +330,18 @@ fn fit_edge(edge: &mut Edge, ink: &Ink, clear: [f64; 2], lines: bool) -> bool {
             // stroke's own cap, a blot, a hook.
             let hidden = |j: usize| corner[j] || (j == 0 && clear[0] > 0.0) || (j == m && clear[1] > 0.0);
             for ((first, last), line) in straight_runs(&medial, &measured, a, b, min_run) {
-                let (mut first, mut last) = (first, last);
-                if first == a && !hidden(a) {
-                    first = (first..=last).find(|&j| measured[j]).unwrap_or(last);
+                // Under the ink of a junction or a corner, by at most two widths: a line
+                // measured farther away does not speak for the stroke there.
+                let hides = 2 * reach;
+                let mut measured_from = (first..=last).find(|&j| measured[j]).unwrap_or(last);
+                let mut measured_to = (first..=last).rev().find(|&j| measured[j]).unwrap_or(first);
+                if first == a && hidden(a) {
+                    measured_from = measured_from.saturating_sub(hides);
                 }
-                if last == b && !hidden(b) {
-                    last = (first..=last).rev().find(|&j| measured[j]).unwrap_or(first);
+                if last == b && hidden(b) {
+                    measured_to += hides;
                 }
+                let (first, last) = (first.max(measured_from), last.min(measured_to));
                 for j in first.max(a + half)..=last.min(b.saturating_sub(half)) {
                     target[j] = line.project(medial[j]);
                     data[j] = END_WEIGHT;
@@ -385,7 +390,15 @@ impl Line {
 fn straight_line(points: &[[f64; 2]], measured: &[bool], a: usize, b: usize) -> Option<Line> {
     let on = || (a..=b).filter(|&j| measured[j]).map(|j| points[j]);
     let n = on().count();
-    if n < MIN_LINE_POINTS {
+    // Measured along most of their span: a few points do not speak for a stretch between.
+    let span = match (
+        (a..=b).find(|&j| measured[j]),
+        (a..=b).rev().find(|&j| measured[j]),
+    ) {
+        (Some(first), Some(last)) => last - first + 1,
+        _ => 0,
+    };
+    if n < MIN_LINE_POINTS || 2 * n < span {
         return None;
     }
     let centre = on().fold([0.0; 2], |c, p| [c[0] + p[0], c[1] + p[1]]);

@@ -308,14 +308,23 @@ fn fit_edge(edge: &mut Edge, ink: &Ink, clear: [f64; 2], lines: bool) -> bool {
         // diagonal by which the grid may move each of their two boundaries: where another
         // stroke's ink joins this one (the inside of a corner, a fork) or the stroke swells (a
         // serif, a blot), the middle of the section is not this stroke's line.
-        let lengths: Vec<f64> = (0..=m).filter(|&j| measured[j]).map(|j| sections[j]).collect();
+        // The test of straightness reads every medial point (a brush stroke's bend is where it
+        // swells), the line is fitted to the stroke's own sections only.
+        let lengths: Vec<f64> = (0..=m)
+            .filter(|&j| measured[j])
+            .map(|j| sections[j])
+            .collect();
         let own = median(&lengths) + std::f64::consts::SQRT_2;
+        let mut clean = measured.clone();
         for j in 0..=m {
-            measured[j] &= sections[j] <= own;
+            clean[j] &= sections[j] <= own;
         }
         // A corner's medial points are the round pen's cut, a stroke width either side.
         for j in (0..=m).filter(|&j| corner[j]) {
             for flag in &mut measured[j.saturating_sub(reach)..=(j + reach).min(m)] {
+                *flag = false;
+            }
+            for flag in &mut clean[j.saturating_sub(reach)..=(j + reach).min(m)] {
                 *flag = false;
             }
         }
@@ -328,13 +337,14 @@ fn fit_edge(edge: &mut Edge, ink: &Ink, clear: [f64; 2], lines: bool) -> bool {
             // Towards a junction or a corner the line runs on under the other strokes' ink,
             // which hides it; towards an end it stops where it was last measured: beyond is the
             // stroke's own cap, a blot, a hook.
-            let hidden = |j: usize| corner[j] || (j == 0 && clear[0] > 0.0) || (j == m && clear[1] > 0.0);
-            for ((first, last), line) in straight_runs(&medial, &measured, a, b, min_run) {
+            let hidden =
+                |j: usize| corner[j] || (j == 0 && clear[0] > 0.0) || (j == m && clear[1] > 0.0);
+            for ((first, last), line) in straight_runs(&medial, &measured, &clean, a, b, min_run) {
                 // Under the ink of a junction or a corner, by at most two widths: a line
                 // measured farther away does not speak for the stroke there.
                 let hides = 2 * reach;
-                let mut measured_from = (first..=last).find(|&j| measured[j]).unwrap_or(last);
-                let mut measured_to = (first..=last).rev().find(|&j| measured[j]).unwrap_or(first);
+                let mut measured_from = (first..=last).find(|&j| clean[j]).unwrap_or(last);
+                let mut measured_to = (first..=last).rev().find(|&j| clean[j]).unwrap_or(first);
                 if first == a && hidden(a) {
                     measured_from = measured_from.saturating_sub(hides);
                 }
@@ -465,16 +475,21 @@ fn straight_line(points: &[[f64; 2]], measured: &[bool], a: usize, b: usize) -> 
 }
 
 /// The straight runs of the stretch `a..=b` of `medial` (between an edge's ends and corners),
-/// each its first and last sample and its line ([`straight_line`]): the whole stretch when one line explains it, else
+/// each its first and last sample and its line ([`straight_line`] of the `measured` points and
+/// of the `clean` ones, the line of the latter): the whole stretch when one line explains it, else
 /// the longest runs of at least `min_run` samples found from its start onwards, each grown
 /// while one line explains it.
 fn straight_runs(
     medial: &[[f64; 2]],
     measured: &[bool],
+    clean: &[bool],
     a: usize,
     b: usize,
     min_run: usize,
 ) -> Vec<((usize, usize), Line)> {
+    let straight_line = |medial: &[[f64; 2]], _: &[bool], a: usize, b: usize| {
+        straight_line(medial, measured, a, b).and(straight_line(medial, clean, a, b))
+    };
     if let Some(line) = straight_line(medial, measured, a, b) {
         return vec![((a, b), line)];
     }

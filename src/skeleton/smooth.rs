@@ -7,7 +7,11 @@
 //! and the polyline that stays closest to the medial points while bending least is solved for:
 //! §3.4's least squares (Eq. (4)), data term and smoothness term, with the second difference as
 //! the smoothness (a straight run costs nothing, so straight strokes stay straight and ends are
-//! not pulled in). The smoothing's reach is in units of the stroke's width; it is cut at the
+//! not pulled in). A run that one line explains within the pixel grid's own scatter (the
+//! staircase moves a straight stroke's medial points by up to two thirds of a pixel at its own
+//! period, which the smoothing cannot tell from a bend) is held on the least-squares line of its
+//! medial points ([`straight_runs`]; docs/quality.md, eighth session of 2026-12-06). The
+//! smoothing's reach is in units of the stroke's width; it is cut at the
 //! edge's corners, so a corner stays sharp; a point the fit would move off the ink keeps its
 //! skeleton place. Last, the polyline keeps only the points its shape needs: every dropped
 //! point lies within [`SIMPLIFY_PX`] of the line kept, and every segment kept lies on the ink.

@@ -224,7 +224,7 @@ fn reconcile(
     work.extend_ends(!ridges);
     work.straighten_junctions();
     work.adopt_method_geometry(method);
-    work.smooth_edges();
+    work.smooth_edges(!ridges);
     work.finish(method.width, method.height)
 }
 

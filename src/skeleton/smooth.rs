@@ -7,7 +7,11 @@
 //! and the polyline that stays closest to the medial points while bending least is solved for:
 //! §3.4's least squares (Eq. (4)), data term and smoothness term, with the second difference as
 //! the smoothness (a straight run costs nothing, so straight strokes stay straight and ends are
-//! not pulled in). The smoothing's reach is in units of the stroke's width; it is cut at the
+//! not pulled in). A run that one line explains within the pixel grid's own scatter (the
+//! staircase moves a straight stroke's medial points by up to two thirds of a pixel at its own
+//! period, which the smoothing cannot tell from a bend) is held on the least-squares line of its
+//! medial points ([`straight_runs`]; docs/quality.md, eighth session of 2026-12-06). The
+//! smoothing's reach is in units of the stroke's width; it is cut at the
 //! edge's corners, so a corner stays sharp; a point the fit would move off the ink keeps its
 //! skeleton place. Last, the polyline keeps only the points its shape needs: every dropped
 //! point lies within [`SIMPLIFY_PX`] of the line kept, and every segment kept lies on the ink.
@@ -19,7 +23,7 @@
 //! path from before, so the geometry never adds a crossing to the graph.
 
 use crate::geometry::{
-    arc_lengths, bounds, crossing_paths, hypot, segment_dist, segment_dist2, ArcWalk,
+    arc_lengths, bounds, crossing_paths, hypot, principal, segment_dist, segment_dist2, ArcWalk,
 };
 use crate::stroke_graph::Edge;
 
@@ -61,9 +65,28 @@ const BISECTIONS: usize = 4;
 /// The data weight of an edge's two ends: they stay at their vertices.
 const END_WEIGHT: f64 = 1e8;
 
+/// A run of medial points is straight when the parabola of least squares through them bends
+/// off its chord by at most this (px): a curve that bends less is drawn by its line within it.
+const BEND_PX: f64 = 0.25;
+
+/// ... and none lies farther than this from its line (px): the pixel grid moves each of a
+/// cross-section's two boundaries by up to half a pixel, and its middle as far, along the
+/// diagonal half a pixel's diagonal.
+const SCATTER_PX: f64 = std::f64::consts::FRAC_1_SQRT_2;
+
+/// A run within an edge is held on its line when it is at least this many stroke widths long
+/// (and twice [`MIN_CUTOFF_PX`]): twice the smoothing's cutoff, below which Eq. (4) flattens it.
+const LINE_WIDTHS: f64 = 2.0 * CUTOFF_WIDTHS;
+
+/// The fewest measured medial points a line is fitted to.
+const MIN_LINE_POINTS: usize = 4;
+
 impl Work {
     /// Fits every skeleton edge to its ink and simplifies every edge (see the module's text).
-    pub(super) fn smooth_edges(&mut self) {
+    ///
+    /// With `lines`, a stretch the pixel grid cannot tell from straight is one line
+    /// ([`straight_runs`]); off for a print's ridges, whose minutiae were measured without.
+    pub(super) fn smooth_edges(&mut self, lines: bool) {
         let degree = self.degrees();
         let clear = |v: usize| -> f64 {
             if degree[v] >= 3 {
@@ -85,7 +108,7 @@ impl Work {
                 continue;
             }
             let clear = [clears[edge.from], clears[edge.to]];
-            if fit_edge(edge, &self.ink, clear) {
+            if fit_edge(edge, &self.ink, clear, lines) {
                 // The fitted polyline's tangents are written by `finish`.
                 edge.directions.clear();
             }
@@ -174,8 +197,9 @@ fn crossing_edges(edges: &[Option<Edge>], moved: &[bool]) -> Vec<usize> {
 
 /// Fits one skeleton edge to the medial points of its ink: resampled, moved, solved (see the
 /// module's text). `clear` is the radius around each end's junction within which the arm is
-/// the straight join [`super::work::cut_arm`] made, kept as it is.
-fn fit_edge(edge: &mut Edge, ink: &Ink, clear: [f64; 2]) -> bool {
+/// the straight join [`super::work::cut_arm`] made, kept as it is. With `lines`, the straight
+/// runs of the medial points ([`straight_runs`]) are held on their lines.
+fn fit_edge(edge: &mut Edge, ink: &Ink, clear: [f64; 2], lines: bool) -> bool {
     let s = arc_lengths(&edge.points);
     let total = s[s.len() - 1];
     let m = (total / SAMPLE_PX).round() as usize;
@@ -213,6 +237,8 @@ fn fit_edge(edge: &mut Edge, ink: &Ink, clear: [f64; 2]) -> bool {
         let (a, b) = (samples[j.saturating_sub(k)], samples[(j + k).min(m)]);
         unit([b[0] - a[0], b[1] - a[1]])
     };
+    let mut measured = vec![false; m + 1];
+    let mut sections = vec![0.0; m + 1];
     let medial: Vec<[f64; 2]> = (0..=m)
         .map(|j| {
             let p = samples[j];
@@ -233,6 +259,8 @@ fn fit_edge(edge: &mut Edge, ink: &Ink, clear: [f64; 2]) -> bool {
             if plus + minus >= limit || shift.abs() > MAX_SHIFT_PX {
                 return p;
             }
+            measured[j] = true;
+            sections[j] = plus + minus;
             [p[0] + shift * normal[0], p[1] + shift * normal[1]]
         })
         .collect();
@@ -268,7 +296,7 @@ fn fit_edge(edge: &mut Edge, ink: &Ink, clear: [f64; 2]) -> bool {
     // smoothing's response 1 / (1 + λ (2 sin(π / L))⁴) being 1/2 there.
     let cutoff = (CUTOFF_WIDTHS * width).max(MIN_CUTOFF_PX) / step;
     let lambda = 1.0 / (2.0 * (std::f64::consts::PI / cutoff).sin()).powi(4);
-    let data: Vec<f64> = (0..=m)
+    let mut data: Vec<f64> = (0..=m)
         .map(|j| {
             if j == 0 || j == m || corner[j] {
                 END_WEIGHT
@@ -278,7 +306,64 @@ fn fit_edge(edge: &mut Edge, ink: &Ink, clear: [f64; 2]) -> bool {
         })
         .collect();
     let smooth: Vec<bool> = (0..=m).map(|j| j > 0 && j < m && !corner[j]).collect();
-    let fitted = solve_banded(&medial, &data, &smooth, lambda);
+    let mut target = medial.clone();
+    if lines {
+        // The stroke's own cross-sections, no longer than their median and the half pixel's
+        // diagonal by which the grid may move each of their two boundaries: where another
+        // stroke's ink joins this one (the inside of a corner, a fork) or the stroke swells (a
+        // serif, a blot), the middle of the section is not this stroke's line.
+        // The test of straightness reads every medial point (a brush stroke's bend is where it
+        // swells), the line is fitted to the stroke's own sections only.
+        let lengths: Vec<f64> = (0..=m)
+            .filter(|&j| measured[j])
+            .map(|j| sections[j])
+            .collect();
+        let own = median(&lengths) + std::f64::consts::SQRT_2;
+        let mut clean = measured.clone();
+        for j in 0..=m {
+            clean[j] &= sections[j] <= own;
+        }
+        // A corner's medial points are the round pen's cut, a stroke width either side.
+        for j in (0..=m).filter(|&j| corner[j]) {
+            for flag in &mut measured[j.saturating_sub(reach)..=(j + reach).min(m)] {
+                *flag = false;
+            }
+            for flag in &mut clean[j.saturating_sub(reach)..=(j + reach).min(m)] {
+                *flag = false;
+            }
+        }
+        // A straight run is held on its line, but for half a width at an end or a corner,
+        // where the fit joins it to the vertex or bends into the next stretch.
+        let min_run = ((LINE_WIDTHS * width).max(2.0 * MIN_CUTOFF_PX) / step).round() as usize;
+        let breaks: Vec<usize> = (0..=m).filter(|&j| j == 0 || j == m || corner[j]).collect();
+        for stretch in breaks.windows(2) {
+            let (a, b) = (stretch[0], stretch[1]);
+            // Towards a junction or a corner the line runs on under the other strokes' ink,
+            // which hides it; towards an end it stops where it was last measured: beyond is the
+            // stroke's own cap, a blot, a hook.
+            let hidden =
+                |j: usize| corner[j] || (j == 0 && clear[0] > 0.0) || (j == m && clear[1] > 0.0);
+            for ((first, last), line) in straight_runs(&medial, &measured, &clean, a, b, min_run) {
+                // Under the ink of a junction or a corner, by at most two widths: a line
+                // measured farther away does not speak for the stroke there.
+                let hides = 2 * reach;
+                let mut measured_from = (first..=last).find(|&j| clean[j]).unwrap_or(last);
+                let mut measured_to = (first..=last).rev().find(|&j| clean[j]).unwrap_or(first);
+                if first == a && hidden(a) {
+                    measured_from = measured_from.saturating_sub(hides);
+                }
+                if last == b && hidden(b) {
+                    measured_to += hides;
+                }
+                let (first, last) = (first.max(measured_from), last.min(measured_to));
+                for j in first.max(a + half)..=last.min(b.saturating_sub(half)) {
+                    target[j] = line.project(medial[j]);
+                    data[j] = END_WEIGHT;
+                }
+            }
+        }
+    }
+    let fitted = solve_banded(&target, &data, &smooth, lambda);
     let mut points = Vec::with_capacity(m + 1);
     for j in 0..=m {
         let q = fitted[j];
@@ -291,6 +376,154 @@ fn fit_edge(edge: &mut Edge, ink: &Ink, clear: [f64; 2]) -> bool {
     edge.points = points;
     edge.widths = widths;
     true
+}
+
+/// A line through `centre` along the unit vector `along`.
+#[derive(Clone, Copy, Debug)]
+struct Line {
+    centre: [f64; 2],
+    along: [f64; 2],
+}
+
+impl Line {
+    /// The point of the line nearest `p`.
+    fn project(&self, p: [f64; 2]) -> [f64; 2] {
+        let t = (p[0] - self.centre[0]) * self.along[0] + (p[1] - self.centre[1]) * self.along[1];
+        [
+            self.centre[0] + t * self.along[0],
+            self.centre[1] + t * self.along[1],
+        ]
+    }
+}
+
+/// The line of least squares through the `measured` points of `points[a..=b]` when one line
+/// explains them within the pixel grid's own scatter: the points bend off it by at most
+/// [`BEND_PX`] (the sagitta of the parabola of least squares through their offsets, which the
+/// staircase's sawtooth barely moves while a curve moves it by its own sagitta), and none lies
+/// farther than [`SCATTER_PX`] from it. `None` with fewer than [`MIN_LINE_POINTS`] measured.
+fn straight_line(points: &[[f64; 2]], measured: &[bool], a: usize, b: usize) -> Option<Line> {
+    let on = || (a..=b).filter(|&j| measured[j]).map(|j| points[j]);
+    let n = on().count();
+    // Measured along most of their span: a few points do not speak for a stretch between.
+    let span = match (
+        (a..=b).find(|&j| measured[j]),
+        (a..=b).rev().find(|&j| measured[j]),
+    ) {
+        (Some(first), Some(last)) => last - first + 1,
+        _ => 0,
+    };
+    if n < MIN_LINE_POINTS || 2 * n < span {
+        return None;
+    }
+    let centre = on().fold([0.0; 2], |c, p| [c[0] + p[0], c[1] + p[1]]);
+    let centre = [centre[0] / n as f64, centre[1] / n as f64];
+    let (mut cxx, mut cxy, mut cyy) = (0.0, 0.0, 0.0);
+    for p in on() {
+        let (dx, dy) = (p[0] - centre[0], p[1] - centre[1]);
+        cxx += dx * dx;
+        cxy += dx * dy;
+        cyy += dy * dy;
+    }
+    let (_, along) = principal(cxx, cxy, cyy);
+    let normal = [-along[1], along[0]];
+    // Offsets r across the line against positions t along it, t scaled to [-1, 1].
+    let frame = |p: [f64; 2]| {
+        let (dx, dy) = (p[0] - centre[0], p[1] - centre[1]);
+        (
+            dx * along[0] + dy * along[1],
+            dx * normal[0] + dy * normal[1],
+        )
+    };
+    let (mut lo, mut hi, mut worst) = (f64::INFINITY, f64::NEG_INFINITY, 0.0f64);
+    for p in on() {
+        let (t, r) = frame(p);
+        lo = lo.min(t);
+        hi = hi.max(t);
+        worst = worst.max(r.abs());
+    }
+    if worst > SCATTER_PX || hi - lo < 1.0 {
+        return None;
+    }
+    // r = c0 + c1 u + c2 u²: the normal equations, solved by Cramer's rule.
+    let (mid, half) = ((lo + hi) / 2.0, (hi - lo) / 2.0);
+    let mut s = [0.0; 5];
+    let mut y = [0.0; 3];
+    for p in on() {
+        let (t, r) = frame(p);
+        let u = (t - mid) / half;
+        let mut power = 1.0;
+        for (k, sk) in s.iter_mut().enumerate() {
+            *sk += power;
+            if k < 3 {
+                y[k] += power * r;
+            }
+            power *= u;
+        }
+    }
+    let det3 = |m: [[f64; 3]; 3]| {
+        m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1])
+            - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0])
+            + m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0])
+    };
+    let normal_matrix = [[s[0], s[1], s[2]], [s[1], s[2], s[3]], [s[2], s[3], s[4]]];
+    let det = det3(normal_matrix);
+    if det.abs() < 1e-12 {
+        return None;
+    }
+    let mut with_y = normal_matrix;
+    for (row, &yk) in with_y.iter_mut().zip(&y) {
+        row[2] = yk;
+    }
+    let bend = det3(with_y) / det;
+    (bend.abs() <= BEND_PX).then_some(Line { centre, along })
+}
+
+/// The straight runs of the stretch `a..=b` of `medial` (between an edge's ends and corners),
+/// each its first and last sample and its line ([`straight_line`] of the `measured` points and
+/// of the `clean` ones, the line of the latter): the whole stretch when one line explains it, else
+/// the longest runs of at least `min_run` samples found from its start onwards, each grown
+/// while one line explains it.
+fn straight_runs(
+    medial: &[[f64; 2]],
+    measured: &[bool],
+    clean: &[bool],
+    a: usize,
+    b: usize,
+    min_run: usize,
+) -> Vec<((usize, usize), Line)> {
+    let straight_line = |medial: &[[f64; 2]], _: &[bool], a: usize, b: usize| {
+        straight_line(medial, measured, a, b).and(straight_line(medial, clean, a, b))
+    };
+    if let Some(line) = straight_line(medial, measured, a, b) {
+        return vec![((a, b), line)];
+    }
+    let mut runs = Vec::new();
+    let mut start = a;
+    while start + min_run <= b {
+        let Some(mut line) = straight_line(medial, measured, start, start + min_run) else {
+            start += 1;
+            continue;
+        };
+        // Grown by a quarter of its length while straight, then the last step halved.
+        let (mut good, mut step) = (start + min_run, (min_run / 4).max(1));
+        loop {
+            let next = (good + step).min(b);
+            if next == good {
+                break;
+            }
+            match straight_line(medial, measured, start, next) {
+                Some(grown) => {
+                    (good, line) = (next, grown);
+                    step = ((good - start) / 4).max(1);
+                }
+                None if step > 1 => step /= 2,
+                None => break,
+            }
+        }
+        runs.push(((start, good), line));
+        start = good;
+    }
+    runs
 }
 
 /// Where the ink ends going from `from` along the unit vector `u`: the first quarter-pixel
@@ -768,6 +1001,54 @@ mod tests {
                 assert!(binary.get(p[0].floor() as i64, p[1].floor() as i64));
             }
         }
+    }
+
+    /// The skeleton's graph of `strokes` with no decision of the method's (an empty method
+    /// graph: no crossing merged, no line adopted), so that the smoothing alone places it.
+    fn skeleton_alone(strokes: &[Stroke], w: u32, h: u32) -> StrokeGraph {
+        let binary = render(strokes, w, h);
+        let params = Params::default();
+        let points = crate::raster::points(&binary, &params).expect("points");
+        let method = StrokeGraph {
+            width: w,
+            height: h,
+            ..StrokeGraph::default()
+        };
+        let graph = super::super::carry(&method, &points, &params.experiments, false, None);
+        super::super::validate(&graph).expect("valid skeleton graph");
+        graph
+    }
+
+    #[test]
+    fn slanted_straight_strokes_are_straight_and_centred_without_the_methods_lines() {
+        // Slopes from 1 in 2 to 1 in 20, even and odd widths: the medial points scatter at the
+        // staircase's period, the line through them is the stroke's middle (within the tenth
+        // of a pixel by which a slope of a whole ratio leaves the image unchanged).
+        let mut report = Vec::new();
+        let mut failed = false;
+        for &(rise, width) in &[
+            (50.0, 4.0),
+            (20.0, 4.0),
+            (10.0, 4.0),
+            (5.0, 4.0),
+            (20.0, 5.0),
+            (5.0, 5.0),
+            (30.0, 3.0),
+            (12.0, 6.0),
+            (40.0, 7.0),
+            (8.0, 8.0),
+        ] {
+            let line = vec![[10.0, 20.0], [110.0, 20.0 + rise]];
+            let graph = skeleton_alone(&[Stroke::new(line.clone(), width)], 120, 80);
+            assert_eq!(graph.edges.len(), 1);
+            let (mean, worst) = distance_to(&graph, &line, width);
+            let points = graph.edges[0].points.len();
+            report.push(format!(
+                "rise {rise} width {width}: mean {mean:.3} worst {worst:.3} points {points}"
+            ));
+            failed |= mean > 0.15 || worst > 0.3 || points > 5;
+        }
+        assert!(!failed, "{report:#?}");
     }
 
     #[test]

@@ -492,7 +492,9 @@ fn straight_runs(
     min_run: usize,
 ) -> Vec<((usize, usize), Line)> {
     let straight_line = |medial: &[[f64; 2]], _: &[bool], a: usize, b: usize| {
-        straight_line(medial, measured, a, b).and(straight_line(medial, clean, a, b))
+        // The clean points' line only where the measured ones are straight (most windows on
+        // a curve are not): the same answer, without the second fit.
+        straight_line(medial, measured, a, b).and_then(|_| straight_line(medial, clean, a, b))
     };
     if let Some(line) = straight_line(medial, measured, a, b) {
         return vec![((a, b), line)];

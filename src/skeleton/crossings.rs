@@ -848,29 +848,55 @@ impl Work {
     /// what the arm has, when shorter); `None` when not two or a stretch is under
     /// [`MIN_SPLIT_LINE_PX`].
     fn close_arms(&self, j: usize, link: usize, at: &[Vec<usize>]) -> Option<Arms> {
-        let jp = self.vertices[j].pos;
+        let arms = self
+            .other_arms(j, link, at)?
+            .into_iter()
+            .map(|(edge, forward)| {
+                let (w, _, line) = self.stretch(j, edge, forward, CLOSE_NEAR, CLOSE_FAR)?;
+                Some((w, line))
+            })
+            .collect::<Option<Arms>>()?;
+        (arms.len() == 2).then_some(arms)
+    }
+
+    /// The ends at the junction `j` of its edges other than `link`, each its edge and whether
+    /// the edge starts there (an edge from `j` back to `j` twice); `None` when one of them is
+    /// gone.
+    fn other_arms(&self, j: usize, link: usize, at: &[Vec<usize>]) -> Option<Vec<(&Edge, bool)>> {
         let mut arms = Vec::new();
         for &e in at[j].iter().filter(|&&e| e != link) {
             let edge = self.edges[e].as_ref()?;
             for (here, forward) in [(edge.from == j, true), (edge.to == j, false)] {
-                if !here {
-                    continue;
+                if here {
+                    arms.push((edge, forward));
                 }
-                let outwards = points_outwards(edge, forward);
-                let w = median(&edge.widths);
-                let reach = outwards.iter().map(|&p| dist(p, jp)).fold(0.0f64, f64::max);
-                let at_distance = |d: f64| point_at_distance(&outwards, jp, d);
-                let line = ArmLine {
-                    near: at_distance((CLOSE_NEAR * w).min(reach / 2.0)),
-                    far: at_distance((CLOSE_FAR * w).min(reach)),
-                };
-                if dist(line.near, line.far) < MIN_SPLIT_LINE_PX {
-                    return None;
-                }
-                arms.push((w, line));
             }
         }
-        (arms.len() == 2).then_some(arms)
+        Some(arms)
+    }
+
+    /// The stretch of `edge` leaving the junction `j` (from its start when `forward`) from
+    /// `near` to `far` of its median width, or half and all of what the arm reaches when it is
+    /// shorter: that width, the arm's points from the junction outwards and the stretch; `None`
+    /// when the stretch is under [`MIN_SPLIT_LINE_PX`].
+    fn stretch(
+        &self,
+        j: usize,
+        edge: &Edge,
+        forward: bool,
+        near: f64,
+        far: f64,
+    ) -> Option<(f64, Vec<[f64; 2]>, ArmLine)> {
+        let jp = self.vertices[j].pos;
+        let outwards = points_outwards(edge, forward);
+        let w = median(&edge.widths);
+        let reach = outwards.iter().map(|&p| dist(p, jp)).fold(0.0f64, f64::max);
+        let at_distance = |d: f64| point_at_distance(&outwards, jp, d);
+        let line = ArmLine {
+            near: at_distance((near * w).min(reach / 2.0)),
+            far: at_distance((far * w).min(reach)),
+        };
+        (dist(line.near, line.far) >= MIN_SPLIT_LINE_PX).then_some((w, outwards, line))
     }
 
     /// A split crossing one of whose arms is a short tail (a stroke ending a little past the
@@ -1176,15 +1202,11 @@ impl Work {
     /// The arms at the junction `j` other than `link`: each its median width and line; `None`
     /// when there are fewer than two or one is too short for a line.
     fn arm_lines(&self, j: usize, link: usize, at: &[Vec<usize>]) -> Option<Arms> {
-        let mut arms = Vec::new();
-        for &e in at[j].iter().filter(|&&e| e != link) {
-            let edge = self.edges[e].as_ref()?;
-            for (here, forward) in [(edge.from == j, true), (edge.to == j, false)] {
-                if here {
-                    arms.push(self.arm_line(j, edge, forward)?);
-                }
-            }
-        }
+        let arms = self
+            .other_arms(j, link, at)?
+            .into_iter()
+            .map(|(edge, forward)| self.arm_line(j, edge, forward))
+            .collect::<Option<Arms>>()?;
         (arms.len() >= 2).then_some(arms)
     }
 
@@ -1556,46 +1578,30 @@ impl Work {
     fn ink_arms(&self, j: usize, link: usize, at: &[Vec<usize>]) -> Option<Vec<InkArm>> {
         let jp = self.vertices[j].pos;
         let mut arms = Vec::new();
-        for &e in at[j].iter().filter(|&&e| e != link) {
-            let edge = self.edges[e].as_ref()?;
-            for (here, forward) in [(edge.from == j, true), (edge.to == j, false)] {
-                if !here {
-                    continue;
-                }
-                let outwards = points_outwards(edge, forward);
-                let width = median(&edge.widths);
-                let reach = outwards.iter().map(|&p| dist(p, jp)).fold(0.0f64, f64::max);
-                let at_distance = |d: f64| point_at_distance(&outwards, jp, d);
-                let line = ArmLine {
-                    near: at_distance((SPLIT_NEAR * width).min(reach / 2.0)),
-                    far: at_distance((SPLIT_FAR * width).min(reach)),
-                };
-                if dist(line.near, line.far) < MIN_SPLIT_LINE_PX {
-                    return None;
-                }
-                let (d_near, d_far) = (dist(line.near, jp), dist(line.far, jp));
-                let mut inner: Vec<[f64; 2]> = outwards
+        for (edge, forward) in self.other_arms(j, link, at)? {
+            let (width, outwards, line) = self.stretch(j, edge, forward, SPLIT_NEAR, SPLIT_FAR)?;
+            let (d_near, d_far) = (dist(line.near, jp), dist(line.far, jp));
+            let mut inner: Vec<[f64; 2]> = outwards
+                .iter()
+                .copied()
+                .take_while(|&p| dist(p, jp) < d_near)
+                .collect();
+            inner.push(line.near);
+            let mut outer = vec![line.near];
+            outer.extend(
+                outwards
                     .iter()
                     .copied()
-                    .take_while(|&p| dist(p, jp) < d_near)
-                    .collect();
-                inner.push(line.near);
-                let mut outer = vec![line.near];
-                outer.extend(
-                    outwards
-                        .iter()
-                        .copied()
-                        .skip_while(|&p| dist(p, jp) < d_near)
-                        .take_while(|&p| dist(p, jp) < d_far),
-                );
-                outer.push(line.far);
-                arms.push(InkArm {
-                    inner,
-                    outer,
-                    width,
-                    line,
-                });
-            }
+                    .skip_while(|&p| dist(p, jp) < d_near)
+                    .take_while(|&p| dist(p, jp) < d_far),
+            );
+            outer.push(line.far);
+            arms.push(InkArm {
+                inner,
+                outer,
+                width,
+                line,
+            });
         }
         (arms.len() >= 2).then_some(arms)
     }

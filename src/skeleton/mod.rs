@@ -649,6 +649,43 @@ mod tests {
         }
     }
 
+    /// The shallow T of [`shallow_tee`] drawn as one stroke that closes on itself, as the bowl of
+    /// a `6` or a `9` closes on its own stem: from the bar's left end right along the bar
+    /// through the meeting point (100.5, 60.5) to its right end, up, back left above the bar,
+    /// and down to the meeting point at `angle` degrees from the upper left.
+    fn shallow_loop_tee(angle: f64, w: f64) -> StrokeGraph {
+        let meet = [100.5, 60.5];
+        let (c, s) = (angle.to_radians().cos(), angle.to_radians().sin());
+        let arm_start = [meet[0] - 60.0 * c, meet[1] - 60.0 * s];
+        let points = vec![
+            [20.5, 60.5],
+            [180.5, 60.5],
+            [180.5, 12.5],
+            [arm_start[0], 12.5],
+            arm_start,
+            meet,
+        ];
+        traced(&[Stroke::new(points, w)], 200, 100).1
+    }
+
+    #[test]
+    fn a_loop_closing_on_its_own_stem_is_placed_where_the_centerlines_meet() {
+        // The loop's two ends are two of the junction's three arms: the shared stretch and the
+        // arm closing on it. On the base the rule skipped junctions with a loop and left the
+        // junction where the inks part, two widths or more along the bar.
+        for (angle, w) in [(25.0, 5.0), (30.0, 5.0), (30.0, 7.0), (35.0, 5.0)] {
+            let graph = shallow_loop_tee(angle, w);
+            assert_eq!(degrees(&graph), vec![3], "{angle} degrees, w {w}");
+            let tee = graph.junctions().next().expect("a T");
+            let at = graph.vertices[tee].pos;
+            assert!(
+                dist(at, [100.5, 60.5]) <= w,
+                "{angle} degrees, w {w}: the T is at {at:?}"
+            );
+            assert_eq!(graph.cycles(), 1, "{angle} degrees, w {w}");
+        }
+    }
+
     /// A bar `w` px wide along y = 60.5 with a stem ending on it from above at x = 60.5 and one
     /// starting on it below, `offset` px to the left (the jogged stem of a script `4`).
     fn jogged_stems(offset: f64, w: f64) -> StrokeGraph {

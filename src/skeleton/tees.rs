@@ -55,72 +55,107 @@ impl Work {
         let degree = self.degrees();
         let at = self.incidence();
         for v in 0..self.vertices.len() {
-            if !self.alive[v] || degree[v] != 3 || at[v].len() != 3 {
+            if !self.alive[v] || degree[v] != 3 {
                 continue;
             }
-            let Some(edges) = at[v]
+            // The three edge ends at the junction: a loop's two ends are two of them (the bowl
+            // of a `6` or `9` closing on its own stem).
+            let ends: Vec<End> = at[v]
                 .iter()
-                .map(|&e| self.edges[e].as_ref().filter(|edge| edge.from != edge.to))
-                .collect::<Option<Vec<&Edge>>>()
-            else {
+                .flat_map(|&e| {
+                    let edge = self.edges[e].as_ref();
+                    let from = edge.is_some_and(|x| x.from == v);
+                    let to = edge.is_some_and(|x| x.to == v);
+                    [(from, (e, true)), (to, (e, false))]
+                        .into_iter()
+                        .filter_map(|(here, end)| here.then_some(end))
+                })
+                .collect();
+            if ends.len() != 3 {
                 continue;
-            };
+            }
             let jp = self.vertices[v].pos;
+            let edge = |(e, _): End| self.edges[e].as_ref().expect("live edge");
             let moves: Vec<(usize, usize, [f64; 2])> = (0..3)
                 .filter_map(|k| {
-                    let fork = [edges[(k + 1) % 3], edges[(k + 2) % 3]];
-                    let other = if edges[k].from == v {
-                        edges[k].to
-                    } else {
-                        edges[k].from
-                    };
-                    let far_junction = (degree[other] >= 3).then_some(self.vertices[other].pos);
-                    shallow_tee_point(v, jp, edges[k], fork, far_junction).map(|(i, q)| (k, i, q))
+                    let stem = ends[k];
+                    let fork = [ends[(k + 1) % 3], ends[(k + 2) % 3]];
+                    let stem_edge = edge(stem);
+                    let other = if stem.1 { stem_edge.to } else { stem_edge.from };
+                    // A loop's other end is this junction: the one-stroke run is looked for
+                    // along the loop, far from its return.
+                    let far_junction =
+                        (other != v && degree[other] >= 3).then_some(self.vertices[other].pos);
+                    shallow_tee_point(
+                        jp,
+                        (stem_edge, stem.1),
+                        fork.map(|f| (edge(f), f.1)),
+                        far_junction,
+                    )
+                    .map(|(i, q)| (k, i, q))
                 })
                 .collect();
             let [(k, i, q)] = moves[..] else {
                 continue;
             };
-            let fork = [at[v][(k + 1) % 3], at[v][(k + 2) % 3]];
+            let stem = ends[k];
+            let fork = [ends[(k + 1) % 3], ends[(k + 2) % 3]];
             // Each fork arm from a width out, joined straight to the new junction.
             let joins: Option<Vec<usize>> = fork
                 .iter()
-                .map(|&e| {
+                .map(|&(e, at_start)| {
                     let edge = self.edges[e].as_ref()?;
                     let w = median(&edge.widths);
-                    let outwards = points_outwards(edge, edge.from == v);
+                    let outwards = points_outwards(edge, at_start);
                     let cut = outwards.iter().position(|&p| dist(p, jp) >= ARM_JOIN * w)?;
                     self.ink.holds(q, outwards[cut]).then_some(cut)
                 })
                 .collect();
             let Some(joins) = joins else { continue };
-            for (&e, &cut) in fork.iter().zip(&joins) {
+            // A loop cut at both its ends keeps points between them.
+            let cuts = [i, joins[0], joins[1]];
+            let ends_cut = [stem, fork[0], fork[1]];
+            let short_loop = (0..3).any(|a| {
+                (a + 1..3).any(|b| {
+                    ends_cut[a].0 == ends_cut[b].0
+                        && self.edges[ends_cut[a].0]
+                            .as_ref()
+                            .is_none_or(|x| cuts[a] + cuts[b] + 2 > x.points.len())
+                })
+            });
+            if short_loop {
+                continue;
+            }
+            for (&(e, at_start), &cut) in fork.iter().zip(&joins) {
                 let Some(edge) = self.edges[e].as_mut() else {
                     continue;
                 };
-                rejoin(edge, v, cut, q);
+                rejoin(edge, at_start, cut, q);
             }
-            if let Some(edge) = self.edges[at[v][k]].as_mut() {
-                trim_start(edge, v, i);
+            if let Some(edge) = self.edges[stem.0].as_mut() {
+                trim_start(edge, stem.1, i);
             }
             self.vertices[v].pos = q;
         }
     }
 }
 
-/// Where the junction `v` at `jp` of a shallow T belongs on `stem` (the index of that point on
-/// `stem` counted from `v`, and the point), when `fork`'s two arms leave it as an acute fork
-/// away from `stem` and `stem`'s ink is two strokes' wide up to there ([`Work::place_shallow_tees`]).
+/// An edge's end at a junction: the edge, and whether it is its start.
+type End = (usize, bool);
+
+/// Where the junction at `jp` of a shallow T belongs on `stem` (an edge and whether its start
+/// is the junction's end; the index of that point on `stem` counted from the junction, and the
+/// point), when `fork`'s two arms leave it as an acute fork away from `stem` and `stem`'s ink
+/// is two strokes' wide up to there ([`Work::place_shallow_tees`]).
 fn shallow_tee_point(
-    v: usize,
     jp: [f64; 2],
-    stem: &Edge,
-    fork: [&Edge; 2],
+    stem: (&Edge, bool),
+    fork: [(&Edge, bool); 2],
     far_junction: Option<[f64; 2]>,
 ) -> Option<(usize, [f64; 2])> {
-    let direction = |edge: &Edge| {
+    let direction = |(edge, at_start): (&Edge, bool)| {
         let w = median(&edge.widths);
-        let outwards = points_outwards(edge, edge.from == v);
+        let outwards = points_outwards(edge, at_start);
         let p = outwards
             .iter()
             .copied()
@@ -134,14 +169,14 @@ fn shallow_tee_point(
     if dot(a, b) < FORK_COS || dot(a, c) >= 0.0 || dot(b, c) >= 0.0 {
         return None;
     }
-    let one_stroke = median(&fork[0].widths).max(median(&fork[1].widths));
+    let one_stroke = median(&fork[0].0.widths).max(median(&fork[1].0.widths));
     // A pixel's rounding is half the stroke or more: the ink cannot show where two strokes
     // become one (lines one or two pixels wide).
     if one_stroke < 2.0 * ONE_STROKE_PX {
         return None;
     }
     let limit = one_stroke + ONE_STROKE_PX;
-    let (points, widths) = outwards_with_widths(stem, v);
+    let (points, widths) = outwards_with_widths(stem.0, stem.1);
     let mut along = 0.0;
     let mut start = None;
     for i in 1..points.len() {
@@ -170,9 +205,9 @@ fn shallow_tee_point(
     None
 }
 
-/// The points and widths of `edge` listed from its end at `v` outwards.
-fn outwards_with_widths(edge: &Edge, v: usize) -> (Vec<[f64; 2]>, Vec<f64>) {
-    if edge.from == v {
+/// The points and widths of `edge` listed outwards from its start (`at_start`) or its end.
+fn outwards_with_widths(edge: &Edge, at_start: bool) -> (Vec<[f64; 2]>, Vec<f64>) {
+    if at_start {
         (edge.points.clone(), edge.widths.clone())
     } else {
         (
@@ -182,10 +217,11 @@ fn outwards_with_widths(edge: &Edge, v: usize) -> (Vec<[f64; 2]>, Vec<f64>) {
     }
 }
 
-/// Drops the first `cut` points of `edge` counted from its end at `v` and starts it at `q`.
-fn rejoin(edge: &mut Edge, v: usize, cut: usize, q: [f64; 2]) {
+/// Drops the first `cut` points of `edge` counted from its start (`at_start`) or its end, and
+/// starts (ends) it at `q`.
+fn rejoin(edge: &mut Edge, at_start: bool, cut: usize, q: [f64; 2]) {
     let n = edge.points.len();
-    if edge.from == v {
+    if at_start {
         let width = edge.widths[0];
         edge.points.drain(..cut);
         edge.widths.drain(..cut);
@@ -200,11 +236,11 @@ fn rejoin(edge: &mut Edge, v: usize, cut: usize, q: [f64; 2]) {
     }
 }
 
-/// Drops the `i` points of `edge` before its `i`-th counted from its end at `v`, which becomes
-/// that end.
-fn trim_start(edge: &mut Edge, v: usize, i: usize) {
+/// Drops the `i` points of `edge` before its `i`-th counted from its start (`at_start`) or its
+/// end, which becomes that end.
+fn trim_start(edge: &mut Edge, at_start: bool, i: usize) {
     let n = edge.points.len();
-    if edge.from == v {
+    if at_start {
         edge.points.drain(..i);
         edge.widths.drain(..i);
     } else {

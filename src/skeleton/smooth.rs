@@ -401,24 +401,38 @@ impl Line {
 /// [`BEND_PX`] (the sagitta of the parabola of least squares through their offsets, which the
 /// staircase's sawtooth barely moves while a curve moves it by its own sagitta), and none lies
 /// farther than [`SCATTER_PX`] from it. `None` with fewer than [`MIN_LINE_POINTS`] measured.
-fn straight_line(points: &[[f64; 2]], measured: &[bool], a: usize, b: usize) -> Option<Line> {
-    let on = || (a..=b).filter(|&j| measured[j]).map(|j| points[j]);
-    let n = on().count();
+///
+/// `scratch` holds the measured points, then their places in the line's frame: one walk over
+/// the stretch, then over the points alone, and the walk that measures the scatter stops at the
+/// first point too far (the same sums in the same order as before, so the same bits).
+fn straight_line(
+    points: &[[f64; 2]],
+    measured: &[bool],
+    a: usize,
+    b: usize,
+    scratch: &mut Vec<[f64; 2]>,
+) -> Option<Line> {
+    scratch.clear();
+    let (mut first, mut last) = (usize::MAX, 0);
+    let mut centre = [0.0; 2];
+    for j in a..=b {
+        if measured[j] {
+            let p = points[j];
+            first = first.min(j);
+            last = j;
+            centre = [centre[0] + p[0], centre[1] + p[1]];
+            scratch.push(p);
+        }
+    }
+    let n = scratch.len();
     // Measured along most of their span: a few points do not speak for a stretch between.
-    let span = match (
-        (a..=b).find(|&j| measured[j]),
-        (a..=b).rev().find(|&j| measured[j]),
-    ) {
-        (Some(first), Some(last)) => last - first + 1,
-        _ => 0,
-    };
+    let span = if n > 0 { last - first + 1 } else { 0 };
     if n < MIN_LINE_POINTS || 2 * n < span {
         return None;
     }
-    let centre = on().fold([0.0; 2], |c, p| [c[0] + p[0], c[1] + p[1]]);
     let centre = [centre[0] / n as f64, centre[1] / n as f64];
     let (mut cxx, mut cxy, mut cyy) = (0.0, 0.0, 0.0);
-    for p in on() {
+    for p in scratch.iter() {
         let (dx, dy) = (p[0] - centre[0], p[1] - centre[1]);
         cxx += dx * dx;
         cxy += dx * dy;
@@ -427,29 +441,28 @@ fn straight_line(points: &[[f64; 2]], measured: &[bool], a: usize, b: usize) -> 
     let (_, along) = principal(cxx, cxy, cyy);
     let normal = [-along[1], along[0]];
     // Offsets r across the line against positions t along it, t scaled to [-1, 1].
-    let frame = |p: [f64; 2]| {
+    let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
+    for p in scratch.iter_mut() {
         let (dx, dy) = (p[0] - centre[0], p[1] - centre[1]);
-        (
+        let (t, r) = (
             dx * along[0] + dy * along[1],
             dx * normal[0] + dy * normal[1],
-        )
-    };
-    let (mut lo, mut hi, mut worst) = (f64::INFINITY, f64::NEG_INFINITY, 0.0f64);
-    for p in on() {
-        let (t, r) = frame(p);
+        );
+        if r.abs() > SCATTER_PX {
+            return None;
+        }
         lo = lo.min(t);
         hi = hi.max(t);
-        worst = worst.max(r.abs());
+        *p = [t, r];
     }
-    if worst > SCATTER_PX || hi - lo < 1.0 {
+    if hi - lo < 1.0 {
         return None;
     }
     // r = c0 + c1 u + c2 u²: the normal equations, solved by Cramer's rule.
     let (mid, half) = ((lo + hi) / 2.0, (hi - lo) / 2.0);
     let mut s = [0.0; 5];
     let mut y = [0.0; 3];
-    for p in on() {
-        let (t, r) = frame(p);
+    for &[t, r] in scratch.iter() {
         let u = (t - mid) / half;
         let mut power = 1.0;
         for (k, sk) in s.iter_mut().enumerate() {
@@ -478,11 +491,195 @@ fn straight_line(points: &[[f64; 2]], measured: &[bool], a: usize, b: usize) -> 
     (bend.abs() <= BEND_PX).then_some(Line { centre, along })
 }
 
+/// The margin by which [`Moments::surely_not_straight`] clears a bound before it answers: its
+/// sums and [`straight_line`]'s, taken in different orders, differ by rounding only (about
+/// 1e-12 of a bound at the conditioning it asks for), a thousand times below this.
+const SURE: f64 = 1e-3;
+
+/// Running sums of the measured points of a window `first..=last` of a stretch (Σ xᵃ yᵇ for
+/// a + b ≤ 4, x and y about an origin near the window, kept there by summing afresh once the
+/// window has moved about its own length): a window grows, shrinks or slides by a sample in
+/// constant time, and [`Moments::surely_not_straight`] tells from the sums alone, without a
+/// walk over the window, most windows that [`straight_line`] would refuse.
+struct Moments<'a> {
+    points: &'a [[f64; 2]],
+    measured: &'a [bool],
+    origin: [f64; 2],
+    /// `sums[a][b]`: Σ xᵃ yᵇ over the window's measured points (zero for a + b > 4).
+    sums: [[f64; 5]; 5],
+    /// The window summed; none before the first.
+    window: Option<(usize, usize)>,
+    /// Samples added or removed since the sums were taken afresh.
+    moves: usize,
+}
+
+impl<'a> Moments<'a> {
+    fn new(points: &'a [[f64; 2]], measured: &'a [bool]) -> Self {
+        Self {
+            points,
+            measured,
+            origin: [0.0; 2],
+            sums: [[0.0; 5]; 5],
+            window: None,
+            moves: 0,
+        }
+    }
+
+    /// Adds (`sign` 1) or removes (`sign` -1) sample `j` when it is measured.
+    fn add(&mut self, j: usize, sign: f64) {
+        if !self.measured[j] {
+            return;
+        }
+        let p = self.points[j];
+        let (x, y) = (p[0] - self.origin[0], p[1] - self.origin[1]);
+        let mut xa = sign;
+        for (a, row) in self.sums.iter_mut().enumerate() {
+            let mut v = xa;
+            for sum in &mut row[..5 - a] {
+                *sum += v;
+                v *= y;
+            }
+            xa *= x;
+        }
+        self.moves += 1;
+    }
+
+    /// Makes the sums those of `first..=last` (`first <= last`): by the samples that entered
+    /// and left, or afresh when that would take as long or the origin is left behind.
+    fn set(&mut self, first: usize, last: usize) {
+        let len = last + 1 - first;
+        let moved = match self.window {
+            Some((f, l)) if first <= l && f <= last => {
+                let step = first.abs_diff(f) + last.abs_diff(l);
+                (step < len && self.moves + step <= 2 * len).then_some((f, l))
+            }
+            _ => None,
+        };
+        self.window = Some((first, last));
+        let Some((f, l)) = moved else {
+            self.origin = self.points[first];
+            self.sums = [[0.0; 5]; 5];
+            for j in first..=last {
+                self.add(j, 1.0);
+            }
+            self.moves = 0;
+            return;
+        };
+        for j in f..first {
+            self.add(j, -1.0);
+        }
+        for j in first..f {
+            self.add(j, 1.0);
+        }
+        for j in last + 1..=l {
+            self.add(j, -1.0);
+        }
+        for j in l + 1..=last {
+            self.add(j, 1.0);
+        }
+    }
+
+    /// Whether [`straight_line`] surely refuses the window's measured points, `ends` the first
+    /// and last of them: the sum of their squared offsets from their line of least squares
+    /// (the scatter matrix's smaller eigenvalue) is above what [`SCATTER_PX`] allows each, or
+    /// the parabola of least squares through their offsets bends by more than [`BEND_PX`] over
+    /// the span between the two ends (which the span between the farthest points, where
+    /// [`straight_line`] measures the bend, can only exceed). Both by a margin of [`SURE`] and
+    /// only where the sums are well conditioned (a clear axis, positions along it not bunched
+    /// at two places): else `false`, and the full test decides.
+    fn surely_not_straight(&self, ends: [[f64; 2]; 2]) -> bool {
+        let s = &self.sums;
+        let n = s[0][0];
+        if n < MIN_LINE_POINTS as f64 {
+            return false;
+        }
+        // The moments about the centroid: x shifted, then y (binomial expansions).
+        let c = [s[1][0] / n, s[0][1] / n];
+        let binomial = [
+            [1.0, 0.0, 0.0, 0.0, 0.0],
+            [1.0, 1.0, 0.0, 0.0, 0.0],
+            [1.0, 2.0, 1.0, 0.0, 0.0],
+            [1.0, 3.0, 3.0, 1.0, 0.0],
+            [1.0, 4.0, 6.0, 4.0, 1.0],
+        ];
+        let powers = |v: f64| {
+            let mut p = [1.0; 5];
+            for k in 1..5 {
+                p[k] = p[k - 1] * -v;
+            }
+            p
+        };
+        let (px, py) = (powers(c[0]), powers(c[1]));
+        let mut shifted = [[0.0; 5]; 5];
+        for i in 0..5 {
+            for b in 0..5 - i {
+                shifted[i][b] = (0..=i)
+                    .map(|a| binomial[i][a] * px[i - a] * s[a][b])
+                    .sum();
+            }
+        }
+        let mut m = [[0.0; 5]; 5];
+        for i in 0..5 {
+            for j in 0..5 - i {
+                m[i][j] = (0..=j)
+                    .map(|b| binomial[j][b] * py[j - b] * shifted[i][b])
+                    .sum();
+            }
+        }
+        // The axis: the eigenvector of the larger eigenvalue, from the better-conditioned row.
+        let half_diff = (m[2][0] - m[0][2]) / 2.0;
+        let root = hypot(half_diff, m[1][1]);
+        let mean = (m[2][0] + m[0][2]) / 2.0;
+        let (larger, smaller) = (mean + root, mean - root);
+        if !(root > SURE * larger) {
+            return false;
+        }
+        if smaller > n * SCATTER_PX * SCATTER_PX * (1.0 + SURE) {
+            return true;
+        }
+        let v = if half_diff >= 0.0 {
+            [larger - m[0][2], m[1][1]]
+        } else {
+            [m[1][1], larger - m[2][0]]
+        };
+        let norm = hypot(v[0], v[1]);
+        let (ax, ay) = (v[0] / norm, v[1] / norm);
+        // Σ t², Σ t³, Σ t⁴ and Σ t² r, t along the axis and r across it.
+        let t2 = larger;
+        let t3 = ax * ax * ax * m[3][0]
+            + 3.0 * ax * ax * ay * m[2][1]
+            + 3.0 * ax * ay * ay * m[1][2]
+            + ay * ay * ay * m[0][3];
+        let t4 = ax.powi(4) * m[4][0]
+            + 4.0 * ax.powi(3) * ay * m[3][1]
+            + 6.0 * ax * ax * ay * ay * m[2][2]
+            + 4.0 * ax * ay.powi(3) * m[1][3]
+            + ay.powi(4) * m[0][4];
+        let t2r = -ax * ax * ay * m[3][0]
+            + (ax.powi(3) - 2.0 * ax * ay * ay) * m[2][1]
+            + (2.0 * ax * ax * ay - ay.powi(3)) * m[1][2]
+            + ax * ay * ay * m[0][3];
+        // r = d0 + d1 t + d2 t² with Σ t = Σ r = Σ t r = 0 (the centroid, the axes): the
+        // normal equations leave d2 = Σ t² r / (Σ t⁴ - (Σ t²)² / n - (Σ t³)² / Σ t²).
+        let spread = t4 - t2 * t2 / n - t3 * t3 / t2;
+        if !(spread > SURE * t4) {
+            return false;
+        }
+        let d = [ends[1][0] - ends[0][0], ends[1][1] - ends[0][1]];
+        let half = (d[0] * ax + d[1] * ay).abs() / 2.0;
+        (t2r / spread).abs() * half * half > BEND_PX * (1.0 + SURE)
+    }
+}
+
 /// The straight runs of the stretch `a..=b` of `medial` (between an edge's ends and corners),
 /// each its first and last sample and its line ([`straight_line`] of the `measured` points and
 /// of the `clean` ones, the line of the latter): the whole stretch when one line explains it, else
 /// the longest runs of at least `min_run` samples found from its start onwards, each grown
 /// while one line explains it.
+///
+/// A window is first put to the tests that need no walk over it: its count of measured points
+/// and their span, then [`Moments::surely_not_straight`] on its running sums; only a window
+/// that passes them is fitted (most windows slid along a curve do not).
 fn straight_runs(
     medial: &[[f64; 2]],
     measured: &[bool],
@@ -491,18 +688,55 @@ fn straight_runs(
     b: usize,
     min_run: usize,
 ) -> Vec<((usize, usize), Line)> {
-    let straight_line = |medial: &[[f64; 2]], _: &[bool], a: usize, b: usize| {
-        // The clean points' line only where the measured ones are straight (most windows on
-        // a curve are not): the same answer, without the second fit.
-        straight_line(medial, measured, a, b).and_then(|_| straight_line(medial, clean, a, b))
+    let mut scratch = Vec::new();
+    // The clean points' line only where the measured ones are straight.
+    let mut fit = |first: usize, last: usize| {
+        straight_line(medial, measured, first, last, &mut scratch)
+            .and_then(|_| straight_line(medial, clean, first, last, &mut scratch))
     };
-    if let Some(line) = straight_line(medial, measured, a, b) {
+    if let Some(line) = fit(a, b) {
         return vec![((a, b), line)];
     }
+    // The measured samples of the stretch: how many before each sample, the first at or after
+    // it, the last at or before it.
+    let len = b + 1 - a;
+    let mut before = vec![0; len + 1];
+    let mut next = vec![usize::MAX; len + 1];
+    let mut previous = vec![usize::MAX; len];
+    for k in 0..len {
+        before[k + 1] = before[k] + measured[a + k] as usize;
+        previous[k] = if measured[a + k] {
+            a + k
+        } else if k > 0 {
+            previous[k - 1]
+        } else {
+            usize::MAX
+        };
+    }
+    for k in (0..len).rev() {
+        next[k] = if measured[a + k] { a + k } else { next[k + 1] };
+    }
+    let mut moments = Moments::new(medial, measured);
+    let mut straight = |first: usize, last: usize| {
+        // `straight_line`'s count and span, exactly.
+        let n = before[last + 1 - a] - before[first - a];
+        if n < MIN_LINE_POINTS {
+            return None;
+        }
+        let (from, to) = (next[first - a], previous[last - a]);
+        if 2 * n < to + 1 - from {
+            return None;
+        }
+        moments.set(first, last);
+        if moments.surely_not_straight([medial[from], medial[to]]) {
+            return None;
+        }
+        fit(first, last)
+    };
     let mut runs = Vec::new();
     let mut start = a;
     while start + min_run <= b {
-        let Some(mut line) = straight_line(medial, measured, start, start + min_run) else {
+        let Some(mut line) = straight(start, start + min_run) else {
             start += 1;
             continue;
         };
@@ -513,7 +747,7 @@ fn straight_runs(
             if next == good {
                 break;
             }
-            match straight_line(medial, measured, start, next) {
+            match straight(start, next) {
                 Some(grown) => {
                     (good, line) = (next, grown);
                     step = ((good - start) / 4).max(1);

@@ -497,9 +497,9 @@ fn straight_line(
 const SURE: f64 = 1e-3;
 
 /// Running sums of the measured points of a window `first..=last` of a stretch (Σ xᵃ yᵇ for
-/// a + b ≤ 4, x and y about an origin near the window, kept there by summing afresh once the
-/// window has moved about three times its length): a window grows, shrinks or slides by a sample in
-/// constant time, and [`Moments::surely_not_straight`] tells from the sums alone, without a
+/// a + b ≤ 4, x and y about an origin near the window, kept there by summing afresh once
+/// four window lengths of samples have entered and left since): a window grows, shrinks or
+/// slides by a sample in constant time, and [`Moments::surely_not_straight`] tells from the sums alone, without a
 /// walk over the window, most windows that [`straight_line`] would refuse.
 struct Moments<'a> {
     points: &'a [[f64; 2]],
@@ -619,7 +619,7 @@ impl<'a> Moments<'a> {
         let root = (half_diff * half_diff + cxy * cxy).sqrt();
         let mean = (cxx + cyy) / 2.0;
         let (larger, smaller) = (mean + root, mean - root);
-        if !(root > SURE * larger) {
+        if root.is_nan() || root <= SURE * larger {
             return false;
         }
         if smaller > n * SCATTER_PX * SCATTER_PX * (1.0 + SURE) {
@@ -658,7 +658,7 @@ impl<'a> Moments<'a> {
         // r = d0 + d1 t + d2 t² with Σ t = Σ r = Σ t r = 0 (the centroid, the axes): the
         // normal equations leave d2 = Σ t² r / (Σ t⁴ - (Σ t²)² / n - (Σ t³)² / Σ t²).
         let spread = t4 - t2 * t2 / n - t3 * t3 / t2;
-        if !(spread > SURE * t4) {
+        if spread.is_nan() || spread <= SURE * t4 {
             return false;
         }
         let d = [ends[1][0] - ends[0][0], ends[1][1] - ends[0][1]];
@@ -1139,9 +1139,12 @@ mod tests {
         }
     }
 
+    /// A stretch's medial points, which of them were measured, which are clean.
+    type Stretch = (Vec<[f64; 2]>, Vec<bool>, Vec<bool>);
+
     /// Medial points of random strokes (lines, arcs, waves, sampled every pixel, moved by the
     /// pixel grid's scatter), with random samples left unmeasured or unclean.
-    fn random_stretches() -> Vec<(Vec<[f64; 2]>, Vec<bool>, Vec<bool>)> {
+    fn random_stretches() -> Vec<Stretch> {
         let mut next = crate::synth::lcg(3333u64);
         let mut unit = move || (next() >> 11) as f64 / (1u64 << 53) as f64;
         let mut stretches = Vec::new();

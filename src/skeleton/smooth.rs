@@ -401,24 +401,38 @@ impl Line {
 /// [`BEND_PX`] (the sagitta of the parabola of least squares through their offsets, which the
 /// staircase's sawtooth barely moves while a curve moves it by its own sagitta), and none lies
 /// farther than [`SCATTER_PX`] from it. `None` with fewer than [`MIN_LINE_POINTS`] measured.
-fn straight_line(points: &[[f64; 2]], measured: &[bool], a: usize, b: usize) -> Option<Line> {
-    let on = || (a..=b).filter(|&j| measured[j]).map(|j| points[j]);
-    let n = on().count();
+///
+/// `scratch` holds the measured points, then their places in the line's frame: one walk over
+/// the stretch, then over the points alone, and the walk that measures the scatter stops at the
+/// first point too far (the same sums in the same order as before, so the same bits).
+fn straight_line(
+    points: &[[f64; 2]],
+    measured: &[bool],
+    a: usize,
+    b: usize,
+    scratch: &mut Vec<[f64; 2]>,
+) -> Option<Line> {
+    scratch.clear();
+    let (mut first, mut last) = (usize::MAX, 0);
+    let mut centre = [0.0; 2];
+    for j in a..=b {
+        if measured[j] {
+            let p = points[j];
+            first = first.min(j);
+            last = j;
+            centre = [centre[0] + p[0], centre[1] + p[1]];
+            scratch.push(p);
+        }
+    }
+    let n = scratch.len();
     // Measured along most of their span: a few points do not speak for a stretch between.
-    let span = match (
-        (a..=b).find(|&j| measured[j]),
-        (a..=b).rev().find(|&j| measured[j]),
-    ) {
-        (Some(first), Some(last)) => last - first + 1,
-        _ => 0,
-    };
+    let span = if n > 0 { last - first + 1 } else { 0 };
     if n < MIN_LINE_POINTS || 2 * n < span {
         return None;
     }
-    let centre = on().fold([0.0; 2], |c, p| [c[0] + p[0], c[1] + p[1]]);
     let centre = [centre[0] / n as f64, centre[1] / n as f64];
     let (mut cxx, mut cxy, mut cyy) = (0.0, 0.0, 0.0);
-    for p in on() {
+    for p in scratch.iter() {
         let (dx, dy) = (p[0] - centre[0], p[1] - centre[1]);
         cxx += dx * dx;
         cxy += dx * dy;
@@ -427,29 +441,28 @@ fn straight_line(points: &[[f64; 2]], measured: &[bool], a: usize, b: usize) -> 
     let (_, along) = principal(cxx, cxy, cyy);
     let normal = [-along[1], along[0]];
     // Offsets r across the line against positions t along it, t scaled to [-1, 1].
-    let frame = |p: [f64; 2]| {
+    let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
+    for p in scratch.iter_mut() {
         let (dx, dy) = (p[0] - centre[0], p[1] - centre[1]);
-        (
+        let (t, r) = (
             dx * along[0] + dy * along[1],
             dx * normal[0] + dy * normal[1],
-        )
-    };
-    let (mut lo, mut hi, mut worst) = (f64::INFINITY, f64::NEG_INFINITY, 0.0f64);
-    for p in on() {
-        let (t, r) = frame(p);
+        );
+        if r.abs() > SCATTER_PX {
+            return None;
+        }
         lo = lo.min(t);
         hi = hi.max(t);
-        worst = worst.max(r.abs());
+        *p = [t, r];
     }
-    if worst > SCATTER_PX || hi - lo < 1.0 {
+    if hi - lo < 1.0 {
         return None;
     }
     // r = c0 + c1 u + c2 u²: the normal equations, solved by Cramer's rule.
     let (mid, half) = ((lo + hi) / 2.0, (hi - lo) / 2.0);
     let mut s = [0.0; 5];
     let mut y = [0.0; 3];
-    for p in on() {
-        let (t, r) = frame(p);
+    for &[t, r] in scratch.iter() {
         let u = (t - mid) / half;
         let mut power = 1.0;
         for (k, sk) in s.iter_mut().enumerate() {
@@ -478,11 +491,200 @@ fn straight_line(points: &[[f64; 2]], measured: &[bool], a: usize, b: usize) -> 
     (bend.abs() <= BEND_PX).then_some(Line { centre, along })
 }
 
+/// The margin by which [`Moments::surely_not_straight`] clears a bound before it answers: its
+/// sums and [`straight_line`]'s, taken in different orders and about different origins, differ
+/// by rounding only (well below 1e-9 of a bound at the conditioning it asks for).
+const SURE: f64 = 1e-3;
+
+/// Running sums of the measured points of a window `first..=last` of a stretch (Σ xᵃ yᵇ for
+/// a + b ≤ 4, x and y about an origin near the window, kept there by summing afresh once
+/// four window lengths of samples have entered and left since): a window grows, shrinks or
+/// slides by a sample in constant time, and [`Moments::surely_not_straight`] tells from the sums alone, without a
+/// walk over the window, most windows that [`straight_line`] would refuse.
+struct Moments<'a> {
+    points: &'a [[f64; 2]],
+    measured: &'a [bool],
+    origin: [f64; 2],
+    /// Σ xᵃ yᵇ over the window's measured points, in the order of [`Moments::terms`].
+    sums: [f64; 15],
+    /// The window summed; none before the first.
+    window: Option<(usize, usize)>,
+    /// Samples added or removed since the sums were taken afresh.
+    moves: usize,
+}
+
+impl<'a> Moments<'a> {
+    fn new(points: &'a [[f64; 2]], measured: &'a [bool]) -> Self {
+        Self {
+            points,
+            measured,
+            origin: [0.0; 2],
+            sums: [0.0; 15],
+            window: None,
+            moves: 0,
+        }
+    }
+
+    /// xᵃ yᵇ for a + b ≤ 4: 1; x, y; x², xy, y²; x³, x²y, xy², y³; x⁴, x³y, x²y², xy³, y⁴.
+    #[inline]
+    fn terms(x: f64, y: f64) -> [f64; 15] {
+        let (xx, xy, yy) = (x * x, x * y, y * y);
+        [
+            1.0,
+            x,
+            y,
+            xx,
+            xy,
+            yy,
+            xx * x,
+            xx * y,
+            x * yy,
+            yy * y,
+            xx * xx,
+            xx * xy,
+            xx * yy,
+            xy * yy,
+            yy * yy,
+        ]
+    }
+
+    /// Adds (`sign` 1) or removes (`sign` -1) sample `j` when it is measured.
+    #[inline]
+    fn add(&mut self, j: usize, sign: f64) {
+        if !self.measured[j] {
+            return;
+        }
+        let p = self.points[j];
+        let terms = Self::terms(p[0] - self.origin[0], p[1] - self.origin[1]);
+        for (sum, term) in self.sums.iter_mut().zip(terms) {
+            *sum += sign * term;
+        }
+        self.moves += 1;
+    }
+
+    /// Makes the sums those of `first..=last` (`first <= last`): by the samples that entered
+    /// and left, or afresh when that would take as long or the origin is left behind.
+    fn set(&mut self, first: usize, last: usize) {
+        let len = last + 1 - first;
+        let moved = match self.window {
+            Some((f, l)) if first <= l && f <= last => {
+                let step = first.abs_diff(f) + last.abs_diff(l);
+                (step < len && self.moves + step <= 4 * len).then_some((f, l))
+            }
+            _ => None,
+        };
+        self.window = Some((first, last));
+        let Some((f, l)) = moved else {
+            self.origin = self.points[first];
+            self.sums = [0.0; 15];
+            for j in first..=last {
+                self.add(j, 1.0);
+            }
+            self.moves = 0;
+            return;
+        };
+        for j in f..first {
+            self.add(j, -1.0);
+        }
+        for j in first..f {
+            self.add(j, 1.0);
+        }
+        for j in last + 1..=l {
+            self.add(j, -1.0);
+        }
+        for j in l + 1..=last {
+            self.add(j, 1.0);
+        }
+    }
+
+    /// Whether [`straight_line`] surely refuses the window's measured points, `ends` the first
+    /// and last of them: the sum of their squared offsets from their line of least squares
+    /// (the scatter matrix's smaller eigenvalue) is above what [`SCATTER_PX`] allows each, or
+    /// the parabola of least squares through their offsets bends by more than [`BEND_PX`] over
+    /// the span between the two ends (which the span between the farthest points, where
+    /// [`straight_line`] measures the bend, can only exceed). Both by a margin of [`SURE`] and
+    /// only where the sums are well conditioned (a clear axis, positions along it not bunched
+    /// at two places): else `false`, and the full test decides.
+    fn surely_not_straight(&self, ends: [[f64; 2]; 2]) -> bool {
+        let [n, sx, sy, sxx, sxy, syy, sx3, sx2y, sxy2, sy3, sx4, sx3y, sx2y2, sxy3, sy4] =
+            self.sums;
+        if n < MIN_LINE_POINTS as f64 {
+            return false;
+        }
+        // The scatter matrix about the centroid, its eigenvalues and the larger one's axis,
+        // from the better-conditioned row.
+        let c = [sx / n, sy / n];
+        let (cxx, cxy, cyy) = (sxx - c[0] * sx, sxy - c[0] * sy, syy - c[1] * sy);
+        let half_diff = (cxx - cyy) / 2.0;
+        let root = (half_diff * half_diff + cxy * cxy).sqrt();
+        let mean = (cxx + cyy) / 2.0;
+        let (larger, smaller) = (mean + root, mean - root);
+        if root.is_nan() || root <= SURE * larger {
+            return false;
+        }
+        if smaller > n * SCATTER_PX * SCATTER_PX * (1.0 + SURE) {
+            return true;
+        }
+        let v = if half_diff >= 0.0 {
+            [larger - cyy, cxy]
+        } else {
+            [cxy, larger - cxx]
+        };
+        let norm = (v[0] * v[0] + v[1] * v[1]).sqrt();
+        let (ax, ay) = (v[0] / norm, v[1] / norm);
+        // Positions t along the axis and offsets r across it, about the origin: their sums
+        // Σ t, Σ r, Σ t², Σ t³, Σ t⁴, Σ t r, Σ t² r.
+        let (ax2, ay2, axy) = (ax * ax, ay * ay, ax * ay);
+        let t1 = ax * sx + ay * sy;
+        let r1 = ax * sy - ay * sx;
+        let t2 = ax2 * sxx + 2.0 * axy * sxy + ay2 * syy;
+        let t3 = ax2 * ax * sx3 + 3.0 * ax2 * ay * sx2y + 3.0 * ax * ay2 * sxy2 + ay2 * ay * sy3;
+        let t4 = ax2 * ax2 * sx4
+            + 4.0 * ax2 * axy * sx3y
+            + 6.0 * ax2 * ay2 * sx2y2
+            + 4.0 * axy * ay2 * sxy3
+            + ay2 * ay2 * sy4;
+        let tr = -axy * sxx + (ax2 - ay2) * sxy + axy * syy;
+        let t2r = -ax2 * ay * sx3
+            + (ax2 - 2.0 * ay2) * ax * sx2y
+            + (2.0 * ax2 - ay2) * ay * sxy2
+            + axy * ay * sy3;
+        // ... about the centroid.
+        let mut along = [n, t1, t2, t3, t4];
+        let (tc, rc) = (t1 / n, r1 / n);
+        shift_moments(&mut along, tc);
+        let [_, _, t2, t3, t4] = along;
+        let t2r = t2r - 2.0 * tc * tr + tc * tc * r1 - rc * t2;
+        // r = d0 + d1 t + d2 t² with Σ t = Σ r = Σ t r = 0 (the centroid, the axes): the
+        // normal equations leave d2 = Σ t² r / (Σ t⁴ - (Σ t²)² / n - (Σ t³)² / Σ t²).
+        let spread = t4 - t2 * t2 / n - t3 * t3 / t2;
+        if spread.is_nan() || spread <= SURE * t4 {
+            return false;
+        }
+        let d = [ends[1][0] - ends[0][0], ends[1][1] - ends[0][1]];
+        let half = (d[0] * ax + d[1] * ay).abs() / 2.0;
+        (t2r / spread).abs() * half * half > BEND_PX * (1.0 + SURE)
+    }
+}
+
+/// Power sums Σ xᵏ (k = 0, 1, ...) made Σ (x - c)ᵏ: the binomial expansion, in place.
+fn shift_moments(sums: &mut [f64], c: f64) {
+    for k in 0..sums.len() {
+        for i in (k + 1..sums.len()).rev() {
+            sums[i] -= c * sums[i - 1];
+        }
+    }
+}
+
 /// The straight runs of the stretch `a..=b` of `medial` (between an edge's ends and corners),
 /// each its first and last sample and its line ([`straight_line`] of the `measured` points and
 /// of the `clean` ones, the line of the latter): the whole stretch when one line explains it, else
 /// the longest runs of at least `min_run` samples found from its start onwards, each grown
 /// while one line explains it.
+///
+/// A window is first put to the tests that need no walk over it: its count of measured points
+/// and their span, then [`Moments::surely_not_straight`] on its running sums; only a window
+/// that passes them is fitted (most windows slid along a curve do not).
 fn straight_runs(
     medial: &[[f64; 2]],
     measured: &[bool],
@@ -491,18 +693,55 @@ fn straight_runs(
     b: usize,
     min_run: usize,
 ) -> Vec<((usize, usize), Line)> {
-    let straight_line = |medial: &[[f64; 2]], _: &[bool], a: usize, b: usize| {
-        // The clean points' line only where the measured ones are straight (most windows on
-        // a curve are not): the same answer, without the second fit.
-        straight_line(medial, measured, a, b).and_then(|_| straight_line(medial, clean, a, b))
+    let mut scratch = Vec::new();
+    // The clean points' line only where the measured ones are straight.
+    let mut fit = |first: usize, last: usize| {
+        straight_line(medial, measured, first, last, &mut scratch)
+            .and_then(|_| straight_line(medial, clean, first, last, &mut scratch))
     };
-    if let Some(line) = straight_line(medial, measured, a, b) {
+    if let Some(line) = fit(a, b) {
         return vec![((a, b), line)];
     }
+    // The measured samples of the stretch: how many before each sample, the first at or after
+    // it, the last at or before it.
+    let len = b + 1 - a;
+    let mut before = vec![0; len + 1];
+    let mut next = vec![usize::MAX; len + 1];
+    let mut previous = vec![usize::MAX; len];
+    for k in 0..len {
+        before[k + 1] = before[k] + measured[a + k] as usize;
+        previous[k] = if measured[a + k] {
+            a + k
+        } else if k > 0 {
+            previous[k - 1]
+        } else {
+            usize::MAX
+        };
+    }
+    for k in (0..len).rev() {
+        next[k] = if measured[a + k] { a + k } else { next[k + 1] };
+    }
+    let mut moments = Moments::new(medial, measured);
+    let mut straight = |first: usize, last: usize| {
+        // `straight_line`'s count and span, exactly.
+        let n = before[last + 1 - a] - before[first - a];
+        if n < MIN_LINE_POINTS {
+            return None;
+        }
+        let (from, to) = (next[first - a], previous[last - a]);
+        if 2 * n < to + 1 - from {
+            return None;
+        }
+        moments.set(first, last);
+        if moments.surely_not_straight([medial[from], medial[to]]) {
+            return None;
+        }
+        fit(first, last)
+    };
     let mut runs = Vec::new();
     let mut start = a;
     while start + min_run <= b {
-        let Some(mut line) = straight_line(medial, measured, start, start + min_run) else {
+        let Some(mut line) = straight(start, start + min_run) else {
             start += 1;
             continue;
         };
@@ -513,7 +752,7 @@ fn straight_runs(
             if next == good {
                 break;
             }
-            match straight_line(medial, measured, start, next) {
+            match straight(start, next) {
                 Some(grown) => {
                     (good, line) = (next, grown);
                     step = ((good - start) / 4).max(1);
@@ -751,6 +990,254 @@ mod tests {
             t += SECTION_STEP_PX;
         }
         limit
+    }
+
+    /// [`straight_line`] as it was: five walks over the stretch.
+    fn straight_line_five_walks(
+        points: &[[f64; 2]],
+        measured: &[bool],
+        a: usize,
+        b: usize,
+    ) -> Option<Line> {
+        let on = || (a..=b).filter(|&j| measured[j]).map(|j| points[j]);
+        let n = on().count();
+        // Measured along most of their span: a few points do not speak for a stretch between.
+        let span = match (
+            (a..=b).find(|&j| measured[j]),
+            (a..=b).rev().find(|&j| measured[j]),
+        ) {
+            (Some(first), Some(last)) => last - first + 1,
+            _ => 0,
+        };
+        if n < MIN_LINE_POINTS || 2 * n < span {
+            return None;
+        }
+        let centre = on().fold([0.0; 2], |c, p| [c[0] + p[0], c[1] + p[1]]);
+        let centre = [centre[0] / n as f64, centre[1] / n as f64];
+        let (mut cxx, mut cxy, mut cyy) = (0.0, 0.0, 0.0);
+        for p in on() {
+            let (dx, dy) = (p[0] - centre[0], p[1] - centre[1]);
+            cxx += dx * dx;
+            cxy += dx * dy;
+            cyy += dy * dy;
+        }
+        let (_, along) = principal(cxx, cxy, cyy);
+        let normal = [-along[1], along[0]];
+        // Offsets r across the line against positions t along it, t scaled to [-1, 1].
+        let frame = |p: [f64; 2]| {
+            let (dx, dy) = (p[0] - centre[0], p[1] - centre[1]);
+            (
+                dx * along[0] + dy * along[1],
+                dx * normal[0] + dy * normal[1],
+            )
+        };
+        let (mut lo, mut hi, mut worst) = (f64::INFINITY, f64::NEG_INFINITY, 0.0f64);
+        for p in on() {
+            let (t, r) = frame(p);
+            lo = lo.min(t);
+            hi = hi.max(t);
+            worst = worst.max(r.abs());
+        }
+        if worst > SCATTER_PX || hi - lo < 1.0 {
+            return None;
+        }
+        // r = c0 + c1 u + c2 u²: the normal equations, solved by Cramer's rule.
+        let (mid, half) = ((lo + hi) / 2.0, (hi - lo) / 2.0);
+        let mut s = [0.0; 5];
+        let mut y = [0.0; 3];
+        for p in on() {
+            let (t, r) = frame(p);
+            let u = (t - mid) / half;
+            let mut power = 1.0;
+            for (k, sk) in s.iter_mut().enumerate() {
+                *sk += power;
+                if k < 3 {
+                    y[k] += power * r;
+                }
+                power *= u;
+            }
+        }
+        let det3 = |m: [[f64; 3]; 3]| {
+            m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1])
+                - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0])
+                + m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0])
+        };
+        let normal_matrix = [[s[0], s[1], s[2]], [s[1], s[2], s[3]], [s[2], s[3], s[4]]];
+        let det = det3(normal_matrix);
+        if det.abs() < 1e-12 {
+            return None;
+        }
+        let mut with_y = normal_matrix;
+        for (row, &yk) in with_y.iter_mut().zip(&y) {
+            row[2] = yk;
+        }
+        let bend = det3(with_y) / det;
+        (bend.abs() <= BEND_PX).then_some(Line { centre, along })
+    }
+
+    /// [`straight_runs`] as it was: every window fitted from scratch.
+    fn straight_runs_refitted(
+        medial: &[[f64; 2]],
+        measured: &[bool],
+        clean: &[bool],
+        a: usize,
+        b: usize,
+        min_run: usize,
+    ) -> Vec<((usize, usize), Line)> {
+        let straight_line = |medial: &[[f64; 2]], _: &[bool], a: usize, b: usize| {
+            // The clean points' line only where the measured ones are straight (most windows on
+            // a curve are not): the same answer, without the second fit.
+            straight_line_five_walks(medial, measured, a, b)
+                .and_then(|_| straight_line_five_walks(medial, clean, a, b))
+        };
+        if let Some(line) = straight_line(medial, measured, a, b) {
+            return vec![((a, b), line)];
+        }
+        let mut runs = Vec::new();
+        let mut start = a;
+        while start + min_run <= b {
+            let Some(mut line) = straight_line(medial, measured, start, start + min_run) else {
+                start += 1;
+                continue;
+            };
+            // Grown by a quarter of its length while straight, then the last step halved.
+            let (mut good, mut step) = (start + min_run, (min_run / 4).max(1));
+            loop {
+                let next = (good + step).min(b);
+                if next == good {
+                    break;
+                }
+                match straight_line(medial, measured, start, next) {
+                    Some(grown) => {
+                        (good, line) = (next, grown);
+                        step = ((good - start) / 4).max(1);
+                    }
+                    None if step > 1 => step /= 2,
+                    None => break,
+                }
+            }
+            runs.push(((start, good), line));
+            start = good;
+        }
+        runs
+    }
+
+    #[test]
+    fn power_sums_shifted_are_the_centred_ones() {
+        let xs: [f64; 6] = [3.0, -1.5, 7.25, 0.5, 2.0, 11.0];
+        let c = 2.75;
+        let mut sums: Vec<f64> = (0..5)
+            .map(|k| xs.iter().map(|x: &f64| x.powi(k)).sum())
+            .collect();
+        shift_moments(&mut sums, c);
+        for (k, &sum) in sums.iter().enumerate() {
+            let direct: f64 = xs.iter().map(|x| (x - c).powi(k as i32)).sum();
+            assert!(
+                (sum - direct).abs() <= 1e-9 * direct.abs().max(1.0),
+                "{k}: {sum} {direct}"
+            );
+        }
+    }
+
+    /// A stretch's medial points, which of them were measured, which are clean.
+    type Stretch = (Vec<[f64; 2]>, Vec<bool>, Vec<bool>);
+
+    /// Medial points of random strokes (lines, arcs, waves, sampled every pixel, moved by the
+    /// pixel grid's scatter), with random samples left unmeasured or unclean.
+    fn random_stretches() -> Vec<Stretch> {
+        let mut next = crate::synth::lcg(3333u64);
+        let mut unit = move || (next() >> 11) as f64 / (1u64 << 53) as f64;
+        let mut stretches = Vec::new();
+        for case in 0..600 {
+            let len = 10 + (unit() * 150.0) as usize;
+            let (x0, y0) = (unit() * 3000.0, unit() * 3000.0);
+            let angle = unit() * std::f64::consts::TAU;
+            let radius = 3.0 * (unit() * 8.0).exp();
+            let wave = (unit() * 3.0, 10.0 + unit() * 60.0);
+            let scatter = [0.0, 0.2, 0.45][case % 3];
+            let points: Vec<[f64; 2]> = (0..len)
+                .map(|j| {
+                    let s = j as f64;
+                    let (u, v) = match case % 4 {
+                        0 => (s, 0.0),
+                        1 | 2 => {
+                            let a = s / radius;
+                            (radius * a.sin(), radius * (1.0 - a.cos()))
+                        }
+                        _ => (s, wave.0 * (s / wave.1 * std::f64::consts::TAU).sin()),
+                    };
+                    let (c, d) = (angle.cos(), angle.sin());
+                    [
+                        x0 + u * c - v * d + scatter * (unit() - 0.5),
+                        y0 + u * d + v * c + scatter * (unit() - 0.5),
+                    ]
+                })
+                .collect();
+            let gaps = [0.0, 0.05, 0.3][case % 3];
+            let measured: Vec<bool> = (0..len).map(|_| unit() >= gaps).collect();
+            let clean: Vec<bool> = measured.iter().map(|&m| m && unit() >= gaps).collect();
+            stretches.push((points, measured, clean));
+        }
+        stretches
+    }
+
+    #[test]
+    fn a_window_refused_from_its_sums_is_one_the_fit_refuses() {
+        // Every window of every random stretch (its sums moved to it as the search moves
+        // them, grown, shrunk and slid): where the sums say surely not straight, the fit as it
+        // was says the same. Both answers well represented.
+        let (mut refused, mut fitted, mut straight) = (0, 0, 0);
+        for (points, measured, _) in random_stretches() {
+            let len = points.len();
+            let mut moments = Moments::new(&points, &measured);
+            for first in 0..len {
+                for last in first..len.min(first + 60) {
+                    let n = (first..=last).filter(|&j| measured[j]).count();
+                    if n < MIN_LINE_POINTS {
+                        continue;
+                    }
+                    let from = (first..=last).find(|&j| measured[j]).unwrap();
+                    let to = (first..=last).rev().find(|&j| measured[j]).unwrap();
+                    moments.set(first, last);
+                    let exact = straight_line_five_walks(&points, &measured, first, last);
+                    if moments.surely_not_straight([points[from], points[to]]) {
+                        assert!(exact.is_none(), "{first} {last}: {points:?} {measured:?}");
+                        refused += 1;
+                    } else {
+                        fitted += 1;
+                        straight += exact.is_some() as usize;
+                    }
+                }
+            }
+        }
+        assert!(
+            refused > 100_000 && straight > 50_000 && fitted > straight + 1_000,
+            "{refused} {fitted} {straight}"
+        );
+    }
+
+    #[test]
+    fn the_straight_runs_from_running_sums_are_the_runs_refitted() {
+        // The same runs and the same lines, bit for bit, as fitting every window afresh.
+        let mut runs = 0;
+        for (case, (points, measured, clean)) in random_stretches().into_iter().enumerate() {
+            let b = points.len() - 1;
+            for min_run in [4, 9, 16, 33] {
+                let a = case % 3;
+                let new = straight_runs(&points, &measured, &clean, a, b, min_run);
+                let old = straight_runs_refitted(&points, &measured, &clean, a, b, min_run);
+                assert_eq!(new.len(), old.len(), "{case} {min_run}");
+                for (n, o) in new.iter().zip(&old) {
+                    assert_eq!(n.0, o.0, "{case} {min_run}");
+                    let bits = |l: &Line| {
+                        [l.centre[0], l.centre[1], l.along[0], l.along[1]].map(f64::to_bits)
+                    };
+                    assert_eq!(bits(&n.1), bits(&o.1), "{case} {min_run}");
+                }
+                runs += new.len();
+            }
+        }
+        assert!(runs > 1000, "{runs}");
     }
 
     #[test]

@@ -434,7 +434,7 @@ impl PointSet {
 
     /// The points `members` (ascending) as a point set of their own; `local` maps every member to
     /// its position in `members`.
-    fn subset(&self, members: &[u32], local: &[u32]) -> PointSet {
+    pub(crate) fn subset(&self, members: &[u32], local: &[u32]) -> PointSet {
         let mut part = PointSet {
             points: members.iter().map(|&p| self.points[p as usize]).collect(),
             half_width: members

@@ -554,9 +554,20 @@ fn trace_one(
         )
     };
     timings.fit = clock.elapsed();
-    let part = part.map(|(p, _)| p);
+    let point_count = points.len();
+    let points = match part {
+        Some((part, _)) => part,
+        None => points,
+    };
     finish_one(
-        graph, prepared, points, part, refined, kept, params, timings,
+        graph,
+        prepared,
+        points,
+        point_count,
+        refined,
+        kept,
+        params,
+        timings,
     )
 }
 
@@ -588,25 +599,16 @@ fn prepare_skeleton(
         _ => None,
     };
     let part = needs.map(|needs| {
-        let mut label = vec![u32::MAX; needs.len()];
-        let mut sizes = Vec::new();
-        for (c, _) in needs.iter().enumerate().filter(|&(_, &n)| n) {
-            label[c] = sizes.len() as u32;
-            sizes.push(components.1[c]);
-        }
         let members: Vec<u32> = (0..points.len() as u32)
-            .filter(|&p| needs[components.0[p as usize] as usize])
+            .filter(|&p| needs[p as usize])
             .collect();
-        // A needed point's neighbours are in its component, so needed too.
         let mut local = vec![u32::MAX; points.len()];
         for (k, &p) in members.iter().enumerate() {
             local[p as usize] = k as u32;
         }
-        let labels = members
-            .iter()
-            .map(|&p| label[components.0[p as usize] as usize])
-            .collect();
-        (points.subset(&members, &local), (labels, sizes))
+        let part = points.subset(&members, &local);
+        let components = part.component_labels();
+        (part, components)
     });
     timings.skeleton += clock.elapsed();
     (prepared, part)
@@ -637,7 +639,7 @@ fn finish_one(
     graph: StrokeGraph,
     prepared: Option<skeleton::Prepared>,
     mut points: PointSet,
-    part: Option<PointSet>,
+    point_count: usize,
     refined: NodeGraph,
     kept: Option<(Samples, NodeGraph)>,
     params: &Params,
@@ -650,9 +652,7 @@ fn finish_one(
             grid.release(&points.points);
         }
     }
-    let point_count = points.len();
-    // The stages' pictures show the points the method traced.
-    let points = part.unwrap_or(points);
+    // The stages' pictures show the points the method traced (`points`).
     Traced {
         graph,
         point_count,
@@ -686,7 +686,7 @@ fn trace_chunks(
         (PointSet, Option<raster::Aside>),
         PackedComponents,
         Option<skeleton::Prepared>,
-        Option<(PointSet, Components)>,
+        usize,
         NodeGraph,
         Timings,
         Option<(Samples, NodeGraph)>,
@@ -718,6 +718,17 @@ fn trace_chunks(
                 recording,
                 skeleton_only,
             );
+            // Where the method traced a part of the points, only that part waits for the fit.
+            let point_count = points.len();
+            let (mut points, components) = match part {
+                Some(part) => {
+                    if let Some(grid) = &mut points.grid {
+                        grid.release(&points.points);
+                    }
+                    part
+                }
+                None => (points, components),
+            };
             // The points, their pixel index and neighbour lists are the bulk of a chunk's
             // memory; the chunks wait for the others without them, so the next chunk's reuse
             // the same memory. (A chunk the skeleton alone traces has no fit to wait for.)
@@ -729,7 +740,7 @@ fn trace_chunks(
                 (points, aside),
                 components,
                 prepared,
-                part,
+                point_count,
                 refined,
                 timings,
                 kept,
@@ -747,31 +758,36 @@ fn trace_chunks(
     let mut parts: Vec<(usize, Traced)> = refined
         .into_par_iter()
         .map(
-            |(c, (mut points, aside), components, prepared, part, refined, mut timings, kept)| {
+            |(
+                c,
+                (mut points, aside),
+                components,
+                prepared,
+                point_count,
+                refined,
+                mut timings,
+                kept,
+            )| {
                 let clock = Instant::now();
                 let components = components.unpack();
                 // Set aside only when a fit is to come: none where the skeleton alone traces.
                 let graph = match aside {
                     Some(aside) => {
                         raster::restore(&mut points, aside);
-                        let (method_points, method_components) = match &part {
-                            Some((p, c)) => (p, c),
-                            None => (&points, &components),
-                        };
-                        fit::fit_in_components(
-                            &refined,
-                            method_points,
-                            params,
-                            h,
-                            Some(&method_components.0),
-                        )
+                        fit::fit_in_components(&refined, &points, params, h, Some(&components.0))
                     }
                     None => StrokeGraph::default(),
                 };
                 timings.fit = clock.elapsed();
-                let part = part.map(|(p, _)| p);
                 let traced = finish_one(
-                    graph, prepared, points, part, refined, kept, params, timings,
+                    graph,
+                    prepared,
+                    points,
+                    point_count,
+                    refined,
+                    kept,
+                    params,
+                    timings,
                 );
                 (c, traced)
             },

@@ -451,8 +451,12 @@ impl PointSet {
         };
         part.offsets.push(0);
         for &p in members {
-            part.neighbors
-                .extend(self.neighbors_of(p).iter().map(|&q| local[q as usize]));
+            part.neighbors.extend(
+                self.neighbors_of(p)
+                    .iter()
+                    .map(|&q| local[q as usize])
+                    .filter(|&q| q != u32::MAX),
+            );
             part.offsets.push(part.neighbors.len() as u32);
         }
         if self.grid.is_some() {

@@ -151,18 +151,33 @@ impl Prepared {
         if components.0.len() != points.len() {
             return None;
         }
+        let knob = |name: &str, default: f64| {
+            std::env::var(name)
+                .ok()
+                .and_then(|v| v.parse::<f64>().ok())
+                .unwrap_or(default)
+        };
+        let (k_junction, k_end) = (knob("RL_WIN_J", 4.0), knob("RL_WIN_E", 0.0));
         let work = &self.work;
         let degree = work.degrees();
         let (w, h) = (grid.width as i64, grid.height as i64);
-        let mut needs = vec![false; components.1.len()];
-        for v in (0..work.vertices.len()).filter(|&v| work.alive[v] && degree[v] >= 3) {
+        let mut needs = vec![false; points.len()];
+        for v in (0..work.vertices.len()).filter(|&v| work.alive[v]) {
+            let k = match degree[v] {
+                0 | 2 => continue,
+                1 => k_end,
+                _ => k_junction,
+            };
+            if k <= 0.0 {
+                continue;
+            }
             let pos = work.vertices[v].pos;
             let (x, y) = (
                 (pos[0] - grid.x0 as f64).floor() as i64,
                 (pos[1] - grid.y0 as f64).floor() as i64,
             );
-            // The junction's pixel, or the nearest point around it (a contracted link's
-            // junction may sit between its two pixels).
+            // The vertex's pixel, or the nearest point around it (a contracted link's
+            // junction may sit between its two pixels): its component.
             let point = (0..=2i64).find_map(|r| {
                 (y - r..=y + r)
                     .flat_map(|yy| (x - r..=x + r).map(move |xx| (xx, yy)))
@@ -170,9 +185,34 @@ impl Prepared {
                     .map(|(xx, yy)| grid.index[(yy * w + xx) as usize])
                     .find(|&i| i != Grid::NONE)
             });
-            match point {
-                Some(i) => needs[components.0[i as usize] as usize] = true,
-                None => return None,
+            let Some(point) = point else {
+                return None;
+            };
+            let label = components.0[point as usize];
+            let r = k * work.vertices[v].width.max(MIN_WIDTH_PX);
+            // In image coordinates, so that a chunk and the whole image agree to the bit.
+            let (x0, x1) = (
+                ((x as f64 - r).floor() as i64 - 1).max(0),
+                ((x as f64 + r).ceil() as i64 + 1).min(w - 1),
+            );
+            let (y0, y1) = (
+                ((y as f64 - r).floor() as i64 - 1).max(0),
+                ((y as f64 + r).ceil() as i64 + 1).min(h - 1),
+            );
+            for yy in y0..=y1 {
+                for xx in x0..=x1 {
+                    let (dx, dy) = (
+                        (xx + grid.x0) as f64 + 0.5 - pos[0],
+                        (yy + grid.y0) as f64 + 0.5 - pos[1],
+                    );
+                    if dx * dx + dy * dy > r * r {
+                        continue;
+                    }
+                    let i = grid.index[(yy * w + xx) as usize];
+                    if i != Grid::NONE && components.0[i as usize] == label {
+                        needs[i as usize] = true;
+                    }
+                }
             }
         }
         (!needs.iter().all(|&n| n)).then_some(needs)

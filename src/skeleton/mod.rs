@@ -88,34 +88,135 @@ pub(crate) fn thin(binary: &Binary) -> StrokeGraph {
     pixel_graph(w, h, &skeleton, &pixels, (w * h, |i| i), |i| half[i])
 }
 
-/// The skeleton-carried graph of `points`' ink with the topology decisions of `method` (see the
-/// module doc), each edge fitted to its ink ([`smooth`]). Returns `method` unchanged for point
-/// lists and in dropout mode.
+/// The skeleton of a point set's ink with the steps of the reconciliation that read nothing of
+/// the method's graph done (thinning's spurs pruned, degree-2 vertices joined, short links
+/// contracted): made before the method runs, so that it tells which components the method
+/// has anything to decide in ([`Prepared::needing_method`]), then carried on with the method's
+/// graph ([`Prepared::carry`]).
+pub(crate) struct Prepared {
+    work: Work,
+    ridges: bool,
+}
+
+/// [`Prepared`] for `points`; `None` for point lists and in dropout mode, where the method's
+/// graph is the trace. `components` are the points' [`PointSet::component_labels`] (labels and
+/// sizes) when they are known (found here otherwise, and when their length is not the points').
 ///
-/// `components` are the points' [`PointSet::component_labels`] (labels and sizes) when they are
-/// known (found here otherwise, and when their length is not the points'). `ridges` is set for
+/// `ridges` is set for
 /// a print's ridges, whose forks and ends keep the places the print's prior and minutiae filter
 /// were measured on: [`Work::place_shallow_tees`] is not applied (moved, the synthetic prints'
 /// minutiae were found less well) and an end is not carried to a narrowing stroke's cap (a
 /// ridge's end is not a brush's tail: [`Work::extend_ends`]; moved, DB2's FMR1000 rose over
 /// mindtct's) (docs/quality.md, "Session of 2026-12-06, seventh").
-pub fn carry(
-    method: &StrokeGraph,
+pub(crate) fn prepare(
     points: &PointSet,
     experiments: &ExperimentParams,
     ridges: bool,
     components: Option<(&[u32], &[usize])>,
-) -> StrokeGraph {
-    let Some(grid) = &points.grid else {
-        return method.clone();
-    };
+) -> Option<Prepared> {
+    let grid = points.grid.as_ref()?;
     if points.dropout || grid.index.is_empty() {
-        return method.clone();
+        return None;
     }
     let (skeleton, ink) = skeleton_graph(points, grid, components);
-    let carried = reconcile(Work::new(skeleton, ink), method, experiments, ridges);
-    debug_assert_eq!(validate(&carried), Ok(()));
-    carried
+    let mut work = Work::new(skeleton, ink);
+    work.prune_spurs(experiments.decide_by_ink);
+    work.join_degree_two();
+    work.contract_short_links();
+    Some(Prepared { work, ridges })
+}
+
+impl Prepared {
+    /// The skeleton-carried graph of the points' ink with the topology decisions of `method`
+    /// (see the module doc), each edge fitted to its ink ([`smooth`]).
+    pub(crate) fn carry(self, method: &StrokeGraph, experiments: &ExperimentParams) -> StrokeGraph {
+        let carried = reconcile(self.work, method, experiments, self.ridges);
+        debug_assert_eq!(validate(&carried), Ok(()));
+        carried
+    }
+
+    /// Which of `points`' components (`components`: their labels and sizes, the ones this was
+    /// prepared with) the method's graph (§3.1-§3.4) can decide anything in: those whose
+    /// skeleton still has a junction. A component without one is a path, a closed curve or a
+    /// dot: crossings are merged only at junctions, and its ends and bends are the skeleton's
+    /// own steps, so the method's graph there would only lend its fitted lines, which every
+    /// edge's own fit to its ink ([`smooth`]) replaces (docs/design.md, "The method where it
+    /// decides"). `None` when every component needs the method.
+    pub(crate) fn needing_method(
+        &self,
+        points: &PointSet,
+        components: (&[u32], &[usize]),
+    ) -> Option<Vec<bool>> {
+        let grid = points.grid.as_ref()?;
+        if components.0.len() != points.len() {
+            return None;
+        }
+        let knob = |name: &str, default: f64| {
+            std::env::var(name)
+                .ok()
+                .and_then(|v| v.parse::<f64>().ok())
+                .unwrap_or(default)
+        };
+        let (k_junction, k_end) = (knob("RL_WIN_J", 4.0), knob("RL_WIN_E", 0.0));
+        let work = &self.work;
+        let degree = work.degrees();
+        let (w, h) = (grid.width as i64, grid.height as i64);
+        let mut needs = vec![false; points.len()];
+        for v in (0..work.vertices.len()).filter(|&v| work.alive[v]) {
+            let k = match degree[v] {
+                0 | 2 => continue,
+                1 => k_end,
+                _ => k_junction,
+            };
+            if k <= 0.0 {
+                continue;
+            }
+            let pos = work.vertices[v].pos;
+            let (x, y) = (
+                (pos[0] - grid.x0 as f64).floor() as i64,
+                (pos[1] - grid.y0 as f64).floor() as i64,
+            );
+            // The vertex's pixel, or the nearest point around it (a contracted link's
+            // junction may sit between its two pixels): its component.
+            let point = (0..=2i64).find_map(|r| {
+                (y - r..=y + r)
+                    .flat_map(|yy| (x - r..=x + r).map(move |xx| (xx, yy)))
+                    .filter(|&(xx, yy)| xx >= 0 && yy >= 0 && xx < w && yy < h)
+                    .map(|(xx, yy)| grid.index[(yy * w + xx) as usize])
+                    .find(|&i| i != Grid::NONE)
+            });
+            let Some(point) = point else {
+                return None;
+            };
+            let label = components.0[point as usize];
+            let r = k * work.vertices[v].width.max(MIN_WIDTH_PX);
+            // In image coordinates, so that a chunk and the whole image agree to the bit.
+            let (x0, x1) = (
+                ((x as f64 - r).floor() as i64 - 1).max(0),
+                ((x as f64 + r).ceil() as i64 + 1).min(w - 1),
+            );
+            let (y0, y1) = (
+                ((y as f64 - r).floor() as i64 - 1).max(0),
+                ((y as f64 + r).ceil() as i64 + 1).min(h - 1),
+            );
+            for yy in y0..=y1 {
+                for xx in x0..=x1 {
+                    let (dx, dy) = (
+                        (xx + grid.x0) as f64 + 0.5 - pos[0],
+                        (yy + grid.y0) as f64 + 0.5 - pos[1],
+                    );
+                    if dx * dx + dy * dy > r * r {
+                        continue;
+                    }
+                    let i = grid.index[(yy * w + xx) as usize];
+                    if i != Grid::NONE && components.0[i as usize] == label {
+                        needs[i as usize] = true;
+                    }
+                }
+            }
+        }
+        (!needs.iter().all(|&n| n)).then_some(needs)
+    }
 }
 
 /// The [`pixel_graph`] of the ink of `points`' grid, specks filled, thinned to one pixel, every
@@ -192,8 +293,8 @@ fn skeleton_graph(
     (s, ink)
 }
 
-/// The skeleton's graph with the method's decisions, in order: spurs, thinning's split
-/// junctions, crossings, spurs the merged crossings leave, split crossings and stars, corners,
+/// The skeleton's graph, its spurs pruned and thinning's split junctions contracted
+/// ([`prepare`]), with the method's decisions, in order: crossings, spurs the merged crossings leave, split crossings and stars, corners,
 /// junctions put back on one-pixel lines, dots, ends, junctions, the method's lines, and last
 /// every edge fitted to its ink.
 fn reconcile(
@@ -203,9 +304,6 @@ fn reconcile(
     ridges: bool,
 ) -> StrokeGraph {
     let by_ink = experiments.decide_by_ink;
-    work.prune_spurs(by_ink);
-    work.join_degree_two();
-    work.contract_short_links();
     work.merge_crossings(method);
     work.prune_spurs(by_ink);
     work.merge_split_crossings(!ridges);
@@ -228,7 +326,7 @@ fn reconcile(
     work.finish(method.width, method.height)
 }
 
-/// Checks the skeleton stage's output ([`carry`] on an image): a valid [`StrokeGraph`]
+/// Checks the skeleton stage's output ([`Prepared::carry`] on an image): a valid [`StrokeGraph`]
 /// ([`StrokeGraph::validate`]) in which every vertex of degree 2 is the vertex of a closed curve
 /// without junction (one loop, its only edge): the reconciliation joins every other pair of
 /// edges meeting at a vertex into one.

@@ -1016,7 +1016,9 @@ mod tests {
             height: h,
             ..StrokeGraph::default()
         };
-        let graph = super::super::carry(&method, &points, &params.experiments, false, None);
+        let graph = super::super::prepare(&points, &params.experiments, false, None)
+            .expect("a skeleton")
+            .carry(&method, &params.experiments);
         super::super::validate(&graph).expect("valid skeleton graph");
         graph
     }

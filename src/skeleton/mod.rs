@@ -85,7 +85,7 @@ pub(crate) fn thin(binary: &Binary) -> StrokeGraph {
         half[i] = d;
     }
     let pixels: Vec<usize> = (0..w * h).filter(|&i| skeleton[i]).collect();
-    pixel_graph(w, h, &skeleton, &pixels, (w * h, |i| i), |i| half[i])
+    pixel_graph(w, h, &skeleton, &pixels, (w * h, |i| i), |i| half[i], [0, 0])
 }
 
 /// The skeleton of a point set's ink with the steps of the reconciliation that read nothing of
@@ -94,8 +94,13 @@ pub(crate) fn thin(binary: &Binary) -> StrokeGraph {
 /// has anything to decide in ([`Prepared::needing_method`]), then carried on with the method's
 /// graph ([`Prepared::carry`]).
 pub(crate) struct Prepared {
+    /// The skeleton's work, its ink mask taken out while it waits ([`Prepared::packed`]).
     work: Work,
     ridges: bool,
+    /// The ink mask a bit a pixel, bit `i % 64` of word `i / 64` for window pixel `i`: the
+    /// prepared skeletons of a page's chunks wait for the others' method together, and their
+    /// windows hold many times their ink (docs/performance.md, "the method in windows, merged").
+    packed: Vec<u64>,
 }
 
 /// [`Prepared`] for `points`; `None` for point lists and in dropout mode, where the method's
@@ -123,14 +128,31 @@ pub(crate) fn prepare(
     work.prune_spurs(experiments.decide_by_ink);
     work.join_degree_two();
     work.contract_short_links();
-    Some(Prepared { work, ridges })
+    let mask = std::mem::take(&mut work.ink.mask);
+    let mut packed = vec![0u64; mask.len().div_ceil(64)];
+    for (word, bits) in packed.iter_mut().zip(mask.chunks(64)) {
+        *word = bits
+            .iter()
+            .enumerate()
+            .fold(0, |word, (k, &on)| word | u64::from(on) << k);
+    }
+    Some(Prepared {
+        work,
+        ridges,
+        packed,
+    })
 }
 
 impl Prepared {
     /// The skeleton-carried graph of the points' ink with the topology decisions of `method`
     /// (see the module doc), each edge fitted to its ink ([`smooth`]).
     pub(crate) fn carry(self, method: &StrokeGraph, experiments: &ExperimentParams) -> StrokeGraph {
-        let carried = reconcile(self.work, method, experiments, self.ridges);
+        let mut work = self.work;
+        let len = work.ink.width * work.ink.height;
+        work.ink.mask = (0..len)
+            .map(|i| self.packed[i / 64] >> (i % 64) & 1 == 1)
+            .collect();
+        let carried = reconcile(work, method, experiments, self.ridges);
         debug_assert_eq!(validate(&carried), Ok(()));
         carried
     }
@@ -274,16 +296,8 @@ fn skeleton_graph(
         p => p as usize,
     };
     let ids = (points.len() + specks.len(), number);
-    let mut s = pixel_graph(w, h, &skeleton, &pixels, ids, half);
+    let s = pixel_graph(w, h, &skeleton, &pixels, ids, half, [grid.x0, grid.y0]);
     let (x0, y0) = (grid.x0 as f64, grid.y0 as f64);
-    for v in &mut s.vertices {
-        v.pos = [v.pos[0] + x0, v.pos[1] + y0];
-    }
-    for e in &mut s.edges {
-        for p in &mut e.points {
-            *p = [p[0] + x0, p[1] + y0];
-        }
-    }
     let ink = Ink {
         mask: ink,
         width: w,

@@ -61,6 +61,12 @@ const MIN_WIDTH_PX: f64 = 1.0;
 /// own steps decide it.
 const MIN_LINE_PX: f64 = 1.0;
 
+/// The method (§3.1-§3.4) traces the ink within this many local stroke widths of each junction
+/// of the prepared skeleton ([`Prepared::needing_method`]): its clusters need a junction's arms
+/// a few widths long, and at 4 widths the quality example lost crossings (`cursive` .604 ->
+/// .573, `thin` .989 -> .978) that 6 keeps (docs/quality.md, "Session of 2026-12-06, ninth").
+const JUNCTION_WINDOW_WIDTHS: f64 = 6.0;
+
 /// The radius of the disk a full width `width` (px, the pixel itself counted) covers.
 fn disk_radius(width: f64) -> f64 {
     (width + 1.0) / 2.0
@@ -85,7 +91,15 @@ pub(crate) fn thin(binary: &Binary) -> StrokeGraph {
         half[i] = d;
     }
     let pixels: Vec<usize> = (0..w * h).filter(|&i| skeleton[i]).collect();
-    pixel_graph(w, h, &skeleton, &pixels, (w * h, |i| i), |i| half[i], [0, 0])
+    pixel_graph(
+        w,
+        h,
+        &skeleton,
+        &pixels,
+        (w * h, |i| i),
+        |i| half[i],
+        [0, 0],
+    )
 }
 
 /// The skeleton of a point set's ink with the steps of the reconciliation that read nothing of
@@ -157,13 +171,15 @@ impl Prepared {
         carried
     }
 
-    /// Which of `points`' components (`components`: their labels and sizes, the ones this was
-    /// prepared with) the method's graph (§3.1-§3.4) can decide anything in: those whose
-    /// skeleton still has a junction. A component without one is a path, a closed curve or a
-    /// dot: crossings are merged only at junctions, and its ends and bends are the skeleton's
-    /// own steps, so the method's graph there would only lend its fitted lines, which every
-    /// edge's own fit to its ink ([`smooth`]) replaces (docs/design.md, "The method where it
-    /// decides"). `None` when every component needs the method.
+    /// Which of `points` (their components `components`: labels and sizes, the ones this was
+    /// prepared with) the method (§3.1-§3.4) is to trace: those within
+    /// [`JUNCTION_WINDOW_WIDTHS`] local widths (the junction vertex's) of a junction of the
+    /// prepared skeleton, in the junction's own component. The reconciliation reads the method's
+    /// graph only at the skeleton's junctions, for its crossings ([`Work::merge_crossings`])
+    /// and its lines near them ([`Work::adopt_method_geometry`]); ends, bends and plain
+    /// stretches are the skeleton's own steps and every edge's fit to its ink ([`smooth`])
+    /// (docs/design.md, "Skeleton-carried geometry"; docs/performance.md, "Session of
+    /// 2026-12-06, ninth: the method in windows, merged"). `None` when every point is needed.
     pub(crate) fn needing_method(
         &self,
         points: &PointSet,
@@ -173,26 +189,15 @@ impl Prepared {
         if components.0.len() != points.len() {
             return None;
         }
-        let knob = |name: &str, default: f64| {
-            std::env::var(name)
-                .ok()
-                .and_then(|v| v.parse::<f64>().ok())
-                .unwrap_or(default)
-        };
-        let (k_junction, k_end) = (knob("RL_WIN_J", 4.0), knob("RL_WIN_E", 0.0));
         let work = &self.work;
         let degree = work.degrees();
         let (w, h) = (grid.width as i64, grid.height as i64);
         let mut needs = vec![false; points.len()];
         for v in (0..work.vertices.len()).filter(|&v| work.alive[v]) {
             let k = match degree[v] {
-                0 | 2 => continue,
-                1 => k_end,
-                _ => k_junction,
+                0..=2 => continue,
+                _ => JUNCTION_WINDOW_WIDTHS,
             };
-            if k <= 0.0 {
-                continue;
-            }
             let pos = work.vertices[v].pos;
             let (x, y) = (
                 (pos[0] - grid.x0 as f64).floor() as i64,

@@ -260,7 +260,10 @@ fn fit_edge(edge: &mut Edge, ink: &Ink, clear: [f64; 2], lines: bool, closed: bo
         if plus + minus >= limit || shift.abs() > MAX_SHIFT_PX {
             return None;
         }
-        Some(([p[0] + shift * normal[0], p[1] + shift * normal[1]], plus + minus))
+        Some((
+            [p[0] + shift * normal[0], p[1] + shift * normal[1]],
+            plus + minus,
+        ))
     };
     // Where a closed curve was cut, the middle of its section across the cut, on the ink.
     let cut = if closed && m > 2 * half {

@@ -373,7 +373,7 @@ fn a_large_page_traced_with_stages_is_the_same_trace_in_the_same_chunks() {
     let stages = staged.stages.expect("stages kept");
     // The stages are those of the method, which traces only the ink around the skeleton's
     // junctions (docs/design.md, "Skeleton-carried geometry"): a part of the points.
-    assert!(stages.points.len() > 0 && stages.points.len() < chunked.point_count);
+    assert!(!stages.points.is_empty() && stages.points.len() < chunked.point_count);
     stages.points.validate().expect("joined points");
     stages
         .samples

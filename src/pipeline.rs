@@ -526,9 +526,15 @@ fn trace_one(
     let mut timings = Timings::default();
     let components = components.unwrap_or_else(|| points.component_labels());
     let skeleton_only = skeleton_only(&points, params);
+    let (prepared, part) =
+        prepare_skeleton(&points, &components, params, skeleton_only, &mut timings);
+    let (method_points, method_components) = match &part {
+        Some((p, c)) => (p, c),
+        None => (&points, &components),
+    };
     let (refined, kept) = method_stages(
-        &points,
-        &components,
+        method_points,
+        method_components,
         params,
         &mut timings,
         recording,
@@ -538,11 +544,74 @@ fn trace_one(
     let graph = if skeleton_only {
         StrokeGraph::default()
     } else {
-        let h = fit::node_spacing(&[&refined], &points, params);
-        fit::fit_in_components(&refined, &points, params, h, Some(&components.0))
+        let h = fit::node_spacing(&[&refined], method_points, params);
+        fit::fit_in_components(
+            &refined,
+            method_points,
+            params,
+            h,
+            Some(&method_components.0),
+        )
     };
     timings.fit = clock.elapsed();
-    finish_one(graph, points, &components, refined, kept, params, timings)
+    let point_count = points.len();
+    let points = match part {
+        Some((part, _)) => part,
+        None => points,
+    };
+    finish_one(
+        graph,
+        prepared,
+        points,
+        point_count,
+        refined,
+        kept,
+        params,
+        timings,
+    )
+}
+
+/// The skeleton of `points` prepared for carrying the geometry ([`skeleton::prepare`]) when
+/// [`FinishParams::skeleton`](crate::FinishParams::skeleton) asks for it, and the points the
+/// method (§3.1-§3.4) traces, with their components, where some components need no decision
+/// of the method ([`skeleton::Prepared::needing_method`]; `None`: the method traces all of
+/// `points`). Both are the skeleton's time.
+fn prepare_skeleton(
+    points: &PointSet,
+    components: &Components,
+    params: &Params,
+    skeleton_only: bool,
+    timings: &mut Timings,
+) -> (Option<skeleton::Prepared>, Option<(PointSet, Components)>) {
+    if !params.finish.skeleton {
+        return (None, None);
+    }
+    let clock = Instant::now();
+    let labels = (&components.0[..], &components.1[..]);
+    let prepared = skeleton::prepare(
+        points,
+        &params.experiments,
+        params.fingerprint.is_some(),
+        Some(labels),
+    );
+    let needs = match &prepared {
+        Some(prepared) if !skeleton_only => prepared.needing_method(points, labels),
+        _ => None,
+    };
+    let part = needs.map(|needs| {
+        let members: Vec<u32> = (0..points.len() as u32)
+            .filter(|&p| needs[p as usize])
+            .collect();
+        let mut local = vec![u32::MAX; points.len()];
+        for (k, &p) in members.iter().enumerate() {
+            local[p as usize] = k as u32;
+        }
+        let part = points.subset(&members, &local);
+        let components = part.component_labels();
+        (part, components)
+    });
+    timings.skeleton += clock.elapsed();
+    (prepared, part)
 }
 
 /// Whether the skeleton alone traces the point sets `params` make outside dropout mode (see
@@ -552,7 +621,7 @@ fn skeleton_traces(params: &Params) -> bool {
 }
 
 /// Whether the skeleton alone traces `points`: a print's ridges ([`Params::fingerprint`]) whose
-/// skeleton carries the geometry ([`skeleton::carry`]: not in dropout mode, not with
+/// skeleton carries the geometry ([`skeleton::prepare`]: not in dropout mode, not with
 /// `--no-skeleton`). There the method's graph (§3.1-§3.4) would only lend its crossings, which
 /// ridges do not make, and its end and junction positions, and the prints' minutiae matched no
 /// worse without them, each ridge fitted to its own ink instead (docs/fingerprints.md, "Speed").
@@ -565,25 +634,28 @@ fn skeleton_only(points: &PointSet, params: &Params) -> bool {
 
 /// The skeleton on one fitted point set (§3.4's graph carried by it), and the point set's trace
 /// with its stages when they were kept.
+#[allow(clippy::too_many_arguments)]
 fn finish_one(
     graph: StrokeGraph,
+    prepared: Option<skeleton::Prepared>,
     mut points: PointSet,
-    components: &Components,
+    point_count: usize,
     refined: NodeGraph,
     kept: Option<(Samples, NodeGraph)>,
     params: &Params,
     mut timings: Timings,
 ) -> Traced {
-    let graph = carry_on_skeleton(graph, &points, components, params, &mut timings);
+    let graph = carry_on_skeleton(graph, prepared, params, &mut timings);
     // The pixel index goes to the thread's next window unless the stages keep it.
     if kept.is_none() {
         if let Some(grid) = &mut points.grid {
             grid.release(&points.points);
         }
     }
+    // The stages' pictures show the points the method traced (`points`).
     Traced {
         graph,
-        point_count: points.len(),
+        point_count,
         timings,
         stages: kept.map(|(samples, node_graph)| Stages {
             points,
@@ -613,6 +685,8 @@ fn trace_chunks(
         usize,
         (PointSet, Option<raster::Aside>),
         PackedComponents,
+        Option<skeleton::Prepared>,
+        usize,
         NodeGraph,
         Timings,
         Option<(Samples, NodeGraph)>,
@@ -630,32 +704,70 @@ fn trace_chunks(
                 ..Timings::default()
             };
             let skeleton_only = skeleton_only(&points, params);
+            let (prepared, part) =
+                prepare_skeleton(&points, &components, params, skeleton_only, &mut timings);
+            let (method_points, method_components) = match &part {
+                Some((p, c)) => (p, c),
+                None => (&points, &components),
+            };
             let (refined, kept) = method_stages(
-                &points,
-                &components,
+                method_points,
+                method_components,
                 params,
                 &mut timings,
                 recording,
                 skeleton_only,
             );
+            // Where the method traced a part of the points, only that part waits for the fit.
+            let point_count = points.len();
+            let (mut points, components) = match part {
+                Some(part) => {
+                    if let Some(grid) = &mut points.grid {
+                        grid.release(&points.points);
+                    }
+                    part
+                }
+                None => (points, components),
+            };
             // The points, their pixel index and neighbour lists are the bulk of a chunk's
             // memory; the chunks wait for the others without them, so the next chunk's reuse
             // the same memory. (A chunk the skeleton alone traces has no fit to wait for.)
             // Their component labels wait as runs.
             let aside = (!skeleton_only).then(|| raster::set_aside(&mut points));
             let components = PackedComponents::pack(components);
-            Ok((c, (points, aside), components, refined, timings, kept))
+            Ok((
+                c,
+                (points, aside),
+                components,
+                prepared,
+                point_count,
+                refined,
+                timings,
+                kept,
+            ))
         })
         .collect::<Result<_>>()?;
     let Some((_, (first, _), ..)) = refined.first() else {
         return Ok(Traced::join(Vec::new()));
     };
-    let graphs: Vec<&NodeGraph> = refined.iter().map(|(_, _, _, graph, ..)| graph).collect();
+    let graphs: Vec<&NodeGraph> = refined
+        .iter()
+        .map(|(_, _, _, _, _, graph, ..)| graph)
+        .collect();
     let h = fit::node_spacing(&graphs, first, params);
     let mut parts: Vec<(usize, Traced)> = refined
         .into_par_iter()
         .map(
-            |(c, (mut points, aside), components, refined, mut timings, kept)| {
+            |(
+                c,
+                (mut points, aside),
+                components,
+                prepared,
+                point_count,
+                refined,
+                mut timings,
+                kept,
+            )| {
                 let clock = Instant::now();
                 let components = components.unpack();
                 // Set aside only when a fit is to come: none where the skeleton alone traces.
@@ -667,7 +779,16 @@ fn trace_chunks(
                     None => StrokeGraph::default(),
                 };
                 timings.fit = clock.elapsed();
-                let traced = finish_one(graph, points, &components, refined, kept, params, timings);
+                let traced = finish_one(
+                    graph,
+                    prepared,
+                    points,
+                    point_count,
+                    refined,
+                    kept,
+                    params,
+                    timings,
+                );
                 (c, traced)
             },
         )
@@ -718,26 +839,23 @@ fn refine_stages(
     (refined, kept)
 }
 
-/// The fitted `graph` with its geometry carried by the skeleton of `points` when
-/// [`FinishParams::skeleton`](crate::FinishParams::skeleton) asks for it (docs/design.md,
-/// "Skeleton-carried geometry"), timed.
+/// The fitted `graph` with its geometry carried by the skeleton `prepared` for it
+/// ([`prepare_skeleton`]; `None`: no skeleton asked for, or none that carries the points: point
+/// lists, dropout mode), timed (docs/design.md, "Skeleton-carried geometry").
 fn carry_on_skeleton(
     graph: StrokeGraph,
-    points: &PointSet,
-    components: &Components,
+    prepared: Option<skeleton::Prepared>,
     params: &Params,
     timings: &mut Timings,
 ) -> StrokeGraph {
-    if !params.finish.skeleton {
+    let Some(prepared) = prepared else {
         return graph;
-    }
+    };
     let clock = Instant::now();
     // Every edge fitted to its ink, a print's ridges too: without the method's lines
     // ([`skeleton_only`]) the pixel paths alone placed minutiae worse.
-    let components = Some((&components.0[..], &components.1[..]));
-    let ridges = params.fingerprint.is_some();
-    let carried = skeleton::carry(&graph, points, &params.experiments, ridges, components);
-    timings.skeleton = clock.elapsed();
+    let carried = prepared.carry(&graph, &params.experiments);
+    timings.skeleton += clock.elapsed();
     carried
 }
 

@@ -434,7 +434,7 @@ impl PointSet {
 
     /// The points `members` (ascending) as a point set of their own; `local` maps every member to
     /// its position in `members`.
-    fn subset(&self, members: &[u32], local: &[u32]) -> PointSet {
+    pub(crate) fn subset(&self, members: &[u32], local: &[u32]) -> PointSet {
         let mut part = PointSet {
             points: members.iter().map(|&p| self.points[p as usize]).collect(),
             half_width: members
@@ -451,8 +451,12 @@ impl PointSet {
         };
         part.offsets.push(0);
         for &p in members {
-            part.neighbors
-                .extend(self.neighbors_of(p).iter().map(|&q| local[q as usize]));
+            part.neighbors.extend(
+                self.neighbors_of(p)
+                    .iter()
+                    .map(|&q| local[q as usize])
+                    .filter(|&q| q != u32::MAX),
+            );
             part.offsets.push(part.neighbors.len() as u32);
         }
         if self.grid.is_some() {

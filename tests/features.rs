@@ -286,10 +286,22 @@ fn traced_edges_fit_with_curves_within_tolerance() {
             .iter()
             .flat_map(|s| (0..=200).map(move |k| s.eval(k as f64 / 200.0)))
             .collect();
+        // The distance to the curve, as to the polyline through its dense samples (a long
+        // segment's samples lie up to a pixel apart, too far apart to stand for it as points).
+        let to_segment = |p: [f64; 2], a: [f64; 2], b: [f64; 2]| {
+            let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
+            let len2 = dx * dx + dy * dy;
+            let t = if len2 > 0.0 {
+                (((p[0] - a[0]) * dx + (p[1] - a[1]) * dy) / len2).clamp(0.0, 1.0)
+            } else {
+                0.0
+            };
+            (p[0] - a[0] - t * dx).hypot(p[1] - a[1] - t * dy)
+        };
         for p in &edge.points {
             let d = samples
-                .iter()
-                .map(|q| (p[0] - q[0]).hypot(p[1] - q[1]))
+                .windows(2)
+                .map(|s| to_segment(*p, s[0], s[1]))
                 .fold(f64::INFINITY, f64::min);
             assert!(d <= options.tolerance + 0.05, "{d}");
         }

@@ -371,7 +371,9 @@ fn a_large_page_traced_with_stages_is_the_same_trace_in_the_same_chunks() {
     let staged = ridgeline::trace_binary_with_stages(&binary, &params).expect("trace");
     assert_eq!(staged.graph, chunked.graph);
     let stages = staged.stages.expect("stages kept");
-    assert_eq!(stages.points.len(), chunked.point_count);
+    // The stages are those of the method, which traces only the ink around the skeleton's
+    // junctions (docs/design.md, "Skeleton-carried geometry"): a part of the points.
+    assert!(!stages.points.is_empty() && stages.points.len() < chunked.point_count);
     stages.points.validate().expect("joined points");
     stages
         .samples

@@ -61,6 +61,12 @@ const MIN_WIDTH_PX: f64 = 1.0;
 /// own steps decide it.
 const MIN_LINE_PX: f64 = 1.0;
 
+/// The method (§3.1-§3.4) traces the ink within this many local stroke widths of each junction
+/// of the prepared skeleton ([`Prepared::needing_method`]): its clusters need a junction's arms
+/// a few widths long, and at 4 widths the quality example lost crossings (`cursive` .604 ->
+/// .573, `thin` .989 -> .978) that 6 keeps (docs/quality.md, "Session of 2026-12-06, ninth").
+const JUNCTION_WINDOW_WIDTHS: f64 = 6.0;
+
 /// The radius of the disk a full width `width` (px, the pixel itself counted) covers.
 fn disk_radius(width: f64) -> f64 {
     (width + 1.0) / 2.0
@@ -85,37 +91,157 @@ pub(crate) fn thin(binary: &Binary) -> StrokeGraph {
         half[i] = d;
     }
     let pixels: Vec<usize> = (0..w * h).filter(|&i| skeleton[i]).collect();
-    pixel_graph(w, h, &skeleton, &pixels, (w * h, |i| i), |i| half[i])
+    pixel_graph(
+        w,
+        h,
+        &skeleton,
+        &pixels,
+        (w * h, |i| i),
+        |i| half[i],
+        [0, 0],
+    )
 }
 
-/// The skeleton-carried graph of `points`' ink with the topology decisions of `method` (see the
-/// module doc), each edge fitted to its ink ([`smooth`]). Returns `method` unchanged for point
-/// lists and in dropout mode.
+/// The skeleton of a point set's ink with the steps of the reconciliation that read nothing of
+/// the method's graph done (thinning's spurs pruned, degree-2 vertices joined, short links
+/// contracted): made before the method runs, so that it tells which components the method
+/// has anything to decide in ([`Prepared::needing_method`]), then carried on with the method's
+/// graph ([`Prepared::carry`]).
+pub(crate) struct Prepared {
+    /// The skeleton's work, its ink mask taken out while it waits ([`Prepared::packed`]).
+    work: Work,
+    ridges: bool,
+    /// The ink mask a bit a pixel, bit `i % 64` of word `i / 64` for window pixel `i`: the
+    /// prepared skeletons of a page's chunks wait for the others' method together, and their
+    /// windows hold many times their ink (docs/performance.md, "the method in windows, merged").
+    packed: Vec<u64>,
+}
+
+/// [`Prepared`] for `points`; `None` for point lists and in dropout mode, where the method's
+/// graph is the trace. `components` are the points' [`PointSet::component_labels`] (labels and
+/// sizes) when they are known (found here otherwise, and when their length is not the points').
 ///
-/// `components` are the points' [`PointSet::component_labels`] (labels and sizes) when they are
-/// known (found here otherwise, and when their length is not the points'). `ridges` is set for
+/// `ridges` is set for
 /// a print's ridges, whose forks and ends keep the places the print's prior and minutiae filter
 /// were measured on: [`Work::place_shallow_tees`] is not applied (moved, the synthetic prints'
 /// minutiae were found less well) and an end is not carried to a narrowing stroke's cap (a
 /// ridge's end is not a brush's tail: [`Work::extend_ends`]; moved, DB2's FMR1000 rose over
 /// mindtct's) (docs/quality.md, "Session of 2026-12-06, seventh").
-pub fn carry(
-    method: &StrokeGraph,
+pub(crate) fn prepare(
     points: &PointSet,
     experiments: &ExperimentParams,
     ridges: bool,
     components: Option<(&[u32], &[usize])>,
-) -> StrokeGraph {
-    let Some(grid) = &points.grid else {
-        return method.clone();
-    };
+) -> Option<Prepared> {
+    let grid = points.grid.as_ref()?;
     if points.dropout || grid.index.is_empty() {
-        return method.clone();
+        return None;
     }
     let (skeleton, ink) = skeleton_graph(points, grid, components);
-    let carried = reconcile(Work::new(skeleton, ink), method, experiments, ridges);
-    debug_assert_eq!(validate(&carried), Ok(()));
-    carried
+    let mut work = Work::new(skeleton, ink);
+    work.prune_spurs(experiments.decide_by_ink);
+    work.join_degree_two();
+    work.contract_short_links();
+    let mask = std::mem::take(&mut work.ink.mask);
+    let mut packed = vec![0u64; mask.len().div_ceil(64)];
+    for (word, bits) in packed.iter_mut().zip(mask.chunks(64)) {
+        *word = bits
+            .iter()
+            .enumerate()
+            .fold(0, |word, (k, &on)| word | u64::from(on) << k);
+    }
+    Some(Prepared {
+        work,
+        ridges,
+        packed,
+    })
+}
+
+impl Prepared {
+    /// The skeleton-carried graph of the points' ink with the topology decisions of `method`
+    /// (see the module doc), each edge fitted to its ink ([`smooth`]).
+    pub(crate) fn carry(self, method: &StrokeGraph, experiments: &ExperimentParams) -> StrokeGraph {
+        let mut work = self.work;
+        let len = work.ink.width * work.ink.height;
+        work.ink.mask = (0..len)
+            .map(|i| self.packed[i / 64] >> (i % 64) & 1 == 1)
+            .collect();
+        let carried = reconcile(work, method, experiments, self.ridges);
+        debug_assert_eq!(validate(&carried), Ok(()));
+        carried
+    }
+
+    /// Which of `points` (their components `components`: labels and sizes, the ones this was
+    /// prepared with) the method (§3.1-§3.4) is to trace: those within
+    /// [`JUNCTION_WINDOW_WIDTHS`] local widths (the junction vertex's) of a junction of the
+    /// prepared skeleton, in the junction's own component. The reconciliation reads the method's
+    /// graph only at the skeleton's junctions, for its crossings ([`Work::merge_crossings`])
+    /// and its lines near them ([`Work::adopt_method_geometry`]); ends, bends and plain
+    /// stretches are the skeleton's own steps and every edge's fit to its ink ([`smooth`])
+    /// (docs/design.md, "Skeleton-carried geometry"; docs/performance.md, "Session of
+    /// 2026-12-06, ninth: the method in windows, merged"). `None` when every point is needed.
+    pub(crate) fn needing_method(
+        &self,
+        points: &PointSet,
+        components: (&[u32], &[usize]),
+    ) -> Option<Vec<bool>> {
+        let grid = points.grid.as_ref()?;
+        if components.0.len() != points.len() {
+            return None;
+        }
+        let work = &self.work;
+        let degree = work.degrees();
+        let (w, h) = (grid.width as i64, grid.height as i64);
+        let mut needs = vec![false; points.len()];
+        for v in (0..work.vertices.len()).filter(|&v| work.alive[v]) {
+            let k = match degree[v] {
+                0..=2 => continue,
+                _ => JUNCTION_WINDOW_WIDTHS,
+            };
+            let pos = work.vertices[v].pos;
+            let (x, y) = (
+                (pos[0] - grid.x0 as f64).floor() as i64,
+                (pos[1] - grid.y0 as f64).floor() as i64,
+            );
+            // The vertex's pixel, or the nearest point around it (a contracted link's
+            // junction may sit between its two pixels): its component.
+            let point = (0..=2i64).find_map(|r| {
+                (y - r..=y + r)
+                    .flat_map(|yy| (x - r..=x + r).map(move |xx| (xx, yy)))
+                    .filter(|&(xx, yy)| xx >= 0 && yy >= 0 && xx < w && yy < h)
+                    .map(|(xx, yy)| grid.index[(yy * w + xx) as usize])
+                    .find(|&i| i != Grid::NONE)
+            });
+            let point = point?;
+            let label = components.0[point as usize];
+            let r = k * work.vertices[v].width.max(MIN_WIDTH_PX);
+            // In image coordinates, so that a chunk and the whole image agree to the bit.
+            let (x0, x1) = (
+                ((x as f64 - r).floor() as i64 - 1).max(0),
+                ((x as f64 + r).ceil() as i64 + 1).min(w - 1),
+            );
+            let (y0, y1) = (
+                ((y as f64 - r).floor() as i64 - 1).max(0),
+                ((y as f64 + r).ceil() as i64 + 1).min(h - 1),
+            );
+            for yy in y0..=y1 {
+                for xx in x0..=x1 {
+                    let (dx, dy) = (
+                        (xx + grid.x0) as f64 + 0.5 - pos[0],
+                        (yy + grid.y0) as f64 + 0.5 - pos[1],
+                    );
+                    if dx * dx + dy * dy > r * r {
+                        continue;
+                    }
+                    let i = grid.index[(yy * w + xx) as usize];
+                    if i != Grid::NONE && components.0[i as usize] == label {
+                        needs[i as usize] = true;
+                    }
+                }
+            }
+        }
+        (!needs.iter().all(|&n| n)).then_some(needs)
+    }
 }
 
 /// The [`pixel_graph`] of the ink of `points`' grid, specks filled, thinned to one pixel, every
@@ -173,16 +299,8 @@ fn skeleton_graph(
         p => p as usize,
     };
     let ids = (points.len() + specks.len(), number);
-    let mut s = pixel_graph(w, h, &skeleton, &pixels, ids, half);
+    let s = pixel_graph(w, h, &skeleton, &pixels, ids, half, [grid.x0, grid.y0]);
     let (x0, y0) = (grid.x0 as f64, grid.y0 as f64);
-    for v in &mut s.vertices {
-        v.pos = [v.pos[0] + x0, v.pos[1] + y0];
-    }
-    for e in &mut s.edges {
-        for p in &mut e.points {
-            *p = [p[0] + x0, p[1] + y0];
-        }
-    }
     let ink = Ink {
         mask: ink,
         width: w,
@@ -192,8 +310,8 @@ fn skeleton_graph(
     (s, ink)
 }
 
-/// The skeleton's graph with the method's decisions, in order: spurs, thinning's split
-/// junctions, crossings, spurs the merged crossings leave, split crossings and stars, corners,
+/// The skeleton's graph, its spurs pruned and thinning's split junctions contracted
+/// ([`prepare`]), with the method's decisions, in order: crossings, spurs the merged crossings leave, split crossings and stars, corners,
 /// junctions put back on one-pixel lines, dots, ends, junctions, the method's lines, and last
 /// every edge fitted to its ink.
 fn reconcile(
@@ -203,9 +321,6 @@ fn reconcile(
     ridges: bool,
 ) -> StrokeGraph {
     let by_ink = experiments.decide_by_ink;
-    work.prune_spurs(by_ink);
-    work.join_degree_two();
-    work.contract_short_links();
     work.merge_crossings(method);
     work.prune_spurs(by_ink);
     work.merge_split_crossings(!ridges);
@@ -228,7 +343,7 @@ fn reconcile(
     work.finish(method.width, method.height)
 }
 
-/// Checks the skeleton stage's output ([`carry`] on an image): a valid [`StrokeGraph`]
+/// Checks the skeleton stage's output ([`Prepared::carry`] on an image): a valid [`StrokeGraph`]
 /// ([`StrokeGraph::validate`]) in which every vertex of degree 2 is the vertex of a closed curve
 /// without junction (one loop, its only edge): the reconciliation joins every other pair of
 /// edges meeting at a vertex into one.
@@ -260,6 +375,62 @@ mod tests {
         let mut params = Params::default();
         params.finish.skeleton = true;
         params
+    }
+
+    /// A junction's vertex, the mean of its pixels, is the same to the bit whatever window the
+    /// points' pixel grid spans (a chunk's or the whole page's: ARCHITECTURE.md, "Large
+    /// inputs"); taken in the window's coordinates and shifted after, some differed in the last
+    /// place.
+    #[test]
+    fn the_prepared_skeleton_is_the_same_in_any_window() {
+        let mut strokes = vec![Stroke::new(vec![[6.0, 6.0], [7.0, 7.0]], 3.0)];
+        for k in 0..6 {
+            let c = [150.0 + 37.0 * k as f64, 120.0 + 29.0 * (k % 3) as f64];
+            let (s, o) = (20f64 + 7.0 * k as f64).to_radians().sin_cos();
+            let (a, b) = (
+                [c[0] - 12.0 * o, c[1] - 12.0 * s],
+                [c[0] + 12.0 * o, c[1] + 12.0 * s],
+            );
+            strokes.push(Stroke::new(vec![a, b], 3.0));
+            strokes.push(Stroke::new(
+                vec![
+                    [c[0] + 12.0 * s, c[1] - 12.0 * o],
+                    [c[0] - 12.0 * s, c[1] + 12.0 * o],
+                ],
+                3.0,
+            ));
+            strokes.push(Stroke::new(vec![c, [c[0] + 3.0, c[1] + 14.0]], 3.0));
+        }
+        let binary = render(&strokes, 420, 220);
+        let params = Params::default();
+        let whole = crate::raster::points(&binary, &params).expect("points");
+        // The crossings without the speck near the corner: a window of their own.
+        let (labels, _) = whole.component_labels();
+        let speck = labels[0];
+        let members: Vec<u32> = (0..whole.len() as u32)
+            .filter(|&p| labels[p as usize] != speck)
+            .collect();
+        let mut local = vec![u32::MAX; whole.len()];
+        for (k, &p) in members.iter().enumerate() {
+            local[p as usize] = k as u32;
+        }
+        let part = whole.subset(&members, &local);
+        let corner = |p: &PointSet| p.grid.as_ref().map(|g| (g.x0, g.y0));
+        assert_ne!(corner(&whole), corner(&part));
+        let vertices = |points: &PointSet| {
+            let prepared = prepare(points, &params.experiments, false, None).expect("skeleton");
+            let work = &prepared.work;
+            let mut v: Vec<String> = (0..work.vertices.len())
+                .filter(|&v| work.alive[v])
+                .map(|v| format!("{:?}", work.vertices[v].pos))
+                .filter(|p| !p.starts_with("[6.5") && !p.starts_with("[7.5"))
+                .collect();
+            v.sort();
+            v
+        };
+        let (a, b) = (vertices(&whole), vertices(&part));
+        assert!(a.len() >= 12, "{a:?}");
+        assert_eq!(a, b);
     }
 
     #[test]

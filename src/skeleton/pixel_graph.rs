@@ -10,7 +10,9 @@ use super::MIN_WIDTH_PX;
 /// The graph of a one-pixel skeleton in a `width` x `height` window: skeleton pixels with more
 /// than two skeleton neighbours are junction pixels, clustered 8-connected into one vertex each;
 /// pixels with one neighbour are ends, with none dots; the pixel paths between them are edges;
-/// skeleton cycles without a junction become loops. Coordinates are pixel centers of the window;
+/// skeleton cycles without a junction become loops. Coordinates are pixel centers in the image,
+/// the window's corner at `origin` (a junction's vertex, the mean of its pixels, is taken in the
+/// image's coordinates, so that a chunk's window and the whole page's give it to the bit);
 /// widths are `2 half_width - 1` (the pixel itself not counted), `half_width` of a window pixel
 /// (0 off the ink). `pixels` are the skeleton's pixels in raster order, and `number` numbers them
 /// below `ids` (distinct numbers), so that what is kept per pixel is the size of the skeleton's
@@ -22,6 +24,7 @@ pub(super) fn pixel_graph(
     pixels: &[usize],
     (ids, number): (usize, impl Fn(usize) -> usize),
     half_width: impl Fn(usize) -> f32,
+    origin: [i64; 2],
 ) -> StrokeGraph {
     let (w, h) = (width as i64, height as i64);
     // Each skeleton pixel's neighbours, read once from the window (bounds tested there) as a
@@ -35,11 +38,16 @@ pub(super) fn pixel_graph(
     }
     let step: [i64; 8] = RING.map(|(dx, dy)| dy * w + dx);
     let neighbours = |i: usize| code_neighbours(code[number(i)], &step, i);
-    let center = |i: usize| [(i as i64 % w) as f64 + 0.5, (i as i64 / w) as f64 + 0.5];
+    let center = |i: usize| {
+        [
+            (i as i64 % w + origin[0]) as f64 + 0.5,
+            (i as i64 / w + origin[1]) as f64 + 0.5,
+        ]
+    };
     let width_at = |p: [f64; 2]| {
         let (x, y) = (
-            floor_i64(p[0]).clamp(0, w - 1),
-            floor_i64(p[1]).clamp(0, h - 1),
+            (floor_i64(p[0]) - origin[0]).clamp(0, w - 1),
+            (floor_i64(p[1]) - origin[1]).clamp(0, h - 1),
         );
         (2.0 * f64::from(half_width((y * w + x) as usize)) - 1.0).max(MIN_WIDTH_PX)
     };

@@ -108,7 +108,9 @@ impl Work {
                 continue;
             }
             let clear = [clears[edge.from], clears[edge.to]];
-            if fit_edge(edge, &self.ink, clear, lines) {
+            // A closed curve's vertex is only where the loop was cut: it moves with the fit.
+            let closed = edge.from == edge.to && degree[edge.from] == 2;
+            if fit_edge(edge, &self.ink, clear, lines, closed) {
                 // The fitted polyline's tangents are written by `finish`.
                 edge.directions.clear();
             }
@@ -139,6 +141,11 @@ impl Work {
             for e in back {
                 self.edges[e] = originals[e].clone();
                 moved[e] = false;
+            }
+        }
+        for edge in self.edges.iter().flatten() {
+            if edge.from == edge.to && degree[edge.from] == 2 {
+                self.vertices[edge.from].pos = edge.points[0];
             }
         }
     }
@@ -198,8 +205,10 @@ fn crossing_edges(edges: &[Option<Edge>], moved: &[bool]) -> Vec<usize> {
 /// Fits one skeleton edge to the medial points of its ink: resampled, moved, solved (see the
 /// module's text). `clear` is the radius around each end's junction within which the arm is
 /// the straight join [`super::work::cut_arm`] made, kept as it is. With `lines`, the straight
-/// runs of the medial points ([`straight_runs`]) are held on their lines.
-fn fit_edge(edge: &mut Edge, ink: &Ink, clear: [f64; 2], lines: bool) -> bool {
+/// runs of the medial points ([`straight_runs`]) are held on their lines. The two ends of a
+/// `closed` curve (its vertex joins nothing else) move together to the medial point where the
+/// loop was cut.
+fn fit_edge(edge: &mut Edge, ink: &Ink, clear: [f64; 2], lines: bool, closed: bool) -> bool {
     let s = arc_lengths(&edge.points);
     let total = s[s.len() - 1];
     let m = (total / SAMPLE_PX).round() as usize;
@@ -237,9 +246,38 @@ fn fit_edge(edge: &mut Edge, ink: &Ink, clear: [f64; 2], lines: bool) -> bool {
         let (a, b) = (samples[j.saturating_sub(k)], samples[(j + k).min(m)]);
         unit([b[0] - a[0], b[1] - a[1]])
     };
+    // The middle of the ink's cross-section through `p` across the unit vector `u`, and the
+    // section's length; `None` where the section is longer than the stroke is wide (it runs
+    // into another stroke or along this one) or its middle too far off.
+    let section_at = |p: [f64; 2], u: [f64; 2], width: f64| {
+        let normal = [-u[1], u[0]];
+        let limit = CROWDED_WIDTHS * width + 1.0;
+        let (plus, minus) = (
+            section_exit(ink, p, normal, limit),
+            section_exit(ink, p, [-normal[0], -normal[1]], limit),
+        );
+        let shift = (plus - minus) / 2.0;
+        if plus + minus >= limit || shift.abs() > MAX_SHIFT_PX {
+            return None;
+        }
+        Some((
+            [p[0] + shift * normal[0], p[1] + shift * normal[1]],
+            plus + minus,
+        ))
+    };
+    // Where a closed curve was cut, the middle of its section across the cut, on the ink.
+    let cut = if closed && m > 2 * half {
+        let (a, b) = (samples[m - half], samples[half]);
+        unit([b[0] - a[0], b[1] - a[1]])
+            .and_then(|u| section_at(samples[0], u, widths[0]))
+            .map(|(q, _)| q)
+            .filter(|&q| ink.at(q))
+    } else {
+        None
+    };
     let mut measured = vec![false; m + 1];
     let mut sections = vec![0.0; m + 1];
-    let medial: Vec<[f64; 2]> = (0..=m)
+    let mut medial: Vec<[f64; 2]> = (0..=m)
         .map(|j| {
             let p = samples[j];
             let t = j as f64 * step;
@@ -247,23 +285,17 @@ fn fit_edge(edge: &mut Edge, ink: &Ink, clear: [f64; 2], lines: bool) -> bool {
                 return p;
             }
             let Some(u) = chord(j, half) else { return p };
-            let normal = [-u[1], u[0]];
-            // A cross-section longer than the stroke is wide runs into another stroke or
-            // along this one: no medial point there.
-            let limit = CROWDED_WIDTHS * widths[j] + 1.0;
-            let (plus, minus) = (
-                section_exit(ink, p, normal, limit),
-                section_exit(ink, p, [-normal[0], -normal[1]], limit),
-            );
-            let shift = (plus - minus) / 2.0;
-            if plus + minus >= limit || shift.abs() > MAX_SHIFT_PX {
+            let Some((q, section)) = section_at(p, u, widths[j]) else {
                 return p;
-            }
+            };
             measured[j] = true;
-            sections[j] = plus + minus;
-            [p[0] + shift * normal[0], p[1] + shift * normal[1]]
+            sections[j] = section;
+            q
         })
         .collect();
+    if let Some(q) = cut {
+        (medial[0], medial[m]) = (q, q);
+    }
 
     // Corners: the turn between the chords before and after a sample, over a stroke width,
     // above CORNER_DEG and the largest within that width.
@@ -367,7 +399,9 @@ fn fit_edge(edge: &mut Edge, ink: &Ink, clear: [f64; 2], lines: bool) -> bool {
     let mut points = Vec::with_capacity(m + 1);
     for j in 0..=m {
         let q = fitted[j];
-        points.push(if j == 0 || j == m || !ink.at(q) {
+        points.push(if j == 0 || j == m {
+            medial[j]
+        } else if !ink.at(q) {
             samples[j]
         } else {
             q
@@ -1503,7 +1537,9 @@ mod tests {
             height: h,
             ..StrokeGraph::default()
         };
-        let graph = super::super::carry(&method, &points, &params.experiments, false, None);
+        let graph = super::super::prepare(&points, &params.experiments, false, None)
+            .expect("a skeleton")
+            .carry(&method, &params.experiments);
         super::super::validate(&graph).expect("valid skeleton graph");
         graph
     }

@@ -599,14 +599,7 @@ fn prepare_skeleton(
         _ => None,
     };
     let part = needs.map(|needs| {
-        let members: Vec<u32> = (0..points.len() as u32)
-            .filter(|&p| needs[p as usize])
-            .collect();
-        let mut local = vec![u32::MAX; points.len()];
-        for (k, &p) in members.iter().enumerate() {
-            local[p as usize] = k as u32;
-        }
-        let part = points.subset(&members, &local);
+        let part = points.kept(&needs);
         let components = part.component_labels();
         (part, components)
     });

@@ -432,9 +432,22 @@ impl PointSet {
         }
     }
 
+    /// The points whose `keep` is set as a point set of their own (see [`PointSet::subset`]).
+    pub(crate) fn kept(&self, keep: &[bool]) -> PointSet {
+        let members: Vec<u32> = (0..self.len() as u32)
+            .filter(|&p| keep[p as usize])
+            .collect();
+        let mut local = vec![u32::MAX; self.len()];
+        for (k, &p) in members.iter().enumerate() {
+            local[p as usize] = k as u32;
+        }
+        self.subset(&members, &local)
+    }
+
     /// The points `members` (ascending) as a point set of their own; `local` maps every member to
-    /// its position in `members`.
-    pub(crate) fn subset(&self, members: &[u32], local: &[u32]) -> PointSet {
+    /// its position in `members` (and every other point to `u32::MAX`: neighbours outside
+    /// `members` are left out).
+    fn subset(&self, members: &[u32], local: &[u32]) -> PointSet {
         let mut part = PointSet {
             points: members.iter().map(|&p| self.points[p as usize]).collect(),
             half_width: members

@@ -407,14 +407,8 @@ mod tests {
         // The crossings without the speck near the corner: a window of their own.
         let (labels, _) = whole.component_labels();
         let speck = labels[0];
-        let members: Vec<u32> = (0..whole.len() as u32)
-            .filter(|&p| labels[p as usize] != speck)
-            .collect();
-        let mut local = vec![u32::MAX; whole.len()];
-        for (k, &p) in members.iter().enumerate() {
-            local[p as usize] = k as u32;
-        }
-        let part = whole.subset(&members, &local);
+        let keep: Vec<bool> = labels.iter().map(|&l| l != speck).collect();
+        let part = whole.kept(&keep);
         let corner = |p: &PointSet| p.grid.as_ref().map(|g| (g.x0, g.y0));
         assert_ne!(corner(&whole), corner(&part));
         let vertices = |points: &PointSet| {

@@ -492,11 +492,18 @@ fn straight_line(
     if hi - lo < 1.0 {
         return None;
     }
-    // r = c0 + c1 u + c2 u²: the normal equations, solved by Cramer's rule.
+    let bend = parabola_bend(scratch.iter().map(|&[t, r]| (t, r)), lo, hi)?;
+    (bend.abs() <= BEND_PX).then_some(Line { centre, along })
+}
+
+/// The coefficient of u² of the parabola of least squares r = c0 + c1 u + c2 u² through the
+/// offsets `(t, r)`, u = t scaled from [`lo`, `hi`] to [-1, 1]: the parabola's sagitta over
+/// its chord (the normal equations, solved by Cramer's rule). `None` when they are singular.
+fn parabola_bend(offsets: impl Iterator<Item = (f64, f64)>, lo: f64, hi: f64) -> Option<f64> {
     let (mid, half) = ((lo + hi) / 2.0, (hi - lo) / 2.0);
     let mut s = [0.0; 5];
     let mut y = [0.0; 3];
-    for &[t, r] in scratch.iter() {
+    for (t, r) in offsets {
         let u = (t - mid) / half;
         let mut power = 1.0;
         for (k, sk) in s.iter_mut().enumerate() {
@@ -521,8 +528,7 @@ fn straight_line(
     for (row, &yk) in with_y.iter_mut().zip(&y) {
         row[2] = yk;
     }
-    let bend = det3(with_y) / det;
-    (bend.abs() <= BEND_PX).then_some(Line { centre, along })
+    Some(det3(with_y) / det)
 }
 
 /// The margin by which [`Moments::surely_not_straight`] clears a bound before it answers: its
@@ -1075,37 +1081,7 @@ mod tests {
         if worst > SCATTER_PX || hi - lo < 1.0 {
             return None;
         }
-        // r = c0 + c1 u + c2 u²: the normal equations, solved by Cramer's rule.
-        let (mid, half) = ((lo + hi) / 2.0, (hi - lo) / 2.0);
-        let mut s = [0.0; 5];
-        let mut y = [0.0; 3];
-        for p in on() {
-            let (t, r) = frame(p);
-            let u = (t - mid) / half;
-            let mut power = 1.0;
-            for (k, sk) in s.iter_mut().enumerate() {
-                *sk += power;
-                if k < 3 {
-                    y[k] += power * r;
-                }
-                power *= u;
-            }
-        }
-        let det3 = |m: [[f64; 3]; 3]| {
-            m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1])
-                - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0])
-                + m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0])
-        };
-        let normal_matrix = [[s[0], s[1], s[2]], [s[1], s[2], s[3]], [s[2], s[3], s[4]]];
-        let det = det3(normal_matrix);
-        if det.abs() < 1e-12 {
-            return None;
-        }
-        let mut with_y = normal_matrix;
-        for (row, &yk) in with_y.iter_mut().zip(&y) {
-            row[2] = yk;
-        }
-        let bend = det3(with_y) / det;
+        let bend = parabola_bend(on().map(frame), lo, hi)?;
         (bend.abs() <= BEND_PX).then_some(Line { centre, along })
     }
 

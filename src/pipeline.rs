@@ -674,16 +674,20 @@ fn trace_chunks(
     recording: Recording,
 ) -> Result<Traced> {
     use rayon::prelude::*;
-    type Refined = (
-        usize,
-        (PointSet, Option<raster::Aside>),
-        PackedComponents,
-        Option<skeleton::Prepared>,
-        usize,
-        NodeGraph,
-        Timings,
-        Option<(Samples, NodeGraph)>,
-    );
+    /// A chunk between its passes: refined (§3.1-§3.3), waiting for the spacing of §3.4 that
+    /// all chunks' graphs set.
+    struct Refined {
+        c: usize,
+        /// The points the method traced, set aside while they wait.
+        points: (PointSet, Option<raster::Aside>),
+        components: PackedComponents,
+        prepared: Option<skeleton::Prepared>,
+        /// All of the chunk's points, traced by the method or not.
+        point_count: usize,
+        refined: NodeGraph,
+        timings: Timings,
+        kept: Option<(Samples, NodeGraph)>,
+    }
     let mut order: Vec<usize> = (0..sizes.len()).collect();
     order.sort_by_key(|&c| std::cmp::Reverse(sizes[c]));
     let refined: Vec<Refined> = order
@@ -728,39 +732,39 @@ fn trace_chunks(
             // Their component labels wait as runs.
             let aside = (!skeleton_only).then(|| raster::set_aside(&mut points));
             let components = PackedComponents::pack(components);
-            Ok((
+            Ok(Refined {
                 c,
-                (points, aside),
+                points: (points, aside),
                 components,
                 prepared,
                 point_count,
                 refined,
                 timings,
                 kept,
-            ))
+            })
         })
         .collect::<Result<_>>()?;
-    let Some((_, (first, _), ..)) = refined.first() else {
+    let Some(Refined {
+        points: (first, _), ..
+    }) = refined.first()
+    else {
         return Ok(Traced::join(Vec::new()));
     };
-    let graphs: Vec<&NodeGraph> = refined
-        .iter()
-        .map(|(_, _, _, _, _, graph, ..)| graph)
-        .collect();
+    let graphs: Vec<&NodeGraph> = refined.iter().map(|chunk| &chunk.refined).collect();
     let h = fit::node_spacing(&graphs, first, params);
     let mut parts: Vec<(usize, Traced)> = refined
         .into_par_iter()
         .map(
-            |(
-                c,
-                (mut points, aside),
-                components,
-                prepared,
-                point_count,
-                refined,
-                mut timings,
-                kept,
-            )| {
+            |Refined {
+                 c,
+                 points: (mut points, aside),
+                 components,
+                 prepared,
+                 point_count,
+                 refined,
+                 mut timings,
+                 kept,
+             }| {
                 let clock = Instant::now();
                 let components = components.unpack();
                 // Set aside only when a fit is to come: none where the skeleton alone traces.

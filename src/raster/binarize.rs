@@ -213,7 +213,9 @@ const BLOCK: usize = 1 << 16;
 pub(super) fn histogram(gray: GrayView<'_>) -> [u64; 256] {
     gray.par_rows(BLOCK)
         .fold(
-            || [[0u64; 256]; 4],
+            // On the heap: the fold hands its tables from row to row, and 8 KB by value were
+            // copied at each row (docs/performance.md).
+            || vec![[0u64; 256]; 4],
             |mut tables, row| {
                 // Four tables in turn, summed at the end: on a page of two levels nearly every
                 // pixel adds to the same bin, and each addition waited for the one before it.
@@ -231,7 +233,7 @@ pub(super) fn histogram(gray: GrayView<'_>) -> [u64; 256] {
         )
         .map(|tables| {
             let mut counts = [0u64; 256];
-            for table in &tables {
+            for table in tables.iter() {
                 for (count, &n) in counts.iter_mut().zip(table) {
                     *count += n;
                 }

@@ -404,6 +404,9 @@ impl SeparableGabor {
                 8 if WIDE
                     && unsafe { wide::column_sums8(self, rows, (y - y0) * bw, sign, out) } => {}
                 8 => self.column_sums::<8>(rows, (y - y0) * bw, sign, out),
+                // The sub-blocks of turning blocks: four columns side by side (vector lanes)
+                // rather than one after another.
+                4 => self.column_sums::<4>(rows, (y - y0) * bw, sign, out),
                 _ => self.column_sums_any(rows, (y - y0) * bw, sign, out),
             }
         }
@@ -740,6 +743,39 @@ mod tests {
             filter.apply(&padded, pad, block, sign, (&mut run, y0), &mut rows);
             let bits = |v: &[f32]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
             assert_eq!(bits(&run), bits(&baseline), "{theta} {period} {block:?}");
+        }
+    }
+
+    #[test]
+    fn four_columns_side_by_side_are_the_one_by_one_sums_bit_for_bit() {
+        // The turning blocks' sub-blocks: four columns in lanes against each column alone, over
+        // random row sums of filters of every radius the periods give.
+        let mut lcg = crate::synth::lcg(35u64);
+        let mut next = move || (lcg() >> 33) as f32 / 2_147_483_648.0;
+        let params = FingerprintParams::default();
+        for k in 0..40 {
+            let (theta, period) = (f64::from(next()) * 3.2, 3.0 + 22.0 * f64::from(next()));
+            let filter = SeparableGabor::new(theta, period, &params);
+            let taps = filter.b.len();
+            let extra = k % 3;
+            let random = |n: usize, next: &mut dyn FnMut() -> f32| -> Vec<f32> {
+                (0..n).map(|_| 512.0 * next() - 256.0).collect()
+            };
+            let n = (taps + extra) * 4;
+            let rows = RowSums {
+                a: random(n, &mut next),
+                c: random(n, &mut next),
+                g: random(n, &mut next),
+            };
+            let (first, sign) = (extra * 4, if k % 2 == 0 { -1.0 } else { 1.0 });
+            let (mut lanes, mut alone) = ([0.0f32; 4], [0.0f32; 4]);
+            filter.column_sums::<4>(&rows, first, sign, &mut lanes);
+            filter.column_sums_any(&rows, first, sign, &mut alone);
+            assert_eq!(
+                lanes.map(f32::to_bits),
+                alone.map(f32::to_bits),
+                "{theta} {period}"
+            );
         }
     }
 

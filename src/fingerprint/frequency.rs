@@ -245,7 +245,8 @@ fn x_signature_lanes<const WIDE: bool>(
 /// [`Plane::add_samples_inside`] four samples at a time in AVX registers: the same operations
 /// (the coordinates less half a pixel, their floors, the fractions rounded to `f32`, the pixel's
 /// index from `y · width + x` in `f64`, the bilinear mix; no fused multiply-add), so the same
-/// values (a test holds them bit for bit); the four pixels of each sample read as two adjacent pairs ([`pairs`]).
+/// values (a test holds them bit for bit); the four pixels of each sample read as two adjacent
+/// pairs ([`pairs`]).
 #[cfg(target_arch = "x86_64")]
 mod wide {
     use super::Plane;
@@ -259,8 +260,9 @@ mod wide {
 
     /// The pixel at each of four indices into `values` and its right neighbour, as two vectors
     /// (the pixels, the neighbours): each pair is adjacent, so it is one 8-byte load, and two
-    /// shuffles sort the four pairs. The same values as four gathers of each, in fewer of the
-    /// load unit's steps (a gather of four is about as slow as nine single loads on some CPUs).
+    /// shuffles sort the four pairs. The same values as four gathers; on an AMD EPYC (Zen 3) the
+    /// gathers took most of the x-signature's time, the pairs about a third less of it
+    /// (docs/performance.md).
     ///
     /// # Safety
     /// Every index and the one after it must lie within `values`' allocation.

@@ -142,14 +142,7 @@ pub(crate) fn prepare(
     work.prune_spurs(experiments.decide_by_ink);
     work.join_degree_two();
     work.contract_short_links();
-    let mask = std::mem::take(&mut work.ink.mask);
-    let mut packed = vec![0u64; mask.len().div_ceil(64)];
-    for (word, bits) in packed.iter_mut().zip(mask.chunks(64)) {
-        *word = bits
-            .iter()
-            .enumerate()
-            .fold(0, |word, (k, &on)| word | u64::from(on) << k);
-    }
+    let packed = pack_bits(&std::mem::take(&mut work.ink.mask));
     Some(Prepared {
         work,
         ridges,
@@ -162,10 +155,7 @@ impl Prepared {
     /// (see the module doc), each edge fitted to its ink ([`smooth`]).
     pub(crate) fn carry(self, method: &StrokeGraph, experiments: &ExperimentParams) -> StrokeGraph {
         let mut work = self.work;
-        let len = work.ink.width * work.ink.height;
-        work.ink.mask = (0..len)
-            .map(|i| self.packed[i / 64] >> (i % 64) & 1 == 1)
-            .collect();
+        work.ink.mask = unpack_bits(&self.packed, work.ink.width * work.ink.height);
         let carried = reconcile(work, method, experiments, self.ridges);
         debug_assert_eq!(validate(&carried), Ok(()));
         carried
@@ -242,6 +232,45 @@ impl Prepared {
         }
         (!needs.iter().all(|&n| n)).then_some(needs)
     }
+}
+
+/// `mask` a bit a pixel: bit `i % 64` of word `i / 64` is pixel `i`. Eight pixels at a time
+/// (each `bool` a byte of 0 or 1: the product gathers byte `k`'s low bit into bit `56 + k`, the
+/// other partial products falling below bit 56 without carries or beyond bit 63): the mask is
+/// the size of a chunk's window, many times its ink (docs/performance.md, "Session of
+/// 2026-12-07, tenth").
+fn pack_bits(mask: &[bool]) -> Vec<u64> {
+    const GATHER: u64 = 0x0102_0408_1020_4080;
+    let mut packed = vec![0u64; mask.len().div_ceil(64)];
+    for (word, bits) in packed.iter_mut().zip(mask.chunks(64)) {
+        let mut bytes = bits.chunks_exact(8);
+        let mut value = 0u64;
+        for (k, eight) in (&mut bytes).enumerate() {
+            let eight: [u8; 8] = std::array::from_fn(|i| u8::from(eight[i]));
+            let byte = u64::from_le_bytes(eight).wrapping_mul(GATHER) >> 56;
+            value |= byte << (8 * k);
+        }
+        let done = bits.len() - bytes.remainder().len();
+        for (k, &on) in bytes.remainder().iter().enumerate() {
+            value |= u64::from(on) << (done + k);
+        }
+        *word = value;
+    }
+    packed
+}
+
+/// The first `len` pixels of a mask [`pack_bits`] packed, a `bool` each.
+fn unpack_bits(packed: &[u64], len: usize) -> Vec<bool> {
+    let mut mask = vec![false; len];
+    for (bits, &word) in mask.chunks_mut(64).zip(packed) {
+        if word == 0 {
+            continue;
+        }
+        for (k, on) in bits.iter_mut().enumerate() {
+            *on = word >> k & 1 == 1;
+        }
+    }
+    mask
 }
 
 /// The [`pixel_graph`] of the ink of `points`' grid, specks filled, thinned to one pixel, every
@@ -375,6 +404,30 @@ mod tests {
         let mut params = Params::default();
         params.finish.skeleton = true;
         params
+    }
+
+    /// The waiting mask's bits are the mask's pixels, at every length and density.
+    #[test]
+    fn packed_bits_unpack_to_the_same_mask() {
+        let mut state = 0x2545_f491_4f6c_dd1du64;
+        for len in [0, 1, 7, 8, 9, 63, 64, 65, 127, 128, 200, 1000] {
+            for density in [0u64, 1, 8, 15, 16] {
+                let mask: Vec<bool> = (0..len)
+                    .map(|_| {
+                        state ^= state << 13;
+                        state ^= state >> 7;
+                        state ^= state << 17;
+                        state % 16 < density
+                    })
+                    .collect();
+                let packed = pack_bits(&mask);
+                assert_eq!(packed.len(), len.div_ceil(64));
+                for (i, &on) in mask.iter().enumerate() {
+                    assert_eq!(packed[i / 64] >> (i % 64) & 1 == 1, on, "{len} {i}");
+                }
+                assert_eq!(unpack_bits(&packed, len), mask);
+            }
+        }
     }
 
     /// A junction's vertex, the mean of its pixels, is the same to the bit whatever window the

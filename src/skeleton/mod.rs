@@ -215,15 +215,12 @@ impl Prepared {
                 ((y as f64 + r).ceil() as i64 + 1).min(h - 1),
             );
             for yy in y0..=y1 {
-                for xx in x0..=x1 {
-                    let (dx, dy) = (
-                        (xx + grid.x0) as f64 + 0.5 - pos[0],
-                        (yy + grid.y0) as f64 + 0.5 - pos[1],
-                    );
-                    if dx * dx + dy * dy > r * r {
-                        continue;
-                    }
-                    let i = grid.index[(yy * w + xx) as usize];
+                let dy = (yy + grid.y0) as f64 + 0.5 - pos[1];
+                let Some((lo, hi)) = disk_columns((x0, x1), grid.x0, pos[0], r, dy * dy) else {
+                    continue;
+                };
+                let row = &grid.index[(yy * w + lo) as usize..=(yy * w + hi) as usize];
+                for &i in row {
                     if i != Grid::NONE && components.0[i as usize] == label {
                         needs[i as usize] = true;
                     }
@@ -232,6 +229,42 @@ impl Prepared {
         }
         (!needs.iter().all(|&n| n)).then_some(needs)
     }
+}
+
+/// The columns `x` of `x0..=x1` (window columns of a window whose first is image column
+/// `origin`) whose pixel centres lie within `r` of a point at image abscissa `centre` and squared
+/// vertical distance `dy2`: `dx * dx + dy2 <= r * r` with `dx = (x + origin) + 0.5 - centre`, the
+/// test [`Prepared::needing_method`] puts to each pixel. They are an interval (the squared
+/// distance falls, then rises, along the row, and its rounding keeps that order), found from
+/// the disk's half-chord and settled by the test itself at both ends; `None` when empty.
+fn disk_columns(
+    (x0, x1): (i64, i64),
+    origin: i64,
+    centre: f64,
+    r: f64,
+    dy2: f64,
+) -> Option<(i64, i64)> {
+    let inside = |x: i64| {
+        let dx = (x + origin) as f64 + 0.5 - centre;
+        dx * dx + dy2 <= r * r
+    };
+    let chord = (r * r - dy2).max(0.0).sqrt();
+    let middle = centre - origin as f64 - 0.5;
+    let mut lo = ((middle - chord).ceil() as i64).clamp(x0, x1 + 1);
+    while lo > x0 && inside(lo - 1) {
+        lo -= 1;
+    }
+    while lo <= x1 && !inside(lo) {
+        lo += 1;
+    }
+    let mut hi = ((middle + chord).floor() as i64).clamp(lo - 1, x1);
+    while hi < x1 && inside(hi + 1) {
+        hi += 1;
+    }
+    while hi >= lo && !inside(hi) {
+        hi -= 1;
+    }
+    (lo <= hi).then_some((lo, hi))
 }
 
 /// `mask` a bit a pixel: bit `i % 64` of word `i / 64` is pixel `i`. Eight pixels at a time
@@ -404,6 +437,47 @@ mod tests {
         let mut params = Params::default();
         params.finish.skeleton = true;
         params
+    }
+
+    /// The interval of columns is the set of pixels the per-pixel disk test keeps: random
+    /// centres, radii and rows, some exactly on pixel centres or beyond the window.
+    #[test]
+    fn disk_columns_are_the_pixels_the_disk_test_keeps() {
+        let mut state = 0x9e37_79b9_7f4a_7c15u64;
+        let mut unit = move || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            (state >> 11) as f64 / (1u64 << 53) as f64
+        };
+        for _ in 0..20_000 {
+            let origin = (unit() * 3000.0) as i64;
+            let (x0, x1) = (0i64, (unit() * 80.0) as i64);
+            let centre = origin as f64 + unit() * 100.0 - 10.0;
+            // Radii from below a pixel to beyond the window, some exactly on pixel centres.
+            let r = if unit() < 0.2 {
+                (unit() * 12.0).round() + 0.5
+            } else {
+                unit() * 40.0
+            };
+            let dy = if unit() < 0.2 {
+                (unit() * 10.0).round()
+            } else {
+                unit() * 45.0 - 2.0
+            };
+            let dy2 = dy * dy;
+            let kept: Vec<i64> = (x0..=x1)
+                .filter(|&x| {
+                    let dx = (x + origin) as f64 + 0.5 - centre;
+                    dx * dx + dy * dy <= r * r
+                })
+                .collect();
+            let want = kept.first().map(|&lo| (lo, *kept.last().unwrap()));
+            if let Some((lo, hi)) = want {
+                assert_eq!(kept.len() as i64, hi - lo + 1);
+            }
+            assert_eq!(disk_columns((x0, x1), origin, centre, r, dy2), want);
+        }
     }
 
     /// The waiting mask's bits are the mask's pixels, at every length and density.

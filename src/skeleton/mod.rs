@@ -484,7 +484,7 @@ mod tests {
     #[test]
     fn packed_bits_unpack_to_the_same_mask() {
         let mut state = 0x2545_f491_4f6c_dd1du64;
-        for len in [0, 1, 7, 8, 9, 63, 64, 65, 127, 128, 200, 1000] {
+        for len in [0usize, 1, 7, 8, 9, 63, 64, 65, 127, 128, 200, 1000] {
             for density in [0u64, 1, 8, 15, 16] {
                 let mask: Vec<bool> = (0..len)
                     .map(|_| {

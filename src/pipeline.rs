@@ -442,9 +442,12 @@ fn trace_ink(
     if let Some(chunks) = raster::pixel_chunks(binary, params, dropout, CHUNK_POINTS)? {
         let scan_time = start.elapsed();
         let sizes: Vec<usize> = (0..chunks.len()).map(|c| chunks.size(c)).collect();
-        // Chunks are never in dropout mode: where the skeleton alone traces them and their
-        // stages are not recorded, nothing walks their neighbour lists ([`skeleton_only`]).
-        let neighbours = !(skeleton_traces(params) && recording == Recording::Off);
+        // Chunks are never in dropout mode. With the skeleton, each chunk's neighbour lists are
+        // made only where the method (§3.1-§3.4) traces all of it: where it traces a part
+        // ([`skeleton::Prepared::needing_method`]), the part's lists are read from its own pixel
+        // index ([`raster::kept_pixels`]), and where the skeleton alone traces the chunk and its
+        // stages are not recorded, nothing walks them ([`skeleton_only`]).
+        let neighbours = !params.finish.skeleton;
         let mut traced = trace_chunks(
             &sizes,
             |c| {
@@ -452,6 +455,7 @@ fn trace_ink(
                     .part(c, neighbours)
                     .map(|(points, labels)| (points, Some(labels)))
             },
+            neighbours,
             params,
             recording,
         )?;
@@ -509,6 +513,7 @@ fn trace_points_in_parts(
     trace_chunks(
         &sizes,
         |c| Ok((chunks.part(&points, c), None)),
+        true,
         params,
         recording,
     )
@@ -518,7 +523,7 @@ fn trace_points_in_parts(
 /// [`PointSet::component_labels`] when known (found here once otherwise, for the refinement, the
 /// fit and the skeleton).
 fn trace_one(
-    points: PointSet,
+    mut points: PointSet,
     params: &Params,
     recording: Recording,
     components: Option<Components>,
@@ -526,8 +531,13 @@ fn trace_one(
     let mut timings = Timings::default();
     let components = components.unwrap_or_else(|| points.component_labels());
     let skeleton_only = skeleton_only(&points, params);
-    let (prepared, part) =
-        prepare_skeleton(&points, &components, params, skeleton_only, &mut timings);
+    let (prepared, part) = prepare_skeleton(
+        &mut points,
+        &components,
+        params,
+        skeleton_only,
+        &mut timings,
+    );
     let (method_points, method_components) = match &part {
         Some((p, c)) => (p, c),
         None => (&points, &components),
@@ -577,7 +587,7 @@ fn trace_one(
 /// of the method ([`skeleton::Prepared::needing_method`]; `None`: the method traces all of
 /// `points`). Both are the skeleton's time.
 fn prepare_skeleton(
-    points: &PointSet,
+    points: &mut PointSet,
     components: &Components,
     params: &Params,
     skeleton_only: bool,
@@ -599,7 +609,14 @@ fn prepare_skeleton(
         _ => None,
     };
     let part = needs.map(|needs| {
-        let part = points.kept(&needs);
+        // The whole set's pixel index is not read again: the part's reuses it.
+        let mut whole_grid = points.grid.take();
+        if let Some(grid) = &mut whole_grid {
+            grid.release(&points.points);
+        }
+        let part = raster::kept_pixels(points, &needs);
+        points.grid = whole_grid;
+        let part = part.unwrap_or_else(|| points.kept(&needs));
         let components = part.component_labels();
         (part, components)
     });
@@ -666,10 +683,13 @@ fn finish_one(
 /// independently, and the one figure taken over the whole input, the fit's node spacing `h` (the
 /// median stroke width), is taken between the refinement of all chunks and their fits.
 /// Chunks are started largest first (a page's one giant component would otherwise be picked up
-/// late and run alone at the end); `sizes` are their point counts.
+/// late and run alone at the end); `sizes` are their point counts. Without `neighbours` the
+/// point sets `part` makes have no neighbour lists ([`raster::add_neighbours`] adds them where
+/// the method traces a whole chunk).
 fn trace_chunks(
     sizes: &[usize],
     part: impl Fn(usize) -> Result<(PointSet, Option<Components>)> + Sync,
+    neighbours: bool,
     params: &Params,
     recording: Recording,
 ) -> Result<Traced> {
@@ -701,8 +721,19 @@ fn trace_chunks(
                 ..Timings::default()
             };
             let skeleton_only = skeleton_only(&points, params);
-            let (prepared, part) =
-                prepare_skeleton(&points, &components, params, skeleton_only, &mut timings);
+            let (prepared, part) = prepare_skeleton(
+                &mut points,
+                &components,
+                params,
+                skeleton_only,
+                &mut timings,
+            );
+            // The chunk's own neighbour lists, where it was built without them and the method
+            // traces all of it.
+            let method_runs = !(skeleton_only && recording == Recording::Off);
+            if !neighbours && part.is_none() && method_runs {
+                raster::add_neighbours(&mut points);
+            }
             let (method_points, method_components) = match &part {
                 Some((p, c)) => (p, c),
                 None => (&points, &components),

@@ -25,7 +25,7 @@ pub(crate) use chunks::pixel_chunks;
 pub use decode::{decode_file, gray_from_unit_pixels, Page, Pages, Picture, Transparency};
 pub(crate) use dropout::split as split_dropout;
 pub(crate) use evidence::chords;
-pub(crate) use points::{restore, set_aside, Aside};
+pub(crate) use points::{add_neighbours, kept_pixels, restore, set_aside, Aside};
 
 use crate::binary::{Binary, MaskView};
 use crate::error::Result;

@@ -510,17 +510,29 @@ pub(crate) fn set_aside(points: &mut PointSet) -> Aside {
     }
     // Pixel centers in raster order (`PointSet::validate`), so the runs give them back exactly;
     // anything else keeps its points.
+    let Some(runs) = pixel_runs(points.points.iter()) else {
+        return Aside::default();
+    };
+    points.points = Vec::new();
+    points.offsets = Vec::new();
+    points.neighbors = Vec::new();
+    Aside { runs }
+}
+
+/// The runs of `centers`, pixel centres in raster order (image coordinates), each run the
+/// centres of consecutive pixels of a row; `None` where a centre is not a pixel's.
+fn pixel_runs<'a>(centers: impl Iterator<Item = &'a [f64; 2]>) -> Option<Vec<Run>> {
     let mut runs: Vec<Run> = Vec::new();
-    for p in &points.points {
+    for p in centers {
         let (x, y) = (p[0] - 0.5, p[1] - 0.5);
         if !(x >= 0.0 && y >= 0.0 && x < u32::MAX as f64 && y < u32::MAX as f64) {
-            return Aside::default();
+            return None;
         }
         // Whole numbers (`fract() == 0`, without its library call): in that range, those that
         // truncation leaves as they are.
         let (whole_x, whole_y) = (x as u32, y as u32);
         if f64::from(whole_x) != x || f64::from(whole_y) != y {
-            return Aside::default();
+            return None;
         }
         let (x, y) = (whole_x, whole_y);
         match runs.last_mut() {
@@ -532,10 +544,94 @@ pub(crate) fn set_aside(points: &mut PointSet) -> Aside {
             }),
         }
     }
-    points.points = Vec::new();
-    points.offsets = Vec::new();
-    points.neighbors = Vec::new();
-    Aside { runs }
+    Some(runs)
+}
+
+/// The 8-neighbour lists of a pixel point set outside dropout mode built without them
+/// ([`build_from_runs`] without `neighbours`), read from its pixel index as [`build_from_runs`]
+/// reads them: for a chunk whose method (§3.1-§3.4) turns out to trace all of it. Nothing
+/// changes where the points are not pixel centres in raster order or their grid is gone.
+pub(crate) fn add_neighbours(points: &mut PointSet) {
+    let Some(grid) = &points.grid else {
+        return;
+    };
+    if points.dropout || grid.index.is_empty() {
+        return;
+    }
+    let Some(runs) = pixel_runs(points.points.iter()) else {
+        return;
+    };
+    let (x0, y0) = (grid.x0, grid.y0);
+    let local = |run: &Run| {
+        (
+            (i64::from(run.y) - y0) as usize,
+            (i64::from(run.x0) - x0) as usize,
+            (i64::from(run.x1) - x0) as usize,
+        )
+    };
+    let size = (grid.width as usize, grid.height as usize);
+    let lists = eight_neighbours_of_runs(&grid.index, size, points.len(), runs.iter().map(local));
+    if let Ok((offsets, neighbors)) = lists {
+        points.offsets = offsets;
+        points.neighbors = neighbors;
+    }
+}
+
+/// The points `keep` marks of a pixel point set outside dropout mode (pixel centres in raster
+/// order, its neighbour lists the 8-neighbours [`build_from_runs`] reads, or none) as a point
+/// set of their own: [`PointSet::kept`]'s, bit for bit (tested below), without reading
+/// `points`' neighbour lists: the part's pixel index over the bounding box of its pixels is
+/// filled run by run and its 8-neighbour lists read from it, which are the whole set's lists
+/// with the points left out dropped (every kept neighbour lies in the part's box, in the same
+/// raster order). The whole set's pixel index should be released first ([`Grid::release`]):
+/// the part's reuses it. `None` where the points are not pixel centres in raster order.
+pub(crate) fn kept_pixels(points: &PointSet, keep: &[bool]) -> Option<PointSet> {
+    if points.dropout || keep.len() != points.len() {
+        return None;
+    }
+    let members = || (0..points.len()).filter(|&p| keep[p]);
+    let runs = pixel_runs(members().map(|p| &points.points[p]))?;
+    let (Some(first), Some(last)) = (runs.first(), runs.last()) else {
+        return Some(points.kept(keep));
+    };
+    let (y0, y1) = (first.y as usize, last.y as usize + 1);
+    let x0 = runs.iter().map(|r| r.x0).min().unwrap_or(0) as usize;
+    let x1 = runs.iter().map(|r| r.x1).max().unwrap_or(0) as usize;
+    let (width, height) = (x1 - x0, y1 - y0);
+    let local = |run: &Run| {
+        (
+            run.y as usize - y0,
+            run.x0 as usize - x0,
+            run.x1 as usize - x0,
+        )
+    };
+    let mut index = Grid::blank_index(width * height);
+    let mut count = 0u32;
+    for run in &runs {
+        let (y, a, b) = local(run);
+        for (slot, id) in index[y * width + a..y * width + b].iter_mut().zip(count..) {
+            *slot = id;
+        }
+        count += run.x1 - run.x0;
+    }
+    let size = (width, height);
+    let (offsets, neighbors) =
+        eight_neighbours_of_runs(&index, size, count as usize, runs.iter().map(local)).ok()?;
+    Some(PointSet {
+        points: members().map(|p| points.points[p]).collect(),
+        half_width: members().map(|p| points.half_width[p]).collect(),
+        offsets,
+        neighbors,
+        spacing: points.spacing,
+        dropout: false,
+        grid: Some(Grid {
+            width: width as u32,
+            height: height as u32,
+            index,
+            x0: x0 as i64,
+            y0: y0 as i64,
+        }),
+    })
 }
 
 /// Rebuilds what [`set_aside`] freed: the points and the pixel index from their runs, then the
@@ -1107,6 +1203,61 @@ mod tests {
                 assert_eq!(got.neighbors, want.neighbors);
                 assert_eq!(got.grid.unwrap().index, want.grid.unwrap().index);
             }
+        }
+    }
+
+    /// A part cut from a chunk built without neighbour lists is the part [`PointSet::kept`]
+    /// cuts from the chunk built with them, and the lists added later are the built ones: on
+    /// random windows and random parts, the whole index released first as the pipeline does.
+    #[test]
+    fn kept_pixels_are_the_kept_points_and_added_lists_the_built_ones() {
+        let mut state = 0x9e37_79b9_7f4a_7c15u64;
+        let mut next = move || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            state
+        };
+        for round in 0..200 {
+            let (w, h) = (1 + next() % 40, 1 + next() % 30);
+            let mut binary = Binary::new(w as u32, h as u32);
+            let fill = next() % 10;
+            for pixel in binary.ink.iter_mut() {
+                *pixel = next() % 10 < fill;
+            }
+            let survey = survey(binary.view(), &params_forced_off(), Some(false)).unwrap();
+            if survey.runs.is_empty() {
+                continue;
+            }
+            let (x0, y0) = (survey.runs.iter().map(|r| r.x0).min().unwrap() as usize, 0);
+            let x1 = survey.runs.iter().map(|r| r.x1).max().unwrap() as usize;
+            let window = (x1 - x0, h as usize);
+            let with = build_from_runs(&survey.runs, (x0, y0), window, 1.0, true).unwrap();
+            let mut without = build_from_runs(&survey.runs, (x0, y0), window, 1.0, false).unwrap();
+            let share = next() % 11;
+            let keep: Vec<bool> = (0..with.len()).map(|_| next() % 10 < share).collect();
+            let want = with.kept(&keep);
+            let mut released = without.clone();
+            released
+                .grid
+                .as_mut()
+                .unwrap()
+                .release(&without.points.clone());
+            let got = kept_pixels(&released, &keep).unwrap();
+            got.validate().unwrap();
+            assert_eq!(got.points, want.points, "{round}");
+            assert_eq!(got.half_width, want.half_width, "{round}");
+            assert_eq!(got.offsets, want.offsets, "{round}");
+            assert_eq!(got.neighbors, want.neighbors, "{round}");
+            // No grid where nothing is kept.
+            let window = |g: &Option<Grid>| {
+                g.as_ref()
+                    .map(|g| (g.x0, g.y0, g.width, g.height, g.index.clone()))
+            };
+            assert_eq!(window(&got.grid), window(&want.grid), "{round}");
+            add_neighbours(&mut without);
+            assert_eq!(without.offsets, with.offsets, "{round}");
+            assert_eq!(without.neighbors, with.neighbors, "{round}");
         }
     }
 

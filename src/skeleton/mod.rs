@@ -142,14 +142,7 @@ pub(crate) fn prepare(
     work.prune_spurs(experiments.decide_by_ink);
     work.join_degree_two();
     work.contract_short_links();
-    let mask = std::mem::take(&mut work.ink.mask);
-    let mut packed = vec![0u64; mask.len().div_ceil(64)];
-    for (word, bits) in packed.iter_mut().zip(mask.chunks(64)) {
-        *word = bits
-            .iter()
-            .enumerate()
-            .fold(0, |word, (k, &on)| word | u64::from(on) << k);
-    }
+    let packed = pack_bits(&std::mem::take(&mut work.ink.mask));
     Some(Prepared {
         work,
         ridges,
@@ -162,10 +155,7 @@ impl Prepared {
     /// (see the module doc), each edge fitted to its ink ([`smooth`]).
     pub(crate) fn carry(self, method: &StrokeGraph, experiments: &ExperimentParams) -> StrokeGraph {
         let mut work = self.work;
-        let len = work.ink.width * work.ink.height;
-        work.ink.mask = (0..len)
-            .map(|i| self.packed[i / 64] >> (i % 64) & 1 == 1)
-            .collect();
+        work.ink.mask = unpack_bits(&self.packed, work.ink.width * work.ink.height);
         let carried = reconcile(work, method, experiments, self.ridges);
         debug_assert_eq!(validate(&carried), Ok(()));
         carried
@@ -225,15 +215,12 @@ impl Prepared {
                 ((y as f64 + r).ceil() as i64 + 1).min(h - 1),
             );
             for yy in y0..=y1 {
-                for xx in x0..=x1 {
-                    let (dx, dy) = (
-                        (xx + grid.x0) as f64 + 0.5 - pos[0],
-                        (yy + grid.y0) as f64 + 0.5 - pos[1],
-                    );
-                    if dx * dx + dy * dy > r * r {
-                        continue;
-                    }
-                    let i = grid.index[(yy * w + xx) as usize];
+                let dy = (yy + grid.y0) as f64 + 0.5 - pos[1];
+                let Some((lo, hi)) = disk_columns((x0, x1), grid.x0, pos[0], r, dy * dy) else {
+                    continue;
+                };
+                let row = &grid.index[(yy * w + lo) as usize..=(yy * w + hi) as usize];
+                for &i in row {
                     if i != Grid::NONE && components.0[i as usize] == label {
                         needs[i as usize] = true;
                     }
@@ -242,6 +229,81 @@ impl Prepared {
         }
         (!needs.iter().all(|&n| n)).then_some(needs)
     }
+}
+
+/// The columns `x` of `x0..=x1` (window columns of a window whose first is image column
+/// `origin`) whose pixel centres lie within `r` of a point at image abscissa `centre` and squared
+/// vertical distance `dy2`: `dx * dx + dy2 <= r * r` with `dx = (x + origin) + 0.5 - centre`, the
+/// test [`Prepared::needing_method`] puts to each pixel. They are an interval (the squared
+/// distance falls, then rises, along the row, and its rounding keeps that order), found from
+/// the disk's half-chord and settled by the test itself at both ends; `None` when empty.
+fn disk_columns(
+    (x0, x1): (i64, i64),
+    origin: i64,
+    centre: f64,
+    r: f64,
+    dy2: f64,
+) -> Option<(i64, i64)> {
+    let inside = |x: i64| {
+        let dx = (x + origin) as f64 + 0.5 - centre;
+        dx * dx + dy2 <= r * r
+    };
+    let chord = (r * r - dy2).max(0.0).sqrt();
+    let middle = centre - origin as f64 - 0.5;
+    let mut lo = ((middle - chord).ceil() as i64).clamp(x0, x1 + 1);
+    while lo > x0 && inside(lo - 1) {
+        lo -= 1;
+    }
+    while lo <= x1 && !inside(lo) {
+        lo += 1;
+    }
+    let mut hi = ((middle + chord).floor() as i64).clamp(lo - 1, x1);
+    while hi < x1 && inside(hi + 1) {
+        hi += 1;
+    }
+    while hi >= lo && !inside(hi) {
+        hi -= 1;
+    }
+    (lo <= hi).then_some((lo, hi))
+}
+
+/// `mask` a bit a pixel: bit `i % 64` of word `i / 64` is pixel `i`. Eight pixels at a time
+/// (each `bool` a byte of 0 or 1: the product gathers byte `k`'s low bit into bit `56 + k`, the
+/// other partial products falling below bit 56 without carries or beyond bit 63): the mask is
+/// the size of a chunk's window, many times its ink (docs/performance.md, "Session of
+/// 2026-12-07, tenth").
+fn pack_bits(mask: &[bool]) -> Vec<u64> {
+    const GATHER: u64 = 0x0102_0408_1020_4080;
+    let mut packed = vec![0u64; mask.len().div_ceil(64)];
+    for (word, bits) in packed.iter_mut().zip(mask.chunks(64)) {
+        let mut bytes = bits.chunks_exact(8);
+        let mut value = 0u64;
+        for (k, eight) in (&mut bytes).enumerate() {
+            let eight: [u8; 8] = std::array::from_fn(|i| u8::from(eight[i]));
+            let byte = u64::from_le_bytes(eight).wrapping_mul(GATHER) >> 56;
+            value |= byte << (8 * k);
+        }
+        let done = bits.len() - bytes.remainder().len();
+        for (k, &on) in bytes.remainder().iter().enumerate() {
+            value |= u64::from(on) << (done + k);
+        }
+        *word = value;
+    }
+    packed
+}
+
+/// The first `len` pixels of a mask [`pack_bits`] packed, a `bool` each.
+fn unpack_bits(packed: &[u64], len: usize) -> Vec<bool> {
+    let mut mask = vec![false; len];
+    for (bits, &word) in mask.chunks_mut(64).zip(packed) {
+        if word == 0 {
+            continue;
+        }
+        for (k, on) in bits.iter_mut().enumerate() {
+            *on = word >> k & 1 == 1;
+        }
+    }
+    mask
 }
 
 /// The [`pixel_graph`] of the ink of `points`' grid, specks filled, thinned to one pixel, every
@@ -375,6 +437,71 @@ mod tests {
         let mut params = Params::default();
         params.finish.skeleton = true;
         params
+    }
+
+    /// The interval of columns is the set of pixels the per-pixel disk test keeps: random
+    /// centres, radii and rows, some exactly on pixel centres or beyond the window.
+    #[test]
+    fn disk_columns_are_the_pixels_the_disk_test_keeps() {
+        let mut state = 0x9e37_79b9_7f4a_7c15u64;
+        let mut unit = move || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            (state >> 11) as f64 / (1u64 << 53) as f64
+        };
+        for _ in 0..20_000 {
+            let origin = (unit() * 3000.0) as i64;
+            let (x0, x1) = (0i64, (unit() * 80.0) as i64);
+            let centre = origin as f64 + unit() * 100.0 - 10.0;
+            // Radii from below a pixel to beyond the window, some exactly on pixel centres.
+            let r = if unit() < 0.2 {
+                (unit() * 12.0).round() + 0.5
+            } else {
+                unit() * 40.0
+            };
+            let dy = if unit() < 0.2 {
+                (unit() * 10.0).round()
+            } else {
+                unit() * 45.0 - 2.0
+            };
+            let dy2 = dy * dy;
+            let kept: Vec<i64> = (x0..=x1)
+                .filter(|&x| {
+                    let dx = (x + origin) as f64 + 0.5 - centre;
+                    dx * dx + dy * dy <= r * r
+                })
+                .collect();
+            let want = kept.first().map(|&lo| (lo, *kept.last().unwrap()));
+            if let Some((lo, hi)) = want {
+                assert_eq!(kept.len() as i64, hi - lo + 1);
+            }
+            assert_eq!(disk_columns((x0, x1), origin, centre, r, dy2), want);
+        }
+    }
+
+    /// The waiting mask's bits are the mask's pixels, at every length and density.
+    #[test]
+    fn packed_bits_unpack_to_the_same_mask() {
+        let mut state = 0x2545_f491_4f6c_dd1du64;
+        for len in [0usize, 1, 7, 8, 9, 63, 64, 65, 127, 128, 200, 1000] {
+            for density in [0u64, 1, 8, 15, 16] {
+                let mask: Vec<bool> = (0..len)
+                    .map(|_| {
+                        state ^= state << 13;
+                        state ^= state >> 7;
+                        state ^= state << 17;
+                        state % 16 < density
+                    })
+                    .collect();
+                let packed = pack_bits(&mask);
+                assert_eq!(packed.len(), len.div_ceil(64));
+                for (i, &on) in mask.iter().enumerate() {
+                    assert_eq!(packed[i / 64] >> (i % 64) & 1 == 1, on, "{len} {i}");
+                }
+                assert_eq!(unpack_bits(&packed, len), mask);
+            }
+        }
     }
 
     /// A junction's vertex, the mean of its pixels, is the same to the bit whatever window the

@@ -80,6 +80,8 @@ mod point_set;
 mod samples;
 mod stroke_graph;
 mod subpixel;
+#[cfg(test)]
+mod test_rng;
 
 pub mod csr;
 pub mod curves;

@@ -538,10 +538,7 @@ fn trace_one(
         skeleton_only,
         &mut timings,
     );
-    let (method_points, method_components) = match &part {
-        Some((p, c)) => (p, c),
-        None => (&points, &components),
-    };
+    let (method_points, method_components) = method_part(&points, &components, &part);
     let (refined, kept) = method_stages(
         method_points,
         method_components,
@@ -734,10 +731,7 @@ fn trace_chunks(
             if !neighbours && part.is_none() && method_runs {
                 raster::add_neighbours(&mut points);
             }
-            let (method_points, method_components) = match &part {
-                Some((p, c)) => (p, c),
-                None => (&points, &components),
-            };
+            let (method_points, method_components) = method_part(&points, &components, &part);
             let (refined, kept) = method_stages(
                 method_points,
                 method_components,
@@ -825,6 +819,16 @@ fn trace_chunks(
     // The threads' spare pixel indices are not kept past the trace.
     rayon::broadcast(|_| Grid::drop_spare_index());
     Ok(Traced::join(parts.into_iter().map(|(_, t)| t).collect()))
+}
+
+/// The points the method traces: the `part` that [`prepare_skeleton`] cut (the junction
+/// windows) or, without one, all of them.
+fn method_part<'a>(
+    points: &'a PointSet,
+    components: &'a Components,
+    part: &'a Option<(PointSet, Components)>,
+) -> (&'a PointSet, &'a Components) {
+    part.as_ref().map_or((points, components), |(p, c)| (p, c))
 }
 
 /// [`refine_stages`], or nothing where the skeleton alone traces `points` ([`skeleton_only`])

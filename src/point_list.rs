@@ -1206,13 +1206,8 @@ mod tests {
     fn sparse_half_widths_equal_the_dense_raster_on_scattered_points() {
         // Random points in a band 9 units wide and in a few clumps: cells with empty cells at
         // every distance, some far inside.
-        let mut state = 0x2545_f491_4f6c_dd1du64;
-        let mut next = || {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            (state >> 11) as f64 / (1u64 << 53) as f64
-        };
+        let mut rng = crate::test_rng::XorShift::new(0x2545_f491_4f6c_dd1d);
+        let mut next = || rng.unit();
         let mut list: Vec<[f64; 2]> = (0..3000)
             .map(|_| [next() * 300.0, 20.0 + next() * 9.0])
             .collect();

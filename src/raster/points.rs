@@ -1211,13 +1211,8 @@ mod tests {
     /// random windows and random parts, the whole index released first as the pipeline does.
     #[test]
     fn kept_pixels_are_the_kept_points_and_added_lists_the_built_ones() {
-        let mut state = 0x9e37_79b9_7f4a_7c15u64;
-        let mut next = move || {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            state
-        };
+        let mut rng = crate::test_rng::XorShift::new(0x9e37_79b9_7f4a_7c15);
+        let mut next = move || rng.next_u64();
         for round in 0..200 {
             let (w, h) = (1 + next() % 40, 1 + next() % 30);
             let mut binary = Binary::new(w as u32, h as u32);

@@ -2028,17 +2028,10 @@ mod tests {
 
     #[test]
     fn the_square_test_agrees_with_its_definition() {
-        let mut state = 0x2545_F491_4F6C_DD1Du64;
+        let mut rng = crate::test_rng::XorShift::new(0x2545_F491_4F6C_DD1D);
         for (width, height) in [(1, 1), (1, 9), (9, 1), (23, 17), (40, 3), (5, 31)] {
             for density in [0.05, 0.5, 0.9, 0.99] {
-                let mask: Vec<bool> = (0..width * height)
-                    .map(|_| {
-                        state ^= state << 13;
-                        state ^= state >> 7;
-                        state ^= state << 17;
-                        (state >> 11) as f64 / (1u64 << 53) as f64 <= density
-                    })
-                    .collect();
+                let mask: Vec<bool> = (0..width * height).map(|_| rng.unit() <= density).collect();
                 for radius in [0, 1, 2, 3, 7, 40] {
                     for value in [true, false] {
                         assert_eq!(

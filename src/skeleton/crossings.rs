@@ -1935,13 +1935,8 @@ mod tests {
 
     #[test]
     fn holes_from_runs_equal_the_flood_fill() {
-        let mut state = 0x9e37_79b9_7f4a_7c15u64;
-        let mut next = || {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            state
-        };
+        let mut rng = crate::test_rng::XorShift::new(0x9e37_79b9_7f4a_7c15);
+        let mut next = || rng.next_u64();
         let mut holes_seen = 0;
         for case in 0..400 {
             let (w, h) = (1 + (next() % 40) as usize, 1 + (next() % 40) as usize);

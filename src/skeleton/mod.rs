@@ -443,13 +443,8 @@ mod tests {
     /// centres, radii and rows, some exactly on pixel centres or beyond the window.
     #[test]
     fn disk_columns_are_the_pixels_the_disk_test_keeps() {
-        let mut state = 0x9e37_79b9_7f4a_7c15u64;
-        let mut unit = move || {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            (state >> 11) as f64 / (1u64 << 53) as f64
-        };
+        let mut rng = crate::test_rng::XorShift::new(0x9e37_79b9_7f4a_7c15);
+        let mut unit = move || rng.unit();
         for _ in 0..20_000 {
             let origin = (unit() * 3000.0) as i64;
             let (x0, x1) = (0i64, (unit() * 80.0) as i64);
@@ -483,17 +478,10 @@ mod tests {
     /// The waiting mask's bits are the mask's pixels, at every length and density.
     #[test]
     fn packed_bits_unpack_to_the_same_mask() {
-        let mut state = 0x2545_f491_4f6c_dd1du64;
+        let mut rng = crate::test_rng::XorShift::new(0x2545_f491_4f6c_dd1d);
         for len in [0usize, 1, 7, 8, 9, 63, 64, 65, 127, 128, 200, 1000] {
             for density in [0u64, 1, 8, 15, 16] {
-                let mask: Vec<bool> = (0..len)
-                    .map(|_| {
-                        state ^= state << 13;
-                        state ^= state >> 7;
-                        state ^= state << 17;
-                        state % 16 < density
-                    })
-                    .collect();
+                let mask: Vec<bool> = (0..len).map(|_| rng.next_u64() % 16 < density).collect();
                 let packed = pack_bits(&mask);
                 assert_eq!(packed.len(), len.div_ceil(64));
                 for (i, &on) in mask.iter().enumerate() {

@@ -1886,9 +1886,27 @@ impl Holes {
     }
 }
 
-/// The first column from `from` on whose pixel is `ink` (true: ink), if any.
+/// The first column from `from` on whose pixel is `ink` (true: ink), if any. Eight pixels at a
+/// time: a `bool` is a byte 0 or 1, so eight read as one `u64` hold a byte 1 at each ink pixel,
+/// and the lowest byte that is what is looked for is the first such pixel.
 fn next_with(row: &[bool], from: usize, ink: bool) -> Option<usize> {
-    row[from..].iter().position(|&b| b == ink).map(|i| from + i)
+    const ONES: u64 = 0x0101_0101_0101_0101;
+    let rest = &row[from..];
+    let mut eights = rest.chunks_exact(8);
+    for (k, eight) in (&mut eights).enumerate() {
+        let word = u64::from_le_bytes(std::array::from_fn(|i| u8::from(eight[i])));
+        // A byte 1 at each pixel that is what is looked for.
+        let found = if ink { word } else { !word & ONES };
+        if found != 0 {
+            return Some(from + 8 * k + found.trailing_zeros() as usize / 8);
+        }
+    }
+    let done = rest.len() - eights.remainder().len();
+    eights
+        .remainder()
+        .iter()
+        .position(|&b| b == ink)
+        .map(|i| from + done + i)
 }
 
 #[cfg(test)]
@@ -1963,5 +1981,25 @@ mod tests {
             holes_seen += expected.iter().filter(|&&b| b).count();
         }
         assert!(holes_seen > 1000, "the cases have holes: {holes_seen}");
+    }
+
+    #[test]
+    fn the_next_pixel_eight_at_a_time_is_the_one_by_one_search() {
+        let mut rng = crate::test_rng::XorShift::new(0x9e37_79b9_7f4a_7c15);
+        let mut found = 0;
+        for len in [0usize, 1, 7, 8, 9, 15, 16, 17, 63, 64, 65, 200] {
+            for density in [0u64, 1, 8, 15, 16] {
+                let row: Vec<bool> = (0..len).map(|_| rng.next_u64() % 16 < density).collect();
+                for from in 0..=len {
+                    for ink in [false, true] {
+                        let one_by_one = row[from..].iter().position(|&b| b == ink);
+                        let expected = one_by_one.map(|i| from + i);
+                        assert_eq!(next_with(&row, from, ink), expected, "{row:?} {from} {ink}");
+                        found += usize::from(expected.is_some());
+                    }
+                }
+            }
+        }
+        assert!(found > 2_000, "{found}");
     }
 }

@@ -292,15 +292,31 @@ fn pack_bits(mask: &[bool]) -> Vec<u64> {
     packed
 }
 
-/// The first `len` pixels of a mask [`pack_bits`] packed, a `bool` each.
+/// The first `len` pixels of a mask [`pack_bits`] packed, a `bool` each: eight bits at a time,
+/// the byte copied into all eight bytes of a `u64` by one multiply, bit `k` kept in byte `k`
+/// (`0x8040201008040201`), and each byte made 0 or 1 by adding `0x7F` (at most `0xFF`: no carry
+/// into the next byte) and keeping its top bit; the eight bytes are then the eight `bool`s.
 fn unpack_bits(packed: &[u64], len: usize) -> Vec<bool> {
+    const ONES: u64 = 0x0101_0101_0101_0101;
+    const BIT_PER_BYTE: u64 = 0x8040_2010_0804_0201;
     let mut mask = vec![false; len];
     for (bits, &word) in mask.chunks_mut(64).zip(packed) {
         if word == 0 {
             continue;
         }
-        for (k, on) in bits.iter_mut().enumerate() {
-            *on = word >> k & 1 == 1;
+        for (k, eight) in bits.chunks_mut(8).enumerate() {
+            let byte = (word >> (8 * k)) & 0xFF;
+            let spread = ((((byte * ONES) & BIT_PER_BYTE) + 0x7F * ONES) >> 7) & ONES;
+            let bytes = spread.to_le_bytes();
+            // SAFETY: every byte of `spread` is 0 or 1, a valid `bool`, and at most
+            // `eight.len()` of them are written, into `eight`'s own bytes.
+            unsafe {
+                std::ptr::copy_nonoverlapping(
+                    bytes.as_ptr(),
+                    eight.as_mut_ptr().cast::<u8>(),
+                    eight.len(),
+                );
+            }
         }
     }
     mask

@@ -204,6 +204,8 @@ struct SeparableGabor {
 #[derive(Default)]
 struct GaborScratch {
     envelope: Vec<f64>,
+    /// The bits of the σ `envelope` was made for.
+    envelope_sigma: Option<u64>,
     a: Vec<f64>,
     c: Vec<f64>,
     b: Vec<f64>,
@@ -234,16 +236,27 @@ impl SeparableGabor {
         // The envelope's taps, the same for both directions.
         let GaborScratch {
             envelope,
+            envelope_sigma,
             a,
             c,
             b,
             d,
         } = scratch;
-        envelope.clear();
-        envelope.extend((-radius..=radius).map(|t| {
-            let t = t as f64;
-            (-t * t / (2.0 * sigma * sigma)).exp()
-        }));
+        // `g(t) = exp(-t² / 2σ²)` is even, exactly (`-t · t` is the same at `±t`), so each
+        // `t ≥ 0` is evaluated once; and it depends on σ alone, so it is kept while σ is the
+        // same (the sub-blocks of a turning block share their block's period).
+        if *envelope_sigma != Some(sigma.to_bits()) {
+            let r = radius as usize;
+            envelope.clear();
+            envelope.resize(2 * r + 1, 0.0);
+            for t in 0..=r {
+                let t_f = t as f64;
+                let g = (-t_f * t_f / (2.0 * sigma * sigma)).exp();
+                envelope[r - t] = g;
+                envelope[r + t] = g;
+            }
+            *envelope_sigma = Some(sigma.to_bits());
+        }
         mirrored_taps(envelope, alpha, (a, c));
         mirrored_taps(envelope, beta, (b, d));
         let sum = |v: &[f64]| v.iter().sum::<f64>();
@@ -687,8 +700,29 @@ mod tests {
         // shrink the window, against a fresh filter for each.
         let params = FingerprintParams::default();
         let (mut filter, mut scratch) = (SeparableGabor::default(), GaborScratch::default());
-        for (theta, period) in [(0.3, 9.0), (1.2, 24.0), (2.5, 3.0), (0.0, 11.3), (3.1, 9.0)] {
+        let tuned = [
+            (0.3, 9.0),
+            (1.2, 24.0),
+            (2.5, 3.0),
+            (0.0, 11.3),
+            (3.1, 9.0),
+            (1.7, 9.0),
+            (0.4, 9.0),
+        ];
+        for (theta, period) in tuned {
             filter.tune(theta, period, &params, &mut scratch);
+            // The envelope (kept while σ is the same, each `t ≥ 0` evaluated once) is the one
+            // evaluated at every `t`.
+            let sigma = params.gabor_sigma_across * period;
+            let radius = kernel_radius(sigma) as i64;
+            let direct: Vec<u64> = (-radius..=radius)
+                .map(|t| {
+                    let t = t as f64;
+                    (-t * t / (2.0 * sigma * sigma)).exp().to_bits()
+                })
+                .collect();
+            let kept: Vec<u64> = scratch.envelope.iter().map(|g| g.to_bits()).collect();
+            assert_eq!(kept, direct, "envelope, period {period}");
             let fresh = SeparableGabor::new(theta, period, &params);
             let bits = |v: &[f32]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
             assert_eq!(filter.radius, fresh.radius);

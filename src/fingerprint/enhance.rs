@@ -551,9 +551,10 @@ fn reborrow<'a>(
 mod wide {
     use super::{RowSums, SeparableGabor};
     use std::arch::x86_64::{
-        _mm256_add_ps, _mm256_castps128_ps256, _mm256_castps256_ps128, _mm256_extractf128_ps,
-        _mm256_insertf128_ps, _mm256_loadu_ps, _mm256_mul_ps, _mm256_set1_ps, _mm256_setzero_ps,
-        _mm256_storeu_ps, _mm256_sub_ps, _mm_loadu_ps, _mm_storeu_ps,
+        __m256, _mm256_add_ps, _mm256_castps128_ps256, _mm256_castps256_ps128,
+        _mm256_extractf128_ps, _mm256_insertf128_ps, _mm256_loadu_ps, _mm256_mul_ps,
+        _mm256_set1_ps, _mm256_setzero_ps, _mm256_storeu_ps, _mm256_sub_ps, _mm_loadu_ps,
+        _mm_storeu_ps,
     };
 
     /// Σ A·gray, Σ C·gray and Σ gray over the taps `a`, `c` of the eight columns whose taps
@@ -608,20 +609,46 @@ mod wide {
         sign: f32,
         out: &mut [f32],
     ) -> bool {
+        if out.len() != 8 {
+            return false;
+        }
+        // SAFETY: the CPU has AVX2, as this function's caller guarantees.
+        let Some(scaled) = (unsafe { column_terms(filter, rows, (first, 8), sign) }) else {
+            return false;
+        };
+        // SAFETY: eight values, checked above.
+        unsafe { _mm256_storeu_ps(out.as_mut_ptr(), scaled) };
+        true
+    }
+
+    /// Σ over the taps `k` of B·ΣA - D·ΣC - m·Σgray, the eight row sums of tap `k` starting at
+    /// `first + k · stride`, times the scale and `sign`: one output row of eight columns
+    /// (`stride` 8) or two output rows of four (`stride` 4: the lower row's sums start four
+    /// after the upper's). `None` where the row sums do not hold them all.
+    ///
+    /// # Safety
+    /// The CPU must have AVX2.
+    #[target_feature(enable = "avx2")]
+    #[inline]
+    unsafe fn column_terms(
+        filter: &SeparableGabor,
+        rows: &RowSums,
+        (first, stride): (usize, usize),
+        sign: f32,
+    ) -> Option<__m256> {
         let taps = filter.b.len();
-        let end = first + 8 * taps;
+        let end = first + stride * taps.saturating_sub(1) + 8;
         if filter.d.len() != taps
-            || out.len() != 8
             || [rows.a.len(), rows.c.len(), rows.g.len()]
                 .iter()
                 .any(|&n| n < end)
         {
-            return false;
+            return None;
         }
         let mean = _mm256_set1_ps(filter.mean);
         let mut s = _mm256_setzero_ps();
         for (k, (&b, &d)) in filter.b.iter().zip(&filter.d).enumerate() {
-            let at = first + k * 8;
+            let at = first + k * stride;
             // SAFETY: `at + 8 <= end`, within each of the three, checked above.
             let (ha, hc, h1) = unsafe {
                 (
@@ -639,11 +666,9 @@ mod wide {
             );
             s = _mm256_add_ps(s, term);
         }
-        let scaled = _mm256_mul_ps(_mm256_set1_ps(sign * filter.scale), s);
-        // SAFETY: eight values, checked above.
-        unsafe { _mm256_storeu_ps(out.as_mut_ptr(), scaled) };
-        true
+        Some(_mm256_mul_ps(_mm256_set1_ps(sign * filter.scale), s))
     }
+
     /// [`row_sums8`] of two rows of four columns, `window` and `next` (at least `taps + 3`
     /// values each), in one register (`window`'s in the low four lanes): the same operations
     /// as [`SeparableGabor::row_sums`] for four columns, each row's sums into the first four of
@@ -708,39 +733,13 @@ mod wide {
         sign: f32,
         (top, bottom): (&mut [f32], &mut [f32]),
     ) -> bool {
-        let taps = filter.b.len();
-        let end = first + 4 * taps + 4;
-        if filter.d.len() != taps
-            || top.len() != 4
-            || bottom.len() != 4
-            || [rows.a.len(), rows.c.len(), rows.g.len()]
-                .iter()
-                .any(|&n| n < end)
-        {
+        if top.len() != 4 || bottom.len() != 4 {
             return false;
         }
-        let mean = _mm256_set1_ps(filter.mean);
-        let mut s = _mm256_setzero_ps();
-        for (k, (&b, &d)) in filter.b.iter().zip(&filter.d).enumerate() {
-            let at = first + k * 4;
-            // SAFETY: `at + 8 <= end`, within each of the three, checked above.
-            let (ha, hc, h1) = unsafe {
-                (
-                    _mm256_loadu_ps(rows.a.as_ptr().add(at)),
-                    _mm256_loadu_ps(rows.c.as_ptr().add(at)),
-                    _mm256_loadu_ps(rows.g.as_ptr().add(at)),
-                )
-            };
-            let term = _mm256_sub_ps(
-                _mm256_sub_ps(
-                    _mm256_mul_ps(_mm256_set1_ps(b), ha),
-                    _mm256_mul_ps(_mm256_set1_ps(d), hc),
-                ),
-                _mm256_mul_ps(mean, h1),
-            );
-            s = _mm256_add_ps(s, term);
-        }
-        let scaled = _mm256_mul_ps(_mm256_set1_ps(sign * filter.scale), s);
+        // SAFETY: the CPU has AVX2, as this function's caller guarantees.
+        let Some(scaled) = (unsafe { column_terms(filter, rows, (first, 4), sign) }) else {
+            return false;
+        };
         // SAFETY: four values each, checked above.
         unsafe {
             _mm_storeu_ps(top.as_mut_ptr(), _mm256_castps256_ps128(scaled));

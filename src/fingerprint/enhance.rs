@@ -204,6 +204,8 @@ struct SeparableGabor {
 #[derive(Default)]
 struct GaborScratch {
     envelope: Vec<f64>,
+    /// The bits of the σ `envelope` was made for.
+    envelope_sigma: Option<u64>,
     a: Vec<f64>,
     c: Vec<f64>,
     b: Vec<f64>,
@@ -234,16 +236,27 @@ impl SeparableGabor {
         // The envelope's taps, the same for both directions.
         let GaborScratch {
             envelope,
+            envelope_sigma,
             a,
             c,
             b,
             d,
         } = scratch;
-        envelope.clear();
-        envelope.extend((-radius..=radius).map(|t| {
-            let t = t as f64;
-            (-t * t / (2.0 * sigma * sigma)).exp()
-        }));
+        // `g(t) = exp(-t² / 2σ²)` is even, exactly (`-t · t` is the same at `±t`), so each
+        // `t ≥ 0` is evaluated once; and it depends on σ alone, so it is kept while σ is the
+        // same (the sub-blocks of a turning block share their block's period).
+        if *envelope_sigma != Some(sigma.to_bits()) {
+            let r = radius as usize;
+            envelope.clear();
+            envelope.resize(2 * r + 1, 0.0);
+            for t in 0..=r {
+                let t_f = t as f64;
+                let g = (-t_f * t_f / (2.0 * sigma * sigma)).exp();
+                envelope[r - t] = g;
+                envelope[r + t] = g;
+            }
+            *envelope_sigma = Some(sigma.to_bits());
+        }
         mirrored_taps(envelope, alpha, (a, c));
         mirrored_taps(envelope, beta, (b, d));
         let sum = |v: &[f64]| v.iter().sum::<f64>();
@@ -310,8 +323,8 @@ impl SeparableGabor {
     /// The response over the block `(x0, x1, y0, y1)` of the image that `padded` holds with
     /// `pad` px around it, times `sign`, into `band` (rows `y0..y1`, image width); `rows` is
     /// scratch space. With AVX2 at run time the row and column sums go eight lanes a vector
-    /// instruction instead of four (`math::wide_lanes`: the same operations, so the same values;
-    /// a test holds the two bit for bit).
+    /// instruction instead of four, a 4 px sub-block's two rows at a time (`math::wide_lanes`:
+    /// the same operations, so the same values; a test holds the two bit for bit).
     fn apply(
         &self,
         padded: &Plane,
@@ -372,8 +385,34 @@ impl SeparableGabor {
             sums.clear();
             sums.resize(window_rows * bw, 0.0);
         }
-        for k in 0..window_rows {
+        let mut k = 0;
+        while k < window_rows {
             let start = (y0 + pad - r + k) * pw + x0 + pad - r;
+            // A sub-block's four columns of two rows in one AVX register: the rows' sums lie
+            // one after the other.
+            // SAFETY: `WIDE` only where the CPU has AVX2 (`apply_wide`).
+            #[cfg(target_arch = "x86_64")]
+            if WIDE && bw == 4 && k + 1 < window_rows && {
+                let span = k * bw..(k + 2) * bw;
+                let next = start + pw;
+                unsafe {
+                    wide::row_sums4x2(
+                        (&self.a, &self.c),
+                        (
+                            &padded.values[start..start + side - 1 + bw],
+                            &padded.values[next..next + side - 1 + bw],
+                        ),
+                        (
+                            &mut rows.a[span.clone()],
+                            &mut rows.c[span.clone()],
+                            &mut rows.g[span],
+                        ),
+                    )
+                }
+            } {
+                k += 2;
+                continue;
+            }
             let span = k * bw..(k + 1) * bw;
             // Borrowed again for the AVX2 sums, which may leave them to the baseline ones.
             #[cfg_attr(not(target_arch = "x86_64"), allow(unused_mut))]
@@ -394,9 +433,23 @@ impl SeparableGabor {
                 4 => self.row_sums::<4>(window, sums),
                 _ => self.row_sums_any(window, sums),
             }
+            k += 1;
         }
-        for y in y0..y1 {
+        let mut y = y0;
+        while y < y1 {
             let row = (y - band_y0) * width;
+            // Two output rows of a sub-block in one AVX register: their row sums, four apart,
+            // are eight adjacent values.
+            // SAFETY: as above.
+            #[cfg(target_arch = "x86_64")]
+            if WIDE && bw == 4 && y + 1 < y1 && {
+                let (top, bottom) = band[row + x0..row + width + x1].split_at_mut(width);
+                let out = (&mut top[..bw], &mut bottom[..bw]);
+                unsafe { wide::column_sums4x2(self, rows, (y - y0) * bw, sign, out) }
+            } {
+                y += 2;
+                continue;
+            }
             let out = &mut band[row + x0..row + x1];
             match bw {
                 // SAFETY: as above.
@@ -409,6 +462,7 @@ impl SeparableGabor {
                 4 => self.column_sums::<4>(rows, (y - y0) * bw, sign, out),
                 _ => self.column_sums_any(rows, (y - y0) * bw, sign, out),
             }
+            y += 1;
         }
     }
 
@@ -488,17 +542,19 @@ fn reborrow<'a>(
     (sa, sc, sg)
 }
 
-/// [`SeparableGabor::row_sums`] and [`SeparableGabor::column_sums`] of eight columns in AVX
-/// registers: each tap's eight values loaded once and its weights broadcast, the same
-/// operations in the same order as the baseline sums (no fused multiply-add), so the same values
-/// (a test holds them bit for bit). Each returns false, having written nothing, where the slices
+/// [`SeparableGabor::row_sums`] and [`SeparableGabor::column_sums`] of eight columns, or of two
+/// rows of four columns, in AVX registers: each tap's eight values loaded once and its weights
+/// broadcast, the same operations in the same order as the baseline sums (no fused
+/// multiply-add), so the same values (a test holds them bit for bit). Each returns false, having written nothing, where the slices
 /// are not of the lengths it needs; the caller then sums as on baseline x86-64.
 #[cfg(target_arch = "x86_64")]
 mod wide {
     use super::{RowSums, SeparableGabor};
     use std::arch::x86_64::{
-        _mm256_add_ps, _mm256_loadu_ps, _mm256_mul_ps, _mm256_set1_ps, _mm256_setzero_ps,
-        _mm256_storeu_ps, _mm256_sub_ps,
+        __m256, _mm256_add_ps, _mm256_castps128_ps256, _mm256_castps256_ps128,
+        _mm256_extractf128_ps, _mm256_insertf128_ps, _mm256_loadu_ps, _mm256_mul_ps,
+        _mm256_set1_ps, _mm256_setzero_ps, _mm256_storeu_ps, _mm256_sub_ps, _mm_loadu_ps,
+        _mm_storeu_ps,
     };
 
     /// Σ A·gray, Σ C·gray and Σ gray over the taps `a`, `c` of the eight columns whose taps
@@ -553,20 +609,46 @@ mod wide {
         sign: f32,
         out: &mut [f32],
     ) -> bool {
+        if out.len() != 8 {
+            return false;
+        }
+        // SAFETY: the CPU has AVX2, as this function's caller guarantees.
+        let Some(scaled) = (unsafe { column_terms(filter, rows, (first, 8), sign) }) else {
+            return false;
+        };
+        // SAFETY: eight values, checked above.
+        unsafe { _mm256_storeu_ps(out.as_mut_ptr(), scaled) };
+        true
+    }
+
+    /// Σ over the taps `k` of B·ΣA - D·ΣC - m·Σgray, the eight row sums of tap `k` starting at
+    /// `first + k · stride`, times the scale and `sign`: one output row of eight columns
+    /// (`stride` 8) or two output rows of four (`stride` 4: the lower row's sums start four
+    /// after the upper's). `None` where the row sums do not hold them all.
+    ///
+    /// # Safety
+    /// The CPU must have AVX2.
+    #[target_feature(enable = "avx2")]
+    #[inline]
+    unsafe fn column_terms(
+        filter: &SeparableGabor,
+        rows: &RowSums,
+        (first, stride): (usize, usize),
+        sign: f32,
+    ) -> Option<__m256> {
         let taps = filter.b.len();
-        let end = first + 8 * taps;
+        let end = first + stride * taps.saturating_sub(1) + 8;
         if filter.d.len() != taps
-            || out.len() != 8
             || [rows.a.len(), rows.c.len(), rows.g.len()]
                 .iter()
                 .any(|&n| n < end)
         {
-            return false;
+            return None;
         }
         let mean = _mm256_set1_ps(filter.mean);
         let mut s = _mm256_setzero_ps();
         for (k, (&b, &d)) in filter.b.iter().zip(&filter.d).enumerate() {
-            let at = first + k * 8;
+            let at = first + k * stride;
             // SAFETY: `at + 8 <= end`, within each of the three, checked above.
             let (ha, hc, h1) = unsafe {
                 (
@@ -584,9 +666,85 @@ mod wide {
             );
             s = _mm256_add_ps(s, term);
         }
-        let scaled = _mm256_mul_ps(_mm256_set1_ps(sign * filter.scale), s);
-        // SAFETY: eight values, checked above.
-        unsafe { _mm256_storeu_ps(out.as_mut_ptr(), scaled) };
+        Some(_mm256_mul_ps(_mm256_set1_ps(sign * filter.scale), s))
+    }
+
+    /// [`row_sums8`] of two rows of four columns, `window` and `next` (at least `taps + 3`
+    /// values each), in one register (`window`'s in the low four lanes): the same operations
+    /// as [`SeparableGabor::row_sums`] for four columns, each row's sums into the first four of
+    /// `sa`, `sc`, `sg` (eight each), the next row's into the last four.
+    ///
+    /// # Safety
+    /// The CPU must have AVX2.
+    #[target_feature(enable = "avx2")]
+    #[inline]
+    pub(super) unsafe fn row_sums4x2(
+        (a, c): (&[f32], &[f32]),
+        (window, next): (&[f32], &[f32]),
+        (sa, sc, sg): (&mut [f32], &mut [f32], &mut [f32]),
+    ) -> bool {
+        let taps = a.len();
+        if c.len() != taps
+            || window.len() < taps + 3
+            || next.len() < taps + 3
+            || [sa.len(), sc.len(), sg.len()] != [8; 3]
+        {
+            return false;
+        }
+        let (mut va, mut vc, mut vg) = (
+            _mm256_setzero_ps(),
+            _mm256_setzero_ps(),
+            _mm256_setzero_ps(),
+        );
+        for (t, (&a, &c)) in a.iter().zip(c).enumerate() {
+            // SAFETY: `t + 4 <= taps + 3 <=` either slice's length.
+            let line = unsafe {
+                _mm256_insertf128_ps::<1>(
+                    _mm256_castps128_ps256(_mm_loadu_ps(window.as_ptr().add(t))),
+                    _mm_loadu_ps(next.as_ptr().add(t)),
+                )
+            };
+            va = _mm256_add_ps(va, _mm256_mul_ps(_mm256_set1_ps(a), line));
+            vc = _mm256_add_ps(vc, _mm256_mul_ps(_mm256_set1_ps(c), line));
+            vg = _mm256_add_ps(vg, line);
+        }
+        // SAFETY: eight values each, checked above.
+        unsafe {
+            _mm256_storeu_ps(sa.as_mut_ptr(), va);
+            _mm256_storeu_ps(sc.as_mut_ptr(), vc);
+            _mm256_storeu_ps(sg.as_mut_ptr(), vg);
+        }
+        true
+    }
+
+    /// Two output rows of four columns from the row sums starting at `first` (the top row's;
+    /// the bottom row's start four later, so both rows' terms of a tap are eight adjacent
+    /// values): [`SeparableGabor::column_sums`] for four columns, the same operations, in one
+    /// register, into `top` and `bottom` (four values each).
+    ///
+    /// # Safety
+    /// The CPU must have AVX2.
+    #[target_feature(enable = "avx2")]
+    #[inline]
+    pub(super) unsafe fn column_sums4x2(
+        filter: &SeparableGabor,
+        rows: &RowSums,
+        first: usize,
+        sign: f32,
+        (top, bottom): (&mut [f32], &mut [f32]),
+    ) -> bool {
+        if top.len() != 4 || bottom.len() != 4 {
+            return false;
+        }
+        // SAFETY: the CPU has AVX2, as this function's caller guarantees.
+        let Some(scaled) = (unsafe { column_terms(filter, rows, (first, 4), sign) }) else {
+            return false;
+        };
+        // SAFETY: four values each, checked above.
+        unsafe {
+            _mm_storeu_ps(top.as_mut_ptr(), _mm256_castps256_ps128(scaled));
+            _mm_storeu_ps(bottom.as_mut_ptr(), _mm256_extractf128_ps::<1>(scaled));
+        }
         true
     }
 }
@@ -687,8 +845,29 @@ mod tests {
         // shrink the window, against a fresh filter for each.
         let params = FingerprintParams::default();
         let (mut filter, mut scratch) = (SeparableGabor::default(), GaborScratch::default());
-        for (theta, period) in [(0.3, 9.0), (1.2, 24.0), (2.5, 3.0), (0.0, 11.3), (3.1, 9.0)] {
+        let tuned = [
+            (0.3, 9.0),
+            (1.2, 24.0),
+            (2.5, 3.0),
+            (0.0, 11.3),
+            (3.1, 9.0),
+            (1.7, 9.0),
+            (0.4, 9.0),
+        ];
+        for (theta, period) in tuned {
             filter.tune(theta, period, &params, &mut scratch);
+            // The envelope (kept while σ is the same, each `t ≥ 0` evaluated once) is the one
+            // evaluated at every `t`.
+            let sigma = params.gabor_sigma_across * period;
+            let radius = kernel_radius(sigma) as i64;
+            let direct: Vec<u64> = (-radius..=radius)
+                .map(|t| {
+                    let t = t as f64;
+                    (-t * t / (2.0 * sigma * sigma)).exp().to_bits()
+                })
+                .collect();
+            let kept: Vec<u64> = scratch.envelope.iter().map(|g| g.to_bits()).collect();
+            assert_eq!(kept, direct, "envelope, period {period}");
             let fresh = SeparableGabor::new(theta, period, &params);
             let bits = |v: &[f32]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
             assert_eq!(filter.radius, fresh.radius);
@@ -720,7 +899,7 @@ mod tests {
         };
         let params = FingerprintParams::default();
         let mut rows = RowSums::default();
-        for k in 0..60 {
+        for k in 0..120 {
             let (theta, period) = (
                 (next() % 3600) as f64 / 1145.9,
                 3.0 + (next() % 2201) as f64 / 100.0,
@@ -728,16 +907,18 @@ mod tests {
             let filter = SeparableGabor::new(theta, period, &params);
             let pad = filter.radius + k % 3;
             let padded = padded_plane(&gray, pad);
-            let side = [8, 4, 3, 5, 1][k % 5];
-            let (x0, y0) = (next() % (w - side + 1), next() % (h - side + 1));
+            // Sub-blocks of four columns also with an odd number of rows (two rows in a
+            // register, then one).
+            let (side, tall) = ([8, 4, 3, 5, 1][k % 5], [8, 4, 3, 5, 1, 2][k % 6]);
+            let (x0, y0) = (next() % (w - side + 1), next() % (h - tall + 1));
             let (x0, y0) = match k % 7 {
                 0 => (0, 0),
-                1 => (w - side, h - side),
+                1 => (w - side, h - tall),
                 _ => (x0, y0),
             };
-            let block = (x0, x0 + side, y0, y0 + side);
-            let mut baseline = vec![0.0f32; w * side];
-            let mut run = vec![0.0f32; w * side];
+            let block = (x0, x0 + side, y0, y0 + tall);
+            let mut baseline = vec![0.0f32; w * tall];
+            let mut run = vec![0.0f32; w * tall];
             let sign = if k % 2 == 0 { -1.0 } else { 1.0 };
             filter.apply_lanes::<false>(&padded, pad, block, sign, (&mut baseline, y0), &mut rows);
             filter.apply(&padded, pad, block, sign, (&mut run, y0), &mut rows);

@@ -530,23 +530,21 @@ fn trace_one(
 ) -> Traced {
     let mut timings = Timings::default();
     let components = components.unwrap_or_else(|| points.component_labels());
-    let skeleton_only = skeleton_only(&points, params);
-    let (prepared, part) = prepare_skeleton(
+    let Refining {
+        skeleton_only,
+        prepared,
+        part,
+        refined,
+        kept,
+    } = refine_with_skeleton(
         &mut points,
         &components,
+        true,
         params,
-        skeleton_only,
+        recording,
         &mut timings,
     );
     let (method_points, method_components) = method_part(&points, &components, &part);
-    let (refined, kept) = method_stages(
-        method_points,
-        method_components,
-        params,
-        &mut timings,
-        recording,
-        skeleton_only,
-    );
     let clock = Instant::now();
     let graph = if skeleton_only {
         StrokeGraph::default()
@@ -717,28 +715,19 @@ fn trace_chunks(
                 points: clock.elapsed(),
                 ..Timings::default()
             };
-            let skeleton_only = skeleton_only(&points, params);
-            let (prepared, part) = prepare_skeleton(
+            let Refining {
+                skeleton_only,
+                prepared,
+                part,
+                refined,
+                kept,
+            } = refine_with_skeleton(
                 &mut points,
                 &components,
+                neighbours,
                 params,
-                skeleton_only,
-                &mut timings,
-            );
-            // The chunk's own neighbour lists, where it was built without them and the method
-            // traces all of it.
-            let method_runs = !(skeleton_only && recording == Recording::Off);
-            if !neighbours && part.is_none() && method_runs {
-                raster::add_neighbours(&mut points);
-            }
-            let (method_points, method_components) = method_part(&points, &components, &part);
-            let (refined, kept) = method_stages(
-                method_points,
-                method_components,
-                params,
-                &mut timings,
                 recording,
-                skeleton_only,
+                &mut timings,
             );
             // Where the method traced a part of the points, only that part waits for the fit.
             let point_count = points.len();
@@ -819,6 +808,54 @@ fn trace_chunks(
     // The threads' spare pixel indices are not kept past the trace.
     rayon::broadcast(|_| Grid::drop_spare_index());
     Ok(Traced::join(parts.into_iter().map(|(_, t)| t).collect()))
+}
+
+/// A point set between the method's refinement (§3.1-§3.3) and its fit: see
+/// [`refine_with_skeleton`].
+struct Refining {
+    /// Whether the skeleton alone traces the points ([`skeleton_only`]).
+    skeleton_only: bool,
+    prepared: Option<skeleton::Prepared>,
+    /// The points the method traced, where it traced a part ([`prepare_skeleton`]).
+    part: Option<(PointSet, Components)>,
+    refined: NodeGraph,
+    kept: Option<(Samples, NodeGraph)>,
+}
+
+/// The skeleton of `points` (with its `components`) prepared ([`prepare_skeleton`]) and the
+/// method's stages run on the points it needs ([`method_stages`]), timed into `timings`. Where
+/// `points` were built without neighbour lists (not `neighbours`) and the method traces all of
+/// them, their lists are added first ([`raster::add_neighbours`]).
+fn refine_with_skeleton(
+    points: &mut PointSet,
+    components: &Components,
+    neighbours: bool,
+    params: &Params,
+    recording: Recording,
+    timings: &mut Timings,
+) -> Refining {
+    let skeleton_only = skeleton_only(points, params);
+    let (prepared, part) = prepare_skeleton(points, components, params, skeleton_only, timings);
+    let method_runs = !(skeleton_only && recording == Recording::Off);
+    if !neighbours && part.is_none() && method_runs {
+        raster::add_neighbours(points);
+    }
+    let (method_points, method_components) = method_part(points, components, &part);
+    let (refined, kept) = method_stages(
+        method_points,
+        method_components,
+        params,
+        timings,
+        recording,
+        skeleton_only,
+    );
+    Refining {
+        skeleton_only,
+        prepared,
+        part,
+        refined,
+        kept,
+    }
 }
 
 /// The points the method traces: the `part` that [`prepare_skeleton`] cut (the junction

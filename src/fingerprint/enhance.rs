@@ -574,25 +574,50 @@ mod wide {
         if c.len() != taps || window.len() < taps + 7 || [sa.len(), sc.len(), sg.len()] != [8; 3] {
             return false;
         }
+        // SAFETY: the CPU has AVX2, as this function's caller guarantees; each tap `t` reads
+        // `window[t..t + 8]`, within it as `t + 8 <= taps + 7 <= window.len()`; eight values
+        // each out, checked above.
+        unsafe {
+            tap_sums(
+                (a, c),
+                |t| _mm256_loadu_ps(window.as_ptr().add(t)),
+                (sa, sc, sg),
+            )
+        };
+        true
+    }
+
+    /// Σ A·line, Σ C·line and Σ line over the taps `a`, `c`, `line(t)` the eight values of tap
+    /// `t`, into `sa`, `sc`, `sg`: [`row_sums8`]'s and [`row_sums4x2`]'s sums, which differ only
+    /// in how a tap's eight values are loaded.
+    ///
+    /// # Safety
+    /// The CPU must have AVX2, `line` must be safe to call for every tap, and `sa`, `sc`, `sg`
+    /// must hold eight values each.
+    #[target_feature(enable = "avx2")]
+    #[inline]
+    unsafe fn tap_sums(
+        (a, c): (&[f32], &[f32]),
+        line: impl Fn(usize) -> __m256,
+        (sa, sc, sg): (&mut [f32], &mut [f32], &mut [f32]),
+    ) {
         let (mut va, mut vc, mut vg) = (
             _mm256_setzero_ps(),
             _mm256_setzero_ps(),
             _mm256_setzero_ps(),
         );
         for (t, (&a, &c)) in a.iter().zip(c).enumerate() {
-            // SAFETY: `t + 8 <= taps + 7 <= window.len()`.
-            let line = unsafe { _mm256_loadu_ps(window.as_ptr().add(t)) };
+            let line = line(t);
             va = _mm256_add_ps(va, _mm256_mul_ps(_mm256_set1_ps(a), line));
             vc = _mm256_add_ps(vc, _mm256_mul_ps(_mm256_set1_ps(c), line));
             vg = _mm256_add_ps(vg, line);
         }
-        // SAFETY: eight values each, checked above.
+        // SAFETY: eight values each, as the caller guarantees.
         unsafe {
             _mm256_storeu_ps(sa.as_mut_ptr(), va);
             _mm256_storeu_ps(sc.as_mut_ptr(), vc);
             _mm256_storeu_ps(sg.as_mut_ptr(), vg);
         }
-        true
     }
 
     /// One output row of eight columns from the row sums starting at `first`: Σ over the rows
@@ -691,28 +716,17 @@ mod wide {
         {
             return false;
         }
-        let (mut va, mut vc, mut vg) = (
-            _mm256_setzero_ps(),
-            _mm256_setzero_ps(),
-            _mm256_setzero_ps(),
-        );
-        for (t, (&a, &c)) in a.iter().zip(c).enumerate() {
-            // SAFETY: `t + 4 <= taps + 3 <=` either slice's length.
-            let line = unsafe {
+        // SAFETY: the CPU has AVX2, as this function's caller guarantees; each tap `t` reads
+        // four values from `t` of each row, within both as `t + 4 <= taps + 3`; eight values
+        // each out, checked above.
+        unsafe {
+            let line = |t: usize| {
                 _mm256_insertf128_ps::<1>(
                     _mm256_castps128_ps256(_mm_loadu_ps(window.as_ptr().add(t))),
                     _mm_loadu_ps(next.as_ptr().add(t)),
                 )
             };
-            va = _mm256_add_ps(va, _mm256_mul_ps(_mm256_set1_ps(a), line));
-            vc = _mm256_add_ps(vc, _mm256_mul_ps(_mm256_set1_ps(c), line));
-            vg = _mm256_add_ps(vg, line);
-        }
-        // SAFETY: eight values each, checked above.
-        unsafe {
-            _mm256_storeu_ps(sa.as_mut_ptr(), va);
-            _mm256_storeu_ps(sc.as_mut_ptr(), vc);
-            _mm256_storeu_ps(sg.as_mut_ptr(), vg);
+            tap_sums((a, c), line, (sa, sc, sg));
         }
         true
     }

@@ -279,25 +279,11 @@ pub(super) fn build_from_runs(
     neighbours: bool,
 ) -> Result<PointSet> {
     let count: usize = runs.iter().map(Run::len).sum();
-    // Window coordinates of each run: row, first and end column.
-    let local = |run: &Run| {
-        (
-            run.y as usize - y0,
-            run.x0 as usize - x0,
-            run.x1 as usize - x0,
-        )
-    };
+    let origin = (x0 as i64, y0 as i64);
+    let local = |run: &Run| window_run(run, origin);
     let mut points = Vec::with_capacity(count);
-    let mut index = Grid::blank_index(width * height);
-    for run in runs {
-        let (y, a, b) = local(run);
-        let first = points.len() as u32;
-        for (slot, id) in index[y * width + a..y * width + b].iter_mut().zip(first..) {
-            *slot = id;
-        }
-        let row = run.y as f64 + 0.5;
-        points.extend((run.x0..run.x1).map(|x| [x as f64 + 0.5, row]));
-    }
+    points.extend(pixel_centres(runs));
+    let index = index_of_runs(runs, origin, (width, height));
 
     let (offsets, neighbors) = if neighbours {
         eight_neighbours_of_runs(&index, (width, height), count, runs.iter().map(local))?
@@ -355,14 +341,52 @@ pub(super) fn build_from_runs(
         neighbors,
         spacing,
         dropout: false,
-        grid: Some(Grid {
-            width: width as u32,
-            height: height as u32,
-            index,
-            x0: x0 as i64,
-            y0: y0 as i64,
-        }),
+        grid: Some(window_grid(index, (width, height), origin)),
     })
+}
+
+/// A run in the coordinates of a window whose first pixel is image column `x0` and row `y0`:
+/// its row, first and end column.
+fn window_run(run: &Run, (x0, y0): (i64, i64)) -> (usize, usize, usize) {
+    (
+        (i64::from(run.y) - y0) as usize,
+        (i64::from(run.x0) - x0) as usize,
+        (i64::from(run.x1) - x0) as usize,
+    )
+}
+
+/// The pixel centres of `runs`, run after run (image coordinates).
+fn pixel_centres(runs: &[Run]) -> impl Iterator<Item = [f64; 2]> + '_ {
+    runs.iter().flat_map(|run| {
+        let row = run.y as f64 + 0.5;
+        (run.x0..run.x1).map(move |x| [x as f64 + 0.5, row])
+    })
+}
+
+/// The pixel index of a `width` x `height` window whose first pixel is image pixel `origin`
+/// holding the pixels of `runs` (in it, raster order), numbered in that order.
+fn index_of_runs(runs: &[Run], origin: (i64, i64), (width, height): (usize, usize)) -> Vec<u32> {
+    let mut index = Grid::blank_index(width * height);
+    let mut first = 0u32;
+    for run in runs {
+        let (y, a, b) = window_run(run, origin);
+        for (slot, id) in index[y * width + a..y * width + b].iter_mut().zip(first..) {
+            *slot = id;
+        }
+        first += run.x1 - run.x0;
+    }
+    index
+}
+
+/// The [`Grid`] of a `width` x `height` window whose first pixel is image pixel `(x0, y0)`.
+fn window_grid(index: Vec<u32>, (width, height): (usize, usize), (x0, y0): (i64, i64)) -> Grid {
+    Grid {
+        width: width as u32,
+        height: height as u32,
+        index,
+        x0,
+        y0,
+    }
 }
 
 /// The 8-neighbour lists in CSR form of the `count` ink pixels `pixels` (window coordinates, in
@@ -558,19 +582,21 @@ pub(crate) fn add_neighbours(points: &mut PointSet) {
     if points.dropout || grid.index.is_empty() {
         return;
     }
-    let Some(runs) = pixel_runs(points.points.iter()) else {
+    if let Some(runs) = pixel_runs(points.points.iter()) {
+        read_neighbours(points, &runs);
+    }
+}
+
+/// The 8-neighbour lists of `points`, whose pixels are `runs`, read from their grid's pixel
+/// index; nothing changes without a grid or where the lists would not fit `u32`.
+fn read_neighbours(points: &mut PointSet, runs: &[Run]) {
+    let Some(grid) = &points.grid else {
         return;
     };
-    let (x0, y0) = (grid.x0, grid.y0);
-    let local = |run: &Run| {
-        (
-            (i64::from(run.y) - y0) as usize,
-            (i64::from(run.x0) - x0) as usize,
-            (i64::from(run.x1) - x0) as usize,
-        )
-    };
+    let origin = (grid.x0, grid.y0);
     let size = (grid.width as usize, grid.height as usize);
-    let lists = eight_neighbours_of_runs(&grid.index, size, points.len(), runs.iter().map(local));
+    let pixels = runs.iter().map(|run| window_run(run, origin));
+    let lists = eight_neighbours_of_runs(&grid.index, size, points.len(), pixels);
     if let Ok((offsets, neighbors)) = lists {
         points.offsets = offsets;
         points.neighbors = neighbors;
@@ -597,26 +623,12 @@ pub(crate) fn kept_pixels(points: &PointSet, keep: &[bool]) -> Option<PointSet> 
     let (y0, y1) = (first.y as usize, last.y as usize + 1);
     let x0 = runs.iter().map(|r| r.x0).min().unwrap_or(0) as usize;
     let x1 = runs.iter().map(|r| r.x1).max().unwrap_or(0) as usize;
-    let (width, height) = (x1 - x0, y1 - y0);
-    let local = |run: &Run| {
-        (
-            run.y as usize - y0,
-            run.x0 as usize - x0,
-            run.x1 as usize - x0,
-        )
-    };
-    let mut index = Grid::blank_index(width * height);
-    let mut count = 0u32;
-    for run in &runs {
-        let (y, a, b) = local(run);
-        for (slot, id) in index[y * width + a..y * width + b].iter_mut().zip(count..) {
-            *slot = id;
-        }
-        count += run.x1 - run.x0;
-    }
-    let size = (width, height);
-    let (offsets, neighbors) =
-        eight_neighbours_of_runs(&index, size, count as usize, runs.iter().map(local)).ok()?;
+    let size = (x1 - x0, y1 - y0);
+    let origin = (x0 as i64, y0 as i64);
+    let index = index_of_runs(&runs, origin, size);
+    let count = runs.iter().map(Run::len).sum();
+    let pixels = runs.iter().map(|run| window_run(run, origin));
+    let (offsets, neighbors) = eight_neighbours_of_runs(&index, size, count, pixels).ok()?;
     Some(PointSet {
         points: members().map(|p| points.points[p]).collect(),
         half_width: members().map(|p| points.half_width[p]).collect(),
@@ -624,13 +636,7 @@ pub(crate) fn kept_pixels(points: &PointSet, keep: &[bool]) -> Option<PointSet> 
         neighbors,
         spacing: points.spacing,
         dropout: false,
-        grid: Some(Grid {
-            width: width as u32,
-            height: height as u32,
-            index,
-            x0: x0 as i64,
-            y0: y0 as i64,
-        }),
+        grid: Some(window_grid(index, size, origin)),
     })
 }
 
@@ -640,58 +646,25 @@ pub(crate) fn restore(points: &mut PointSet, aside: Aside) {
     let Aside { runs } = aside;
     if !runs.is_empty() {
         points.points = Vec::with_capacity(points.half_width.len());
-        for run in &runs {
-            let row = run.y as f64 + 0.5;
-            points
-                .points
-                .extend((run.x0..run.x1).map(|x| [x as f64 + 0.5, row]));
-        }
+        points.points.extend(pixel_centres(&runs));
     }
     let Some(grid) = &mut points.grid else {
         return;
     };
-    let (x0, y0) = (grid.x0, grid.y0);
-    let (width, height) = (grid.width as usize, grid.height as usize);
-    // Window coordinates of a run: row, first and end column (the points' pixels, as
-    // `Grid::rebuild` places them).
-    let local = |run: &Run| {
-        (
-            (i64::from(run.y) - y0) as usize,
-            (i64::from(run.x0) - x0) as usize,
-            (i64::from(run.x1) - x0) as usize,
-        )
-    };
+    // The points' pixels, as `Grid::rebuild` places them.
     if runs.is_empty() {
         grid.rebuild(&points.points);
     } else {
-        grid.index = Grid::blank_index(width * height);
-        let mut first = 0u32;
-        for run in &runs {
-            let (y, a, b) = local(run);
-            for (slot, id) in grid.index[y * width + a..y * width + b]
-                .iter_mut()
-                .zip(first..)
-            {
-                *slot = id;
-            }
-            first += run.x1 - run.x0;
-        }
+        let size = (grid.width as usize, grid.height as usize);
+        grid.index = index_of_runs(&runs, (grid.x0, grid.y0), size);
     }
     if points.dropout || points.offsets.len() == points.len() + 1 {
         return;
     }
-    // `set_aside` frees the lists only of pixels it keeps as runs.
+    // `set_aside` frees the lists only of pixels it keeps as runs. The lists were this long
+    // before (the `u32` limit was checked when they were first made).
     debug_assert!(!runs.is_empty() || points.is_empty());
-    let Some(grid) = &points.grid else {
-        return;
-    };
-    let size = (width, height);
-    // The lists were this long before (the `u32` limit was checked when they were first made).
-    let lists = eight_neighbours_of_runs(&grid.index, size, points.len(), runs.iter().map(local));
-    if let Ok((offsets, neighbors)) = lists {
-        points.offsets = offsets;
-        points.neighbors = neighbors;
-    }
+    read_neighbours(points, &runs);
 }
 
 /// Refuses more ink pixels than `params.front_end.limits.max_points` (or than `u32` point indices

@@ -1894,7 +1894,7 @@ fn next_with(row: &[bool], from: usize, ink: bool) -> Option<usize> {
     let rest = &row[from..];
     let mut eights = rest.chunks_exact(8);
     for (k, eight) in (&mut eights).enumerate() {
-        let word = u64::from_le_bytes(std::array::from_fn(|i| u8::from(eight[i])));
+        let word = super::eight_pixels(eight);
         // A byte 1 at each pixel that is what is looked for.
         let found = if ink { word } else { !word & ONES };
         if found != 0 {

@@ -279,8 +279,7 @@ fn pack_bits(mask: &[bool]) -> Vec<u64> {
         let mut bytes = bits.chunks_exact(8);
         let mut value = 0u64;
         for (k, eight) in (&mut bytes).enumerate() {
-            let eight: [u8; 8] = std::array::from_fn(|i| u8::from(eight[i]));
-            let byte = u64::from_le_bytes(eight).wrapping_mul(GATHER) >> 56;
+            let byte = eight_pixels(eight).wrapping_mul(GATHER) >> 56;
             value |= byte << (8 * k);
         }
         let done = bits.len() - bytes.remainder().len();
@@ -290,6 +289,12 @@ fn pack_bits(mask: &[bool]) -> Vec<u64> {
         *word = value;
     }
     packed
+}
+
+/// Eight pixels of a mask (`eight`, at least eight) as one word, pixel `k` in byte `k`: a `bool`
+/// is a byte 0 or 1.
+fn eight_pixels(eight: &[bool]) -> u64 {
+    u64::from_le_bytes(std::array::from_fn(|i| u8::from(eight[i])))
 }
 
 /// The first `len` pixels of a mask [`pack_bits`] packed, a `bool` each: eight bits at a time,

@@ -102,7 +102,6 @@ impl Work {
         let all = vec![true; self.edges.len()];
         let mut moved = vec![false; self.edges.len()];
         let crossing = crossing_edges(&originals, &all);
-        let mut buffers = FitBuffers::default();
         for (e, edge) in self.edges.iter_mut().enumerate() {
             let Some(edge) = edge else { continue };
             if crossing.binary_search(&e).is_ok() {
@@ -111,7 +110,7 @@ impl Work {
             let clear = [clears[edge.from], clears[edge.to]];
             // A closed curve's vertex is only where the loop was cut: it moves with the fit.
             let closed = edge.from == edge.to && degree[edge.from] == 2;
-            if fit_edge(edge, &self.ink, clear, lines, closed, &mut buffers) {
+            if fit_edge(edge, &self.ink, clear, lines, closed) {
                 // The fitted polyline's tangents are written by `finish`.
                 edge.directions.clear();
             }
@@ -208,15 +207,8 @@ fn crossing_edges(edges: &[Option<Edge>], moved: &[bool]) -> Vec<usize> {
 /// the straight join [`super::work::cut_arm`] made, kept as it is. With `lines`, the straight
 /// runs of the medial points ([`straight_runs`]) are held on their lines. The two ends of a
 /// `closed` curve (its vertex joins nothing else) move together to the medial point where the
-/// loop was cut. `buffers` hold the per-sample arrays from one edge to the next.
-fn fit_edge(
-    edge: &mut Edge,
-    ink: &Ink,
-    clear: [f64; 2],
-    lines: bool,
-    closed: bool,
-    buffers: &mut FitBuffers,
-) -> bool {
+/// loop was cut.
+fn fit_edge(edge: &mut Edge, ink: &Ink, clear: [f64; 2], lines: bool, closed: bool) -> bool {
     let s = arc_lengths(&edge.points);
     let total = s[s.len() - 1];
     let m = (total / SAMPLE_PX).round() as usize;
@@ -225,24 +217,7 @@ fn fit_edge(
     }
     let step = total / m as f64;
     let width = median(&edge.widths);
-    let FitBuffers {
-        samples,
-        measured,
-        sections,
-        medial,
-        ahead,
-        turn,
-        corner,
-        data,
-        smooth,
-        target,
-        lengths,
-        clean,
-        breaks,
-        bands,
-        fitted,
-    } = buffers;
-    samples.clear();
+    let mut samples = Vec::with_capacity(m + 1);
     let mut widths = Vec::with_capacity(m + 1);
     let mut walk = ArcWalk::new(&edge.points, &s);
     for j in 0..=m {
@@ -300,25 +275,24 @@ fn fit_edge(
     } else {
         None
     };
-    measured.clear();
-    measured.resize(m + 1, false);
-    sections.clear();
-    sections.resize(m + 1, 0.0);
-    medial.clear();
-    medial.extend((0..=m).map(|j| {
-        let p = samples[j];
-        let t = j as f64 * step;
-        if j == 0 || j == m || t < clear[0] || total - t < clear[1] {
-            return p;
-        }
-        let Some(u) = chord(j, half) else { return p };
-        let Some((q, section)) = section_at(p, u, widths[j]) else {
-            return p;
-        };
-        measured[j] = true;
-        sections[j] = section;
-        q
-    }));
+    let mut measured = vec![false; m + 1];
+    let mut sections = vec![0.0; m + 1];
+    let mut medial: Vec<[f64; 2]> = (0..=m)
+        .map(|j| {
+            let p = samples[j];
+            let t = j as f64 * step;
+            if j == 0 || j == m || t < clear[0] || total - t < clear[1] {
+                return p;
+            }
+            let Some(u) = chord(j, half) else { return p };
+            let Some((q, section)) = section_at(p, u, widths[j]) else {
+                return p;
+            };
+            measured[j] = true;
+            sections[j] = section;
+            q
+        })
+        .collect();
     if let Some(q) = cut {
         (medial[0], medial[m]) = (q, q);
     }
@@ -328,47 +302,51 @@ fn fit_edge(
     // chord before sample `j + reach`: each is measured once (`ahead[i]`, from `i` to
     // `i + reach`), where one is needed at all (no sample has both when `m < 2 reach`).
     let corner_cos = CORNER_DEG.to_radians().cos();
-    ahead.clear();
-    if m >= 2 * reach {
-        ahead.extend((0..=m - reach).map(|i| {
-            let (p, b) = (samples[i], samples[i + reach]);
-            unit([b[0] - p[0], b[1] - p[1]])
-        }));
-    }
-    turn.clear();
-    turn.extend((0..=m).map(|j| {
-        if j < reach || j + reach > m {
-            return 1.0;
-        }
-        match (ahead[j - reach], ahead[j]) {
-            (Some(x), Some(y)) => x[0] * y[0] + x[1] * y[1],
-            _ => 1.0,
-        }
-    }));
-    corner.clear();
-    corner.extend((0..=m).map(|j| {
-        turn[j] < corner_cos
-            && (j.saturating_sub(reach)..=(j + reach).min(m))
-                .all(|i| turn[i] > turn[j] || (turn[i] == turn[j] && i >= j))
-    }));
+    let ahead: Vec<Option<[f64; 2]>> = if m >= 2 * reach {
+        (0..=m - reach)
+            .map(|i| {
+                let (p, b) = (samples[i], samples[i + reach]);
+                unit([b[0] - p[0], b[1] - p[1]])
+            })
+            .collect()
+    } else {
+        Vec::new()
+    };
+    let turn: Vec<f64> = (0..=m)
+        .map(|j| {
+            if j < reach || j + reach > m {
+                return 1.0;
+            }
+            match (ahead[j - reach], ahead[j]) {
+                (Some(x), Some(y)) => x[0] * y[0] + x[1] * y[1],
+                _ => 1.0,
+            }
+        })
+        .collect();
+    let corner: Vec<bool> = (0..=m)
+        .map(|j| {
+            turn[j] < corner_cos
+                && (j.saturating_sub(reach)..=(j + reach).min(m))
+                    .all(|i| turn[i] > turn[j] || (turn[i] == turn[j] && i >= j))
+        })
+        .collect();
 
     // Eq. (4): min Σ a_j |q_j - medial_j|² + λ Σ |q_{j-1} - 2 q_j + q_{j+1}|², the second
     // difference left out at corners; λ from the cutoff wavelength L in samples, the
     // smoothing's response 1 / (1 + λ (2 sin(π / L))⁴) being 1/2 there.
     let cutoff = (CUTOFF_WIDTHS * width).max(MIN_CUTOFF_PX) / step;
     let lambda = 1.0 / (2.0 * (std::f64::consts::PI / cutoff).sin()).powi(4);
-    data.clear();
-    data.extend((0..=m).map(|j| {
-        if j == 0 || j == m || corner[j] {
-            END_WEIGHT
-        } else {
-            1.0
-        }
-    }));
-    smooth.clear();
-    smooth.extend((0..=m).map(|j| j > 0 && j < m && !corner[j]));
-    target.clear();
-    target.extend_from_slice(medial);
+    let mut data: Vec<f64> = (0..=m)
+        .map(|j| {
+            if j == 0 || j == m || corner[j] {
+                END_WEIGHT
+            } else {
+                1.0
+            }
+        })
+        .collect();
+    let smooth: Vec<bool> = (0..=m).map(|j| j > 0 && j < m && !corner[j]).collect();
+    let mut target = medial.clone();
     if lines {
         // The stroke's own cross-sections, no longer than their median and the half pixel's
         // diagonal by which the grid may move each of their two boundaries: where another
@@ -376,11 +354,12 @@ fn fit_edge(
         // serif, a blot), the middle of the section is not this stroke's line.
         // The test of straightness reads every medial point (a brush stroke's bend is where it
         // swells), the line is fitted to the stroke's own sections only.
-        lengths.clear();
-        lengths.extend((0..=m).filter(|&j| measured[j]).map(|j| sections[j]));
-        let own = median(lengths) + std::f64::consts::SQRT_2;
-        clean.clear();
-        clean.extend_from_slice(measured);
+        let lengths: Vec<f64> = (0..=m)
+            .filter(|&j| measured[j])
+            .map(|j| sections[j])
+            .collect();
+        let own = median(&lengths) + std::f64::consts::SQRT_2;
+        let mut clean = measured.clone();
         for j in 0..=m {
             clean[j] &= sections[j] <= own;
         }
@@ -396,8 +375,7 @@ fn fit_edge(
         // A straight run is held on its line, but for half a width at an end or a corner,
         // where the fit joins it to the vertex or bends into the next stretch.
         let min_run = ((LINE_WIDTHS * width).max(2.0 * MIN_CUTOFF_PX) / step).round() as usize;
-        breaks.clear();
-        breaks.extend((0..=m).filter(|&j| j == 0 || j == m || corner[j]));
+        let breaks: Vec<usize> = (0..=m).filter(|&j| j == 0 || j == m || corner[j]).collect();
         for stretch in breaks.windows(2) {
             let (a, b) = (stretch[0], stretch[1]);
             // Towards a junction or a corner the line runs on under the other strokes' ink,
@@ -405,7 +383,7 @@ fn fit_edge(
             // stroke's own cap, a blot, a hook.
             let hidden =
                 |j: usize| corner[j] || (j == 0 && clear[0] > 0.0) || (j == m && clear[1] > 0.0);
-            for ((first, last), line) in straight_runs(medial, measured, clean, a, b, min_run) {
+            for ((first, last), line) in straight_runs(&medial, &measured, &clean, a, b, min_run) {
                 // Under the ink of a junction or a corner, by at most two widths: a line
                 // measured farther away does not speak for the stroke there.
                 let hides = 2 * reach;
@@ -425,7 +403,7 @@ fn fit_edge(
             }
         }
     }
-    solve_banded(target, data, smooth, lambda, bands, fitted);
+    let fitted = solve_banded(&target, &data, &smooth, lambda);
     let mut points = Vec::with_capacity(m + 1);
     for j in 0..=m {
         let q = fitted[j];
@@ -440,27 +418,6 @@ fn fit_edge(
     edge.points = points;
     edge.widths = widths;
     true
-}
-
-/// The per-sample arrays of [`fit_edge`], kept from one edge to the next (their allocations
-/// were a tenth of the smoothing's instructions); each is cleared and filled before it is read.
-#[derive(Default)]
-struct FitBuffers {
-    samples: Vec<[f64; 2]>,
-    measured: Vec<bool>,
-    sections: Vec<f64>,
-    medial: Vec<[f64; 2]>,
-    ahead: Vec<Option<[f64; 2]>>,
-    turn: Vec<f64>,
-    corner: Vec<bool>,
-    data: Vec<f64>,
-    smooth: Vec<bool>,
-    target: Vec<[f64; 2]>,
-    lengths: Vec<f64>,
-    clean: Vec<bool>,
-    breaks: Vec<usize>,
-    bands: Bands,
-    fitted: Vec<[f64; 2]>,
 }
 
 /// A line through `centre` along the unit vector `along`.
@@ -932,31 +889,13 @@ fn unit(d: [f64; 2]) -> Option<[f64; 2]> {
 /// Solves `(A + λ DᵀD) q = A target` per coordinate, `A` the diagonal of `data`, `D` the second
 /// differences at the samples where `smooth` holds: a symmetric positive definite matrix with
 /// two bands either side of the diagonal, by its banded Cholesky factorization (linear in the
-/// samples). The solution is written to `out`; `bands` holds the matrix and its factor.
-fn solve_banded(
-    target: &[[f64; 2]],
-    data: &[f64],
-    smooth: &[bool],
-    lambda: f64,
-    bands: &mut Bands,
-    out: &mut Vec<[f64; 2]>,
-) {
+/// samples).
+fn solve_banded(target: &[[f64; 2]], data: &[f64], smooth: &[bool], lambda: f64) -> Vec<[f64; 2]> {
     let n = target.len();
-    let Bands {
-        d0,
-        d1,
-        d2,
-        l0,
-        l1,
-        l2,
-    } = bands;
     // The matrix's bands: diagonal, first and second off-diagonal.
-    d0.clear();
-    d0.extend_from_slice(data);
-    for band in [&mut *d1, &mut *d2, &mut *l0, &mut *l1, &mut *l2] {
-        band.clear();
-        band.resize(n, 0.0);
-    }
+    let mut d0 = data.to_vec();
+    let mut d1 = vec![0.0; n];
+    let mut d2 = vec![0.0; n];
     for j in (1..n.saturating_sub(1)).filter(|&j| smooth[j]) {
         // The row (1, -2, 1) at j-1, j, j+1: its outer product, scaled by λ.
         let c = [1.0, -2.0, 1.0];
@@ -969,6 +908,7 @@ fn solve_banded(
         d2[j - 1] += lambda * c[0] * c[2];
     }
     // Banded Cholesky, L with the same bands: l0 diagonal, l1 and l2 below it.
+    let (mut l0, mut l1, mut l2) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
     for i in 0..n {
         if i >= 2 {
             l2[i - 2] = d2[i - 2] / l0[i - 2];
@@ -987,8 +927,7 @@ fn solve_banded(
         l0[i] = diag.max(1e-12).sqrt();
     }
     // Both coordinates in one sweep each way (the same operations on each as two solves).
-    out.clear();
-    out.resize(n, [0.0; 2]);
+    let mut out = vec![[0.0; 2]; n];
     for i in 0..n {
         let mut v = [data[i] * target[i][0], data[i] * target[i][1]];
         if i >= 1 {
@@ -1014,18 +953,7 @@ fn solve_banded(
         }
         out[i] = [v[0] / l0[i], v[1] / l0[i]];
     }
-}
-
-/// [`solve_banded`]'s matrix (`d0` its diagonal, `d1` and `d2` the bands below) and its
-/// Cholesky factor's bands (`l0`, `l1`, `l2`).
-#[derive(Default)]
-struct Bands {
-    d0: Vec<f64>,
-    d1: Vec<f64>,
-    d2: Vec<f64>,
-    l0: Vec<f64>,
-    l1: Vec<f64>,
-    l2: Vec<f64>,
+    out
 }
 
 /// Keeps only the points an edge's shape needs: Douglas-Peucker at [`SIMPLIFY_PX`], a segment
@@ -1485,15 +1413,7 @@ mod tests {
         let data: Vec<f64> = (0..n).map(|i| 1.0 + i as f64 * 0.25).collect();
         let smooth: Vec<bool> = (0..n).map(|i| i > 0 && i < n - 1 && i != 4).collect();
         let lambda = 3.0;
-        let mut banded = Vec::new();
-        solve_banded(
-            &target,
-            &data,
-            &smooth,
-            lambda,
-            &mut Bands::default(),
-            &mut banded,
-        );
+        let banded = solve_banded(&target, &data, &smooth, lambda);
         let mut a = vec![vec![0.0; n]; n];
         for i in 0..n {
             a[i][i] = data[i];

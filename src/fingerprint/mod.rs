@@ -125,13 +125,10 @@ pub(crate) fn analyze_deciding<E: Send>(
         enhanced.values.iter_mut().for_each(|v| *v = -*v);
     }
     let (width, height) = (enhanced.width, enhanced.height);
-    let segmentation = segment::refine(&segmentation, &enhanced, params.response_threshold, &blank);
-    for (value, inside) in enhanced.values.iter_mut().zip(segmentation.pixel_mask()) {
-        if !inside {
-            *value = 0.0;
-        }
-    }
-    let contrast = block_contrast(&enhanced, &segmentation);
+    let (segmentation, rms) =
+        segment::refine(&segmentation, &enhanced, params.response_threshold, &blank);
+    segmentation.outside_runs(|run| enhanced.values[run].fill(0.0));
+    let contrast = block_contrast(rms, &segmentation);
     let mut binary = Binary::new(width, height);
     for (ink, &r) in binary.ink.iter_mut().zip(&enhanced.values) {
         *ink = r > 0.0;
@@ -281,9 +278,9 @@ pub(crate) fn orientation_gap(a: f64, b: f64) -> f64 {
     d.min(std::f64::consts::PI - d)
 }
 
-/// Per block, the RMS of the response over the print's median RMS, capped at 1.
-fn block_contrast(enhanced: &Plane, segmentation: &Segmentation) -> Vec<f32> {
-    let mut rms = segment::block_rms(enhanced, segmentation);
+/// Per block, the RMS of the response (`rms`, [`segment::block_rms`]) over the print's median
+/// RMS, capped at 1.
+fn block_contrast(mut rms: Vec<f32>, segmentation: &Segmentation) -> Vec<f32> {
     let mut inside: Vec<f32> = rms
         .iter()
         .zip(&segmentation.inside)

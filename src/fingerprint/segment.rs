@@ -80,43 +80,50 @@ pub(crate) fn segment(
 /// The RMS of `enhanced` over each block inside `segmentation` (0 outside it).
 pub(crate) fn block_rms(enhanced: &Plane, segmentation: &Segmentation) -> Vec<f32> {
     let grid = segmentation.grid;
-    let w = grid.width as usize;
     let mut rms = vec![0.0f32; grid.len()];
     for j in 0..grid.rows as usize {
         for i in 0..grid.cols as usize {
             let b = grid.index(i, j);
-            if !segmentation.inside[b] {
-                continue;
+            if segmentation.inside[b] {
+                rms[b] = rms_of_block(enhanced, grid, i, j);
             }
-            let (x0, x1, y0, y1) = grid.pixels(i, j);
-            let mut sum = 0.0f64;
-            for y in y0..y1 {
-                for &v in &enhanced.values[y * w + x0..y * w + x1] {
-                    sum += f64::from(v) * f64::from(v);
-                }
-            }
-            let n = ((x1 - x0) * (y1 - y0)).max(1);
-            rms[b] = (sum / n as f64).sqrt() as f32;
         }
     }
     rms
 }
 
+/// The RMS of `enhanced` over block `(i, j)` of `grid`.
+fn rms_of_block(enhanced: &Plane, grid: BlockGrid, i: usize, j: usize) -> f32 {
+    let w = grid.width as usize;
+    let (x0, x1, y0, y1) = grid.pixels(i, j);
+    let mut sum = 0.0f64;
+    for y in y0..y1 {
+        for &v in &enhanced.values[y * w + x0..y * w + x1] {
+            sum += f64::from(v) * f64::from(v);
+        }
+    }
+    let n = ((x1 - x0) * (y1 - y0)).max(1);
+    (sum / n as f64).sqrt() as f32
+}
+
 /// The second pass (see the module doc): `segmentation` less the blocks where the enhanced
-/// response is weak. Returns `segmentation` unchanged when nothing would be left.
+/// response is weak (`segmentation` unchanged when nothing would be left), with the
+/// [`block_rms`] of `enhanced` over it: a block's RMS reads only its own pixels, so those of the
+/// blocks both passes keep are the ones the pass measured, and only the blocks the cleaning adds
+/// are measured again.
 pub(crate) fn refine(
     segmentation: &Segmentation,
     enhanced: &Plane,
     threshold: f64,
     keep_out: &[bool],
-) -> Segmentation {
+) -> (Segmentation, Vec<f32>) {
     let grid = segmentation.grid;
     let (cols, rows) = (grid.cols as usize, grid.rows as usize);
     let w = grid.width as usize;
     if threshold <= 0.0 || enhanced.values.len() != w * grid.height as usize {
-        return segmentation.clone();
+        return (segmentation.clone(), block_rms(enhanced, segmentation));
     }
-    let rms = block_rms(enhanced, segmentation);
+    let mut rms = block_rms(enhanced, segmentation);
     let inside_rms: Vec<f32> = rms
         .iter()
         .zip(&segmentation.inside)
@@ -149,11 +156,20 @@ pub(crate) fn refine(
             *m = false;
         }
     }
-    if inside.iter().any(|&v| v) {
-        Segmentation { grid, inside }
-    } else {
-        segmentation.clone()
+    if !inside.iter().any(|&v| v) {
+        return (segmentation.clone(), rms);
     }
+    for j in 0..rows {
+        for i in 0..cols {
+            let b = grid.index(i, j);
+            if !inside[b] {
+                rms[b] = 0.0;
+            } else if !segmentation.inside[b] {
+                rms[b] = rms_of_block(enhanced, grid, i, j);
+            }
+        }
+    }
+    (Segmentation { grid, inside }, rms)
 }
 
 /// Orientations tried for a block's rows along the ridges, evenly over a half turn from the
@@ -1713,7 +1729,8 @@ mod tests {
             &params,
             true,
         );
-        let refined = refine(&first, &enhanced, params.response_threshold, &[]);
+        let (refined, rms) = refine(&first, &enhanced, params.response_threshold, &[]);
+        assert_eq!(rms, block_rms(&enhanced, &refined));
         assert!(refined.contains_pixel(96, 96) && refined.contains_pixel(96, 50));
         assert!(!refined.contains_pixel(12, 12) && !refined.contains_pixel(180, 96));
         let disk = std::f64::consts::PI * 56.0 * 56.0 / 64.0;
@@ -1721,7 +1738,10 @@ mod tests {
         // The disk and a rim of noise around it, against most of the image before.
         assert!(area >= 0.9 * disk && area <= 1.5 * disk, "{area} vs {disk}");
         assert!(first.area_blocks() as f64 > 2.0 * area);
-        assert_eq!(refine(&first, &enhanced, 0.0, &[]), first);
+        assert_eq!(
+            refine(&first, &enhanced, 0.0, &[]),
+            (first.clone(), block_rms(&enhanced, &first))
+        );
     }
 
     /// The rows' F ratio: high on ridges, even faint ones (10 % of the depth) under noise; about

@@ -214,7 +214,7 @@ impl Rows {
 pub(crate) struct RidgeEvidence {
     /// Per block of the grid, what is measured of it (the default outside the print).
     pub blocks: Vec<BlockEvidence>,
-    /// Whether every gray level is whole ([`whole_levels`]), for [`measure_evidence`].
+    /// Whether every gray level is whole (as `whole_levels` finds), for [`measure_evidence`].
     pub whole: bool,
     print: PrintGray,
 }
@@ -238,14 +238,16 @@ impl RidgeEvidence {
 /// a lattice [`AMPLITUDE_SPACING_PERIODS`] of the print's median period apart each way (every
 /// block where that is under two blocks, or where no lattice block is print), from which the
 /// print's middle gray and the ridges' half swing are taken. [`measure_evidence`] completes a
-/// block's rows where [`blank_blocks`] needs them. The default outside the print.
+/// block's rows where [`blank_blocks`] needs them. The default outside the print. `whole` says
+/// whether every level of `gray` is whole (`whole_levels`; the caller that made the plane from
+/// 8-bit gray knows it without reading the pixels again).
 pub(crate) fn ridge_evidence(
     gray: &Plane,
+    whole: bool,
     segmentation: &Segmentation,
     field: &OrientationField,
     periods: &RidgePeriods,
 ) -> RidgeEvidence {
-    let whole = whole_levels(gray);
     let grid = segmentation.grid;
     let cols = grid.cols as usize;
     let spacing = AMPLITUDE_SPACING_PERIODS * periods.median_inside(segmentation);
@@ -281,6 +283,7 @@ pub(crate) fn ridge_evidence(
 
 /// Whether every value of `gray` is a whole number of at most 2¹⁶ in size (8-bit gray levels
 /// are): then [`row_f_ratio`]'s sums over the disc are exact in any order.
+#[cfg(test)]
 fn whole_levels(gray: &Plane) -> bool {
     // `v` rounded to the nearest whole number where `|v| ≤ 2²²` (added to 1.5·2²³ it lies where
     // the spacing of `f32` is 1); the pixels that fail counted without a branch (vector lanes).
@@ -643,8 +646,8 @@ impl Disc {
 }
 
 /// Sums of each image line's gray levels from its start (`width + 1` a line, the first 0), for
-/// [`window_mean`]: whole numbers where every level is ([`whole_levels`]), so any line's part
-/// is their difference, exact. `None` where a line's sum could leave `i32`.
+/// [`window_mean`]: whole numbers where every level is (as `whole_levels` finds), so any line's
+/// part is their difference, exact. `None` where a line's sum could leave `i32`.
 fn line_prefix_sums(gray: &Plane) -> Option<Vec<i32>> {
     let w = gray.width as usize;
     if (w as u64 + 1) * 65_536 >= i32::MAX as u64 || w == 0 {
@@ -1814,7 +1817,7 @@ mod tests {
             asked.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
             measure_evidence(&gray, whole, &s, &field, &periods, b, rows)
         };
-        let mut completed = ridge_evidence(&gray, &s, &field, &periods);
+        let mut completed = ridge_evidence(&gray, whole, &s, &field, &periods);
         let mut every = RidgeEvidence {
             blocks: (0..grid.len()).map(|b| measure(b, Rows::Full)).collect(),
             whole,
@@ -1854,9 +1857,9 @@ mod tests {
         for v in gray.values.iter_mut() {
             *v = (*v + 10.0 * 3f32.sqrt() * four_uniforms(&mut state)).round();
         }
-        let evidence = ridge_evidence(&gray, &s, &field, &periods);
         let whole = whole_levels(&gray);
         assert!(whole);
+        let evidence = ridge_evidence(&gray, whole, &s, &field, &periods);
         let cols = grid.cols as usize;
         let own: Vec<BlockEvidence> = (0..grid.len())
             .map(|b| measure_evidence(&gray, whole, &s, &field, &periods, b, Rows::Own))

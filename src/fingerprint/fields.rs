@@ -8,6 +8,7 @@
 //! the right, y down).
 
 use serde::Serialize;
+use std::ops::Range;
 
 /// The blocks an image is cut into.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
@@ -316,6 +317,35 @@ impl Segmentation {
         mask
     }
 
+    /// Visits the pixels outside the print as ranges of indices into the row-major image (width
+    /// `grid.width`), each run of neighbouring blocks outside a row of blocks once per row of
+    /// pixels: the pixels [`Segmentation::pixel_mask`] has false, without a flag per pixel.
+    pub(crate) fn outside_runs(&self, mut visit: impl FnMut(Range<usize>)) {
+        let g = &self.grid;
+        let w = g.width as usize;
+        if self.inside.len() != g.len() {
+            return;
+        }
+        for j in 0..g.rows as usize {
+            let mut i = 0;
+            while i < g.cols as usize {
+                if self.inside[g.index(i, j)] {
+                    i += 1;
+                    continue;
+                }
+                let first = i;
+                while i < g.cols as usize && !self.inside[g.index(i, j)] {
+                    i += 1;
+                }
+                let (x0, _, y0, y1) = g.pixels(first, j);
+                let x1 = g.pixels(i - 1, j).1;
+                for y in y0..y1 {
+                    visit(y * w + x0..y * w + x1);
+                }
+            }
+        }
+    }
+
     /// Number of blocks inside the print.
     pub fn area_blocks(&self) -> usize {
         self.inside.iter().filter(|&&v| v).count()
@@ -514,5 +544,26 @@ mod tests {
         );
         assert!(!s.contains_pixel(4, 0));
         assert_eq!(s.area_blocks(), 1);
+    }
+
+    #[test]
+    fn outside_runs_are_the_pixel_masks_false_pixels() {
+        // Grids whose last column and row of blocks are cut, with runs of blocks outside at
+        // either end of a row and inside it.
+        for (width, height, block) in [(11, 7, 3), (12, 9, 4), (5, 5, 8), (1, 1, 1)] {
+            let grid = BlockGrid::new(width, height, block);
+            for pattern in [0b1011_0110_1101u32, 0, u32::MAX, 0b0110] {
+                let s = Segmentation {
+                    grid,
+                    inside: (0..grid.len())
+                        .map(|b| pattern >> (b % 32) & 1 == 1)
+                        .collect(),
+                };
+                let mut outside = vec![false; (width * height) as usize];
+                s.outside_runs(|run| outside[run].iter_mut().for_each(|o| *o = true));
+                let mask: Vec<bool> = s.pixel_mask().iter().map(|&p| !p).collect();
+                assert_eq!(outside, mask, "{width} x {height} by {block}, {pattern:b}");
+            }
+        }
     }
 }

@@ -41,8 +41,8 @@ pub(crate) fn ridge_periods(
     let measures: Vec<(f32, bool, bool)> = (0..grid.len())
         .into_par_iter()
         .map_init(
-            || (vec![0.0f32; length], Vec::with_capacity(length)),
-            |(signature, distances), b| {
+            || SignatureScratch::new(length),
+            |scratch, b| {
                 if !segmentation.inside[b] {
                     return (0.0, false, false);
                 }
@@ -53,8 +53,7 @@ pub(crate) fn ridge_periods(
                     field.angle[b],
                     across,
                     params,
-                    signature,
-                    distances,
+                    scratch,
                 )
             },
         )
@@ -72,33 +71,62 @@ pub(crate) fn ridge_periods(
     }
 }
 
+/// [`block_period`]'s scratch space, kept from one block to the next (a print has about a
+/// thousand blocks): the signature, the candidate distances, the window's rows' starts and steps
+/// and the starts' coordinates apart.
+struct SignatureScratch {
+    signature: Vec<f32>,
+    distances: Vec<f32>,
+    steps: Vec<[f64; 2]>,
+    starts: Vec<[f64; 2]>,
+    coordinates: (Vec<f64>, Vec<f64>),
+}
+
+impl SignatureScratch {
+    /// For signatures of `length` samples.
+    fn new(length: usize) -> SignatureScratch {
+        SignatureScratch {
+            signature: vec![0.0; length],
+            distances: Vec::with_capacity(length),
+            steps: Vec::new(),
+            starts: Vec::with_capacity(length),
+            coordinates: (Vec::with_capacity(length), Vec::with_capacity(length)),
+        }
+    }
+}
+
 /// The x-signature's measure of one block centred at `c` with ridge direction `angle`: its
-/// period, whether it was measured, and whether it looks halved (see [`ridge_periods`]);
-/// `signature` and `distances` are scratch space.
+/// period, whether it was measured, and whether it looks halved (see [`ridge_periods`]).
 fn block_period(
     smoothed: &Plane,
     c: [f64; 2],
     angle: f32,
     across: usize,
     params: &FingerprintParams,
-    signature: &mut [f32],
-    distances: &mut Vec<f32>,
+    scratch: &mut SignatureScratch,
 ) -> (f32, bool, bool) {
+    let SignatureScratch {
+        signature,
+        distances,
+        steps,
+        starts,
+        coordinates,
+    } = scratch;
     let length = signature.len();
     let theta = f64::from(angle);
     let (along, normal) = ([theta.cos(), theta.sin()], [-theta.sin(), theta.cos()]);
     // The window's sample positions are `c + u normal + v along`, summed in that order.
     let offset = |k: usize| k as f64 - across as f64 / 2.0 + 0.5;
-    let steps: Vec<[f64; 2]> = (0..across)
-        .map(|k| [offset(k) * along[0], offset(k) * along[1]])
-        .collect();
+    steps.clear();
+    steps.extend((0..across).map(|k| [offset(k) * along[0], offset(k) * along[1]]));
     let u_of = |t: usize| t as f64 - length as f64 / 2.0 + 0.5;
     let row_start = |t: usize| {
         let u = u_of(t);
         [c[0] + u * normal[0], c[1] + u * normal[1]]
     };
-    let starts: Vec<[f64; 2]> = (0..length).map(row_start).collect();
-    x_signature(smoothed, &starts, &steps, signature);
+    starts.clear();
+    starts.extend((0..length).map(row_start));
+    x_signature(smoothed, starts, steps, signature, coordinates);
     distances.clear();
     for extremum in [1.0f32, -1.0] {
         let mut last: Option<usize> = None;
@@ -117,13 +145,13 @@ fn block_period(
     }
     let m = upper_median_by(distances, f32::total_cmp).unwrap_or(0.0);
     let tolerance = (0.2 * m).max(2.0);
-    let close: Vec<f32> = distances
+    // The distances close to the median, summed in their order (as collected and summed).
+    let (sum, close) = distances
         .iter()
-        .copied()
-        .filter(|d| (d - m).abs() <= tolerance)
-        .collect();
-    if !close.is_empty() {
-        let p = close.iter().sum::<f32>() / close.len() as f32;
+        .filter(|&&d| (d - m).abs() <= tolerance)
+        .fold((0.0f32, 0usize), |(sum, k), &d| (sum + d, k + 1));
+    if close > 0 {
+        let p = sum / close as f32;
         // Extra shallow extremes inside the ridges (pores, a lighter middle of a wide
         // ridge) halve the distances; the signature then correlates negatively with
         // itself one distance away and positively two away.
@@ -171,13 +199,20 @@ fn extrema(signature: &[f32], extremum: f32, mut visit: impl FnMut(usize)) {
 /// which the slack covers); the others are clamped at the image's edges. The same values either
 /// way. With AVX2 at run time the lanes are twice as wide (`math::wide_lanes`: the same
 /// operations, so the same values; a test holds the two bit for bit).
-fn x_signature(smoothed: &Plane, starts: &[[f64; 2]], steps: &[[f64; 2]], signature: &mut [f32]) {
+/// `coordinates` is scratch space.
+fn x_signature(
+    smoothed: &Plane,
+    starts: &[[f64; 2]],
+    steps: &[[f64; 2]],
+    signature: &mut [f32],
+    coordinates: &mut (Vec<f64>, Vec<f64>),
+) {
     #[cfg(target_arch = "x86_64")]
     if super::math::wide_lanes() {
         // SAFETY: the CPU has AVX2 (checked at run time).
-        return unsafe { x_signature_wide(smoothed, starts, steps, signature) };
+        return unsafe { x_signature_wide(smoothed, starts, steps, signature, coordinates) };
     }
-    x_signature_lanes::<false>(smoothed, starts, steps, signature);
+    x_signature_lanes::<false>(smoothed, starts, steps, signature, coordinates);
 }
 
 /// [`x_signature`] compiled for AVX2, the rows inside sampled four at a time in AVX registers
@@ -192,8 +227,9 @@ unsafe fn x_signature_wide(
     starts: &[[f64; 2]],
     steps: &[[f64; 2]],
     signature: &mut [f32],
+    coordinates: &mut (Vec<f64>, Vec<f64>),
 ) {
-    x_signature_lanes::<true>(smoothed, starts, steps, signature);
+    x_signature_lanes::<true>(smoothed, starts, steps, signature, coordinates);
 }
 
 /// [`x_signature`]'s sampling, inlined into the version the CPU runs (`WIDE`: the one for AVX2,
@@ -204,6 +240,7 @@ fn x_signature_lanes<const WIDE: bool>(
     starts: &[[f64; 2]],
     steps: &[[f64; 2]],
     signature: &mut [f32],
+    (xs, ys): &mut (Vec<f64>, Vec<f64>),
 ) {
     let (w, h) = (f64::from(smoothed.width), f64::from(smoothed.height));
     let within = |p: [f64; 2]| p[0] >= 1.5 && p[1] >= 1.5 && p[0] <= w - 1.5 && p[1] <= h - 1.5;
@@ -217,17 +254,20 @@ fn x_signature_lanes<const WIDE: bool>(
     let length = starts.len().min(signature.len());
     let first = (0..length).find(|&t| row_inside(t)).unwrap_or(length);
     let end = (first..length).find(|&t| !row_inside(t)).unwrap_or(length);
-    let (xs, ys): (Vec<f64>, Vec<f64>) = starts[first..end].iter().map(|&p| p.into()).unzip();
+    xs.clear();
+    ys.clear();
+    xs.extend(starts[first..end].iter().map(|p| p[0]));
+    ys.extend(starts[first..end].iter().map(|p| p[1]));
     signature[first..end].fill(0.0);
     for step in steps {
         let sums = &mut signature[first..end];
         #[cfg(target_arch = "x86_64")]
         if WIDE {
             // SAFETY: `WIDE` only where the CPU has AVX2 (`x_signature_wide`).
-            unsafe { wide::add_samples_inside(smoothed, &xs, &ys, *step, sums) };
+            unsafe { wide::add_samples_inside(smoothed, xs, ys, *step, sums) };
             continue;
         }
-        smoothed.add_samples_inside(&xs, &ys, *step, sums);
+        smoothed.add_samples_inside(xs, ys, *step, sums);
     }
     for t in (0..first).chain(end..length) {
         let start = starts[t];
@@ -598,9 +638,16 @@ mod tests {
                     .collect();
                 // In the CPU's lanes (AVX2 where it has them) and in baseline ones.
                 let mut signature = vec![0.0f32; length];
-                x_signature(&smoothed, &starts, &steps, &mut signature);
+                let mut coordinates = (vec![1.0; 3], Vec::new());
+                x_signature(&smoothed, &starts, &steps, &mut signature, &mut coordinates);
                 let mut baseline = vec![0.0f32; length];
-                x_signature_lanes::<false>(&smoothed, &starts, &steps, &mut baseline);
+                x_signature_lanes::<false>(
+                    &smoothed,
+                    &starts,
+                    &steps,
+                    &mut baseline,
+                    &mut coordinates,
+                );
                 let clamped = x_signature_clamped(&smoothed, &starts, &steps);
                 let bits = |v: &[f32]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
                 assert_eq!(

@@ -70,20 +70,24 @@ fn gaussian_blur_within_lanes<const WIDE: bool>(
     let r = kernel.len() / 2;
     let (w, h) = (plane.width as usize, plane.height as usize);
     let (xs, ys) = (xs.start..xs.end.min(w), ys.start..ys.end.min(h));
-    let mut rows = vec![0.0f32; w * h];
-    let mut out = vec![0.0f32; w * h];
     if xs.is_empty() || ys.is_empty() {
         return Plane {
             width: plane.width,
             height: plane.height,
-            values: out,
+            values: vec![0.0f32; w * h],
         };
     }
-    // The rows the column taps of the box's rows reach (clamped at the borders).
+    // The rows the column taps of the box's rows reach (clamped at the borders), from `reach`;
+    // both planes grow a row at a time, each row zeroed just before its sums are stored (in the
+    // cache, where zeroing the planes whole wrote them out to memory first).
+    let reach = ys.start.saturating_sub(r)..(ys.end + r).min(h);
+    let mut rows = Vec::with_capacity(reach.len() * w);
     let mut starts: Vec<usize> = (0..kernel.len()).collect();
-    for y in ys.start.saturating_sub(r)..(ys.end + r).min(h) {
+    for y in reach.clone() {
         let line = &plane.values[y * w..(y + 1) * w];
-        let row = &mut rows[y * w..(y + 1) * w];
+        rows.resize(rows.len() + w, 0.0);
+        let at = rows.len() - w;
+        let row = &mut rows[at..];
         // Away from the borders, the taps without clamping, tap by tap for all those columns
         // side by side (the same sum for each column, term by term).
         let inner = if w > 2 * r {
@@ -112,12 +116,15 @@ fn gaussian_blur_within_lanes<const WIDE: bool>(
             row[x] = s;
         }
     }
+    let mut out = Vec::with_capacity(w * h);
+    out.resize(ys.start * w, 0.0);
     for y in ys {
         starts.clear();
         starts.extend((0..kernel.len()).map(|k| {
             let yy = (y as i64 + k as i64 - r as i64).clamp(0, h as i64 - 1) as usize;
-            yy * w + xs.start
+            (yy - reach.start) * w + xs.start
         }));
+        out.resize(out.len() + w, 0.0);
         weighted_sums::<WIDE>(
             &kernel,
             &rows,
@@ -125,6 +132,7 @@ fn gaussian_blur_within_lanes<const WIDE: bool>(
             &mut out[y * w + xs.start..y * w + xs.end],
         );
     }
+    out.resize(w * h, 0.0);
     Plane {
         width: plane.width,
         height: plane.height,
@@ -260,8 +268,12 @@ pub(crate) fn gaussian_kernel(sigma: f64) -> Vec<f32> {
 /// pixels on the image's edge read their clamped neighbours one by one.
 pub(crate) fn sobel(plane: &Plane) -> (Plane, Plane) {
     let (w, h) = (plane.width as usize, plane.height as usize);
-    let mut gx = vec![0.0f32; plane.values.len()];
-    let mut gy = vec![0.0f32; plane.values.len()];
+    if plane.values.len() != w * h {
+        return sobel_clamped(plane);
+    }
+    // Each row pushed as it is worked out: the planes are not zeroed first.
+    let mut gx = Vec::with_capacity(plane.values.len());
+    let mut gy = Vec::with_capacity(plane.values.len());
     let edge = |x: usize, y: usize| {
         let (x, y) = (x as i64, y as i64);
         let p = |dx: i64, dy: i64| plane.at(x + dx, y + dy);
@@ -270,15 +282,16 @@ pub(crate) fn sobel(plane: &Plane) -> (Plane, Plane) {
             (p(-1, 1) + 2.0 * p(0, 1) + p(1, 1)) - (p(-1, -1) + 2.0 * p(0, -1) + p(1, -1)),
         )
     };
-    if plane.values.len() != w * h {
-        return sobel_clamped(plane);
-    }
+    let push_edge = |gx: &mut Vec<f32>, gy: &mut Vec<f32>, x, y| {
+        let (ex, ey) = edge(x, y);
+        gx.push(ex);
+        gy.push(ey);
+    };
     let v = &plane.values;
     for y in 0..h {
-        let (row_x, row_y) = (&mut gx[y * w..(y + 1) * w], &mut gy[y * w..(y + 1) * w]);
         if y == 0 || y + 1 == h || w < 3 {
             for x in 0..w {
-                (row_x[x], row_y[x]) = edge(x, y);
+                push_edge(&mut gx, &mut gy, x, y);
             }
             continue;
         }
@@ -293,14 +306,10 @@ pub(crate) fn sobel(plane: &Plane) -> (Plane, Plane) {
         let (a, b, c) = (&up[..n], &up[1..n + 1], &up[2..]);
         let (d, f) = (&mid[..n], &mid[2..]);
         let (g, k, m) = (&down[..n], &down[1..n + 1], &down[2..]);
-        let (out_x, out_y) = (&mut row_x[1..n + 1], &mut row_y[1..n + 1]);
-        for i in 0..n {
-            out_x[i] = (c[i] + 2.0 * f[i] + m[i]) - (a[i] + 2.0 * d[i] + g[i]);
-            out_y[i] = (g[i] + 2.0 * k[i] + m[i]) - (a[i] + 2.0 * b[i] + c[i]);
-        }
-        for x in [0, w - 1] {
-            (row_x[x], row_y[x]) = edge(x, y);
-        }
+        push_edge(&mut gx, &mut gy, 0, y);
+        gx.extend((0..n).map(|i| (c[i] + 2.0 * f[i] + m[i]) - (a[i] + 2.0 * d[i] + g[i])));
+        gy.extend((0..n).map(|i| (g[i] + 2.0 * k[i] + m[i]) - (a[i] + 2.0 * b[i] + c[i])));
+        push_edge(&mut gx, &mut gy, w - 1, y);
     }
     let plane_of = |values| Plane {
         width: plane.width,

@@ -149,13 +149,10 @@ pub fn fingerprint_minutiae(
     if margin > 0.0 && !grid.is_empty() {
         let (w, h) = (grid.width as usize, grid.height as usize);
         let region = crate::mask::close_disk(&print.ridges.ink, w, h, typical.max(4.0));
-        let outside: Vec<bool> = print
+        let mut outside: Vec<bool> = region.iter().map(|&r| !r).collect();
+        print
             .segmentation
-            .pixel_mask()
-            .iter()
-            .zip(&region)
-            .map(|(&p, &r)| !(p && r))
-            .collect();
+            .outside_runs(|run| outside[run].fill(true));
         let at_least = |m: &Minutia, margin: f64| {
             let [x, y] = m.pos;
             let pixel = [(x as usize).min(w - 1), (y as usize).min(h - 1)];

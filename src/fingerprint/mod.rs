@@ -125,17 +125,15 @@ pub(crate) fn analyze_deciding<E: Send>(
         enhanced.values.iter_mut().for_each(|v| *v = -*v);
     }
     let (width, height) = (enhanced.width, enhanced.height);
-    let segmentation = segment::refine(&segmentation, &enhanced, params.response_threshold, &blank);
-    for (value, inside) in enhanced.values.iter_mut().zip(segmentation.pixel_mask()) {
-        if !inside {
-            *value = 0.0;
-        }
-    }
-    let contrast = block_contrast(&enhanced, &segmentation);
-    let mut binary = Binary::new(width, height);
-    for (ink, &r) in binary.ink.iter_mut().zip(&enhanced.values) {
-        *ink = r > 0.0;
-    }
+    let (segmentation, rms) =
+        segment::refine(&segmentation, &enhanced, params.response_threshold, &blank);
+    segmentation.outside_runs(|run| enhanced.values[run].fill(0.0));
+    let contrast = block_contrast(rms, &segmentation);
+    let binary = Binary {
+        width,
+        height,
+        ink: enhanced.values.iter().map(|&r| r > 0.0).collect(),
+    };
     let ridges = confirmed_ridges(&smoothed, &binary, &segmentation, &periods, dark_ridges);
     Ok((
         PrintAnalysis {
@@ -230,8 +228,9 @@ fn front_stages(gray: GrayView<'_>, params: &FingerprintParams) -> FrontStages {
     // blocks of the polarity decided are found from it once it is known ([`Blank::blocks`]);
     // the second segmentation pass leaves them out (the filter's response in a block reads only
     // the image and the block's own orientation and period).
+    // The plane's levels are 8-bit gray's: whole numbers (`segment::whole_levels`).
     let evidence = (params.blank_evidence > 0.0)
-        .then(|| segment::ridge_evidence(&plane, &segmentation, &orientation, &periods));
+        .then(|| segment::ridge_evidence(&plane, true, &segmentation, &orientation, &periods));
     let enhance = match params.enhancement {
         Enhancement::Gabor => enhance::enhance,
         Enhancement::Smoothing => smooth::enhance,
@@ -263,16 +262,10 @@ fn confirmed_ridges(
     // (the same value at each of them as the whole image's blur).
     let (xs, ys) = crate::mask::ink_box(&binary.ink, binary.width as usize).unwrap_or((0..0, 0..0));
     let mean = math::gaussian_blur_within(smoothed, (period / 2.0).max(1.0), xs, ys);
-    let mut ridges = binary.clone();
-    for ((ink, &g), &m) in ridges
-        .ink
-        .iter_mut()
-        .zip(&smoothed.values)
-        .zip(&mean.values)
-    {
-        *ink = *ink && if dark_ridges { g < m } else { g > m };
-    }
-    ridges
+    let ink = (binary.ink.iter().zip(&smoothed.values).zip(&mean.values))
+        .map(|((&ink, &g), &m)| ink && if dark_ridges { g < m } else { g > m })
+        .collect();
+    Binary { ink, ..*binary }
 }
 
 /// The angle between two orientations (undirected lines), in `[0, π/2]`.
@@ -281,9 +274,9 @@ pub(crate) fn orientation_gap(a: f64, b: f64) -> f64 {
     d.min(std::f64::consts::PI - d)
 }
 
-/// Per block, the RMS of the response over the print's median RMS, capped at 1.
-fn block_contrast(enhanced: &Plane, segmentation: &Segmentation) -> Vec<f32> {
-    let mut rms = segment::block_rms(enhanced, segmentation);
+/// Per block, the RMS of the response (`rms`, [`segment::block_rms`]) over the print's median
+/// RMS, capped at 1.
+fn block_contrast(mut rms: Vec<f32>, segmentation: &Segmentation) -> Vec<f32> {
     let mut inside: Vec<f32> = rms
         .iter()
         .zip(&segmentation.inside)

@@ -80,43 +80,50 @@ pub(crate) fn segment(
 /// The RMS of `enhanced` over each block inside `segmentation` (0 outside it).
 pub(crate) fn block_rms(enhanced: &Plane, segmentation: &Segmentation) -> Vec<f32> {
     let grid = segmentation.grid;
-    let w = grid.width as usize;
     let mut rms = vec![0.0f32; grid.len()];
     for j in 0..grid.rows as usize {
         for i in 0..grid.cols as usize {
             let b = grid.index(i, j);
-            if !segmentation.inside[b] {
-                continue;
+            if segmentation.inside[b] {
+                rms[b] = rms_of_block(enhanced, grid, i, j);
             }
-            let (x0, x1, y0, y1) = grid.pixels(i, j);
-            let mut sum = 0.0f64;
-            for y in y0..y1 {
-                for &v in &enhanced.values[y * w + x0..y * w + x1] {
-                    sum += f64::from(v) * f64::from(v);
-                }
-            }
-            let n = ((x1 - x0) * (y1 - y0)).max(1);
-            rms[b] = (sum / n as f64).sqrt() as f32;
         }
     }
     rms
 }
 
+/// The RMS of `enhanced` over block `(i, j)` of `grid`.
+fn rms_of_block(enhanced: &Plane, grid: BlockGrid, i: usize, j: usize) -> f32 {
+    let w = grid.width as usize;
+    let (x0, x1, y0, y1) = grid.pixels(i, j);
+    let mut sum = 0.0f64;
+    for y in y0..y1 {
+        for &v in &enhanced.values[y * w + x0..y * w + x1] {
+            sum += f64::from(v) * f64::from(v);
+        }
+    }
+    let n = ((x1 - x0) * (y1 - y0)).max(1);
+    (sum / n as f64).sqrt() as f32
+}
+
 /// The second pass (see the module doc): `segmentation` less the blocks where the enhanced
-/// response is weak. Returns `segmentation` unchanged when nothing would be left.
+/// response is weak (`segmentation` unchanged when nothing would be left), with the
+/// [`block_rms`] of `enhanced` over it: a block's RMS reads only its own pixels, so those of the
+/// blocks both passes keep are the ones the pass measured, and only the blocks the cleaning adds
+/// are measured again.
 pub(crate) fn refine(
     segmentation: &Segmentation,
     enhanced: &Plane,
     threshold: f64,
     keep_out: &[bool],
-) -> Segmentation {
+) -> (Segmentation, Vec<f32>) {
     let grid = segmentation.grid;
     let (cols, rows) = (grid.cols as usize, grid.rows as usize);
     let w = grid.width as usize;
     if threshold <= 0.0 || enhanced.values.len() != w * grid.height as usize {
-        return segmentation.clone();
+        return (segmentation.clone(), block_rms(enhanced, segmentation));
     }
-    let rms = block_rms(enhanced, segmentation);
+    let mut rms = block_rms(enhanced, segmentation);
     let inside_rms: Vec<f32> = rms
         .iter()
         .zip(&segmentation.inside)
@@ -149,11 +156,20 @@ pub(crate) fn refine(
             *m = false;
         }
     }
-    if inside.iter().any(|&v| v) {
-        Segmentation { grid, inside }
-    } else {
-        segmentation.clone()
+    if !inside.iter().any(|&v| v) {
+        return (segmentation.clone(), rms);
     }
+    for j in 0..rows {
+        for i in 0..cols {
+            let b = grid.index(i, j);
+            if !inside[b] {
+                rms[b] = 0.0;
+            } else if !segmentation.inside[b] {
+                rms[b] = rms_of_block(enhanced, grid, i, j);
+            }
+        }
+    }
+    (Segmentation { grid, inside }, rms)
 }
 
 /// Orientations tried for a block's rows along the ridges, evenly over a half turn from the
@@ -198,7 +214,7 @@ impl Rows {
 pub(crate) struct RidgeEvidence {
     /// Per block of the grid, what is measured of it (the default outside the print).
     pub blocks: Vec<BlockEvidence>,
-    /// Whether every gray level is whole ([`whole_levels`]), for [`measure_evidence`].
+    /// Whether every gray level is whole (as `whole_levels` finds), for [`measure_evidence`].
     pub whole: bool,
     print: PrintGray,
 }
@@ -222,14 +238,16 @@ impl RidgeEvidence {
 /// a lattice [`AMPLITUDE_SPACING_PERIODS`] of the print's median period apart each way (every
 /// block where that is under two blocks, or where no lattice block is print), from which the
 /// print's middle gray and the ridges' half swing are taken. [`measure_evidence`] completes a
-/// block's rows where [`blank_blocks`] needs them. The default outside the print.
+/// block's rows where [`blank_blocks`] needs them. The default outside the print. `whole` says
+/// whether every level of `gray` is whole (`whole_levels`; the caller that made the plane from
+/// 8-bit gray knows it without reading the pixels again).
 pub(crate) fn ridge_evidence(
     gray: &Plane,
+    whole: bool,
     segmentation: &Segmentation,
     field: &OrientationField,
     periods: &RidgePeriods,
 ) -> RidgeEvidence {
-    let whole = whole_levels(gray);
     let grid = segmentation.grid;
     let cols = grid.cols as usize;
     let spacing = AMPLITUDE_SPACING_PERIODS * periods.median_inside(segmentation);
@@ -265,6 +283,7 @@ pub(crate) fn ridge_evidence(
 
 /// Whether every value of `gray` is a whole number of at most 2¹⁶ in size (8-bit gray levels
 /// are): then [`row_f_ratio`]'s sums over the disc are exact in any order.
+#[cfg(test)]
 fn whole_levels(gray: &Plane) -> bool {
     // `v` rounded to the nearest whole number where `|v| ≤ 2²²` (added to 1.5·2²³ it lies where
     // the spacing of `f32` is 1); the pixels that fail counted without a branch (vector lanes).
@@ -627,8 +646,8 @@ impl Disc {
 }
 
 /// Sums of each image line's gray levels from its start (`width + 1` a line, the first 0), for
-/// [`window_mean`]: whole numbers where every level is ([`whole_levels`]), so any line's part
-/// is their difference, exact. `None` where a line's sum could leave `i32`.
+/// [`window_mean`]: whole numbers where every level is (as `whole_levels` finds), so any line's
+/// part is their difference, exact. `None` where a line's sum could leave `i32`.
 fn line_prefix_sums(gray: &Plane) -> Option<Vec<i32>> {
     let w = gray.width as usize;
     if (w as u64 + 1) * 65_536 >= i32::MAX as u64 || w == 0 {
@@ -1713,7 +1732,8 @@ mod tests {
             &params,
             true,
         );
-        let refined = refine(&first, &enhanced, params.response_threshold, &[]);
+        let (refined, rms) = refine(&first, &enhanced, params.response_threshold, &[]);
+        assert_eq!(rms, block_rms(&enhanced, &refined));
         assert!(refined.contains_pixel(96, 96) && refined.contains_pixel(96, 50));
         assert!(!refined.contains_pixel(12, 12) && !refined.contains_pixel(180, 96));
         let disk = std::f64::consts::PI * 56.0 * 56.0 / 64.0;
@@ -1721,7 +1741,10 @@ mod tests {
         // The disk and a rim of noise around it, against most of the image before.
         assert!(area >= 0.9 * disk && area <= 1.5 * disk, "{area} vs {disk}");
         assert!(first.area_blocks() as f64 > 2.0 * area);
-        assert_eq!(refine(&first, &enhanced, 0.0, &[]), first);
+        assert_eq!(
+            refine(&first, &enhanced, 0.0, &[]),
+            (first.clone(), block_rms(&enhanced, &first))
+        );
     }
 
     /// The rows' F ratio: high on ridges, even faint ones (10 % of the depth) under noise; about
@@ -1794,7 +1817,7 @@ mod tests {
             asked.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
             measure_evidence(&gray, whole, &s, &field, &periods, b, rows)
         };
-        let mut completed = ridge_evidence(&gray, &s, &field, &periods);
+        let mut completed = ridge_evidence(&gray, whole, &s, &field, &periods);
         let mut every = RidgeEvidence {
             blocks: (0..grid.len()).map(|b| measure(b, Rows::Full)).collect(),
             whole,
@@ -1834,9 +1857,9 @@ mod tests {
         for v in gray.values.iter_mut() {
             *v = (*v + 10.0 * 3f32.sqrt() * four_uniforms(&mut state)).round();
         }
-        let evidence = ridge_evidence(&gray, &s, &field, &periods);
         let whole = whole_levels(&gray);
         assert!(whole);
+        let evidence = ridge_evidence(&gray, whole, &s, &field, &periods);
         let cols = grid.cols as usize;
         let own: Vec<BlockEvidence> = (0..grid.len())
             .map(|b| measure_evidence(&gray, whole, &s, &field, &periods, b, Rows::Own))

@@ -209,6 +209,124 @@ fn zhang_suen_framed_at(
     }
 }
 
+/// The scratch of [`zhang_suen_bits`], kept from one component's box to the next.
+#[derive(Default)]
+struct BitGrid {
+    /// The grid a bit a pixel, `width.div_ceil(64)` words a row: bit `x % 64` of a row's word
+    /// `x / 64` is column `x`.
+    bits: Vec<u64>,
+    /// For each word, the last sub-iteration that is to decide it: the second after the last
+    /// change among it and its eight neighbouring words.
+    until: Vec<u32>,
+    /// For each row, the last sub-iteration that is to decide any of its words.
+    rows_until: Vec<u32>,
+    /// A sub-iteration's deletions: row, word, and the word's pixels that go.
+    gone: Vec<(usize, usize, u64)>,
+}
+
+/// [`zhang_suen_framed_at`] 64 pixels at a time: the grid (`width` wide, its first and last rows
+/// and columns background; `ink` every ink pixel, in raster order) is packed a bit a pixel, and
+/// a sub-iteration decides a word of a row at once from the grid as it was before it (its
+/// deletions are decided together, then made). The same conditions as [`DELETED`], bit-sliced:
+/// the neighbours P2..P9 are the row words shifted by one column, "two or more" of eight flags
+/// is kept as a running pair of words (seen once, seen twice), one 0->1 transition is "at least
+/// one and not two", 2-6 ink neighbours "two ink and two background". A sweep skips the words
+/// without ink, and a word none of whose eight neighbouring words (nor itself) changed since
+/// both sub-iterations last decided it: decided on the same pixels, it would lose none (the
+/// pixel queue's rule, a word at a time).
+fn zhang_suen_bits(padded: &mut [bool], width: usize, ink: &[usize], grid: &mut BitGrid) {
+    let height = padded.len() / width;
+    let words = width.div_ceil(64);
+    let BitGrid {
+        bits,
+        until,
+        rows_until,
+        gone,
+    } = grid;
+    bits.clear();
+    bits.resize(words * height, 0);
+    until.clear();
+    until.resize(words * height, 1);
+    rows_until.clear();
+    rows_until.resize(height, 1);
+    for (y, x) in rows_and_columns(ink, width) {
+        bits[y * words + x / 64] |= 1 << (x % 64);
+    }
+    // Two flags of a word or more among `flags`.
+    let twice = |flags: [u64; 8]| {
+        let (mut once, mut twice) = (0u64, 0u64);
+        for f in flags {
+            twice |= once & f;
+            once |= f;
+        }
+        (once, twice)
+    };
+    let (mut step, mut idle, mut t) = (0, 0, 0u32);
+    // Stable when two sub-iterations in a row delete nothing.
+    while idle < 2 {
+        gone.clear();
+        for y in 1..height.saturating_sub(1) {
+            if rows_until[y] < t {
+                continue;
+            }
+            let (above, row, below) = (
+                &bits[(y - 1) * words..y * words],
+                &bits[y * words..(y + 1) * words],
+                &bits[(y + 1) * words..(y + 2) * words],
+            );
+            for k in 0..words {
+                let c = row[k];
+                if c == 0 || until[y * words + k] < t {
+                    continue;
+                }
+                // Column x's neighbour at x + 1 (east) and x - 1 (west), across the words.
+                let east = |v: &[u64]| (v[k] >> 1) | v.get(k + 1).map_or(0, |&n| n << 63);
+                let west = |v: &[u64]| (v[k] << 1) | if k > 0 { v[k - 1] >> 63 } else { 0 };
+                // P2..P9: N, NE, E, SE, S, SW, W, NW (RING's order).
+                let p = [
+                    above[k],
+                    east(above),
+                    east(row),
+                    east(below),
+                    below[k],
+                    west(below),
+                    west(row),
+                    west(above),
+                ];
+                let rises: [u64; 8] = std::array::from_fn(|j| !p[j] & p[(j + 1) % 8]);
+                let (one_rise, two_rises) = twice(rises);
+                let (_, two_ink) = twice(p);
+                let (_, two_background) = twice(p.map(|v| !v));
+                let kept = if step == 0 {
+                    p[2] & p[4] & (p[0] | p[6])
+                } else {
+                    p[0] & p[6] & (p[2] | p[4])
+                };
+                let going = c & one_rise & !two_rises & two_ink & two_background & !kept;
+                if going != 0 {
+                    gone.push((y, k, going));
+                }
+            }
+        }
+        idle = if gone.is_empty() { idle + 1 } else { 0 };
+        for &(y, k, going) in gone.iter() {
+            bits[y * words + k] &= !going;
+            for yy in y - 1..=y + 1 {
+                let first = yy * words;
+                until[first + k.saturating_sub(1)..first + (k + 2).min(words)].fill(t + 2);
+                rows_until[yy] = t + 2;
+            }
+            let mut rest = going;
+            while rest != 0 {
+                padded[y * width + k * 64 + rest.trailing_zeros() as usize] = false;
+                rest &= rest - 1;
+            }
+        }
+        step = 1 - step;
+        t += 1;
+    }
+}
+
 /// The one-pixel skeleton of a window's ink, every component kept: [`fill_specks_at`] (the filled
 /// specks written into `ink`), [`zhang_suen`], [`one_pixel_thick_framed_at`], and for a component thinning
 /// erased whole (a 2 x 2 block, a short 2-pixel-thick diagonal) its deepest pixel by `half`
@@ -232,7 +350,7 @@ pub(super) fn skeleton_by_component(
     let mut skeleton_pixels = Vec::new();
     let (mut local, mut filled, mut thin) = (Vec::new(), Vec::new(), Vec::new());
     let mut candidates = Vec::new();
-    let mut marks = ThinningMarks::default();
+    let mut grid = BitGrid::default();
     for c in offsets.windows(2) {
         let pixels = &members[c[0]..c[1]];
         let (Some(&first), Some(&last)) = (pixels.first(), pixels.last()) else {
@@ -267,7 +385,7 @@ pub(super) fn skeleton_by_component(
             filled.sort_unstable();
             filled.dedup();
         }
-        zhang_suen_framed_at(&mut local, lw, &filled, &mut marks);
+        zhang_suen_bits(&mut local, lw, &filled, &mut grid);
         thin.clear();
         thin.extend(filled.iter().copied().filter(|&j| local[j]));
         candidates.clone_from(&thin);
@@ -707,6 +825,51 @@ mod tests {
             one_pixel_thick_at(&mut by_list, w, h, thin);
             assert_eq!(by_scan, by_list);
         }
+    }
+
+    #[test]
+    fn thinning_a_word_at_a_time_equals_thinning_a_pixel_at_a_time() {
+        // Pseudo-random blobs and bars in framed grids narrower and wider than a word (rows of
+        // one to four words, ink across the words' edges), and a fixed grid reused: the same
+        // pixels stay.
+        let mut lcg = crate::synth::lcg(6464u64);
+        let mut next = move || (lcg() >> 33) as usize;
+        let mut grid = BitGrid::default();
+        let mut stayed = 0;
+        for (w, h) in [
+            (5, 5),
+            (23, 17),
+            (64, 9),
+            (65, 20),
+            (66, 31),
+            (130, 40),
+            (200, 25),
+        ] {
+            for density in [2, 3, 5] {
+                let mut ink = vec![false; w * h];
+                // Random pixels, then thick bars and blobs, some across word edges.
+                for y in 1..h - 1 {
+                    for x in 1..w - 1 {
+                        ink[y * w + x] = next() % density == 0;
+                    }
+                }
+                for _ in 0..(w * h / 60).max(1) {
+                    let (cx, cy, r) = (next() % w, next() % h, 1 + next() % 6);
+                    for y in cy.saturating_sub(r).max(1)..(cy + r).min(h - 1) {
+                        for x in cx.saturating_sub(2 * r).max(1)..(cx + 2 * r).min(w - 1) {
+                            ink[y * w + x] = true;
+                        }
+                    }
+                }
+                let list: Vec<usize> = (0..w * h).filter(|&i| ink[i]).collect();
+                let (mut by_pixel, mut by_word) = (ink.clone(), ink.clone());
+                zhang_suen_framed(&mut by_pixel, w);
+                zhang_suen_bits(&mut by_word, w, &list, &mut grid);
+                assert_eq!(by_pixel, by_word, "{w} x {h}, 1 in {density}");
+                stayed += by_word.iter().filter(|&&on| on).count();
+            }
+        }
+        assert!(stayed > 1000, "{stayed}");
     }
 
     /// [`zhang_suen_framed_at`] reading every candidate's neighbourhood from the grid at each

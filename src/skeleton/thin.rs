@@ -337,17 +337,19 @@ fn zhang_suen_bits(padded: &mut [bool], width: usize, ink: &[usize], grid: &mut 
 /// a copy of its own bounding box with a background frame: the result is the whole window's,
 /// pixel for pixel, in a time that grows with the ink and not with the window (a chunk's window
 /// holds many times its ink on a text page). The components' pixels (window indices, rising) are
-/// given in CSR form: component `c` is `members[offsets[c]..offsets[c + 1]]`. Returns the skeleton
-/// over the window and its pixels in raster order.
+/// given in CSR form: component `c` is `members[offsets[c]..offsets[c + 1]]`. Returns the
+/// skeleton's pixels in raster order and each one's skeleton neighbours (bit k for
+/// [`RING`]`[k]`), read in its component's box: no other component's skeleton neighbours it,
+/// so they are the window's, and nothing the window's size is made.
 pub(super) fn skeleton_by_component(
     ink: &mut [bool],
     width: usize,
     offsets: &[usize],
     members: &[usize],
     half: impl Fn(usize) -> f32,
-) -> (Vec<bool>, Vec<usize>) {
-    let mut skeleton = vec![false; ink.len()];
-    let mut skeleton_pixels = Vec::new();
+) -> (Vec<usize>, Vec<u8>) {
+    // Each pixel above its neighbours' byte: sorted, raster order.
+    let mut skeleton_pixels: Vec<u64> = Vec::new();
     let (mut local, mut filled, mut thin) = (Vec::new(), Vec::new(), Vec::new());
     let mut candidates = Vec::new();
     let mut grid = BitGrid::default();
@@ -393,10 +395,10 @@ pub(super) fn skeleton_by_component(
         let mut kept = false;
         // `thin` rises (a part of `filled`), so its rows come one division a row.
         let survivors = thin.iter().copied().filter(|&j| local[j]);
-        for (y, x) in rows_and_columns_of(survivors, lw) {
+        for (j, (y, x)) in survivors.clone().zip(rows_and_columns_of(survivors, lw)) {
             let i = (y + y0 - 1) * width + (x + x0 - 1);
-            skeleton[i] = true;
-            skeleton_pixels.push(i);
+            let code = neighbourhood(&local, lw, j);
+            skeleton_pixels.push(((i as u64) << 8) | u64::from(code));
             kept = true;
         }
         if !kept {
@@ -406,13 +408,16 @@ pub(super) fn skeleton_by_component(
                 .map(|&j| to_window(j))
                 .max_by(|&a, &b| half(a).total_cmp(&half(b)).then(b.cmp(&a)))
             {
-                skeleton[deepest] = true;
-                skeleton_pixels.push(deepest);
+                // Alone in its component: no skeleton neighbours.
+                skeleton_pixels.push((deepest as u64) << 8);
             }
         }
     }
     skeleton_pixels.sort_unstable();
-    (skeleton, skeleton_pixels)
+    skeleton_pixels
+        .iter()
+        .map(|&p| ((p >> 8) as usize, p as u8))
+        .unzip()
 }
 
 /// The row and column of each of `pixels` (indices into rows `width` long), one division per
@@ -751,11 +756,28 @@ mod tests {
             offsets.push(members.len());
         }
         let mut ink = binary.ink.clone();
-        let (skeleton, pixels) = skeleton_by_component(&mut ink, w, &offsets, &members, half);
+        let (pixels, codes) = skeleton_by_component(&mut ink, w, &offsets, &members, half);
         assert_eq!(ink, whole_ink);
-        assert_eq!(skeleton, whole);
         let listed: Vec<usize> = (0..w * h).filter(|&i| whole[i]).collect();
         assert_eq!(pixels, listed);
+        // Each pixel's neighbours, read from the whole window's skeleton.
+        let read: Vec<u8> = listed
+            .iter()
+            .map(|&i| {
+                let (x, y) = ((i % w) as i64, (i / w) as i64);
+                RING.iter().enumerate().fold(0u8, |code, (k, &(dx, dy))| {
+                    let (a, b) = (x + dx, y + dy);
+                    let on = a >= 0
+                        && b >= 0
+                        && a < w as i64
+                        && b < h as i64
+                        && whole[b as usize * w + a as usize];
+                    code | u8::from(on) << k
+                })
+            })
+            .collect();
+        assert_eq!(codes, read);
+        assert!(codes.iter().any(|&c| c.count_ones() >= 3), "a junction");
     }
 
     #[test]

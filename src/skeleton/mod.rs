@@ -340,9 +340,6 @@ fn skeleton_graph(
     let pixel_of =
         |p: &[f64; 2]| (p[1] as i64 - grid.y0) as usize * w + (p[0] as i64 - grid.x0) as usize;
     let mut ink = vec![false; w * h];
-    for p in &points.points {
-        ink[pixel_of(p)] = true;
-    }
     let computed;
     let (labels, sizes) = match components {
         Some((labels, sizes)) if labels.len() == points.len() => (labels, sizes),
@@ -359,7 +356,9 @@ fn skeleton_graph(
     let mut fill = offsets[..sizes.len()].to_vec();
     let mut members = vec![0usize; points.len()];
     for (p, &label) in points.points.iter().zip(labels) {
-        members[fill[label as usize]] = pixel_of(p);
+        let i = pixel_of(p);
+        ink[i] = true;
+        members[fill[label as usize]] = i;
         fill[label as usize] += 1;
     }
     let half = |i: usize| match grid.index[i] {

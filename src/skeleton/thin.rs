@@ -327,10 +327,11 @@ fn zhang_suen_bits(padded: &mut [bool], width: usize, ink: &[usize], grid: &mut 
     }
 }
 
-/// The one-pixel skeleton of a window's ink, every component kept: [`fill_specks_at`] (the filled
-/// specks written into `ink`), [`zhang_suen`], [`one_pixel_thick_framed_at`], and for a component thinning
-/// erased whole (a 2 x 2 block, a short 2-pixel-thick diagonal) its deepest pixel by `half`
-/// (ties: the first in raster order), a dot.
+/// The one-pixel skeleton of a window's ink (`ink`, every component's pixels), every component
+/// kept: [`fill_specks_at`] (the filled specks written into `ink`), [`zhang_suen`],
+/// [`one_pixel_thick_framed_at`], and for a component thinning erased whole (a 2 x 2 block, a
+/// short 2-pixel-thick diagonal) its deepest pixel by `half` (ties: the first in raster order),
+/// a dot.
 ///
 /// Each step reads a pixel's 8 neighbours only, and two 8-connected components are never
 /// neighbours (a speck's enclosing ink is one component), so each component is thinned alone, in
@@ -375,10 +376,8 @@ pub(super) fn skeleton_by_component(
             local[j] = true;
         }
         let specks = fill_specks_at(&mut local, lw, lh, &filled);
-        // The component's ink with its specks: its own pixels and the filled specks'.
-        for &i in pixels {
-            ink[i] = true;
-        }
+        // The component's ink with its specks: its own pixels (ink already) and the filled
+        // specks'.
         for &j in &specks {
             ink[to_window(j)] = true;
         }

@@ -311,10 +311,9 @@ fn zhang_suen_bits(padded: &mut [bool], width: usize, ink: &[usize], grid: &mut 
         idle = if gone.is_empty() { idle + 1 } else { 0 };
         for &(y, k, going) in gone.iter() {
             bits[y * words + k] &= !going;
-            for yy in y - 1..=y + 1 {
-                let first = yy * words;
+            rows_until[y - 1..=y + 1].fill(t + 2);
+            for first in [y - 1, y, y + 1].map(|r| r * words) {
                 until[first + k.saturating_sub(1)..first + (k + 2).min(words)].fill(t + 2);
-                rows_until[yy] = t + 2;
             }
             let mut rest = going;
             while rest != 0 {

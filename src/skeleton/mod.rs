@@ -49,7 +49,7 @@ use crate::params::ExperimentParams;
 use crate::point_set::{Grid, PointSet};
 use crate::stroke_graph::StrokeGraph;
 
-use pixel_graph::pixel_graph;
+use pixel_graph::{neighbour_code, pixel_graph};
 use thin::{skeleton_by_component, zhang_suen};
 use work::{Ink, Work};
 
@@ -91,15 +91,11 @@ pub(crate) fn thin(binary: &Binary) -> StrokeGraph {
         half[i] = d;
     }
     let pixels: Vec<usize> = (0..w * h).filter(|&i| skeleton[i]).collect();
-    pixel_graph(
-        w,
-        h,
-        &skeleton,
-        &pixels,
-        (w * h, |i| i),
-        |i| half[i],
-        [0, 0],
-    )
+    let codes: Vec<u8> = pixels
+        .iter()
+        .map(|&i| neighbour_code(&skeleton, w as i64, h as i64, i))
+        .collect();
+    pixel_graph(w, h, (&pixels, &codes), (w * h, |i| i), |i| half[i], [0, 0])
 }
 
 /// The skeleton of a point set's ink with the steps of the reconciliation that read nothing of
@@ -330,7 +326,8 @@ fn unpack_bits(packed: &[u64], len: usize) -> Vec<bool> {
 /// The [`pixel_graph`] of the ink of `points`' grid, specks filled, thinned to one pixel, every
 /// component kept, in image coordinates; and that ink. The window is the chunk's bounding box,
 /// many times its ink on a page of text: the thinning runs per component over the component's
-/// own box, and nothing but the ink mask and the skeleton is the window's size.
+/// own box, which also gives each skeleton pixel's neighbours, and nothing but the ink mask is
+/// the window's size.
 fn skeleton_graph(
     points: &PointSet,
     grid: &Grid,
@@ -343,9 +340,6 @@ fn skeleton_graph(
     let pixel_of =
         |p: &[f64; 2]| (p[1] as i64 - grid.y0) as usize * w + (p[0] as i64 - grid.x0) as usize;
     let mut ink = vec![false; w * h];
-    for p in &points.points {
-        ink[pixel_of(p)] = true;
-    }
     let computed;
     let (labels, sizes) = match components {
         Some((labels, sizes)) if labels.len() == points.len() => (labels, sizes),
@@ -362,14 +356,16 @@ fn skeleton_graph(
     let mut fill = offsets[..sizes.len()].to_vec();
     let mut members = vec![0usize; points.len()];
     for (p, &label) in points.points.iter().zip(labels) {
-        members[fill[label as usize]] = pixel_of(p);
+        let i = pixel_of(p);
+        ink[i] = true;
+        members[fill[label as usize]] = i;
         fill[label as usize] += 1;
     }
     let half = |i: usize| match grid.index[i] {
         Grid::NONE => 0.0,
         p => points.half_width[p as usize],
     };
-    let (skeleton, pixels) = skeleton_by_component(&mut ink, w, &offsets, &members, half);
+    let (pixels, codes) = skeleton_by_component(&mut ink, w, &offsets, &members, half);
     // The skeleton's pixels numbered by their points, and the few on filled specks (no point)
     // after them.
     let specks: Vec<usize> = pixels
@@ -382,7 +378,7 @@ fn skeleton_graph(
         p => p as usize,
     };
     let ids = (points.len() + specks.len(), number);
-    let s = pixel_graph(w, h, &skeleton, &pixels, ids, half, [grid.x0, grid.y0]);
+    let s = pixel_graph(w, h, (&pixels, &codes), ids, half, [grid.x0, grid.y0]);
     let (x0, y0) = (grid.x0 as f64, grid.y0 as f64);
     let ink = Ink {
         mask: ink,

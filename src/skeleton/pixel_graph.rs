@@ -14,25 +14,23 @@ use super::MIN_WIDTH_PX;
 /// the window's corner at `origin` (a junction's vertex, the mean of its pixels, is taken in the
 /// image's coordinates, so that a chunk's window and the whole page's give it to the bit);
 /// widths are `2 half_width - 1` (the pixel itself not counted), `half_width` of a window pixel
-/// (0 off the ink). `pixels` are the skeleton's pixels in raster order, and `number` numbers them
-/// below `ids` (distinct numbers), so that what is kept per pixel is the size of the skeleton's
+/// (0 off the ink). `pixels` are the skeleton's pixels in raster order, `codes` their skeleton
+/// neighbours (bit k for [`RING`]`[k]`, [`neighbour_code`]), and `number` numbers them below
+/// `ids` (distinct numbers), so that what is kept per pixel is the size of the skeleton's
 /// numbering, not of the window (a chunk's window holds many times its ink).
 pub(super) fn pixel_graph(
     width: usize,
     height: usize,
-    skeleton: &[bool],
-    pixels: &[usize],
+    (pixels, codes): (&[usize], &[u8]),
     (ids, number): (usize, impl Fn(usize) -> usize),
     half_width: impl Fn(usize) -> f32,
     origin: [i64; 2],
 ) -> StrokeGraph {
     let (w, h) = (width as i64, height as i64);
-    // Each skeleton pixel's neighbours, read once from the window (bounds tested there) as a
-    // byte by `number`, bit k for [`RING`]`[k]`; the passes below read the bits in `RING`'s
-    // order, as the window was read before (the tests compare the two).
+    // Each skeleton pixel's neighbours as a byte by `number`; the passes below read the bits in
+    // `RING`'s order, as the window was read before (the tests compare the two).
     let (mut code, mut count) = (vec![0u8; ids], vec![0u8; ids]);
-    for &i in pixels {
-        let c = neighbour_code(skeleton, w, h, i);
+    for (&i, &c) in pixels.iter().zip(codes) {
         code[number(i)] = c;
         count[number(i)] = c.count_ones() as u8;
     }
@@ -189,7 +187,7 @@ pub(super) fn pixel_graph(
 /// The skeleton neighbours of window pixel `i` as a byte, bit k for [`RING`]`[k]`: away from
 /// the window's border read as the three rows of the 3 x 3 block around it ([`neighbourhood`],
 /// the thinning's), at the border one neighbour at a time, each tested against the window.
-fn neighbour_code(skeleton: &[bool], w: i64, h: i64, i: usize) -> u8 {
+pub(super) fn neighbour_code(skeleton: &[bool], w: i64, h: i64, i: usize) -> u8 {
     let (x, y) = ((i as i64) % w, (i as i64) / w);
     if x > 0 && y > 0 && x + 1 < w && y + 1 < h {
         return neighbourhood(skeleton, w as usize, i);

@@ -209,30 +209,150 @@ fn zhang_suen_framed_at(
     }
 }
 
-/// The one-pixel skeleton of a window's ink, every component kept: [`fill_specks_at`] (the filled
-/// specks written into `ink`), [`zhang_suen`], [`one_pixel_thick_framed_at`], and for a component thinning
-/// erased whole (a 2 x 2 block, a short 2-pixel-thick diagonal) its deepest pixel by `half`
-/// (ties: the first in raster order), a dot.
+/// The scratch of [`zhang_suen_bits`], kept from one component's box to the next.
+#[derive(Default)]
+struct BitGrid {
+    /// The grid a bit a pixel, `width.div_ceil(64)` words a row: bit `x % 64` of a row's word
+    /// `x / 64` is column `x`.
+    bits: Vec<u64>,
+    /// For each word, the last sub-iteration that is to decide it: the second after the last
+    /// change among it and its eight neighbouring words.
+    until: Vec<u32>,
+    /// For each row, the last sub-iteration that is to decide any of its words.
+    rows_until: Vec<u32>,
+    /// A sub-iteration's deletions: row, word, and the word's pixels that go.
+    gone: Vec<(usize, usize, u64)>,
+}
+
+/// [`zhang_suen_framed_at`] 64 pixels at a time: the grid (`width` wide, its first and last rows
+/// and columns background; `ink` every ink pixel, in raster order) is packed a bit a pixel, and
+/// a sub-iteration decides a word of a row at once from the grid as it was before it (its
+/// deletions are decided together, then made). The same conditions as [`DELETED`], bit-sliced:
+/// the neighbours P2..P9 are the row words shifted by one column, "two or more" of eight flags
+/// is kept as a running pair of words (seen once, seen twice), one 0->1 transition is "at least
+/// one and not two", 2-6 ink neighbours "two ink and two background". A sweep skips the words
+/// without ink, and a word none of whose eight neighbouring words (nor itself) changed since
+/// both sub-iterations last decided it: decided on the same pixels, it would lose none (the
+/// pixel queue's rule, a word at a time).
+fn zhang_suen_bits(padded: &mut [bool], width: usize, ink: &[usize], grid: &mut BitGrid) {
+    let height = padded.len() / width;
+    let words = width.div_ceil(64);
+    let BitGrid {
+        bits,
+        until,
+        rows_until,
+        gone,
+    } = grid;
+    bits.clear();
+    bits.resize(words * height, 0);
+    until.clear();
+    until.resize(words * height, 1);
+    rows_until.clear();
+    rows_until.resize(height, 1);
+    for (y, x) in rows_and_columns(ink, width) {
+        bits[y * words + x / 64] |= 1 << (x % 64);
+    }
+    // Two flags of a word or more among `flags`.
+    let twice = |flags: [u64; 8]| {
+        let (mut once, mut twice) = (0u64, 0u64);
+        for f in flags {
+            twice |= once & f;
+            once |= f;
+        }
+        (once, twice)
+    };
+    let (mut step, mut idle, mut t) = (0, 0, 0u32);
+    // Stable when two sub-iterations in a row delete nothing.
+    while idle < 2 {
+        gone.clear();
+        for y in 1..height.saturating_sub(1) {
+            if rows_until[y] < t {
+                continue;
+            }
+            let (above, row, below) = (
+                &bits[(y - 1) * words..y * words],
+                &bits[y * words..(y + 1) * words],
+                &bits[(y + 1) * words..(y + 2) * words],
+            );
+            for k in 0..words {
+                let c = row[k];
+                if c == 0 || until[y * words + k] < t {
+                    continue;
+                }
+                // Column x's neighbour at x + 1 (east) and x - 1 (west), across the words.
+                let east = |v: &[u64]| (v[k] >> 1) | v.get(k + 1).map_or(0, |&n| n << 63);
+                let west = |v: &[u64]| (v[k] << 1) | if k > 0 { v[k - 1] >> 63 } else { 0 };
+                // P2..P9: N, NE, E, SE, S, SW, W, NW (RING's order).
+                let p = [
+                    above[k],
+                    east(above),
+                    east(row),
+                    east(below),
+                    below[k],
+                    west(below),
+                    west(row),
+                    west(above),
+                ];
+                let rises: [u64; 8] = std::array::from_fn(|j| !p[j] & p[(j + 1) % 8]);
+                let (one_rise, two_rises) = twice(rises);
+                let (_, two_ink) = twice(p);
+                let (_, two_background) = twice(p.map(|v| !v));
+                let kept = if step == 0 {
+                    p[2] & p[4] & (p[0] | p[6])
+                } else {
+                    p[0] & p[6] & (p[2] | p[4])
+                };
+                let going = c & one_rise & !two_rises & two_ink & two_background & !kept;
+                if going != 0 {
+                    gone.push((y, k, going));
+                }
+            }
+        }
+        idle = if gone.is_empty() { idle + 1 } else { 0 };
+        for &(y, k, going) in gone.iter() {
+            bits[y * words + k] &= !going;
+            rows_until[y - 1..=y + 1].fill(t + 2);
+            for first in [y - 1, y, y + 1].map(|r| r * words) {
+                until[first + k.saturating_sub(1)..first + (k + 2).min(words)].fill(t + 2);
+            }
+            let mut rest = going;
+            while rest != 0 {
+                padded[y * width + k * 64 + rest.trailing_zeros() as usize] = false;
+                rest &= rest - 1;
+            }
+        }
+        step = 1 - step;
+        t += 1;
+    }
+}
+
+/// The one-pixel skeleton of a window's ink (`ink`, every component's pixels), every component
+/// kept: [`fill_specks_at`] (the filled specks written into `ink`), [`zhang_suen`],
+/// [`one_pixel_thick_framed_at`], and for a component thinning erased whole (a 2 x 2 block, a
+/// short 2-pixel-thick diagonal) its deepest pixel by `half` (ties: the first in raster order),
+/// a dot.
 ///
 /// Each step reads a pixel's 8 neighbours only, and two 8-connected components are never
 /// neighbours (a speck's enclosing ink is one component), so each component is thinned alone, in
 /// a copy of its own bounding box with a background frame: the result is the whole window's,
 /// pixel for pixel, in a time that grows with the ink and not with the window (a chunk's window
 /// holds many times its ink on a text page). The components' pixels (window indices, rising) are
-/// given in CSR form: component `c` is `members[offsets[c]..offsets[c + 1]]`. Returns the skeleton
-/// over the window and its pixels in raster order.
+/// given in CSR form: component `c` is `members[offsets[c]..offsets[c + 1]]`. Returns the
+/// skeleton's pixels in raster order and each one's skeleton neighbours (bit k for
+/// [`RING`]`[k]`), read in its component's box: no other component's skeleton neighbours it,
+/// so they are the window's, and nothing the window's size is made.
 pub(super) fn skeleton_by_component(
     ink: &mut [bool],
     width: usize,
     offsets: &[usize],
     members: &[usize],
     half: impl Fn(usize) -> f32,
-) -> (Vec<bool>, Vec<usize>) {
-    let mut skeleton = vec![false; ink.len()];
-    let mut skeleton_pixels = Vec::new();
+) -> (Vec<usize>, Vec<u8>) {
+    // Each pixel above its neighbours' byte: sorted, raster order.
+    let mut skeleton_pixels: Vec<u64> = Vec::new();
     let (mut local, mut filled, mut thin) = (Vec::new(), Vec::new(), Vec::new());
     let mut candidates = Vec::new();
-    let mut marks = ThinningMarks::default();
+    let mut grid = BitGrid::default();
     for c in offsets.windows(2) {
         let pixels = &members[c[0]..c[1]];
         let (Some(&first), Some(&last)) = (pixels.first(), pixels.last()) else {
@@ -255,10 +375,8 @@ pub(super) fn skeleton_by_component(
             local[j] = true;
         }
         let specks = fill_specks_at(&mut local, lw, lh, &filled);
-        // The component's ink with its specks: its own pixels and the filled specks'.
-        for &i in pixels {
-            ink[i] = true;
-        }
+        // The component's ink with its specks: its own pixels (ink already) and the filled
+        // specks'.
         for &j in &specks {
             ink[to_window(j)] = true;
         }
@@ -267,7 +385,7 @@ pub(super) fn skeleton_by_component(
             filled.sort_unstable();
             filled.dedup();
         }
-        zhang_suen_framed_at(&mut local, lw, &filled, &mut marks);
+        zhang_suen_bits(&mut local, lw, &filled, &mut grid);
         thin.clear();
         thin.extend(filled.iter().copied().filter(|&j| local[j]));
         candidates.clone_from(&thin);
@@ -275,10 +393,10 @@ pub(super) fn skeleton_by_component(
         let mut kept = false;
         // `thin` rises (a part of `filled`), so its rows come one division a row.
         let survivors = thin.iter().copied().filter(|&j| local[j]);
-        for (y, x) in rows_and_columns_of(survivors, lw) {
+        for (j, (y, x)) in survivors.clone().zip(rows_and_columns_of(survivors, lw)) {
             let i = (y + y0 - 1) * width + (x + x0 - 1);
-            skeleton[i] = true;
-            skeleton_pixels.push(i);
+            let code = neighbourhood(&local, lw, j);
+            skeleton_pixels.push(((i as u64) << 8) | u64::from(code));
             kept = true;
         }
         if !kept {
@@ -288,13 +406,16 @@ pub(super) fn skeleton_by_component(
                 .map(|&j| to_window(j))
                 .max_by(|&a, &b| half(a).total_cmp(&half(b)).then(b.cmp(&a)))
             {
-                skeleton[deepest] = true;
-                skeleton_pixels.push(deepest);
+                // Alone in its component: no skeleton neighbours.
+                skeleton_pixels.push((deepest as u64) << 8);
             }
         }
     }
     skeleton_pixels.sort_unstable();
-    (skeleton, skeleton_pixels)
+    skeleton_pixels
+        .iter()
+        .map(|&p| ((p >> 8) as usize, p as u8))
+        .unzip()
 }
 
 /// The row and column of each of `pixels` (indices into rows `width` long), one division per
@@ -633,11 +754,28 @@ mod tests {
             offsets.push(members.len());
         }
         let mut ink = binary.ink.clone();
-        let (skeleton, pixels) = skeleton_by_component(&mut ink, w, &offsets, &members, half);
+        let (pixels, codes) = skeleton_by_component(&mut ink, w, &offsets, &members, half);
         assert_eq!(ink, whole_ink);
-        assert_eq!(skeleton, whole);
         let listed: Vec<usize> = (0..w * h).filter(|&i| whole[i]).collect();
         assert_eq!(pixels, listed);
+        // Each pixel's neighbours, read from the whole window's skeleton.
+        let read: Vec<u8> = listed
+            .iter()
+            .map(|&i| {
+                let (x, y) = ((i % w) as i64, (i / w) as i64);
+                RING.iter().enumerate().fold(0u8, |code, (k, &(dx, dy))| {
+                    let (a, b) = (x + dx, y + dy);
+                    let on = a >= 0
+                        && b >= 0
+                        && a < w as i64
+                        && b < h as i64
+                        && whole[b as usize * w + a as usize];
+                    code | u8::from(on) << k
+                })
+            })
+            .collect();
+        assert_eq!(codes, read);
+        assert!(codes.iter().any(|&c| c.count_ones() >= 3), "a junction");
     }
 
     #[test]
@@ -707,6 +845,51 @@ mod tests {
             one_pixel_thick_at(&mut by_list, w, h, thin);
             assert_eq!(by_scan, by_list);
         }
+    }
+
+    #[test]
+    fn thinning_a_word_at_a_time_equals_thinning_a_pixel_at_a_time() {
+        // Pseudo-random blobs and bars in framed grids narrower and wider than a word (rows of
+        // one to four words, ink across the words' edges), and a fixed grid reused: the same
+        // pixels stay.
+        let mut lcg = crate::synth::lcg(6464u64);
+        let mut next = move || (lcg() >> 33) as usize;
+        let mut grid = BitGrid::default();
+        let mut stayed = 0;
+        for (w, h) in [
+            (5, 5),
+            (23, 17),
+            (64, 9),
+            (65, 20),
+            (66, 31),
+            (130, 40),
+            (200, 25),
+        ] {
+            for density in [2, 3, 5] {
+                let mut ink = vec![false; w * h];
+                // Random pixels, then thick bars and blobs, some across word edges.
+                for y in 1..h - 1 {
+                    for x in 1..w - 1 {
+                        ink[y * w + x] = next() % density == 0;
+                    }
+                }
+                for _ in 0..(w * h / 60).max(1) {
+                    let (cx, cy, r) = (next() % w, next() % h, 1 + next() % 6);
+                    for y in cy.saturating_sub(r).max(1)..(cy + r).min(h - 1) {
+                        for x in cx.saturating_sub(2 * r).max(1)..(cx + 2 * r).min(w - 1) {
+                            ink[y * w + x] = true;
+                        }
+                    }
+                }
+                let list: Vec<usize> = (0..w * h).filter(|&i| ink[i]).collect();
+                let (mut by_pixel, mut by_word) = (ink.clone(), ink.clone());
+                zhang_suen_framed(&mut by_pixel, w);
+                zhang_suen_bits(&mut by_word, w, &list, &mut grid);
+                assert_eq!(by_pixel, by_word, "{w} x {h}, 1 in {density}");
+                stayed += by_word.iter().filter(|&&on| on).count();
+            }
+        }
+        assert!(stayed > 1000, "{stayed}");
     }
 
     /// [`zhang_suen_framed_at`] reading every candidate's neighbourhood from the grid at each

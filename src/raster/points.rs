@@ -416,7 +416,7 @@ fn eight_neighbours(
 
 /// The first ink pixel of `row` at or after `from` (`row.len()` when there is none). The
 /// background between runs (most of a page) is skipped eight pixels to a word.
-fn next_ink(row: &[bool], from: usize) -> usize {
+pub(super) fn next_ink(row: &[bool], from: usize) -> usize {
     let Some(rest) = row.get(from..) else {
         return row.len();
     };

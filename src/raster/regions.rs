@@ -189,6 +189,64 @@ fn euler_quads(
     quads
 }
 
+/// Two sums per pixel column over some rows of an image, made in `u16` lanes (twice as many to a
+/// vector as `u32`) as many rows at a time as `u16` holds, then added to `u32` sums: the same
+/// integers as summing in `u32`, for the per-cell passes over every pixel of a page.
+struct ColumnSums {
+    /// The sums, per pixel column.
+    columns: [Vec<u32>; 2],
+    /// The sums of the rows being added.
+    lanes: [Vec<u16>; 2],
+}
+
+impl ColumnSums {
+    fn new(width: usize) -> ColumnSums {
+        ColumnSums {
+            columns: [vec![0; width], vec![0; width]],
+            lanes: [vec![0; width], vec![0; width]],
+        }
+    }
+
+    /// Sets the sums to those over rows `ys` of the two figures `each` gives a pixel from its gray
+    /// level and whether it is ink (`ink`, row-major), each at most `most`.
+    fn add_rows(
+        &mut self,
+        gray: GrayView<'_>,
+        ink: &[bool],
+        ys: std::ops::Range<usize>,
+        most: u16,
+        each: impl Fn(u8, bool) -> (u16, u16),
+    ) {
+        let width = self.columns[0].len();
+        let [first, second] = &mut self.columns;
+        first.fill(0);
+        second.fill(0);
+        let at_once = usize::from(u16::MAX / most.max(1));
+        let mut y0 = ys.start;
+        while y0 < ys.end {
+            let y1 = (y0 + at_once).min(ys.end);
+            let [a, b] = &mut self.lanes;
+            a.fill(0);
+            b.fill(0);
+            for y in y0..y1 {
+                let pixels = gray.row(y).iter().zip(&ink[y * width..(y + 1) * width]);
+                for ((a, b), (&v, &i)) in a.iter_mut().zip(b.iter_mut()).zip(pixels) {
+                    let (p, q) = each(v, i);
+                    *a += p;
+                    *b += q;
+                }
+            }
+            for (sum, &a) in first.iter_mut().zip(a.iter()) {
+                *sum += u32::from(a);
+            }
+            for (sum, &b) in second.iter_mut().zip(b.iter()) {
+                *sum += u32::from(b);
+            }
+            y0 = y1;
+        }
+    }
+}
+
 /// The pixel rows of the `cy`-th row of cells `cell` px high, of an image `height` px high.
 fn cell_rows(cy: usize, cell: usize, height: usize) -> std::ops::Range<usize> {
     (cy * cell).min(height)..((cy + 1) * cell).min(height)
@@ -779,27 +837,17 @@ fn faint(
     // (rows of cells in parallel).
     let mut sums = vec![(0u64, 0u32, 0u32); cols * rows];
     sums.par_chunks_mut(cols).enumerate().for_each_init(
-        || (vec![0u32; width], vec![0u32; width]),
-        |(paper_sums, paper_counts), (cy, sums)| {
+        || ColumnSums::new(width),
+        |column_sums, (cy, sums)| {
             // Each pixel column's paper over the row of cells (whole rows, without a branch, in
-            // vector lanes), then each cell's columns, turned per cell: `255 n - sum` under
-            // light ink.
-            paper_sums.fill(0);
-            paper_counts.fill(0);
+            // vector lanes: the level masked off under ink), then each cell's columns, turned per
+            // cell: `255 n - sum` under light ink.
             let ys = cell_rows(cy, cell, height);
             let cell_rows = ys.len() as u32;
-            for y in ys {
-                let pixels = gray.row(y).iter().zip(&ink[y * width..(y + 1) * width]);
-                for ((sum, n), (&v, &i)) in paper_sums
-                    .iter_mut()
-                    .zip(paper_counts.iter_mut())
-                    .zip(pixels)
-                {
-                    let paper = u32::from(!i);
-                    *sum += u32::from(v) * paper;
-                    *n += paper;
-                }
-            }
+            column_sums.add_rows(gray, ink, ys, u16::from(u8::MAX), |v, i| {
+                (u16::from(v & u8::from(i).wrapping_sub(1)), u16::from(!i))
+            });
+            let [paper_sums, paper_counts] = &column_sums.columns;
             let columns = paper_sums.chunks(cell).zip(paper_counts.chunks(cell));
             for (s, (sums, counts)) in sums.iter_mut().zip(columns) {
                 let (sum, n) = (sums.iter().sum::<u32>(), counts.iter().sum::<u32>());
@@ -1153,21 +1201,14 @@ fn seed_counts(
     // light ink.
     let mut counts = vec![[0u32; 3]; cols * rows];
     counts.par_chunks_mut(cols).enumerate().for_each_init(
-        || (vec![0u32; width], vec![0u32; width]),
-        |(inks, at_or_below), (cy, counts)| {
-            inks.fill(0);
-            at_or_below.fill(0);
+        || ColumnSums::new(width),
+        |sums, (cy, counts)| {
             let ys = cell_rows(cy, cell, height);
             let cell_rows = ys.len() as u32;
-            for y in ys {
-                let pixels = gray.row(y).iter().zip(&ink[y * width..(y + 1) * width]);
-                for ((inks, below), (&v, &i)) in
-                    inks.iter_mut().zip(at_or_below.iter_mut()).zip(pixels)
-                {
-                    *inks += u32::from(i);
-                    *below += u32::from(v <= level);
-                }
-            }
+            sums.add_rows(gray, ink, ys, 1, move |v, i| {
+                (u16::from(i), u16::from(v <= level))
+            });
+            let [inks, at_or_below] = &sums.columns;
             let columns = inks.chunks(cell).zip(at_or_below.chunks(cell));
             for (counts, (inks, below)) in counts.iter_mut().zip(columns) {
                 let all = cell_rows * inks.len() as u32;

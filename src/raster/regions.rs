@@ -345,27 +345,14 @@ fn fields(
     // the textures of those rows alone (the others taken as possible) rule out nearly every page
     // of text, for a third of the texture's pass; the other rows are looked at when they do not.
     let sampled = |cy: usize| cy % SEED_CELLS == SEED_CELLS - 1;
-    let some = texture_cells(
-        gray,
-        histogram,
-        dark_ink,
-        level,
-        stroke_width,
-        cell,
-        &sampled,
-    );
+    let texture_of = |wanted: &(dyn Fn(usize) -> bool + Sync)| {
+        texture_cells(gray, histogram, dark_ink, level, stroke_width, cell, wanted)
+    };
+    let some = texture_of(&sampled);
     if !seed_in_counts(&counts, cols, rows, &some) {
         return Vec::new();
     }
-    let rest = texture_cells(
-        gray,
-        histogram,
-        dark_ink,
-        level,
-        stroke_width,
-        cell,
-        &|cy| !sampled(cy),
-    );
+    let rest = texture_of(&|cy| !sampled(cy));
     let texture: Vec<bool> = some
         .iter()
         .zip(&rest)

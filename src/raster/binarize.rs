@@ -82,7 +82,7 @@ fn binarize_until(
     // The dark side of the global level, then (automatic or local threshold) of the local one
     // where the global level fails.
     let mut dark = binary.ink;
-    split(gray, &mut dark, |v| v <= level);
+    split(gray, &mut dark, move |v| v <= level);
     let mut evidence = evidence::polarity(&dark, w, h);
     decisions.threshold = match params.front_end.threshold {
         Threshold::Fixed { level } => ThresholdUsed::Fixed { level },

@@ -24,6 +24,7 @@ use crate::mask::{label_components, on_image_edge, Connectivity};
 use rayon::prelude::*;
 
 use super::evidence::run_lengths;
+use super::points::next_ink;
 use crate::decisions::Ground;
 use crate::median::upper_median_by;
 
@@ -156,10 +157,11 @@ fn row_probes(ink: &[bool], width: usize, height: usize, y: usize) -> Vec<usize>
     let mut found = Vec::new();
     let row = &ink[y * width..(y + 1) * width];
     let mut x = 0;
-    while x < width {
-        if !row[x] {
-            x += 1;
-            continue;
+    loop {
+        // The paper between runs (most of a page) skipped eight pixels at a time.
+        x = next_ink(row, x);
+        if x >= width {
+            break;
         }
         let start = x;
         while x < width && row[x] {

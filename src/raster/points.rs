@@ -416,7 +416,7 @@ fn eight_neighbours(
 
 /// The first ink pixel of `row` at or after `from` (`row.len()` when there is none). The
 /// background between runs (most of a page) is skipped eight pixels to a word.
-fn next_ink(row: &[bool], from: usize) -> usize {
+pub(super) fn next_ink(row: &[bool], from: usize) -> usize {
     let Some(rest) = row.get(from..) else {
         return row.len();
     };
@@ -629,9 +629,21 @@ pub(crate) fn kept_pixels(points: &PointSet, keep: &[bool]) -> Option<PointSet> 
     let count = runs.iter().map(Run::len).sum();
     let pixels = runs.iter().map(|run| window_run(run, origin));
     let (offsets, neighbors) = eight_neighbours_of_runs(&index, size, count, pixels).ok()?;
+    // The kept points are the centres of the runs' pixels, bit for bit (`pixel_runs` took only
+    // whole pixel centres): made from the runs, and both vectors sized once.
+    let mut kept_points = Vec::with_capacity(count);
+    kept_points.extend(pixel_centres(&runs));
+    let mut half_width = Vec::with_capacity(count);
+    half_width.extend(
+        points
+            .half_width
+            .iter()
+            .zip(keep)
+            .filter_map(|(&h, &k)| k.then_some(h)),
+    );
     Some(PointSet {
-        points: members().map(|p| points.points[p]).collect(),
-        half_width: members().map(|p| points.half_width[p]).collect(),
+        points: kept_points,
+        half_width,
         offsets,
         neighbors,
         spacing: points.spacing,

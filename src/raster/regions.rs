@@ -19,7 +19,8 @@
 //!   them.
 //!
 //! When no block of cells could seed (a cheap look at each cell's ink and dark shares and its
-//! texture, [`seed_possible`]), nothing more is done: a page of text pays for one pass.
+//! texture, [`seed_possible`], the texture looked at first in every third row of cells only),
+//! nothing more is done: a page of text pays for one pass.
 //!
 //! A region grows from seeds of [`SEED_CELLS`] x [`SEED_CELLS`] solid, dark-field or texture cells (the
 //! opening: a rule, a table's grid or a bold letter is never that wide), or of [`SEED_CELLS`] such
@@ -143,13 +144,15 @@ fn quad_euler(a: u8, b: u8, c: u8, d: u8) -> i32 {
 /// Four times the Euler number of each cell's windows ([`quad_euler`]), rows of cells in
 /// parallel: `padded` holds rows of `bw + 2` blocks, window `(x, y)` is blocks `(x, y)` to
 /// `(x + 1, y + 1)` for `x` in `0..=bw` and `y` in `0..cell_row.len()`, counted in cell `(cell_col[x],
-/// cell_row[y])` of `cols` x `rows` cells (both rising with their window's position).
+/// cell_row[y])` of `cols` x `rows` cells (both rising with their window's position); the rows
+/// of cells not `wanted` are left 0.
 fn euler_quads(
     padded: &[u8],
     bw: usize,
     cell_col: &[usize],
     cell_row: &[usize],
     (cols, rows): (usize, usize),
+    wanted: &(dyn Fn(usize) -> bool + Sync),
 ) -> Vec<i32> {
     let pw = bw + 2;
     // The windows of cell column c: col_starts[c]..col_starts[c + 1].
@@ -161,6 +164,9 @@ fn euler_quads(
         .par_chunks_mut(cols)
         .enumerate()
         .for_each(|(cy, quads)| {
+            if !wanted(cy) {
+                return;
+            }
             let ys = cell_row.partition_point(|&c| c < cy)..cell_row.partition_point(|&c| c <= cy);
             for y in ys {
                 let (top, bottom) = (
@@ -181,6 +187,64 @@ fn euler_quads(
             }
         });
     quads
+}
+
+/// Two sums per pixel column over some rows of an image, made in `u16` lanes (twice as many to a
+/// vector as `u32`) as many rows at a time as `u16` holds, then added to `u32` sums: the same
+/// integers as summing in `u32`, for the per-cell passes over every pixel of a page.
+struct ColumnSums {
+    /// The sums, per pixel column.
+    columns: [Vec<u32>; 2],
+    /// The sums of the rows being added.
+    lanes: [Vec<u16>; 2],
+}
+
+impl ColumnSums {
+    fn new(width: usize) -> ColumnSums {
+        ColumnSums {
+            columns: [vec![0; width], vec![0; width]],
+            lanes: [vec![0; width], vec![0; width]],
+        }
+    }
+
+    /// Sets the sums to those over rows `ys` of the two figures `each` gives a pixel from its gray
+    /// level and whether it is ink (`ink`, row-major), each at most `most`.
+    fn add_rows(
+        &mut self,
+        gray: GrayView<'_>,
+        ink: &[bool],
+        ys: std::ops::Range<usize>,
+        most: u16,
+        each: impl Fn(u8, bool) -> (u16, u16),
+    ) {
+        let width = self.columns[0].len();
+        let [first, second] = &mut self.columns;
+        first.fill(0);
+        second.fill(0);
+        let at_once = usize::from(u16::MAX / most.max(1));
+        let mut y0 = ys.start;
+        while y0 < ys.end {
+            let y1 = (y0 + at_once).min(ys.end);
+            let [a, b] = &mut self.lanes;
+            a.fill(0);
+            b.fill(0);
+            for y in y0..y1 {
+                let pixels = gray.row(y).iter().zip(&ink[y * width..(y + 1) * width]);
+                for ((a, b), (&v, &i)) in a.iter_mut().zip(b.iter_mut()).zip(pixels) {
+                    let (p, q) = each(v, i);
+                    *a += p;
+                    *b += q;
+                }
+            }
+            for (sum, &a) in first.iter_mut().zip(a.iter()) {
+                *sum += u32::from(a);
+            }
+            for (sum, &b) in second.iter_mut().zip(b.iter()) {
+                *sum += u32::from(b);
+            }
+            y0 = y1;
+        }
+    }
 }
 
 /// The pixel rows of the `cy`-th row of cells `cell` px high, of an image `height` px high.
@@ -276,8 +340,26 @@ fn fields(
     if cols < SEED_CELLS || rows < SEED_CELLS {
         return Vec::new();
     }
-    let texture = texture_cells(gray, histogram, dark_ink, level, stroke_width, cell);
-    if !seed_possible(gray, ink, dark_ink, level, cell, &texture) {
+    let counts = seed_counts(gray, ink, dark_ink, level, cell);
+    // Every block of SEED_CELLS x SEED_CELLS cells holds one of every SEED_CELLS-th row of cells:
+    // the textures of those rows alone (the others taken as possible) rule out nearly every page
+    // of text, for a third of the texture's pass; the other rows are looked at when they do not.
+    let sampled = |cy: usize| cy % SEED_CELLS == SEED_CELLS - 1;
+    let texture_of = |wanted: &(dyn Fn(usize) -> bool + Sync)| {
+        texture_cells(gray, histogram, dark_ink, level, stroke_width, cell, wanted)
+    };
+    let some = texture_of(&sampled);
+    if !seed_in_counts(&counts, cols, rows, &some) {
+        return Vec::new();
+    }
+    let rest = texture_of(&|cy| !sampled(cy));
+    let texture: Vec<bool> = some
+        .iter()
+        .zip(&rest)
+        .enumerate()
+        .map(|(c, (&some, &rest))| if sampled(c / cols) { some } else { rest })
+        .collect();
+    if !seed_in_counts(&counts, cols, rows, &texture) {
         return Vec::new();
     }
     let (cells, ink_shares) = classify(
@@ -742,27 +824,17 @@ fn faint(
     // (rows of cells in parallel).
     let mut sums = vec![(0u64, 0u32, 0u32); cols * rows];
     sums.par_chunks_mut(cols).enumerate().for_each_init(
-        || (vec![0u32; width], vec![0u32; width]),
-        |(paper_sums, paper_counts), (cy, sums)| {
+        || ColumnSums::new(width),
+        |column_sums, (cy, sums)| {
             // Each pixel column's paper over the row of cells (whole rows, without a branch, in
-            // vector lanes), then each cell's columns, turned per cell: `255 n - sum` under
-            // light ink.
-            paper_sums.fill(0);
-            paper_counts.fill(0);
+            // vector lanes: the level masked off under ink), then each cell's columns, turned per
+            // cell: `255 n - sum` under light ink.
             let ys = cell_rows(cy, cell, height);
             let cell_rows = ys.len() as u32;
-            for y in ys {
-                let pixels = gray.row(y).iter().zip(&ink[y * width..(y + 1) * width]);
-                for ((sum, n), (&v, &i)) in paper_sums
-                    .iter_mut()
-                    .zip(paper_counts.iter_mut())
-                    .zip(pixels)
-                {
-                    let paper = u32::from(!i);
-                    *sum += u32::from(v) * paper;
-                    *n += paper;
-                }
-            }
+            column_sums.add_rows(gray, ink, ys, u16::from(u8::MAX), |v, i| {
+                (u16::from(v & u8::from(i).wrapping_sub(1)), u16::from(!i))
+            });
+            let [paper_sums, paper_counts] = &column_sums.columns;
             let columns = paper_sums.chunks(cell).zip(paper_counts.chunks(cell));
             for (s, (sums, counts)) in sums.iter_mut().zip(columns) {
                 let (sum, n) = (sums.iter().sum::<u32>(), counts.iter().sum::<u32>());
@@ -1084,6 +1156,7 @@ fn classify(
 /// [`SOLID_SHARE`] ink and a dark field at least [`DARK_SHARE`] dark with little ink; a seed needs
 /// [`SEED_CELLS`] x [`SEED_CELLS`] cells that could be solid, dark fields or textures, or
 /// [`SEED_CELLS`] in a row along the image's edge that could be solid. A page of text has none.
+#[cfg(test)]
 fn seed_possible(
     gray: GrayView<'_>,
     ink: &[bool],
@@ -1094,6 +1167,20 @@ fn seed_possible(
 ) -> bool {
     let (width, height) = (gray.width() as usize, gray.height() as usize);
     let (cols, rows) = (width.div_ceil(cell), height.div_ceil(cell));
+    let counts = seed_counts(gray, ink, dark_ink, level, cell);
+    seed_in_counts(&counts, cols, rows, texture)
+}
+
+/// The counts of ink, dark and all pixels per cell that [`seed_possible`] looks at.
+fn seed_counts(
+    gray: GrayView<'_>,
+    ink: &[bool],
+    dark_ink: bool,
+    level: u8,
+    cell: usize,
+) -> Vec<[u32; 3]> {
+    let (width, height) = (gray.width() as usize, gray.height() as usize);
+    let (cols, rows) = (width.div_ceil(cell), height.div_ceil(cell));
     // Ink, dark and all pixels per cell, a cell's width of pixels at a time, rows of cells in
     // parallel.
     // Each pixel column's ink and pixels at or below the level over the row of cells (whole
@@ -1101,21 +1188,14 @@ fn seed_possible(
     // light ink.
     let mut counts = vec![[0u32; 3]; cols * rows];
     counts.par_chunks_mut(cols).enumerate().for_each_init(
-        || (vec![0u32; width], vec![0u32; width]),
-        |(inks, at_or_below), (cy, counts)| {
-            inks.fill(0);
-            at_or_below.fill(0);
+        || ColumnSums::new(width),
+        |sums, (cy, counts)| {
             let ys = cell_rows(cy, cell, height);
             let cell_rows = ys.len() as u32;
-            for y in ys {
-                let pixels = gray.row(y).iter().zip(&ink[y * width..(y + 1) * width]);
-                for ((inks, below), (&v, &i)) in
-                    inks.iter_mut().zip(at_or_below.iter_mut()).zip(pixels)
-                {
-                    *inks += u32::from(i);
-                    *below += u32::from(v <= level);
-                }
-            }
+            sums.add_rows(gray, ink, ys, 1, move |v, i| {
+                (u16::from(i), u16::from(v <= level))
+            });
+            let [inks, at_or_below] = &sums.columns;
             let columns = inks.chunks(cell).zip(at_or_below.chunks(cell));
             for (counts, (inks, below)) in counts.iter_mut().zip(columns) {
                 let all = cell_rows * inks.len() as u32;
@@ -1125,7 +1205,7 @@ fn seed_possible(
             }
         },
     );
-    seed_in_counts(&counts, cols, rows, texture)
+    counts
 }
 
 /// [`seed_possible`] from the cells' counts of ink, dark and all pixels.
@@ -1156,6 +1236,10 @@ fn seed_in_counts(counts: &[[u32; 3]], cols: usize, rows: usize, texture: &[bool
 /// shows them in one only. Pieces are counted by the Euler number (pieces of ink, 8-connected,
 /// less their holes) from the 2 x 2 windows of blocks (Gray's bit quads: `4 E = Q1 - Q3 - 2 QD`),
 /// each window counted in the cell of its first block.
+///
+/// Only the rows of cells `wanted` says are looked at (with the blocks their windows need); the
+/// cells of the others are said to be textures, so that a seed test on them rules out only what
+/// the rows looked at rule out.
 fn texture_cells(
     gray: GrayView<'_>,
     histogram: &[u64; 256],
@@ -1163,6 +1247,7 @@ fn texture_cells(
     level: u8,
     stroke_width: f64,
     cell: usize,
+    wanted: &(dyn Fn(usize) -> bool + Sync),
 ) -> Vec<bool> {
     let (width, height) = (gray.width() as usize, gray.height() as usize);
     let (cols, rows) = (width.div_ceil(cell), height.div_ceil(cell));
@@ -1199,6 +1284,22 @@ fn texture_cells(
     let side = ((stroke_width / 2.0).floor() as usize).max(1);
     let (bw, bh) = (width.div_ceil(side), height.div_ceil(side));
     let pw = bw + 2;
+    // The cell column of each window's first block (x is one more than the block's position),
+    // and the cell row of each row of windows (rising with it).
+    let cell_col: Vec<usize> = (0..=bw)
+        .map(|x| ((x.max(1) - 1) * side / cell).min(cols - 1))
+        .collect();
+    let cell_row: Vec<usize> = (0..=bh)
+        .map(|y| ((y.max(1) - 1) * side / cell).min(rows - 1))
+        .collect();
+    // The padded rows of blocks the wanted rows' windows read: window row y reads rows y, y + 1.
+    let mut needed = vec![false; bh + 2];
+    for (y, &cy) in cell_row.iter().enumerate() {
+        if wanted(cy) {
+            needed[y] = true;
+            needed[y + 1] = true;
+        }
+    }
     // Rows of blocks in parallel, each padded row of the two cuts written by one task. A block
     // row's pixels are summed column by column first (a pass the compiler runs in vector lanes),
     // then each block's columns; the gray is turned per block (`255 n - sum` under light ink).
@@ -1219,6 +1320,9 @@ fn texture_cells(
             .for_each_init(
                 || vec![0u32; width],
                 |columns, (by, (low, high))| {
+                    if !needed[by + 1] {
+                        return;
+                    }
                     let ys = by * side..((by + 1) * side).min(height);
                     let block_rows = ys.len();
                     columns.fill(0);
@@ -1240,19 +1344,14 @@ fn texture_cells(
                 },
             );
     }
-    // The cell column of each window's first block (x is one more than the block's position),
-    // and the cell row of each row of windows (rising with it).
-    let cell_col: Vec<usize> = (0..=bw)
-        .map(|x| ((x.max(1) - 1) * side / cell).min(cols - 1))
-        .collect();
-    let cell_row: Vec<usize> = (0..=bh)
-        .map(|y| ((y.max(1) - 1) * side / cell).min(rows - 1))
-        .collect();
-    let counts = padded.map(|padded| euler_quads(&padded, bw, &cell_col, &cell_row, (cols, rows)));
+    let counts =
+        padded.map(|padded| euler_quads(&padded, bw, &cell_col, &cell_row, (cols, rows), wanted));
     (0..cols * rows)
         .map(|c| {
             let (a, b) = (counts[0][c], counts[1][c]);
-            a.signum() == b.signum() && f64::from(a.abs().min(b.abs())) / 4.0 >= TEXTURE_PIECES
+            !wanted(c / cols)
+                || a.signum() == b.signum()
+                    && f64::from(a.abs().min(b.abs())) / 4.0 >= TEXTURE_PIECES
         })
         .collect()
 }
@@ -2311,11 +2410,33 @@ mod tests {
                     let ink: Vec<bool> = ink_dark.iter().map(|&d| d == dark_ink).collect();
                     for stroke_width in [1.0, 2.6, 3.0, 4.0, 5.5, 7.0, 9.0] {
                         let cell = ((CELL_WIDTHS * stroke_width).round() as usize).max(MIN_CELL);
-                        let texture =
-                            texture_cells(view, &histogram, dark_ink, level, stroke_width, cell);
+                        let texture = texture_cells(
+                            view,
+                            &histogram,
+                            dark_ink,
+                            level,
+                            stroke_width,
+                            cell,
+                            &|_| true,
+                        );
                         let before =
                             texture_cells_in_one_pass(view, dark_ink, level, stroke_width, cell);
                         assert_eq!(texture, before);
+                        // The rows looked at alone: theirs as in the whole, the others textures.
+                        let sampled = |cy: usize| cy % SEED_CELLS == SEED_CELLS - 1;
+                        let some = texture_cells(
+                            view,
+                            &histogram,
+                            dark_ink,
+                            level,
+                            stroke_width,
+                            cell,
+                            &sampled,
+                        );
+                        let cols = (width as usize).div_ceil(cell);
+                        for (c, (&some, &all)) in some.iter().zip(&texture).enumerate() {
+                            assert_eq!(some, all || !sampled(c / cols));
+                        }
                         assert_eq!(
                             seed_possible(view, &ink, dark_ink, level, cell, &texture),
                             seed_possible_in_one_pass(view, &ink, dark_ink, level, cell, &texture)
@@ -2430,7 +2551,7 @@ mod tests {
                 }
             }
             assert_eq!(
-                euler_quads(&padded, bw, &cell_col, &cell_row, (cols, rows)),
+                euler_quads(&padded, bw, &cell_col, &cell_row, (cols, rows), &|_| true),
                 want
             );
         }
@@ -2442,7 +2563,7 @@ mod tests {
         let (binary, _) = decide(&text, &[]);
         let view: GrayView<'_> = (&text).into();
         let histogram = super::super::binarize::histogram(view);
-        let texture = texture_cells(view, &histogram, true, 128, 3.0, 12);
+        let texture = texture_cells(view, &histogram, true, 128, 3.0, 12, &|_| true);
         assert!(texture.iter().all(|&t| !t));
         assert!(!seed_possible(view, &binary.ink, true, 128, 12, &texture));
         // A dark block 40 px square could seed.

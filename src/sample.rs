@@ -131,7 +131,6 @@ struct Sampler<'a> {
     overflow: Vec<(u32, u32)>,
     /// hostile input: queued points with keys of [`BUCKET_KEYS`] or more, smallest first.
     far: BinaryHeap<Reverse<(u32, u32)>>,
-    rim: Vec<u32>,
     stack: Vec<u32>,
     /// [`ExperimentParams::ink_disks`](crate::ExperimentParams::ink_disks) is in force (a pixel
     /// grid, not dropout mode).
@@ -168,7 +167,6 @@ impl<'a> Sampler<'a> {
             limit: 0,
             overflow: Vec::new(),
             far: BinaryHeap::new(),
-            rim: Vec::new(),
             stack: Vec::new(),
             ink_bound: params.experiments.ink_disks && points.grid.is_some() && !points.dropout,
             visible: if params.experiments.ink_disks {
@@ -396,28 +394,31 @@ impl<'a> Sampler<'a> {
     fn rim_cuts(&mut self, center: [f64; 2], count: usize, r: f64) -> usize {
         let inner = (r - 2.0 * self.points.spacing).max(0.0);
         let inner2 = inner * inner;
-        self.rim.clear();
         // Keys are never below the Euclidean distance, so rim points sit in the suffix of the
         // disk whose keys exceed the inner radius.
         let start = self.order[..count].partition_point(|&(key, _)| key <= quantize_bound(inner));
-        // Rim points are marked with the current epoch in `rim_seen` as they are found;
-        // components counted by DFS.
-        let (points, epoch) = (self.points, self.epoch);
-        for &(_, p) in &self.order[start..count] {
-            let q = points.points[p as usize];
-            if (q[0] - center[0]).powi(2) + (q[1] - center[1]).powi(2) > inner2 {
-                self.rim.push(p);
-                self.rim_seen[p as usize] = epoch;
-            }
-        }
+        let points = self.points;
+        let epoch = self.epoch;
         let Sampler {
-            rim,
+            order,
             rim_seen,
             stack,
             ..
         } = self;
+        let suffix = &order[start..count];
+        // Rim points are marked with the current epoch in `rim_seen`; components counted by DFS
+        // from them in disk order. A second pass over the suffix finds them again without a
+        // list: the only other points of the suffix marked with `epoch` are rim points left by
+        // a count of 3 at a larger radius (see `node_at`), whose distance is past that larger
+        // radius's inner one and so past this one's, which makes them rim points here too.
+        for &(_, p) in suffix {
+            let q = points.points[p as usize];
+            if (q[0] - center[0]).powi(2) + (q[1] - center[1]).powi(2) > inner2 {
+                rim_seen[p as usize] = epoch;
+            }
+        }
         let mut cuts = 0;
-        for &start in rim.iter() {
+        for &(_, start) in suffix {
             if rim_seen[start as usize] != epoch {
                 continue;
             }

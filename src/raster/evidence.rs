@@ -119,30 +119,24 @@ fn chords_lanes(dark: &[bool], width: usize, height: usize) -> Chords {
     // Each side's chords counted by length (a chord is at most the image's longer side): the
     // statistics below are those of the sorted chords, read off the counts.
     // The light side's counts first, then the dark side's. Each sampled row's horizontal runs
-    // at its lattice points are found and counted at once, a row's worth held at a time (the
-    // counts are whole numbers, the same in any order, so groups of rows are counted apart and
-    // added up).
+    // are found and their lattice points counted as each run is found: a point's chord is the
+    // shorter of its run's length and its vertical run (the counts are whole numbers, the same
+    // in any order, so groups of rows are counted apart and added up).
     let longest = width.max(height);
-    let count_row = |(mut counts, mut across): (Vec<usize>, Vec<u32>), r: usize| {
+    let count_row = |mut counts: Vec<usize>, r: usize| {
         let row = &dark[r * step * width..(r * step + 1) * width];
-        lattice_runs(row, step, &mut across);
-        let lattice = r * step * cols..(r * step + 1) * cols;
-        for ((&across, &down), &on) in across
-            .iter()
-            .zip(&vertical[lattice.clone()])
-            .zip(&values[lattice])
-        {
-            counts[usize::from(on) * (longest + 1) + across.min(down) as usize] += 1;
-        }
-        (counts, across)
+        let down = &vertical[r * step * cols..(r * step + 1) * cols];
+        lattice_runs(row, step, |lattice, across, on| {
+            let side = &mut counts[usize::from(on) * (longest + 1)..][..longest + 1];
+            for &down in &down[lattice] {
+                side[across.min(down) as usize] += 1;
+            }
+        });
+        counts
     };
     let counts = (0..rows)
         .into_par_iter()
-        .fold(
-            || (vec![0usize; 2 * (longest + 1)], vec![0u32; cols]),
-            count_row,
-        )
-        .map(|(counts, _)| counts)
+        .fold(|| vec![0usize; 2 * (longest + 1)], count_row)
         .reduce_with(|mut a, b| {
             a.iter_mut().zip(&b).for_each(|(a, b)| *a += b);
             a
@@ -167,11 +161,16 @@ fn chords_lanes(dark: &[bool], width: usize, height: usize) -> Chords {
     }
 }
 
-/// Writes into `out[k]` the length of the run of equal values of the line `row` that holds
-/// element `k * step`. Each run's end is looked for eight pixels at a time (the first byte of a
-/// word that differs from the run's value), then pixel by pixel within the last word.
+/// Calls `each(lattice, length, value)` for every run of equal values of the line `row`, in order:
+/// `lattice` the indices `k` of the elements `k * step` the run holds. Each run's end is looked
+/// for eight pixels at a time (the first byte of a word that differs from the run's value), then
+/// pixel by pixel within the last word.
 #[inline(always)]
-fn lattice_runs(row: &[bool], step: usize, out: &mut [u32]) {
+fn lattice_runs(
+    row: &[bool],
+    step: usize,
+    mut each: impl FnMut(std::ops::Range<usize>, u32, bool),
+) {
     // SAFETY: a `bool` is one byte holding 0 or 1, a valid `u8`; the slice is read only.
     let bytes: &[u8] = unsafe { std::slice::from_raw_parts(row.as_ptr().cast(), row.len()) };
     let len = bytes.len();
@@ -197,7 +196,7 @@ fn lattice_runs(row: &[bool], step: usize, out: &mut [u32]) {
         } else {
             start.div_ceil(step)..end.div_ceil(step)
         };
-        out[lattice].fill((end - start) as u32);
+        each(lattice, (end - start) as u32, v != 0);
         start = end;
     }
 }

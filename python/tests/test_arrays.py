@@ -72,9 +72,9 @@ def test_files_and_bytes_report_no_layout():
     assert ridgeline.trace_points([[0, 0], [1, 1], [2, 2]])._input_copied is None
 
 
-# Peak memory of one process tracing one large array, as a multiple of the array's size. The
-# trace's own mask is one byte per pixel, so a page read in place costs about one array's size
-# and a copied one about two.
+# Peak memory of one process tracing one large array, as a multiple of the array's size. A page
+# read in place costs the trace's own buffers (about 0.4 of the array's size on this page of
+# sparse lines) and a copied one a whole array more.
 MEMORY = textwrap.dedent(
     """
     import resource, sys
@@ -107,7 +107,8 @@ def _peak_growth(layout):
 def test_an_array_read_in_place_costs_no_copy_of_its_pixels():
     c_order, crop, fortran = _peak_growth("c"), _peak_growth("crop"), _peak_growth("fortran")
     assert (c_order["copied"], crop["copied"], fortran["copied"]) == (False, False, True)
-    # The copy is measurable (so the measurement can tell), and the layouts read in place lack it.
-    assert fortran["growth"] > 1.4, fortran
+    # The copy is measurable (so the measurement can tell: it costs one array's size), and the
+    # layouts read in place lack it.
+    assert fortran["growth"] > 1.0, fortran
     assert c_order["growth"] < fortran["growth"] - 0.7, (c_order, fortran)
     assert crop["growth"] < fortran["growth"] - 0.7, (crop, fortran)

@@ -530,13 +530,7 @@ fn trace_one(
 ) -> Traced {
     let mut timings = Timings::default();
     let components = components.unwrap_or_else(|| points.component_labels());
-    let Refining {
-        skeleton_only,
-        prepared,
-        part,
-        refined,
-        kept,
-    } = refine_with_skeleton(
+    let refining = refine_with_skeleton(
         &mut points,
         &components,
         true,
@@ -544,14 +538,14 @@ fn trace_one(
         recording,
         &mut timings,
     );
-    let (method_points, method_components) = method_part(&points, &components, &part);
+    let (method_points, method_components) = method_part(&points, &components, &refining.part);
     let clock = Instant::now();
-    let graph = if skeleton_only {
+    let graph = if refining.skeleton_only {
         StrokeGraph::default()
     } else {
-        let h = fit::node_spacing(&[&refined], method_points, params);
+        let h = fit::node_spacing(&[&refining.refined], method_points, params);
         fit::fit_in_components(
-            &refined,
+            &refining.refined,
             method_points,
             params,
             h,
@@ -560,17 +554,17 @@ fn trace_one(
     };
     timings.fit = clock.elapsed();
     let point_count = points.len();
-    let points = match part {
+    let points = match refining.part {
         Some((part, _)) => part,
         None => points,
     };
     finish_one(
         graph,
-        prepared,
+        refining.prepared,
         points,
         point_count,
-        refined,
-        kept,
+        refining.refined,
+        refining.kept,
         params,
         timings,
     )

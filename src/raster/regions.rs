@@ -1229,6 +1229,15 @@ fn seed_in_counts(counts: &[[u32; 3]], cols: usize, rows: usize, texture: &[bool
     inside || along_edge
 }
 
+/// The cell (of `cells`, each `cell` px) of each window of blocks `side` px square along one
+/// axis of `blocks` blocks padded with one block each side: window `i` starts at padded block
+/// `i`, the block at `i - 1` (the first window at the first block).
+fn window_cells(blocks: usize, side: usize, cell: usize, cells: usize) -> Vec<usize> {
+    (0..=blocks)
+        .map(|i| ((i.max(1) - 1) * side / cell).min(cells - 1))
+        .collect()
+}
+
 /// Which cells are textures ([`TEXTURE_PIECES`]). The gray is averaged over blocks of half a
 /// stroke width (a fingerprint's pores and a scan's grain, finer than that, are gone) and cut at
 /// two levels, halfway from the global level to the ink's median gray and halfway to the paper's:
@@ -1286,12 +1295,8 @@ fn texture_cells(
     let pw = bw + 2;
     // The cell column of each window's first block (x is one more than the block's position),
     // and the cell row of each row of windows (rising with it).
-    let cell_col: Vec<usize> = (0..=bw)
-        .map(|x| ((x.max(1) - 1) * side / cell).min(cols - 1))
-        .collect();
-    let cell_row: Vec<usize> = (0..=bh)
-        .map(|y| ((y.max(1) - 1) * side / cell).min(rows - 1))
-        .collect();
+    let cell_col = window_cells(bw, side, cell, cols);
+    let cell_row = window_cells(bh, side, cell, rows);
     // The padded rows of blocks the wanted rows' windows read: window row y reads rows y, y + 1.
     let mut needed = vec![false; bh + 2];
     for (y, &cy) in cell_row.iter().enumerate() {
@@ -2531,12 +2536,8 @@ mod tests {
                     padded[y * pw + x] = u8::from(rand(10) < density);
                 }
             }
-            let cell_col: Vec<usize> = (0..=bw)
-                .map(|x| ((x.max(1) - 1) * side / cell).min(cols - 1))
-                .collect();
-            let cell_row: Vec<usize> = (0..=bh)
-                .map(|y| ((y.max(1) - 1) * side / cell).min(rows - 1))
-                .collect();
+            let cell_col = window_cells(bw, side, cell, cols);
+            let cell_row = window_cells(bh, side, cell, rows);
             let mut want = vec![0i32; cols * rows];
             for y in 0..=bh {
                 for x in 0..=bw {

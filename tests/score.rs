@@ -3,8 +3,8 @@
 
 use ridgeline::{Edge, StrokeGraph, Vertex};
 use ridgeline_testkit::score::{
-    aggregate, normalize, off_ink, score, score_with, truth_graph, truth_graph_with, ScoreOptions,
-    Scores,
+    aggregate, fold_retraces, normalize, off_ink, score, score_with, truth_graph, truth_graph_with,
+    ScoreOptions, Scores,
 };
 use ridgeline_testkit::synth::{render, Case, Stroke};
 
@@ -818,4 +818,67 @@ fn filled_loops_can_be_read_as_the_strokes_their_ink_shows() {
     // A loop around a hole stays a cycle.
     let c = case("ring", vec![circle([50.0, 50.0], 20.0, 5.0)], 100, 100);
     assert_eq!(truth_graph_with(&c, &loops).cycles(), 1);
+}
+
+#[test]
+fn retraces_can_be_read_as_the_arms_their_ink_shows() {
+    let folds = ScoreOptions {
+        retraces_as_arms: true,
+        ..ScoreOptions::default()
+    };
+    let near = |ends: &[[f64; 2]], p: [f64; 2]| ends.iter().any(|&e| ridgeline::dist(e, p) <= 1.5);
+
+    // The peak of a script `u`: the pen goes up to (40, 10), comes back down over its own ink
+    // and leaves it at (40, 40) to the right. The ink shows a stem with an arm up: a T at the
+    // foot of the stem and an end at the peak, which the pen-path truth reads as one line.
+    let u = Stroke::new(
+        vec![
+            [10.0, 40.0],
+            [40.0, 40.0],
+            [40.0, 10.0],
+            [40.0, 40.0],
+            [70.0, 40.0],
+        ],
+        4.0,
+    );
+    let c = case("u_peak", vec![u], 80, 50);
+    let (ends, _, junctions) = ends_dots_junctions(&truth_graph(&c));
+    assert_eq!(
+        (ends.len(), junctions),
+        (2, 0),
+        "by default one line: {ends:?}"
+    );
+    let t = truth_graph_with(&c, &folds);
+    let (ends, dots, junctions) = ends_dots_junctions(&t);
+    assert_eq!((ends.len(), dots, junctions), (3, 0, 1), "{ends:?}");
+    assert!(near(&ends, [40.0, 10.0]), "{ends:?}");
+    assert!(score_with(&c, &t, &t, &folds).exactly_right);
+
+    // A narrow V and a sharp one whose legs overlap only near the tip, a hook whose
+    // return runs a width beside its way out (a wedge) and a closed ring are no retrace.
+    let narrow = Stroke::new(
+        vec![
+            [10.0, 40.0],
+            [40.0, 40.0],
+            [46.0, 10.0],
+            [52.0, 40.0],
+            [80.0, 40.0],
+        ],
+        3.0,
+    );
+    let v = Stroke::new(vec![[10.0, 10.0], [40.0, 40.0], [50.0, 5.0]], 4.0);
+    let hook = Stroke::new(
+        vec![[10.0, 20.0], [50.0, 20.0], [47.0, 24.0], [30.0, 24.0]],
+        4.0,
+    );
+    for (name, stroke, w, h) in [
+        ("narrow_v", narrow, 90, 50),
+        ("sharp_v", v, 60, 50),
+        ("wedge_hook", hook, 60, 40),
+        ("ring", circle([30.0, 30.0], 12.0, 4.0), 60, 60),
+    ] {
+        let c = case(name, vec![stroke.clone()], w, h);
+        assert_eq!(fold_retraces(&c.strokes, &c.binary), vec![stroke], "{name}");
+        assert_eq!(truth_graph_with(&c, &folds), truth_graph(&c), "{name}");
+    }
 }

@@ -41,6 +41,7 @@ pub const OPTIONS: ScoreOptions = ScoreOptions {
     holes_from_binary: true,
     min_match_radius: 5.0,
     filled_loops_as_strokes: false,
+    retraces_as_arms: false,
 };
 
 /// One character of `characters.json`.

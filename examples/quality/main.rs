@@ -370,6 +370,7 @@ fn load_group(name: &str, hanzi_every: usize) -> anyhow::Result<Group> {
         cases,
         options: ScoreOptions {
             filled_loops_as_strokes: FILLED_OUTLINE_FONTS.contains(&name),
+            retraces_as_arms: FILLED_OUTLINE_FONTS.contains(&name),
             ..ScoreOptions::default()
         },
         captures: HashMap::new(),
@@ -616,6 +617,13 @@ fn main() -> anyhow::Result<()> {
                 Ok("all") => true,
                 Ok("none") => false,
                 _ => options.filled_loops_as_strokes,
+            },
+            // QUALITY_TRUTH_RETRACES=all / =none: the same for the strokes that come back over
+            // their own ink (`ScoreOptions::retraces_as_arms`).
+            retraces_as_arms: match std::env::var("QUALITY_TRUTH_RETRACES").as_deref() {
+                Ok("all") => true,
+                Ok("none") => false,
+                _ => options.retraces_as_arms,
             },
             ..options
         };

@@ -24,6 +24,7 @@ use serde::Serialize;
 
 use crate::synth::{render, Case};
 use ridgeline::csr::Csr;
+use ridgeline::draw::Stroke;
 use ridgeline::geometry::{point_in_polygon, segment_dist};
 use ridgeline::mask::{label_components, on_image_edge, Connectivity};
 use ridgeline::Binary;
@@ -71,6 +72,13 @@ pub struct ScoreOptions {
     /// longer than wide by a width, rather than dropping it (a loop alone becoming a dot).
     /// Default value: `false`. docs/quality.md, "Spurious ends on japanese (issue 31)".
     pub filled_loops_as_strokes: bool,
+    /// Whether the truth reads a stroke that turns and comes back over its own ink (a retrace:
+    /// the pen runs back along what it drew, as script fonts draw the peaks of `u` and `i` and
+    /// the hooks of `r`) as the ink shows it: the stroke ends at the turn, and where it leaves
+    /// that ink it goes on from the nearest point of what it drew (a T), rather than as one line
+    /// through the turn with no end ([`fold_retraces`]). Default value: `false`.
+    /// docs/quality.md, "Session of 2026-12-07, thirteenth".
+    pub retraces_as_arms: bool,
 }
 
 impl Default for ScoreOptions {
@@ -80,6 +88,7 @@ impl Default for ScoreOptions {
             holes_from_binary: false,
             min_match_radius: MIN_MATCH_RADIUS,
             filled_loops_as_strokes: false,
+            retraces_as_arms: false,
         }
     }
 }
@@ -467,7 +476,11 @@ pub fn truth_graph(case: &Case) -> StrokeGraph {
 /// [`truth_graph`], with the holes taken as `options` says.
 pub fn truth_graph_with(case: &Case, options: &ScoreOptions) -> StrokeGraph {
     let holes = case_holes(case, options);
-    let mut net = Net::from_strokes(case);
+    let mut net = if options.retraces_as_arms {
+        Net::from_strokes(&fold_retraces(&case.strokes, &case.binary))
+    } else {
+        Net::from_strokes(&case.strokes)
+    };
     let r_max = net.max_half_width();
     net.split_crossings(None);
     net.drop_tails(r_max);
@@ -494,6 +507,124 @@ pub fn truth_graph_with(case: &Case, options: &ScoreOptions) -> StrokeGraph {
         }
     }
     net.into_stroke_graph(case.binary.width, case.binary.height)
+}
+
+/// The strokes with each stretch where a stroke comes back over its own ink left out
+/// ([`ScoreOptions::retraces_as_arms`]). A sample of a stroke (every [`SPACING`] px) is on a
+/// retrace when an earlier sample of the same stroke lies within a quarter of the wider of their
+/// widths (it runs along the earlier sample's centerline; the legs of a hook a width apart make a
+/// wedge, whose ink shows a turn, not an arm), with ink all along the segment between them, and the stroke ran
+/// farther than that distance plus a width between them (not the stroke's own neighbourhood). A
+/// run of such samples is a retrace when the stroke, between the run's first sample and the
+/// earlier one nearest it, stays within a width of that first sample and comes nearer to the
+/// earlier sample all the way back from its turn: it turned within its own ink, as a hairpin does
+/// (a small loop closed on itself comes right back, then leaves again); and when the run ends at
+/// least a width from the turn (the legs of a corner wider than 15 degrees run that close for
+/// less, and a blob's outline stays within it). A loop whose crossing looks the same goes farther (a loop around a hole is
+/// wider than a width), and so does a closed stroke meeting its start. The stroke then ends at
+/// its turn (the sample of that stretch farthest from the run's start), the run is dropped, and
+/// the rest of the stroke, unless it lies all within half a width of what is kept, becomes a
+/// stroke of its own starting at the nearest point of what is kept: the T the ink shows. Closed
+/// strokes are left as they are.
+pub fn fold_retraces(strokes: &[Stroke], binary: &Binary) -> Vec<Stroke> {
+    let mut out = Vec::with_capacity(strokes.len());
+    for stroke in strokes {
+        let n = stroke.points.len().min(stroke.widths.len());
+        let closed = n >= 4 && dist(stroke.points[0], stroke.points[n - 1]) <= 1e-9;
+        let usable = n >= 2
+            && stroke.points[..n].iter().all(|&p| finite(p))
+            && stroke.widths[..n].iter().all(|w| w.is_finite());
+        if closed || !usable {
+            out.push(stroke.clone());
+            continue;
+        }
+        let (points, widths, arcs) = densify(&stroke.points[..n], &stroke.widths[..n]);
+        let on_ink = |a: [f64; 2], b: [f64; 2]| {
+            let steps = (dist(a, b) / SPACING).ceil().max(1.0) as usize;
+            (0..=steps).all(|k| {
+                let p = lerp(a, b, k as f64 / steps as f64);
+                binary.get(p[0].floor() as i64, p[1].floor() as i64)
+            })
+        };
+        // The nearest earlier sample each sample retraces, if any.
+        let matched: Vec<Option<usize>> = (0..points.len())
+            .map(|i| {
+                (0..i)
+                    .filter(|&j| {
+                        let (d, w) = (dist(points[i], points[j]), widths[i].max(widths[j]));
+                        d <= w / 4.0 && arcs[i] - arcs[j] >= d + w && on_ink(points[i], points[j])
+                    })
+                    .min_by(|&a, &b| {
+                        dist(points[i], points[a]).total_cmp(&dist(points[i], points[b]))
+                    })
+            })
+            .collect();
+        // Runs of retracing samples whose stroke turned within a width of their start: (the
+        // turn, the run's first and last sample).
+        let mut runs: Vec<(usize, usize, usize)> = Vec::new();
+        let mut i = 0;
+        while i < points.len() {
+            let Some(j) = matched[i] else {
+                i += 1;
+                continue;
+            };
+            let mut end = i;
+            while end + 1 < points.len() && matched[end + 1].is_some() {
+                end += 1;
+            }
+            let far = |k: &usize| dist(points[*k], points[i]);
+            let turn = (j..i).max_by(|a, b| far(a).total_cmp(&far(b))).unwrap_or(j);
+            let width = widths[i].max(widths[j]);
+            // From the turn back to the run the stroke comes nearer to where it passed: a hairpin
+            // (a small loop closed on itself comes right back there first, then leaves again).
+            let back = |k: usize| dist(points[k], points[j]);
+            let nearest_back = (turn..=i).map(back).fold(f64::INFINITY, f64::min);
+            let local = far(&turn) <= width && back(i) - nearest_back <= width / 4.0;
+            let along = dist(points[end], points[turn]) >= width;
+            if local && along && runs.last().is_none_or(|r| r.2 < turn) {
+                runs.push((turn, i, end));
+            }
+            i = end + 1;
+        }
+        if runs.is_empty() {
+            out.push(stroke.clone());
+            continue;
+        }
+        // The kept pieces: the stroke up to the first turn, then after each run up to the next
+        // turn, each later piece starting at the nearest point of the pieces kept before it.
+        let piece = |from: usize, to: usize| Stroke {
+            points: points[from..=to].to_vec(),
+            widths: widths[from..=to].to_vec(),
+        };
+        let mut kept: Vec<Stroke> = vec![piece(0, runs[0].0)];
+        for (k, &(_, _, end)) in runs.iter().enumerate() {
+            let from = end + 1;
+            let to = runs.get(k + 1).map_or(points.len() - 1, |r| r.0);
+            if from >= points.len() || to <= from {
+                continue;
+            }
+            let nearest = |p: [f64; 2]| {
+                kept.iter()
+                    .flat_map(|s| s.points.iter().zip(&s.widths))
+                    .min_by(|a, b| dist(*a.0, p).total_cmp(&dist(*b.0, p)))
+                    .map(|(&q, &w)| (q, w))
+            };
+            let covered = (from..=to).all(|m| {
+                nearest(points[m]).is_some_and(|(q, _)| dist(q, points[m]) <= widths[m] / 2.0)
+            });
+            if covered {
+                continue;
+            }
+            let mut rest = piece(from, to);
+            if let Some((q, w)) = nearest(points[from]) {
+                rest.points.insert(0, q);
+                rest.widths.insert(0, w);
+            }
+            kept.push(rest);
+        }
+        out.extend(kept);
+    }
+    out
 }
 
 /// The prediction as a graph with a 1 px tolerance: ends within 1 px of a centerline joined to it,
@@ -1109,9 +1240,9 @@ impl Net {
         self.nodes.len() - 1
     }
 
-    fn from_strokes(case: &Case) -> Net {
+    fn from_strokes(strokes: &[Stroke]) -> Net {
         let mut net = Net::default();
-        for (source, stroke) in case.strokes.iter().enumerate() {
+        for (source, stroke) in strokes.iter().enumerate() {
             let n = stroke.points.len().min(stroke.widths.len());
             let mut points = Vec::with_capacity(n);
             let mut widths = Vec::with_capacity(n);

@@ -523,7 +523,12 @@ fn mirrored_taps(envelope: &[f64], k: f64, (cosines, sines): (&mut Vec<f64>, &mu
     }
     for t in 0..=radius {
         let angle = k * t as f64;
-        let (sin, cos) = (angle.sin(), angle.cos());
+        // `sin ±0 = ±0` and `cos ±0 = 1` exactly: the centre tap without the library's call.
+        let (sin, cos) = if angle == 0.0 {
+            (angle, 1.0)
+        } else {
+            (angle.sin(), angle.cos())
+        };
         let (after, before) = (radius + t, radius - t);
         // `t = 0` last from `after`, as the direct evaluation has it (`sin(-0) = -0`).
         cosines[before] = envelope[before] * cos;

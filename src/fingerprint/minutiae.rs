@@ -12,6 +12,7 @@ use crate::geometry::{arc_lengths, dist, point_at};
 use crate::minutiae::{detect, drop_broken_ridges, Minutia, MinutiaKind, MinutiaeOptions};
 use crate::params::FingerprintParams;
 use crate::stroke_graph::StrokeGraph;
+use std::cell::Cell;
 
 /// The minutiae of a print traced with the fingerprint front end (docs/fingerprints.md,
 /// "Minutiae"): every ending and bifurcation of `graph`, less those the structure of the ridges
@@ -148,11 +149,11 @@ pub fn fingerprint_minutiae(
     let margin = params.border_margin.max(params.border_periods * typical);
     if margin > 0.0 && !grid.is_empty() {
         let (w, h) = (grid.width as usize, grid.height as usize);
-        let region = crate::mask::close_disk(&print.ridges.ink, w, h, typical.max(4.0));
-        let mut outside: Vec<bool> = region.iter().map(|&r| !r).collect();
+        let mut masked = vec![false; w * h];
         print
             .segmentation
-            .outside_runs(|run| outside[run].fill(true));
+            .outside_runs(|run| masked[run].fill(true));
+        let outside = PrintOutside::new(masked, &print.ridges.ink, [w, h], typical.max(4.0));
         let at_least = |m: &Minutia, margin: f64| {
             let [x, y] = m.pos;
             let pixel = [(x as usize).min(w - 1), (y as usize).min(h - 1)];
@@ -160,7 +161,7 @@ pub fn fingerprint_minutiae(
                 && y >= margin
                 && w as f64 - x >= margin
                 && h as f64 - y >= margin
-                && !outside_within(&outside, [w, h], pixel, margin * margin)
+                && !outside.within(pixel, margin * margin)
         };
         let inward_margin = params.inward_border_periods * typical;
         if inward_margin > 0.0 && inward_margin < margin {
@@ -180,7 +181,7 @@ pub fn fingerprint_minutiae(
                 at_least(m, margin)
                     || (at_least(m, inward_margin)
                         && f64::from(print.quality_at(m.pos)) >= needed
-                        && !points_out(m, &outside, [w, h], margin)
+                        && !points_out(m, |q| outside.at(q), [w, h], margin)
                         && confirmed_arms(m))
             });
         } else {
@@ -240,33 +241,196 @@ fn arms_confirmed(graph: &StrokeGraph, vertex: usize, ridges: &Binary, reach: f6
     least
 }
 
-/// Whether a pixel of `outside` (`size` its width and height) lies at a squared distance below
-/// `d2` from `pixel` (between pixel centres): the distance transform of `outside` read at one
-/// pixel, looking only within the distance asked about.
-fn outside_within(outside: &[bool], [w, h]: [usize; 2], [x, y]: [usize; 2], d2: f64) -> bool {
-    if d2.is_nan() || d2 <= 0.0 {
-        return false;
-    }
-    let reach = d2.sqrt().ceil() as usize;
-    let (x0, x1) = (x.saturating_sub(reach), (x + reach).min(w - 1));
-    let (y0, y1) = (y.saturating_sub(reach), (y + reach).min(h - 1));
-    (y0..=y1).any(|qy| {
-        let dy = qy.abs_diff(y) as f64;
-        outside[qy * w + x0..=qy * w + x1]
-            .iter()
-            .enumerate()
-            .any(|(i, &o)| o && (dy * dy + ((x0 + i).abs_diff(x) as f64).powi(2)) < d2)
-    })
+/// The print's outside as the border test asks about it: the pixels outside the segmentation
+/// mask, and those outside the closing of the confirmed ridges by a disk ([`mask::close_disk`]'s
+/// closing, the same pixels), the closing worked out only where it is asked about. A pixel is in
+/// the closing when every image pixel within the disk of it is within the disk of a ridge pixel
+/// (the dilation), so whether a pixel outside the closing lies near a minutia is whether a pixel
+/// outside the dilation lies within the disk of the pixels near it; each pixel's dilation is
+/// found once, by looking for ridge pixels within its disk, nearest rows first. The minutiae of
+/// a print ask about a few thousand pixels, where the closing of the whole image was about 5 %
+/// of a print's instructions (docs/performance.md).
+///
+/// [`mask::close_disk`]: crate::mask::close_disk
+struct PrintOutside<'a> {
+    /// The pixels outside the segmentation mask, row-major.
+    masked: Vec<bool>,
+    /// The confirmed ridges' pixels, row-major.
+    ridges: &'a [bool],
+    /// Width and height, px.
+    size: [usize; 2],
+    /// The half-width of the disk's row at each row offset from its centre, 0 to the radius;
+    /// empty when the closing is (no ridge pixel, or a radius that is not finite).
+    half: Vec<usize>,
+    /// Per pixel, whether it is within the disk of a ridge pixel: 0 not worked out yet, 1 no,
+    /// 2 yes.
+    dilated: Vec<Cell<u8>>,
 }
 
-/// Whether `m`'s direction, followed for `reach` px, leaves the print (`outside`, `size` its
-/// width and height) or the image: a ridge cut by the print's outline ends pointing out of it.
-fn points_out(m: &Minutia, outside: &[bool], [w, h]: [usize; 2], reach: f64) -> bool {
+impl<'a> PrintOutside<'a> {
+    /// The outside of a print of `size` whose mask leaves out `masked`, its ridges `ridges`
+    /// closed by a disk of `radius` px: the pixels whose squared distance, between pixel
+    /// centres, is at most the largest whole number at most the `f32` square of `radius`, as
+    /// [`mask::close_disk`] has it (distances within the image are at most its diagonal's
+    /// square, which caps the number).
+    ///
+    /// [`mask::close_disk`]: crate::mask::close_disk
+    fn new(masked: Vec<bool>, ridges: &'a [bool], [w, h]: [usize; 2], radius: f64) -> Self {
+        let r2 = (radius * radius) as f32;
+        let cap = (w.saturating_sub(1).pow(2) + h.saturating_sub(1).pow(2)) as u64;
+        let any_ridge = ridges.len() >= w * h && ridges[..w * h].contains(&true);
+        let half = if !r2.is_finite() || !any_ridge {
+            Vec::new()
+        } else {
+            // The largest whole number whose `f32` is at most `r2`, or the cap.
+            let t = if f64::from(r2) >= cap as f64 {
+                cap
+            } else {
+                (r2 as u64..)
+                    .take_while(|&t| t as f32 <= r2)
+                    .last()
+                    .unwrap_or(0)
+            };
+            let root = |n: u64| {
+                let mut r = (n as f64).sqrt() as u64;
+                while r * r > n {
+                    r -= 1;
+                }
+                while (r + 1) * (r + 1) <= n {
+                    r += 1;
+                }
+                r
+            };
+            (0..=root(t)).map(|g| root(t - g * g) as usize).collect()
+        };
+        PrintOutside {
+            masked,
+            ridges,
+            size: [w, h],
+            half,
+            dilated: (0..w * h).map(|_| Cell::new(0)).collect(),
+        }
+    }
+
+    /// Calls `visit(y, x0, x1)` for each image row `y` within the disk of row `row` (the disk's
+    /// rows nearest first), with the columns `x0..=x1` within it of the run `lo..=hi` of `row`.
+    fn disk_rows(
+        &self,
+        row: usize,
+        (lo, hi): (usize, usize),
+        mut visit: impl FnMut(usize, usize, usize) -> bool,
+    ) -> bool {
+        let [w, h] = self.size;
+        self.half.iter().enumerate().any(|(dy, &reach)| {
+            let (x0, x1) = (lo.saturating_sub(reach), (hi + reach).min(w - 1));
+            [
+                row.checked_sub(dy),
+                (dy > 0).then_some(row + dy).filter(|&y| y < h),
+            ]
+            .into_iter()
+            .flatten()
+            .any(|y| visit(y, x0, x1))
+        })
+    }
+
+    /// Whether pixel `(x, y)` is within the disk of a ridge pixel: at once for a ridge pixel,
+    /// from `dilated` for one already asked about.
+    #[inline(always)]
+    fn is_dilated(&self, x: usize, y: usize) -> bool {
+        let p = y * self.size[0] + x;
+        if self.ridges[p] {
+            return true;
+        }
+        match self.dilated[p].get() {
+            0 => self.dilate(x, y, p),
+            known => known == 2,
+        }
+    }
+
+    /// [`PrintOutside::is_dilated`] worked out: a ridge pixel in the disk's rows, nearest first.
+    #[inline(never)]
+    fn dilate(&self, x: usize, y: usize, p: usize) -> bool {
+        let [w, h] = self.size;
+        let ridge_in = |row: usize, x0: usize, x1: usize| {
+            self.ridges[row * w + x0..=row * w + x1].contains(&true)
+        };
+        let mut found = false;
+        for (dy, &reach) in self.half.iter().enumerate() {
+            let (x0, x1) = (x.saturating_sub(reach), (x + reach).min(w - 1));
+            if (dy <= y && ridge_in(y - dy, x0, x1))
+                || (dy > 0 && y + dy < h && ridge_in(y + dy, x0, x1))
+            {
+                found = true;
+                break;
+            }
+        }
+        self.dilated[p].set(1 + u8::from(found));
+        found
+    }
+
+    /// Whether pixel `q` (row-major index) is outside the print.
+    fn at(&self, q: usize) -> bool {
+        if self.masked[q] || self.half.is_empty() {
+            return true;
+        }
+        let w = self.size[0];
+        let (x, y) = (q % w, q / w);
+        self.disk_rows(y, (x, x), |yy, x0, x1| {
+            (x0..=x1).any(|xx| !self.is_dilated(xx, yy))
+        })
+    }
+
+    /// Whether a pixel outside the print lies at a squared distance below `d2` from `pixel`
+    /// (between pixel centres): the distance transform of the outside read at one pixel,
+    /// looking only within the distance asked about.
+    fn within(&self, [x, y]: [usize; 2], d2: f64) -> bool {
+        if d2.is_nan() || d2 <= 0.0 {
+            return false;
+        }
+        let [w, h] = self.size;
+        let reach = d2.sqrt().ceil() as usize;
+        let (x0, x1) = (x.saturating_sub(reach), (x + reach).min(w - 1));
+        let (y0, y1) = (y.saturating_sub(reach), (y + reach).min(h - 1));
+        let near = |qx: usize, dy: f64| (dy * dy + (qx.abs_diff(x) as f64).powi(2)) < d2;
+        // The pixels within the disk of those near `pixel`, a run of columns per row: each
+        // near row's run holds column `x` (the nearest), and so does its run widened by the
+        // disk, so the runs a row gets from the rows near it make one run.
+        let first = y0.saturating_sub(self.half.len());
+        let mut runs = vec![(usize::MAX, 0usize); y1 + self.half.len() + 1 - first];
+        for qy in y0..=y1 {
+            let dy = qy.abs_diff(y) as f64;
+            let Some(lo) = (x0..=x).find(|&qx| near(qx, dy)) else {
+                continue;
+            };
+            let hi = (x..=x1).rev().find(|&qx| near(qx, dy)).unwrap_or(x);
+            if self.masked[qy * w + lo..=qy * w + hi].contains(&true) || self.half.is_empty() {
+                return true;
+            }
+            self.disk_rows(qy, (lo, hi), |py, a, b| {
+                let run = &mut runs[py - first];
+                *run = (run.0.min(a), run.1.max(b));
+                false
+            });
+        }
+        runs.iter()
+            .enumerate()
+            .any(|(k, &(a, b))| a <= b && (a..=b).any(|px| !self.is_dilated(px, first + k)))
+    }
+}
+
+/// Whether `m`'s direction, followed for `reach` px, leaves the print (`outside` of a row-major
+/// pixel index, `size` the width and height) or the image: a ridge cut by the print's outline ends pointing out of it.
+fn points_out(
+    m: &Minutia,
+    outside: impl Fn(usize) -> bool,
+    [w, h]: [usize; 2],
+    reach: f64,
+) -> bool {
     let (dy, dx) = m.direction.sin_cos();
     (1..=reach.ceil() as usize).any(|k| {
         let (x, y) = (m.pos[0] + k as f64 * dx, m.pos[1] + k as f64 * dy);
         !(x >= 0.0 && y >= 0.0 && x < w as f64 && y < h as f64)
-            || outside[y as usize * w + x as usize]
+            || outside(y as usize * w + x as usize)
     })
 }
 
@@ -596,6 +760,86 @@ mod tests {
         assert!(!nearly_closed(&[[0.0, 0.0]], 9.0));
     }
 
+    /// The outside as it was computed for the whole image: the closing of the ridges
+    /// ([`crate::mask::close_disk`]) and the mask, and its distance read pixel by pixel.
+    fn outside_of_the_whole_image(
+        masked: &[bool],
+        ridges: &[bool],
+        [w, h]: [usize; 2],
+        radius: f64,
+    ) -> Vec<bool> {
+        let region = crate::mask::close_disk(ridges, w, h, radius);
+        region.iter().zip(masked).map(|(&r, &m)| !r || m).collect()
+    }
+
+    fn outside_within_pixel_by_pixel(
+        outside: &[bool],
+        [w, h]: [usize; 2],
+        [x, y]: [usize; 2],
+        d2: f64,
+    ) -> bool {
+        (0..h).any(|qy| {
+            (0..w).any(|qx| {
+                let (dy, dx) = (qy.abs_diff(y) as f64, qx.abs_diff(x) as f64);
+                outside[qy * w + qx] && dy * dy + dx.powi(2) < d2
+            })
+        })
+    }
+
+    #[test]
+    fn the_outside_worked_out_where_asked_is_the_whole_images() {
+        let mut rng = crate::test_rng::XorShift::new(0x9E37_79B9_7F4A_7C15);
+        for case in 0..24 {
+            let (w, h) = (
+                20 + (rng.next_u64() % 50) as usize,
+                20 + (rng.next_u64() % 50) as usize,
+            );
+            // Ridges: stripes of a random period and direction over a random disc, with holes
+            // and specks; the mask leaves out a random band of columns.
+            let (period, angle) = (5.0 + 6.0 * rng.unit(), std::f64::consts::PI * rng.unit());
+            let centre = [w as f64 * rng.unit(), h as f64 * rng.unit()];
+            let radius = (w.min(h) as f64) * (0.3 + 0.5 * rng.unit());
+            let ridges: Vec<bool> = (0..w * h)
+                .map(|k| {
+                    let (x, y) = ((k % w) as f64, (k / w) as f64);
+                    let (dx, dy) = (x - centre[0], y - centre[1]);
+                    let u = dx * angle.cos() + dy * angle.sin();
+                    let noise = rng.unit();
+                    (dx * dx + dy * dy <= radius * radius
+                        && (u / period).rem_euclid(1.0) < 0.5
+                        && noise > 0.05)
+                        || noise > 0.995
+                })
+                .map(|r| r && case % 8 != 7)
+                .collect();
+            let band = (rng.next_u64() % w as u64) as usize;
+            let masked: Vec<bool> = (0..w * h).map(|k| k % w < band / 3).collect();
+            let disk = [4.0, 5.5, 7.3, 9.0, 12.0, f64::INFINITY][case % 6];
+            let whole = outside_of_the_whole_image(&masked, &ridges, [w, h], disk);
+            let lazy = PrintOutside::new(masked.clone(), &ridges, [w, h], disk);
+            for _ in 0..40 {
+                let pixel = [
+                    (rng.next_u64() % w as u64) as usize,
+                    (rng.next_u64() % h as u64) as usize,
+                ];
+                let d2 =
+                    [0.0, 2.0, 30.25, 144.0, 400.0][(rng.next_u64() % 5) as usize] * rng.unit();
+                assert_eq!(
+                    lazy.within(pixel, d2),
+                    outside_within_pixel_by_pixel(&whole, [w, h], pixel, d2),
+                    "case {case}: {w} x {h}, disk {disk}, {pixel:?} within {d2}"
+                );
+            }
+            for (q, &o) in whole.iter().enumerate() {
+                assert_eq!(
+                    lazy.at(q),
+                    o,
+                    "case {case}: pixel {q} of {w} x {h}, disk {disk}"
+                );
+            }
+        }
+    }
+
     #[test]
     fn a_minutia_points_out_of_the_print_when_its_direction_leaves_it() {
         // A print of 100 x 60 px whose left 40 columns are outside; minutiae 6 px inside it.
@@ -609,7 +853,7 @@ mod tests {
             width: 3.0,
             quality: None,
         };
-        let out = |m: Minutia| points_out(&m, &outside, [w, h], 12.0);
+        let out = |m: Minutia| points_out(&m, |q| outside[q], [w, h], 12.0);
         use std::f64::consts::{FRAC_PI_2, PI};
         assert!(out(at(46.0, 30.0, PI)), "towards the outside");
         assert!(out(at(46.0, 30.0, 0.8 * PI)), "obliquely towards it");

@@ -112,14 +112,19 @@ fn binarize_until(
                 evidence::local_dark(gray, &lighting, &mut dark);
                 evidence = evidence::polarity(&dark, w, h);
                 // The global split misjudged the stroke width where it failed; the blocks are
-                // sized again from the local split's.
-                let lighting = match evidence::lighting(gray, evidence.thinner_width, dark_ink) {
-                    Some(again) if again.block != lighting.block => {
+                // sized again from the local split's (blocks of the same side measure the same
+                // lighting again: it is kept without measuring it).
+                let block = evidence::lighting_block(gray, evidence.thinner_width);
+                let again = (block != lighting.block)
+                    .then(|| evidence::lighting(gray, evidence.thinner_width, dark_ink))
+                    .flatten();
+                let lighting = match again {
+                    Some(again) => {
                         evidence::local_dark(gray, &again, &mut dark);
                         evidence = evidence::polarity(&dark, w, h);
                         again
                     }
-                    _ => lighting,
+                    None => lighting,
                 };
                 decisions.threshold = ThresholdUsed::Local {
                     window: lighting.block as u32,

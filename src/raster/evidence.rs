@@ -478,9 +478,7 @@ const CONTENT_SHARE: f64 = 0.35;
 /// dark or light as `dark_ink` says. `None` for an image with no block holding strokes.
 pub(crate) fn lighting(gray: GrayView<'_>, stroke_width: f64, dark_ink: bool) -> Option<Lighting> {
     let (width, height) = (gray.width() as usize, gray.height() as usize);
-    let block = ((6.0 * stroke_width).round() as usize)
-        .clamp(8, 128)
-        .min((width.min(height) / 4).max(8));
+    let block = lighting_block(gray, stroke_width);
     let (cols, rows) = (width.div_ceil(block), height.div_ceil(block));
     if cols == 0 || rows == 0 {
         return None;
@@ -575,6 +573,15 @@ pub(crate) fn lighting(gray: GrayView<'_>, stroke_width: f64, dark_ink: bool) ->
         paper_tails,
         ranges,
     })
+}
+
+/// The side of [`lighting`]'s blocks for strokes `stroke_width` px wide, px: its measure depends
+/// on the image, this side and the ink's side alone.
+pub(crate) fn lighting_block(gray: GrayView<'_>, stroke_width: f64) -> usize {
+    let (width, height) = (gray.width() as usize, gray.height() as usize);
+    ((6.0 * stroke_width).round() as usize)
+        .clamp(8, 128)
+        .min((width.min(height) / 4).max(8))
 }
 
 /// Whether the global `level` puts specks of ink on the paper of some block without strokes

@@ -830,10 +830,25 @@ fn section_exit(ink: &Ink, from: [f64; 2], u: [f64; 2], limit: f64) -> f64 {
     // that is not negative truncates to its floor.
     let (x0, y0) = (from[0] - ink.origin[0], from[1] - ink.origin[1]);
     let point = |t: f64| (x0 + t * u[0], y0 + t * u[1]);
+    // When the first sample and the point at `limit` lie in the window, every sample between
+    // does (each coordinate moves one way only): the walk reads the mask without the window's
+    // bounds (most of a lookup's instructions).
+    let in_window =
+        |(x, y): (f64, f64)| x >= 0.0 && y >= 0.0 && x < ink.width as f64 && y < ink.height as f64;
+    let in_bounds =
+        limit > SECTION_STEP_PX && in_window(point(SECTION_STEP_PX)) && in_window(point(limit));
     let mut t = SECTION_STEP_PX;
     while t < limit {
         let (x, y) = point(t);
-        if !ink.at_window(x, y) {
+        let on = if in_bounds {
+            // SAFETY: `(x, y)` lies between the first sample and the point at `limit`, both
+            // in the window: a rounded product and a rounded sum are monotone, so each
+            // coordinate of `point(t)` is monotone in `t` for `SECTION_STEP_PX <= t <= limit`.
+            unsafe { ink.at_inside(x, y) }
+        } else {
+            ink.at_window(x, y)
+        };
+        if !on {
             let (mut inside, mut outside) = (t - SECTION_STEP_PX, t);
             // The column or row of the last sample on the ink (none before the first sample)
             // that this one stayed in, when it left the other.

@@ -132,16 +132,50 @@ impl Work {
             .filter(|&(v, _)| degree[v] == 1)
             .map(|(v, e)| (self.vertices[v].pos, e))
             .collect();
-        loop {
-            let mut back = crossing_edges(&self.edges, &moved);
-            back.extend(edges_near_ends(&self.edges, &originals, &moved, &ends));
-            if back.is_empty() {
-                break;
-            }
-            for e in back {
-                self.edges[e] = originals[e].clone();
+        //
+        // After the first round only the edges taken back have changed: an edge still moved
+        // kept its path, which met neither itself nor any other edge as it was, and its
+        // distance to the ends does not depend on the other edges; so the next round asks
+        // only whether it meets an edge just taken back, among the moved edges whose boxes
+        // come near one (two segments under one cell lie less than a cell apart).
+        let mut back = crossing_edges(&self.edges, &moved);
+        back.extend(edges_near_ends(&self.edges, &originals, &moved, &ends));
+        let mut boxes = Vec::new();
+        while !back.is_empty() {
+            for &e in &back {
+                self.edges[e].clone_from(&originals[e]);
                 moved[e] = false;
             }
+            if boxes.is_empty() {
+                boxes = self
+                    .edges
+                    .iter()
+                    .map(|edge| edge.as_ref().map(|edge| bounds(&edge.points)))
+                    .collect();
+            }
+            let taken: Vec<([f64; 2], [f64; 2])> = back
+                .iter()
+                .filter_map(|&e| self.edges[e].as_ref().map(|edge| bounds(&edge.points)))
+                .collect();
+            let apart = |(lo, hi): ([f64; 2], [f64; 2]), (a, b): ([f64; 2], [f64; 2])| {
+                lo[0] - b[0] > NEAR_CELL_PX
+                    || a[0] - hi[0] > NEAR_CELL_PX
+                    || lo[1] - b[1] > NEAR_CELL_PX
+                    || a[1] - hi[1] > NEAR_CELL_PX
+            };
+            let paths: Vec<Option<&[[f64; 2]]>> = self
+                .edges
+                .iter()
+                .enumerate()
+                .map(|(e, edge)| {
+                    let edge = edge.as_ref()?;
+                    let near = back.contains(&e)
+                        || (moved[e]
+                            && boxes[e].is_some_and(|own| taken.iter().any(|&t| !apart(own, t))));
+                    near.then_some(edge.points.as_slice())
+                })
+                .collect();
+            back = crossing_paths(&paths, &moved);
         }
         for edge in self.edges.iter().flatten() {
             if edge.from == edge.to && degree[edge.from] == 2 {
@@ -150,6 +184,10 @@ impl Work {
         }
     }
 }
+
+/// More than a cell of [`crossing_paths`] (4 px): boxes this far apart hold no two segments
+/// under one cell.
+const NEAR_CELL_PX: f64 = 8.0;
 
 /// The moved edges that come within [`MIN_WIDTH_PX`] of the end of another edge (`ends`: each
 /// end's position and its own edge) nearer than their path from before did.

@@ -275,17 +275,35 @@ pub(crate) fn crossing_paths(paths: &[Option<&[[f64; 2]]>], moved: &[bool]) -> V
     // Every segment under every cell its box covers, sorted by cell: a cell's segments are one
     // run of the list, in the order of their paths and their places along them. One `u64` each:
     // the cell's two coordinates (16 bits each; a wider page folds far-apart cells together,
-    // which only adds pairs to test) above the segment's number.
-    let mut segments: Vec<(usize, usize)> = Vec::new();
-    let mut cells: Vec<u64> = Vec::new();
+    // which only adds pairs to test) above the segment's number. A segment keeps its path, its
+    // place along it and its two end points (read once, not through its path at every pair).
+    let count: usize = paths
+        .iter()
+        .flatten()
+        .map(|path| path.len().saturating_sub(1))
+        .sum();
+    let mut segments: Vec<Segment> = Vec::with_capacity(count);
+    // Most segments lie under one or two cells.
+    let mut cells: Vec<u64> = Vec::with_capacity(2 * count);
     let (mut lo, mut hi) = ([i64::MAX; 2], [i64::MIN; 2]);
     for (e, path) in paths.iter().enumerate() {
         let Some(path) = path else { continue };
         for (k, s) in path.windows(2).enumerate() {
             let id = segments.len() as u64;
-            segments.push((e, k));
-            let (x0, x1) = (key(s[0][0].min(s[1][0])), key(s[0][0].max(s[1][0])));
-            let (y0, y1) = (key(s[0][1].min(s[1][1])), key(s[0][1].max(s[1][1])));
+            let (low, high) = (
+                [s[0][0].min(s[1][0]), s[0][1].min(s[1][1])],
+                [s[0][0].max(s[1][0]), s[0][1].max(s[1][1])],
+            );
+            segments.push(Segment {
+                path: e,
+                place: k,
+                ends: [s[0], s[1]],
+                low,
+                high,
+                length: (s[1][0] - s[0][0]).abs() + (s[1][1] - s[0][1]).abs(),
+            });
+            let (x0, x1) = (key(low[0]), key(high[0]));
+            let (y0, y1) = (key(low[1]), key(high[1]));
             lo = [lo[0].min(x0), lo[1].min(y0)];
             hi = [hi[0].max(x1), hi[1].max(y1)];
             for cx in x0..=x1 {
@@ -296,29 +314,28 @@ pub(crate) fn crossing_paths(paths: &[Option<&[[f64; 2]]>], moved: &[bool]) -> V
         }
     }
     group_cells(&mut cells, lo, hi);
-    let segment = |(e, k): (usize, usize)| {
-        let points = paths[e].expect("live path");
-        (points[k], points[k + 1])
-    };
-    let id = |cell: u64| segments[(cell & u64::from(u32::MAX)) as usize];
+    let id = |cell: u64| &segments[(cell & u64::from(u32::MAX)) as usize];
     let mut crossing = vec![false; paths.len()];
     for run in cells.chunk_by(|a, b| a >> 32 == b >> 32) {
         for (i, &a) in run.iter().enumerate() {
             let a = id(a);
             for &b in &run[i + 1..] {
                 let b = id(b);
-                if !moved[a.0] && !moved[b.0] {
+                if !moved[a.path] && !moved[b.path] {
                     continue;
                 }
-                if crossing[a.0] && crossing[b.0] {
+                if crossing[a.path] && crossing[b.path] {
                     continue;
                 }
-                if a.0 == b.0 && a.1.abs_diff(b.1) <= 1 {
+                if a.path == b.path && a.place.abs_diff(b.place) <= 1 {
                     continue;
                 }
-                let ((a0, a1), (b0, b1)) = (segment(a), segment(b));
+                if boxes_apart(a, b) {
+                    continue;
+                }
+                let ([a0, a1], [b0, b1]) = (a.ends, b.ends);
                 if segments_meet(a0, a1, b0, b1) {
-                    for e in [a.0, b.0] {
+                    for e in [a.path, b.path] {
                         if moved[e] {
                             crossing[e] = true;
                         }
@@ -328,6 +345,42 @@ pub(crate) fn crossing_paths(paths: &[Option<&[[f64; 2]]>], moved: &[bool]) -> V
         }
     }
     (0..paths.len()).filter(|&e| crossing[e]).collect()
+}
+
+/// A segment of [`crossing_paths`]: its path, its place along the path, its end points, the
+/// corners of its box and its length in the 1-norm (`NaN` when a coordinate is).
+struct Segment {
+    path: usize,
+    place: usize,
+    ends: [[f64; 2]; 2],
+    low: [f64; 2],
+    high: [f64; 2],
+    length: f64,
+}
+
+/// Whether the boxes of the segments `a` and `b` lie so far apart, along a row or a column,
+/// that [`segments_meet`] cannot find a point in common: a few comparisons before its products
+/// and quotients (most pairs under a cell are a path's segments a pixel or more apart along
+/// it).
+///
+/// [`segments_meet`] accepts points up to `1e-9` of a segment's length beyond it, and its
+/// quotients `t` and `u` of nearly parallel segments (down to `1e-12` of the product of their
+/// lengths) carry a rounding of up to about `3.3e-4` of `|q| / |r|` and of `|t|` (`q` from `a`'s
+/// first end to `b`'s, `r` and `s` the segments): the point they put in common lies at most
+/// about `6.6e-4 |q| + 3.4e-4 (|r| + |s|)` outside either segment. The margin, `1e-2` of
+/// `|q| + |r| + |s|` (in the 1-norm, at least the Euclidean one) and a millionth of a pixel,
+/// holds that more than ten times over; the parallel branch meets within `1e-9` of a pixel
+/// and of the lengths. A coordinate that is `NaN` or infinite makes the margin so, and the
+/// boxes are not apart.
+#[inline]
+fn boxes_apart(a: &Segment, b: &Segment) -> bool {
+    let (p, q) = (a.ends[0], b.ends[0]);
+    let reach = (q[0] - p[0]).abs() + (q[1] - p[1]).abs() + a.length + b.length;
+    let margin = 1e-2 * reach + 1e-6;
+    a.low[0] - b.high[0] > margin
+        || b.low[0] - a.high[0] > margin
+        || a.low[1] - b.high[1] > margin
+        || b.low[1] - a.high[1] > margin
 }
 
 /// Orders [`crossing_paths`]'s keys so that each cell's are one run, in the order they were
@@ -641,6 +694,81 @@ mod tests {
                 "hypot({x:e}, {y:e}) = {ours:e}, the library gives {library:e}"
             );
         }
+    }
+
+    #[test]
+    fn segments_whose_boxes_lie_apart_do_not_meet() {
+        // Pairs whose lines meet just beyond an end (by 1e-12 to 1e-1 of a length), at angles
+        // from 1e-13 to 1 radian (the nearly parallel ones where `segments_meet`'s quotients
+        // round most), lengths from a hundredth of a pixel to a page, pixel steps: wherever
+        // `boxes_apart` skips a pair, `segments_meet` says apart.
+        let mut next = crate::synth::lcg(2468u64);
+        let mut unit = move || (next() >> 11) as f64 / (1u64 << 53) as f64;
+        let (mut skipped, mut kept) = (0, 0);
+        for case in 0..400_000 {
+            let (a0, a1, b0, b1) = if case % 4 == 0 {
+                let pixel = |u: f64| (u * 8.0).floor() + 0.5;
+                let step = |u: f64| ((u * 3.0).floor() - 1.0).max(-1.0);
+                let a0 = [pixel(unit()), pixel(unit())];
+                let b0 = [pixel(unit()), pixel(unit())];
+                let a1 = [a0[0] + step(unit()), a0[1] + step(unit())];
+                let b1 = [b0[0] + step(unit()), b0[1] + step(unit())];
+                (a0, a1, b0, b1)
+            } else {
+                let scale = 10f64.powf(-2.0 + unit() * 5.5);
+                let a0 = [unit() * 4000.0, unit() * 4000.0];
+                let angle = unit() * std::f64::consts::TAU;
+                let r = [angle.cos() * scale, angle.sin() * scale];
+                let a1 = [a0[0] + r[0], a0[1] + r[1]];
+                // The lines meet at `t` just outside `a`, `b` reaching towards it.
+                let beyond = 10f64.powf(-12.0 + unit() * 11.0);
+                let t = if unit() < 0.5 { 1.0 + beyond } else { -beyond };
+                let meet = [a0[0] + t * r[0], a0[1] + t * r[1]];
+                let turn =
+                    10f64.powf(-13.0 + unit() * 13.0) * if unit() < 0.5 { -1.0 } else { 1.0 };
+                let (c, sn) = ((angle + turn).cos(), (angle + turn).sin());
+                let len = scale * 10f64.powf(unit() * 2.0 - 1.0);
+                let (u0, u1) = (-unit() * 1.2, unit() * 1.2);
+                let b0 = [meet[0] + u0 * len * c, meet[1] + u0 * len * sn];
+                let b1 = [meet[0] + u1 * len * c, meet[1] + u1 * len * sn];
+                (a0, a1, b0, b1)
+            };
+            let segment = |p: [f64; 2], q: [f64; 2]| Segment {
+                path: 0,
+                place: 0,
+                ends: [p, q],
+                low: [p[0].min(q[0]), p[1].min(q[1])],
+                high: [p[0].max(q[0]), p[1].max(q[1])],
+                length: (q[0] - p[0]).abs() + (q[1] - p[1]).abs(),
+            };
+            if boxes_apart(&segment(a0, a1), &segment(b0, b1)) {
+                skipped += 1;
+                assert!(
+                    !segments_meet(a0, a1, b0, b1),
+                    "{case}: {a0:?} {a1:?} {b0:?} {b1:?}"
+                );
+            } else {
+                kept += 1;
+            }
+        }
+        assert!(skipped > 50_000 && kept > 50_000, "{skipped} {kept}");
+        let nan = Segment {
+            path: 0,
+            place: 0,
+            ends: [[0.0, 0.0], [f64::NAN, 1.0]],
+            low: [0.0, 0.0],
+            high: [0.0, 1.0],
+            length: f64::NAN,
+        };
+        let far = Segment {
+            path: 1,
+            place: 0,
+            ends: [[5.0, 5.0], [6.0, 6.0]],
+            low: [5.0, 5.0],
+            high: [6.0, 6.0],
+            length: 2.0,
+        };
+        assert!(!boxes_apart(&nan, &far) && !boxes_apart(&far, &nan));
     }
 
     #[test]

@@ -132,16 +132,50 @@ impl Work {
             .filter(|&(v, _)| degree[v] == 1)
             .map(|(v, e)| (self.vertices[v].pos, e))
             .collect();
-        loop {
-            let mut back = crossing_edges(&self.edges, &moved);
-            back.extend(edges_near_ends(&self.edges, &originals, &moved, &ends));
-            if back.is_empty() {
-                break;
-            }
-            for e in back {
-                self.edges[e] = originals[e].clone();
+        //
+        // After the first round only the edges taken back have changed: an edge still moved
+        // kept its path, which met neither itself nor any other edge as it was, and its
+        // distance to the ends does not depend on the other edges; so the next round asks
+        // only whether it meets an edge just taken back, among the moved edges whose boxes
+        // come near one (two segments under one cell lie less than a cell apart).
+        let mut back = crossing_edges(&self.edges, &moved);
+        back.extend(edges_near_ends(&self.edges, &originals, &moved, &ends));
+        let mut boxes = Vec::new();
+        while !back.is_empty() {
+            for &e in &back {
+                self.edges[e].clone_from(&originals[e]);
                 moved[e] = false;
             }
+            if boxes.is_empty() {
+                boxes = self
+                    .edges
+                    .iter()
+                    .map(|edge| edge.as_ref().map(|edge| bounds(&edge.points)))
+                    .collect();
+            }
+            let taken: Vec<([f64; 2], [f64; 2])> = back
+                .iter()
+                .filter_map(|&e| self.edges[e].as_ref().map(|edge| bounds(&edge.points)))
+                .collect();
+            let apart = |(lo, hi): ([f64; 2], [f64; 2]), (a, b): ([f64; 2], [f64; 2])| {
+                lo[0] - b[0] > NEAR_CELL_PX
+                    || a[0] - hi[0] > NEAR_CELL_PX
+                    || lo[1] - b[1] > NEAR_CELL_PX
+                    || a[1] - hi[1] > NEAR_CELL_PX
+            };
+            let paths: Vec<Option<&[[f64; 2]]>> = self
+                .edges
+                .iter()
+                .enumerate()
+                .map(|(e, edge)| {
+                    let edge = edge.as_ref()?;
+                    let near = back.contains(&e)
+                        || (moved[e]
+                            && boxes[e].is_some_and(|own| taken.iter().any(|&t| !apart(own, t))));
+                    near.then_some(edge.points.as_slice())
+                })
+                .collect();
+            back = crossing_paths(&paths, &moved);
         }
         for edge in self.edges.iter().flatten() {
             if edge.from == edge.to && degree[edge.from] == 2 {
@@ -150,6 +184,10 @@ impl Work {
         }
     }
 }
+
+/// More than a cell of [`crossing_paths`] (4 px): boxes this far apart hold no two segments
+/// under one cell.
+const NEAR_CELL_PX: f64 = 8.0;
 
 /// The moved edges that come within [`MIN_WIDTH_PX`] of the end of another edge (`ends`: each
 /// end's position and its own edge) nearer than their path from before did.
@@ -830,10 +868,25 @@ fn section_exit(ink: &Ink, from: [f64; 2], u: [f64; 2], limit: f64) -> f64 {
     // that is not negative truncates to its floor.
     let (x0, y0) = (from[0] - ink.origin[0], from[1] - ink.origin[1]);
     let point = |t: f64| (x0 + t * u[0], y0 + t * u[1]);
+    // When the first sample and the point at `limit` lie in the window, every sample between
+    // does (each coordinate moves one way only): the walk reads the mask without the window's
+    // bounds (most of a lookup's instructions).
+    let in_window =
+        |(x, y): (f64, f64)| x >= 0.0 && y >= 0.0 && x < ink.width as f64 && y < ink.height as f64;
+    let in_bounds =
+        limit > SECTION_STEP_PX && in_window(point(SECTION_STEP_PX)) && in_window(point(limit));
     let mut t = SECTION_STEP_PX;
     while t < limit {
         let (x, y) = point(t);
-        if !ink.at_window(x, y) {
+        let on = if in_bounds {
+            // SAFETY: `(x, y)` lies between the first sample and the point at `limit`, both
+            // in the window: a rounded product and a rounded sum are monotone, so each
+            // coordinate of `point(t)` is monotone in `t` for `SECTION_STEP_PX <= t <= limit`.
+            unsafe { ink.at_inside(x, y) }
+        } else {
+            ink.at_window(x, y)
+        };
+        if !on {
             let (mut inside, mut outside) = (t - SECTION_STEP_PX, t);
             // The column or row of the last sample on the ink (none before the first sample)
             // that this one stayed in, when it left the other.

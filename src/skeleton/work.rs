@@ -52,6 +52,19 @@ impl Ink {
         px < self.width && py < self.height && self.mask[py * self.width + px]
     }
 
+    /// [`Ink::at_window`] for a point in the window, without the tests of its bounds.
+    ///
+    /// # Safety
+    ///
+    /// `0 <= x < width` and `0 <= y < height` (so neither is NaN).
+    #[inline]
+    pub(super) unsafe fn at_inside(&self, x: f64, y: f64) -> bool {
+        debug_assert!(x >= 0.0 && y >= 0.0 && x < self.width as f64 && y < self.height as f64);
+        // SAFETY: the caller's promise, so the truncations fit an `i64`.
+        let (px, py) = unsafe { (x.to_int_unchecked::<i64>(), y.to_int_unchecked::<i64>()) };
+        self.mask[py as usize * self.width + px as usize]
+    }
+
     /// How far the ink goes on from `from` along the unit vector `u`: the first sample, every
     /// half pixel from half a pixel on, that is off the ink or beyond `limit`.
     pub(super) fn exit(&self, from: [f64; 2], u: [f64; 2], limit: f64) -> f64 {

@@ -440,6 +440,11 @@ impl<'a> Sampler<'a> {
         // disk whose keys exceed the inner radius.
         let start = self.order[..count].partition_point(|&(key, _)| key <= quantize_bound(inner));
         let points = self.points;
+        let (offsets, neighbors, coords) = (
+            &points.offsets[..],
+            &points.neighbors[..],
+            &points.points[..],
+        );
         let epoch = self.epoch;
         let Sampler {
             order,
@@ -447,6 +452,8 @@ impl<'a> Sampler<'a> {
             stack,
             ..
         } = self;
+        // The marks as a slice and the point set's arrays taken out once (see `grow_disk`).
+        let rim_seen = &mut rim_seen[..];
         let suffix = &order[start..count];
         // Rim points are marked with the current epoch in `rim_seen`; components counted by DFS
         // from them in disk order. A second pass over the suffix finds them again without a
@@ -454,7 +461,7 @@ impl<'a> Sampler<'a> {
         // a count of 3 at a larger radius (see `node_at`), whose distance is past that larger
         // radius's inner one and so past this one's, which makes them rim points here too.
         for &(_, p) in suffix {
-            let q = points.points[p as usize];
+            let q = coords[p as usize];
             if (q[0] - center[0]).powi(2) + (q[1] - center[1]).powi(2) > inner2 {
                 rim_seen[p as usize] = epoch;
             }
@@ -471,7 +478,7 @@ impl<'a> Sampler<'a> {
             rim_seen[start as usize] = epoch.wrapping_sub(1);
             stack.push(start);
             while let Some(p) = stack.pop() {
-                for &q in points.neighbors_of(p) {
+                for &q in neighbours(offsets, neighbors, p) {
                     if rim_seen[q as usize] == epoch {
                         rim_seen[q as usize] = epoch.wrapping_sub(1);
                         stack.push(q);

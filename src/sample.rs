@@ -201,32 +201,30 @@ impl<'a> Sampler<'a> {
     /// queued is already with its final key, so every point is queued and visited once.
     fn grow_disk(&mut self, center: [f64; 2], bound: f64) {
         let limit = quantize_bound(bound);
-        if limit > self.limit {
+        let grew = limit > self.limit;
+        if grew {
             self.limit = limit;
-            let mut k = 0;
-            while k < self.overflow.len() {
-                let (key, p) = self.overflow[k];
-                if key <= limit {
-                    self.overflow.swap_remove(k);
-                    self.enqueue(key, p);
-                } else {
-                    k += 1;
-                }
-            }
         }
-        // Every bucket a key admitted to the queue can need, so that the search below queues
-        // without growing `heads`; keys of `BUCKET_KEYS` or more go to the far heap.
+        // Every bucket a key admitted to the queue can need, so that neither the points let in
+        // from `overflow` nor the search below grow `heads`; keys of `BUCKET_KEYS` or more go to
+        // the far heap.
         let admitted = self.limit;
         let buckets = (admitted as usize + 1).min(BUCKET_KEYS as usize);
         if self.heads.len() < buckets {
             self.heads.resize(buckets, NIL);
             self.occupied.resize(buckets.div_ceil(64), 0);
         }
-        // The search's state as locals: its loop reads and writes them for every point reached,
-        // and fields behind `self` are read again after every store.
+        // The search's state as locals: its loop reads and writes them for every point reached.
+        // Behind `self` (and as vectors, whose pointer and length live in memory) they were read
+        // again after every store; as slices and scalars they stay in registers.
         let points = self.points;
         let epoch = self.epoch;
         let ink_bound = self.ink_bound;
+        let (offsets, neighbors, coords) = (
+            &points.offsets[..],
+            &points.neighbors[..],
+            &points.points[..],
+        );
         let Sampler {
             seen,
             next,
@@ -242,17 +240,48 @@ impl<'a> Sampler<'a> {
             first_hidden,
             ..
         } = self;
-        while *queued > 0 {
+        let (seen, next, heads, occupied) = (
+            &mut seen[..],
+            &mut next[..],
+            &mut heads[..],
+            &mut occupied[..],
+        );
+        let (mut used_to, mut cursor_at, mut waiting) = (*used, *cursor, *queued);
+        // Points reached beyond an earlier bound that this one admits join their buckets in the
+        // order the list holds them after each removal (`enqueue`'s order, which fixes the order
+        // within a bucket).
+        if grew {
+            let mut k = 0;
+            while k < overflow.len() {
+                let (key, p) = overflow[k];
+                if key > admitted {
+                    k += 1;
+                    continue;
+                }
+                overflow.swap_remove(k);
+                if key < BUCKET_KEYS {
+                    let b = key as usize;
+                    next[p as usize] = heads[b];
+                    heads[b] = p;
+                    occupied[b / 64] |= 1u64 << (b % 64);
+                    used_to = used_to.max(b + 1);
+                } else {
+                    far.push(Reverse((key, p)));
+                }
+                waiting += 1;
+            }
+        }
+        while waiting > 0 {
             // Buckets first, then (hostile input) the far heap, whose keys are all larger.
-            let (key, p) = if *cursor < *used && *cursor as u32 <= limit {
+            let (key, p) = if cursor_at < used_to && cursor_at as u32 <= limit {
                 // The cursor stops where stepping bucket by bucket would: at the first bucket in
                 // use, else at the end of the buckets in use or past the bound.
-                let end = (*used).min(limit as usize + 1);
-                let Some(k) = next_occupied(occupied, *cursor, end) else {
-                    *cursor = end;
+                let end = used_to.min(limit as usize + 1);
+                let Some(k) = next_occupied(occupied, cursor_at, end) else {
+                    cursor_at = end;
                     continue;
                 };
-                *cursor = k;
+                cursor_at = k;
                 let p = heads[k];
                 let rest = next[p as usize];
                 heads[k] = rest;
@@ -262,30 +291,30 @@ impl<'a> Sampler<'a> {
                 (k as u32, p)
             } else {
                 match far.peek() {
-                    Some(&Reverse((key, p))) if key <= limit && *cursor >= *used => {
+                    Some(&Reverse((key, p))) if key <= limit && cursor_at >= used_to => {
                         far.pop();
                         (key, p)
                     }
                     _ => break,
                 }
             };
-            *queued -= 1;
+            waiting -= 1;
             order.push((key, p));
             if ink_bound {
-                let q = points.points[p as usize];
+                let q = coords[p as usize];
                 if sees(points, visible, epoch, center, q) {
                     visible[p as usize] = epoch;
                 } else if key < *first_hidden {
                     *first_hidden = key;
                 }
             }
-            for &r in points.neighbors_of(p) {
+            for &r in neighbours(offsets, neighbors, p) {
                 let mark = &mut seen[r as usize];
                 if *mark == epoch {
                     continue;
                 }
                 *mark = epoch;
-                let s = points.points[r as usize];
+                let s = coords[r as usize];
                 let d2 = (s[0] - center[0]).powi(2) + (s[1] - center[1]).powi(2);
                 let key = quantize(d2).max(key);
                 // `enqueue`, its common case inline: a key the queue admits, in a bucket.
@@ -294,16 +323,17 @@ impl<'a> Sampler<'a> {
                     next[r as usize] = heads[k];
                     heads[k] = r;
                     occupied[k / 64] |= 1u64 << (k % 64);
-                    *queued += 1;
-                    *used = (*used).max(k + 1);
+                    waiting += 1;
+                    used_to = used_to.max(k + 1);
                 } else if key > admitted {
                     overflow.push((key, r));
                 } else {
                     far.push(Reverse((key, r)));
-                    *queued += 1;
+                    waiting += 1;
                 }
             }
         }
+        (*used, *cursor, *queued) = (used_to, cursor_at, waiting);
     }
 
     fn enqueue(&mut self, key: u32, p: u32) {
@@ -330,8 +360,20 @@ impl<'a> Sampler<'a> {
 
     /// Empties the queue for the next search, keeping the bucket allocations.
     fn reset_queue(&mut self) {
-        self.heads[..self.used].fill(NIL);
-        self.occupied[..self.used.div_ceil(64)].fill(0);
+        // A bucket holds a point exactly when its bit is set (a pop that empties a bucket leaves
+        // `NIL` in its head and clears its bit), so only the heads of set bits need clearing:
+        // most searches stop with a few buckets still in use out of the hundreds they reached.
+        for (w, word) in self.occupied[..self.used.div_ceil(64)]
+            .iter_mut()
+            .enumerate()
+        {
+            let mut bits = std::mem::take(word);
+            while bits != 0 {
+                self.heads[w * 64 + bits.trailing_zeros() as usize] = NIL;
+                bits &= bits - 1;
+            }
+        }
+        debug_assert!(self.heads[..self.used].iter().all(|&h| h == NIL));
         self.used = 0;
         self.cursor = 0;
         self.queued = 0;
@@ -398,6 +440,11 @@ impl<'a> Sampler<'a> {
         // disk whose keys exceed the inner radius.
         let start = self.order[..count].partition_point(|&(key, _)| key <= quantize_bound(inner));
         let points = self.points;
+        let (offsets, neighbors, coords) = (
+            &points.offsets[..],
+            &points.neighbors[..],
+            &points.points[..],
+        );
         let epoch = self.epoch;
         let Sampler {
             order,
@@ -405,6 +452,8 @@ impl<'a> Sampler<'a> {
             stack,
             ..
         } = self;
+        // The marks as a slice and the point set's arrays taken out once (see `grow_disk`).
+        let rim_seen = &mut rim_seen[..];
         let suffix = &order[start..count];
         // Rim points are marked with the current epoch in `rim_seen`; components counted by DFS
         // from them in disk order. A second pass over the suffix finds them again without a
@@ -412,7 +461,7 @@ impl<'a> Sampler<'a> {
         // a count of 3 at a larger radius (see `node_at`), whose distance is past that larger
         // radius's inner one and so past this one's, which makes them rim points here too.
         for &(_, p) in suffix {
-            let q = points.points[p as usize];
+            let q = coords[p as usize];
             if (q[0] - center[0]).powi(2) + (q[1] - center[1]).powi(2) > inner2 {
                 rim_seen[p as usize] = epoch;
             }
@@ -429,7 +478,7 @@ impl<'a> Sampler<'a> {
             rim_seen[start as usize] = epoch.wrapping_sub(1);
             stack.push(start);
             while let Some(p) = stack.pop() {
-                for &q in points.neighbors_of(p) {
+                for &q in neighbours(offsets, neighbors, p) {
                     if rim_seen[q as usize] == epoch {
                         rim_seen[q as usize] = epoch.wrapping_sub(1);
                         stack.push(q);
@@ -664,6 +713,17 @@ fn sees(points: &PointSet, visible: &[u32], epoch: u32, c: [f64; 2], q: [f64; 2]
         grid.point_at(x, y)
             .is_some_and(|p| visible[p as usize] == epoch)
     })
+}
+
+/// [`PointSet::neighbors_of`] over the point set's CSR arrays taken out as slices once (the
+/// same lists, none where the offsets do not give one), for the searches' inner loops.
+#[inline]
+fn neighbours<'n>(offsets: &'n [u32], neighbors: &'n [u32], p: u32) -> &'n [u32] {
+    let p = p as usize;
+    match (offsets.get(p), offsets.get(p + 1)) {
+        (Some(&start), Some(&end)) => neighbors.get(start as usize..end as usize).unwrap_or(&[]),
+        _ => &[],
+    }
 }
 
 /// The first bucket at or after `from` and before `end` whose bit is set in `occupied` (which

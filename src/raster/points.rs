@@ -282,7 +282,7 @@ pub(super) fn build_from_runs(
     let origin = (x0 as i64, y0 as i64);
     let local = |run: &Run| window_run(run, origin);
     let mut points = Vec::with_capacity(count);
-    points.extend(pixel_centres(runs));
+    push_pixel_centres(&mut points, runs);
     let index = index_of_runs(runs, origin, (width, height));
 
     let (offsets, neighbors) = if neighbours {
@@ -355,12 +355,13 @@ fn window_run(run: &Run, (x0, y0): (i64, i64)) -> (usize, usize, usize) {
     )
 }
 
-/// The pixel centres of `runs`, run after run (image coordinates).
-fn pixel_centres(runs: &[Run]) -> impl Iterator<Item = [f64; 2]> + '_ {
-    runs.iter().flat_map(|run| {
+/// Appends the pixel centres of `runs`, run after run (image coordinates). One exact-size
+/// extension per run: a flattened iterator's extension checks the capacity for every point.
+fn push_pixel_centres(points: &mut Vec<[f64; 2]>, runs: &[Run]) {
+    for run in runs {
         let row = run.y as f64 + 0.5;
-        (run.x0..run.x1).map(move |x| [x as f64 + 0.5, row])
-    })
+        points.extend((run.x0..run.x1).map(|x| [x as f64 + 0.5, row]));
+    }
 }
 
 /// The pixel index of a `width` x `height` window whose first pixel is image pixel `origin`
@@ -466,7 +467,10 @@ fn eight_neighbours_of_runs(
 ) -> Result<(Vec<u32>, Vec<u32>)> {
     let mut offsets = Vec::with_capacity(count + 1);
     offsets.push(0u32);
-    let mut neighbors: Vec<u32> = Vec::new();
+    // Room for every pixel's eight cells: the lists are appended without ever moving what was
+    // appended before (growing by doubling copied them about once over), and the room not
+    // used is given back below (`shrink_to_fit`), never having been touched.
+    let mut neighbors: Vec<u32> = Vec::with_capacity(8 * count);
     let mut cells = [0u32; 8];
     for (y, a, b) in runs {
         let row = &index[y * width..(y + 1) * width];
@@ -504,7 +508,11 @@ fn eight_neighbours_of_runs(
                     below[u0..=u1].iter().for_each(|&cell| take(cell));
                 }
             }
-            neighbors.extend_from_slice(&cells[..n]);
+            // All eight cells appended, then the list cut to its `n` neighbours: a copy of a
+            // fixed size, without the call a copy of `n` cells makes.
+            let end = neighbors.len() + n;
+            neighbors.extend_from_slice(&cells);
+            neighbors.truncate(end);
             close_list(&mut offsets, &neighbors)?;
         }
     }
@@ -632,7 +640,7 @@ pub(crate) fn kept_pixels(points: &PointSet, keep: &[bool]) -> Option<PointSet> 
     // The kept points are the centres of the runs' pixels, bit for bit (`pixel_runs` took only
     // whole pixel centres): made from the runs, and both vectors sized once.
     let mut kept_points = Vec::with_capacity(count);
-    kept_points.extend(pixel_centres(&runs));
+    push_pixel_centres(&mut kept_points, &runs);
     let mut half_width = Vec::with_capacity(count);
     half_width.extend(
         points
@@ -658,7 +666,7 @@ pub(crate) fn restore(points: &mut PointSet, aside: Aside) {
     let Aside { runs } = aside;
     if !runs.is_empty() {
         points.points = Vec::with_capacity(points.half_width.len());
-        points.points.extend(pixel_centres(&runs));
+        push_pixel_centres(&mut points.points, &runs);
     }
     let Some(grid) = &mut points.grid else {
         return;

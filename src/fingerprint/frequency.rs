@@ -259,12 +259,14 @@ fn x_signature_lanes<const WIDE: bool>(
     xs.extend(starts[first..end].iter().map(|p| p[0]));
     ys.extend(starts[first..end].iter().map(|p| p[1]));
     signature[first..end].fill(0.0);
+    #[cfg(target_arch = "x86_64")]
+    let extremes = if WIDE { wide::extremes(xs, ys) } else { None };
     for step in steps {
         let sums = &mut signature[first..end];
         #[cfg(target_arch = "x86_64")]
         if WIDE {
             // SAFETY: `WIDE` only where the CPU has AVX2 (`x_signature_wide`).
-            unsafe { wide::add_samples_inside(smoothed, xs, ys, *step, sums) };
+            unsafe { wide::add_samples_inside(smoothed, xs, ys, extremes, *step, sums) };
             continue;
         }
         smoothed.add_samples_inside(xs, ys, *step, sums);
@@ -293,9 +295,9 @@ mod wide {
     use std::arch::x86_64::{
         __m128, _mm256_add_pd, _mm256_and_pd, _mm256_cmp_pd, _mm256_cvtpd_epi32, _mm256_cvtpd_ps,
         _mm256_floor_pd, _mm256_loadu_pd, _mm256_movemask_pd, _mm256_mul_pd, _mm256_set1_pd,
-        _mm256_sub_pd, _mm_add_ps, _mm_castsi128_ps, _mm_loadu_ps, _mm_loadu_si64, _mm_mul_ps,
-        _mm_set1_ps, _mm_shuffle_ps, _mm_storeu_ps, _mm_storeu_si128, _mm_sub_ps,
-        _mm_unpacklo_epi64, _CMP_GE_OQ, _CMP_LE_OQ,
+        _mm256_sub_pd, _mm_add_ps, _mm_castpd_ps, _mm_loadu_ps, _mm_mul_ps, _mm_set1_ps,
+        _mm_setr_pd, _mm_shuffle_ps, _mm_storeu_ps, _mm_storeu_si128, _mm_sub_ps, _CMP_GE_OQ,
+        _CMP_LE_OQ,
     };
 
     /// The pixel at each of four indices into `values` and its right neighbour, as two vectors
@@ -308,19 +310,14 @@ mod wide {
     /// Every index and the one after it must lie within `values`' allocation.
     #[target_feature(enable = "avx2")]
     #[inline]
-    unsafe fn pairs(values: *const f32, index: [i32; 4]) -> (__m128, __m128) {
-        // SAFETY: by the caller, each pair's 8 bytes are inside `values`; unaligned loads.
-        let (p0, p1, p2, p3) = unsafe {
-            (
-                _mm_loadu_si64(values.offset(index[0] as isize).cast()),
-                _mm_loadu_si64(values.offset(index[1] as isize).cast()),
-                _mm_loadu_si64(values.offset(index[2] as isize).cast()),
-                _mm_loadu_si64(values.offset(index[3] as isize).cast()),
-            )
-        };
+    unsafe fn pairs(values: *const f32, index: [u32; 4]) -> (__m128, __m128) {
+        // SAFETY: by the caller, each pair's 8 bytes are inside `values`; unaligned reads.
+        let pair =
+            |k: usize| unsafe { values.add(index[k] as usize).cast::<f64>().read_unaligned() };
+        // The second pair of each vector loaded straight into its upper half.
         let (low, high) = (
-            _mm_castsi128_ps(_mm_unpacklo_epi64(p0, p1)),
-            _mm_castsi128_ps(_mm_unpacklo_epi64(p2, p3)),
+            _mm_castpd_ps(_mm_setr_pd(pair(0), pair(1))),
+            _mm_castpd_ps(_mm_setr_pd(pair(2), pair(3))),
         );
         (
             _mm_shuffle_ps::<0b10_00_10_00>(low, high),
@@ -328,20 +325,40 @@ mod wide {
         )
     }
 
+    /// The least and the greatest of `xs` and of `ys` (`[x_min, x_max, y_min, y_max]`); `None`
+    /// when they are empty or one is NaN.
+    pub(super) fn extremes(xs: &[f64], ys: &[f64]) -> Option<[f64; 4]> {
+        if xs.is_empty() || ys.is_empty() || xs.iter().chain(ys).any(|v| v.is_nan()) {
+            return None;
+        }
+        let range = |vs: &[f64]| {
+            vs.iter()
+                .fold([f64::INFINITY, f64::NEG_INFINITY], |[lo, hi], &v| {
+                    [lo.min(v), hi.max(v)]
+                })
+        };
+        let ([x_min, x_max], [y_min, y_max]) = (range(xs), range(ys));
+        Some([x_min, x_max, y_min, y_max])
+    }
+
     /// Adds to each `sums[t]` the sample at `(xs[t] + offset[0], ys[t] + offset[1])`, whose four
-    /// pixels are inside the image, as [`Plane::add_samples_inside`] does. Four samples whose
-    /// pixels the registers show inside are worked out together; from the first four that are
-    /// not (the rounding's slack at the window's edge; none where the caller is right), and the
-    /// last one to three, [`Plane::sample_inside`] takes them one by one.
+    /// pixels are inside the image, as [`Plane::add_samples_inside`] does, `extremes` being
+    /// `xs`' and `ys`' ([`extremes`]). Where the samples at the extremes have their pixels inside,
+    /// all of them have (rounding is monotone: a lesser coordinate never gives a greater sum or
+    /// floor), and four samples at a time are worked out without testing theirs; otherwise the
+    /// registers test each four, and from the first four that are not inside (the rounding's
+    /// slack at the window's edge; none where the caller is right), and the last one to three,
+    /// [`Plane::sample_inside`] takes them one by one.
     ///
     /// # Safety
-    /// The CPU must have AVX2.
+    /// The CPU must have AVX2; `extremes`, when given, those of `xs` and `ys`.
     #[target_feature(enable = "avx2")]
     #[inline]
     pub(super) unsafe fn add_samples_inside(
         plane: &Plane,
         xs: &[f64],
         ys: &[f64],
+        extremes: Option<[f64; 4]>,
         offset: [f64; 2],
         sums: &mut [f32],
     ) {
@@ -349,32 +366,76 @@ mod wide {
         let (w, h) = (plane.width as usize, plane.height as usize);
         let mut t = 0;
         if w >= 2 && h >= 2 && plane.values.len() == w * h && w * h <= i32::MAX as usize {
-            let (ox, oy, half) = (
-                _mm256_set1_pd(offset[0]),
-                _mm256_set1_pd(offset[1]),
-                _mm256_set1_pd(0.5),
+            // The lanes' operations on the extremes: the pixels' column or row.
+            let corner = |v: f64, o: f64| ((v + o) - 0.5).floor();
+            let all_inside = extremes.is_some_and(|[x_min, x_max, y_min, y_max]| {
+                corner(x_min, offset[0]) >= 0.0
+                    && corner(x_max, offset[0]) <= (w - 2) as f64
+                    && corner(y_min, offset[1]) >= 0.0
+                    && corner(y_max, offset[1]) <= (h - 2) as f64
+            });
+            // SAFETY: AVX2 by the caller; the image's size checked above.
+            t = unsafe {
+                if all_inside {
+                    add_lanes::<false>(plane, xs, ys, offset, sums, n)
+                } else {
+                    add_lanes::<true>(plane, xs, ys, offset, sums, n)
+                }
+            };
+        }
+        for t in t..n {
+            sums[t] += plane.sample_inside(xs[t] + offset[0], ys[t] + offset[1]);
+        }
+    }
+
+    /// [`add_samples_inside`]'s four samples at a time, up to the first four whose pixels the
+    /// registers show not inside the image when `TESTED` (without it, every sample's pixels must
+    /// be inside); returns how many samples it added.
+    ///
+    /// # Safety
+    /// The CPU must have AVX2; `n` at most the length of `xs`, `ys` and `sums`; the plane `w x h`
+    /// with `w, h >= 2`, `values.len() == w · h <= i32::MAX`.
+    #[target_feature(enable = "avx2")]
+    #[inline]
+    unsafe fn add_lanes<const TESTED: bool>(
+        plane: &Plane,
+        xs: &[f64],
+        ys: &[f64],
+        offset: [f64; 2],
+        sums: &mut [f32],
+        n: usize,
+    ) -> usize {
+        let (w, h) = (plane.width as usize, plane.height as usize);
+        let (ox, oy, half) = (
+            _mm256_set1_pd(offset[0]),
+            _mm256_set1_pd(offset[1]),
+            _mm256_set1_pd(0.5),
+        );
+        let zero = _mm256_set1_pd(0.0);
+        let (last_x, last_y) = (
+            _mm256_set1_pd((w - 2) as f64),
+            _mm256_set1_pd((h - 2) as f64),
+        );
+        let width = _mm256_set1_pd(w as f64);
+        let one = _mm_set1_ps(1.0);
+        let values = plane.values.as_ptr();
+        // SAFETY: `w <= w · h`, within (or one past) `values`.
+        let below = unsafe { values.add(w) };
+        let (mut t, end) = (0, n - n % 4);
+        while t < end {
+            // SAFETY: `t + 4 <= end <= n`, within `xs`, `ys` and `sums`.
+            let (x, y) = unsafe {
+                (
+                    _mm256_loadu_pd(xs.as_ptr().add(t)),
+                    _mm256_loadu_pd(ys.as_ptr().add(t)),
+                )
+            };
+            let (fx, fy) = (
+                _mm256_sub_pd(_mm256_add_pd(x, ox), half),
+                _mm256_sub_pd(_mm256_add_pd(y, oy), half),
             );
-            let zero = _mm256_set1_pd(0.0);
-            let (last_x, last_y) = (
-                _mm256_set1_pd((w - 2) as f64),
-                _mm256_set1_pd((h - 2) as f64),
-            );
-            let width = _mm256_set1_pd(w as f64);
-            let one = _mm_set1_ps(1.0);
-            let values = plane.values.as_ptr();
-            while t + 4 <= n {
-                // SAFETY: `t + 4 <= n`, within `xs`, `ys` and `sums`.
-                let (x, y) = unsafe {
-                    (
-                        _mm256_loadu_pd(xs.as_ptr().add(t)),
-                        _mm256_loadu_pd(ys.as_ptr().add(t)),
-                    )
-                };
-                let (fx, fy) = (
-                    _mm256_sub_pd(_mm256_add_pd(x, ox), half),
-                    _mm256_sub_pd(_mm256_add_pd(y, oy), half),
-                );
-                let (cx, cy) = (_mm256_floor_pd(fx), _mm256_floor_pd(fy));
+            let (cx, cy) = (_mm256_floor_pd(fx), _mm256_floor_pd(fy));
+            if TESTED {
                 // The pixel and the one below right of it inside the image (false for NaN).
                 let inside = _mm256_and_pd(
                     _mm256_and_pd(
@@ -389,34 +450,32 @@ mod wide {
                 if _mm256_movemask_pd(inside) != 0b1111 {
                     break;
                 }
-                let (tx, ty) = (
-                    _mm256_cvtpd_ps(_mm256_sub_pd(fx, cx)),
-                    _mm256_cvtpd_ps(_mm256_sub_pd(fy, cy)),
-                );
-                // Whole numbers below `w · h <= i32::MAX`: exact.
-                let pixel = _mm256_cvtpd_epi32(_mm256_add_pd(_mm256_mul_pd(cy, width), cx));
-                let mut index = [0i32; 4];
-                // SAFETY: four `i32` into a four-element array, unaligned store.
-                unsafe { _mm_storeu_si128(index.as_mut_ptr().cast(), pixel) };
-                // SAFETY: `pixel = cy · w + cx` with `0 <= cx <= w - 2`, `0 <= cy <= h - 2`, so
-                // `pixel + w + 1 <= w · h - 1`: all four pairs of both rows inside `values`.
-                let ((a, b), (c, d)) =
-                    unsafe { (pairs(values, index), pairs(values.add(w), index)) };
-                let (left, up) = (_mm_sub_ps(one, tx), _mm_sub_ps(one, ty));
-                let top = _mm_add_ps(_mm_mul_ps(a, left), _mm_mul_ps(b, tx));
-                let bottom = _mm_add_ps(_mm_mul_ps(c, left), _mm_mul_ps(d, tx));
-                let sample = _mm_add_ps(_mm_mul_ps(top, up), _mm_mul_ps(bottom, ty));
-                // SAFETY: as the loads above.
-                unsafe {
-                    let at = sums.as_mut_ptr().add(t);
-                    _mm_storeu_ps(at, _mm_add_ps(_mm_loadu_ps(at), sample));
-                }
-                t += 4;
             }
+            let (tx, ty) = (
+                _mm256_cvtpd_ps(_mm256_sub_pd(fx, cx)),
+                _mm256_cvtpd_ps(_mm256_sub_pd(fy, cy)),
+            );
+            // Whole numbers in `0..w · h <= i32::MAX`: exact, and unsigned.
+            let pixel = _mm256_cvtpd_epi32(_mm256_add_pd(_mm256_mul_pd(cy, width), cx));
+            let mut index = [0u32; 4];
+            // SAFETY: four `u32` into a four-element array, unaligned store.
+            unsafe { _mm_storeu_si128(index.as_mut_ptr().cast(), pixel) };
+            // SAFETY: `pixel = cy · w + cx` with `0 <= cx <= w - 2`, `0 <= cy <= h - 2` (tested,
+            // or by the caller), so `pixel + w + 1 <= w · h - 1`: all four pairs of both rows
+            // inside `values`.
+            let ((a, b), (c, d)) = unsafe { (pairs(values, index), pairs(below, index)) };
+            let (left, up) = (_mm_sub_ps(one, tx), _mm_sub_ps(one, ty));
+            let top = _mm_add_ps(_mm_mul_ps(a, left), _mm_mul_ps(b, tx));
+            let bottom = _mm_add_ps(_mm_mul_ps(c, left), _mm_mul_ps(d, tx));
+            let sample = _mm_add_ps(_mm_mul_ps(top, up), _mm_mul_ps(bottom, ty));
+            // SAFETY: as the loads above.
+            unsafe {
+                let at = sums.as_mut_ptr().add(t);
+                _mm_storeu_ps(at, _mm_add_ps(_mm_loadu_ps(at), sample));
+            }
+            t += 4;
         }
-        for t in t..n {
-            sums[t] += plane.sample_inside(xs[t] + offset[0], ys[t] + offset[1]);
-        }
+        t
     }
 }
 

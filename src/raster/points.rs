@@ -536,19 +536,36 @@ pub(crate) fn set_aside(points: &mut PointSet) -> Aside {
     let Some(grid) = &mut points.grid else {
         return Aside::default();
     };
-    grid.release(&points.points);
-    if points.dropout {
-        return Aside::default();
-    }
     // Pixel centers in raster order (`PointSet::validate`), so the runs give them back exactly;
     // anything else keeps its points.
-    let Some(runs) = pixel_runs(points.points.iter()) else {
+    let runs = (!points.dropout)
+        .then(|| pixel_runs(points.points.iter()))
+        .flatten();
+    let Some(runs) = runs else {
+        grid.release(&points.points);
         return Aside::default();
     };
+    // The index is set back to `Grid::NONE` a run at a time rather than a point at a time;
+    // released with no point left to clear, it becomes the thread's spare all the same.
+    clear_runs(grid, &runs);
+    grid.release(&[]);
     points.points = Vec::new();
     points.offsets = Vec::new();
     points.neighbors = Vec::new();
     Aside { runs }
+}
+
+/// Sets the entries of `runs`' pixels (image coordinates, inside the window) in `grid`'s index
+/// back to [`Grid::NONE`], as [`Grid::release`] does for their points.
+fn clear_runs(grid: &mut Grid, runs: &[Run]) {
+    let origin = (grid.x0, grid.y0);
+    let width = grid.width as usize;
+    for run in runs {
+        let (y, a, b) = window_run(run, origin);
+        if let Some(cells) = grid.index.get_mut(y * width + a..y * width + b) {
+            cells.fill(Grid::NONE);
+        }
+    }
 }
 
 /// The runs of `centers`, pixel centres in raster order (image coordinates), each run the

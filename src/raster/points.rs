@@ -572,7 +572,18 @@ fn clear_runs(grid: &mut Grid, runs: &[Run]) {
 /// centres of consecutive pixels of a row; `None` where a centre is not a pixel's.
 fn pixel_runs<'a>(centers: impl Iterator<Item = &'a [f64; 2]>) -> Option<Vec<Run>> {
     let mut runs: Vec<Run> = Vec::new();
+    // The centre that would continue the last run: most centres are that one, and the compare
+    // with it (a whole pixel's centre, exact in f64) spares their conversions below.
+    let mut next = [f64::NAN; 2];
     for p in centers {
+        if *p == next {
+            // (A run ending at `u32::MAX` is refused below, as its next pixel is.)
+            if let Some(run) = runs.last_mut().filter(|run| run.x1 < u32::MAX) {
+                run.x1 += 1;
+                next[0] += 1.0;
+                continue;
+            }
+        }
         let (x, y) = (p[0] - 0.5, p[1] - 0.5);
         if !(x >= 0.0 && y >= 0.0 && x < u32::MAX as f64 && y < u32::MAX as f64) {
             return None;
@@ -592,6 +603,7 @@ fn pixel_runs<'a>(centers: impl Iterator<Item = &'a [f64; 2]>) -> Option<Vec<Run
                 x1: x + 1,
             }),
         }
+        next = [f64::from(x) + 1.5, p[1]];
     }
     Some(runs)
 }

@@ -727,7 +727,9 @@ fn trace_chunks(
             let point_count = points.len();
             let (mut points, components) = match part {
                 Some(part) => {
-                    if let Some(grid) = &mut points.grid {
+                    // The whole set's pixel index was released where the part was cut
+                    // (`prepare_skeleton`): an empty index has no entry to set back.
+                    if let Some(grid) = points.grid.as_mut().filter(|g| !g.index.is_empty()) {
                         grid.release(&points.points);
                     }
                     part

@@ -536,26 +536,54 @@ pub(crate) fn set_aside(points: &mut PointSet) -> Aside {
     let Some(grid) = &mut points.grid else {
         return Aside::default();
     };
-    grid.release(&points.points);
-    if points.dropout {
-        return Aside::default();
-    }
     // Pixel centers in raster order (`PointSet::validate`), so the runs give them back exactly;
     // anything else keeps its points.
-    let Some(runs) = pixel_runs(points.points.iter()) else {
+    let runs = (!points.dropout)
+        .then(|| pixel_runs(points.points.iter()))
+        .flatten();
+    let Some(runs) = runs else {
+        grid.release(&points.points);
         return Aside::default();
     };
+    // The index is set back to `Grid::NONE` a run at a time rather than a point at a time;
+    // released with no point left to clear, it becomes the thread's spare all the same.
+    clear_runs(grid, &runs);
+    grid.release(&[]);
     points.points = Vec::new();
     points.offsets = Vec::new();
     points.neighbors = Vec::new();
     Aside { runs }
 }
 
+/// Sets the entries of `runs`' pixels (image coordinates, inside the window) in `grid`'s index
+/// back to [`Grid::NONE`], as [`Grid::release`] does for their points.
+fn clear_runs(grid: &mut Grid, runs: &[Run]) {
+    let origin = (grid.x0, grid.y0);
+    let width = grid.width as usize;
+    for run in runs {
+        let (y, a, b) = window_run(run, origin);
+        if let Some(cells) = grid.index.get_mut(y * width + a..y * width + b) {
+            cells.fill(Grid::NONE);
+        }
+    }
+}
+
 /// The runs of `centers`, pixel centres in raster order (image coordinates), each run the
 /// centres of consecutive pixels of a row; `None` where a centre is not a pixel's.
 fn pixel_runs<'a>(centers: impl Iterator<Item = &'a [f64; 2]>) -> Option<Vec<Run>> {
     let mut runs: Vec<Run> = Vec::new();
+    // The centre that would continue the last run: most centres are that one, and the compare
+    // with it (a whole pixel's centre, exact in f64) spares their conversions below.
+    let mut next = [f64::NAN; 2];
     for p in centers {
+        if *p == next {
+            // (A run ending at `u32::MAX` is refused below, as its next pixel is.)
+            if let Some(run) = runs.last_mut().filter(|run| run.x1 < u32::MAX) {
+                run.x1 += 1;
+                next[0] += 1.0;
+                continue;
+            }
+        }
         let (x, y) = (p[0] - 0.5, p[1] - 0.5);
         if !(x >= 0.0 && y >= 0.0 && x < u32::MAX as f64 && y < u32::MAX as f64) {
             return None;
@@ -575,6 +603,7 @@ fn pixel_runs<'a>(centers: impl Iterator<Item = &'a [f64; 2]>) -> Option<Vec<Run
                 x1: x + 1,
             }),
         }
+        next = [f64::from(x) + 1.5, p[1]];
     }
     Some(runs)
 }

@@ -102,6 +102,12 @@ mod skeleton;
 pub mod strokes;
 pub mod warnings;
 
+/// The stack of each worker thread a caller starts for ridgeline's parallel passes (bytes): a
+/// worker that waits for a pass of one file steals other files' work and runs it on top of its
+/// own stack, so a batch nests whole traces; the default of 2 MiB overflowed about one batch of
+/// FVC2002's 320 prints in eight at `--jobs 2`. Only the pages a thread touches are used.
+pub const WORKER_STACK_BYTES: usize = 64 << 20;
+
 pub use binary::{Binary, MaskView};
 pub use curve3d::{dist3, CurveGraph3d, Edge3d, Trace3d, Vertex3d};
 pub use decisions::{

@@ -85,7 +85,7 @@ fn run_with(settings: &Settings, started: Instant) -> Result<ExitCode> {
             }
             bar
         });
-    let mut pool = rayon::ThreadPoolBuilder::new();
+    let mut pool = rayon::ThreadPoolBuilder::new().stack_size(ridgeline::WORKER_STACK_BYTES);
     if let Some(threads) = settings.threads {
         pool = pool.num_threads(threads);
         // One thread: this one, rather than a worker started for the run while this one waits

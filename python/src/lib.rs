@@ -326,6 +326,7 @@ fn on_pool<T: Send>(threads: Option<usize>, work: impl FnOnce() -> T + Send) -> 
         }
         let pool = rayon::ThreadPoolBuilder::new()
             .num_threads(threads)
+            .stack_size(ridgeline::WORKER_STACK_BYTES)
             .thread_name(|i| format!("ridgeline-{i}"))
             .build()
             .ok()

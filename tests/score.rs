@@ -882,3 +882,22 @@ fn retraces_can_be_read_as_the_arms_their_ink_shows() {
         assert_eq!(truth_graph_with(&c, &folds), truth_graph(&c), "{name}");
     }
 }
+
+#[test]
+fn a_short_arm_whose_cap_touches_the_stroke_it_leaves_is_an_arm() {
+    // A bar and a stub square to it, whose centerline ends `reach` px from the bar's. The stub's
+    // foot lies on the bar and its cap's ink touches the bar's (a width long): both ends would
+    // join the bar. The ink shows an arm when the stub's centerline ends beyond the bar's ink
+    // (half a width and half a pixel), as a tail past a crossed stroke is one; nearer, a bump.
+    for w in [4.0, 8.0, 12.0] {
+        for (reach, arm) in [(w, true), (1.5 * w, true), (w / 2.0 + 0.25, false)] {
+            let bar = line([10.5, 40.5], [110.5, 40.5], w);
+            let stub = line([60.5, 40.5], [60.5, 40.5 - reach], w);
+            let case = case("stub", vec![bar, stub], 121, 61);
+            let truth = truth_graph(&case);
+            let (ends, junctions) = (truth.endpoints().count(), truth.junctions().count());
+            let expected = if arm { (3, 1) } else { (2, 0) };
+            assert_eq!((ends, junctions), expected, "w {w}, reach {reach}");
+        }
+    }
+}

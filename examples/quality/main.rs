@@ -671,6 +671,17 @@ fn main() -> anyhow::Result<()> {
             }
             let mut traced = Vec::new();
             let capture = captures.get(&case.name);
+            if let Some(dir) = &args.pictures {
+                // The case's ink as the methods read it, to trace it again by hand.
+                std::fs::create_dir_all(dir)?;
+                let path = dir.join(format!("{}.ink.png", case.name));
+                let b = &case.binary;
+                image::GrayImage::from_fn(b.width, b.height, |x, y| {
+                    image::Luma([if b.get(x as i64, y as i64) { 0 } else { 255 }])
+                })
+                .save(&path)
+                .with_context(|| format!("writing {}", path.display()))?;
+            }
             if let (Some(dir), Some(d)) = (&args.pictures, capture) {
                 std::fs::create_dir_all(dir)?;
                 let path = dir.join(format!("{}.capture.png", case.name));

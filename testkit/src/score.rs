@@ -1639,6 +1639,9 @@ impl Net {
                 joins.push((end, target));
             }
         }
+        if let Join::Ink { holes, .. } = rule {
+            self.drop_closing_pairs(&mut joins, &samples, holes);
+        }
         if joins.is_empty() {
             return;
         }
@@ -1661,6 +1664,66 @@ impl Net {
             sets.union(end, target_node);
         }
         self.merge(&sets, &anchored, Follow::Extend, None);
+    }
+
+    /// Of two `joins` (end, target sample) by the two ends of one wire to the same wire (or the
+    /// same node), the farther is dropped when the two together would close a cycle around no
+    /// hole of the ink: each end was searched for before the other joined, so neither saw the
+    /// cycle (an arm a width long leaving a stroke: its foot lies on the stroke, and its cap's
+    /// ink touches the stroke's ink, so both ends joined the stroke and the arm became a loop).
+    fn drop_closing_pairs(
+        &self,
+        joins: &mut Vec<(usize, usize)>,
+        samples: &Samples,
+        holes: &Holes,
+    ) {
+        let target_of = |end: usize| joins.iter().find(|j| j.0 == end).map(|j| j.1);
+        let mut dropped = Vec::new();
+        for &(end, target) in joins.iter() {
+            let Some(wire) = self
+                .wires
+                .iter()
+                .find(|w| w.alive && w.from != w.to && (w.from == end || w.to == end))
+            else {
+                continue;
+            };
+            let other = if wire.from == end { wire.to } else { wire.from };
+            let Some(other_target) = target_of(other) else {
+                continue;
+            };
+            // The cycle: this wire from `end` to `other`, then along the targets' wire back.
+            let mut cycle: Vec<[f64; 2]> = wire.points.clone();
+            if wire.from != end {
+                cycle.reverse();
+            }
+            match (samples.wire_of(other_target), samples.wire_of(target)) {
+                (Some((wa, ia)), Some((wb, ib))) if wa == wb => {
+                    let points = &self.wires[wa].points;
+                    if ia <= ib {
+                        cycle.extend_from_slice(&points[ia..=ib]);
+                    } else {
+                        cycle.extend(points[ib..=ia].iter().rev());
+                    }
+                }
+                (None, None) if other_target == target => {
+                    cycle.push(samples.pos[target]);
+                }
+                _ => continue,
+            }
+            if holes.inside(&cycle) {
+                continue;
+            }
+            // The farther end stays free when its centerline ends beyond the other stroke's
+            // ink (by half a pixel), as a tail past a crossed stroke stays ([`Net::drop_tails`]):
+            // then the ink shows an arm; nearer, a bump of the stroke's edge.
+            let d = |e: usize, t: usize| dist(self.nodes[e].pos, samples.pos[t]);
+            if (d(end, target), end) > (d(other, other_target), other)
+                && d(end, target) > samples.width[target] / 2.0 + 0.5
+            {
+                dropped.push(end);
+            }
+        }
+        joins.retain(|j| !dropped.contains(&j.0));
     }
 
     /// Joins strokes whose inks touch where neither of them ends or crosses the other (a script

@@ -43,8 +43,8 @@ fn with_width(strokes: &[Stroke], w: f64) -> Vec<Stroke> {
 /// - `ladder_g{g}`: two rails 8 px apart joined by rungs every `g` = `w + 2`, `w + 3` and `w + 5`
 ///   px (junctions that close, cells one to four pixels across);
 /// - `comb_b{b}`: a bar with teeth on one side, 6 px apart, whose ink reaches `b` = `w + 1`,
-///   `w + 2` and `w + 4` px beyond the bar's (short arms, not spurs; at `w + 1` on a 2 px bar the
-///   tooth's cap still touches the bar's ink, and the truth joins it back: no arm);
+///   `w + 2` and `w + 4` px beyond the bar's (short arms, not spurs: each tooth's centerline ends
+///   beyond the bar's ink, though at `w + 1` on a 2 px bar its cap's ink touches the bar's);
 /// - `grid_p{p}`: a 4 x 4 grid of lines `p` = `w + 3` and `w + 5` px apart (cells of two and four
 ///   pixels across, each a hole).
 pub fn thin_cases() -> Vec<Case> {

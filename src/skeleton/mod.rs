@@ -122,7 +122,9 @@ pub(crate) struct Prepared {
 /// were measured on: [`Work::place_shallow_tees`] is not applied (moved, the synthetic prints'
 /// minutiae were found less well) and an end is not carried to a narrowing stroke's cap (a
 /// ridge's end is not a brush's tail: [`Work::extend_ends`]; moved, DB2's FMR1000 rose over
-/// mindtct's) (docs/quality.md, "Session of 2026-12-06, seventh").
+/// mindtct's) (docs/quality.md, "Session of 2026-12-06, seventh"); nor is a branch's eroded tip
+/// made up for when its reach is judged ([`Work::prune_spurs`]: the minutiae were measured
+/// without).
 pub(crate) fn prepare(
     points: &PointSet,
     experiments: &ExperimentParams,
@@ -135,7 +137,7 @@ pub(crate) fn prepare(
     }
     let (skeleton, ink) = skeleton_graph(points, grid, components);
     let mut work = Work::new(skeleton, ink);
-    work.prune_spurs(experiments.decide_by_ink);
+    work.prune_spurs(experiments.decide_by_ink, !ridges);
     work.join_degree_two();
     work.contract_short_links();
     let packed = pack_bits(&std::mem::take(&mut work.ink.mask));
@@ -401,7 +403,7 @@ fn reconcile(
 ) -> StrokeGraph {
     let by_ink = experiments.decide_by_ink;
     work.merge_crossings(method);
-    work.prune_spurs(by_ink);
+    work.prune_spurs(by_ink, !ridges);
     work.merge_split_crossings(!ridges);
     work.merge_split_stars();
     // A dissolved corner lengthens its neighbours' legs (the corners of a small `w` share them):

@@ -46,9 +46,13 @@ impl Work {
     /// junction that line up are one stroke crossing the others and are judged together
     /// ([`judge_crossbars`]).
     ///
+    /// With `tips`, a branch's reach counts the ink its line runs on beyond its tip, up to half
+    /// a width: thinning erodes a branch's tip by about that, most along a diagonal (an arm a
+    /// width long at 45° kept its junction's disk and little more).
+    ///
     /// With `by_ink` (the experiment `decide_by_ink`), a branch is a spur when the ink only it
     /// explains ([`ink_only_arm`]) is at most [`PART_COST`] squared stroke widths; least first.
-    pub(super) fn prune_spurs(&mut self, by_ink: bool) {
+    pub(super) fn prune_spurs(&mut self, by_ink: bool, tips: bool) {
         let mut degree = self.degrees();
         let at = self.incidence();
         // The stroke width an arm leaves: the narrowest median width of the junction's other
@@ -129,6 +133,20 @@ impl Work {
                         .filter(|&(q, _)| dist(q, j.pos) <= ENVELOPE_REACH * stroke)
                         .filter(|&(q, _)| centre == j.pos || q != j.pos),
                 );
+            }
+            // Thinning erodes a branch's tip, most along a diagonal (about half its width, the
+            // same erosion [`Work::extend_ends`] makes up for): the ink the branch's own line
+            // runs on beyond its tip is the branch's too, the farthest point of it a disk of
+            // half a pixel.
+            let (tip_at, back) = (points[points.len() - 1], points[0]);
+            let axis = unit([tip_at[0] - back[0], tip_at[1] - back[1]]).filter(|_| tips);
+            if let Some(axis) = axis {
+                let on = (self.ink.exit(tip_at, axis, 2.0 * stroke + 4.0) - 0.5)
+                    .min(disk_radius(stroke));
+                if on > 0.0 {
+                    points.push([tip_at[0] + on * axis[0], tip_at[1] + on * axis[1]]);
+                    widths.push(0.0);
+                }
             }
             let reach = spur_reach(&points, &widths, &envelope);
             let limit = (SPUR_REACH * stroke).max(SPUR_REACH_PX);
@@ -573,5 +591,33 @@ mod tests {
         let arm = spur_reach(&[[0.0, 4.0], [0.0, 12.0]], &[8.0, 6.0], &envelope);
         assert!(bump < 1.0, "{bump}");
         assert!(arm > 0.5 * 8.0, "{arm}");
+    }
+
+    #[test]
+    fn an_arm_that_thinning_shortens_along_a_diagonal_is_kept() {
+        // A bar and an arm at 45 degrees whose ink reaches one width beyond the bar's edge:
+        // thinning erodes the arm's tip by about half a width, leaving a branch that by its own
+        // disks reaches less than `0.4 w` past the junction's; the ink its line runs on beyond
+        // the tip is the arm's. At every width the arm is kept: one junction, three ends.
+        for w in [8.0f64, 12.0] {
+            let c = [70.5, 50.5];
+            let length = w + w / 2.0 * (std::f64::consts::SQRT_2 - 1.0);
+            let d = std::f64::consts::FRAC_1_SQRT_2;
+            let strokes = [
+                Stroke::new(vec![[c[0] - 60.0, c[1]], [c[0] + 60.0, c[1]]], w),
+                Stroke::new(vec![c, [c[0] + length * d, c[1] - length * d]], w),
+            ];
+            let shape = shape(&render(&strokes, 141, 80), &Params::default());
+            assert_eq!(shape, (vec![3], 3), "w {w}");
+        }
+        // A bump of the bar's edge, a pixel and a half high and a width long, is no arm.
+        let strokes = [
+            Stroke::new(vec![[10.5, 40.5], [130.5, 40.5]], 8.0),
+            Stroke::new(vec![[66.5, 39.0], [74.5, 39.0]], 8.0),
+        ];
+        assert_eq!(
+            shape(&render(&strokes, 141, 80), &Params::default()),
+            (vec![], 2)
+        );
     }
 }

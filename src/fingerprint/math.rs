@@ -379,8 +379,8 @@ pub(crate) struct BlockGradients {
 /// segmentation's percentile reads them all) and the sums per block of `block` px
 /// ([`BlockGradients`]). The gradients are worked out a row at a time and never kept as planes:
 /// two full planes of `f32` at once, the largest part of a print's peak memory, where the
-/// kernel zeroes each page on its first touch (docs/performance.md, "Session of 2026-12-07,
-/// fourteenth"). Each sum takes the same terms in the same order as the planes' did.
+/// kernel zeroes each page on its first touch (docs/fingerprints.md, "Speed: the front stages'
+/// planes"). Each sum takes the same terms in the same order as the planes' did.
 // Not inlined into the front stages, where its loops measured 0.2 M instructions more a print.
 #[inline(never)]
 pub(crate) fn gradients(plane: &Plane, block: u32) -> (Vec<f32>, BlockGradients) {

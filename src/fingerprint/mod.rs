@@ -185,7 +185,7 @@ impl Blank {
     ///
     /// The gray levels as `f32` are made again from `gray`, and only when a block is measured:
     /// kept from the front stages, that plane stood beside the enhancement's padded image and
-    /// response (docs/performance.md, "Session of 2026-12-07, fourteenth").
+    /// response (docs/fingerprints.md, "Speed: the front stages' planes").
     fn blocks(
         mut self,
         gray: GrayView<'_>,
@@ -281,7 +281,7 @@ fn confirmed_ridges(
     let period = periods.median_inside(segmentation);
     // Only the enhanced ridges' pixels read the mean: it is blurred over their bounding box
     // (the same value at each of them as the whole image's blur), a row at a time (no plane of
-    // it kept: docs/performance.md, "Session of 2026-12-07, fourteenth").
+    // it kept: docs/fingerprints.md, "Speed: the front stages' planes").
     let w = binary.width as usize;
     let (xs, ys) = crate::mask::ink_box(&binary.ink, w).unwrap_or((0..0, 0..0));
     let mut ink = vec![false; binary.ink.len()];

@@ -387,7 +387,6 @@ pub(crate) fn gradients(plane: &Plane, block: u32) -> (Vec<f32>, BlockGradients)
     let grid = BlockGrid::new(plane.width, plane.height, block);
     let (w, h) = (plane.width as usize, plane.height as usize);
     let (cols, b) = (grid.cols as usize, grid.block as usize);
-    // The plane first: a block of its size is often free just then (the blur's rows).
     let mut magnitude = Vec::with_capacity(w * h);
     let mut tensor = vec![[0.0f64; 3]; grid.len()];
     let mut sums = vec![0.0f64; grid.len()];

@@ -26,9 +26,10 @@ const TURNING_COHERENCE: f32 = 0.5;
 const SUB_BLOCK: usize = 4;
 
 /// The enhanced image: the Gabor response, ridges positive (`dark_ridges` says which side of the
-/// gray levels the ridges are), zero outside the print.
+/// gray levels the ridges are), zero outside the print. `gray` is taken, padded and let go
+/// before the response is allocated (with the round envelope; the direct filter reads it).
 pub(crate) fn enhance(
-    gray: &Plane,
+    gray: Plane,
     segmentation: &Segmentation,
     field: &OrientationField,
     periods: &RidgePeriods,
@@ -38,12 +39,11 @@ pub(crate) fn enhance(
     let grid = segmentation.grid;
     let (w, b) = (grid.width as usize, grid.block as usize);
     let sign = if dark_ridges { -1.0f32 } else { 1.0 };
-    let mut values = vec![0.0f32; gray.values.len()];
     if w == 0 || b == 0 {
         return Plane {
             width: grid.width,
             height: grid.height,
-            values,
+            values: vec![0.0f32; gray.values.len()],
         };
     }
     // With a round envelope (σ across = σ along) the filter is a sum of two separable terms
@@ -56,8 +56,12 @@ pub(crate) fn enhance(
             .map(|k| kernel_radius(params.gabor_sigma_across * f64::from(periods.period[k])))
             .max()
             .unwrap_or(1);
-        (padded_plane(gray, pad), pad)
+        (padded_plane(&gray, pad), pad)
     });
+    let len = gray.values.len();
+    // The padded image is all the separable filter reads: the plane goes here.
+    let gray = padded.is_none().then_some(gray);
+    let mut values = vec![0.0f32; len];
     values
         .par_chunks_mut(w * b)
         .enumerate()
@@ -92,7 +96,7 @@ pub(crate) fn enhance(
                     if let Some((padded, pad)) = &padded {
                         filter.tune(theta, period, params, &mut scratch);
                         filter.apply(padded, *pad, pixels, sign, out, &mut rows);
-                    } else {
+                    } else if let Some(gray) = &gray {
                         let radius = gabor_kernel(theta, period, params, &mut kernel);
                         apply_kernel(gray, &kernel, radius, pixels, sign, out);
                     }
@@ -1098,7 +1102,7 @@ mod tests {
         }
         let agreement = |field: &OrientationField| {
             let e = enhance(
-                &gray,
+                gray.clone(),
                 &s,
                 field,
                 &periods,
@@ -1144,7 +1148,7 @@ mod tests {
         let grid = BlockGrid::new(w as u32, h as u32, 8);
         let (s, field, periods) = uniform_print(grid, 0.0, period as f32);
         let e = enhance(
-            &gray,
+            gray,
             &s,
             &field,
             &periods,

@@ -25,7 +25,7 @@ mod smooth;
 use crate::binary::Binary;
 use crate::gray::GrayView;
 use crate::params::{Enhancement, FingerprintParams};
-use fields::{BlockGrid, OrientationField, Plane, RidgePeriods, Segmentation};
+use fields::{OrientationField, Plane, RidgePeriods, Segmentation};
 use serde::Serialize;
 
 /// Everything the fingerprint front end found on one print.
@@ -119,7 +119,14 @@ pub(crate) fn analyze_deciding<E: Send>(
         blank,
     } = front;
     let blank = blank.map_or_else(Vec::new, |blank| {
-        blank.blocks(&segmentation, &orientation, &periods, params, dark_ridges)
+        blank.blocks(
+            gray,
+            &segmentation,
+            &orientation,
+            &periods,
+            params,
+            dark_ridges,
+        )
     });
     if !dark_ridges {
         enhanced.values.iter_mut().for_each(|v| *v = -*v);
@@ -163,11 +170,10 @@ struct FrontStages {
     blank: Option<Blank>,
 }
 
-/// The evidence of [`segment::blank_blocks`] and the gray image it completes a block's from.
+/// The evidence of [`segment::blank_blocks`], completed from the gray image once the polarity
+/// is known.
 struct Blank {
     evidence: segment::RidgeEvidence,
-    /// The print's gray levels as `f32`.
-    plane: Plane,
 }
 
 impl Blank {
@@ -176,17 +182,23 @@ impl Blank {
     /// for both polarities, and the blocks it completes for one are those it would give the
     /// other, so the blocks found are those found when both were (docs/fingerprints.md,
     /// "Ridges through a solid wet area").
+    ///
+    /// The gray levels as `f32` are made again from `gray`, and only when a block is measured:
+    /// kept from the front stages, that plane stood beside the enhancement's padded image and
+    /// response (docs/fingerprints.md, "Speed: the front stages' planes").
     fn blocks(
         mut self,
+        gray: GrayView<'_>,
         segmentation: &Segmentation,
         orientation: &OrientationField,
         periods: &RidgePeriods,
         params: &FingerprintParams,
         dark_ridges: bool,
     ) -> Vec<bool> {
-        let plane = &self.plane;
+        let plane = std::sync::OnceLock::new();
         let whole = self.evidence.whole;
         let measure = |b, rows| {
+            let plane = plane.get_or_init(|| gray_plane(gray));
             segment::measure_evidence(plane, whole, segmentation, orientation, periods, b, rows)
         };
         segment::blank_blocks(
@@ -203,24 +215,12 @@ impl Blank {
 
 /// Segmentation, orientation field, ridge periods and the enhancement for dark ridges.
 fn front_stages(gray: GrayView<'_>, params: &FingerprintParams) -> FrontStages {
-    let (width, height) = gray.dimensions();
-    // Allocated at its size (collected from the rows, the vector would grow by doubling, each
-    // time copied, to a third more than it holds).
-    let mut values = Vec::with_capacity(width as usize * height as usize);
-    for row in gray.rows() {
-        values.extend(row.iter().map(|&v| f32::from(v)));
-    }
-    let plane = Plane {
-        width,
-        height,
-        values,
-    };
-    let grid = BlockGrid::new(width, height, params.block);
+    let plane = gray_plane(gray);
     let smoothed = math::gaussian_blur(&plane, params.gradient_sigma);
-    let (gx, gy) = math::sobel(&smoothed);
-    let segmentation = segment::segment(&gx, &gy, grid, params);
-    let orientation = orientation::orientation(&gx, &gy, &segmentation, params);
-    drop((gx, gy));
+    let (magnitude, gradients) = math::gradients(&smoothed, params.block);
+    let segmentation = segment::segment(magnitude, &gradients, params);
+    let orientation = orientation::orientation(&gradients, &segmentation, params);
+    drop(gradients);
     let periods = frequency::ridge_periods(&smoothed, &segmentation, &orientation, params);
     // Blocks that show no ridges (a wet smear, a blank margin) are no print: the filter would
     // draw ridges through them from the orientation and period around. Which they are depends
@@ -231,12 +231,17 @@ fn front_stages(gray: GrayView<'_>, params: &FingerprintParams) -> FrontStages {
     // The plane's levels are 8-bit gray's: whole numbers (`segment::whole_levels`).
     let evidence = (params.blank_evidence > 0.0)
         .then(|| segment::ridge_evidence(&plane, true, &segmentation, &orientation, &periods));
-    let enhance = match params.enhancement {
-        Enhancement::Gabor => enhance::enhance,
-        Enhancement::Smoothing => smooth::enhance,
+    // The Gabor filter takes the plane and lets it go once it has padded it, before its
+    // response is allocated.
+    let enhanced = match params.enhancement {
+        Enhancement::Gabor => {
+            enhance::enhance(plane, &segmentation, &orientation, &periods, params, true)
+        }
+        Enhancement::Smoothing => {
+            smooth::enhance(&plane, &segmentation, &orientation, &periods, params, true)
+        }
     };
-    let enhanced = enhance(&plane, &segmentation, &orientation, &periods, params, true);
-    let blank = evidence.map(|evidence| Blank { evidence, plane });
+    let blank = evidence.map(|evidence| Blank { evidence });
     FrontStages {
         smoothed,
         segmentation,
@@ -244,6 +249,22 @@ fn front_stages(gray: GrayView<'_>, params: &FingerprintParams) -> FrontStages {
         periods,
         enhanced,
         blank,
+    }
+}
+
+/// The gray levels of `gray` as `f32`.
+fn gray_plane(gray: GrayView<'_>) -> Plane {
+    let (width, height) = gray.dimensions();
+    // Allocated at its size (collected from the rows, the vector would grow by doubling, each
+    // time copied, to a third more than it holds).
+    let mut values = Vec::with_capacity(width as usize * height as usize);
+    for row in gray.rows() {
+        values.extend(row.iter().map(|&v| f32::from(v)));
+    }
+    Plane {
+        width,
+        height,
+        values,
     }
 }
 
@@ -259,12 +280,24 @@ fn confirmed_ridges(
 ) -> Binary {
     let period = periods.median_inside(segmentation);
     // Only the enhanced ridges' pixels read the mean: it is blurred over their bounding box
-    // (the same value at each of them as the whole image's blur).
-    let (xs, ys) = crate::mask::ink_box(&binary.ink, binary.width as usize).unwrap_or((0..0, 0..0));
-    let mean = math::gaussian_blur_within(smoothed, (period / 2.0).max(1.0), xs, ys);
-    let ink = (binary.ink.iter().zip(&smoothed.values).zip(&mean.values))
-        .map(|((&ink, &g), &m)| ink && if dark_ridges { g < m } else { g > m })
-        .collect();
+    // (the same value at each of them as the whole image's blur), a row at a time (no plane of
+    // it kept: docs/fingerprints.md, "Speed: the front stages' planes").
+    let w = binary.width as usize;
+    let (xs, ys) = crate::mask::ink_box(&binary.ink, w).unwrap_or((0..0, 0..0));
+    let mut ink = vec![false; binary.ink.len()];
+    let sigma = (period / 2.0).max(1.0);
+    math::gaussian_blur_rows(smoothed, sigma, xs, ys, &mut |y, x0, mean| {
+        let row = y * w + x0..y * w + x0 + mean.len();
+        let (confirmed, enhanced) = (&mut ink[row.clone()], &binary.ink[row.clone()]);
+        for (((c, &ink), &g), &m) in confirmed
+            .iter_mut()
+            .zip(enhanced)
+            .zip(&smoothed.values[row])
+            .zip(mean)
+        {
+            *c = ink && if dark_ridges { g < m } else { g > m };
+        }
+    });
     Binary { ink, ..*binary }
 }
 
@@ -292,6 +325,7 @@ fn block_contrast(mut rms: Vec<f32>, segmentation: &Segmentation) -> Vec<f32> {
 
 #[cfg(test)]
 pub(crate) mod tests {
+    use super::fields::BlockGrid;
     use super::*;
     use image::GrayImage;
     use std::f64::consts::TAU;

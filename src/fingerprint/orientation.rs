@@ -11,46 +11,31 @@
 //! energy. Background blocks take the smoothed value of the print around them, so the Gabor
 //! filter near the border still has a direction.
 //!
-//! In: the gradients and the [`Segmentation`]; out: [`OrientationField`].
+//! In: the gradients' sums per block and the [`Segmentation`]; out: [`OrientationField`].
 
-use super::fields::{OrientationField, Plane, Segmentation};
+use super::fields::{OrientationField, Segmentation};
+use super::math::BlockGradients;
 use crate::params::FingerprintParams;
 use std::f64::consts::{FRAC_PI_2, PI};
 
-/// The orientation field of the print.
+/// The orientation field of the print from its `gradients`' sums per block.
 pub(crate) fn orientation(
-    gx: &Plane,
-    gy: &Plane,
+    gradients: &BlockGradients,
     segmentation: &Segmentation,
     params: &FingerprintParams,
 ) -> OrientationField {
     let grid = segmentation.grid;
     let (cols, rows) = (grid.cols as usize, grid.rows as usize);
-    let w = grid.width as usize;
     // Per block: doubled-angle vector and energy; zero outside the print.
-    let mut tensor = vec![[0.0f64; 3]; grid.len()];
-    for j in 0..rows {
-        for i in 0..cols {
-            let b = grid.index(i, j);
-            if !segmentation.inside[b] {
-                continue;
+    let tensor: Vec<[f64; 3]> = (gradients.tensor.iter().zip(&segmentation.inside))
+        .map(|(&[xx, yy, xy], &inside)| {
+            if inside {
+                [xx - yy, 2.0 * xy, xx + yy]
+            } else {
+                [0.0; 3]
             }
-            let (x0, x1, y0, y1) = grid.pixels(i, j);
-            let (mut xx, mut yy, mut xy) = (0.0f64, 0.0f64, 0.0f64);
-            for y in y0..y1 {
-                for x in x0..x1 {
-                    let (a, c) = (
-                        f64::from(gx.values[y * w + x]),
-                        f64::from(gy.values[y * w + x]),
-                    );
-                    xx += a * a;
-                    yy += c * c;
-                    xy += a * c;
-                }
-            }
-            tensor[b] = [xx - yy, 2.0 * xy, xx + yy];
-        }
-    }
+        })
+        .collect();
     let sigma = (params.orientation_sigma / f64::from(grid.block)).max(0.5);
     let radius = (3.0 * sigma).ceil() as i64;
     let weights: Vec<f64> = (-radius..=radius)
@@ -108,7 +93,7 @@ pub(crate) fn orientation(
 mod tests {
     use super::*;
     use crate::fingerprint::fields::BlockGrid;
-    use crate::fingerprint::math::sobel;
+    use crate::fingerprint::math::gradients;
     use crate::fingerprint::tests::ridges_in_disk;
 
     fn angle_error(a: f64, b: f64) -> f64 {
@@ -121,13 +106,13 @@ mod tests {
         for degrees in [0.0f64, 30.0, 90.0, 135.0, 170.0] {
             let theta = degrees.to_radians();
             let gray = ridges_in_disk(128, 128, 8.0, theta, [64.0, 64.0], 200.0);
-            let (gx, gy) = sobel(&gray);
+            let (_, gradients) = gradients(&gray, 8);
             let grid = BlockGrid::new(128, 128, 8);
             let inside = Segmentation {
                 grid,
                 inside: vec![true; grid.len()],
             };
-            let f = orientation(&gx, &gy, &inside, &FingerprintParams::default());
+            let f = orientation(&gradients, &inside, &FingerprintParams::default());
             let centre = grid.index(8, 8);
             let found = f64::from(f.angle[centre]);
             assert!(
@@ -142,18 +127,18 @@ mod tests {
     #[test]
     fn background_blocks_take_the_print_around_them_and_empty_gives_zero() {
         let gray = ridges_in_disk(96, 96, 8.0, 1.0, [48.0, 48.0], 200.0);
-        let (gx, gy) = sobel(&gray);
+        let (_, gradients) = gradients(&gray, 8);
         let grid = BlockGrid::new(96, 96, 8);
         let mut inside = vec![true; grid.len()];
         inside[grid.index(5, 5)] = false;
         let s = Segmentation { grid, inside };
-        let f = orientation(&gx, &gy, &s, &FingerprintParams::default());
+        let f = orientation(&gradients, &s, &FingerprintParams::default());
         assert!(angle_error(f64::from(f.angle[grid.index(5, 5)]), 1.0) < 0.05);
         let none = Segmentation {
             grid,
             inside: vec![false; grid.len()],
         };
-        let f = orientation(&gx, &gy, &none, &FingerprintParams::default());
+        let f = orientation(&gradients, &none, &FingerprintParams::default());
         assert!(f.coherence.iter().all(|&c| c == 0.0));
     }
 }

@@ -20,7 +20,7 @@
 use super::fields::{
     floor_small, whole_small, BlockGrid, OrientationField, Plane, RidgePeriods, Segmentation,
 };
-use super::math::components;
+use super::math::{components, BlockGradients};
 use crate::mask::morph3;
 use crate::median::upper_median_by;
 use crate::params::FingerprintParams;
@@ -29,36 +29,16 @@ use rayon::prelude::*;
 /// The percentile of the pixels' gradient magnitudes the threshold is a fraction of.
 const PERCENTILE: f64 = 0.95;
 
-/// Segments the print from its gradients `gx`, `gy`.
+/// Segments the print from its gradients: every pixel's gradient `magnitude` (row-major) and
+/// the means per block in `gradients`.
 pub(crate) fn segment(
-    gx: &Plane,
-    gy: &Plane,
-    grid: BlockGrid,
+    magnitude: Vec<f32>,
+    gradients: &BlockGradients,
     params: &FingerprintParams,
 ) -> Segmentation {
+    let grid = gradients.grid;
     let (cols, rows) = (grid.cols as usize, grid.rows as usize);
-    let w = grid.width as usize;
-    let magnitude: Vec<f32> = gx
-        .values
-        .iter()
-        .zip(&gy.values)
-        .map(|(a, b)| (a * a + b * b).sqrt())
-        .collect();
-    let mut block_mean = vec![0.0f32; grid.len()];
-    for j in 0..rows {
-        for i in 0..cols {
-            let (x0, x1, y0, y1) = grid.pixels(i, j);
-            let mut sum = 0.0f64;
-            for y in y0..y1 {
-                sum += magnitude[y * w + x0..y * w + x1]
-                    .iter()
-                    .map(|&v| f64::from(v))
-                    .sum::<f64>();
-            }
-            let n = ((x1 - x0) * (y1 - y0)).max(1);
-            block_mean[grid.index(i, j)] = (sum / n as f64) as f32;
-        }
-    }
+    let block_mean = &gradients.mean_magnitude;
     let level = percentile(magnitude, PERCENTILE) * params.segment_threshold as f32;
     let mut inside = vec![false; grid.len()];
     for j in 0..rows {
@@ -1678,15 +1658,14 @@ mod tests {
         assert!(compared > 500, "{compared}");
     }
 
-    use crate::fingerprint::math::sobel;
+    use crate::fingerprint::math::gradients;
     use crate::fingerprint::tests::ridges_in_disk;
 
     #[test]
     fn the_print_is_the_disk_of_ridges() {
         let gray = ridges_in_disk(160, 160, 9.0, 0.4, [80.0, 80.0], 50.0);
-        let (gx, gy) = sobel(&gray);
-        let grid = BlockGrid::new(160, 160, 8);
-        let s = segment(&gx, &gy, grid, &FingerprintParams::default());
+        let (magnitude, gradients) = gradients(&gray, 8);
+        let s = segment(magnitude, &gradients, &FingerprintParams::default());
         assert!(s.contains_pixel(80, 80));
         assert!(s.contains_pixel(80, 40), "inside the disk near its edge");
         assert!(!s.contains_pixel(5, 5), "corner is background");
@@ -1714,18 +1693,17 @@ mod tests {
         }
         let params = FingerprintParams::default();
         let smoothed = crate::fingerprint::math::gaussian_blur(&gray, params.gradient_sigma);
-        let (gx, gy) = sobel(&smoothed);
-        let grid = BlockGrid::new(192, 192, 8);
-        let first = segment(&gx, &gy, grid, &params);
+        let (magnitude, gradients) = gradients(&smoothed, 8);
+        let first = segment(magnitude, &gradients, &params);
         assert!(
             first.contains_pixel(12, 12),
             "the gradient keeps the noisy corner"
         );
-        let orientation = crate::fingerprint::orientation::orientation(&gx, &gy, &first, &params);
+        let orientation = crate::fingerprint::orientation::orientation(&gradients, &first, &params);
         let periods =
             crate::fingerprint::frequency::ridge_periods(&smoothed, &first, &orientation, &params);
         let enhanced = crate::fingerprint::enhance::enhance(
-            &gray,
+            gray,
             &first,
             &orientation,
             &periods,
@@ -1972,13 +1950,8 @@ mod tests {
             height: 32,
             values: vec![100.0; 1024],
         };
-        let (gx, gy) = sobel(&flat);
-        let s = segment(
-            &gx,
-            &gy,
-            BlockGrid::new(32, 32, 8),
-            &FingerprintParams::default(),
-        );
+        let (magnitude, gradients) = gradients(&flat, 8);
+        let s = segment(magnitude, &gradients, &FingerprintParams::default());
         assert_eq!(s.area_blocks(), 0);
     }
 }

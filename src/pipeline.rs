@@ -324,8 +324,15 @@ fn print_image(
             ))
         }
     };
-    let (analysis, binary) = fingerprint::analyze_deciding(gray, print, polarity)?;
+    let (mut analysis, binary) = fingerprint::analyze_deciding(gray, print, polarity)?;
     let enhance = start.elapsed();
+    // Only the stages' pictures read the Gabor response once the print is binarized: freed
+    // before tracing, whose memory then stands where the front end's stood (a print's page
+    // faults follow the heap's high-water mark: docs/fingerprints.md, "Speed: the front stages'
+    // planes").
+    if recording == Recording::Off {
+        analysis.enhanced = fingerprint::fields::Plane::default();
+    }
 
     let mut trace = trace_mask(binary.view(), params, recording)?;
     trace.graph = fingerprint::prior::ridges_along_the_flow(

@@ -37,7 +37,8 @@ pub struct PrintAnalysis {
     pub orientation: OrientationField,
     /// Ridge period per block.
     pub periods: RidgePeriods,
-    /// The Gabor response, ridges positive, zero outside the print.
+    /// The Gabor response, ridges positive, zero outside the print. In a trace, kept only when
+    /// its stages are recorded (`--debug`, [`crate::Trace::stages`]); empty otherwise.
     #[serde(skip)]
     pub enhanced: Plane,
     /// The ridges the pixels confirm: enhanced ridge (positive response) where the gray image is

@@ -3,6 +3,8 @@
 //! every component thinning erased; one component at a time over its own box
 //! ([`skeleton_by_component`]). docs/design.md, "Skeleton-carried geometry", first point.
 
+use crate::csr::Csr;
+
 /// Offsets of the 8 neighbours in the order P2..P9 of Zhang and Suen (N, NE, E, SE, S, SW, W, NW).
 pub(super) const RING: [(i64, i64); 8] = [
     (0, -1),
@@ -411,7 +413,28 @@ pub(super) fn skeleton_by_component(
             }
         }
     }
-    skeleton_pixels.sort_unstable();
+    // Raster order: a counting sort by row (each component's pixels already rise, so a row's
+    // pixels rise within each component that crosses it), then each row that several
+    // components cross sorted on its own. Each pixel is listed once, so this is the order
+    // `sort_unstable` gives.
+    let rows = ink.len() / width.max(1);
+    let mut by_row = Csr::build(rows, |sink| {
+        for &p in &skeleton_pixels {
+            sink.push((p >> 8) as usize / width, p);
+        }
+    });
+    if by_row.values().len() == skeleton_pixels.len() {
+        for row in 0..rows {
+            let pixels = by_row.row_mut(row);
+            if !pixels.is_sorted() {
+                pixels.sort_unstable();
+            }
+        }
+        skeleton_pixels = by_row.values;
+    } else {
+        // A pixel outside the window (never): the whole list sorted instead.
+        skeleton_pixels.sort_unstable();
+    }
     skeleton_pixels
         .iter()
         .map(|&p| ((p >> 8) as usize, p as u8))

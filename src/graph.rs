@@ -44,8 +44,11 @@ pub fn build(points: &PointSet, samples: &Samples, params: &Params) -> NodeGraph
         let a = owner[p as usize];
         for &q in points.neighbors_of(p) {
             let b = owner[q as usize];
-            if q > p && a != b {
-                edges.push([a.min(b), a.max(b)]);
+            // A cut between two parts meets many neighbour pairs in a row: the pair just
+            // pushed is left out again here rather than sorted away below.
+            let edge = [a.min(b), a.max(b)];
+            if q > p && a != b && edges.last() != Some(&edge) {
+                edges.push(edge);
             }
         }
         // Keep the buffer small on big pages: duplicates are dense along strokes.

@@ -15,6 +15,7 @@
 use std::cmp::Reverse;
 use std::collections::BinaryHeap;
 
+use crate::csr::Csr;
 use crate::geometry::{dist, floor_i64, hypot, point_in_polygon, TotalF64};
 use crate::node_graph::{GraphNode, NodeGraph};
 use crate::params::Params;
@@ -904,7 +905,7 @@ impl Holes {
                 _ => ink.push((label, y, x, x + 1)),
             }
         }
-        ink.sort_unstable();
+        let ink = by_component(ink);
         let mut holes: Vec<Hole> = Vec::new();
         let mut background: Vec<(i64, i64, i64)> = Vec::new();
         let mut row_start: Vec<usize> = Vec::new();
@@ -1036,6 +1037,30 @@ impl Holes {
     }
 }
 
+/// The ink runs `(component, row, x0, x1)` sorted (what `sort_unstable` gives), a counting sort
+/// by component: runs read off points in raster order already rise within each component, so
+/// only a component whose runs do not (checked) is sorted on its own.
+fn by_component(ink: Vec<(u32, i64, i64, i64)>) -> Vec<(u32, i64, i64, i64)> {
+    let components = ink.iter().map(|r| r.0 as usize + 1).max().unwrap_or(0);
+    if components > ink.len() {
+        let mut ink = ink;
+        ink.sort_unstable();
+        return ink;
+    }
+    let mut grouped = Csr::build(components, |sink| {
+        for &run in &ink {
+            sink.push(run.0 as usize, run);
+        }
+    });
+    for c in 0..components {
+        let runs = grouped.row_mut(c);
+        if !runs.is_sorted() {
+            runs.sort_unstable();
+        }
+    }
+    grouped.values
+}
+
 /// Labels the 4-connected regions of background runs `(row, x0, x1 exclusive)` listed row by row
 /// (`row_start[i]` is the first run of the `i`-th row, rows consecutive): each run is joined to
 /// the overlapping runs of the row above with a union-find.
@@ -1087,6 +1112,34 @@ mod tests {
         };
         assert_eq!(graph.validate(0), Ok(()));
         Work::new(&graph, Holes::Unknown)
+    }
+
+    #[test]
+    fn runs_by_component_are_the_runs_sorted() {
+        let mut lcg = crate::synth::lcg(7);
+        let mut rand = move |n: u64| (lcg() >> 33) % n;
+        for case in 0..200 {
+            // Runs in raster order with random components; every tenth case shuffled too, and
+            // some with labels far beyond the run count.
+            let mut ink: Vec<(u32, i64, i64, i64)> = (0..rand(60) as i64)
+                .map(|k| {
+                    let label = if case % 7 == 0 {
+                        1000 + rand(5)
+                    } else {
+                        rand(6)
+                    };
+                    (label as u32, k / 4, 3 * (k % 4), 3 * (k % 4) + 2)
+                })
+                .collect();
+            if case % 10 == 0 {
+                for i in (1..ink.len()).rev() {
+                    ink.swap(i, rand(i as u64 + 1) as usize);
+                }
+            }
+            let mut sorted = ink.clone();
+            sorted.sort_unstable();
+            assert_eq!(by_component(ink), sorted, "case {case}");
+        }
     }
 
     /// Degrees of the live nodes, in node order.

@@ -3,6 +3,8 @@
 //! every component thinning erased; one component at a time over its own box
 //! ([`skeleton_by_component`]). docs/design.md, "Skeleton-carried geometry", first point.
 
+use crate::csr::Csr;
+
 /// Offsets of the 8 neighbours in the order P2..P9 of Zhang and Suen (N, NE, E, SE, S, SW, W, NW).
 pub(super) const RING: [(i64, i64); 8] = [
     (0, -1),
@@ -295,8 +297,11 @@ fn zhang_suen_bits(padded: &mut [bool], width: usize, ink: &[usize], grid: &mut 
                 ];
                 let rises: [u64; 8] = std::array::from_fn(|j| !p[j] & p[(j + 1) % 8]);
                 let (one_rise, two_rises) = twice(rises);
-                let (_, two_ink) = twice(p);
-                let (_, two_background) = twice(p.map(|v| !v));
+                // 2-6 ink neighbours: the count's bits say "two or more" (2, 4 or 8 set)
+                // and "seven or eight" (8, or 4, 2 and 1 set).
+                let [b0, b1, b2, b3] = ink_count(p);
+                let two_ink = b1 | b2 | b3;
+                let two_background = !(b3 | (b2 & b1 & b0));
                 let kept = if step == 0 {
                     p[2] & p[4] & (p[0] | p[6])
                 } else {
@@ -324,6 +329,25 @@ fn zhang_suen_bits(padded: &mut [bool], width: usize, ink: &[usize], grid: &mut 
         step = 1 - step;
         t += 1;
     }
+}
+
+/// How many of the eight flags are set, 64 pixels at a time: bit `j` of the count's plane
+/// `b` is bit `b` of the number of the words whose bit `j` is set (0 to 8), from a tree of
+/// full adders (a sum and a carry of three flags each).
+fn ink_count(p: [u64; 8]) -> [u64; 4] {
+    let full = |a: u64, b: u64, c: u64| {
+        let t = a ^ b;
+        (t ^ c, (a & b) | (t & c))
+    };
+    // Ones: p0..p7 = s3 + p7 + 2 (c1 + c2 + c3).
+    let (s1, c1) = full(p[0], p[1], p[2]);
+    let (s2, c2) = full(p[3], p[4], p[5]);
+    let (s3, c3) = full(s1, s2, p[6]);
+    let (b0, c4) = (s3 ^ p[7], s3 & p[7]);
+    // Twos: c1 + c2 + c3 + c4 = b1 + 2 (d1 + d2).
+    let (t1, d1) = full(c1, c2, c3);
+    let (b1, d2) = (t1 ^ c4, t1 & c4);
+    [b0, b1, d1 ^ d2, d1 & d2]
 }
 
 /// The one-pixel skeleton of a window's ink (`ink`, every component's pixels), every component
@@ -411,7 +435,28 @@ pub(super) fn skeleton_by_component(
             }
         }
     }
-    skeleton_pixels.sort_unstable();
+    // Raster order: a counting sort by row (each component's pixels already rise, so a row's
+    // pixels rise within each component that crosses it), then each row that several
+    // components cross sorted on its own. Each pixel is listed once, so this is the order
+    // `sort_unstable` gives.
+    let rows = ink.len() / width.max(1);
+    let mut by_row = Csr::build(rows, |sink| {
+        for &p in &skeleton_pixels {
+            sink.push((p >> 8) as usize / width, p);
+        }
+    });
+    if by_row.values().len() == skeleton_pixels.len() {
+        for row in 0..rows {
+            let pixels = by_row.row_mut(row);
+            if !pixels.is_sorted() {
+                pixels.sort_unstable();
+            }
+        }
+        skeleton_pixels = by_row.values;
+    } else {
+        // A pixel outside the window (never): the whole list sorted instead.
+        skeleton_pixels.sort_unstable();
+    }
     skeleton_pixels
         .iter()
         .map(|&p| ((p >> 8) as usize, p as u8))
@@ -844,6 +889,22 @@ mod tests {
             let thin = list(&by_list);
             one_pixel_thick_at(&mut by_list, w, h, thin);
             assert_eq!(by_scan, by_list);
+        }
+    }
+
+    #[test]
+    fn the_ink_count_counts_every_pattern() {
+        // Bit j of the words: the eight neighbours of pattern j, for all 256 patterns in
+        // four groups of 64.
+        for group in 0..4u64 {
+            let p: [u64; 8] = std::array::from_fn(|k| {
+                (0..64u64).fold(0, |word, j| word | (((group * 64 + j) >> k & 1) << j))
+            });
+            let planes = ink_count(p);
+            for j in 0..64u64 {
+                let count = (0..4).fold(0, |n, b| n | ((planes[b] >> j & 1) << b));
+                assert_eq!(count, u64::from((group * 64 + j).count_ones()));
+            }
         }
     }
 

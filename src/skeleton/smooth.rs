@@ -889,7 +889,10 @@ fn section_exit(ink: &Ink, from: [f64; 2], u: [f64; 2], limit: f64) -> f64 {
         if !on {
             let (mut inside, mut outside) = (t - SECTION_STEP_PX, t);
             // The column or row of the last sample on the ink (none before the first sample)
-            // that this one stayed in, when it left the other.
+            // that this one stayed in, when it left the other: the axis, the pixel edge it
+            // crossed, and whether it crossed it rising. Between the two samples the coordinate
+            // stays on the last one's side of the pixel's other edge (it moves one way only),
+            // so the side of the crossed edge alone says whether a point is in that pixel.
             let mut across = None;
             if inside > 0.0 {
                 let (xi, yi) = point(inside);
@@ -897,8 +900,10 @@ fn section_exit(ink: &Ink, from: [f64; 2], u: [f64; 2], limit: f64) -> f64 {
                 let same_column = x >= cx && x < cx + 1.0;
                 let same_row = y >= cy && y < cy + 1.0;
                 across = match (same_column, same_row) {
-                    (false, true) => Some((0, cx)),
-                    (true, false) => Some((1, cy)),
+                    (false, true) if x >= cx => Some((0, cx + 1.0, true)),
+                    (false, true) => Some((0, cx, false)),
+                    (true, false) if y >= cy => Some((1, cy + 1.0, true)),
+                    (true, false) => Some((1, cy, false)),
                     _ => None,
                 };
             }
@@ -906,8 +911,8 @@ fn section_exit(ink: &Ink, from: [f64; 2], u: [f64; 2], limit: f64) -> f64 {
                 let mid = (inside + outside) / 2.0;
                 let (xm, ym) = point(mid);
                 let on = match across {
-                    Some((0, c)) => xm >= c && xm < c + 1.0,
-                    Some((_, c)) => ym >= c && ym < c + 1.0,
+                    Some((0, edge, rising)) => (xm < edge) == rising,
+                    Some((_, edge, rising)) => (ym < edge) == rising,
                     None => ink.at_window(xm, ym),
                 };
                 if on {
@@ -960,17 +965,19 @@ fn solve_banded(target: &[[f64; 2]], data: &[f64], smooth: &[bool], lambda: f64)
         }
         d2[j - 1] += lambda * c[0] * c[2];
     }
-    // Banded Cholesky, L with the same bands: l0 diagonal, l1 and l2 below it.
-    let (mut l0, mut l1, mut l2) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
+    // Banded Cholesky, L with the same bands: l0 diagonal, l1 and l2 below it, each written
+    // over its band of the matrix (every entry of a band is read once, just before its own
+    // entry of L is written).
+    let (mut l0, mut l1, mut l2) = (d0, d1, d2);
     for i in 0..n {
         if i >= 2 {
-            l2[i - 2] = d2[i - 2] / l0[i - 2];
+            l2[i - 2] /= l0[i - 2];
         }
         if i >= 1 {
             let back = if i >= 2 { l2[i - 2] * l1[i - 2] } else { 0.0 };
-            l1[i - 1] = (d1[i - 1] - back) / l0[i - 1];
+            l1[i - 1] = (l1[i - 1] - back) / l0[i - 1];
         }
-        let mut diag = d0[i];
+        let mut diag = l0[i];
         if i >= 1 {
             diag -= l1[i - 1] * l1[i - 1];
         }

@@ -294,12 +294,12 @@ pub(crate) fn crossing_paths(paths: &[Option<&[[f64; 2]]>], moved: &[bool]) -> V
                 [s[0][0].min(s[1][0]), s[0][1].min(s[1][1])],
                 [s[0][0].max(s[1][0]), s[0][1].max(s[1][1])],
             );
+            // Both fit in 32 bits: the keys below number the segments so, a path's places are
+            // some of them, and 2^32 paths would be a list of 64 GiB.
             segments.push(Segment {
-                path: e,
-                place: k,
+                path: e as u32,
+                place: k as u32,
                 ends: [s[0], s[1]],
-                low,
-                high,
                 length: (s[1][0] - s[0][0]).abs() + (s[1][1] - s[0][1]).abs(),
             });
             let (x0, x1) = (key(low[0]), key(high[0]));
@@ -321,10 +321,11 @@ pub(crate) fn crossing_paths(paths: &[Option<&[[f64; 2]]>], moved: &[bool]) -> V
             let a = id(a);
             for &b in &run[i + 1..] {
                 let b = id(b);
-                if !moved[a.path] && !moved[b.path] {
+                let (ap, bp) = (a.path as usize, b.path as usize);
+                if !moved[ap] && !moved[bp] {
                     continue;
                 }
-                if crossing[a.path] && crossing[b.path] {
+                if crossing[ap] && crossing[bp] {
                     continue;
                 }
                 if a.path == b.path && a.place.abs_diff(b.place) <= 1 {
@@ -335,7 +336,7 @@ pub(crate) fn crossing_paths(paths: &[Option<&[[f64; 2]]>], moved: &[bool]) -> V
                 }
                 let ([a0, a1], [b0, b1]) = (a.ends, b.ends);
                 if segments_meet(a0, a1, b0, b1) {
-                    for e in [a.path, b.path] {
+                    for e in [ap, bp] {
                         if moved[e] {
                             crossing[e] = true;
                         }
@@ -347,15 +348,32 @@ pub(crate) fn crossing_paths(paths: &[Option<&[[f64; 2]]>], moved: &[bool]) -> V
     (0..paths.len()).filter(|&e| crossing[e]).collect()
 }
 
-/// A segment of [`crossing_paths`]: its path, its place along the path, its end points, the
-/// corners of its box and its length in the 1-norm (`NaN` when a coordinate is).
+/// A segment of [`crossing_paths`]: its path, its place along the path, its end points and its
+/// length in the 1-norm (`NaN` when a coordinate is). 48 bytes: the corners of its box are
+/// worked out from its ends where a pair is tested ([`Segment::low`], [`Segment::high`]), not
+/// kept, since a print's segments are alive at the run's peak of memory, and every fresh page
+/// of the peak costs a page fault (docs/fingerprints.md, "Speed").
 struct Segment {
-    path: usize,
-    place: usize,
+    path: u32,
+    place: u32,
     ends: [[f64; 2]; 2],
-    low: [f64; 2],
-    high: [f64; 2],
     length: f64,
+}
+
+impl Segment {
+    /// The lower corner of the segment's box.
+    #[inline]
+    fn low(&self) -> [f64; 2] {
+        let [p, q] = self.ends;
+        [p[0].min(q[0]), p[1].min(q[1])]
+    }
+
+    /// The upper corner of the segment's box.
+    #[inline]
+    fn high(&self) -> [f64; 2] {
+        let [p, q] = self.ends;
+        [p[0].max(q[0]), p[1].max(q[1])]
+    }
 }
 
 /// Whether the boxes of the segments `a` and `b` lie so far apart, along a row or a column,
@@ -377,10 +395,11 @@ fn boxes_apart(a: &Segment, b: &Segment) -> bool {
     let (p, q) = (a.ends[0], b.ends[0]);
     let reach = (q[0] - p[0]).abs() + (q[1] - p[1]).abs() + a.length + b.length;
     let margin = 1e-2 * reach + 1e-6;
-    a.low[0] - b.high[0] > margin
-        || b.low[0] - a.high[0] > margin
-        || a.low[1] - b.high[1] > margin
-        || b.low[1] - a.high[1] > margin
+    let (a_low, a_high, b_low, b_high) = (a.low(), a.high(), b.low(), b.high());
+    a_low[0] - b_high[0] > margin
+        || b_low[0] - a_high[0] > margin
+        || a_low[1] - b_high[1] > margin
+        || b_low[1] - a_high[1] > margin
 }
 
 /// Orders [`crossing_paths`]'s keys so that each cell's are one run, in the order they were
@@ -737,8 +756,6 @@ mod tests {
                 path: 0,
                 place: 0,
                 ends: [p, q],
-                low: [p[0].min(q[0]), p[1].min(q[1])],
-                high: [p[0].max(q[0]), p[1].max(q[1])],
                 length: (q[0] - p[0]).abs() + (q[1] - p[1]).abs(),
             };
             if boxes_apart(&segment(a0, a1), &segment(b0, b1)) {
@@ -756,16 +773,12 @@ mod tests {
             path: 0,
             place: 0,
             ends: [[0.0, 0.0], [f64::NAN, 1.0]],
-            low: [0.0, 0.0],
-            high: [0.0, 1.0],
             length: f64::NAN,
         };
         let far = Segment {
             path: 1,
             place: 0,
             ends: [[5.0, 5.0], [6.0, 6.0]],
-            low: [5.0, 5.0],
-            high: [6.0, 6.0],
             length: 2.0,
         };
         assert!(!boxes_apart(&nan, &far) && !boxes_apart(&far, &nan));

@@ -745,8 +745,28 @@ fn trace_chunks(
             };
             // The points, their pixel index and neighbour lists are the bulk of a chunk's
             // memory; the chunks wait for the others without them, so the next chunk's reuse
-            // the same memory. (A chunk the skeleton alone traces has no fit to wait for.)
+            // the same memory. A chunk the skeleton alone traces has no fit to wait for, and
+            // unless the stages keep its points nothing reads them again: they go now, the
+            // pixel index to the thread's next window (or, with no other window, freed), so
+            // the skeleton's carry runs in their memory (a print's page faults follow the
+            // heap's high-water mark: docs/fingerprints.md, "Speed: the front stages' planes").
             // Their component labels wait as runs.
+            if skeleton_only && kept.is_none() {
+                let mut grid = points.grid.take();
+                if let Some(grid) = grid.as_mut().filter(|g| !g.index.is_empty()) {
+                    if sizes.len() == 1 {
+                        grid.index = Vec::new();
+                    } else {
+                        grid.release(&points.points);
+                    }
+                }
+                points = PointSet {
+                    spacing: points.spacing,
+                    dropout: points.dropout,
+                    grid,
+                    ..PointSet::default()
+                };
+            }
             let aside = (!skeleton_only).then(|| raster::set_aside(&mut points));
             let components = PackedComponents::pack(components);
             Ok(Refined {

@@ -41,12 +41,25 @@ const CAP_CENTRED_PX: f64 = 1.0;
 /// An end is carried on by at least this (px), or stays: less is within its own pixel.
 const MIN_EXTENSION_PX: f64 = 1.0;
 
+/// The walk along the ink's middle beyond an end ([`Work::walk_middle`]) steps this far (px).
+const WALK_STEP_PX: f64 = 0.5;
+
+/// At each step the walk turns by at most this (degrees) either side, in steps of a third of it:
+/// a terminal that curls (a `c`, the foot of a `3`) or a flag that leaves a stem at a slant.
+const WALK_TURN_DEG: f64 = 30.0;
+
+/// ...and by at most this (degrees) in all from the end's own direction: a stroke's terminal,
+/// not a stroke of its own that meets it.
+const WALK_TOTAL_TURN_DEG: f64 = 90.0;
+
 impl Work {
     /// Thinning erodes a stroke's end, most along a diagonal: each end is carried on along its
     /// own direction (taken over the last two widths) to where the ink ends, less the stroke's
     /// half-width, the centre of its cap; with `tails`, a stroke that narrows to its end is
-    /// carried on to the centre of its own, narrower cap ([`Work::cap_centre`]). Ends are only
-    /// ever lengthened.
+    /// carried on to the centre of its own, narrower cap ([`Work::cap_centre`]), and a terminal
+    /// that curls away from the end's line (a `c`, an `e`, the flag of a blackletter stem) along
+    /// the ink's middle to its cap ([`Work::walk_middle`]) when that goes on farther. Ends are
+    /// only ever lengthened.
     pub(super) fn extend_ends(&mut self, tails: bool) {
         let degree = self.degrees();
         for e in 0..self.edges.len() {
@@ -88,14 +101,28 @@ impl Work {
                     Some(cap) if cap >= reach + MIN_EXTENSION_PX => cap,
                     _ => reach,
                 };
-                if reach < MIN_EXTENSION_PX {
-                    continue;
-                }
-                let end = [tip[0] + reach * u[0], tip[1] + reach * u[1]];
+                // A terminal that bends away from the end's line (thinning erodes a curling
+                // tip most) is followed along the ink's middle instead, when that goes on
+                // farther.
+                let walk = tails
+                    .then(|| {
+                        self.walk_middle(&inwards, u, stroke, END_SEARCH * stroke + END_SEARCH_PX)
+                    })
+                    .flatten()
+                    .filter(|(_, walked)| *walked >= reach.max(0.0) + MIN_EXTENSION_PX);
+                let path = match walk {
+                    Some((path, _)) => path,
+                    None if reach >= MIN_EXTENSION_PX => {
+                        vec![[tip[0] + reach * u[0], tip[1] + reach * u[1]]]
+                    }
+                    None => continue,
+                };
                 let width = edge.widths[if at_start { 0 } else { edge.widths.len() - 1 }];
                 let edge = self.edges[e].as_mut().expect("live edge");
-                super::spurs::extend_end(edge, at_start, end, width);
-                self.vertices[v].pos = end;
+                for &p in &path {
+                    super::spurs::extend_end(edge, at_start, p, width);
+                }
+                self.vertices[v].pos = path[path.len() - 1];
             }
         }
     }
@@ -127,6 +154,72 @@ impl Work {
             self.ink.exit(at(t), back, exit),
         );
         ((a - b).abs() <= (CAP_CENTRED * stroke).max(CAP_CENTRED_PX)).then_some(t)
+    }
+
+    /// The ink's middle followed on from the end of the edge whose points from its tip are
+    /// `inwards`, going along `u`, at most `limit` px: every [`WALK_STEP_PX`] the step, of those
+    /// turning at most [`WALK_TURN_DEG`] (and [`WALK_TOTAL_TURN_DEG`] from `u`), whose point
+    /// lies farthest from the background (the straightest of equals): a medial-axis walk, into
+    /// ink no wider than the stroke and never back along the edge. A point is an end where the
+    /// ink ahead of it along its step goes on by at least the stroke's half-width: the centre of
+    /// its cap, as [`Work::extend_ends`] finds it on a straight line. The walk's points to its
+    /// last end (the smoothing fits the edge to its ink and keeps only the points its shape
+    /// needs) and the length walked; `None` when no point is an end.
+    fn walk_middle(
+        &self,
+        inwards: &[[f64; 2]],
+        u: [f64; 2],
+        stroke: f64,
+        limit: f64,
+    ) -> Option<(Vec<[f64; 2]>, f64)> {
+        let tip = inwards[0];
+        let half = disk_radius(stroke);
+        // The edge's own points the walk could come back to: it goes on from the tip, never
+        // back along the edge (a step whose point lies nearer one of them than the tip).
+        let behind: Vec<[f64; 2]> = inwards[1..]
+            .iter()
+            .copied()
+            .take_while(|&p| dist(p, tip) <= limit + 1.0)
+            .collect();
+        let widest = half + 1.0;
+        let turn = WALK_TURN_DEG.to_radians();
+        let cos_total = WALK_TOTAL_TURN_DEG.to_radians().cos();
+        let (mut p, mut d) = (tip, u);
+        let mut walked = 0.0;
+        let mut path = Vec::new();
+        let mut end = None;
+        while walked + WALK_STEP_PX <= limit {
+            let mut best: Option<([f64; 2], [f64; 2], f64)> = None;
+            for k in [0.0, -1.0, 1.0, -2.0, 2.0, -3.0, 3.0] {
+                let (s, c) = (k * turn / 3.0).sin_cos();
+                let r = [d[0] * c - d[1] * s, d[0] * s + d[1] * c];
+                // (A rounding's worth below: three turns of a third make the whole turn.)
+                if r[0] * u[0] + r[1] * u[1] < cos_total - 1e-9 {
+                    continue;
+                }
+                let q = [p[0] + WALK_STEP_PX * r[0], p[1] + WALK_STEP_PX * r[1]];
+                if !self.ink.at(q) || behind.iter().any(|&b| dist(q, b) < dist(q, tip)) {
+                    continue;
+                }
+                let clear = self.ink.clearance(q, widest);
+                if best.is_none_or(|b| clear > b.2) {
+                    best = Some((q, r, clear));
+                }
+            }
+            let Some((q, r, clear)) = best else { break };
+            if clear > widest {
+                break;
+            }
+            (p, d) = (q, r);
+            walked += WALK_STEP_PX;
+            path.push(p);
+            if self.ink.exit(p, d, half + 1.0) > half {
+                end = Some((path.len(), walked));
+            }
+        }
+        let (n, walked) = end?;
+        path.truncate(n);
+        Some((path, walked))
     }
 
     /// A blob of ink no longer than it is wide (the dot of an `i`, a full stop) thins to a short

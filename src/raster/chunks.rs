@@ -12,11 +12,11 @@
 //! so the point sets are the ones [`crate::PointSet::split_components`] cuts from the whole page's,
 //! bit for bit (tested below), and the traces are identical too.
 
-use super::points::{build_from_runs, check_point_count, survey, Survey};
+use super::points::{build_from_runs, check_point_count, survey_counted, Survey};
 use crate::binary::MaskView;
 use crate::csr::Csr;
 use crate::error::Result;
-use crate::mask::{ink_row_starts, run_components, Run};
+use crate::mask::{ink_total, run_components, Run};
 use crate::params::Params;
 use crate::point_set::{Components, PointSet};
 
@@ -47,8 +47,8 @@ pub(crate) fn pixel_chunks(
         return Ok(None);
     }
     // The ink is counted (and refused beyond the limits) before the survey allocates anything.
-    let (width, height) = (binary.width as usize, binary.height as usize);
-    let count = ink_row_starts(binary.ink, width, height)[height];
+    let width = binary.width as usize;
+    let count = ink_total(binary.ink, width);
     if count <= target {
         check_point_count(count, params)?;
         return Ok(None);
@@ -58,7 +58,7 @@ pub(crate) fn pixel_chunks(
         runs,
         spacing,
         dropout,
-    } = survey(binary, params, dropout)?;
+    } = survey_counted(binary, params, dropout, count)?;
     if dropout {
         return Ok(None);
     }

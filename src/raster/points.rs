@@ -10,7 +10,7 @@ use rayon::prelude::*;
 use crate::binary::MaskView;
 use crate::error::{Error, Result};
 use crate::mask::{
-    close3, ink_row_starts, split_by, squared_distance_at, squared_distance_rows,
+    close3, ink_row_starts, ink_total, split_by, squared_distance_at, squared_distance_rows,
     tiny_hole_in_stroke, Mask, Run, RunEnvelope,
 };
 use crate::params::Params;
@@ -68,10 +68,19 @@ pub(super) fn survey(
     dropout: Option<bool>,
 ) -> Result<Survey> {
     binary.check_size()?;
+    let count = ink_total(binary.ink, binary.width as usize);
+    survey_counted(binary, params, dropout, count)
+}
+
+/// [`survey`] of a mask of the right size whose ink pixels were counted (`count`) by the caller.
+pub(super) fn survey_counted(
+    binary: MaskView<'_>,
+    params: &Params,
+    dropout: Option<bool>,
+    count: usize,
+) -> Result<Survey> {
     let (width, height) = (binary.width as usize, binary.height as usize);
     let ink = binary.ink;
-    let row_starts = ink_row_starts(ink, width, height);
-    let count = row_starts[height];
     check_point_count(count, params)?;
     let rows: Vec<(Vec<Run>, (f64, u64), usize)> = (0..height)
         .into_par_iter()

@@ -181,6 +181,10 @@ impl Work {
             .copied()
             .take_while(|&p| dist(p, tip) <= limit + 1.0)
             .collect();
+        let squared = |a: [f64; 2], b: [f64; 2]| {
+            let (dx, dy) = (a[0] - b[0], a[1] - b[1]);
+            dx * dx + dy * dy
+        };
         let widest = half + 1.0;
         let turn = WALK_TURN_DEG.to_radians();
         let cos_total = WALK_TOTAL_TURN_DEG.to_radians().cos();
@@ -198,7 +202,8 @@ impl Work {
                     continue;
                 }
                 let q = [p[0] + WALK_STEP_PX * r[0], p[1] + WALK_STEP_PX * r[1]];
-                if !self.ink.at(q) || behind.iter().any(|&b| dist(q, b) < dist(q, tip)) {
+                let to_tip = squared(q, tip);
+                if !self.ink.at(q) || behind.iter().any(|&b| squared(q, b) < to_tip) {
                     continue;
                 }
                 let clear = self.ink.clearance(q, widest);

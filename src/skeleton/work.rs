@@ -87,18 +87,25 @@ impl Ink {
         let (x, y) = (p[0] - self.origin[0], p[1] - self.origin[1]);
         let (cx, cy) = (x.floor(), y.floor());
         let k = limit.max(0.0).ceil() as i64 + 1;
-        let mut best = limit.max(0.0) + 1.0;
-        let visit = |dx: i64, dy: i64, best: &mut f64| {
+        let none = limit.max(0.0) + 1.0;
+        // Squared distances, one square root at the end: the search's cost is its comparisons
+        // (the clearance is asked at every step of every end's walk, `Work::walk_middle`).
+        let mut best = none * none;
+        let mut found = false;
+        let mut visit = |dx: i64, dy: i64, best: &mut f64| {
             let (qx, qy) = (cx + dx as f64 + 0.5, cy + dy as f64 + 0.5);
             if !self.at_window(qx, qy) {
-                let d = (qx - x).hypot(qy - y);
+                let (ex, ey) = (qx - x, qy - y);
+                let d = ex * ex + ey * ey;
                 if d < *best {
                     *best = d;
+                    found = true;
                 }
             }
         };
         for r in 0..=k {
-            if r as f64 - 0.5 > best {
+            let inner = r as f64 - 0.5;
+            if inner > 0.0 && inner * inner > best {
                 break;
             }
             if r == 0 {
@@ -114,7 +121,11 @@ impl Ink {
                 visit(r, d, &mut best);
             }
         }
-        best
+        if found {
+            best.sqrt()
+        } else {
+            none
+        }
     }
 
     /// Whether the point `p` is on the ink as a line along a stroke one pixel wide can be: on

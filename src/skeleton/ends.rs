@@ -119,8 +119,15 @@ impl Work {
                 };
                 let width = edge.widths[if at_start { 0 } else { edge.widths.len() - 1 }];
                 let edge = self.edges[e].as_mut().expect("live edge");
-                for &p in &path {
-                    super::spurs::extend_end(edge, at_start, p, width);
+                // The walk's points in one splice: each inserted at the start on its own would
+                // shift the whole edge once per point.
+                let n = path.len();
+                if at_start {
+                    edge.points.splice(0..0, path.iter().rev().copied());
+                    edge.widths.splice(0..0, std::iter::repeat_n(width, n));
+                } else {
+                    edge.points.extend_from_slice(&path);
+                    edge.widths.extend(std::iter::repeat_n(width, n));
                 }
                 self.vertices[v].pos = path[path.len() - 1];
             }

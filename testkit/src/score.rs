@@ -820,7 +820,12 @@ fn ratio(num: usize, den: usize) -> f64 {
     }
 }
 
-/// Centerline precision, recall, F1, chamfer and Hausdorff on samples every [`SPACING`] px.
+/// Centerline precision, recall, F1, chamfer and Hausdorff on samples every [`SPACING`] px, each
+/// sample's distance taken to the other side's centerline itself (its nearest segment), not to
+/// that side's nearest sample: two identical lines sampled from different starts would otherwise
+/// be up to a quarter of the spacing apart, a floor of about 0.06-0.125 px on the chamfer that
+/// favours outputs on the truth's own half-pixel grid (docs/quality.md, "Distances to the
+/// centerline, not to its samples").
 fn geometry(case: &Case, truth: &StrokeGraph, predicted: &StrokeGraph, s: &mut Scores) {
     let true_samples = centerline_samples(truth);
     let pred_samples = centerline_samples(predicted);
@@ -828,10 +833,27 @@ fn geometry(case: &Case, truth: &StrokeGraph, predicted: &StrokeGraph, s: &mut S
     let far = (case.binary.width as f64)
         .hypot(case.binary.height as f64)
         .max(1.0);
-    let nearest_all = |from: &[[f64; 2]], to: &[[f64; 2]]| -> Vec<f64> {
-        let grid = PointGrid::new(to, 2.0);
-        from.iter()
-            .map(|&p| grid.nearest(to, p).map_or(far, |(_, d)| d))
+    let nearest_all = |from: &CenterlineSamples, to: &CenterlineSamples| -> Vec<f64> {
+        let grid = PointGrid::new(&to.pos, 2.0);
+        let mut near = Vec::new();
+        from.pos
+            .iter()
+            .map(|&p| match grid.nearest(&to.pos, p) {
+                None => far,
+                // Every point of a segment lies within `SPACING` of a sample carrying that
+                // segment (the start of its piece), so the segment nearest `p` carries a sample
+                // within `d + SPACING`.
+                Some((_, d)) => {
+                    near.clear();
+                    grid.within(&to.pos, p, d + SPACING + 1e-9, &mut near);
+                    near.iter()
+                        .map(|&i| {
+                            let (a, b) = to.segment[i as usize];
+                            segment_dist(p, a, b)
+                        })
+                        .fold(d, f64::min)
+                }
+            })
             .collect()
     };
     let d_pred = nearest_all(&pred_samples, &true_samples);
@@ -875,17 +897,30 @@ fn geometry(case: &Case, truth: &StrokeGraph, predicted: &StrokeGraph, s: &mut S
     };
 }
 
+/// Samples of a centerline and the segment each lies on.
+struct CenterlineSamples {
+    pos: Vec<[f64; 2]>,
+    /// The segment of its edge that each sample lies on (an isolated vertex: a point).
+    segment: Vec<([f64; 2], [f64; 2])>,
+}
+
 /// Samples every [`SPACING`] px along every usable edge, plus isolated vertices.
-fn centerline_samples(graph: &StrokeGraph) -> Vec<[f64; 2]> {
-    let mut out = Vec::new();
+fn centerline_samples(graph: &StrokeGraph) -> CenterlineSamples {
+    let mut out = CenterlineSamples {
+        pos: Vec::new(),
+        segment: Vec::new(),
+    };
     for e in graph.edges.iter().filter(|e| usable_edge(graph, e)) {
         for w in e.points.windows(2) {
             let n = (dist(w[0], w[1]) / SPACING).ceil().max(1.0) as usize;
             for k in 0..n {
-                out.push(lerp(w[0], w[1], k as f64 / n as f64));
+                out.pos.push(lerp(w[0], w[1], k as f64 / n as f64));
+                out.segment.push((w[0], w[1]));
             }
         }
-        out.push(e.points[e.points.len() - 1]);
+        let last = e.points[e.points.len() - 1];
+        out.pos.push(last);
+        out.segment.push((last, last));
     }
     let mut degree = vec![0usize; graph.vertices.len()];
     for e in graph.edges.iter().filter(|e| usable_edge(graph, e)) {
@@ -894,7 +929,8 @@ fn centerline_samples(graph: &StrokeGraph) -> Vec<[f64; 2]> {
     }
     for (v, vertex) in graph.vertices.iter().enumerate() {
         if degree[v] == 0 && finite(vertex.pos) {
-            out.push(vertex.pos);
+            out.pos.push(vertex.pos);
+            out.segment.push((vertex.pos, vertex.pos));
         }
     }
     out
@@ -2795,5 +2831,39 @@ mod tests {
         assert_eq!(shares.wrong_degree, 0.5);
         assert_eq!(shares.missed_end, 0.5);
         assert_eq!(shares.spurious_end, 0.0);
+    }
+
+    #[test]
+    fn distances_are_to_the_centerline_not_to_its_samples() {
+        let case = overhang_cases()
+            .into_iter()
+            .find(|c| c.name == "tee_plain_w8")
+            .expect("the case");
+        let truth = truth_graph(&case);
+        // The same lines, each edge's first point moved a fifth of a pixel along it: its samples
+        // fall between the truth's, but every point lies on the truth's centerline.
+        let mut shifted = truth.clone();
+        for e in &mut shifted.edges {
+            let (a, b) = (e.points[0], e.points[1]);
+            let len = dist(a, b);
+            e.points[0] = lerp(a, b, 0.2 / len);
+        }
+        let scores = score(&case, &truth, &shifted);
+        assert!(scores.chamfer < 0.01, "chamfer {}", scores.chamfer);
+        assert!(scores.f1[0] > 0.999, "F1@1 {}", scores.f1[0]);
+        // Moved off the line by 0.3 px, the distance is the offset.
+        let mut off = truth.clone();
+        for e in &mut off.edges {
+            for p in &mut e.points {
+                p[0] += 0.3;
+                p[1] += 0.3;
+            }
+        }
+        let scores = score(&case, &truth, &off);
+        assert!(
+            (0.2..0.45).contains(&scores.chamfer),
+            "chamfer {}",
+            scores.chamfer
+        );
     }
 }

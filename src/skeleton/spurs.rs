@@ -553,6 +553,13 @@ mod tests {
         // background is covered (each disk holds only pixels nearer than its width says).
         assert!((20.0..=30.0).contains(&gain), "{gain}");
         assert_eq!(ink_only_arm(&ink, &[[20.5, 14.5]], &[9.0], &drawn), 0.0);
+        // Two drawings compared: swapped, the difference changes sign; a drawing of the stub
+        // against one that paints the background beside it instead.
+        let stub: Vec<([f64; 2], f64)> = arm.iter().map(|&p| (p, 5.0)).collect();
+        let beside: Vec<([f64; 2], f64)> = arm.iter().map(|&p| ([p[0] + 8.0, p[1]], 5.0)).collect();
+        let worse = worse_by(&ink, &stub, &beside, &drawn);
+        assert!(worse > 2.0 * 20.0, "{worse}");
+        assert_eq!(worse_by(&ink, &beside, &stub, &drawn), -worse);
     }
 
     /// Junction degrees and the number of ends of a drawn `t`: a stem `w` px wide, 120 px

@@ -849,6 +849,16 @@ pub struct ExperimentParams {
     /// (docs/quality.md, "Deciding spurs by the ink"). Default value: `false`.
     #[serde(default, skip_serializing_if = "std::ops::Not::not")]
     pub decide_by_ink: bool,
+    /// Cusps decided by the ink (skeleton stage, docs/design.md, "Skeleton-carried geometry"):
+    /// a Y whose short stub (at most 3 stroke widths) points away from both legs (more than 120
+    /// degrees from each) on strokes at least 2.5 px wide is a bend at the stub's tip when the
+    /// two legs drawn straight on to that tip, with a round pen of each leg's median width,
+    /// explain the ink no worse than the Y with its stub does, less the cost of one part
+    /// (docs/quality.md, "Session of 2026-12-07, sixteenth: cusps decided by the ink"). Off: it
+    /// cut real short arms (hanzi junction recall .876 -> .861) for few script spurs. Default
+    /// value: `false`.
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub cusps_by_ink: bool,
 }
 
 /// Node spacing of [`ExperimentParams::dense_fit`], in `Dis_ave` (px on images).

@@ -1,10 +1,11 @@
 //! Corners: the Y that thinning makes of a sharp bend is a bend ([`Work::dissolve_corners`]).
 //! docs/design.md, "Skeleton-carried geometry"; docs/quality.md, "Bold corners".
 
-use crate::geometry::{dist, hypot};
+use crate::geometry::{dist, hypot, unit};
 
+use super::spurs::{worse_by, PART_COST};
 use super::work::{median, Work};
-use super::{disk_radius, MIN_LINE_PX};
+use super::{disk_radius, MIN_LINE_PX, MIN_WIDTH_PX};
 
 /// Strokes at least this wide (px, the legs' median skeleton width) can show a bold corner
 /// ([`Work::dissolve_corners`]): below it the skeleton's widths, known to a pixel, do not tell
@@ -49,6 +50,38 @@ const LINE_UNCERTAINTY_PX: f64 = 1.0;
 /// nearly closes.
 const MIN_HALF_ANGLE_SINE: f64 = 0.1;
 
+/// A cusp's stub is at most this many stroke widths long ([`Work::cusp_at`]): the wedge where
+/// two legs meeting under 20 degrees or more merge.
+const CUSP_STUB: f64 = 3.0;
+
+/// A cusp's legs both leave it away from its stub: each leg's direction from the junction (to
+/// its point as far away as the stub's tip) is more than this (degrees) from the stub's. A leg
+/// that carries on the stub's line (a stem running a little past a bar, a box corner's ear)
+/// is no cusp's; at 105 degrees such ends were taken (docs/quality.md, "Session of 2026-12-07,
+/// sixteenth").
+const CUSP_AWAY_DEG: f64 = 120.0;
+
+/// Cusps are looked for on strokes at least this wide (px, the legs' median skeleton width):
+/// on strokes one or two pixels wide a stub's and its legs' directions over a pixel or two are
+/// the grid's, and the drawings differ by a pixel or two, less than a part's cost (the pages of
+/// the quality benchmark lost junctions: docs/quality.md, "Session of 2026-12-07, sixteenth").
+const CUSP_MIN_WIDTH_PX: f64 = 2.5;
+
+/// A cusp's legs are drawn straight to its tip from where they are this many stroke widths from
+/// the junction ([`Work::cusp_at`]): beyond the wedge, where each leg is on its own stroke's
+/// middle again; the nearer and the farther are both tried.
+const CUSP_LEG: [f64; 2] = [1.0, 2.0];
+
+/// The ink ahead of a cusp's stub is followed at most this many stroke widths (plus
+/// [`CUSP_SEARCH_PX`]) to its cap, as an end's is.
+const CUSP_SEARCH: f64 = 2.0;
+
+/// See [`CUSP_SEARCH`] (px).
+const CUSP_SEARCH_PX: f64 = 4.0;
+
+/// A drawn leg's points are this far apart (px): every pixel its pen covers is covered.
+const CUSP_DRAW_STEP_PX: f64 = 0.5;
+
 /// A corner's leg, its points listed from the junction outwards, and the first and last index
 /// of the stretch that gives its line.
 type LegStretch<'a> = (&'a [[f64; 2]], (usize, usize));
@@ -78,7 +111,10 @@ impl Work {
     /// each leg is one stroke wide again, and the bend is placed no deeper than half a width
     /// inside the ink's end along the bisector (a round corner's centre; the lines of a mitred
     /// corner meet before that). docs/quality.md, "Bold corners".
-    pub(super) fn dissolve_corners(&mut self) -> bool {
+    ///
+    /// With `cusps`, a Y that is no such corner is still a bend when the ink says so
+    /// ([`Work::cusp_at`]).
+    pub(super) fn dissolve_corners(&mut self, cusps: bool) -> bool {
         let mut changed = false;
         let at = self.incidence();
         let degree = self.degrees();
@@ -86,7 +122,10 @@ impl Work {
             if !self.alive[j] || degree[j] != 3 || at[j].len() != 3 {
                 continue;
             }
-            if let Some(corner) = self.corner_at(j, &at[j], &degree) {
+            let corner = self
+                .corner_at(j, &at[j], &degree)
+                .or_else(|| cusps.then(|| self.cusp_at(j, &at[j], &degree)).flatten());
+            if let Some(corner) = corner {
                 self.bend(j, corner);
                 changed = true;
             }
@@ -94,9 +133,15 @@ impl Work {
         changed
     }
 
-    /// Step 1 of [`Work::dissolve_corners`]: whether the degree-3 junction `j` (its edges `at`)
-    /// is a corner, and if so its bend.
-    fn corner_at(&self, j: usize, at: &[usize], degree: &[usize]) -> Option<Corner> {
+    /// The degree-3 junction `j`'s (its edges `at`) stub, the shortest terminal edge (a leg may
+    /// end too, at the stroke's end), with the stub's far vertex, and its two legs; `None` when
+    /// an edge is a loop or none ends.
+    fn stub_and_legs(
+        &self,
+        j: usize,
+        at: &[usize],
+        degree: &[usize],
+    ) -> Option<(usize, Option<usize>, Vec<usize>)> {
         let far = |e: usize| {
             self.edges[e]
                 .as_ref()
@@ -105,13 +150,19 @@ impl Work {
         if at.iter().any(|&e| far(e).is_none_or(|f| f == j)) {
             return None;
         }
-        // The stub: the shortest terminal edge (a leg may end too, at the stroke's end).
         let stub = at
             .iter()
             .copied()
             .filter(|&e| far(e).is_some_and(|f| degree[f] == 1))
             .min_by_key(|&e| (self.edges[e].as_ref().map_or(0, |x| x.points.len()), e))?;
-        let legs: Vec<usize> = at.iter().copied().filter(|&e| e != stub).collect();
+        let legs = at.iter().copied().filter(|&e| e != stub).collect();
+        Some((stub, far(stub), legs))
+    }
+
+    /// Step 1 of [`Work::dissolve_corners`]: whether the degree-3 junction `j` (its edges `at`)
+    /// is a corner, and if so its bend.
+    fn corner_at(&self, j: usize, at: &[usize], degree: &[usize]) -> Option<Corner> {
+        let (stub, tip_vertex, legs) = self.stub_and_legs(j, at, degree)?;
         // Every edge's points and widths listed from the junction outwards.
         let outwards = |e: usize| -> (Vec<[f64; 2]>, Vec<f64>) {
             let edge = self.edges[e].as_ref().expect("live edge");
@@ -194,7 +245,127 @@ impl Work {
         let (v, cut_a, cut_b) = found?;
         Some(Corner {
             stub,
-            tip_vertex: far(stub),
+            tip_vertex,
+            legs: [(legs[0], cut_a), (legs[1], cut_b)],
+            bend: v,
+            stroke,
+        })
+    }
+
+    /// A cusp: where a stroke turns back (a script join's peak, a blackletter point), its two
+    /// legs' inks merge into a wedge and thinning makes a Y of it, a short stub running into the
+    /// cusp's tip. Where the legs curve away from each other beyond the stub (as script strokes
+    /// do), their lines do not meet on the stub and the corner rule keeps the Y; the direction
+    /// of the legs does not tell such a wedge from a short arm leaving a curve either
+    /// (docs/quality.md, "Cusps: measured, not kept"). The ink does: two drawings are compared,
+    /// each with a round pen of each edge's median width, as spurs are decided by the ink
+    /// (docs/quality.md, "Deciding spurs by the ink"): the Y as it is (the stub carried on to
+    /// the centre of its cap, as its end will be), and the cusp, both legs running straight
+    /// from one or two widths out ([`CUSP_LEG`]) to that centre, the stub gone. The cusp is
+    /// taken when its drawing's error (ink left uncovered plus background covered) is worse than
+    /// the Y's by at most the cost of the part it saves ([`PART_COST`] squared widths), for a
+    /// stub at most [`CUSP_STUB`] widths long whose straight legs stay on the ink.
+    fn cusp_at(&self, j: usize, at: &[usize], degree: &[usize]) -> Option<Corner> {
+        let (stub, tip_vertex, legs) = self.stub_and_legs(j, at, degree)?;
+        let outwards = |e: usize| -> Vec<[f64; 2]> {
+            let edge = self.edges[e].as_ref().expect("live edge");
+            let mut points = edge.points.clone();
+            if edge.from != j {
+                points.reverse();
+            }
+            points
+        };
+        let width_of = |e: usize| {
+            self.edges[e]
+                .as_ref()
+                .map_or(MIN_WIDTH_PX, |x| median(&x.widths))
+        };
+        let pens = [width_of(legs[0]), width_of(legs[1])];
+        let stroke = pens[0].min(pens[1]);
+        // The stub's own width, at most the legs': a short stub's measured widths are inflated
+        // by the very blob of ink in question (a box corner's ear, the wedge).
+        let stub_pen = width_of(stub).min(stroke);
+        let w = stroke.max(MIN_WIDTH_PX);
+        let stub_points = outwards(stub);
+        let (jp, tip) = (self.vertices[j].pos, stub_points[stub_points.len() - 1]);
+        if stroke < CUSP_MIN_WIDTH_PX
+            || dist(jp, tip) > CUSP_STUB * w
+            || dist(jp, tip) < MIN_LINE_PX
+        {
+            return None;
+        }
+        let reach = dist(jp, tip);
+        let leg_points = [outwards(legs[0]), outwards(legs[1])];
+        let along = unit([tip[0] - jp[0], tip[1] - jp[1]])?;
+        let away = CUSP_AWAY_DEG.to_radians().cos();
+        for points in &leg_points {
+            let p = points
+                .iter()
+                .find(|&&p| dist(p, jp) >= reach)
+                .unwrap_or(&points[points.len() - 1]);
+            let d = unit([p[0] - jp[0], p[1] - jp[1]])?;
+            if d[0] * along[0] + d[1] * along[1] >= away {
+                return None;
+            }
+        }
+        // The stub carried on to the centre of its cap, along its line over its last width.
+        let back = stub_points
+            .iter()
+            .rev()
+            .find(|&&p| dist(p, tip) >= w)
+            .copied()
+            .unwrap_or(jp);
+        let u = unit([tip[0] - back[0], tip[1] - back[1]])?;
+        let on = (self.ink.exit(tip, u, CUSP_SEARCH * w + CUSP_SEARCH_PX) - disk_radius(stroke))
+            .max(0.0);
+        let v = [tip[0] + on * u[0], tip[1] + on * u[1]];
+        // The window both drawings differ in reaches the legs this far from the junction.
+        let window = dist(jp, v) + (CUSP_LEG[1] + 1.0) * w + disk_radius(stroke);
+        let mut best: Option<(f64, [usize; 2])> = None;
+        for k in CUSP_LEG {
+            let cuts = [0, 1].map(|i| leg_points[i].iter().position(|&p| dist(p, jp) >= k * w));
+            let [Some(cut_a), Some(cut_b)] = cuts else {
+                continue;
+            };
+            let cuts = [cut_a, cut_b];
+            if (0..2).any(|i| !self.ink.holds_thin(leg_points[i][cuts[i]], v, stroke)) {
+                continue;
+            }
+            let mut with_stub: Vec<([f64; 2], f64)> = stub_points
+                .iter()
+                .chain(std::iter::once(&v))
+                .map(|&p| (p, stub_pen))
+                .collect();
+            let (mut cusp, mut common) = (Vec::new(), Vec::new());
+            for i in 0..2 {
+                let points = &leg_points[i];
+                with_stub.extend(points[..cuts[i]].iter().map(|&p| (p, pens[i])));
+                common.extend(
+                    points[cuts[i]..]
+                        .iter()
+                        .take_while(|&&p| dist(p, jp) <= window)
+                        .map(|&p| (p, pens[i])),
+                );
+                let a = points[cuts[i]];
+                let n = (dist(a, v) / CUSP_DRAW_STEP_PX).ceil().max(1.0) as usize;
+                cusp.extend((0..n).map(|s| {
+                    let t = s as f64 / n as f64;
+                    (
+                        [a[0] + t * (v[0] - a[0]), a[1] + t * (v[1] - a[1])],
+                        pens[i],
+                    )
+                }));
+            }
+            cusp.push((v, stroke));
+            let worse = worse_by(&self.ink, &with_stub, &cusp, &common);
+            if best.is_none_or(|(b, _)| worse < b) {
+                best = Some((worse, cuts));
+            }
+        }
+        let (worse, [cut_a, cut_b]) = best?;
+        (worse <= PART_COST * w * w).then(|| Corner {
+            stub,
+            tip_vertex,
             legs: [(legs[0], cut_a), (legs[1], cut_b)],
             bend: v,
             stroke,

@@ -408,7 +408,7 @@ fn reconcile(
     work.merge_split_stars();
     // A dissolved corner lengthens its neighbours' legs (the corners of a small `w` share them):
     // repeated until none is left.
-    while work.dissolve_corners() {
+    while work.dissolve_corners(experiments.cusps_by_ink && !ridges) {
         work.join_degree_two();
     }
     work.join_degree_two();

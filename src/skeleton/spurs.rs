@@ -35,7 +35,7 @@ const SPUR_REACH_PX: f64 = 1.5;
 /// ink only the arm explains is weighed (`decide_by_ink`): half a square of the stroke's width.
 /// A round pen's cap is `pi / 8 = 0.39` squared widths: an end's cap sticking out of the
 /// stroke it leaves is no evidence of an arm; an arm half a width longer than its cap is.
-const PART_COST: f64 = 0.5;
+pub(super) const PART_COST: f64 = 0.5;
 
 impl Work {
     /// Spurs: terminal branches whose ink does not reach beyond their junction's disk by more
@@ -440,9 +440,25 @@ pub(super) fn ink_only_arm(
     widths: &[f64],
     drawn: &[([f64; 2], f64)],
 ) -> f64 {
+    let arm: Vec<([f64; 2], f64)> = points.iter().copied().zip(widths.iter().copied()).collect();
+    worse_by(ink, &arm, &[], drawn)
+}
+
+/// How much worse the drawing `common` + `second` explains the ink than `common` + `first`, px:
+/// each drawn with round pens (a disk of its full width at each point), the error of a drawing
+/// is the ink it leaves uncovered plus the background it covers. The two agree outside the
+/// disks of `first` and `second` and wherever `common` covers, so the difference is counted over
+/// the other pixels of their disks alone: an ink pixel only `first` covers, or a background pixel
+/// only `second` covers, counts one against `second`; the reverse, one for it.
+pub(super) fn worse_by(
+    ink: &Ink,
+    first: &[([f64; 2], f64)],
+    second: &[([f64; 2], f64)],
+    common: &[([f64; 2], f64)],
+) -> f64 {
     let mut min = [f64::INFINITY; 2];
     let mut max = [f64::NEG_INFINITY; 2];
-    for (&p, &w) in points.iter().zip(widths) {
+    for &(p, w) in first.iter().chain(second) {
         let r = disk_radius(w);
         for k in 0..2 {
             min[k] = min[k].min(p[k] - r);
@@ -452,24 +468,27 @@ pub(super) fn ink_only_arm(
     if !min[0].is_finite() {
         return 0.0;
     }
+    let covers =
+        |drawing: &[([f64; 2], f64)], c: [f64; 2]| drawing.iter().any(|&(p, w)| in_disk(c, p, w));
     // Pixel centers of the window, in image coordinates (pixel `x` of the ink's window covers
     // `origin + [x, x + 1)`).
     let to_index = |v: f64, k: usize| (v - ink.origin[k] - 0.5).ceil() as i64;
-    let mut gain = 0.0;
+    let mut worse = 0.0;
     for y in to_index(min[1], 1)..=to_index(max[1], 1) {
         for x in to_index(min[0], 0)..=to_index(max[0], 0) {
             let c = [
                 ink.origin[0] + x as f64 + 0.5,
                 ink.origin[1] + y as f64 + 0.5,
             ];
-            let arm = points.iter().zip(widths).any(|(&p, &w)| in_disk(c, p, w));
-            if !arm || drawn.iter().any(|&(q, w)| in_disk(c, q, w)) {
+            let (a, b) = (covers(first, c), covers(second, c));
+            if a == b || covers(common, c) {
                 continue;
             }
-            gain += if ink.at(c) { 1.0 } else { -1.0 };
+            // Only one of the two drawings covers this pixel: right on ink, wrong off it.
+            worse += if ink.at(c) == a { 1.0 } else { -1.0 };
         }
     }
-    gain
+    worse
 }
 
 #[cfg(test)]
@@ -534,6 +553,13 @@ mod tests {
         // background is covered (each disk holds only pixels nearer than its width says).
         assert!((20.0..=30.0).contains(&gain), "{gain}");
         assert_eq!(ink_only_arm(&ink, &[[20.5, 14.5]], &[9.0], &drawn), 0.0);
+        // Two drawings compared: swapped, the difference changes sign; a drawing of the stub
+        // against one that paints the background beside it instead.
+        let stub: Vec<([f64; 2], f64)> = arm.iter().map(|&p| (p, 5.0)).collect();
+        let beside: Vec<([f64; 2], f64)> = arm.iter().map(|&p| ([p[0] + 8.0, p[1]], 5.0)).collect();
+        let worse = worse_by(&ink, &stub, &beside, &drawn);
+        assert!(worse > 2.0 * 20.0, "{worse}");
+        assert_eq!(worse_by(&ink, &beside, &stub, &drawn), -worse);
     }
 
     /// Junction degrees and the number of ends of a drawn `t`: a stem `w` px wide, 120 px

@@ -417,6 +417,30 @@ impl SeparableGabor {
                 k += 2;
                 continue;
             }
+            // Two rows of eight columns side by side, their sums one after the other.
+            // SAFETY: `WIDE` only where the CPU has AVX2 (`apply_wide`).
+            #[cfg(target_arch = "x86_64")]
+            if WIDE && bw == 8 && k + 1 < window_rows && {
+                let span = k * bw..(k + 2) * bw;
+                let next = start + pw;
+                unsafe {
+                    wide::row_sums8x2(
+                        (&self.a, &self.c),
+                        (
+                            &padded.values[start..start + side - 1 + bw],
+                            &padded.values[next..next + side - 1 + bw],
+                        ),
+                        (
+                            &mut rows.a[span.clone()],
+                            &mut rows.c[span.clone()],
+                            &mut rows.g[span],
+                        ),
+                    )
+                }
+            } {
+                k += 2;
+                continue;
+            }
             let span = k * bw..(k + 1) * bw;
             // Borrowed again for the AVX2 sums, which may leave them to the baseline ones.
             #[cfg_attr(not(target_arch = "x86_64"), allow(unused_mut))]
@@ -450,6 +474,17 @@ impl SeparableGabor {
                 let (top, bottom) = band[row + x0..row + width + x1].split_at_mut(width);
                 let out = (&mut top[..bw], &mut bottom[..bw]);
                 unsafe { wide::column_sums4x2(self, rows, (y - y0) * bw, sign, out) }
+            } {
+                y += 2;
+                continue;
+            }
+            // Two output rows of eight columns side by side.
+            // SAFETY: as above.
+            #[cfg(target_arch = "x86_64")]
+            if WIDE && bw == 8 && y + 1 < y1 && {
+                let (top, bottom) = band[row + x0..row + width + x1].split_at_mut(width);
+                let out = (&mut top[..bw], &mut bottom[..bw]);
+                unsafe { wide::column_sums8x2(self, rows, (y - y0) * bw, sign, out) }
             } {
                 y += 2;
                 continue;
@@ -658,6 +693,64 @@ mod wide {
         }
     }
 
+    /// [`row_sums8`] of two rows of eight columns, `window` and `next` (at least `taps + 7`
+    /// values each), side by side: each row's sums the ones [`row_sums8`] gives it, into the
+    /// first eight of `sa`, `sc`, `sg` (sixteen each) and the next row's into the last eight.
+    /// The two rows' sums are independent, so their additions overlap where one row's wait on
+    /// the addition before (a tap's three sums are each the one before plus a term).
+    ///
+    /// # Safety
+    /// The CPU must have AVX2.
+    #[target_feature(enable = "avx2")]
+    #[inline]
+    pub(super) unsafe fn row_sums8x2(
+        (a, c): (&[f32], &[f32]),
+        (window, next): (&[f32], &[f32]),
+        (sa, sc, sg): (&mut [f32], &mut [f32], &mut [f32]),
+    ) -> bool {
+        let taps = a.len();
+        if c.len() != taps
+            || window.len() < taps + 7
+            || next.len() < taps + 7
+            || [sa.len(), sc.len(), sg.len()] != [16; 3]
+        {
+            return false;
+        }
+        let (mut va, mut vc, mut vg) = (
+            _mm256_setzero_ps(),
+            _mm256_setzero_ps(),
+            _mm256_setzero_ps(),
+        );
+        let (mut wa, mut wc, mut wg) = (va, vc, vg);
+        for (t, (&a, &c)) in a.iter().zip(c).enumerate() {
+            // SAFETY: the CPU has AVX2, as this function's caller guarantees; tap `t` reads
+            // eight values from `t` of each row, within both as `t + 8 <= taps + 7`.
+            let (line, below) = unsafe {
+                (
+                    _mm256_loadu_ps(window.as_ptr().add(t)),
+                    _mm256_loadu_ps(next.as_ptr().add(t)),
+                )
+            };
+            let (a, c) = (_mm256_set1_ps(a), _mm256_set1_ps(c));
+            va = _mm256_add_ps(va, _mm256_mul_ps(a, line));
+            vc = _mm256_add_ps(vc, _mm256_mul_ps(c, line));
+            vg = _mm256_add_ps(vg, line);
+            wa = _mm256_add_ps(wa, _mm256_mul_ps(a, below));
+            wc = _mm256_add_ps(wc, _mm256_mul_ps(c, below));
+            wg = _mm256_add_ps(wg, below);
+        }
+        // SAFETY: sixteen values each, checked above.
+        unsafe {
+            _mm256_storeu_ps(sa.as_mut_ptr(), va);
+            _mm256_storeu_ps(sc.as_mut_ptr(), vc);
+            _mm256_storeu_ps(sg.as_mut_ptr(), vg);
+            _mm256_storeu_ps(sa.as_mut_ptr().add(8), wa);
+            _mm256_storeu_ps(sc.as_mut_ptr().add(8), wc);
+            _mm256_storeu_ps(sg.as_mut_ptr().add(8), wg);
+        }
+        true
+    }
+
     /// One output row of eight columns from the row sums starting at `first`: Σ over the rows
     /// of B·ΣA - D·ΣC - m·Σgray, times the scale and `sign`, into `out` (eight values).
     ///
@@ -730,6 +823,64 @@ mod wide {
             s = _mm256_add_ps(s, term);
         }
         Some(_mm256_mul_ps(_mm256_set1_ps(sign * filter.scale), s))
+    }
+
+    /// [`column_sums8`] of two output rows, the lower's row sums starting eight after the
+    /// upper's (`first`): each row the same operations in the same order as [`column_terms`],
+    /// its value into `top` and `bottom` (eight each); the two rows' additions overlap.
+    ///
+    /// # Safety
+    /// The CPU must have AVX2.
+    #[target_feature(enable = "avx2")]
+    #[inline]
+    pub(super) unsafe fn column_sums8x2(
+        filter: &SeparableGabor,
+        rows: &RowSums,
+        first: usize,
+        sign: f32,
+        (top, bottom): (&mut [f32], &mut [f32]),
+    ) -> bool {
+        let taps = filter.b.len();
+        let end = first + 8 * taps + 8;
+        if top.len() != 8
+            || bottom.len() != 8
+            || filter.d.len() != taps
+            || [rows.a.len(), rows.c.len(), rows.g.len()]
+                .iter()
+                .any(|&n| n < end)
+        {
+            return false;
+        }
+        let mean = _mm256_set1_ps(filter.mean);
+        let (mut s, mut s_below) = (_mm256_setzero_ps(), _mm256_setzero_ps());
+        for (k, (&b, &d)) in filter.b.iter().zip(&filter.d).enumerate() {
+            let (b, d) = (_mm256_set1_ps(b), _mm256_set1_ps(d));
+            let term = |at: usize| {
+                // SAFETY: `at + 8 <= first + 8 · taps + 8 = end`, within each of the three,
+                // checked above.
+                let (ha, hc, h1) = unsafe {
+                    (
+                        _mm256_loadu_ps(rows.a.as_ptr().add(at)),
+                        _mm256_loadu_ps(rows.c.as_ptr().add(at)),
+                        _mm256_loadu_ps(rows.g.as_ptr().add(at)),
+                    )
+                };
+                _mm256_sub_ps(
+                    _mm256_sub_ps(_mm256_mul_ps(b, ha), _mm256_mul_ps(d, hc)),
+                    _mm256_mul_ps(mean, h1),
+                )
+            };
+            let at = first + k * 8;
+            s = _mm256_add_ps(s, term(at));
+            s_below = _mm256_add_ps(s_below, term(at + 8));
+        }
+        let scale = _mm256_set1_ps(sign * filter.scale);
+        // SAFETY: eight values each, checked above.
+        unsafe {
+            _mm256_storeu_ps(top.as_mut_ptr(), _mm256_mul_ps(scale, s));
+            _mm256_storeu_ps(bottom.as_mut_ptr(), _mm256_mul_ps(scale, s_below));
+        }
+        true
     }
 
     /// [`row_sums8`] of two rows of four columns, `window` and `next` (at least `taps + 3`

@@ -392,27 +392,23 @@ impl SeparableGabor {
         let mut k = 0;
         while k < window_rows {
             let start = (y0 + pad - r + k) * pw + x0 + pad - r;
-            // A sub-block's four columns of two rows in one AVX register: the rows' sums lie
-            // one after the other.
+            // Two rows at a time, their sums one after the other: a sub-block's four columns
+            // of both in one AVX register, or eight columns of each side by side.
             // SAFETY: `WIDE` only where the CPU has AVX2 (`apply_wide`).
             #[cfg(target_arch = "x86_64")]
-            if WIDE && bw == 4 && k + 1 < window_rows && {
+            if WIDE && (bw == 4 || bw == 8) && k + 1 < window_rows && {
                 let span = k * bw..(k + 2) * bw;
                 let next = start + pw;
-                unsafe {
-                    wide::row_sums4x2(
-                        (&self.a, &self.c),
-                        (
-                            &padded.values[start..start + side - 1 + bw],
-                            &padded.values[next..next + side - 1 + bw],
-                        ),
-                        (
-                            &mut rows.a[span.clone()],
-                            &mut rows.c[span.clone()],
-                            &mut rows.g[span],
-                        ),
-                    )
-                }
+                let windows = (
+                    &padded.values[start..start + side - 1 + bw],
+                    &padded.values[next..next + side - 1 + bw],
+                );
+                let sums = (
+                    &mut rows.a[span.clone()],
+                    &mut rows.c[span.clone()],
+                    &mut rows.g[span],
+                );
+                unsafe { wide::row_sums_x2((&self.a, &self.c), windows, sums) }
             } {
                 k += 2;
                 continue;
@@ -442,14 +438,21 @@ impl SeparableGabor {
         let mut y = y0;
         while y < y1 {
             let row = (y - band_y0) * width;
-            // Two output rows of a sub-block in one AVX register: their row sums, four apart,
-            // are eight adjacent values.
+            // Two output rows at a time: a sub-block's in one AVX register (their row sums,
+            // four apart, are eight adjacent values), or eight columns of each side by side.
             // SAFETY: as above.
             #[cfg(target_arch = "x86_64")]
-            if WIDE && bw == 4 && y + 1 < y1 && {
+            if WIDE && (bw == 4 || bw == 8) && y + 1 < y1 && {
                 let (top, bottom) = band[row + x0..row + width + x1].split_at_mut(width);
                 let out = (&mut top[..bw], &mut bottom[..bw]);
-                unsafe { wide::column_sums4x2(self, rows, (y - y0) * bw, sign, out) }
+                let first = (y - y0) * bw;
+                unsafe {
+                    if bw == 4 {
+                        wide::column_sums4x2(self, rows, first, sign, out)
+                    } else {
+                        wide::column_sums8x2(self, rows, first, sign, out)
+                    }
+                }
             } {
                 y += 2;
                 continue;
@@ -626,7 +629,7 @@ mod wide {
     }
 
     /// Σ A·line, Σ C·line and Σ line over the taps `a`, `c`, `line(t)` the eight values of tap
-    /// `t`, into `sa`, `sc`, `sg`: [`row_sums8`]'s and [`row_sums4x2`]'s sums, which differ only
+    /// `t`, into `sa`, `sc`, `sg`: [`row_sums8`]'s and [`row_sums_x2`]'s sums, which differ only
     /// in how a tap's eight values are loaded.
     ///
     /// # Safety
@@ -655,6 +658,114 @@ mod wide {
             _mm256_storeu_ps(sa.as_mut_ptr(), va);
             _mm256_storeu_ps(sc.as_mut_ptr(), vc);
             _mm256_storeu_ps(sg.as_mut_ptr(), vg);
+        }
+    }
+
+    /// Whether two rows' windows hold the `columns` values each of every tap of `a` and `c`
+    /// (`taps + columns - 1`), and each of the three sums' slices (`sums`) two rows of them.
+    fn two_rows_fit(
+        (a, c): (&[f32], &[f32]),
+        (window, next): (&[f32], &[f32]),
+        sums: [usize; 3],
+        columns: usize,
+    ) -> bool {
+        let taps = a.len();
+        c.len() == taps
+            && window.len() >= taps + columns - 1
+            && next.len() >= taps + columns - 1
+            && sums == [2 * columns; 3]
+    }
+
+    /// [`row_sums8`] of two rows, `window` and `next`, of four or eight columns (at least
+    /// `taps + 3` or `taps + 7` values each, `sa`, `sc`, `sg` eight or sixteen each): each row's
+    /// sums the ones [`SeparableGabor::row_sums`] gives it, the same operations, the first row's
+    /// into the first half of `sa`, `sc`, `sg` and the next row's into the second. Four columns
+    /// go in one register (`window`'s in the low four lanes); eight side by side, the two rows'
+    /// sums independent, so their additions overlap where one row's wait on the addition before
+    /// (a tap's three sums are each the one before plus a term).
+    ///
+    /// # Safety
+    /// The CPU must have AVX2.
+    #[target_feature(enable = "avx2")]
+    #[inline]
+    pub(super) unsafe fn row_sums_x2(
+        (a, c): (&[f32], &[f32]),
+        (window, next): (&[f32], &[f32]),
+        (sa, sc, sg): (&mut [f32], &mut [f32], &mut [f32]),
+    ) -> bool {
+        let columns = sa.len() / 2;
+        if !matches!(columns, 4 | 8)
+            || !two_rows_fit(
+                (a, c),
+                (window, next),
+                [sa.len(), sc.len(), sg.len()],
+                columns,
+            )
+        {
+            return false;
+        }
+        // SAFETY: the CPU has AVX2, as this function's caller guarantees; each tap `t` reads
+        // `columns` values from `t` of each row, within both as `t + columns <= taps + columns
+        // - 1`; `2 · columns` values each out, checked above.
+        unsafe {
+            if columns == 4 {
+                let line = |t: usize| {
+                    _mm256_insertf128_ps::<1>(
+                        _mm256_castps128_ps256(_mm_loadu_ps(window.as_ptr().add(t))),
+                        _mm_loadu_ps(next.as_ptr().add(t)),
+                    )
+                };
+                tap_sums((a, c), line, (sa, sc, sg));
+            } else {
+                eight_columns_x2([a, c], [window, next], [sa, sc, sg]);
+            }
+        }
+        true
+    }
+
+    /// [`row_sums_x2`] of eight columns, once checked: `rows` at least `taps + 7` values each,
+    /// `sums` sixteen each.
+    ///
+    /// # Safety
+    /// The CPU must have AVX2, and the lengths must be as said.
+    #[target_feature(enable = "avx2")]
+    #[inline]
+    unsafe fn eight_columns_x2(
+        [a, c]: [&[f32]; 2],
+        [window, next]: [&[f32]; 2],
+        [sa, sc, sg]: [&mut [f32]; 3],
+    ) {
+        let (mut va, mut vc, mut vg) = (
+            _mm256_setzero_ps(),
+            _mm256_setzero_ps(),
+            _mm256_setzero_ps(),
+        );
+        let (mut wa, mut wc, mut wg) = (va, vc, vg);
+        for (t, (&a, &c)) in a.iter().zip(c).enumerate() {
+            // SAFETY: the CPU has AVX2 and tap `t` reads eight values from `t` of each row,
+            // within both as `t + 8 <= taps + 7`, by the caller.
+            let (line, below) = unsafe {
+                (
+                    _mm256_loadu_ps(window.as_ptr().add(t)),
+                    _mm256_loadu_ps(next.as_ptr().add(t)),
+                )
+            };
+            let (a, c) = (_mm256_set1_ps(a), _mm256_set1_ps(c));
+            va = _mm256_add_ps(va, _mm256_mul_ps(a, line));
+            vc = _mm256_add_ps(vc, _mm256_mul_ps(c, line));
+            vg = _mm256_add_ps(vg, line);
+            wa = _mm256_add_ps(wa, _mm256_mul_ps(a, below));
+            wc = _mm256_add_ps(wc, _mm256_mul_ps(c, below));
+            wg = _mm256_add_ps(wg, below);
+        }
+        // SAFETY: sixteen values each, by the caller.
+        unsafe {
+            _mm256_storeu_ps(sa.as_mut_ptr(), va);
+            _mm256_storeu_ps(sc.as_mut_ptr(), vc);
+            _mm256_storeu_ps(sg.as_mut_ptr(), vg);
+            _mm256_storeu_ps(sa.as_mut_ptr().add(8), wa);
+            _mm256_storeu_ps(sc.as_mut_ptr().add(8), wc);
+            _mm256_storeu_ps(sg.as_mut_ptr().add(8), wg);
         }
     }
 
@@ -732,39 +843,60 @@ mod wide {
         Some(_mm256_mul_ps(_mm256_set1_ps(sign * filter.scale), s))
     }
 
-    /// [`row_sums8`] of two rows of four columns, `window` and `next` (at least `taps + 3`
-    /// values each), in one register (`window`'s in the low four lanes): the same operations
-    /// as [`SeparableGabor::row_sums`] for four columns, each row's sums into the first four of
-    /// `sa`, `sc`, `sg` (eight each), the next row's into the last four.
+    /// [`column_sums8`] of two output rows, the lower's row sums starting eight after the
+    /// upper's (`first`): each row the same operations in the same order as [`column_terms`],
+    /// its value into `top` and `bottom` (eight each); the two rows' additions overlap.
     ///
     /// # Safety
     /// The CPU must have AVX2.
     #[target_feature(enable = "avx2")]
     #[inline]
-    pub(super) unsafe fn row_sums4x2(
-        (a, c): (&[f32], &[f32]),
-        (window, next): (&[f32], &[f32]),
-        (sa, sc, sg): (&mut [f32], &mut [f32], &mut [f32]),
+    pub(super) unsafe fn column_sums8x2(
+        filter: &SeparableGabor,
+        rows: &RowSums,
+        first: usize,
+        sign: f32,
+        (top, bottom): (&mut [f32], &mut [f32]),
     ) -> bool {
-        let taps = a.len();
-        if c.len() != taps
-            || window.len() < taps + 3
-            || next.len() < taps + 3
-            || [sa.len(), sc.len(), sg.len()] != [8; 3]
+        let taps = filter.b.len();
+        let end = first + 8 * taps + 8;
+        if top.len() != 8
+            || bottom.len() != 8
+            || filter.d.len() != taps
+            || [rows.a.len(), rows.c.len(), rows.g.len()]
+                .iter()
+                .any(|&n| n < end)
         {
             return false;
         }
-        // SAFETY: the CPU has AVX2, as this function's caller guarantees; each tap `t` reads
-        // four values from `t` of each row, within both as `t + 4 <= taps + 3`; eight values
-        // each out, checked above.
-        unsafe {
-            let line = |t: usize| {
-                _mm256_insertf128_ps::<1>(
-                    _mm256_castps128_ps256(_mm_loadu_ps(window.as_ptr().add(t))),
-                    _mm_loadu_ps(next.as_ptr().add(t)),
+        let mean = _mm256_set1_ps(filter.mean);
+        let (mut s, mut s_below) = (_mm256_setzero_ps(), _mm256_setzero_ps());
+        for (k, (&b, &d)) in filter.b.iter().zip(&filter.d).enumerate() {
+            let (b, d) = (_mm256_set1_ps(b), _mm256_set1_ps(d));
+            let term = |at: usize| {
+                // SAFETY: `at + 8 <= first + 8 · taps + 8 = end`, within each of the three,
+                // checked above.
+                let (ha, hc, h1) = unsafe {
+                    (
+                        _mm256_loadu_ps(rows.a.as_ptr().add(at)),
+                        _mm256_loadu_ps(rows.c.as_ptr().add(at)),
+                        _mm256_loadu_ps(rows.g.as_ptr().add(at)),
+                    )
+                };
+                _mm256_sub_ps(
+                    _mm256_sub_ps(_mm256_mul_ps(b, ha), _mm256_mul_ps(d, hc)),
+                    _mm256_mul_ps(mean, h1),
                 )
             };
-            tap_sums((a, c), line, (sa, sc, sg));
+            let at = first + k * 8;
+            s = _mm256_add_ps(s, term(at));
+            s_below = _mm256_add_ps(s_below, term(at + 8));
+        }
+        let scale = _mm256_set1_ps(sign * filter.scale);
+        // SAFETY: eight values each, checked above.
+        unsafe {
+            _mm256_storeu_ps(top.as_mut_ptr(), _mm256_mul_ps(scale, s));
+            _mm256_storeu_ps(bottom.as_mut_ptr(), _mm256_mul_ps(scale, s_below));
         }
         true
     }

@@ -261,7 +261,28 @@ fn x_signature_lanes<const WIDE: bool>(
     signature[first..end].fill(0.0);
     #[cfg(target_arch = "x86_64")]
     let extremes = if WIDE { wide::extremes(xs, ys) } else { None };
-    for step in steps {
+    // Where every step's samples are inside the image, the rows four at a time with all their
+    // steps (the sums kept in a register); otherwise step after step over the rows.
+    #[cfg_attr(not(target_arch = "x86_64"), allow(unused_mut))]
+    let mut step_by_step = true;
+    #[cfg(target_arch = "x86_64")]
+    if WIDE
+        && steps
+            .iter()
+            .all(|&step| wide::all_inside(smoothed, extremes, step))
+    {
+        let sums = &mut signature[first..end];
+        // SAFETY: `WIDE` only where the CPU has AVX2 (`x_signature_wide`); `all_inside` holds
+        // for every step.
+        let done = unsafe { wide::rows_inside(smoothed, xs, ys, steps, sums) };
+        for (t, sum) in sums.iter_mut().enumerate().skip(done) {
+            for step in steps {
+                *sum += smoothed.sample_inside(xs[t] + step[0], ys[t] + step[1]);
+            }
+        }
+        step_by_step = false;
+    }
+    for step in steps.iter().filter(|_| step_by_step) {
         let sums = &mut signature[first..end];
         #[cfg(target_arch = "x86_64")]
         if WIDE {
@@ -293,11 +314,11 @@ fn x_signature_lanes<const WIDE: bool>(
 mod wide {
     use super::Plane;
     use std::arch::x86_64::{
-        __m128, _mm256_add_pd, _mm256_and_pd, _mm256_cmp_pd, _mm256_cvtpd_epi32, _mm256_cvtpd_ps,
-        _mm256_floor_pd, _mm256_loadu_pd, _mm256_movemask_pd, _mm256_mul_pd, _mm256_set1_pd,
-        _mm256_sub_pd, _mm_add_ps, _mm_castpd_ps, _mm_loadu_ps, _mm_mul_ps, _mm_set1_ps,
-        _mm_setr_pd, _mm_shuffle_ps, _mm_storeu_ps, _mm_storeu_si128, _mm_sub_ps, _CMP_GE_OQ,
-        _CMP_LE_OQ,
+        __m128, __m256d, _mm256_add_pd, _mm256_and_pd, _mm256_cmp_pd, _mm256_cvtpd_epi32,
+        _mm256_cvtpd_ps, _mm256_floor_pd, _mm256_loadu_pd, _mm256_movemask_pd, _mm256_mul_pd,
+        _mm256_set1_pd, _mm256_sub_pd, _mm_add_ps, _mm_castpd_ps, _mm_loadu_ps, _mm_mul_ps,
+        _mm_set1_ps, _mm_setr_pd, _mm_shuffle_ps, _mm_storeu_ps, _mm_storeu_si128, _mm_sub_ps,
+        _CMP_GE_OQ, _CMP_LE_OQ,
     };
 
     /// The pixel at each of four indices into `values` and its right neighbour, as two vectors
@@ -366,17 +387,9 @@ mod wide {
         let (w, h) = (plane.width as usize, plane.height as usize);
         let mut t = 0;
         if w >= 2 && h >= 2 && plane.values.len() == w * h && w * h <= i32::MAX as usize {
-            // The lanes' operations on the extremes: the pixels' column or row.
-            let corner = |v: f64, o: f64| ((v + o) - 0.5).floor();
-            let all_inside = extremes.is_some_and(|[x_min, x_max, y_min, y_max]| {
-                corner(x_min, offset[0]) >= 0.0
-                    && corner(x_max, offset[0]) <= (w - 2) as f64
-                    && corner(y_min, offset[1]) >= 0.0
-                    && corner(y_max, offset[1]) <= (h - 2) as f64
-            });
             // SAFETY: AVX2 by the caller; the image's size checked above.
             t = unsafe {
-                if all_inside {
+                if all_inside(plane, extremes, offset) {
                     add_lanes::<false>(plane, xs, ys, offset, sums, n)
                 } else {
                     add_lanes::<true>(plane, xs, ys, offset, sums, n)
@@ -386,6 +399,114 @@ mod wide {
         for t in t..n {
             sums[t] += plane.sample_inside(xs[t] + offset[0], ys[t] + offset[1]);
         }
+    }
+
+    /// The bilinear samples of a `w`-wide plane's `values` at four points whose coordinates less
+    /// half a pixel are `(fx, fy)`, of floors `(cx, cy)`: the fractions rounded to `f32`, the
+    /// pixel's index from `cy · w + cx` in `f64`, the four pixels read as two adjacent pairs
+    /// ([`pairs`]) and mixed as [`Plane::sample_inside`] mixes them.
+    ///
+    /// # Safety
+    /// The CPU must have AVX2; each point's pixel and the one below right of it inside the plane
+    /// (`0 <= cx <= w - 2`, `0 <= cy <= h - 2` for a `w x h` plane of `w · h <= i32::MAX`).
+    #[target_feature(enable = "avx2")]
+    #[inline]
+    unsafe fn sample4(
+        values: *const f32,
+        w: usize,
+        (fx, fy): (__m256d, __m256d),
+        (cx, cy): (__m256d, __m256d),
+    ) -> __m128 {
+        let one = _mm_set1_ps(1.0);
+        let (tx, ty) = (
+            _mm256_cvtpd_ps(_mm256_sub_pd(fx, cx)),
+            _mm256_cvtpd_ps(_mm256_sub_pd(fy, cy)),
+        );
+        // Whole numbers in `0..w · h <= i32::MAX`: exact, and unsigned.
+        let pixel = _mm256_cvtpd_epi32(_mm256_add_pd(
+            _mm256_mul_pd(cy, _mm256_set1_pd(w as f64)),
+            cx,
+        ));
+        let mut index = [0u32; 4];
+        // SAFETY: four `u32` into a four-element array, unaligned store.
+        unsafe { _mm_storeu_si128(index.as_mut_ptr().cast(), pixel) };
+        // SAFETY: `pixel = cy · w + cx` with `0 <= cx <= w - 2`, `0 <= cy <= h - 2` (by the
+        // caller), so `pixel + w + 1 <= w · h - 1`: all four pairs of both rows inside `values`.
+        let ((a, b), (c, d)) = unsafe { (pairs(values, index), pairs(values.add(w), index)) };
+        let (left, up) = (_mm_sub_ps(one, tx), _mm_sub_ps(one, ty));
+        let top = _mm_add_ps(_mm_mul_ps(a, left), _mm_mul_ps(b, tx));
+        let bottom = _mm_add_ps(_mm_mul_ps(c, left), _mm_mul_ps(d, tx));
+        _mm_add_ps(_mm_mul_ps(top, up), _mm_mul_ps(bottom, ty))
+    }
+
+    /// Whether the plane suits the four-at-a-time sampling (at least 2 x 2 pixels, its values
+    /// `w · h <= i32::MAX`) and every sample at `(xs[t] + offset[0], ys[t] + offset[1])` has
+    /// its four pixels inside it, `extremes` being `xs`' and `ys`' ([`extremes`]): where the
+    /// samples at the extremes have, all have (rounding is monotone: a lesser coordinate never
+    /// gives a greater sum or floor).
+    pub(super) fn all_inside(plane: &Plane, extremes: Option<[f64; 4]>, offset: [f64; 2]) -> bool {
+        let (w, h) = (plane.width as usize, plane.height as usize);
+        if w < 2 || h < 2 || plane.values.len() != w * h || w * h > i32::MAX as usize {
+            return false;
+        }
+        // The lanes' operations on the extremes: the pixels' column or row.
+        let corner = |v: f64, o: f64| ((v + o) - 0.5).floor();
+        extremes.is_some_and(|[x_min, x_max, y_min, y_max]| {
+            corner(x_min, offset[0]) >= 0.0
+                && corner(x_max, offset[0]) <= (w - 2) as f64
+                && corner(y_min, offset[1]) >= 0.0
+                && corner(y_max, offset[1]) <= (h - 2) as f64
+        })
+    }
+
+    /// The x-signature's rows four at a time, every step of `steps` for each four before the
+    /// next, their sums held in a register: to each `sums[t]` (of whole fours of rows; returns
+    /// how many) the samples at `(xs[t] + step[0], ys[t] + step[1])` added in the order of
+    /// `steps`, the same additions, in the same order, of the same values as
+    /// [`add_samples_inside`] step after step, without storing and reading back the sums
+    /// between steps.
+    ///
+    /// # Safety
+    /// The CPU must have AVX2; [`all_inside`] must hold for every step.
+    #[target_feature(enable = "avx2")]
+    #[inline]
+    pub(super) unsafe fn rows_inside(
+        plane: &Plane,
+        xs: &[f64],
+        ys: &[f64],
+        steps: &[[f64; 2]],
+        sums: &mut [f32],
+    ) -> usize {
+        let n = xs.len().min(ys.len()).min(sums.len());
+        let (w, values, half) = (
+            plane.width as usize,
+            plane.values.as_ptr(),
+            _mm256_set1_pd(0.5),
+        );
+        let end = n - n % 4;
+        for t in (0..end).step_by(4) {
+            // SAFETY: `t + 4 <= end <= n`, within `xs`, `ys` and `sums`.
+            let (x, y, mut sum) = unsafe {
+                (
+                    _mm256_loadu_pd(xs.as_ptr().add(t)),
+                    _mm256_loadu_pd(ys.as_ptr().add(t)),
+                    _mm_loadu_ps(sums.as_ptr().add(t)),
+                )
+            };
+            for step in steps {
+                let (fx, fy) = (
+                    _mm256_sub_pd(_mm256_add_pd(x, _mm256_set1_pd(step[0])), half),
+                    _mm256_sub_pd(_mm256_add_pd(y, _mm256_set1_pd(step[1])), half),
+                );
+                let (cx, cy) = (_mm256_floor_pd(fx), _mm256_floor_pd(fy));
+                // SAFETY: every sample's pixels are inside the plane ([`all_inside`] for every
+                // step, by the caller).
+                sum = _mm_add_ps(sum, unsafe { sample4(values, w, (fx, fy), (cx, cy)) });
+            }
+            // SAFETY: as the loads above.
+            unsafe { _mm_storeu_ps(sums.as_mut_ptr().add(t), sum) };
+        }
+        end
     }
 
     /// [`add_samples_inside`]'s four samples at a time, up to the first four whose pixels the
@@ -416,11 +537,7 @@ mod wide {
             _mm256_set1_pd((w - 2) as f64),
             _mm256_set1_pd((h - 2) as f64),
         );
-        let width = _mm256_set1_pd(w as f64);
-        let one = _mm_set1_ps(1.0);
         let values = plane.values.as_ptr();
-        // SAFETY: `w <= w · h`, within (or one past) `values`.
-        let below = unsafe { values.add(w) };
         let (mut t, end) = (0, n - n % 4);
         while t < end {
             // SAFETY: `t + 4 <= end <= n`, within `xs`, `ys` and `sums`.
@@ -451,23 +568,8 @@ mod wide {
                     break;
                 }
             }
-            let (tx, ty) = (
-                _mm256_cvtpd_ps(_mm256_sub_pd(fx, cx)),
-                _mm256_cvtpd_ps(_mm256_sub_pd(fy, cy)),
-            );
-            // Whole numbers in `0..w · h <= i32::MAX`: exact, and unsigned.
-            let pixel = _mm256_cvtpd_epi32(_mm256_add_pd(_mm256_mul_pd(cy, width), cx));
-            let mut index = [0u32; 4];
-            // SAFETY: four `u32` into a four-element array, unaligned store.
-            unsafe { _mm_storeu_si128(index.as_mut_ptr().cast(), pixel) };
-            // SAFETY: `pixel = cy · w + cx` with `0 <= cx <= w - 2`, `0 <= cy <= h - 2` (tested,
-            // or by the caller), so `pixel + w + 1 <= w · h - 1`: all four pairs of both rows
-            // inside `values`.
-            let ((a, b), (c, d)) = unsafe { (pairs(values, index), pairs(below, index)) };
-            let (left, up) = (_mm_sub_ps(one, tx), _mm_sub_ps(one, ty));
-            let top = _mm_add_ps(_mm_mul_ps(a, left), _mm_mul_ps(b, tx));
-            let bottom = _mm_add_ps(_mm_mul_ps(c, left), _mm_mul_ps(d, tx));
-            let sample = _mm_add_ps(_mm_mul_ps(top, up), _mm_mul_ps(bottom, ty));
+            // SAFETY: the pixels of the four are inside the image (tested, or by the caller).
+            let sample = unsafe { sample4(values, w, (fx, fy), (cx, cy)) };
             // SAFETY: as the loads above.
             unsafe {
                 let at = sums.as_mut_ptr().add(t);

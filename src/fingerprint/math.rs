@@ -207,8 +207,8 @@ fn weighted_sums<const WIDE: bool>(kernel: &[f32], src: &[f32], starts: &[usize]
     }
 }
 
-/// [`weighted_sums`] in AVX registers: sixteen columns at a time (two registers), then eight,
-/// then one by one; each tap's weight broadcast, the same operations in the same order as the
+/// [`weighted_sums`] in AVX registers: thirty-two columns at a time (four registers), then
+/// sixteen or eight, then one by one; each tap's weight broadcast, the same operations in the same order as the
 /// baseline sums (no fused multiply-add), so the same values (a test holds them bit for bit).
 #[cfg(target_arch = "x86_64")]
 mod wide {
@@ -242,27 +242,17 @@ mod wide {
         let taps = kernel.iter().zip(starts);
         let mut x = 0;
         while x + 8 <= n {
-            let pair = x + 16 <= n;
-            let (mut s0, mut s1) = (_mm256_setzero_ps(), _mm256_setzero_ps());
-            for (&c, &start) in taps.clone() {
-                let c = _mm256_set1_ps(c);
-                // SAFETY: `start + x + 8 <= start + n <= src.len()` (and `+ 16` for the pair).
-                unsafe {
-                    let at = src.as_ptr().add(start + x);
-                    s0 = _mm256_add_ps(s0, _mm256_mul_ps(c, _mm256_loadu_ps(at)));
-                    if pair {
-                        s1 = _mm256_add_ps(s1, _mm256_mul_ps(c, _mm256_loadu_ps(at.add(8))));
-                    }
+            // SAFETY: the CPU has AVX2 (by the caller); each group's last column is below
+            // `n`, so every tap's row reaches it within `src` (checked above).
+            x += unsafe {
+                if x + 32 <= n {
+                    lane_sums::<4>(kernel, src, starts, x, out)
+                } else if x + 16 <= n {
+                    lane_sums::<2>(kernel, src, starts, x, out)
+                } else {
+                    lane_sums::<1>(kernel, src, starts, x, out)
                 }
-            }
-            // SAFETY: `x + 8 <= n` (and `x + 16` for the pair), within `out`.
-            unsafe {
-                _mm256_storeu_ps(out.as_mut_ptr().add(x), s0);
-                if pair {
-                    _mm256_storeu_ps(out.as_mut_ptr().add(x + 8), s1);
-                }
-            }
-            x += if pair { 16 } else { 8 };
+            };
         }
         for (i, o) in out[x..].iter_mut().enumerate() {
             let mut s = 0.0f32;
@@ -272,6 +262,43 @@ mod wide {
             *o = s;
         }
         true
+    }
+
+    /// [`weighted_sums`] of the `8 · L` columns from `x`, in `L` registers: each register's
+    /// sums wait on the one before at every tap (an addition's latency), so more registers
+    /// side by side keep more additions under way; the same terms in the same order for every
+    /// column whatever `L`. Returns the columns written.
+    ///
+    /// # Safety
+    /// The CPU must have AVX2; `x + 8 · L <= out.len()` and every `start + x + 8 · L` of
+    /// `starts` at most `src.len()`.
+    #[target_feature(enable = "avx2")]
+    #[inline]
+    unsafe fn lane_sums<const L: usize>(
+        kernel: &[f32],
+        src: &[f32],
+        starts: &[usize],
+        x: usize,
+        out: &mut [f32],
+    ) -> usize {
+        let mut s = [_mm256_setzero_ps(); L];
+        for (&c, &start) in kernel.iter().zip(starts) {
+            let c = _mm256_set1_ps(c);
+            // SAFETY: `start + x + 8 · L <= src.len()`, by the caller.
+            let at = unsafe { src.as_ptr().add(start + x) };
+            for (l, s) in s.iter_mut().enumerate() {
+                // SAFETY: as above.
+                *s = _mm256_add_ps(
+                    *s,
+                    _mm256_mul_ps(c, unsafe { _mm256_loadu_ps(at.add(8 * l)) }),
+                );
+            }
+        }
+        for (l, s) in s.into_iter().enumerate() {
+            // SAFETY: `x + 8 · L <= out.len()`, by the caller.
+            unsafe { _mm256_storeu_ps(out.as_mut_ptr().add(x + 8 * l), s) };
+        }
+        8 * L
     }
 }
 

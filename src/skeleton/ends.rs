@@ -4,7 +4,7 @@
 
 use crate::geometry::{dist, hypot};
 
-use super::work::{median, Work};
+use super::work::{median, Clearance, Work};
 use super::{disk_radius, MIN_LINE_PX, MIN_WIDTH_PX};
 
 /// An end's direction is taken over this many stroke widths from its tip: beyond the cap that
@@ -51,6 +51,11 @@ const WALK_TURN_DEG: f64 = 30.0;
 /// ...and by at most this (degrees) in all from the end's own direction: a stroke's terminal,
 /// not a stroke of its own that meets it.
 const WALK_TOTAL_TURN_DEG: f64 = 90.0;
+
+/// The walk bounds a step's clearance by this many of the background centres it found last
+/// (those of the steps before it and of the same step's other turns): a few, each one a
+/// squared distance.
+const WALK_KNOWN_BACKGROUND: usize = 8;
 
 impl Work {
     /// Thinning erodes a stroke's end, most along a diagonal: each end is carried on along its
@@ -199,8 +204,11 @@ impl Work {
         let mut walked = 0.0;
         let mut path = Vec::new();
         let mut end = None;
+        // The background centres nearest the points looked at so far (the last
+        // [`WALK_KNOWN_BACKGROUND`] of them bound a step's clearances).
+        let mut background: Vec<[f64; 2]> = Vec::new();
         while walked + WALK_STEP_PX <= limit {
-            let mut best: Option<([f64; 2], [f64; 2], f64)> = None;
+            let mut best: Option<([f64; 2], [f64; 2], Clearance)> = None;
             for k in [0.0, -1.0, 1.0, -2.0, 2.0, -3.0, 3.0] {
                 let (s, c) = (k * turn / 3.0).sin_cos();
                 let r = [d[0] * c - d[1] * s, d[0] * s + d[1] * c];
@@ -210,15 +218,35 @@ impl Work {
                 }
                 let q = [p[0] + WALK_STEP_PX * r[0], p[1] + WALK_STEP_PX * r[1]];
                 let to_tip = squared(q, tip);
-                if !self.ink.at(q) || behind.iter().any(|&b| squared(q, b) < to_tip) {
+                if !self.ink.at(q) {
                     continue;
                 }
-                let clear = self.ink.clearance(q, widest);
-                if best.is_none_or(|b| clear > b.2) {
+                // A step no farther from a background centre already found than the best step
+                // is from its nearest is not clearer (the best is kept among equals), so its
+                // clearance is not needed: the same squared distances, compared as they are
+                // found (`Ink::squared_to_centre`).
+                if let Some((_, _, b)) = best {
+                    if b.pixel.is_some()
+                        && background
+                            .iter()
+                            .rev()
+                            .take(WALK_KNOWN_BACKGROUND)
+                            .any(|&c| self.ink.squared_to_centre(q, c) <= b.squared)
+                    {
+                        continue;
+                    }
+                }
+                if behind.iter().any(|&b| squared(q, b) < to_tip) {
+                    continue;
+                }
+                let clear = self.ink.nearest_background(q, widest);
+                background.extend(clear.pixel);
+                if best.is_none_or(|b| clear.clearance > b.2.clearance) {
                     best = Some((q, r, clear));
                 }
             }
             let Some((q, r, clear)) = best else { break };
+            let clear = clear.clearance;
             if clear > widest {
                 break;
             }

@@ -20,6 +20,22 @@ const THIN_STROKE_PX: f64 = 1.0;
 /// ([`Ink::at_or_linked`]): an eighth of a pixel, the rounding of where a line crosses a row.
 const PIXEL_EDGE_PX: f64 = 0.125;
 
+/// The lowest bit of each byte of a word: eight pixels of a row of the mask read at once
+/// ([`Ink::nearest_background`]).
+const LANES: u64 = 0x0101_0101_0101_0101;
+
+/// [`Ink::nearest_background`]: the clearance of a point and where it comes from.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Clearance {
+    /// [`Ink::clearance`].
+    pub(super) clearance: f64,
+    /// The squared distance to the nearest background centre, of which `clearance` is the
+    /// square root (the square of the limit and a pixel when none is within the limit).
+    pub(super) squared: f64,
+    /// The nearest background pixel's centre in the window's coordinates, if within the limit.
+    pub(super) pixel: Option<[f64; 2]>,
+}
+
 /// An ink mask over a window of the image.
 pub(super) struct Ink {
     pub(super) mask: Vec<bool>,
@@ -78,29 +94,40 @@ impl Ink {
     /// The distance from `p` to the nearest background pixel centre, looked for up to `limit`
     /// px (beyond that, `limit` and a pixel more are returned): the radius of the disk on the
     /// ink at `p`, measured as the skeleton's widths are (a skeleton pixel's disk holds the ink
-    /// pixels closer to it than the nearest background pixel).
+    /// pixels closer to it than the nearest background pixel). Pixels outside the window are
+    /// background.
     ///
-    /// The pixels are searched in square rings around `p`'s own: every centre of ring `r` lies
+    /// Row by row outwards from `p`'s own: a row's nearest background centre is the nearest
+    /// background pixel on either side of `p`'s column (the rounded difference of the
+    /// coordinates never shrinks as the column moves away), so each row costs a scan along its
+    /// ink from `p`'s column, no farther than a centre could still be nearer than the nearest
+    /// found, not a test of every pixel within the limit. Every centre of the rows `r` away lies
     /// at least `r - 1/2` px from `p`, so the search stops once that is beyond the nearest
-    /// found.
+    /// found. The result is the least of the squared distances of all pixels within the limit,
+    /// whatever the order of the search (the clearance is asked at every step of every end's
+    /// walk, `Work::walk_middle`, and was first found by testing every pixel of square rings).
     pub(super) fn clearance(&self, p: [f64; 2], limit: f64) -> f64 {
+        self.nearest_background(p, limit).clearance
+    }
+
+    /// [`Ink::clearance`] with the background pixel centre that sets it.
+    pub(super) fn nearest_background(&self, p: [f64; 2], limit: f64) -> Clearance {
         let (x, y) = (p[0] - self.origin[0], p[1] - self.origin[1]);
         let (cx, cy) = (x.floor(), y.floor());
         let k = limit.max(0.0).ceil() as i64 + 1;
         let none = limit.max(0.0) + 1.0;
-        // Squared distances, one square root at the end: the search's cost is its comparisons
-        // (the clearance is asked at every step of every end's walk, `Work::walk_middle`).
         let mut best = none * none;
-        let mut found = false;
-        let mut visit = |dx: i64, dy: i64, best: &mut f64| {
-            let (qx, qy) = (cx + dx as f64 + 0.5, cy + dy as f64 + 0.5);
-            if !self.at_window(qx, qy) {
-                let (ex, ey) = (qx - x, qy - y);
-                let d = ex * ex + ey * ey;
-                if d < *best {
-                    *best = d;
-                    found = true;
-                }
+        let mut nearest = None;
+        // `p`'s column in the window, when it is in it: along it a row is scanned; outside it
+        // (or NaN) that column's own pixel is background in every row.
+        let column = (cx >= 0.0 && cx < self.width as f64).then_some(cx as usize);
+        let offer = |dx: i64, qy: f64, ey: f64, best: &mut f64, nearest: &mut Option<[f64; 2]>| {
+            let qx = cx + dx as f64 + 0.5;
+            let ex = qx - x;
+            let d = ex * ex + ey * ey;
+            if d < *best {
+                *best = d;
+                *nearest = Some([qx, qy]);
             }
         };
         for r in 0..=k {
@@ -108,24 +135,104 @@ impl Ink {
             if inner > 0.0 && inner * inner > best {
                 break;
             }
-            if r == 0 {
-                visit(0, 0, &mut best);
-                continue;
-            }
-            for d in -r..=r {
-                visit(d, -r, &mut best);
-                visit(d, r, &mut best);
-            }
-            for d in 1 - r..r {
-                visit(-r, d, &mut best);
-                visit(r, d, &mut best);
+            for &dy in &[-r, r][..usize::from(r > 0) + 1] {
+                let qy = cy + dy as f64 + 0.5;
+                let ey = qy - y;
+                let ey2 = ey * ey;
+                // The least squared distance of a centre in this row `j` columns from `p`'s
+                // (`|ex| >= j - 1/2`): the scan stops where it reaches the nearest found.
+                let beyond = |j: usize| {
+                    let near = j as f64 - 0.5;
+                    near * near + ey2
+                };
+                if ey2 >= best || ey2.is_nan() {
+                    continue;
+                }
+                let row_y = cy + dy as f64;
+                let line = match column {
+                    Some(c) if row_y >= 0.0 && row_y < self.height as f64 => {
+                        let start = row_y as usize * self.width;
+                        (&self.mask[start..start + self.width], c)
+                    }
+                    _ => {
+                        offer(0, qy, ey, &mut best, &mut nearest);
+                        continue;
+                    }
+                };
+                let (line, c) = line;
+                if !line[c] {
+                    offer(0, qy, ey, &mut best, &mut nearest);
+                    continue;
+                }
+                // Left, then right, to the first background pixel (the columns beyond the
+                // window are background); each scan's first offset, 0 once that side's pixel
+                // is found. The four pixels left of `c` and the three right of it at once where
+                // the row holds them: the nearest background in them is the first the scan would
+                // reach (offered even where the scan would have stopped short of it: no nearer
+                // than the nearest found, it changes nothing).
+                let mut from = [1, 1];
+                if let Some(eight) = c
+                    .checked_sub(4)
+                    .and_then(|first| line.get(first..first + 8))
+                    .and_then(|eight| <&[bool; 8]>::try_from(eight).ok())
+                {
+                    let background = !u64::from_le_bytes(eight.map(u8::from)) & LANES;
+                    let left = background & (LANES >> 32);
+                    from[0] = if left == 0 {
+                        5
+                    } else {
+                        let j = 4 - (63 - left.leading_zeros()) / 8;
+                        offer(-i64::from(j), qy, ey, &mut best, &mut nearest);
+                        0
+                    };
+                    let right = background >> 40;
+                    from[1] = if right == 0 {
+                        4
+                    } else {
+                        let j = right.trailing_zeros() / 8 + 1;
+                        offer(i64::from(j), qy, ey, &mut best, &mut nearest);
+                        0
+                    };
+                }
+                let mut j = from[0];
+                while j > 0 && beyond(j) < best {
+                    if j > c || !line[c - j] {
+                        offer(-(j as i64), qy, ey, &mut best, &mut nearest);
+                        break;
+                    }
+                    j += 1;
+                }
+                let mut j = from[1];
+                while j > 0 && beyond(j) < best {
+                    if c + j >= line.len() || !line[c + j] {
+                        offer(j as i64, qy, ey, &mut best, &mut nearest);
+                        break;
+                    }
+                    j += 1;
+                }
             }
         }
-        if found {
-            best.sqrt()
-        } else {
-            none
+        match nearest {
+            Some(pixel) => Clearance {
+                clearance: best.sqrt(),
+                squared: best,
+                pixel: Some(pixel),
+            },
+            None => Clearance {
+                clearance: none,
+                squared: best,
+                pixel: None,
+            },
         }
+    }
+
+    /// The squared distance from `p` to the pixel centre `q` given in the window's coordinates
+    /// (as [`Clearance::pixel`]), computed as [`Ink::nearest_background`] computes it: so a
+    /// background centre found for one point bounds the clearance of another bit for bit.
+    pub(super) fn squared_to_centre(&self, p: [f64; 2], q: [f64; 2]) -> f64 {
+        let (x, y) = (p[0] - self.origin[0], p[1] - self.origin[1]);
+        let (ex, ey) = (q[0] - x, q[1] - y);
+        ex * ex + ey * ey
     }
 
     /// Whether the point `p` is on the ink as a line along a stroke one pixel wide can be: on
@@ -449,6 +556,104 @@ mod tests {
                 .collect();
             let old = upper_median(&mut widths.clone()).unwrap_or(MIN_WIDTH_PX);
             assert_eq!(median(&widths).to_bits(), old.to_bits(), "{widths:?}");
+        }
+    }
+
+    /// [`Ink::clearance`] as it was first written: every pixel of each square ring around
+    /// `p`'s own, ring after ring.
+    fn clearance_by_rings(ink: &Ink, p: [f64; 2], limit: f64) -> f64 {
+        let (x, y) = (p[0] - ink.origin[0], p[1] - ink.origin[1]);
+        let (cx, cy) = (x.floor(), y.floor());
+        let k = limit.max(0.0).ceil() as i64 + 1;
+        let none = limit.max(0.0) + 1.0;
+        let mut best = none * none;
+        let mut found = false;
+        let mut visit = |dx: i64, dy: i64, best: &mut f64| {
+            let (qx, qy) = (cx + dx as f64 + 0.5, cy + dy as f64 + 0.5);
+            if !ink.at_window(qx, qy) {
+                let (ex, ey) = (qx - x, qy - y);
+                let d = ex * ex + ey * ey;
+                if d < *best {
+                    *best = d;
+                    found = true;
+                }
+            }
+        };
+        for r in 0..=k {
+            let inner = r as f64 - 0.5;
+            if inner > 0.0 && inner * inner > best {
+                break;
+            }
+            if r == 0 {
+                visit(0, 0, &mut best);
+                continue;
+            }
+            for d in -r..=r {
+                visit(d, -r, &mut best);
+                visit(d, r, &mut best);
+            }
+            for d in 1 - r..r {
+                visit(-r, d, &mut best);
+                visit(r, d, &mut best);
+            }
+        }
+        if found {
+            best.sqrt()
+        } else {
+            none
+        }
+    }
+
+    #[test]
+    fn the_clearance_by_rows_is_the_clearance_by_rings_bit_for_bit() {
+        // Windows of every shape from a pixel on, mostly ink (wide strokes, so the searches go
+        // several rows out) or sparse; points inside, on pixel edges and corners, beside and far
+        // from the window, and not numbers; limits from below zero to beyond the window.
+        let mut next = crate::synth::lcg(1357u64);
+        let mut unit = move || (next() >> 11) as f64 / (1u64 << 53) as f64;
+        for case in 0..4_000 {
+            let width = 1 + (unit() * 24.0) as usize;
+            let height = 1 + (unit() * 24.0) as usize;
+            let density = if case % 4 == 0 { 0.3 } else { 0.9 };
+            let mask = (0..width * height).map(|_| unit() < density).collect();
+            let origin = [
+                (unit() * 2000.0).floor() - 1000.0,
+                (unit() * 3.0).floor() + unit(),
+            ];
+            let ink = Ink {
+                mask,
+                width,
+                height,
+                origin,
+            };
+            for _ in 0..50 {
+                let mut coordinate = |extent: usize| {
+                    let v = (unit() * (extent as f64 + 12.0) - 6.0).max(-6.0);
+                    match (unit() * 10.0) as u32 {
+                        0 => v.floor(),
+                        1 => v.floor() + 0.5,
+                        _ => v,
+                    }
+                };
+                let local = [coordinate(width), coordinate(height)];
+                let mut p = [origin[0] + local[0], origin[1] + local[1]];
+                match case % 50 {
+                    1 => p[0] = f64::NAN,
+                    2 => p[1] = f64::INFINITY,
+                    3 => p[0] = 1e300,
+                    4 => p[1] = -1e19,
+                    _ => {}
+                }
+                let limit = match (unit() * 20.0) as u32 {
+                    0 => -1.0,
+                    1 => f64::NAN,
+                    2 => 0.0,
+                    _ => unit() * 12.0,
+                };
+                let rows = ink.clearance(p, limit);
+                let rings = clearance_by_rings(&ink, p, limit);
+                assert_eq!(rows.to_bits(), rings.to_bits(), "{p:?} {limit} {origin:?}");
+            }
         }
     }
 }

@@ -80,6 +80,7 @@ def trace(
     dense_fit: bool = False,
     junctions_on_ink: bool = False,
     decide_by_ink: bool = False,
+    cusps_by_ink: bool = False,
     fingerprint: Any = None,
     # end of parameters
 ) -> Trace:
@@ -134,6 +135,7 @@ def trace_pages(
     dense_fit: bool = False,
     junctions_on_ink: bool = False,
     decide_by_ink: bool = False,
+    cusps_by_ink: bool = False,
     fingerprint: Any = None,
     # end of parameters
 ) -> List[Trace]:
@@ -178,6 +180,7 @@ def trace_points(
     dense_fit: bool = False,
     junctions_on_ink: bool = False,
     decide_by_ink: bool = False,
+    cusps_by_ink: bool = False,
     fingerprint: Any = None,
     # end of parameters
 ) -> Trace:

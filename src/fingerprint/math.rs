@@ -208,8 +208,9 @@ fn weighted_sums<const WIDE: bool>(kernel: &[f32], src: &[f32], starts: &[usize]
 }
 
 /// [`weighted_sums`] in AVX registers: thirty-two columns at a time (four registers), then
-/// sixteen or eight, then one by one; each tap's weight broadcast, the same operations in the same order as the
-/// baseline sums (no fused multiply-add), so the same values (a test holds them bit for bit).
+/// sixteen or eight, then one by one; each tap's weight broadcast, the same operations in the
+/// same order as the baseline sums (no fused multiply-add), so the same values (a test holds
+/// them bit for bit).
 #[cfg(target_arch = "x86_64")]
 mod wide {
     use std::arch::x86_64::{

@@ -4,7 +4,7 @@
 use crate::geometry::{dist, hypot, unit};
 
 use super::spurs::{worse_by, PART_COST};
-use super::work::{median, Work};
+use super::work::{median, sampled, Work};
 use super::{disk_radius, MIN_LINE_PX, MIN_WIDTH_PX};
 
 /// Strokes at least this wide (px, the legs' median skeleton width) can show a bold corner
@@ -78,9 +78,6 @@ const CUSP_SEARCH: f64 = 2.0;
 
 /// See [`CUSP_SEARCH`] (px).
 const CUSP_SEARCH_PX: f64 = 4.0;
-
-/// A drawn leg's points are this far apart (px): every pixel its pen covers is covered.
-const CUSP_DRAW_STEP_PX: f64 = 0.5;
 
 /// A corner's leg, its points listed from the junction outwards, and the first and last index
 /// of the stretch that gives its line.
@@ -346,15 +343,10 @@ impl Work {
                         .take_while(|&&p| dist(p, jp) <= window)
                         .map(|&p| (p, pens[i])),
                 );
-                let a = points[cuts[i]];
-                let n = (dist(a, v) / CUSP_DRAW_STEP_PX).ceil().max(1.0) as usize;
-                cusp.extend((0..n).map(|s| {
-                    let t = s as f64 / n as f64;
-                    (
-                        [a[0] + t * (v[0] - a[0]), a[1] + t * (v[1] - a[1])],
-                        pens[i],
-                    )
-                }));
+                // The leg's straight line to the tip, every half pixel (as the ink is tested
+                // along a line), the tip itself drawn once below with the narrower pen.
+                let line: Vec<[f64; 2]> = sampled(points[cuts[i]], v).collect();
+                cusp.extend(line[..line.len() - 1].iter().map(|&p| (p, pens[i])));
             }
             cusp.push((v, stroke));
             let worse = worse_by(&self.ink, &with_stub, &cusp, &common);

@@ -217,7 +217,6 @@ impl Work {
                     continue;
                 }
                 let q = [p[0] + WALK_STEP_PX * r[0], p[1] + WALK_STEP_PX * r[1]];
-                let to_tip = squared(q, tip);
                 if !self.ink.at(q) {
                     continue;
                 }
@@ -236,6 +235,7 @@ impl Work {
                         continue;
                     }
                 }
+                let to_tip = squared(q, tip);
                 if behind.iter().any(|&b| squared(q, b) < to_tip) {
                     continue;
                 }

@@ -149,7 +149,7 @@ impl Ink {
                     continue;
                 }
                 let row_y = cy + dy as f64;
-                let line = match column {
+                let (line, c) = match column {
                     Some(c) if row_y >= 0.0 && row_y < self.height as f64 => {
                         let start = row_y as usize * self.width;
                         (&self.mask[start..start + self.width], c)
@@ -159,7 +159,6 @@ impl Ink {
                         continue;
                     }
                 };
-                let (line, c) = line;
                 if !line[c] {
                     offer(0, qy, ey, &mut best, &mut nearest);
                     continue;
@@ -286,7 +285,7 @@ impl Ink {
 }
 
 /// The points of the segment `a`-`b` every [`INK_STEP_PX`] or less, both ends included.
-fn sampled(a: [f64; 2], b: [f64; 2]) -> impl Iterator<Item = [f64; 2]> {
+pub(super) fn sampled(a: [f64; 2], b: [f64; 2]) -> impl Iterator<Item = [f64; 2]> {
     let n = (dist(a, b) / INK_STEP_PX).ceil().max(1.0) as usize;
     (0..=n).map(move |i| {
         let t = i as f64 / n as f64;

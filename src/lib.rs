@@ -200,6 +200,20 @@ pub fn thin(binary: &Binary) -> Result<StrokeGraph> {
 mod synth {
     pub(crate) use crate::draw::{render, Stroke};
 
+    /// The binary of `rows` drawn as text, `#` for ink, each row one pixel row.
+    pub(crate) fn drawn(rows: &[&str]) -> crate::binary::Binary {
+        let width = rows.iter().map(|r| r.len()).max().unwrap_or(0);
+        let ink = rows
+            .iter()
+            .flat_map(|r| (0..width).map(move |x| r.as_bytes().get(x) == Some(&b'#')))
+            .collect();
+        crate::binary::Binary {
+            width: width as u32,
+            height: rows.len() as u32,
+            ink,
+        }
+    }
+
     /// A fixed pseudo-random sequence for the unit tests' inputs: the linear congruential
     /// generator of Knuth's MMIX from `seed`, each call the next state (whose high bits are
     /// the random ones).

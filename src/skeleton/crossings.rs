@@ -99,6 +99,9 @@ impl Work {
                 if self.stems_apart(a, b, &at, true) == Some(true) {
                     continue;
                 }
+                if self.side_by_side(link, a, b, &at) {
+                    continue;
+                }
             }
             // A star split by thinning (a stroke starting at a crossing forks off where the
             // inks part) is one vertex, even where a stroke runs straight beside the method's
@@ -543,6 +546,10 @@ const SPLIT_NEAR: f64 = 1.0;
 
 /// ... to this many (or the arm's end): a stretch short enough to be straight on a loop.
 const SPLIT_FAR: f64 = 3.0;
+
+/// Two arms, one at each of two linked junctions, leaving within this angle (degrees) of one
+/// direction are two strokes side by side ([`Work::side_by_side`]).
+const SIDE_BY_SIDE_DEG: f64 = 30.0;
 
 /// An arm's stretch gives a line when at least this long (px).
 const MIN_SPLIT_LINE_PX: f64 = 2.0;
@@ -1177,6 +1184,35 @@ impl Work {
             .map(|&n| line_dist(n, p.far, q.far))
             .fold(0.0f64, f64::max);
         (worst <= tolerance && self.ink.holds_thin(p.far, q.far, stroke)).then_some(worst)
+    }
+
+    /// Whether the degree-3 junctions `a` and `b`, joined by the edge `link`, each have an arm
+    /// leaving in one direction (within [`SIDE_BY_SIDE_DEG`]), measured over one of its widths:
+    /// two strokes side by side (the rungs of a ladder, the teeth of a comb finer than the
+    /// method's disks, an arm beside a stroke's foot), not the halves of one stroke through a
+    /// crossing (opposite) nor two strokes crossing on one side of it (apart by the crossing's
+    /// angle). `false` when an arm has no direction.
+    fn side_by_side(&self, link: usize, a: usize, b: usize, at: &[Vec<usize>]) -> bool {
+        let directions = |j: usize| -> Option<Vec<[f64; 2]>> {
+            let jp = self.vertices[j].pos;
+            self.other_arms(j, link, at)?
+                .into_iter()
+                .map(|(edge, forward)| {
+                    let outwards = points_outwards(edge, forward);
+                    let p = point_at_distance(&outwards, jp, median(&edge.widths));
+                    unit([p[0] - jp[0], p[1] - jp[1]])
+                })
+                .collect()
+        };
+        let (Some(da), Some(db)) = (directions(a), directions(b)) else {
+            return false;
+        };
+        let parallel = SIDE_BY_SIDE_DEG.to_radians().cos();
+        da.len() == 2
+            && db.len() == 2
+            && da
+                .iter()
+                .any(|u| db.iter().any(|v| u[0] * v[0] + u[1] * v[1] > parallel))
     }
 
     /// The two other arms at each end of the link `link` between the degree-3 junctions `a`
@@ -1949,6 +1985,39 @@ mod tests {
             }
         }
         (0..w * h).map(|i| !ink.mask[i] && !outside[i]).collect()
+    }
+
+    #[test]
+    fn the_rungs_of_a_fine_ladder_are_not_crossings() {
+        // Rails and rungs three pixels wide, the holes between the rungs a pixel wide: finer
+        // than the method's disks, whose graph sees crossings where two rungs leave a rail
+        // side by side. Merged, the two T's made an X whose arms ran across the holes. Each
+        // rung is two T's, each hole a cycle, and every edge on the ink.
+        let rail = ".....#################################.....";
+        let rungs = "........###.###.###.###.###.###.###........";
+        let mut rows = vec!["", "", "", "", rail];
+        rows.push("....###################################....");
+        rows.push(rail);
+        rows.extend([rungs; 5]);
+        rows.push(rail);
+        rows.push("....###################################....");
+        rows.extend([rail, "", "", "", ""]);
+        let binary = crate::synth::drawn(&rows);
+        let graph = crate::trace_binary(&binary, &crate::params::Params::default())
+            .expect("trace")
+            .graph;
+        let degrees: Vec<usize> = graph
+            .junctions()
+            .map(|v| graph.vertices[v].degree)
+            .collect();
+        assert_eq!(degrees, vec![3; 14]);
+        assert_eq!(graph.cycles(), 6);
+        for edge in &graph.edges {
+            for p in &edge.points {
+                let (x, y) = (p[0].floor() as i64, p[1].floor() as i64);
+                assert!(binary.get(x, y), "{p:?} off the ink");
+            }
+        }
     }
 
     #[test]

@@ -46,13 +46,17 @@ impl Work {
     /// junction that line up are one stroke crossing the others and are judged together
     /// ([`judge_crossbars`]).
     ///
-    /// With `tips`, a branch's reach counts the ink its line runs on beyond its tip, up to half
-    /// a width: thinning erodes a branch's tip by about that, most along a diagonal (an arm a
-    /// width long at 45° kept its junction's disk and little more).
+    /// With `strokes` (not a print's ridges), a branch's reach counts the ink its line runs on
+    /// beyond its tip, up to half a width: thinning erodes a branch's tip by about that, most
+    /// along a diagonal (an arm a width long at 45° kept its junction's disk and little more).
+    /// And it is measured from where the lines it leaves pass ([`undipped`]) at every width:
+    /// thinning bends a line a pixel into a branch that leaves it square whatever the width,
+    /// and at three or four pixels that pixel is a third of the width (the teeth of a comb a
+    /// width long were cut). On ridges, only on one-pixel lines, as the minutiae were measured.
     ///
     /// With `by_ink` (the experiment `decide_by_ink`), a branch is a spur when the ink only it
     /// explains ([`ink_only_arm`]) is at most [`PART_COST`] squared stroke widths; least first.
-    pub(super) fn prune_spurs(&mut self, by_ink: bool, tips: bool) {
+    pub(super) fn prune_spurs(&mut self, by_ink: bool, strokes: bool) {
         let mut degree = self.degrees();
         let at = self.incidence();
         // The stroke width an arm leaves: the narrowest median width of the junction's other
@@ -115,9 +119,9 @@ impl Work {
                 }
                 continue;
             }
-            // The envelope: the junction and its other edges' points near it; on one-pixel
-            // lines, the junction put back where the lines it leaves pass ([`undipped`]).
-            let centre = if stroke <= MIN_WIDTH_PX {
+            // The envelope: the junction, put back where the lines it leaves pass
+            // ([`undipped`]), and its other edges' points near it.
+            let centre = if strokes || stroke <= MIN_WIDTH_PX {
                 undipped(j.pos, &points, others().map(|o| first_step(o, junction)))
             } else {
                 j.pos
@@ -139,7 +143,7 @@ impl Work {
             // runs on beyond its tip is the branch's too, the farthest point of it a disk of
             // half a pixel.
             let (tip_at, back) = (points[points.len() - 1], points[0]);
-            let axis = unit([tip_at[0] - back[0], tip_at[1] - back[1]]).filter(|_| tips);
+            let axis = unit([tip_at[0] - back[0], tip_at[1] - back[1]]).filter(|_| strokes);
             if let Some(axis) = axis {
                 let on = (self.ink.exit(tip_at, axis, 2.0 * stroke + 4.0) - 0.5)
                     .min(disk_radius(stroke));
@@ -297,8 +301,9 @@ fn dip_middle(j: [f64; 2], a: [f64; 2], b: [f64; 2]) -> Option<[f64; 2]> {
 /// pixel into a branch that leaves it square (the line's pixel beside the branch is not needed
 /// for its 8-connectivity, so it goes: docs/design.md, "Skeleton-carried geometry", the
 /// skeleton made one pixel thick), and the junction with it: measured from there, a branch a
-/// pixel longer than a boundary bump reaches as far as one, which at one or two pixels of width
-/// is a real arm (docs/quality.md, "Thin drawings (issue 31)"). When the two other edges'
+/// pixel longer than a boundary bump reaches as far as one, which at one to four pixels of
+/// width is a real arm (docs/quality.md, "Thin drawings (issue 31)" and "seventeenth: arms
+/// measured from the line"). When the two other edges'
 /// pixels next to the junction are its diagonal neighbours on one row or column, two pixels
 /// apart, and the branch leaves the junction away from them, the line passes through their
 /// middle; else through the junction itself.
@@ -496,7 +501,7 @@ mod tests {
     use super::*;
 
     use crate::params::Params;
-    use crate::synth::{render, Stroke};
+    use crate::synth::{drawn, render, Stroke};
 
     /// Junction degrees and the number of ends of the traced stem-on-bar: a bar 8 px wide
     /// across, a stem from below running `over` px past the bar's centerline, by the ink.
@@ -605,6 +610,35 @@ mod tests {
             }
             assert!(crossing, "w {w}: no crossing even a width past the stem");
         }
+    }
+
+    #[test]
+    fn the_teeth_of_a_comb_a_width_long_are_arms() {
+        // A bar three pixels wide and seven teeth three pixels wide running a width (three
+        // rows) past its edge, the last row a pixel, as a 2 px comb rasterizes. Thinning bends
+        // the bar a pixel into each tooth: measured from that pixel the teeth reached 0.4 w and
+        // were cut; measured from where the bar passes, each is a width long and kept.
+        let bar = "....#################################################.....";
+        let rows = [
+            "",
+            "",
+            bar,
+            "...###################################################....",
+            bar,
+            ".........###...###...###...###...###...###...###..........",
+            ".........###...###...###...###...###...###...###..........",
+            "..........#.....#.....#.....#.....#.....#.....#...........",
+            "",
+            "",
+        ];
+        assert_eq!(
+            shape(&drawn(&rows), &Params::default()),
+            (vec![3; 7], 9),
+            "every tooth a T and an end"
+        );
+        // One row past the edge, a bump of the boundary: no arm.
+        let one = [&rows[..5], &rows[7..]].concat();
+        assert_eq!(shape(&drawn(&one), &Params::default()), (vec![], 2));
     }
 
     #[test]

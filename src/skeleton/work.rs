@@ -2,7 +2,7 @@
 //! edits every reconciliation step shares: incidence, joining at degree-2 vertices, cutting an
 //! arm at a junction's disk, and writing the final [`StrokeGraph`].
 
-use crate::geometry::{dist, tangents};
+use crate::geometry::{ceil_f64, dist, floor_f64, tangents};
 use crate::stroke_graph::{Edge, StrokeGraph, Vertex};
 
 use super::MIN_WIDTH_PX;
@@ -113,8 +113,8 @@ impl Ink {
     /// [`Ink::clearance`] with the background pixel centre that sets it.
     pub(super) fn nearest_background(&self, p: [f64; 2], limit: f64) -> Clearance {
         let (x, y) = (p[0] - self.origin[0], p[1] - self.origin[1]);
-        let (cx, cy) = (x.floor(), y.floor());
-        let k = limit.max(0.0).ceil() as i64 + 1;
+        let (cx, cy) = (floor_f64(x), floor_f64(y));
+        let k = ceil_f64(limit.max(0.0)) as i64 + 1;
         let none = limit.max(0.0) + 1.0;
         let mut best = none * none;
         let mut nearest = None;
@@ -251,7 +251,7 @@ impl Ink {
         {
             return true;
         }
-        let (fx, fy) = (x.floor(), y.floor());
+        let (fx, fy) = (floor_f64(x), floor_f64(y));
         // The corner of the pixel nearest `p`, as the steps towards it.
         let dx = if x - fx < 0.5 { -1.0 } else { 1.0 };
         let dy = if y - fy < 0.5 { -1.0 } else { 1.0 };
@@ -286,7 +286,7 @@ impl Ink {
 
 /// The points of the segment `a`-`b` every [`INK_STEP_PX`] or less, both ends included.
 pub(super) fn sampled(a: [f64; 2], b: [f64; 2]) -> impl Iterator<Item = [f64; 2]> {
-    let n = (dist(a, b) / INK_STEP_PX).ceil().max(1.0) as usize;
+    let n = ceil_f64(dist(a, b) / INK_STEP_PX).max(1.0) as usize;
     (0..=n).map(move |i| {
         let t = i as f64 / n as f64;
         [a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1])]

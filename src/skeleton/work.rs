@@ -443,18 +443,78 @@ pub(super) fn points_outwards(edge: &Edge, forward: bool) -> Vec<[f64; 2]> {
 /// The median of a polyline's widths (1 for none): the stroke's width, unmoved by the wider
 /// pixels where it meets another.
 ///
-/// The upper median in [`f64::total_cmp`]'s order (`crate::median::upper_median`), selected
-/// among integer keys in the same order (one comparison each where `total_cmp` is several),
-/// in a buffer on the stack for the short polylines most edges are. Values equal in that order
-/// are the same bits, so the value picked is the same.
+/// The upper median in [`f64::total_cmp`]'s order (`crate::median::upper_median`), among
+/// integer keys in the same order (one comparison each where `total_cmp` is several). Values
+/// equal in that order are the same bits, so the value picked is the same.
+///
+/// A skeleton edge's widths are a distance transform's few levels, mostly in runs along the
+/// edge, and the steps of the reconciliation ask for the same edges' medians tens of
+/// thousands of times a page: the distinct keys are counted (the last one matched tried
+/// first), and the key whose count carries the rank past `n / 2` is the median. More than
+/// [`FEW_WIDTHS`] distinct keys (a fitted edge's interpolated widths) are selected among, in a
+/// buffer on the stack for the short polylines most edges are.
 pub(super) fn median(widths: &[f64]) -> f64 {
-    const ON_STACK: usize = 64;
     let n = widths.len();
     if n == 0 {
         return MIN_WIDTH_PX;
     }
+    let key = few_widths_median(widths).unwrap_or_else(|| selected_median(widths));
+    // The key's map is its own inverse (it keeps the sign bit and flips the others or not by it).
+    f64::from_bits(total_order_key(f64::from_bits(key as u64)) as u64)
+}
+
+/// The most distinct keys [`median`] counts before it selects instead.
+const FEW_WIDTHS: usize = 8;
+
+/// The key of [`median`] of the non-empty `widths` when they hold at most [`FEW_WIDTHS`]
+/// distinct keys: each distinct key with its count, then the keys in rising order until the
+/// counts pass the rank `n / 2`.
+fn few_widths_median(widths: &[f64]) -> Option<i64> {
+    let mut keys = [0i64; FEW_WIDTHS];
+    let mut counts = [0usize; FEW_WIDTHS];
+    let (mut distinct, mut last) = (0, 0);
+    for &w in widths {
+        let k = total_order_key(w);
+        if distinct > 0 && keys[last] == k {
+            counts[last] += 1;
+            continue;
+        }
+        match keys[..distinct].iter().position(|&x| x == k) {
+            Some(i) => last = i,
+            None if distinct == FEW_WIDTHS => return None,
+            None => {
+                (keys[distinct], last) = (k, distinct);
+                distinct += 1;
+            }
+        }
+        counts[last] += 1;
+    }
+    // Insertion sort of the few keys, their counts alongside.
+    for i in 1..distinct {
+        let mut j = i;
+        while j > 0 && keys[j - 1] > keys[j] {
+            keys.swap(j - 1, j);
+            counts.swap(j - 1, j);
+            j -= 1;
+        }
+    }
+    let rank = widths.len() / 2;
+    let mut below = 0;
+    for (&k, &c) in keys[..distinct].iter().zip(&counts) {
+        below += c;
+        if below > rank {
+            return Some(k);
+        }
+    }
+    None
+}
+
+/// The key of [`median`] of the non-empty `widths`, selected among all their keys.
+fn selected_median(widths: &[f64]) -> i64 {
+    const ON_STACK: usize = 64;
+    let n = widths.len();
     let pick = |keys: &mut [i64]| *keys.select_nth_unstable(n / 2).1;
-    let key = if n <= ON_STACK {
+    if n <= ON_STACK {
         let mut keys = [0i64; ON_STACK];
         for (k, &w) in keys.iter_mut().zip(widths) {
             *k = total_order_key(w);
@@ -463,9 +523,7 @@ pub(super) fn median(widths: &[f64]) -> f64 {
     } else {
         let mut keys: Vec<i64> = widths.iter().map(|&w| total_order_key(w)).collect();
         pick(&mut keys)
-    };
-    // The key's map is its own inverse (it keeps the sign bit and flips the others or not by it).
-    f64::from_bits(total_order_key(f64::from_bits(key as u64)) as u64)
+    }
 }
 
 /// An integer whose order is [`f64::total_cmp`]'s on the values (the transform `total_cmp`
@@ -543,16 +601,25 @@ mod tests {
         ];
         for case in 0..20_000 {
             let n = (next() >> 33) as usize % 150;
-            let widths: Vec<f64> = (0..n)
-                .map(|_| {
-                    let r = next() >> 11;
-                    if case % 3 == 0 && r % 5 == 0 {
-                        specials[(r / 5) as usize % specials.len()]
+            let mut widths: Vec<f64> = Vec::with_capacity(n);
+            for i in 0..n {
+                let r = next() >> 11;
+                let w = if case % 3 == 0 && r % 5 == 0 {
+                    specials[(r / 5) as usize % specials.len()]
+                } else if case % 3 == 1 {
+                    // A distance transform's few levels, some edges with more than
+                    // `FEW_WIDTHS` of them, in runs or not.
+                    let levels = 1 + case % 11;
+                    if (r >> 20) % 4 != 0 && i > 0 {
+                        widths[i - 1]
                     } else {
-                        (((r % 40) + 1) as f64).sqrt() / 2.0
+                        ((((r % levels as u64) + 1) as f64).sqrt() * 2.0 - 1.0).max(0.0)
                     }
-                })
-                .collect();
+                } else {
+                    (((r % 40) + 1) as f64).sqrt() / 2.0
+                };
+                widths.push(w);
+            }
             let old = upper_median(&mut widths.clone()).unwrap_or(MIN_WIDTH_PX);
             assert_eq!(median(&widths).to_bits(), old.to_bits(), "{widths:?}");
         }

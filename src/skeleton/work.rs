@@ -2,6 +2,7 @@
 //! edits every reconciliation step shares: incidence, joining at degree-2 vertices, cutting an
 //! arm at a junction's disk, and writing the final [`StrokeGraph`].
 
+use crate::csr::Csr;
 use crate::geometry::{ceil_f64, dist, floor_f64, tangents};
 use crate::stroke_graph::{Edge, StrokeGraph, Vertex};
 
@@ -334,17 +335,26 @@ impl Work {
         degree
     }
 
-    /// The edges at each vertex (a loop listed once).
-    pub(super) fn incidence(&self) -> Vec<Vec<usize>> {
-        let mut at = vec![Vec::new(); self.vertices.len()];
-        for (e, edge) in self.edges.iter().enumerate() {
-            let Some(edge) = edge else { continue };
-            at[edge.from].push(e);
-            if edge.to != edge.from {
-                at[edge.to].push(e);
+    /// The edges at each vertex (a loop listed once), in one table for the steps that only read
+    /// them (a vector per vertex is an allocation and a free per vertex per step, tens of
+    /// thousands a page).
+    pub(super) fn incident(&self) -> Csr<usize> {
+        Csr::build(self.vertices.len(), |sink| {
+            for (e, edge) in self.edges.iter().enumerate() {
+                let Some(edge) = edge else { continue };
+                sink.push(edge.from, e);
+                if edge.to != edge.from {
+                    sink.push(edge.to, e);
+                }
             }
-        }
-        at
+        })
+    }
+
+    /// The edges at each vertex (a loop listed once), a vector each for the steps that edit
+    /// them.
+    pub(super) fn incidence(&self) -> Vec<Vec<usize>> {
+        let at = self.incident();
+        (0..at.rows()).map(|v| at.row(v).to_vec()).collect()
     }
 
     /// Vertices left with two edge ends (after pruning) are not junctions: their two edges

@@ -198,8 +198,8 @@ impl Work {
     pub(super) fn undip_junctions(&mut self) {
         let degree = self.degrees();
         let at = self.incident();
-        for v in 0..self.vertices.len() {
-            if !self.alive[v] || degree[v] != 3 || at.row(v).len() != 3 {
+        for (v, &d) in degree.iter().enumerate() {
+            if !self.alive[v] || d != 3 || at.row(v).len() != 3 {
                 continue;
             }
             let j = self.vertices[v].pos;

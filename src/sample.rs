@@ -16,7 +16,7 @@
 use std::cmp::Reverse;
 use std::collections::BinaryHeap;
 
-use crate::geometry::{floor_i64, principal, TotalF64};
+use crate::geometry::{floor_f64, floor_i64, principal, TotalF64};
 use crate::params::{Params, RMinRule};
 use crate::point_set::PointSet;
 use crate::samples::{Node, Samples};
@@ -751,7 +751,7 @@ fn quantize(d2: f64) -> u32 {
 
 /// The largest key inside radius `r`.
 fn quantize_bound(r: f64) -> u32 {
-    (r * r * 4.0 + 1e-6).floor().min(u32::MAX as f64 / 2.0) as u32
+    floor_f64(r * r * 4.0 + 1e-6).min(u32::MAX as f64 / 2.0) as u32
 }
 
 #[cfg(test)]

@@ -13,7 +13,7 @@
 use rayon::prelude::*;
 
 use crate::binary::Binary;
-use crate::geometry::{crossing_paths, dist, floor_i64};
+use crate::geometry::{crossing_paths, dist, floor_f64, floor_i64};
 use crate::gray::GrayView;
 use crate::stroke_graph::StrokeGraph;
 
@@ -171,7 +171,7 @@ fn bilinear(gray: GrayView<'_>, x: f64, y: f64) -> f64 {
     let (w, h) = (gray.width() as usize, gray.height() as usize);
     let fx = (x - 0.5).clamp(0.0, (w - 1) as f64);
     let fy = (y - 0.5).clamp(0.0, (h - 1) as f64);
-    let (x0, y0) = (fx.floor() as usize, fy.floor() as usize);
+    let (x0, y0) = (floor_f64(fx) as usize, floor_f64(fy) as usize);
     let (x1, y1) = ((x0 + 1).min(w - 1), (y0 + 1).min(h - 1));
     let (ax, ay) = (fx - x0 as f64, fy - y0 as f64);
     let (r0, r1) = (gray.row(y0), gray.row(y1));

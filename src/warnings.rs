@@ -16,7 +16,7 @@ use std::collections::BTreeSet;
 
 use crate::binary::MaskView;
 use crate::decisions::{Decisions, InkSide, ThresholdUsed, Warning};
-use crate::geometry::{floor_i64, hypot};
+use crate::geometry::{floor_f64, floor_i64, hypot};
 use crate::median::upper_median;
 use crate::stroke_graph::StrokeGraph;
 
@@ -291,7 +291,7 @@ fn ridge_texture(graph: &StrokeGraph, width: f64) -> Option<f64> {
                 (pair[0][0] + pair[1][0]) / 2.0,
                 (pair[0][1] + pair[1][1]) / 2.0,
             );
-            let (column, row) = ((x / side).floor(), (y / side).floor());
+            let (column, row) = (floor_f64(x / side), floor_f64(y / side));
             if length == 0.0 || column < 0.0 || row < 0.0 {
                 continue;
             }

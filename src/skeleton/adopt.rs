@@ -57,10 +57,10 @@ impl Work {
         let positions: Vec<[f64; 2]> = method.vertices.iter().map(|v| v.pos).collect();
         let tree = ImmutableKdTree::<f64, 2>::new_from_slice(&positions).ok()?;
         let degree = self.degrees();
-        let at = self.incidence();
+        let at = self.incident();
         // The stroke width at a vertex: the widest median of its edges.
         let stroke_at = |v: usize| {
-            at[v]
+            at.row(v)
                 .iter()
                 .filter_map(|&e| self.edges[e].as_ref())
                 .map(|e| median(&e.widths))
@@ -199,11 +199,11 @@ impl Work {
     /// Step 3: the vertices whose edges took the method's lines sit where the method put them;
     /// the skeleton edges that meet them there are joined to the new position.
     fn move_to_partners(&mut self, method: &StrokeGraph, partner: &[usize], moved: &[bool]) {
-        let at = self.incidence();
+        let at = self.incident();
         for v in (0..self.vertices.len()).filter(|&v| moved[v]) {
             let pos = method.vertices[partner[v]].pos;
             self.vertices[v].pos = pos;
-            for &e in &at[v] {
+            for &e in at.row(v) {
                 let Some(edge) = self.edges[e].as_mut() else {
                     continue;
                 };

@@ -113,15 +113,15 @@ impl Work {
     /// ([`Work::cusp_at`]).
     pub(super) fn dissolve_corners(&mut self, cusps: bool) -> bool {
         let mut changed = false;
-        let at = self.incidence();
+        let at = self.incident();
         let degree = self.degrees();
         for j in 0..self.vertices.len() {
-            if !self.alive[j] || degree[j] != 3 || at[j].len() != 3 {
+            if !self.alive[j] || degree[j] != 3 || at.row(j).len() != 3 {
                 continue;
             }
             let corner = self
-                .corner_at(j, &at[j], &degree)
-                .or_else(|| cusps.then(|| self.cusp_at(j, &at[j], &degree)).flatten());
+                .corner_at(j, at.row(j), &degree)
+                .or_else(|| cusps.then(|| self.cusp_at(j, at.row(j), &degree)).flatten());
             if let Some(corner) = corner {
                 self.bend(j, corner);
                 changed = true;

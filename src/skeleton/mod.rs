@@ -44,6 +44,7 @@ mod thin;
 mod work;
 
 use crate::binary::Binary;
+use crate::geometry::{ceil_f64, floor_i64};
 use crate::mask::ink_distances;
 use crate::params::ExperimentParams;
 use crate::point_set::{Grid, PointSet};
@@ -248,14 +249,14 @@ fn disk_columns(
     };
     let chord = (r * r - dy2).max(0.0).sqrt();
     let middle = centre - origin as f64 - 0.5;
-    let mut lo = ((middle - chord).ceil() as i64).clamp(x0, x1 + 1);
+    let mut lo = (ceil_f64(middle - chord) as i64).clamp(x0, x1 + 1);
     while lo > x0 && inside(lo - 1) {
         lo -= 1;
     }
     while lo <= x1 && !inside(lo) {
         lo += 1;
     }
-    let mut hi = ((middle + chord).floor() as i64).clamp(lo - 1, x1);
+    let mut hi = floor_i64(middle + chord).clamp(lo - 1, x1);
     while hi < x1 && inside(hi + 1) {
         hi += 1;
     }

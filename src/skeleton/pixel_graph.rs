@@ -92,6 +92,9 @@ pub(super) fn pixel_graph(
 
     let mut edges: Vec<Edge> = Vec::new();
     let mut visited = vec![false; ids];
+    // Each path is walked into one buffer and its edge given a copy of its own size: growing a
+    // fresh vector pixel by pixel reallocated it several times per edge.
+    let mut path: Vec<[f64; 2]> = Vec::new();
     let make_edge = |from: usize, to: usize, points: Vec<[f64; 2]>, edges: &mut Vec<Edge>| {
         let widths = points.iter().map(|&p| width_at(p)).collect();
         edges.push(Edge {
@@ -118,11 +121,12 @@ pub(super) fn pixel_graph(
             if visited[number(u)] {
                 continue;
             }
-            let mut points = vec![vertices[from].pos];
+            path.clear();
+            path.push(vertices[from].pos);
             let (mut prev, mut cur) = (a, u);
             let to = loop {
                 visited[number(cur)] = true;
-                points.push(center(cur));
+                path.push(center(cur));
                 let next = neighbours(cur).find(|&k| k != prev);
                 match next {
                     Some(k) if vertex_of[number(k)] != NONE => {
@@ -136,11 +140,11 @@ pub(super) fn pixel_graph(
                 }
             };
             let Some(to) = to else { continue };
-            if to == from && points.len() <= 3 {
+            if to == from && path.len() <= 3 {
                 continue;
             }
-            points.push(vertices[to].pos);
-            make_edge(from, to, points, &mut edges);
+            path.push(vertices[to].pos);
+            make_edge(from, to, path.clone(), &mut edges);
         }
     }
     for &s in pixels.iter().filter(|&&i| count[number(i)] == 2) {
@@ -153,12 +157,13 @@ pub(super) fn pixel_graph(
             degree: 0,
             width: width_at(center(s)),
         });
-        let mut points = vec![center(s)];
+        path.clear();
+        path.push(center(s));
         visited[number(s)] = true;
         let (mut prev, mut cur) = (s, neighbours(s).next().unwrap_or(s));
         while cur != s && !visited[number(cur)] {
             visited[number(cur)] = true;
-            points.push(center(cur));
+            path.push(center(cur));
             match neighbours(cur).find(|&k| k != prev) {
                 Some(k) => {
                     prev = cur;
@@ -167,8 +172,8 @@ pub(super) fn pixel_graph(
                 None => break,
             }
         }
-        points.push(center(s));
-        make_edge(id, id, points, &mut edges);
+        path.push(center(s));
+        make_edge(id, id, path.clone(), &mut edges);
     }
     for e in &edges {
         vertices[e.from].degree += 1;

@@ -779,7 +779,9 @@ fn straight_runs(
     b: usize,
     min_run: usize,
 ) -> Vec<((usize, usize), Line)> {
-    let mut scratch = Vec::new();
+    // Every fit below reads points of the stretch only: room for all of them at once, where
+    // growing it push by push reallocated a few times per stretch.
+    let mut scratch = Vec::with_capacity(b + 1 - a);
     // The clean points' line only where the measured ones are straight.
     let mut fit = |first: usize, last: usize| {
         straight_line(medial, measured, first, last, &mut scratch)

@@ -58,7 +58,7 @@ impl Work {
     /// explains ([`ink_only_arm`]) is at most [`PART_COST`] squared stroke widths; least first.
     pub(super) fn prune_spurs(&mut self, by_ink: bool, strokes: bool) {
         let mut degree = self.degrees();
-        let at = self.incidence();
+        let at = self.incident();
         // The stroke width an arm leaves: the narrowest median width of the junction's other
         // edges (the width at the junction itself is inflated where strokes meet).
         let mut spurs = Vec::new();
@@ -72,7 +72,7 @@ impl Work {
                 _ => continue,
             };
             let others = || {
-                at[junction]
+                at.row(junction)
                     .iter()
                     .filter(move |&&o| o != e)
                     .filter_map(|&o| self.edges[o].as_ref())
@@ -201,13 +201,14 @@ impl Work {
     /// edge starts there.
     pub(super) fn undip_junctions(&mut self) {
         let degree = self.degrees();
-        let at = self.incidence();
-        for v in 0..self.vertices.len() {
-            if !self.alive[v] || degree[v] != 3 || at[v].len() != 3 {
+        let at = self.incident();
+        for (v, &d) in degree.iter().enumerate() {
+            if !self.alive[v] || d != 3 || at.row(v).len() != 3 {
                 continue;
             }
             let j = self.vertices[v].pos;
-            let steps: Vec<Option<[f64; 2]>> = at[v]
+            let steps: Vec<Option<[f64; 2]>> = at
+                .row(v)
                 .iter()
                 .map(|&e| self.edges[e].as_ref().and_then(|edge| first_step(edge, v)))
                 .collect();
@@ -227,7 +228,10 @@ impl Work {
                         .as_ref()
                         .map_or(f64::INFINITY, |edge| median(&edge.widths))
                 };
-                let (branch, lines) = (at[v][k], [at[v][(k + 1) % 3], at[v][(k + 2) % 3]]);
+                let (branch, lines) = (
+                    at.row(v)[k],
+                    [at.row(v)[(k + 1) % 3], at.row(v)[(k + 2) % 3]],
+                );
                 if next != away || lines.iter().any(|&e| line_width(e) > MIN_WIDTH_PX) {
                     continue;
                 }

@@ -53,14 +53,15 @@ impl Work {
     /// left: a pixel's rounding is half their width.
     pub(super) fn place_shallow_tees(&mut self) {
         let degree = self.degrees();
-        let at = self.incidence();
+        let at = self.incident();
         for v in 0..self.vertices.len() {
             if !self.alive[v] || degree[v] != 3 {
                 continue;
             }
             // The three edge ends at the junction: a loop's two ends are two of them (the bowl
             // of a `6` or `9` closing on its own stem).
-            let ends: Vec<End> = at[v]
+            let ends: Vec<End> = at
+                .row(v)
                 .iter()
                 .flat_map(|&e| {
                     let edge = self.edges[e].as_ref();

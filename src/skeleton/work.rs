@@ -2,7 +2,8 @@
 //! edits every reconciliation step shares: incidence, joining at degree-2 vertices, cutting an
 //! arm at a junction's disk, and writing the final [`StrokeGraph`].
 
-use crate::geometry::{dist, tangents};
+use crate::csr::Csr;
+use crate::geometry::{ceil_f64, dist, floor_f64, tangents};
 use crate::stroke_graph::{Edge, StrokeGraph, Vertex};
 
 use super::MIN_WIDTH_PX;
@@ -113,8 +114,8 @@ impl Ink {
     /// [`Ink::clearance`] with the background pixel centre that sets it.
     pub(super) fn nearest_background(&self, p: [f64; 2], limit: f64) -> Clearance {
         let (x, y) = (p[0] - self.origin[0], p[1] - self.origin[1]);
-        let (cx, cy) = (x.floor(), y.floor());
-        let k = limit.max(0.0).ceil() as i64 + 1;
+        let (cx, cy) = (floor_f64(x), floor_f64(y));
+        let k = ceil_f64(limit.max(0.0)) as i64 + 1;
         let none = limit.max(0.0) + 1.0;
         let mut best = none * none;
         let mut nearest = None;
@@ -251,7 +252,7 @@ impl Ink {
         {
             return true;
         }
-        let (fx, fy) = (x.floor(), y.floor());
+        let (fx, fy) = (floor_f64(x), floor_f64(y));
         // The corner of the pixel nearest `p`, as the steps towards it.
         let dx = if x - fx < 0.5 { -1.0 } else { 1.0 };
         let dy = if y - fy < 0.5 { -1.0 } else { 1.0 };
@@ -286,7 +287,7 @@ impl Ink {
 
 /// The points of the segment `a`-`b` every [`INK_STEP_PX`] or less, both ends included.
 pub(super) fn sampled(a: [f64; 2], b: [f64; 2]) -> impl Iterator<Item = [f64; 2]> {
-    let n = (dist(a, b) / INK_STEP_PX).ceil().max(1.0) as usize;
+    let n = ceil_f64(dist(a, b) / INK_STEP_PX).max(1.0) as usize;
     (0..=n).map(move |i| {
         let t = i as f64 / n as f64;
         [a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1])]
@@ -334,17 +335,26 @@ impl Work {
         degree
     }
 
-    /// The edges at each vertex (a loop listed once).
-    pub(super) fn incidence(&self) -> Vec<Vec<usize>> {
-        let mut at = vec![Vec::new(); self.vertices.len()];
-        for (e, edge) in self.edges.iter().enumerate() {
-            let Some(edge) = edge else { continue };
-            at[edge.from].push(e);
-            if edge.to != edge.from {
-                at[edge.to].push(e);
+    /// The edges at each vertex (a loop listed once), in one table for the steps that only read
+    /// them (a vector per vertex is an allocation and a free per vertex per step, tens of
+    /// thousands a page).
+    pub(super) fn incident(&self) -> Csr<usize> {
+        Csr::build(self.vertices.len(), |sink| {
+            for (e, edge) in self.edges.iter().enumerate() {
+                let Some(edge) = edge else { continue };
+                sink.push(edge.from, e);
+                if edge.to != edge.from {
+                    sink.push(edge.to, e);
+                }
             }
-        }
-        at
+        })
+    }
+
+    /// The edges at each vertex (a loop listed once), a vector each for the steps that edit
+    /// them.
+    pub(super) fn incidence(&self) -> Vec<Vec<usize>> {
+        let at = self.incident();
+        (0..at.rows()).map(|v| at.row(v).to_vec()).collect()
     }
 
     /// Vertices left with two edge ends (after pruning) are not junctions: their two edges
@@ -443,18 +453,78 @@ pub(super) fn points_outwards(edge: &Edge, forward: bool) -> Vec<[f64; 2]> {
 /// The median of a polyline's widths (1 for none): the stroke's width, unmoved by the wider
 /// pixels where it meets another.
 ///
-/// The upper median in [`f64::total_cmp`]'s order (`crate::median::upper_median`), selected
-/// among integer keys in the same order (one comparison each where `total_cmp` is several),
-/// in a buffer on the stack for the short polylines most edges are. Values equal in that order
-/// are the same bits, so the value picked is the same.
+/// The upper median in [`f64::total_cmp`]'s order (`crate::median::upper_median`), among
+/// integer keys in the same order (one comparison each where `total_cmp` is several). Values
+/// equal in that order are the same bits, so the value picked is the same.
+///
+/// A skeleton edge's widths are a distance transform's few levels, mostly in runs along the
+/// edge, and the steps of the reconciliation ask for the same edges' medians tens of
+/// thousands of times a page: the distinct keys are counted (the last one matched tried
+/// first), and the key whose count carries the rank past `n / 2` is the median. More than
+/// [`FEW_WIDTHS`] distinct keys (a fitted edge's interpolated widths) are selected among, in a
+/// buffer on the stack for the short polylines most edges are.
 pub(super) fn median(widths: &[f64]) -> f64 {
-    const ON_STACK: usize = 64;
     let n = widths.len();
     if n == 0 {
         return MIN_WIDTH_PX;
     }
+    let key = few_widths_median(widths).unwrap_or_else(|| selected_median(widths));
+    // The key's map is its own inverse (it keeps the sign bit and flips the others or not by it).
+    f64::from_bits(total_order_key(f64::from_bits(key as u64)) as u64)
+}
+
+/// The most distinct keys [`median`] counts before it selects instead.
+const FEW_WIDTHS: usize = 8;
+
+/// The key of [`median`] of the non-empty `widths` when they hold at most [`FEW_WIDTHS`]
+/// distinct keys: each distinct key with its count, then the keys in rising order until the
+/// counts pass the rank `n / 2`.
+fn few_widths_median(widths: &[f64]) -> Option<i64> {
+    let mut keys = [0i64; FEW_WIDTHS];
+    let mut counts = [0usize; FEW_WIDTHS];
+    let (mut distinct, mut last) = (0, 0);
+    for &w in widths {
+        let k = total_order_key(w);
+        if distinct > 0 && keys[last] == k {
+            counts[last] += 1;
+            continue;
+        }
+        match keys[..distinct].iter().position(|&x| x == k) {
+            Some(i) => last = i,
+            None if distinct == FEW_WIDTHS => return None,
+            None => {
+                (keys[distinct], last) = (k, distinct);
+                distinct += 1;
+            }
+        }
+        counts[last] += 1;
+    }
+    // Insertion sort of the few keys, their counts alongside.
+    for i in 1..distinct {
+        let mut j = i;
+        while j > 0 && keys[j - 1] > keys[j] {
+            keys.swap(j - 1, j);
+            counts.swap(j - 1, j);
+            j -= 1;
+        }
+    }
+    let rank = widths.len() / 2;
+    let mut below = 0;
+    for (&k, &c) in keys[..distinct].iter().zip(&counts) {
+        below += c;
+        if below > rank {
+            return Some(k);
+        }
+    }
+    None
+}
+
+/// The key of [`median`] of the non-empty `widths`, selected among all their keys.
+fn selected_median(widths: &[f64]) -> i64 {
+    const ON_STACK: usize = 64;
+    let n = widths.len();
     let pick = |keys: &mut [i64]| *keys.select_nth_unstable(n / 2).1;
-    let key = if n <= ON_STACK {
+    if n <= ON_STACK {
         let mut keys = [0i64; ON_STACK];
         for (k, &w) in keys.iter_mut().zip(widths) {
             *k = total_order_key(w);
@@ -463,9 +533,7 @@ pub(super) fn median(widths: &[f64]) -> f64 {
     } else {
         let mut keys: Vec<i64> = widths.iter().map(|&w| total_order_key(w)).collect();
         pick(&mut keys)
-    };
-    // The key's map is its own inverse (it keeps the sign bit and flips the others or not by it).
-    f64::from_bits(total_order_key(f64::from_bits(key as u64)) as u64)
+    }
 }
 
 /// An integer whose order is [`f64::total_cmp`]'s on the values (the transform `total_cmp`
@@ -543,16 +611,25 @@ mod tests {
         ];
         for case in 0..20_000 {
             let n = (next() >> 33) as usize % 150;
-            let widths: Vec<f64> = (0..n)
-                .map(|_| {
-                    let r = next() >> 11;
-                    if case % 3 == 0 && r % 5 == 0 {
-                        specials[(r / 5) as usize % specials.len()]
+            let mut widths: Vec<f64> = Vec::with_capacity(n);
+            for i in 0..n {
+                let r = next() >> 11;
+                let w = if case % 3 == 0 && r % 5 == 0 {
+                    specials[(r / 5) as usize % specials.len()]
+                } else if case % 3 == 1 {
+                    // A distance transform's few levels, some edges with more than
+                    // `FEW_WIDTHS` of them, in runs or not.
+                    let levels = 1 + case % 11;
+                    if (r >> 20) % 4 != 0 && i > 0 {
+                        widths[i - 1]
                     } else {
-                        (((r % 40) + 1) as f64).sqrt() / 2.0
+                        ((((r % levels as u64) + 1) as f64).sqrt() * 2.0 - 1.0).max(0.0)
                     }
-                })
-                .collect();
+                } else {
+                    (((r % 40) + 1) as f64).sqrt() / 2.0
+                };
+                widths.push(w);
+            }
             let old = upper_median(&mut widths.clone()).unwrap_or(MIN_WIDTH_PX);
             assert_eq!(median(&widths).to_bits(), old.to_bits(), "{widths:?}");
         }

@@ -1595,7 +1595,7 @@ fn polyline_crossing(p: &[[f64; 2]], q: &[[f64; 2]], near: [f64; 2]) -> Option<[
 /// The first point of an arm (`outwards`, listed from the junction at `jp`) `d` from the
 /// junction, on the segment that reaches that far (an arm an earlier merge joined straight to
 /// its junction has long segments); the arm's last point when none does.
-fn point_at_distance(outwards: &[[f64; 2]], jp: [f64; 2], d: f64) -> [f64; 2] {
+pub(super) fn point_at_distance(outwards: &[[f64; 2]], jp: [f64; 2], d: f64) -> [f64; 2] {
     let Some(k) = outwards.iter().position(|&p| dist(p, jp) >= d) else {
         return outwards[outwards.len() - 1];
     };

@@ -416,7 +416,7 @@ fn reconcile(
     if !ridges {
         work.place_shallow_tees();
     }
-    work.undip_junctions();
+    work.undip_junctions(!ridges);
     work.collapse_dots();
     work.extend_ends(!ridges);
     work.straighten_junctions();

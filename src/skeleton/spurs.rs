@@ -10,7 +10,8 @@
 
 use crate::geometry::{dist, unit};
 
-use super::work::{median, Ink, Work};
+use super::crossings::point_at_distance;
+use super::work::{median, points_outwards, Ink, Work};
 use super::{disk_radius, MIN_WIDTH_PX};
 
 /// A branch whose tip lies farther than this many stroke widths (plus [`SPUR_TIP_MARGIN_PX`])
@@ -187,19 +188,22 @@ impl Work {
 }
 
 impl Work {
-    /// Junctions put back where one-pixel lines pass. Making the skeleton one pixel thick
+    /// Junctions put back where the lines pass. Making the skeleton one pixel thick
     /// removes a straight line's pixel beside a branch that leaves it square (the line's two
     /// pixels either side stay 8-connected through the branch's first pixel: docs/design.md,
     /// "Skeleton-carried geometry", the skeleton made one pixel thick), so the line dips a pixel
     /// into the branch and the junction sits on the branch. On lines one pixel wide that pixel
     /// is a whole width: measured from there, a branch two pixels long reaches no farther than
     /// a boundary bump (and [`Work::prune_spurs`] would cut it), and the line's fit sags off the
-    /// ink (docs/quality.md, "Thin drawings (issue 31)"). Where a degree-3 junction's two other
-    /// edges, each of median width one pixel, leave it through its diagonal neighbours two
-    /// pixels apart on one row or column, and the third leaves it straight away from their
-    /// middle, the junction moves to that middle (the removed pixel, on the ink) and the third
-    /// edge starts there.
-    pub(super) fn undip_junctions(&mut self) {
+    /// ink (docs/quality.md, "Thin drawings (issue 31)"); on wider strokes the junction and
+    /// its T's bar sit a pixel off the bar's middle (docs/quality.md, "seventeenth: arms
+    /// measured from the line"). Where a degree-3 junction's two other edges leave it through
+    /// its diagonal neighbours two pixels apart on one row or column, and the third leaves it
+    /// straight away from their middle, the junction moves to that middle (the removed pixel,
+    /// on the ink) and the third edge starts there: on lines of median width one pixel
+    /// always; with `strokes` (not a print's ridges), on wider lines that run straight through
+    /// ([`Work::straight_through`]).
+    pub(super) fn undip_junctions(&mut self, strokes: bool) {
         let degree = self.degrees();
         let at = self.incident();
         for (v, &d) in degree.iter().enumerate() {
@@ -232,7 +236,10 @@ impl Work {
                     at.row(v)[k],
                     [at.row(v)[(k + 1) % 3], at.row(v)[(k + 2) % 3]],
                 );
-                if next != away || lines.iter().any(|&e| line_width(e) > MIN_WIDTH_PX) {
+                // On one-pixel lines always; on wider strokes (not a print's ridges, whose
+                // minutiae were measured without) where the line runs straight through.
+                let thin = lines.iter().all(|&e| line_width(e) <= MIN_WIDTH_PX);
+                if next != away || !(thin || strokes && self.straight_through(v, lines, middle)) {
                     continue;
                 }
                 for e in lines {
@@ -250,6 +257,30 @@ impl Work {
         }
     }
 }
+
+impl Work {
+    /// Whether the edges `lines` of the junction `v` are one straight line through `middle`:
+    /// their points a width (two pixels at least) from the junction lie on opposite sides of
+    /// it within [`STRAIGHT_THROUGH_DEG`]. A T's bar; not a stroke that leaves a stem at a
+    /// shallow angle (the shoulder of an `h`), where the junction stays where thinning put it.
+    fn straight_through(&self, v: usize, lines: [usize; 2], middle: [f64; 2]) -> bool {
+        let j = self.vertices[v].pos;
+        let mut far = lines.iter().filter_map(|&e| {
+            let edge = self.edges[e].as_ref()?;
+            let outwards = points_outwards(edge, edge.from == v);
+            let p = point_at_distance(&outwards, j, median(&edge.widths).max(2.0));
+            unit([p[0] - middle[0], p[1] - middle[1]])
+        });
+        let (Some(u), Some(t)) = (far.next(), far.next()) else {
+            return false;
+        };
+        u[0] * t[0] + u[1] * t[1] < -STRAIGHT_THROUGH_DEG.to_radians().cos()
+    }
+}
+
+/// A line is straight through a junction when its two sides leave it within this angle
+/// (degrees) of opposite directions ([`Work::straight_through`]).
+const STRAIGHT_THROUGH_DEG: f64 = 18.0;
 
 /// The point after `junction` on `edge` (its pixel next to the junction's), if any.
 fn first_step(edge: &crate::stroke_graph::Edge, junction: usize) -> Option<[f64; 2]> {
@@ -640,6 +671,14 @@ mod tests {
             (vec![3; 7], 9),
             "every tooth a T and an end"
         );
+        // Each T on the bar's middle row (y = 3.5), not on the pixel thinning bent into the
+        // tooth.
+        let graph = crate::trace_binary(&drawn(&rows), &Params::default())
+            .expect("trace")
+            .graph;
+        for v in graph.junctions() {
+            assert_eq!(graph.vertices[v].pos[1], 3.5, "{:?}", graph.vertices[v].pos);
+        }
         // One row past the edge, a bump of the boundary: no arm.
         let one = [&rows[..5], &rows[7..]].concat();
         assert_eq!(shape(&drawn(&one), &Params::default()), (vec![], 2));

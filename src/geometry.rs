@@ -93,18 +93,11 @@ pub(crate) fn floor_f64(x: f64) -> f64 {
     x
 }
 
-/// `x.ceil()`, as [`floor_f64`] is the floor: one up where the truncation went down; the
-/// ceiling has the sign of `x` (a value in (-1, 0) gives `-0.0`).
+/// `x.ceil()`, bit for bit as [`floor_f64`] is the floor: `-floor(-x)` (a value in (-1, 0)
+/// gives `-0.0`, as the library's).
 #[inline]
 pub(crate) fn ceil_f64(x: f64) -> f64 {
-    const WHOLE: f64 = 4_503_599_627_370_496.0; // 2⁵²
-    if x.abs() < WHOLE {
-        // SAFETY: |x| < 2⁵² (so not NaN): its truncation fits an `i64`.
-        let t = unsafe { x.to_int_unchecked::<i64>() } as f64;
-        let c = if t < x { t + 1.0 } else { t };
-        return c.copysign(x);
-    }
-    x
+    -floor_f64(-x)
 }
 
 /// Cumulative arc length at each polyline point.
@@ -963,10 +956,10 @@ mod tests {
         assert!(found > 500, "{found}");
     }
 
-    #[test]
-    fn floor_i64_is_the_floor_cast() {
-        let mut next = crate::synth::lcg(99u64);
-        let mut cases = vec![
+    /// The values every rounding test takes: zeros, halves, the ones either side of a whole
+    /// number, the smallest normal, the last fractions below 2⁵², the far, infinite and NaN.
+    fn rounding_cases() -> Vec<f64> {
+        vec![
             0.0,
             -0.0,
             0.5,
@@ -974,16 +967,11 @@ mod tests {
             1.0,
             -1.0,
             1.0 - f64::EPSILON / 2.0,
-            -1.0 + f64::EPSILON / 2.0,
+            -(1.0 - f64::EPSILON / 2.0),
             f64::MIN_POSITIVE,
             -f64::MIN_POSITIVE,
-            4503599627370495.5,
-            -4503599627370495.5,
-            9.223372036854776e18,
-            -9.223372036854776e18,
-            9.223372036854775e18,
-            -9.223372036854775e18,
-            -9.223372036854774e18 - 0.5,
+            4_503_599_627_370_495.5,
+            -4_503_599_627_370_495.5,
             1e300,
             -1e300,
             f64::INFINITY,
@@ -991,7 +979,21 @@ mod tests {
             f64::NAN,
             f64::MAX,
             f64::MIN,
-        ];
+        ]
+    }
+
+    #[test]
+    fn floor_i64_is_the_floor_cast() {
+        let mut next = crate::synth::lcg(99u64);
+        let mut cases = rounding_cases();
+        // Either side of 2⁶³, where the cast saturates.
+        cases.extend([
+            9.223372036854776e18,
+            -9.223372036854776e18,
+            9.223372036854775e18,
+            -9.223372036854775e18,
+            -9.223372036854774e18 - 0.5,
+        ]);
         for _ in 0..100_000 {
             let bits = next();
             // Any bit pattern, and pixel-like values with fractions.
@@ -1007,30 +1009,14 @@ mod tests {
     #[test]
     fn floor_and_ceil_without_the_library_are_the_library_s() {
         let mut next = crate::synth::lcg(77u64);
-        let mut cases = vec![
-            0.0,
-            -0.0,
-            0.5,
-            -0.5,
-            1.0,
-            -1.0,
-            1.0 - f64::EPSILON / 2.0,
-            -(1.0 - f64::EPSILON / 2.0),
-            f64::MIN_POSITIVE,
-            -f64::MIN_POSITIVE,
-            4_503_599_627_370_495.5,
-            -4_503_599_627_370_495.5,
+        let mut cases = rounding_cases();
+        // From 2⁵² on, where every value is whole.
+        cases.extend([
             4_503_599_627_370_496.0,
             -4_503_599_627_370_496.0,
             4_503_599_627_370_497.0,
             9_007_199_254_740_993.0,
-            1e300,
-            -1e300,
-            f64::INFINITY,
-            f64::NEG_INFINITY,
-            f64::MAX,
-            f64::MIN,
-        ];
+        ]);
         for _ in 0..100_000 {
             let bits = next();
             // Any bit pattern, pixel-like values with fractions, values near whole ones.

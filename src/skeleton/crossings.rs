@@ -1198,8 +1198,7 @@ impl Work {
             self.other_arms(j, link, at)?
                 .into_iter()
                 .map(|(edge, forward)| {
-                    let outwards = points_outwards(edge, forward);
-                    let p = point_at_distance(&outwards, jp, median(&edge.widths));
+                    let p = arm_point(edge, forward, jp, median(&edge.widths));
                     unit([p[0] - jp[0], p[1] - jp[1]])
                 })
                 .collect()
@@ -1592,10 +1591,16 @@ fn polyline_crossing(p: &[[f64; 2]], q: &[[f64; 2]], near: [f64; 2]) -> Option<[
     best
 }
 
+/// The point of `edge` `d` from its junction at `jp` ([`point_at_distance`]), the edge read
+/// from its start when `forward`.
+pub(super) fn arm_point(edge: &Edge, forward: bool, jp: [f64; 2], d: f64) -> [f64; 2] {
+    point_at_distance(&points_outwards(edge, forward), jp, d)
+}
+
 /// The first point of an arm (`outwards`, listed from the junction at `jp`) `d` from the
 /// junction, on the segment that reaches that far (an arm an earlier merge joined straight to
 /// its junction has long segments); the arm's last point when none does.
-pub(super) fn point_at_distance(outwards: &[[f64; 2]], jp: [f64; 2], d: f64) -> [f64; 2] {
+fn point_at_distance(outwards: &[[f64; 2]], jp: [f64; 2], d: f64) -> [f64; 2] {
     let Some(k) = outwards.iter().position(|&p| dist(p, jp) >= d) else {
         return outwards[outwards.len() - 1];
     };

@@ -10,8 +10,8 @@
 
 use crate::geometry::{dist, unit};
 
-use super::crossings::point_at_distance;
-use super::work::{median, points_outwards, Ink, Work};
+use super::crossings::arm_point;
+use super::work::{median, Ink, Work};
 use super::{disk_radius, MIN_WIDTH_PX};
 
 /// A branch whose tip lies farther than this many stroke widths (plus [`SPUR_TIP_MARGIN_PX`])
@@ -267,8 +267,7 @@ impl Work {
         let j = self.vertices[v].pos;
         let mut far = lines.iter().filter_map(|&e| {
             let edge = self.edges[e].as_ref()?;
-            let outwards = points_outwards(edge, edge.from == v);
-            let p = point_at_distance(&outwards, j, median(&edge.widths).max(2.0));
+            let p = arm_point(edge, edge.from == v, j, median(&edge.widths).max(2.0));
             unit([p[0] - middle[0], p[1] - middle[1]])
         });
         let (Some(u), Some(t)) = (far.next(), far.next()) else {

@@ -2797,13 +2797,19 @@ mod tests {
         out
     }
 
-    #[test]
-    fn misses_say_why_a_graph_is_not_exactly_right() {
+    /// The overhang group's case `name` and its truth graph.
+    fn overhang_case(name: &str) -> (Case, StrokeGraph) {
         let case = overhang_cases()
             .into_iter()
-            .find(|c| c.name == "tee_o2_w8")
+            .find(|c| c.name == name)
             .expect("the case");
         let truth = truth_graph(&case);
+        (case, truth)
+    }
+
+    #[test]
+    fn misses_say_why_a_graph_is_not_exactly_right() {
+        let (case, truth) = overhang_case("tee_o2_w8");
         let right = score(&case, &truth, &truth);
         assert!(right.exactly_right);
         assert_eq!(right.misses(), Misses::default());
@@ -2835,11 +2841,7 @@ mod tests {
 
     #[test]
     fn distances_are_to_the_centerline_not_to_its_samples() {
-        let case = overhang_cases()
-            .into_iter()
-            .find(|c| c.name == "tee_plain_w8")
-            .expect("the case");
-        let truth = truth_graph(&case);
+        let (case, truth) = overhang_case("tee_plain_w8");
         // The same lines, each edge's first point moved a fifth of a pixel along it: its samples
         // fall between the truth's, but every point lies on the truth's centerline.
         let mut shifted = truth.clone();

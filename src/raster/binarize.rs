@@ -32,7 +32,9 @@ pub(crate) fn binarize_deciding(
 }
 
 /// The polarity [`binarize_deciding`] decides (`polarity`, `polarity_confidence` and the stroke
-/// width of the [`Decisions`]), without the steps after it that only shape its binary.
+/// width of the [`Decisions`]), without the steps after it that only shape its binary: a print's
+/// decision (its only caller), its chords read on a sparser lattice
+/// (`evidence::PRINT_LATTICE_SAMPLES`).
 pub(crate) fn decide_polarity(gray: GrayView<'_>, params: &Params) -> Result<Decisions> {
     Ok(binarize_until(gray, params, true)?.1)
 }
@@ -83,7 +85,13 @@ fn binarize_until(
     // where the global level fails.
     let mut dark = binary.ink;
     split(gray, &mut dark, move |v| v <= level);
-    let mut evidence = evidence::polarity(&dark, w, h);
+    // A print's decision alone reads a sparser lattice (`evidence::PRINT_LATTICE_SAMPLES`).
+    let lattice = if polarity_only {
+        evidence::PRINT_LATTICE_SAMPLES
+    } else {
+        evidence::LATTICE_SAMPLES
+    };
+    let mut evidence = evidence::polarity(&dark, w, h, lattice);
     decisions.threshold = match params.front_end.threshold {
         Threshold::Fixed { level } => ThresholdUsed::Fixed { level },
         _ => ThresholdUsed::Otsu { level },
@@ -110,7 +118,7 @@ fn binarize_until(
                 || evidence::level_reaches_paper(&lighting, level, dark_ink)
             {
                 evidence::local_dark(gray, &lighting, &mut dark);
-                evidence = evidence::polarity(&dark, w, h);
+                evidence = evidence::polarity(&dark, w, h, lattice);
                 // The global split misjudged the stroke width where it failed; the blocks are
                 // sized again from the local split's (blocks of the same side measure the same
                 // lighting again: it is kept without measuring it).
@@ -121,7 +129,7 @@ fn binarize_until(
                 let lighting = match again {
                     Some(again) => {
                         evidence::local_dark(gray, &again, &mut dark);
-                        evidence = evidence::polarity(&dark, w, h);
+                        evidence = evidence::polarity(&dark, w, h, lattice);
                         again
                     }
                     None => lighting,

@@ -11,7 +11,14 @@ use crate::gray::GrayView;
 
 /// Lattice samples the stroke evidence aims for; the step between sampled rows and columns is
 /// chosen to give about this many.
-const LATTICE_SAMPLES: usize = 65_536;
+pub(crate) const LATTICE_SAMPLES: usize = 65_536;
+
+/// The lattice samples of a print's polarity decision (docs/fingerprints.md, "Speed: the
+/// polarity's lattice"): a quarter of [`LATTICE_SAMPLES`]. A print's ridges and valleys repeat
+/// every 5 to 20 px in every part of it, so a lattice two or three pixels apart still meets each
+/// ridge and valley several times along every sampled row and column, where a page's text may
+/// fill only a corner of it.
+pub(crate) const PRINT_LATTICE_SAMPLES: usize = LATTICE_SAMPLES / 4;
 
 /// Chord statistics of the two sides of a split.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -39,16 +46,21 @@ pub(crate) struct Chords {
 /// side: about the stroke width on a stroke (in any direction but the stroke's own, where the
 /// run is long), the gap to the next stroke on the paper. Measured at every `step`-th pixel of
 /// every `step`-th row, `step` chosen for about [`LATTICE_SAMPLES`] samples.
+pub(crate) fn chords(dark: &[bool], width: usize, height: usize) -> Chords {
+    chords_sampled(dark, width, height, LATTICE_SAMPLES)
+}
+
+/// [`chords`] with `step` chosen for about `samples` lattice samples.
 ///
 /// With AVX2 at run time the routine is compiled for it (the vertical passes eight lanes of
 /// `u32` a vector instruction instead of four): whole numbers, so the same chords.
-pub(crate) fn chords(dark: &[bool], width: usize, height: usize) -> Chords {
+pub(crate) fn chords_sampled(dark: &[bool], width: usize, height: usize, samples: usize) -> Chords {
     #[cfg(target_arch = "x86_64")]
     if std::arch::is_x86_feature_detected!("avx2") {
         // SAFETY: the CPU has AVX2 (checked at run time).
-        return unsafe { chords_wide(dark, width, height) };
+        return unsafe { chords_wide(dark, width, height, samples) };
     }
-    chords_lanes(dark, width, height)
+    chords_lanes(dark, width, height, samples)
 }
 
 /// [`chords`] compiled for AVX2.
@@ -57,17 +69,17 @@ pub(crate) fn chords(dark: &[bool], width: usize, height: usize) -> Chords {
 /// The CPU must have AVX2.
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
-unsafe fn chords_wide(dark: &[bool], width: usize, height: usize) -> Chords {
-    chords_lanes(dark, width, height)
+unsafe fn chords_wide(dark: &[bool], width: usize, height: usize, samples: usize) -> Chords {
+    chords_lanes(dark, width, height, samples)
 }
 
 /// [`chords`]' work, inlined into the version the CPU runs.
 #[inline(always)]
-fn chords_lanes(dark: &[bool], width: usize, height: usize) -> Chords {
+fn chords_lanes(dark: &[bool], width: usize, height: usize, samples: usize) -> Chords {
     if width == 0 || height == 0 {
         return Chords::default();
     }
-    let step = ((width * height / LATTICE_SAMPLES) as f64)
+    let step = ((width * height / samples.max(1)) as f64)
         .sqrt()
         .floor()
         .max(1.0) as usize;
@@ -312,9 +324,15 @@ const MAX_THICKNESS_EVIDENCE: f64 = 3.0;
 ///   does not count;
 /// - a weak prior for dark ink.
 ///
-/// The three add to a score `z` whose sign decides; the confidence is `tanh(|z| / 2)`.
-pub(crate) fn polarity(dark: &[bool], width: usize, height: usize) -> PolarityEvidence {
-    let chords = chords(dark, width, height);
+/// The three add to a score `z` whose sign decides; the confidence is `tanh(|z| / 2)`. The
+/// chords are measured on about `samples` lattice points ([`chords_sampled`]).
+pub(crate) fn polarity(
+    dark: &[bool],
+    width: usize,
+    height: usize,
+    samples: usize,
+) -> PolarityEvidence {
+    let chords = chords_sampled(dark, width, height, samples);
     let thickness = if chords.dark_mean > 0.0 && chords.light_mean > 0.0 {
         (chords.light_mean / chords.dark_mean)
             .ln()

@@ -774,11 +774,8 @@ mod tests {
     use crate::median::upper_median_by;
 
     /// The chords as first written: every lattice point's runs kept, each side's chords sorted.
-    fn chords_by_sorting(dark: &[bool], width: usize, height: usize) -> Chords {
-        let step = ((width * height / LATTICE_SAMPLES) as f64)
-            .sqrt()
-            .floor()
-            .max(1.0) as usize;
+    fn chords_by_sorting(dark: &[bool], width: usize, height: usize, samples: usize) -> Chords {
+        let step = ((width * height / samples) as f64).sqrt().floor().max(1.0) as usize;
         let (cols, rows) = (width.div_ceil(step), height.div_ceil(step));
         let (mut dark_chords, mut light_chords) = (Vec::new(), Vec::new());
         let horizontal: Vec<Vec<u32>> = (0..rows)
@@ -887,18 +884,20 @@ mod tests {
                         }
                     })
                     .collect();
-                let sorted = chords_by_sorting(&dark, w, h);
+                let sorted = chords_by_sorting(&dark, w, h, LATTICE_SAMPLES);
                 assert_eq!(chords(&dark, w, h), sorted, "{w}x{h} density {density}");
-                assert_eq!(
-                    chords_lanes(&dark, w, h),
-                    sorted,
-                    "{w}x{h} density {density}"
-                );
-                #[cfg(target_arch = "x86_64")]
-                if std::arch::is_x86_feature_detected!("avx2") {
-                    // SAFETY: the CPU has AVX2.
-                    let wide = unsafe { chords_wide(&dark, w, h) };
-                    assert_eq!(wide, sorted, "{w}x{h} density {density}");
+                // Pages' lattice and a print's decision's sparser one.
+                for samples in [LATTICE_SAMPLES, PRINT_LATTICE_SAMPLES] {
+                    let sorted = chords_by_sorting(&dark, w, h, samples);
+                    let at = format!("{w}x{h} density {density}, {samples} samples");
+                    assert_eq!(chords_sampled(&dark, w, h, samples), sorted, "{at}");
+                    assert_eq!(chords_lanes(&dark, w, h, samples), sorted, "{at}");
+                    #[cfg(target_arch = "x86_64")]
+                    if std::arch::is_x86_feature_detected!("avx2") {
+                        // SAFETY: the CPU has AVX2.
+                        let wide = unsafe { chords_wide(&dark, w, h, samples) };
+                        assert_eq!(wide, sorted, "{at}");
+                    }
                 }
             }
         }

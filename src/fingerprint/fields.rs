@@ -124,13 +124,19 @@ impl Plane {
         let four = if cx >= 0 && cy >= 0 && cx < w - 1 && cy < h - 1 {
             // Inside: the four pixels directly (the same values as `at` gives).
             self.four(cy as usize * self.width as usize + cx as usize)
+        } else if w == 0 || h == 0 {
+            [0.0; 4]
         } else {
-            [
-                self.at(cx, cy),
-                self.at(cx + 1, cy),
-                self.at(cx, cy + 1),
-                self.at(cx + 1, cy + 1),
-            ]
+            // As four calls of `at`, each coordinate clamped once.
+            let (x0, x1) = (cx.clamp(0, w - 1), (cx + 1).clamp(0, w - 1));
+            let (y0, y1) = (cy.clamp(0, h - 1), (cy + 1).clamp(0, h - 1));
+            let value = |x: i64, y: i64| {
+                self.values
+                    .get((y * w + x) as usize)
+                    .copied()
+                    .unwrap_or(0.0)
+            };
+            [value(x0, y0), value(x1, y0), value(x0, y1), value(x1, y1)]
         };
         bilinear(four, tx, ty)
     }
@@ -460,6 +466,47 @@ mod tests {
         assert_eq!(p.sample(1.5, 0.5), 10.0);
         assert_eq!(p.sample(9.0, -3.0), 10.0, "clamped");
         assert_eq!(Plane::default().sample(1.0, 1.0), 0.0);
+    }
+
+    #[test]
+    fn a_sample_is_the_mix_of_its_four_pixels_each_clamped() {
+        // Points inside, on and across every edge and corner, and far outside, on quarter
+        // pixels and at random: the value from four calls of `at`, bit for bit.
+        let (width, height) = (9u32, 6u32);
+        let p = Plane {
+            width,
+            height,
+            values: (0..width * height)
+                .map(|i| ((i * 37) % 23) as f32 * 0.7 - 3.0)
+                .collect(),
+        };
+        let by_at = |x: f64, y: f64| {
+            let (fx, fy) = (x - 0.5, y - 0.5);
+            let (cx, cy) = (fx.floor() as i64, fy.floor() as i64);
+            let four = [
+                p.at(cx, cy),
+                p.at(cx + 1, cy),
+                p.at(cx, cy + 1),
+                p.at(cx + 1, cy + 1),
+            ];
+            bilinear(four, (fx - cx as f64) as f32, (fy - cy as f64) as f32)
+        };
+        let mut seed = 11u64;
+        let mut unit = || {
+            seed = seed
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (seed >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let quarters = (-16..=56).map(|k| f64::from(k) / 4.0);
+        let mut points: Vec<[f64; 2]> = quarters
+            .clone()
+            .flat_map(|x| quarters.clone().map(move |y| [x, y]))
+            .collect();
+        points.extend((0..20_000).map(|_| [unit() * 40.0 - 15.0, unit() * 30.0 - 12.0]));
+        for [x, y] in points {
+            assert_eq!(p.sample(x, y).to_bits(), by_at(x, y).to_bits(), "{x} {y}");
+        }
     }
 
     #[test]

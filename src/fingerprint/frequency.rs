@@ -292,11 +292,20 @@ fn x_signature_lanes<const WIDE: bool>(
         }
         smoothed.add_samples_inside(xs, ys, *step, sums);
     }
+    // The rows that reach past the image's edge, sample by sample: most of their samples still
+    // have their four pixels inside (`x` in `[0.5, width - 0.5)`, `y` likewise; false for NaN),
+    // read without the clamping (the same value); the others clamped.
+    let four_inside = |x: f64, y: f64| x >= 0.5 && y >= 0.5 && x < w - 0.5 && y < h - 0.5;
     for t in (0..first).chain(end..length) {
         let start = starts[t];
         let mut sum = 0.0f32;
         for step in steps {
-            sum += smoothed.sample(start[0] + step[0], start[1] + step[1]);
+            let (x, y) = (start[0] + step[0], start[1] + step[1]);
+            sum += if four_inside(x, y) {
+                smoothed.sample_inside(x, y)
+            } else {
+                smoothed.sample(x, y)
+            };
         }
         signature[t] = sum;
     }

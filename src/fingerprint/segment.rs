@@ -648,15 +648,7 @@ impl Disc {
         if left < 0 {
             return None;
         }
-        // The whole square root of `left` (the `f64` root of a number this small is within
-        // one of it; the steps make it exact).
-        let mut s = (left as f64).sqrt() as i64;
-        while s * s > left {
-            s -= 1;
-        }
-        while (s + 1) * (s + 1) <= left {
-            s += 1;
-        }
+        let s = whole_sqrt(left);
         // `|2x + 1 - c2x| ≤ s`: `x` from ⌈(c2x - 1 - s) / 2⌉ to ⌊(c2x - 1 + s) / 2⌋.
         let a = (c2x - s).div_euclid(2).max(self.x_lo);
         let b = (c2x - 1 + s).div_euclid(2).min(self.x_hi);
@@ -680,6 +672,25 @@ impl Disc {
         );
         disc_run(self.x_lo, self.x_hi, guess, inside_disc)
     }
+}
+
+/// The whole square root of `n` (at least 0). Below 2⁵⁰ the `f64` root's truncation is it: `n`
+/// is exact, the root of a square `k²` is `k`, and the root of `(k + 1)² - 1` lies more than
+/// `1 / (2k + 2)` below `k + 1`, farther than half its ulp (at most `(k + 1) · 2⁻⁵³`) for
+/// `k < 2²⁵`, so it never rounds up to `k + 1`. Above, the `f64` root is within one of it, and
+/// the steps make it exact.
+#[inline(always)]
+fn whole_sqrt(n: i64) -> i64 {
+    let mut s = (n as f64).sqrt() as i64;
+    if n >= 1 << 50 {
+        while s * s > n {
+            s -= 1;
+        }
+        while (s + 1) * (s + 1) <= n {
+            s += 1;
+        }
+    }
+    s
 }
 
 /// Sums of each image line's gray levels from its start (`width + 1` a line, the first 0), for
@@ -1477,6 +1488,30 @@ mod tests {
         assert!(lines > 100_000, "{lines}");
         // A centre off the half pixels takes the solved lines.
         assert!(Disc::new(&gray, [10.3, 12.0], 9.0).halves.is_none());
+    }
+
+    /// [`whole_sqrt`] is the whole square root at and either side of every square up to 2¹⁴,
+    /// of random squares up to 2⁵⁰ and beyond, and of every number up to 2¹⁶.
+    #[test]
+    fn whole_square_roots_are_exact() {
+        let check = |n: i64| {
+            let s = whole_sqrt(n);
+            assert!(s * s <= n && (s + 1) * (s + 1) > n, "{n}: {s}");
+        };
+        (0..1 << 16).for_each(check);
+        let mut state = 0x2545_f491_4f6c_dd1du64;
+        let mut next = || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            state
+        };
+        let ks = (1..1i64 << 14).chain((0..100_000).map(|_| 1 + (next() % (1 << 27)) as i64));
+        for k in ks {
+            for n in [k * k - 1, k * k, k * k + 1, k * k + 2 * k] {
+                check(n);
+            }
+        }
     }
 
     /// [`nth_smallest`] as it was: one table of the keys' upper 16 bits, then one of the lower

@@ -171,6 +171,27 @@ impl Plane {
     }
 }
 
+#[cfg(test)]
+impl Plane {
+    /// A plane of uneven values for the tests: pixel `i`'s is `(i · step mod modulus) · scale +
+    /// offset` (`[step, modulus]` as `walk`).
+    pub(crate) fn uneven(
+        width: u32,
+        height: u32,
+        walk: [u32; 2],
+        scale: f32,
+        offset: f32,
+    ) -> Plane {
+        Plane {
+            width,
+            height,
+            values: (0..width * height)
+                .map(|i| ((i * walk[0]) % walk[1]) as f32 * scale + offset)
+                .collect(),
+        }
+    }
+}
+
 /// Samples whose coordinates [`Plane::add_samples_inside`] works out side by side.
 const SAMPLE_LANES: usize = 16;
 
@@ -472,14 +493,7 @@ mod tests {
     fn a_sample_is_the_mix_of_its_four_pixels_each_clamped() {
         // Points inside, on and across every edge and corner, and far outside, on quarter
         // pixels and at random: the value from four calls of `at`, bit for bit.
-        let (width, height) = (9u32, 6u32);
-        let p = Plane {
-            width,
-            height,
-            values: (0..width * height)
-                .map(|i| ((i * 37) % 23) as f32 * 0.7 - 3.0)
-                .collect(),
-        };
+        let p = Plane::uneven(9, 6, [37, 23], 0.7, -3.0);
         let by_at = |x: f64, y: f64| {
             let (fx, fy) = (x - 0.5, y - 0.5);
             let (cx, cy) = (fx.floor() as i64, fy.floor() as i64);

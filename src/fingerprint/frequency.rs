@@ -775,14 +775,7 @@ mod tests {
     fn the_signature_is_the_clamped_one_bit_for_bit() {
         // Windows inside, across each edge and corner, and outside the image, at odd angles:
         // the rows read directly give the values of the rows clamped at the edges.
-        let (width, height) = (70u32, 52u32);
-        let smoothed = Plane {
-            width,
-            height,
-            values: (0..width * height)
-                .map(|i| ((i * 7919) % 263) as f32 * 0.29 - 9.0)
-                .collect(),
-        };
+        let smoothed = Plane::uneven(70, 52, [7919, 263], 0.29, -9.0);
         let (length, across) = (48usize, 16usize);
         for c in [
             [35.2, 26.1],

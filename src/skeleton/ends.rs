@@ -2,7 +2,9 @@
 //! longer than wide is a dot ([`Work::collapse_dots`]). docs/design.md, "Skeleton-carried
 //! geometry".
 
-use crate::geometry::{dist, hypot};
+use std::cmp::Ordering;
+
+use crate::geometry::{cmp_dist, dist, hypot};
 
 use super::work::{median, Clearance, Work};
 use super::{disk_radius, MIN_LINE_PX, MIN_WIDTH_PX};
@@ -191,7 +193,7 @@ impl Work {
         let behind: Vec<[f64; 2]> = inwards[1..]
             .iter()
             .copied()
-            .take_while(|&p| dist(p, tip) <= limit + 1.0)
+            .take_while(|&p| cmp_dist(p, tip, limit + 1.0).is_some_and(Ordering::is_le))
             .collect();
         let squared = |a: [f64; 2], b: [f64; 2]| {
             let (dx, dy) = (a[0] - b[0], a[1] - b[1]);

@@ -718,6 +718,28 @@ mod tests {
         !shared
     }
 
+    /// Zeros, the extremes, the bounds where [`hypot`] hands over to the library (2^-511 and
+    /// 2^511), values whose squares underflow or overflow, the infinities and NaN.
+    const SPECIAL: [f64; 17] = [
+        0.0,
+        -0.0,
+        f64::MIN_POSITIVE,
+        5e-324,
+        1e-160,
+        1.4916681462400413e-154,
+        1e-150,
+        1.0,
+        1.0 + f64::EPSILON,
+        1e150,
+        6.703903964971299e153,
+        1e154,
+        1e300,
+        f64::MAX,
+        f64::INFINITY,
+        f64::NEG_INFINITY,
+        f64::NAN,
+    ];
+
     /// [`hypot`] gives the library's bits (the GNU C library's, whose algorithm it repeats) on
     /// the lengths the stages take (pixel steps, sub-pixel offsets, both signs, zeros), on
     /// near-equal sides, on sides 2^-54 and less apart in size, across the exponents, and on
@@ -733,27 +755,8 @@ mod tests {
                 cases.push((a as f64 + 0.25, b as f64 - 0.125));
             }
         }
-        let special = [
-            0.0,
-            -0.0,
-            f64::MIN_POSITIVE,
-            5e-324,
-            1e-160,
-            1.4916681462400413e-154,
-            1e-150,
-            1.0,
-            1.0 + f64::EPSILON,
-            1e150,
-            6.703903964971299e153,
-            1e154,
-            1e300,
-            f64::MAX,
-            f64::INFINITY,
-            f64::NEG_INFINITY,
-            f64::NAN,
-        ];
-        for &a in &special {
-            for &b in &special {
+        for &a in &SPECIAL {
+            for &b in &SPECIAL {
                 cases.push((a, b));
                 cases.push((-a, b));
             }
@@ -811,24 +814,9 @@ mod tests {
                 }
             }
         }
-        let special = [
-            0.0,
-            -0.0,
-            5e-324,
-            1e-160,
-            1e-150,
-            1.0,
-            1e150,
-            1e154,
-            1e300,
-            f64::MAX,
-            f64::INFINITY,
-            f64::NEG_INFINITY,
-            f64::NAN,
-        ];
-        for &u in &special {
-            for &v in &special {
-                for &r in &special {
+        for &u in &SPECIAL {
+            for &v in &SPECIAL {
+                for &r in &SPECIAL {
                     check([u, v], [0.0, 0.0], r);
                     check([-u, 1.0], [v, 0.0], -r);
                 }

@@ -42,8 +42,7 @@ pub(crate) fn cmp_dist(a: [f64; 2], b: [f64; 2], r: f64) -> Option<std::cmp::Ord
 pub(crate) fn dist_bounds(a: [f64; 2], b: [f64; 2]) -> Option<(f64, f64)> {
     let (dx, dy) = (a[0] - b[0], a[1] - b[1]);
     let rough = (dx * dx + dy * dy).sqrt();
-    // Also false for NaN.
-    if !(rough < f64::INFINITY) {
+    if !rough.is_finite() {
         return None;
     }
     let margin = 1e-9 * rough + 1e-150;

@@ -14,6 +14,41 @@ pub fn dist(a: [f64; 2], b: [f64; 2]) -> f64 {
     hypot(a[0] - b[0], a[1] - b[1])
 }
 
+/// `dist(a, b).partial_cmp(&r)`, the distance itself taken only where [`dist_bounds`] leave
+/// the answer open: the stages compare hundreds of thousands of distances a page with a radius
+/// or a reach (a pen's disk over its pixels, the points of an arm beyond a reach), and the
+/// bounds cost a square root where [`hypot`] costs its correction step besides
+/// (docs/performance.md, "Session of 2026-12-08, eighteenth").
+#[inline]
+pub(crate) fn cmp_dist(a: [f64; 2], b: [f64; 2], r: f64) -> Option<std::cmp::Ordering> {
+    if let Some((low, high)) = dist_bounds(a, b) {
+        if high < r {
+            return Some(std::cmp::Ordering::Less);
+        }
+        if low > r {
+            return Some(std::cmp::Ordering::Greater);
+        }
+    }
+    dist(a, b).partial_cmp(&r)
+}
+
+/// Bounds `low <= dist(a, b) <= high`: the square root of the rounded sum of the rounded
+/// squares, widened by a billionth of itself and `1e-150`. That root lies within about 2.5
+/// units in the last place of the exact distance of the same differences, and [`hypot`] within
+/// one (the library's bound), both far inside the billionth; where the squares underflow, the
+/// root is off by less than `1e-160`. `None` where the root is not finite (a NaN or infinite
+/// coordinate, or squares that overflow): no bound is claimed there.
+#[inline]
+pub(crate) fn dist_bounds(a: [f64; 2], b: [f64; 2]) -> Option<(f64, f64)> {
+    let (dx, dy) = (a[0] - b[0], a[1] - b[1]);
+    let rough = (dx * dx + dy * dy).sqrt();
+    if !rough.is_finite() {
+        return None;
+    }
+    let margin = 1e-9 * rough + 1e-150;
+    Some((rough - margin, rough + margin))
+}
+
 /// `x.hypot(y)`, bit for bit as the GNU C library (2.35 and later) computes it, inlined: the
 /// stages take millions of lengths a page, and the library call was 3.6 % of a page's time
 /// (docs/performance.md, "Session of 2026-12-05: pages, again"). For `ax >= ay`, the absolute
@@ -682,6 +717,28 @@ mod tests {
         !shared
     }
 
+    /// Zeros, the extremes, the bounds where [`hypot`] hands over to the library (2^-511 and
+    /// 2^511), values whose squares underflow or overflow, the infinities and NaN.
+    const SPECIAL: [f64; 17] = [
+        0.0,
+        -0.0,
+        f64::MIN_POSITIVE,
+        5e-324,
+        1e-160,
+        1.4916681462400413e-154,
+        1e-150,
+        1.0,
+        1.0 + f64::EPSILON,
+        1e150,
+        6.703903964971299e153,
+        1e154,
+        1e300,
+        f64::MAX,
+        f64::INFINITY,
+        f64::NEG_INFINITY,
+        f64::NAN,
+    ];
+
     /// [`hypot`] gives the library's bits (the GNU C library's, whose algorithm it repeats) on
     /// the lengths the stages take (pixel steps, sub-pixel offsets, both signs, zeros), on
     /// near-equal sides, on sides 2^-54 and less apart in size, across the exponents, and on
@@ -697,27 +754,8 @@ mod tests {
                 cases.push((a as f64 + 0.25, b as f64 - 0.125));
             }
         }
-        let special = [
-            0.0,
-            -0.0,
-            f64::MIN_POSITIVE,
-            5e-324,
-            1e-160,
-            1.4916681462400413e-154,
-            1e-150,
-            1.0,
-            1.0 + f64::EPSILON,
-            1e150,
-            6.703903964971299e153,
-            1e154,
-            1e300,
-            f64::MAX,
-            f64::INFINITY,
-            f64::NEG_INFINITY,
-            f64::NAN,
-        ];
-        for &a in &special {
-            for &b in &special {
+        for &a in &SPECIAL {
+            for &b in &SPECIAL {
                 cases.push((a, b));
                 cases.push((-a, b));
             }
@@ -738,6 +776,65 @@ mod tests {
                 "hypot({x:e}, {y:e}) = {ours:e}, the library gives {library:e}"
             );
         }
+    }
+
+    /// [`cmp_dist`] answers as comparing [`dist`] does, and [`dist_bounds`] hold the distance:
+    /// on pixel centres against pixel-like points and radii (many exactly at the distance, as
+    /// 3-4-5 triangles and axis steps put them), on radii a few units in the last place from
+    /// the distance, across the exponents (squares that underflow and overflow), and on
+    /// infinite and NaN coordinates and radii.
+    #[test]
+    fn distance_comparisons_are_the_distances() {
+        use std::cmp::Ordering;
+        let mut next = crate::synth::lcg(2036u64);
+        let mut unit = move || (next() >> 11) as f64 / (1u64 << 53) as f64;
+        let check = |a: [f64; 2], b: [f64; 2], r: f64| {
+            let d = dist(a, b);
+            assert_eq!(cmp_dist(a, b, r), d.partial_cmp(&r), "{a:?} {b:?} {r:e}");
+            if let Some((low, high)) = dist_bounds(a, b) {
+                assert!(
+                    low <= d && d <= high,
+                    "{a:?} {b:?}: {d:e} not in {low:e}..{high:e}"
+                );
+            }
+        };
+        for x in -12..=12 {
+            for y in -12..=12 {
+                let c = [x as f64 + 0.5, y as f64 + 0.5];
+                for &p in &[[0.5, 0.5], [0.0, 0.0], [0.25, -0.75], [3.5, 4.5]] {
+                    for k in 0..=40 {
+                        check(c, p, k as f64 * 0.25);
+                    }
+                    let d = dist(c, p);
+                    for step in -3i64..=3 {
+                        let r = f64::from_bits((d.to_bits() as i64 + step).max(0) as u64);
+                        check(c, p, r);
+                    }
+                }
+            }
+        }
+        for &u in &SPECIAL {
+            for &v in &SPECIAL {
+                for &r in &SPECIAL {
+                    check([u, v], [0.0, 0.0], r);
+                    check([-u, 1.0], [v, 0.0], -r);
+                }
+            }
+        }
+        for _ in 0..300_000 {
+            let e = (unit() * 1200.0) as i32 - 600;
+            let s = 2f64.powi(e);
+            let a = [(unit() - 0.5) * 4000.0 * s, (unit() - 0.5) * 4000.0 * s];
+            let b = [(unit() - 0.5) * 4000.0 * s, (unit() - 0.5) * 4000.0 * s];
+            let d = dist(a, b);
+            check(a, b, d);
+            check(a, b, d * (1.0 + (unit() - 0.5) * 1e-8));
+            check(a, b, (unit() * 3000.0) * s);
+            let near =
+                f64::from_bits((d.to_bits() as i64 + (unit() * 9.0) as i64 - 4).max(0) as u64);
+            check(a, b, near);
+        }
+        assert_eq!(cmp_dist([0.0, 0.0], [3.0, 4.0], 5.0), Some(Ordering::Equal));
     }
 
     #[test]

@@ -1,7 +1,9 @@
 //! Corners: the Y that thinning makes of a sharp bend is a bend ([`Work::dissolve_corners`]).
 //! docs/design.md, "Skeleton-carried geometry"; docs/quality.md, "Bold corners".
 
-use crate::geometry::{dist, hypot, unit};
+use std::cmp::Ordering;
+
+use crate::geometry::{cmp_dist, dist, hypot, unit};
 
 use super::spurs::{worse_by, PART_COST};
 use super::work::{median, sampled, Work};
@@ -189,10 +191,14 @@ impl Work {
         // for a bold corner whose leg is still wider than a stroke there, from where it is
         // one stroke wide again, up to `2 w` long.
         let beyond_reach = |points: &[[f64; 2]]| -> Option<(usize, usize)> {
-            let near = points.iter().position(|&p| dist(p, jp) >= reach)?;
+            let near = points
+                .iter()
+                .position(|&p| cmp_dist(p, jp, reach).is_some_and(Ordering::is_ge))?;
             let far = points
                 .iter()
-                .position(|&p| dist(p, jp) >= reach + LEG_LINE * stroke)
+                .position(|&p| {
+                    cmp_dist(p, jp, reach + LEG_LINE * stroke).is_some_and(Ordering::is_ge)
+                })
                 .unwrap_or(points.len() - 1);
             Some((near, far))
         };

@@ -10,7 +10,9 @@ use std::cell::OnceCell;
 use kiddo::{ImmutableKdTree, SquaredEuclidean};
 use petgraph::unionfind::UnionFind;
 
-use crate::geometry::{dist, hypot, line_intersection, unit};
+use std::cmp::Ordering;
+
+use crate::geometry::{cmp_dist, dist, dist_bounds, hypot, line_intersection, unit};
 use crate::stroke_graph::{Edge, StrokeGraph, Vertex};
 
 use super::disk_radius;
@@ -897,7 +899,14 @@ impl Work {
         let jp = self.vertices[j].pos;
         let outwards = points_outwards(edge, forward);
         let w = median(&edge.widths);
-        let reach = outwards.iter().map(|&p| dist(p, jp)).fold(0.0f64, f64::max);
+        // The largest distance; one no larger than the largest so far by its bounds leaves it.
+        let reach = outwards.iter().fold(0.0f64, |reach, &p| {
+            if dist_bounds(p, jp).is_some_and(|(_, high)| high < reach) {
+                reach
+            } else {
+                reach.max(dist(p, jp))
+            }
+        });
         let at_distance = |d: f64| point_at_distance(&outwards, jp, d);
         let line = ArmLine {
             near: at_distance((near * w).min(reach / 2.0)),
@@ -1601,7 +1610,10 @@ pub(super) fn arm_point(edge: &Edge, forward: bool, jp: [f64; 2], d: f64) -> [f6
 /// junction, on the segment that reaches that far (an arm an earlier merge joined straight to
 /// its junction has long segments); the arm's last point when none does.
 fn point_at_distance(outwards: &[[f64; 2]], jp: [f64; 2], d: f64) -> [f64; 2] {
-    let Some(k) = outwards.iter().position(|&p| dist(p, jp) >= d) else {
+    let Some(k) = outwards
+        .iter()
+        .position(|&p| cmp_dist(p, jp, d).is_some_and(Ordering::is_ge))
+    else {
         return outwards[outwards.len() - 1];
     };
     if k == 0 {
@@ -1808,7 +1820,7 @@ impl Work {
                 for y in ((p[1] - r - 0.5).floor() as i64)..=((p[1] + r - 0.5).ceil() as i64) {
                     for x in ((p[0] - r - 0.5).floor() as i64)..=((p[0] + r - 0.5).ceil() as i64) {
                         let c = [x as f64 + 0.5, y as f64 + 0.5];
-                        if dist(c, p) >= r {
+                        if cmp_dist(c, p, r).is_some_and(Ordering::is_ge) {
                             continue;
                         }
                         let (ix, iy) = (x - x0, y - y0);

@@ -2,7 +2,9 @@
 //! longer than wide is a dot ([`Work::collapse_dots`]). docs/design.md, "Skeleton-carried
 //! geometry".
 
-use crate::geometry::{dist, hypot};
+use std::cmp::Ordering;
+
+use crate::geometry::{cmp_dist, dist, hypot};
 
 use super::work::{median, Clearance, Work};
 use super::{disk_radius, MIN_LINE_PX, MIN_WIDTH_PX};
@@ -191,7 +193,7 @@ impl Work {
         let behind: Vec<[f64; 2]> = inwards[1..]
             .iter()
             .copied()
-            .take_while(|&p| dist(p, tip) <= limit + 1.0)
+            .take_while(|&p| cmp_dist(p, tip, limit + 1.0).is_some_and(Ordering::is_le))
             .collect();
         let squared = |a: [f64; 2], b: [f64; 2]| {
             let (dx, dy) = (a[0] - b[0], a[1] - b[1]);
@@ -207,10 +209,12 @@ impl Work {
         // The background centres nearest the points looked at so far (the last
         // [`WALK_KNOWN_BACKGROUND`] of them bound a step's clearances).
         let mut background: Vec<[f64; 2]> = Vec::new();
+        // The seven turns' sines and cosines, the same at every step (worked out once: the
+        // library's `sin_cos` per turn per step was most of the walk's arithmetic).
+        let turns = [0.0, -1.0, 1.0, -2.0, 2.0, -3.0, 3.0].map(|k: f64| (k * turn / 3.0).sin_cos());
         while walked + WALK_STEP_PX <= limit {
             let mut best: Option<([f64; 2], [f64; 2], Clearance)> = None;
-            for k in [0.0, -1.0, 1.0, -2.0, 2.0, -3.0, 3.0] {
-                let (s, c) = (k * turn / 3.0).sin_cos();
+            for (s, c) in turns {
                 let r = [d[0] * c - d[1] * s, d[0] * s + d[1] * c];
                 // (A rounding's worth below: three turns of a third make the whole turn.)
                 if r[0] * u[0] + r[1] * u[1] < cos_total - 1e-9 {

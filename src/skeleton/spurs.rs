@@ -8,7 +8,9 @@
 //! measured (median) width; the arm is kept when the ink only it explains, less the background it covers, outweighs
 //! the cost of one more part, [`PART_COST`] squared widths.
 
-use crate::geometry::{dist, unit};
+use std::cmp::Ordering;
+
+use crate::geometry::{cmp_dist, dist, dist_bounds, unit};
 
 use super::crossings::arm_point;
 use super::work::{median, Ink, Work};
@@ -135,7 +137,9 @@ impl Work {
                         .iter()
                         .copied()
                         .zip(other.widths.iter().copied())
-                        .filter(|&(q, _)| dist(q, j.pos) <= ENVELOPE_REACH * stroke)
+                        .filter(|&(q, _)| {
+                            cmp_dist(q, j.pos, ENVELOPE_REACH * stroke).is_some_and(Ordering::is_le)
+                        })
                         .filter(|&(q, _)| centre == j.pos || q != j.pos),
                 );
             }
@@ -452,10 +456,16 @@ pub(super) fn spur_reach(points: &[[f64; 2]], widths: &[f64], envelope: &[([f64;
         .zip(widths)
         .map(|(&p, &w)| {
             let r = disk_radius(w);
-            envelope
-                .iter()
-                .map(|&(q, wq)| dist(p, q) + r - disk_radius(wq))
-                .fold(f64::INFINITY, f64::min)
+            // The least excess; a disk whose excess from the distance's lower bound is already
+            // more than the least so far leaves it (rounding keeps the order of the sums).
+            envelope.iter().fold(f64::INFINITY, |least, &(q, wq)| {
+                let rq = disk_radius(wq);
+                if dist_bounds(p, q).is_some_and(|(low, _)| low + r - rq > least) {
+                    least
+                } else {
+                    least.min(dist(p, q) + r - rq)
+                }
+            })
         })
         .filter(|e| e.is_finite())
         .fold(0.0f64, f64::max)
@@ -465,7 +475,7 @@ pub(super) fn spur_reach(points: &[[f64; 2]], widths: &[f64], envelope: &[([f64;
 /// counted, as the widths are) at `p`: a skeleton pixel's disk holds exactly the ink pixels
 /// closer to it than the nearest background pixel.
 fn in_disk(c: [f64; 2], p: [f64; 2], w: f64) -> bool {
-    dist(c, p) < disk_radius(w)
+    cmp_dist(c, p, disk_radius(w)).is_some_and(Ordering::is_lt)
 }
 
 /// How much better the drawing with the arm explains the ink than the drawing without it, px:

@@ -6,7 +6,9 @@
 //! moves the junction back to there. docs/design.md, "Skeleton-carried geometry"; docs/quality.md,
 //! "Session of 2026-12-06, seventh: junctions in script (issue 31)".
 
-use crate::geometry::dist;
+use std::cmp::Ordering;
+
+use crate::geometry::{cmp_dist, dist};
 use crate::stroke_graph::Edge;
 
 use super::work::{median, points_outwards, Work};
@@ -160,7 +162,7 @@ fn shallow_tee_point(
         let p = outwards
             .iter()
             .copied()
-            .find(|&p| dist(p, jp) >= ARM_SPAN * w)
+            .find(|&p| cmp_dist(p, jp, ARM_SPAN * w).is_some_and(Ordering::is_ge))
             .unwrap_or(outwards[outwards.len() - 1]);
         let d = dist(p, jp);
         (d > 0.0).then(|| [(p[0] - jp[0]) / d, (p[1] - jp[1]) / d])

@@ -65,6 +65,7 @@ impl Work {
         // The stroke width an arm leaves: the narrowest median width of the junction's other
         // edges (the width at the junction itself is inflated where strokes meet).
         let mut spurs = Vec::new();
+        let mut twins = Vec::new();
         // The reach rule's branches: how far each reaches past its limit, and its direction.
         let mut branches = Vec::new();
         for (e, edge) in self.edges.iter().enumerate() {
@@ -157,8 +158,35 @@ impl Work {
                     widths.push(0.0);
                 }
             }
-            let reach = spur_reach(&points, &widths, &envelope);
+            let mut reach = spur_reach(&points, &widths, &envelope);
             let limit = (SPUR_REACH * stroke).max(SPUR_REACH_PX);
+            if strokes && reach <= limit {
+                let row = at.row(junction);
+                if let Some(twin) = self.lost_twin(junction, centre, row, e, limit) {
+                    reach = f64::INFINITY;
+                    twins.push((junction, twin, self.vertices[tip].width));
+                } else if row.len() == 4 {
+                    // A twin restored (or kept by thinning): the bar and, opposite, another
+                    // short branch.
+                    let others: Vec<usize> = row.iter().copied().filter(|&o| o != e).collect();
+                    let short = |o: usize| {
+                        self.edges[o].as_ref().is_some_and(|x| {
+                            let far = if x.from == junction { x.to } else { x.from };
+                            degree[far] == 1
+                                && dist(self.vertices[far].pos, j.pos)
+                                    <= SPUR_TIP_REACH * stroke.max(MIN_WIDTH_PX)
+                                        + SPUR_TIP_MARGIN_PX
+                        })
+                    };
+                    let crossing = (0..3).any(|k| {
+                        let bar = [others[(k + 1) % 3], others[(k + 2) % 3]];
+                        short(others[k]) && self.crosses_bar(junction, centre, bar, e, limit)
+                    });
+                    if crossing {
+                        reach = f64::INFINITY;
+                    }
+                }
+            }
             let away = unit([tip_pos[0] - j.pos[0], tip_pos[1] - j.pos[1]]);
             branches.push(Branch {
                 reach,
@@ -188,8 +216,159 @@ impl Work {
             self.edges[e] = None;
             self.alive[tip] = false;
         }
+        for (v, (points, widths), width) in twins {
+            let end = self.vertices.len();
+            self.vertices.push(crate::stroke_graph::Vertex {
+                pos: points[points.len() - 1],
+                degree: 1,
+                width,
+            });
+            self.alive.push(true);
+            self.dot.push(false);
+            self.edges.push(Some(crate::stroke_graph::Edge {
+                from: v,
+                to: end,
+                points,
+                widths,
+                directions: Vec::new(),
+            }));
+        }
     }
 }
+
+impl Work {
+    /// The lost half of a short stroke crossing another. Thinning a `+` whose arms are about a
+    /// width long may keep one arm's branch, a pixel or two long, and erode the other's into the
+    /// bar (Zhang-Suen's passes are not symmetric), the bar's line a pixel off its middle: a T
+    /// whose one short branch reaches no farther than a bump, though the ink shows a cross.
+    /// Where the degree-3 junction `v`'s edges other than its terminal branch `e` run straight
+    /// through it ([`Work::straight_through`]) and the branch leaves them at more than
+    /// [`TWIN_ACROSS_DEG`], the ink along the branch's line is measured on both sides of the
+    /// bar's ink (the bar's edges found where the bar is clear of the crossing): where it
+    /// reaches beyond both by more than `limit` (a spur's reach, as [`Work::prune_spurs`]), the
+    /// branch is an arm and its mirror image through the junction, on the ink all along, is its
+    /// lost twin: returned as the twin's points and widths, listed from the junction.
+    fn lost_twin(
+        &self,
+        v: usize,
+        jp: [f64; 2],
+        at: &[usize],
+        e: usize,
+        limit: f64,
+    ) -> Option<Twin> {
+        let edge = self.edges[e].as_ref()?;
+        let others: Vec<usize> = at.iter().copied().filter(|&o| o != e).collect();
+        let mut crossed = false;
+        for i in 0..others.len() {
+            for k in i + 1..others.len() {
+                crossed |= self.crosses_bar(v, jp, [others[i], others[k]], e, limit);
+            }
+        }
+        if !crossed || others.len() != 2 {
+            return None;
+        }
+        let forward = edge.from == v;
+        let mut points: Vec<[f64; 2]> = edge
+            .points
+            .iter()
+            .map(|&p| [2.0 * jp[0] - p[0], 2.0 * jp[1] - p[1]])
+            .collect();
+        let mut widths = edge.widths.clone();
+        if !forward {
+            points.reverse();
+            widths.reverse();
+        }
+        // The twin starts at the junction itself, wherever thinning left it.
+        points[0] = self.vertices[v].pos;
+        points
+            .iter()
+            .all(|&p| self.ink.at(p))
+            .then_some((points, widths))
+    }
+
+    /// Whether the terminal branch `e` of the junction `v` (put back at `jp`) crosses the bar
+    /// its edges `bar` make (straight through `jp`, [`Work::straight_through`]) at more than
+    /// [`TWIN_ACROSS_DEG`], its ink reaching beyond both of the bar's ink edges along its line
+    /// by more than `limit` (see [`Work::lost_twin`]).
+    fn crosses_bar(&self, v: usize, jp: [f64; 2], bar: [usize; 2], e: usize, limit: f64) -> bool {
+        let measured = || -> Option<bool> {
+            // The junction put on the bar's line (thinning may leave it a pixel into the
+            // branch: [`Work::undip_junctions`] comes later).
+            let [pa, pb] = [bar[0], bar[1]].map(|o| {
+                self.edges[o]
+                    .as_ref()
+                    .map(|x| arm_point(x, x.from == v, jp, median(&x.widths).max(2.0)))
+            });
+            let (pa, pb) = (pa?, pb?);
+            let d = unit([pb[0] - pa[0], pb[1] - pa[1]])?;
+            let t = (jp[0] - pa[0]) * d[0] + (jp[1] - pa[1]) * d[1];
+            let jp = [pa[0] + t * d[0], pa[1] + t * d[1]];
+            if !self.straight_through(v, bar, jp) {
+                return Some(false);
+            }
+            let edge = self.edges[e].as_ref()?;
+            let tip = if edge.from == v {
+                edge.points[edge.points.len() - 1]
+            } else {
+                edge.points[0]
+            };
+            let b = unit([tip[0] - jp[0], tip[1] - jp[1]])?;
+            let stroke = median(&edge.widths).max(MIN_WIDTH_PX);
+            let bar_edge = self.edges[bar[0]].as_ref()?;
+            let bar_width = median(&bar_edge.widths).max(MIN_WIDTH_PX);
+            let far = arm_point(bar_edge, bar_edge.from == v, jp, bar_width.max(2.0));
+            let u = unit([far[0] - jp[0], far[1] - jp[1]])?;
+            let sine = u[0] * b[1] - u[1] * b[0];
+            if sine.abs() < TWIN_ACROSS_DEG.to_radians().sin() {
+                return Some(false);
+            }
+            // The bar's normal on the branch's side, and its two ink edges measured on each
+            // side of the crossing, clear of the crossing stroke's ink.
+            let n = if sine > 0.0 {
+                [-u[1], u[0]]
+            } else {
+                [u[1], -u[0]]
+            };
+            let clear = stroke + bar_width + 2.0;
+            let mut edges = [0.0, 0.0];
+            for &o in &bar {
+                let other = self.edges[o].as_ref()?;
+                let q = arm_point(other, other.from == v, jp, clear);
+                if dist(q, jp) < clear - 1.0 {
+                    return Some(false);
+                }
+                let across = 2.0 * bar_width + 4.0;
+                edges[0] += (self.ink.exit(q, n, across) - INK_EDGE_PX) / 2.0;
+                edges[1] += (self.ink.exit(q, [-n[0], -n[1]], across) - INK_EDGE_PX) / 2.0;
+            }
+            let reach = 4.0 * stroke + 4.0 + bar_width;
+            let own = (self.ink.exit(jp, b, reach) - INK_EDGE_PX) * sine.abs() - edges[0];
+            let twin =
+                (self.ink.exit(jp, [-b[0], -b[1]], reach) - INK_EDGE_PX) * sine.abs() - edges[1];
+            // One stroke crossing the bar reaches alike either side, within half a width (a
+            // branch thinning did not make needs more than [`judge_crossbars`]' one width): a
+            // long arm does not vouch for a bump opposite it.
+            let alike =
+                (own - twin).abs() <= (TWIN_REACH_DIFF * stroke).max(CROSSBAR_REACH_DIFF_PX);
+            Some(alike && own.min(twin) > limit)
+        };
+        measured().unwrap_or(false)
+    }
+}
+
+/// A lost twin arm's points and widths ([`Work::lost_twin`]).
+type Twin = (Vec<[f64; 2]>, Vec<f64>);
+
+/// A junction's short branch and the bar it leaves cross at more than this (degrees) for the
+/// branch's lost twin to be looked for ([`Work::lost_twin`]).
+const TWIN_ACROSS_DEG: f64 = 60.0;
+
+/// How much farther (stroke widths) the ink on one side of a bar may reach than on the other for
+/// the two to be one stroke crossing it ([`Work::crosses_bar`]).
+const TWIN_REACH_DIFF: f64 = 0.5;
+
+/// Where the ink ends along a line, before the first sample off it (px): half a sample step.
+const INK_EDGE_PX: f64 = 0.25;
 
 impl Work {
     /// Junctions put back where the lines pass. Making the skeleton one pixel thick
@@ -654,6 +833,45 @@ mod tests {
             }
             assert!(crossing, "w {w}: no crossing even a width past the stem");
         }
+    }
+
+    #[test]
+    fn a_cross_thinned_into_a_tee_keeps_both_arms() {
+        // A bar five pixels wide and a stroke as wide crossing it, a width past each edge with
+        // a round cap, as a 4 px `+` rasterizes. Thinning keeps a one-pixel branch on one side
+        // only and the bar's line a pixel off its middle: measured alone, that branch reached
+        // no farther than a bump and the cross came out a bare line. The ink along the branch's
+        // line reaches a width beyond both of the bar's edges: one crossing, four ends.
+        let cap = |w: usize| {
+            let pad = (5 - w) / 2;
+            format!(
+                "{}{}{}",
+                ".".repeat(28 + pad),
+                "#".repeat(w),
+                ".".repeat(28 + pad)
+            )
+        };
+        let bar = |inset: usize| {
+            format!(
+                "{}{}{}",
+                ".".repeat(2 + inset),
+                "#".repeat(57 - 2 * inset),
+                ".".repeat(2 + inset)
+            )
+        };
+        let mut rows = vec![String::new(), String::new(), cap(1), cap(3), cap(5), cap(5)];
+        rows.extend([bar(2), bar(1), bar(0), bar(1), bar(2)]);
+        rows.extend([cap(5), cap(5), cap(3), cap(1), String::new(), String::new()]);
+        let rows: Vec<&str> = rows.iter().map(String::as_str).collect();
+        assert_eq!(shape(&drawn(&rows), &Params::default()), (vec![4], 4));
+        // The same stroke on one side only is no cross: no twin is made up for it. (Its one
+        // arm, a width past the edge of a 5 px bar, is still cut: thinning leaves it a pixel.)
+        let tee: Vec<&str> = [&rows[..11], &rows[15..]].concat();
+        let (junctions, ends) = shape(&drawn(&tee), &Params::default());
+        assert!(!junctions.contains(&4) && ends <= 3, "{junctions:?} {ends}");
+        // A bump of a pixel on each side, mirrored alike: no arm either side.
+        let bumps: Vec<&str> = [&rows[..2], &rows[5..12], &rows[15..]].concat();
+        assert_eq!(shape(&drawn(&bumps), &Params::default()), (vec![], 2));
     }
 
     #[test]

@@ -865,7 +865,7 @@ mod tests {
         let rows: Vec<&str> = rows.iter().map(String::as_str).collect();
         assert_eq!(shape(&drawn(&rows), &Params::default()), (vec![4], 4));
         // The same stroke on one side only is no cross: no twin is made up for it. (Its one
-        // arm, a width past the edge of a 5 px bar, is still cut: thinning leaves it a pixel.)
+        // arm, a width past the edge of a 5 px bar, is still lost: thinning leaves no branch.)
         let tee: Vec<&str> = [&rows[..11], &rows[15..]].concat();
         let (junctions, ends) = shape(&drawn(&tee), &Params::default());
         assert!(!junctions.contains(&4) && ends <= 3, "{junctions:?} {ends}");

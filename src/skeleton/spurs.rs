@@ -257,14 +257,11 @@ impl Work {
         limit: f64,
     ) -> Option<Twin> {
         let edge = self.edges[e].as_ref()?;
-        let others: Vec<usize> = at.iter().copied().filter(|&o| o != e).collect();
-        let mut crossed = false;
-        for i in 0..others.len() {
-            for k in i + 1..others.len() {
-                crossed |= self.crosses_bar(v, jp, [others[i], others[k]], e, limit);
-            }
-        }
-        if !crossed || others.len() != 2 {
+        // Only a T has lost a twin; a junction of degree four is judged by its branches.
+        let [a, b] = at.iter().copied().filter(|&o| o != e).collect::<Vec<_>>()[..] else {
+            return None;
+        };
+        if !self.crosses_bar(v, jp, [a, b], e, limit) {
             return None;
         }
         let forward = edge.from == v;
